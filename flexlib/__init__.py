@@ -1,0 +1,74 @@
+"""flexlib — acausal component models → one CasADi DAE → index reduction → SUNDIALS IDA."""
+
+import os as _os
+
+_os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (see docs/engine.md)
+
+from flexlib.compile.cache import build
+from flexlib.core.component import Component, Connector, Model
+from flexlib.core.functions import abs_, if_else, max_, min_, no_event, sign
+from flexlib.core.variables import (
+    Flow,
+    Input,
+    Output,
+    Parameter,
+    Potential,
+    StateSelect,
+    Variable,
+    der,
+    eq,
+    time,
+)
+from flexlib.errors import (
+    BalanceError,
+    ConnectError,
+    FlexlibError,
+    InitializationError,
+    ModelError,
+    ParameterError,
+    SimulationInterrupted,
+    SolverError,
+    StructuralSingularityError,
+)
+from flexlib.results.hdf5 import load_result
+from flexlib.results.result import Result
+from flexlib.solve.simulation import Experiment, Simulation
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "BalanceError",
+    "Component",
+    "ConnectError",
+    "Connector",
+    "Experiment",
+    "FlexlibError",
+    "Flow",
+    "InitializationError",
+    "Input",
+    "Model",
+    "ModelError",
+    "Output",
+    "Parameter",
+    "ParameterError",
+    "Potential",
+    "Result",
+    "Simulation",
+    "SimulationInterrupted",
+    "SolverError",
+    "StateSelect",
+    "StructuralSingularityError",
+    "Variable",
+    "__version__",
+    "abs_",
+    "build",
+    "der",
+    "eq",
+    "if_else",
+    "load_result",
+    "max_",
+    "min_",
+    "no_event",
+    "sign",
+    "time",
+]

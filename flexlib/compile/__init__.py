@@ -1,0 +1,1 @@
+"""Compiler stages: flatten → simplify → index reduction → code generation (+ cache)."""

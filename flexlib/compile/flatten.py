@@ -1,0 +1,333 @@
+"""Stage 1 — flatten: instance tree → one list of scalar variables, parameters and equations.
+
+Connection semantics follow the Modelica specification §9.2: for every connection set,
+potential variables are equal and flow variables sum to zero, with a + sign for inside
+connectors (connectors of sub-components) and a − sign for outside connectors (the
+model's own connectors); a connector whose flow is connected nowhere gets ``flow = 0``.
+The model is checked for balance: each leaf component locally (Modelica's local balance
+rule) and the whole model by maximum matching, naming the culprits.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+import scipy.sparse as sp
+
+from flexlib.compile.structure import culprits, group_by_owner, incidence, matching
+from flexlib.core.component import Component, Connector, Node
+from flexlib.core.functions import CURRENT_RELATIONS, Relation
+from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup
+from flexlib.errors import BalanceError, ModelError, StructuralSingularityError
+
+__all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
+
+
+@dataclass(eq=False)
+class FlatVariable:
+    """One scalar unknown of the flat model."""
+
+    name: str
+    sym: ca.SX
+    info: SymInfo
+    unit: str
+    doc: str
+    start: float
+    fixed: bool
+    nominal: float
+    state_select: StateSelect
+    kind: Kind
+    owner: str
+
+
+@dataclass(eq=False)
+class FlatParameter:
+    """One scalar parameter of the flat model."""
+
+    name: str
+    sym: ca.SX
+    value: float
+    unit: str
+    doc: str
+    owner: str
+    decl: Parameter
+    node: Node
+    decl_name: str
+    index: tuple
+
+
+@dataclass(eq=False)
+class FlatEquation:
+    """One scalar equation ``expr = 0``."""
+
+    expr: ca.SX
+    owner: str
+    label: str
+    origin: str = "equation"  # "equation" | "connect" | "unconnected flow"
+
+    def describe(self) -> str:
+        """Short printable form for diagnostics."""
+        text = self.label or str(self.expr)
+        if len(text) > 90:
+            text = text[:87] + "..."
+        return f"{text} = 0" if not self.label else text
+
+
+@dataclass(eq=False)
+class FlatSystem:
+    """Output of stage 1."""
+
+    name: str
+    variables: list[FlatVariable]
+    parameters: list[FlatParameter]
+    equations: list[FlatEquation]
+    relations: list[Relation]
+    by_hash: dict[int, int] = field(default_factory=dict)
+
+    def variable(self, sym: ca.SX) -> FlatVariable | None:
+        """The flat variable of a scalar symbol, if any."""
+        k = self.by_hash.get(sym.element_hash())
+        return None if k is None else self.variables[k]
+
+
+def _scalars(node: Node, name: str) -> list[tuple[str, ca.SX]]:
+    decl = node._decls[name]
+    sym = node._symbol(name)
+    return [(label, sym.nz[k]) for k, (label, _) in enumerate(decl.element_names(node._label(name)))]
+
+
+def flatten(root: Component) -> FlatSystem:
+    """Flatten the instance tree below ``root`` and check its balance.
+
+    Raises
+    ------
+    ModelError
+        Missing parameter values, unconnected inputs, bad equations.
+    BalanceError
+        Too many or too few equations (names the components involved).
+    StructuralSingularityError
+        As many equations as unknowns, but no perfect matching.
+    """
+    if root._parent is not None:
+        raise ModelError(f"{root.path}: flatten the top-level model, not a sub-component")
+    nodes = root.walk()
+    variables: list[FlatVariable] = []
+    parameters: list[FlatParameter] = []
+    equations: list[FlatEquation] = []
+    relations: list[Relation] = []
+    by_hash: dict[int, int] = {}
+
+    # -- declarations ---------------------------------------------------------------------------
+    for node in nodes:
+        for name, decl in node._decls.items():
+            if isinstance(decl, Parameter):
+                value = node.parameter_value(name)
+                if value is None:
+                    raise ModelError(f"parameter {node._label(name)} [{decl.unit}] has no value and no default")
+                flat_vals = np.asarray(value, dtype=float).flatten(order="F")
+                for k, (label, index) in enumerate(decl.element_names(node._label(name))):
+                    parameters.append(FlatParameter(label, node._symbol(name).nz[k], float(flat_vals[k]), decl.unit,
+                                                    decl.doc, node.path, decl, node, name, index))
+                continue
+            start, fixed = node.start_of(name)
+            starts = np.asarray(start, dtype=float).flatten(order="F")
+            kind = decl.kind
+            for k, (label, sym) in enumerate(_scalars(node, name)):
+                by_hash[sym.element_hash()] = len(variables)
+                variables.append(FlatVariable(label, sym, lookup(sym), decl.unit, decl.doc, float(starts[k]), fixed,
+                                              decl.nominal, decl.state_select, kind, node.path))
+
+    # -- component equations --------------------------------------------------------------------
+    for node in nodes:
+        if not isinstance(node, Component):
+            continue
+        sink: list[Relation] = []
+        token = CURRENT_RELATIONS.set(sink)
+        try:
+            own = node.equations()
+        finally:
+            CURRENT_RELATIONS.reset(token)
+        relations.extend(sink)
+        for equ in own or []:
+            if not hasattr(equ, "residual"):
+                raise ModelError(f"{node.path or type(node).__name__}.equations() returned {equ!r}; use eq(lhs, rhs)")
+            res = equ.residual
+            for k in range(res.numel()):
+                equations.append(FlatEquation(res[k], node.path, equ.label, "equation"))
+
+    _connection_equations(nodes, equations)
+    _check_inputs(root, nodes)
+    _check_local_balance(nodes, equations)
+    flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash)
+    _check_symbols(flat)
+    check_balance(flat)
+    return flat
+
+
+# ---------------------------------------------------------------------------------------------
+# Connections
+# ---------------------------------------------------------------------------------------------
+def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> None:
+    parent: dict[tuple[int, str], tuple[int, str]] = {}
+    members: dict[tuple[int, str], tuple[Connector, str]] = {}
+
+    def find(x: tuple[int, str]) -> tuple[int, str]:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    def element(conn: Connector, side: str) -> tuple[int, str]:
+        key = (id(conn), side)
+        if key not in parent:
+            parent[key] = key
+            members[key] = (conn, side)
+        return key
+
+    for node in nodes:
+        if isinstance(node, Connector):
+            element(node, "inside")
+    where: dict[tuple[int, str], str] = {}
+    for node in nodes:
+        if not isinstance(node, Component):
+            continue
+        for a, b in node._connections:
+            if a[0] == "signal":
+                for (la, sa), (lb, sb) in zip(_scalars(a[1].node, a[1].name),
+                                              _scalars(b[1].node, b[1].name), strict=True):
+                    equations.append(FlatEquation(sa - sb, node.path, f"connect({la}, {lb})", "connect"))
+                continue
+            ka = element(a[1], "outside" if a[1]._parent is node else "inside")
+            kb = element(b[1], "outside" if b[1]._parent is node else "inside")
+            where[ka] = where[kb] = node.path
+            ra, rb = find(ka), find(kb)
+            if ra != rb:
+                parent[ra] = rb
+    sets: dict[tuple[int, str], list[tuple[Connector, str]]] = {}
+    for key in parent:
+        sets.setdefault(find(key), []).append(members[key])
+    for root_key, elems in sets.items():
+        owner = where.get(root_key, "")
+        conns = [c for c, _ in elems]
+        names = ", ".join(c.path for c in conns)
+        first = conns[0]
+        for name, decl in first._decls.items():
+            if decl.kind is Kind.flow:
+                terms = []
+                for conn, side in elems:
+                    s = conn._symbol(name)
+                    terms.append(s if side == "inside" else -s)
+                total = terms[0]
+                for t in terms[1:]:
+                    total = total + t
+                origin = "connect" if len(elems) > 1 else "unconnected flow"
+                label = f"sum of {name} over ({names}) = 0" if len(elems) > 1 else f"{first._label(name)} = 0 (unconnected)"
+                for k in range(total.numel()):
+                    equations.append(FlatEquation(total.nz[k], owner or first.path.rpartition(".")[0], label, origin))
+            else:
+                s0 = first._symbol(name)
+                for conn in conns[1:]:
+                    diff = s0 - conn._symbol(name)
+                    label = f"{first._label(name)} = {conn._label(name)}"
+                    for k in range(diff.numel()):
+                        equations.append(FlatEquation(diff.nz[k], owner, label, "connect"))
+
+
+def _check_inputs(root: Component, nodes: list[Node]) -> None:
+    fed: set[int] = set()
+    for node in nodes:
+        if not isinstance(node, Component):
+            continue
+        for a, b in node._connections:
+            for item in (a, b):
+                if item[0] == "signal" and item[1].node is not node:
+                    fed.add(id(item[1]))
+    for node in nodes:
+        for name, decl in node._decls.items():
+            if decl.kind is Kind.input and not isinstance(node, Connector):
+                info = lookup(node._symbol(name).nz[0])
+                if id(info) not in fed:
+                    where = "top-level inputs are not supported; " if node is root else ""
+                    raise ModelError(f"input {node._label(name)} [{decl.unit}] is not connected "
+                                     f"({where}connect it to a signal source)")
+
+
+def _check_local_balance(nodes: list[Node], equations: list[FlatEquation]) -> None:
+    counts: dict[str, int] = {}
+    for e in equations:
+        if e.origin == "equation":
+            counts[e.owner] = counts.get(e.owner, 0) + 1
+    for node in nodes:
+        if not isinstance(node, Component) or not getattr(node, "check_local_balance", True):
+            continue
+        if any(not isinstance(c, Connector) for c in node._children.values()):
+            continue  # a composite: checked globally
+        unknowns, flows = [], 0
+        for holder in [node, *node._children.values()]:
+            for name, decl in holder._decls.items():
+                if isinstance(decl, Parameter) or decl.kind is Kind.input:
+                    continue
+                if isinstance(holder, Connector) and decl.kind is Kind.flow:
+                    flows += decl.size
+                unknowns.append(holder._label(name) if decl.size == 1 else f"{holder._label(name)}{list(decl.shape)}")
+        n_unknown = sum(holder._decls[n].size for holder in [node, *node._children.values()]
+                        for n in holder._decls if isinstance(holder._decls[n], Variable)
+                        and holder._decls[n].kind is not Kind.input)
+        need = n_unknown - flows
+        have = counts.get(node.path, 0)
+        if have != need:
+            raise BalanceError(
+                f"component {node.path or '(model)'} ({type(node).__name__}) has {have} equations but needs {need}: "
+                f"{n_unknown} unknowns ({', '.join(unknowns)}) minus {flows} connector flow variables, "
+                "which get their equations from connections")
+
+
+def _check_symbols(flat: FlatSystem) -> None:
+    if not flat.equations:
+        return
+    exprs = ca.vertcat(*[e.expr for e in flat.equations])
+    for s in ca.symvar(exprs):
+        info = lookup(s)
+        if info is None:
+            raise ModelError(f"an equation uses symbol {s}, which is not a flexlib variable or parameter")
+        if info.kind == "variable" and s.element_hash() not in flat.by_hash:
+            raise ModelError(f"an equation uses {info.node._label(info.name)}, which is not part of this model")
+        if info.kind == "der" and info.root.sym.element_hash() not in flat.by_hash:
+            raise ModelError(f"an equation uses {s}, a derivative of a variable that is not part of this model")
+        if info.kind == "der" and info.order > 1:
+            raise ModelError(f"{s}: der(der(x)) is not supported; introduce a velocity variable")
+
+
+def check_balance(flat: FlatSystem) -> None:
+    """Raise if the flat model is unbalanced or structurally singular, naming the culprits."""
+    n_eq, n_var = len(flat.equations), len(flat.variables)
+    if n_eq == 0 and n_var == 0:
+        raise ModelError(f"model {flat.name} has no variables and no equations")
+    syms = ca.vertcat(*[v.sym for v in flat.variables]) if flat.variables else ca.SX(0, 1)
+    exprs = ca.vertcat(*[e.expr for e in flat.equations]) if flat.equations else ca.SX(0, 1)
+    inc = incidence(exprs, syms)
+    with_der = [k for k, v in enumerate(flat.variables) if v.info._der is not None]
+    if with_der:
+        dinc = incidence(exprs, ca.vertcat(*[flat.variables[k].info._der.sym for k in with_der])).tocoo()
+        inc = inc + sp.csr_matrix((dinc.data, (dinc.row, np.asarray(with_der)[dinc.col])), shape=inc.shape)
+    row_match, col_match = matching(inc)
+    if n_eq == n_var and np.all(row_match >= 0):
+        return
+    rows, cols = culprits(inc, row_match, col_match)
+    eq_items = [(flat.equations[r].owner, flat.equations[r].describe()) for r in rows]
+    var_items = [(flat.variables[c].owner, flat.variables[c].name) for c in cols]
+    parts = []
+    if rows:
+        parts.append("Equations in the over-determined part (too many equations for their variables):\n"
+                     + group_by_owner(eq_items))
+    if cols:
+        parts.append("Variables in the under-determined part (not determined by any equation):\n"
+                     + group_by_owner(var_items))
+    if n_eq != n_var:
+        msg = f"model {flat.name} is unbalanced: {n_eq} equations for {n_var} unknowns.\n" + "\n".join(parts)
+        raise BalanceError(msg, [t for _, t in eq_items], [t for _, t in var_items])
+    msg = (f"model {flat.name} is structurally singular: {n_eq} equations and {n_var} unknowns, but the "
+           "equations cannot be solved for the unknowns.\n" + "\n".join(parts))
+    raise StructuralSingularityError(msg, [t for _, t in eq_items], [t for _, t in var_items])

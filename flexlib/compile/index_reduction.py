@@ -1,0 +1,589 @@
+"""Stage 3 — index reduction: Pantelides' algorithm and dummy derivatives.
+
+1. **Pantelides** (C. C. Pantelides, SIAM J. Sci. Stat. Comput. 9(2), 1988) finds, from the
+   structural incidence alone, which equations must be differentiated how often so that
+   the highest derivatives can be matched to equations. A structurally singular model is
+   detected before that (no perfect matching of equations to variables).
+2. The equations are differentiated symbolically with CasADi (forward AD, ``jtimes``).
+3. **Dummy derivatives** (S. E. Mattsson, G. Söderlind, SIAM J. Sci. Comput. 14(3), 1993):
+   for every differentiated equation one derivative becomes an algebraic "dummy", chosen
+   level by level so that the selected sub-Jacobian is non-singular at the start point,
+   honouring ``state_select`` (generated derivatives first, then never < avoid < default <
+   prefer < always) and, within a class, by pivoted QR on the numeric Jacobian.
+   All original and differentiated equations stay in the system: constraints do not drift.
+4. **Known derivatives are substituted**: where a state's derivative has an explicit
+   definition (``der(x) = u``), it replaces ``der(x)`` in the other equations, and trivial
+   dummy aliases (``der(y) = v``) are eliminated.
+
+The result is an index-1 DAE ``F(t, y, y', p) = 0`` whose states are the differential part
+of ``y``.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+import scipy.linalg as sla
+
+from flexlib.compile.flatten import FlatEquation, FlatVariable
+from flexlib.compile.simplify import Condition, SimpleSystem
+from flexlib.core.functions import Relation
+from flexlib.core.variables import StateSelect, SymInfo, time
+from flexlib.errors import StructuralSingularityError
+
+__all__ = ["DAE", "IndexReport", "reduce_index"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class IndexReport:
+    """What index reduction did, by component name.
+
+    Attributes
+    ----------
+    index : int
+        Differential index of the original DAE (0 for an ODE, 1 if algebraic equations need no
+        differentiation, …).
+    differentiated : list of (owner, equation, times)
+        Equations that were differentiated and how often.
+    states : list of str
+        Variables chosen as states (``der(x)`` for a derivative chosen as state).
+    dummy_derivatives : list of str
+        Derivatives made algebraic (their variables are not states).
+    """
+
+    index: int
+    differentiated: list[tuple[str, str, int]] = field(default_factory=list)
+    states: list[str] = field(default_factory=list)
+    dummy_derivatives: list[str] = field(default_factory=list)
+
+    def __str__(self) -> str:
+        lines = [f"DAE index {self.index}; {len(self.states)} states"]
+        if self.differentiated:
+            lines.append("Differentiated equations:")
+            lines += [f"  {owner or '(model)'}: {text}  (×{n})" for owner, text, n in self.differentiated]
+        lines.append("States: " + (", ".join(self.states) or "none"))
+        if self.dummy_derivatives:
+            lines.append("Dummy derivatives: " + ", ".join(self.dummy_derivatives))
+        return "\n".join(lines)
+
+
+@dataclass(eq=False)
+class DAE:
+    """Output of stage 3: an index-1 DAE ready to compile.
+
+    Attributes
+    ----------
+    y, yp : casadi.SX
+        Unknowns and their derivatives (column vectors of symbols).
+    residual : casadi.SX
+        ``F(t, y, yp, p)`` (same length as ``y``).
+    differential : ndarray of bool
+        True for states (their derivative appears), False for algebraic entries.
+    names : list of str
+        Name of each entry of ``y``.
+    nominal, start : ndarray
+        Per-entry nominal magnitude and start guess.
+    outputs : dict of str to casadi.SX
+        Every variable of the model as an expression of ``t, y, yp, p``.
+    conditions : list of Condition
+        Initial conditions in ``y`` (and ``p``).
+    relations : list of (Relation, casadi.SX)
+        Event relations with indicators in ``t, y, yp, p``.
+    report : IndexReport
+    """
+
+    y: ca.SX
+    yp: ca.SX
+    residual: ca.SX
+    differential: np.ndarray
+    names: list[str]
+    nominal: np.ndarray
+    start: np.ndarray
+    outputs: dict[str, ca.SX]
+    conditions: list[Condition]
+    relations: list[tuple[Relation, ca.SX]]
+    report: IndexReport
+    owners: list[str]
+    row_labels: list[str] = field(default_factory=list)
+
+
+@dataclass(eq=False)
+class _Col:
+    var: int          # index into SimpleSystem.variables
+    order: int
+    info: SymInfo
+    der: int = -1     # column of the derivative, -1 if none
+
+
+@dataclass(eq=False)
+class _Row:
+    source: int       # original equation index
+    order: int        # times differentiated
+    inc: set[int]
+    expr: ca.SX | None = None
+    der: int = -1     # row of the derivative, -1 if none
+    pred: int = -1    # row this one is the derivative of
+
+
+class _Pantelides:
+    """Pantelides' algorithm on the structural incidence (iterative augmenting paths)."""
+
+    def __init__(self, cols: list[_Col], rows: list[_Row]) -> None:
+        self.cols, self.rows = cols, rows
+        self.assign = [-1] * len(cols)
+
+    def _augment(self, start: int, vcol: set[int], vrow: set[int]) -> bool:
+        cols, rows, assign = self.cols, self.rows, self.assign
+        vrow.add(start)
+        # iterative DFS over (row, iterator of candidate columns); parent links for the path
+        stack = [(start, iter(sorted(rows[start].inc)))]
+        via: list[int] = []
+        # first a free column directly adjacent (Pantelides: look for an unassigned variable first)
+        while stack:
+            r, it = stack[-1]
+            free = next((c for c in rows[r].inc if cols[c].der < 0 and assign[c] < 0), None)
+            if free is not None:
+                assign[free] = r
+                # flip the path
+                for depth in range(len(via) - 1, -1, -1):
+                    c = via[depth]
+                    assign[c] = stack[depth][0]
+                return True
+            advanced = False
+            for c in it:
+                if cols[c].der >= 0 or c in vcol:
+                    continue
+                vcol.add(c)
+                r2 = assign[c]
+                if r2 < 0 or r2 in vrow:
+                    continue
+                vrow.add(r2)
+                via.append(c)
+                stack.append((r2, iter(sorted(rows[r2].inc))))
+                advanced = True
+                break
+            if not advanced:
+                stack.pop()
+                if via:
+                    via.pop()
+        return False
+
+    def run(self, n_orig: int, max_rounds: int = 10000) -> None:
+        cols, rows = self.cols, self.rows
+        for k in range(n_orig):
+            i = k
+            rounds = 0
+            while True:
+                vcol: set[int] = set()
+                vrow: set[int] = set()
+                if self._augment(i, vcol, vrow):
+                    break
+                rounds += 1
+                if rounds > max_rounds:
+                    raise StructuralSingularityError("index reduction did not terminate (structurally singular model)")
+                for c in sorted(vcol):
+                    self._derive_col(c)
+                for r in sorted(vrow):
+                    self._derive_row(r)
+                for c in sorted(vcol):
+                    if self.assign[c] >= 0:
+                        self.assign[cols[c].der] = rows[self.assign[c]].der
+                i = rows[i].der
+
+    def _derive_col(self, c: int) -> int:
+        col = self.cols[c]
+        if col.der < 0:
+            col.der = len(self.cols)
+            self.cols.append(_Col(col.var, col.order + 1, col.info.der_info))
+            self.assign.append(-1)
+        return col.der
+
+    def _derive_row(self, r: int) -> int:
+        row = self.rows[r]
+        if row.der < 0:
+            inc = set(row.inc)
+            for c in row.inc:
+                inc.add(self._derive_col(c))
+            row.der = len(self.rows)
+            self.rows.append(_Row(row.source, row.order + 1, inc, pred=r))
+        return row.der
+
+
+def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
+    """Reduce a simplified system to an index-1 DAE.
+
+    Parameters
+    ----------
+    simple : SimpleSystem
+        Output of stage 2.
+    param_values : dict
+        Parameter values by symbol hash, used for the numeric pivoting of the dummy
+        derivative selection.
+    """
+    variables, equations = simple.variables, simple.equations
+    cols: list[_Col] = []
+    col_of: dict[int, int] = {}
+    for i, v in enumerate(variables):
+        col_of[v.sym.element_hash()] = len(cols)
+        cols.append(_Col(i, 0, v.info))
+    used_ders = {s.element_hash() for s in ca.symvar(ca.vertcat(*[e.expr for e in equations]))} if equations else set()
+    for i, v in enumerate(variables):
+        if v.info._der is not None and v.info._der.sym.element_hash() in used_ders:
+            c0 = col_of[v.sym.element_hash()]
+            cols[c0].der = len(cols)
+            col_of[v.info._der.sym.element_hash()] = len(cols)
+            cols.append(_Col(i, 1, v.info._der))
+    exprs = ca.vertcat(*[e.expr for e in equations])
+    syms = ca.vertcat(*[c.info.sym for c in cols])
+    spj = ca.jacobian_sparsity(exprs, syms) if len(equations) else None
+    rows: list[_Row] = [_Row(k, 0, set(), equations[k].expr) for k in range(len(equations))]
+    if spj is not None:
+        colind, rowidx = spj.get_ccs()
+        for c in range(len(cols)):
+            for r in rowidx[colind[c]:colind[c + 1]]:
+                rows[r].inc.add(c)
+    pant = _Pantelides(cols, rows)
+    pant.run(len(equations))
+    _differentiate(rows, cols)
+    dummies = _select_dummies(rows, cols, variables, simple, param_values)
+    return _assemble(simple, rows, cols, dummies)
+
+
+def _differentiate(rows: list[_Row], cols: list[_Col]) -> None:
+    """Compute the expressions of differentiated rows, one generation at a time (batched AD)."""
+    todo = [r for r in rows if r.expr is None]
+    gen = 1
+    while todo:
+        batch = [r for r in todo if rows[r.pred].expr is not None]
+        if not batch:
+            raise RuntimeError("index reduction: differentiation order broken")
+        src = ca.vertcat(*[rows[r.pred].expr for r in batch])
+        have = [c for c in cols if c.der >= 0]
+        v = ca.vertcat(time, *[c.info.sym for c in have])
+        vd = ca.vertcat(ca.SX(1.0), *[cols[c.der].info.sym for c in have])
+        out = ca.jtimes(src, v, vd)
+        for k, r in enumerate(batch):
+            r.expr = out[k]
+        todo = [r for r in todo if r.expr is None]
+        gen += 1
+
+
+def _numeric_point(simple: SimpleSystem, cols: list[_Col], param_values: dict[int, float]) -> tuple[ca.SX, np.ndarray]:
+    syms, vals = [time], [0.0]
+    for c in cols:
+        syms.append(c.info.sym)
+        vals.append(simple.variables[c.var].start if c.order == 0 else 0.0)
+    for h, val in param_values.items():
+        info = lookup_hash(h)
+        if info is not None:
+            syms.append(info.sym)
+            vals.append(val)
+    return ca.vertcat(*syms), np.array(vals)
+
+
+def lookup_hash(h: int) -> SymInfo | None:
+    """Registry entry by element hash."""
+    from flexlib.core.variables import _REGISTRY
+
+    return _REGISTRY.get(h)
+
+
+def _cost(col: _Col, cols: list[_Col], variables: list[FlatVariable]) -> int:
+    """Cost of making ``col`` a dummy derivative (= removing its antiderivative from the states)."""
+    if col.order >= 2:
+        return -1  # the antiderivative is itself a generated derivative
+    return int(variables[col.var].state_select)
+
+
+def _select_dummies(rows: list[_Row], cols: list[_Col], variables: list[FlatVariable],
+                    simple: SimpleSystem, param_values: dict[int, float]) -> set[int]:
+    g = [k for k, r in enumerate(rows) if r.der < 0]
+    z = [k for k, c in enumerate(cols) if c.der < 0]
+    anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
+    dummies: set[int] = set()
+    if not any(rows[k].order > 0 for k in g):
+        return dummies
+    point_syms, point_vals = _numeric_point(simple, cols, param_values)
+    # relations: freeze at their start values
+    rel_syms = [rel.info.sym for rel, _ in simple.relations]
+    if rel_syms:
+        ind = ca.Function("ind", [point_syms], [ca.vertcat(*[i for _, i in simple.relations])])
+        zval = np.asarray(ind(point_vals)).ravel()
+        point_syms = ca.vertcat(point_syms, *rel_syms)
+        point_vals = np.concatenate([point_vals, [float(rel.value(z)) for (rel, _), z in zip(simple.relations, zval)]])
+    level = 1
+    while True:
+        g_diff = [r for r in g if rows[r].order > 0]
+        if not g_diff:
+            break
+        cand = [c for c in z if cols[c].order > 0]
+        need = len(g_diff)
+        if len(cand) < need:
+            raise StructuralSingularityError(
+                f"dummy derivative selection failed at level {level}: {need} differentiated equations but only "
+                f"{len(cand)} candidate derivatives")
+        jexpr = ca.jacobian(ca.vertcat(*[rows[r].expr for r in g_diff]), ca.vertcat(*[cols[c].info.sym for c in cand]))
+        jfun = ca.Function("jsel", [point_syms], [jexpr])
+        J = np.asarray(jfun(point_vals))
+        selected = _pick_columns(J, cand, [_cost(cols[c], cols, variables) for c in cand], need)
+        if selected is None:
+            log.warning("dummy derivative selection is numerically singular at the start values "
+                        "(level %d); using a structural selection", level)
+            selected = _structural_pick(J != 0, cand, need, jexpr)
+        dummies.update(selected)
+        always = [cols[anti[c]] for c in selected if cols[anti[c]].order == 0
+                  and variables[cols[anti[c]].var].state_select is StateSelect.always]
+        for col in always:
+            log.warning("%s has state_select='always' but cannot be a state", variables[col.var].name)
+        g = [rows[r].pred for r in g_diff]
+        z = [anti[c] for c in selected]
+        level += 1
+    return dummies
+
+
+def _pick_columns(J: np.ndarray, cand: list[int], cost: list[int], need: int) -> list[int] | None:
+    """Choose ``need`` columns of ``J`` forming a well-conditioned square block, cheapest cost classes first."""
+    scale = max(1.0, float(np.abs(J).max()) if J.size else 1.0)
+    tol = 1e-9 * scale
+    chosen: list[int] = []
+    Q = np.zeros((J.shape[0], 0))
+    for level in sorted(set(cost)):
+        if len(chosen) == need:
+            break
+        idx = [k for k in range(len(cand)) if cost[k] == level]
+        A = J[:, idx]
+        A = A - Q @ (Q.T @ A)
+        if not np.any(np.abs(A) > tol):
+            continue
+        _, R, piv = sla.qr(A, mode="economic", pivoting=True)
+        diag = np.abs(np.diag(R))
+        for k in range(len(diag)):
+            if len(chosen) == need or diag[k] <= tol:
+                break
+            chosen.append(idx[piv[k]])
+        Q, _ = np.linalg.qr(J[:, chosen]) if chosen else (Q, None)
+    if len(chosen) < need:
+        return None
+    return [cand[k] for k in chosen]
+
+
+def _structural_pick(mask: np.ndarray, cand: list[int], need: int, jexpr: ca.SX) -> list[int]:
+    from flexlib.compile.structure import matching
+
+    spj = jexpr.sparsity()
+    colind, row = spj.get_ccs()
+    import scipy.sparse as sp
+
+    inc = sp.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
+    row_match, _ = matching(inc)
+    if np.any(row_match < 0):
+        raise StructuralSingularityError("dummy derivative selection: differentiated equations are structurally singular")
+    return [cand[c] for c in row_match]
+
+
+def _col_name(col: _Col, variables: list[FlatVariable]) -> str:
+    name = variables[col.var].name
+    for _ in range(col.order):
+        name = f"der({name})"
+    return name
+
+
+def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int]) -> DAE:
+    variables = simple.variables
+    anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
+    is_state = [c.der >= 0 and c.der not in dummies for c in cols]
+    # y entries: every column that is not the derivative of a state, plus derivative columns that are states too
+    entries: list[int] = []
+    yp_of: dict[int, int] = {}
+    for k, c in enumerate(cols):
+        a = anti.get(k)
+        if a is not None and is_state[a] and not is_state[k]:
+            continue  # represented by yp of its antiderivative
+        entries.append(k)
+    pos = {c: i for i, c in enumerate(entries)}
+    n = len(entries)
+    y = ca.SX.sym("y", n)
+    yp = ca.SX.sym("yp", n)
+    col_value: dict[int, ca.SX] = {}
+    for k, c in enumerate(cols):
+        if k in pos:
+            col_value[k] = y[pos[k]]
+        else:
+            col_value[k] = yp[pos[anti[k]]]
+    for k in entries:
+        if is_state[k]:
+            yp_of[k] = pos[k]
+    res_list = [r.expr for r in rows]
+    # link equations: a state whose derivative is itself a state
+    for k in entries:
+        if is_state[k] and cols[k].der in pos:
+            res_list.append(yp[pos[k]] - y[pos[cols[k].der]])
+    col_syms = ca.vertcat(*[c.info.sym for c in cols])
+    col_vals = ca.vertcat(*[col_value[k] for k in range(len(cols))])
+    F = ca.substitute([ca.vertcat(*res_list)], [col_syms], [col_vals])[0]
+    differential = np.array([is_state[k] for k in entries], dtype=bool)
+    if F.numel() != n:
+        raise StructuralSingularityError(f"index reduction produced {F.numel()} equations for {n} unknowns")
+    labels = []
+    for r in rows:
+        e = simple.equations[r.source]
+        text = f"{e.owner or '(model)'}: {e.describe()}"
+        labels.append(text if r.order == 0 else f"{text}  [differentiated ×{r.order}]")
+    labels += [f"der({_col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
+    F, keep, subs_syms, subs_vals, kept_rows = _post_simplify(F, y, yp, differential)
+    labels = [labels[k] for k in kept_rows]
+    # rebuild y without eliminated entries
+    y_keep = ca.vertcat(*[y[i] for i in keep])
+    yp_keep = ca.vertcat(*[yp[i] for i in keep])
+    y_new = ca.SX.sym("y", len(keep))
+    yp_new = ca.SX.sym("yp", len(keep))
+    allsyms = ca.vertcat(y_keep, yp_keep)
+    allnew = ca.vertcat(y_new, yp_new)
+
+    def final(exprs: list[ca.SX]) -> list[ca.SX]:
+        if not exprs:
+            return []
+        e = ca.vertcat(*exprs)
+        e = ca.substitute([e], [col_syms], [col_vals])[0]
+        if subs_syms.numel():
+            e = ca.substitute([e], [subs_syms], [subs_vals])[0]
+        e = ca.substitute([e], [allsyms], [allnew])[0]
+        return [e[k] for k in range(e.numel())]
+
+    F = ca.substitute([F], [allsyms], [allnew])[0]
+    out_names = list(simple.outputs)
+    out_exprs = final([simple.outputs[nm] for nm in out_names])
+    cond_exprs = final([c.expr for c in simple.conditions])
+    rel_exprs = final([i for _, i in simple.relations])
+    names = [_col_name(cols[entries[i]], variables) for i in keep]
+    owners = [variables[cols[entries[i]].var].owner for i in keep]
+    nominal = np.array([variables[cols[entries[i]].var].nominal for i in keep])
+    start = np.array([variables[cols[entries[i]].var].start if cols[entries[i]].order == 0 else 0.0 for i in keep])
+    diff_keep = differential[keep]
+    report = _report(simple, rows, cols, dummies, is_state, variables)
+    return DAE(
+        y=y_new, yp=yp_new, residual=F, differential=diff_keep, names=names, nominal=nominal, start=start,
+        outputs=dict(zip(out_names, out_exprs, strict=True)),
+        conditions=[Condition(c.name, e, c.value) for c, e in zip(simple.conditions, cond_exprs, strict=True)],
+        relations=[(rel, e) for (rel, _), e in zip(simple.relations, rel_exprs, strict=True)],
+        report=report, owners=owners, row_labels=labels,
+    )
+
+
+def _linear_single(e: ca.SX, sym: ca.SX) -> bool:
+    return bool(ca.is_linear(e, sym)) and ca.jacobian(e, sym).is_constant()
+
+
+def _post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray):
+    """Substitute known state derivatives and eliminate trivial algebraic aliases.
+
+    Returns the new residual, the kept entry indices, and the substitution (symbols → values)
+    that expresses eliminated entries in kept ones.
+    """
+    n = F.numel()
+    rows = [F[k] for k in range(n)]
+    y_hash = {y[i].element_hash(): i for i in range(n)}
+    inc_yp = _incidence_lists(F, yp)
+    # (a) known derivatives: row = c*yp_s + f(y), f without yp
+    defined: dict[int, tuple[int, ca.SX]] = {}
+    for r in range(n):
+        if len(inc_yp[r]) != 1:
+            continue
+        i = inc_yp[r][0]
+        if not differential[i] or i in defined:
+            continue
+        e = rows[r]
+        if not _linear_single(e, yp[i]):
+            continue
+        coef = float(ca.evalf(ca.jacobian(e, yp[i])))
+        if coef == 0.0:
+            continue
+        f = ca.substitute(e, yp[i], ca.SX(0.0))
+        defined[i] = (r, -f / coef)
+    if defined:
+        dsyms = ca.vertcat(*[yp[i] for i in defined])
+        dvals = ca.vertcat(*[v for _, v in defined.values()])
+        def_rows = {r for r, _ in defined.values()}
+        others = [k for k in range(n) if k not in def_rows]
+        if others:
+            new = ca.substitute([ca.vertcat(*[rows[k] for k in others])], [dsyms], [dvals])[0]
+            for j, k in enumerate(others):
+                rows[k] = new[j]
+    # (b) algebraic aliases: row = a - b or a + b with a algebraic y entry, b any y/yp entry
+    alias: dict[int, tuple[float, ca.SX]] = {}
+    dropped_rows: set[int] = set()
+
+    def resolve(sym: ca.SX) -> tuple[float, ca.SX]:
+        s = 1.0
+        while sym.element_hash() in y_hash and y_hash[sym.element_hash()] in alias:
+            s2, sym = alias[y_hash[sym.element_hash()]]
+            s *= s2
+        return s, sym
+
+    for r in range(n):
+        e = rows[r]
+        if e.is_symbolic() or e.op() not in (ca.OP_SUB, ca.OP_ADD):
+            continue
+        d0, d1 = e.dep(0), e.dep(1)
+        if not (d0.is_symbolic() and d1.is_symbolic()):
+            continue
+        # d0 = sgn*d1 with d0 = s0*a, d1 = s1*b  ->  a = k*b and b = k*a, k = sgn*s0*s1
+        sgn = 1.0 if e.op() == ca.OP_SUB else -1.0
+        s0, a = resolve(d0)
+        s1, b = resolve(d1)
+        ha, hb = a.element_hash(), b.element_hash()
+        if ha == hb:
+            continue
+        k = sgn * s0 * s1
+        if ha in y_hash and not differential[y_hash[ha]]:
+            alias[y_hash[ha]] = (k, b)
+        elif hb in y_hash and not differential[y_hash[hb]]:
+            alias[y_hash[hb]] = (k, a)
+        else:
+            continue
+        dropped_rows.add(r)
+    if alias:
+        asyms, avals = [], []
+        for i in alias:
+            s, target = resolve(y[i])
+            asyms.append(y[i])
+            avals.append(s * target)
+        subs_syms, subs_vals = ca.vertcat(*asyms), ca.vertcat(*avals)
+        kept_rows = [k for k in range(n) if k not in dropped_rows]
+        new = ca.substitute([ca.vertcat(*[rows[k] for k in kept_rows])], [subs_syms], [subs_vals])[0]
+        rows = [new[j] for j in range(len(kept_rows))]
+    else:
+        subs_syms, subs_vals = ca.SX(0, 1), ca.SX(0, 1)
+        kept_rows = list(range(n))
+    keep = [i for i in range(n) if i not in alias]
+    return ca.vertcat(*rows), keep, subs_syms, subs_vals, kept_rows
+
+
+def _incidence_lists(F: ca.SX, v: ca.SX) -> list[list[int]]:
+    spj = ca.jacobian_sparsity(F, v)
+    colind, row = spj.get_ccs()
+    out: list[list[int]] = [[] for _ in range(F.numel())]
+    for c in range(v.numel()):
+        for r in row[colind[c]:colind[c + 1]]:
+            out[r].append(c)
+    return out
+
+
+def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],
+            is_state: list[bool], variables: list[FlatVariable]) -> IndexReport:
+    times: dict[int, int] = {}
+    for r in rows:
+        times[r.source] = max(times.get(r.source, 0), r.order)
+    eqs: list[FlatEquation] = simple.equations
+    differentiated = [(eqs[k].owner, eqs[k].describe(), n) for k, n in times.items() if n > 0]
+    has_alg = any(c.der < 0 and c.order == 0 for c in cols)
+    max_diff = max(times.values(), default=0)
+    index = max_diff + 1 if (max_diff > 0 or has_alg) else 0
+    states = [_col_name(c, variables) for k, c in enumerate(cols) if is_state[k]]
+    dummy_names = [_col_name(cols[k], variables) for k in sorted(dummies)]
+    return IndexReport(index, differentiated, states, dummy_names)

@@ -1,0 +1,238 @@
+"""Stage 2 — simplify: alias elimination.
+
+Equations of the form ``a = b``, ``a = -b``, ``a = constant`` and ``a = parameter``
+(most connection equations and the ``phi = flange_a.phi`` lines of every component)
+are removed; each alias class keeps one representative, chosen by state-selection
+preference, then internal variables before connector variables, then initial
+conditions. Every eliminated variable keeps an expression in the representatives, so
+results still report it and initial conditions on it still apply.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import casadi as ca
+
+from flexlib.compile.flatten import FlatEquation, FlatSystem, FlatVariable
+from flexlib.core.component import Connector
+from flexlib.core.functions import Relation
+from flexlib.errors import InitializationError
+
+__all__ = ["Condition", "SimpleSystem", "simplify"]
+
+
+@dataclass(eq=False)
+class Condition:
+    """An initial condition ``expr = value`` coming from a fixed start value of variable ``name``."""
+
+    name: str
+    expr: ca.SX
+    value: float
+
+
+@dataclass(eq=False)
+class SimpleSystem:
+    """Output of stage 2.
+
+    Attributes
+    ----------
+    variables : list of FlatVariable
+        Remaining unknowns (alias representatives and non-aliased variables).
+    equations : list of FlatEquation
+        Remaining equations, written in the remaining unknowns.
+    outputs : dict of str to casadi.SX
+        Every variable of the flat model (eliminated or not) as an expression of the
+        remaining unknowns and the parameters.
+    conditions : list of Condition
+        Initial conditions (fixed start values), in the remaining unknowns.
+    relations : list of tuple(Relation, casadi.SX)
+        Event relations and their indicators in the remaining unknowns.
+    n_eliminated : int
+        Number of alias equations removed.
+    """
+
+    flat: FlatSystem
+    variables: list[FlatVariable]
+    equations: list[FlatEquation]
+    outputs: dict[str, ca.SX]
+    conditions: list[Condition]
+    relations: list[tuple[Relation, ca.SX]]
+    n_eliminated: int
+
+
+def _classify(flat: FlatSystem, e: ca.SX) -> tuple | None:
+    """``(a, b, sign)`` for ``a = sign*b``, ``(a, value_expr)`` for ``a = const/param``, else None."""
+
+    def var(x: ca.SX) -> int | None:
+        if x.is_symbolic():
+            return flat.by_hash.get(x.element_hash())
+        return None
+
+    def known(x: ca.SX) -> bool:
+        if x.is_constant():
+            return True
+        if x.is_symbolic():
+            from flexlib.core.variables import lookup
+
+            info = lookup(x)
+            return info is not None and info.kind == "parameter"
+        return False
+
+    if e.is_symbolic():
+        a = var(e)
+        return None if a is None else (a, ca.SX(0.0))
+    op = e.op()
+    if op == ca.OP_NEG:
+        a = var(e.dep(0))
+        return None if a is None else (a, ca.SX(0.0))
+    if op not in (ca.OP_SUB, ca.OP_ADD):
+        return None
+    d0, d1 = e.dep(0), e.dep(1)
+    s = 1.0 if op == ca.OP_SUB else -1.0
+    a, b = var(d0), var(d1)
+    if a is not None and b is not None:
+        return (a, b, s)
+    if a is not None and d1.is_op(ca.OP_NEG):
+        b = var(d1.dep(0))
+        if b is not None:
+            return (a, b, -s)
+    if a is not None and known(d1):
+        return (a, s * d1)
+    if b is not None and known(d0):
+        return (b, s * d0) if op == ca.OP_SUB else (b, -d0)
+    return None
+
+
+def _priority(v: FlatVariable, index: int) -> tuple:
+    internal = not isinstance(v.info.node, Connector)
+    return (int(v.state_select), internal, v.fixed, -v.name.count("."), -len(v.name), -index)
+
+
+def simplify(flat: FlatSystem) -> SimpleSystem:
+    """Eliminate alias variables from a flat system."""
+    n = len(flat.variables)
+    parent = list(range(n))
+    sign = [1.0] * n
+    binding: dict[int, ca.SX] = {}
+    kept_eqs: list[FlatEquation] = []
+
+    def find(i: int) -> tuple[int, float]:
+        """Root of ``i`` and the sign ``s`` with ``value_i = s * value_root`` (path compression)."""
+        path = []
+        while parent[i] != i:
+            path.append(i)
+            i = parent[i]
+        acc = 1.0
+        for j in reversed(path):
+            acc *= sign[j]
+            sign[j], parent[j] = acc, i
+        return i, (sign[path[0]] if path else 1.0)
+
+    n_elim = 0
+    for equ in flat.equations:
+        cls = _classify(flat, equ.expr)
+        if cls is None:
+            kept_eqs.append(equ)
+            continue
+        if len(cls) == 3:
+            a, b, s = cls
+            ra, sa = find(a)
+            rb, sb = find(b)
+            if ra == rb or (ra in binding and rb in binding):
+                kept_eqs.append(equ)
+                continue
+            # a = s*b, a = sa*ra, b = sb*rb  ->  ra = s*sa*sb * rb
+            parent[ra], sign[ra] = rb, s * sa * sb
+            if ra in binding:
+                binding[rb] = sign[ra] * binding.pop(ra)
+        else:
+            a, value = cls
+            ra, sa = find(a)
+            if ra in binding:
+                kept_eqs.append(equ)
+                continue
+            binding[ra] = sa * value
+        n_elim += 1
+
+    classes: dict[int, list[tuple[int, float]]] = {}
+    for i in range(n):
+        r, s = find(i)
+        classes.setdefault(r, []).append((i, s))
+
+    kept_vars: list[FlatVariable] = []
+    old_syms, new_exprs = [], []
+    value_of: dict[int, ca.SX] = {}
+    for root, members in classes.items():
+        if root in binding:
+            for i, s in members:
+                value_of[i] = s * binding[root]
+            continue
+        rep, s_rep = max(members, key=lambda m: _priority(flat.variables[m[0]], m[0]))
+        rv = flat.variables[rep]
+        merged = dataclasses.replace(
+            rv,
+            state_select=max(flat.variables[i].state_select for i, _ in members),
+            nominal=max(flat.variables[i].nominal for i, _ in members),
+        )
+        if merged.start == 0.0:
+            for i, s in members:
+                if flat.variables[i].start != 0.0:
+                    merged.start = s * s_rep * flat.variables[i].start
+                    break
+        kept_vars.append(merged)
+        for i, s in members:
+            value_of[i] = s * s_rep * rv.sym
+    for i, v in enumerate(flat.variables):
+        val = value_of[i]
+        if val.is_symbolic() and val.element_hash() == v.sym.element_hash():
+            continue
+        old_syms.append(v.sym)
+        new_exprs.append(val)
+        if v.info._der is not None:
+            from flexlib.core.variables import der
+
+            old_syms.append(v.info._der.sym)
+            new_exprs.append(der(val))
+
+    def subst(exprs: list[ca.SX]) -> list[ca.SX]:
+        if not exprs or not old_syms:
+            return exprs
+        out = ca.substitute([ca.vertcat(*exprs)], [ca.vertcat(*old_syms)], [ca.vertcat(*new_exprs)])[0]
+        return [out[k] for k in range(out.numel())]
+
+    new_eq_exprs = subst([e.expr for e in kept_eqs])
+    equations = [dataclasses.replace(e, expr=x) for e, x in zip(kept_eqs, new_eq_exprs, strict=True)]
+    rel_ind = subst([r.indicator for r in flat.relations])
+    relations = list(zip(flat.relations, rel_ind, strict=True))
+    outputs = {v.name: value_of[i] for i, v in enumerate(flat.variables)}
+    conditions = _conditions(flat, value_of)
+    return SimpleSystem(flat, kept_vars, equations, outputs, conditions, relations, n_elim)
+
+
+def _conditions(flat: FlatSystem, value_of: dict[int, ca.SX]) -> list[Condition]:
+    """Initial conditions from fixed start values, with duplicates on one alias class merged."""
+    seen: dict[str, tuple[str, float]] = {}
+    out: list[Condition] = []
+    for i, v in enumerate(flat.variables):
+        if not v.fixed:
+            continue
+        expr = value_of[i]
+        if not ca.depends_on(expr, ca.vertcat(*[w.sym for w in flat.variables])):
+            # bound to a constant/parameter: the condition is checked at initialisation time
+            out.append(Condition(v.name, expr, v.start))
+            continue
+        key = str(expr)
+        neg_key = str(-expr)
+        if key in seen or neg_key in seen:
+            other, val = seen.get(key) or seen[neg_key]
+            target = v.start if key in seen else -v.start
+            if abs(target - val) > 1e-12 * max(1.0, abs(val)):
+                raise InitializationError(
+                    f"conflicting initial conditions: {other} = {val:g} and {v.name} = {v.start:g}, "
+                    "but the two variables are connected (aliases)")
+            continue
+        seen[key] = (v.name, v.start)
+        out.append(Condition(v.name, expr, v.start))
+    return out

@@ -1,0 +1,94 @@
+"""Structural analysis: incidence matrices, maximum matching and Dulmage–Mendelsohn culprits.
+
+Used by the balance check (stage 1), by Pantelides' algorithm (stage 3) and by the
+initialisation check (stage 4). Matching is scipy's Hopcroft–Karp implementation.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Sequence
+
+import casadi as ca
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.csgraph import maximum_bipartite_matching
+
+__all__ = ["culprits", "incidence", "matching"]
+
+
+def incidence(exprs: ca.SX, syms: ca.SX) -> sp.csr_matrix:
+    """Structural incidence ``A[i, j] = 1`` if equation ``i`` depends on symbol ``j``."""
+    if exprs.numel() == 0 or syms.numel() == 0:
+        return sp.csr_matrix((exprs.numel(), syms.numel()))
+    spj = ca.jacobian_sparsity(exprs, syms)
+    colind, row = spj.get_ccs()
+    data = np.ones(len(row))
+    return sp.csc_matrix((data, np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
+
+
+def matching(inc: sp.spmatrix) -> tuple[np.ndarray, np.ndarray]:
+    """Maximum bipartite matching of rows (equations) to columns (unknowns).
+
+    Returns
+    -------
+    row_match : ndarray
+        Column matched to each row, -1 if unmatched.
+    col_match : ndarray
+        Row matched to each column, -1 if unmatched.
+    """
+    inc = sp.csr_matrix(inc)
+    n, m = inc.shape
+    if n == 0 or m == 0:
+        return -np.ones(n, dtype=int), -np.ones(m, dtype=int)
+    row_match = np.asarray(maximum_bipartite_matching(inc, perm_type="column"), dtype=int)
+    col_match = -np.ones(m, dtype=int)
+    for r, c in enumerate(row_match):
+        if c >= 0:
+            col_match[c] = r
+    return row_match, col_match
+
+
+def culprits(inc: sp.spmatrix, row_match: np.ndarray, col_match: np.ndarray) -> tuple[list[int], list[int]]:
+    """Rows of the over-determined part and columns of the under-determined part.
+
+    The over-determined part is every equation reachable from an unmatched equation by an
+    alternating path (equation → its variable → the equation matched to that variable → …);
+    the under-determined part likewise from unmatched variables. These are the coarse
+    Dulmage–Mendelsohn blocks, independent of which maximum matching was found.
+    """
+    csr = sp.csr_matrix(inc)
+    csc = csr.tocsc()
+    over_rows: set[int] = set()
+    queue = deque(int(r) for r in np.flatnonzero(row_match < 0))
+    over_rows.update(queue)
+    while queue:
+        r = queue.popleft()
+        for c in csr.indices[csr.indptr[r]:csr.indptr[r + 1]]:
+            r2 = col_match[c]
+            if r2 >= 0 and r2 not in over_rows:
+                over_rows.add(int(r2))
+                queue.append(int(r2))
+    under_cols: set[int] = set()
+    queue = deque(int(c) for c in np.flatnonzero(col_match < 0))
+    under_cols.update(queue)
+    while queue:
+        c = queue.popleft()
+        for r in csc.indices[csc.indptr[c]:csc.indptr[c + 1]]:
+            c2 = row_match[r]
+            if c2 >= 0 and c2 not in under_cols:
+                under_cols.add(int(c2))
+                queue.append(int(c2))
+    return sorted(over_rows), sorted(under_cols)
+
+
+def group_by_owner(items: Sequence[tuple[str, str]], limit: int = 12) -> str:
+    """Format ``[(owner, text)]`` as ``"owner: text; text"`` lines, at most ``limit`` lines."""
+    groups: dict[str, list[str]] = {}
+    for owner, text in items:
+        groups.setdefault(owner or "(model)", []).append(text)
+    lines = [f"  {owner}: {'; '.join(texts[:6])}{' …' if len(texts) > 6 else ''}"
+             for owner, texts in list(groups.items())[:limit]]
+    if len(groups) > limit:
+        lines.append(f"  … and {len(groups) - limit} more components")
+    return "\n".join(lines)

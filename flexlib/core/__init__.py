@@ -1,0 +1,1 @@
+"""Modelling API: declarations, components, connectors, equations."""

@@ -1,0 +1,303 @@
+"""Components, connectors and models: the instance tree that the compiler flattens.
+
+A :class:`Component` declares parameters and variables as class attributes, holds
+sub-components and connectors as attributes (assigning one registers and names it),
+and writes its physics in :meth:`Component.equations`. A model is a component with
+sub-components and :meth:`Component.connect` statements.
+
+Classes, sub-components and connectors declared at class level are templates: each
+instance gets its own copy, built again from the template's constructor arguments.
+"""
+
+from __future__ import annotations
+
+import difflib
+from typing import Any, ClassVar
+
+import casadi as ca
+import numpy as np
+
+from flexlib.core.variables import Declaration, Equation, Kind, Parameter, SymInfo, Variable, lookup
+from flexlib.errors import ConnectError, ModelError, ParameterError
+
+__all__ = ["Component", "Connector", "Model", "Node"]
+
+
+class Node:
+    """Common base of components and connectors (named, hierarchical, with declarations)."""
+
+    def __new__(cls, *args: Any, **kwargs: Any) -> Node:
+        obj = super().__new__(cls)
+        object.__setattr__(obj, "_ctor", (args, dict(kwargs)))
+        return obj
+
+    def __init__(
+        self, *, doc: str = "", init: dict[str, Any] | None = None,
+        guess: dict[str, Any] | None = None, **params: Any,
+    ) -> None:
+        d = self.__dict__
+        d["_parent"] = None
+        d["_name"] = ""
+        d["doc"] = doc
+        d["_children"] = {}
+        d["_decls"] = {}
+        d["_syms"] = {}
+        d["_infos"] = []
+        d["_values"] = {}
+        d["_starts"] = {}
+        d["_connections"] = []
+        for klass in reversed(type(self).__mro__):
+            for name, value in vars(klass).items():
+                if isinstance(value, Declaration):
+                    self._decls[name] = value
+        for klass in reversed(type(self).__mro__):
+            for name, value in vars(klass).items():
+                if isinstance(value, Node) and name not in self._children:
+                    self._add_child(name, value._clone())
+        for name, value in params.items():
+            self._assign(name, value)
+        for name, value in (init or {}).items():
+            self.set_start(name, value, fixed=True)
+        for name, value in (guess or {}).items():
+            self.set_start(name, value, fixed=False)
+
+    # -- construction -------------------------------------------------------------------------
+    def _clone(self) -> Node:
+        args, kwargs = self._ctor
+        return type(self)(*args, **kwargs)
+
+    def _add_child(self, name: str, node: Node) -> None:
+        if node._parent is not None or node._name:
+            raise ModelError(f"{self._label(name)}: component is already part of {node.path or node._name!r}")
+        node.__dict__["_parent"] = self
+        node.__dict__["_name"] = name
+        self._children[name] = node
+        object.__setattr__(self, name, node)
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name.startswith("_") or "_children" not in self.__dict__:
+            object.__setattr__(self, name, value)
+        elif isinstance(value, Node):
+            self._add_child(name, value)
+        elif isinstance(value, Declaration):
+            if name in self._decls and name in self._syms:
+                raise ModelError(f"{self._label(name)}: already declared and in use")
+            value.name = name
+            self._decls[name] = value
+        elif name in self._decls:
+            self._assign(name, value)
+        else:
+            object.__setattr__(self, name, value)
+
+    def __getattr__(self, name: str) -> Any:
+        decls = self.__dict__.get("_decls")
+        if decls is not None and name in decls:
+            return self._symbol(name)
+        raise AttributeError(f"{type(self).__name__} {self.path or '(unnamed)'!s} has no attribute {name!r}")
+
+    # -- naming -------------------------------------------------------------------------------
+    @property
+    def path(self) -> str:
+        """Hierarchical name relative to the root model (``"boom.cyl1.port_a"``)."""
+        parts = []
+        node: Node | None = self
+        while node is not None and node._parent is not None:
+            parts.append(node._name)
+            node = node._parent
+        return ".".join(reversed(parts))
+
+    def _label(self, name: str) -> str:
+        p = self.path
+        return f"{p}.{name}" if p else name
+
+    @property
+    def root(self) -> Node:
+        """The top of the instance tree."""
+        node = self
+        while node._parent is not None:
+            node = node._parent
+        return node
+
+    # -- declarations -------------------------------------------------------------------------
+    def _symbol(self, name: str) -> ca.SX:
+        sym = self._syms.get(name)
+        if sym is None:
+            decl = self._decls[name]
+            sym = decl.new_symbol(name)
+            kind = "parameter" if isinstance(decl, Parameter) else "variable"
+            for k, (_, index) in enumerate(decl.element_names(name)):
+                self._infos.append(SymInfo(sym.nz[k], kind, node=self, name=name, index=index))
+            self._syms[name] = sym
+        return sym
+
+    def _assign(self, name: str, value: Any) -> None:
+        decl = self._decls.get(name)
+        if not isinstance(decl, Parameter):
+            raise ParameterError(self._unknown(name, "parameter"))
+        self._values[name] = decl.check(self._label(name), value)
+
+    def _unknown(self, name: str, what: str) -> str:
+        pool = [n for n, d in self._decls.items() if (what != "parameter") or isinstance(d, Parameter)]
+        close = difflib.get_close_matches(name, pool, n=3)
+        hint = f"; did you mean {', '.join(close)}?" if close else f"; known: {', '.join(sorted(pool)) or 'none'}"
+        return f"{type(self).__name__} {self.path or '(model)'}: unknown {what} {name!r}{hint}"
+
+    def set_start(self, name: str, value: Any, fixed: bool = True) -> None:
+        """Set the start value of variable ``name`` (an initial condition if ``fixed``)."""
+        decl = self._decls.get(name)
+        if not isinstance(decl, Variable):
+            raise ModelError(self._unknown(name, "variable"))
+        arr = np.array(value, dtype=float)
+        if arr.size != decl.size:
+            raise ModelError(f"{self._label(name)}: start value has {arr.size} elements, variable has {decl.size}")
+        self._starts[name] = (arr.reshape(decl.shape) if decl.shape else arr.reshape(()), bool(fixed))
+
+    def parameter_value(self, name: str) -> np.ndarray | None:
+        """Current value of parameter ``name`` (None if it has neither a value nor a default)."""
+        if name in self._values:
+            return self._values[name]
+        decl = self._decls[name]
+        if decl.default is None:
+            return None
+        return decl.check(self._label(name), decl.default)
+
+    def start_of(self, name: str) -> tuple[np.ndarray, bool]:
+        """``(start, fixed)`` of variable ``name`` after instance overrides."""
+        if name in self._starts:
+            return self._starts[name]
+        decl = self._decls[name]
+        arr = np.broadcast_to(np.array(decl.start, dtype=float), decl.shape).copy() if decl.shape else \
+            np.array(float(decl.start))
+        return arr, decl.fixed
+
+    # -- tree walk ----------------------------------------------------------------------------
+    def walk(self) -> list[Node]:
+        """This node and all nodes below it, parents before children."""
+        out, stack = [], [self]
+        while stack:
+            node = stack.pop()
+            out.append(node)
+            stack.extend(reversed(list(node._children.values())))
+        return out
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} {self.path or '(root)'}>"
+
+
+class Connector(Node):
+    """A connector: potential and flow variables (or causal signals) shared across connections.
+
+    Two connectors can be connected when they declare the same variables (name, kind,
+    shape, unit). A flow variable is positive into the component that owns the connector.
+    """
+
+    def signature(self) -> tuple:
+        """What must match for two connectors to be connectable."""
+        return tuple(sorted((n, d.kind.value, d.shape, d.unit) for n, d in self._decls.items()))
+
+    def describe(self) -> str:
+        """``"Flange(phi [rad], flow tau [N.m])"``."""
+        parts = []
+        for n, d in self._decls.items():
+            prefix = "flow " if d.kind is Kind.flow else ""
+            parts.append(f"{prefix}{n} [{d.unit}]")
+        return f"{type(self).__name__}({', '.join(parts)})"
+
+
+class Component(Node):
+    """A physical component or a model (a component made of connected components).
+
+    Subclasses declare :class:`~flexlib.Parameter` and :class:`~flexlib.Variable` class
+    attributes, assign sub-components and connectors as attributes, and return their
+    equations from :meth:`equations`.
+
+    Parameters
+    ----------
+    init : dict, optional
+        ``{variable: value}`` initial conditions (start value with ``fixed=True``).
+    guess : dict, optional
+        ``{variable: value}`` start values used only as initialisation guesses.
+    doc : str, optional
+        Description of this instance.
+    **params
+        Parameter values (SI), overriding declared defaults.
+    """
+
+    experiment: ClassVar[Any] = None
+
+    def equations(self) -> list[Equation]:
+        """The component's own equations (connections are added by the compiler)."""
+        return []
+
+    def connect(self, *items: Any) -> None:
+        """Connect two or more connectors (or a signal output to inputs).
+
+        Connectors must be of the same type. Potentials become equal and flows sum
+        to zero over the connection set (Modelica semantics); signals become equal.
+        """
+        if len(items) < 2:
+            raise ConnectError(f"{self.path or 'model'}: connect() needs at least two connectors")
+        resolved = [self._resolve(item) for item in items]
+        first = resolved[0]
+        for other in resolved[1:]:
+            if first[0] == "connector" and other[0] == "connector":
+                a, b = first[1], other[1]
+                if a.signature() != b.signature():
+                    raise ConnectError(
+                        f"{self.path or 'model'}: cannot connect {a.path} {a.describe()} "
+                        f"with {b.path} {b.describe()}: incompatible connector types")
+            elif first[0] == "signal" and other[0] == "signal":
+                self._check_signal(first[1], other[1])
+            else:
+                raise ConnectError(
+                    f"{self.path or 'model'}: cannot connect {self._show(first)} with {self._show(other)}: "
+                    "a signal can only be connected to a signal")
+        for other in resolved[1:]:
+            self._connections.append((first, other))
+
+    def _show(self, item: tuple) -> str:
+        if item[0] == "connector":
+            return f"{item[1].path} {item[1].describe()}"
+        info: SymInfo = item[1]
+        return f"signal {info.node._label(info.name)}"
+
+    def _resolve(self, item: Any) -> tuple:
+        if isinstance(item, Connector):
+            self._check_scope(item, item.path)
+            return ("connector", item)
+        if isinstance(item, Component):
+            raise ConnectError(f"{self.path or 'model'}: connect() got component {item.path}; pass one of its connectors")
+        if isinstance(item, ca.SX) and item.is_valid_input() and item.nnz() >= 1:
+            info = lookup(item.nz[0])
+            if info is not None and info.kind == "variable":
+                decl = info.node._decls[info.name]
+                if decl.kind in (Kind.input, Kind.output) and item.nnz() == decl.size:
+                    self._check_scope(info.node, info.node._label(info.name))
+                    return ("signal", info)
+        raise ConnectError(f"{self.path or 'model'}: connect() got {item!r}: not a connector or a signal input/output")
+
+    def _check_scope(self, node: Node, label: str) -> None:
+        n: Node | None = node
+        while n is not None and n is not self:
+            n = n._parent
+        if n is None:
+            raise ConnectError(f"{self.path or 'model'}: cannot connect {label}: it is not inside this model")
+
+    def _check_signal(self, a: SymInfo, b: SymInfo) -> None:
+        da, db = a.node._decls[a.name], b.node._decls[b.name]
+        la, lb = a.node._label(a.name), b.node._label(b.name)
+        if da.shape != db.shape:
+            raise ConnectError(f"cannot connect signal {la} {da.shape} with {lb} {db.shape}: shapes differ")
+
+        def outward(info: SymInfo) -> bool:  # an outside connector of this model seen from inside
+            return info.node is self
+
+        def source(info: SymInfo, decl: Declaration) -> bool:
+            return (decl.kind is Kind.output) != outward(info)
+
+        if source(a, da) and source(b, db):
+            raise ConnectError(f"cannot connect signal {la} with {lb}: both are sources (outputs)")
+
+
+Model = Component
+"""A model is a component; the alias reads better for complete systems."""

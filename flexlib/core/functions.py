@@ -1,0 +1,134 @@
+"""Event-generating functions: ``if_else`` and the discontinuous functions built on it.
+
+Modelica semantics: a relation such as ``x > 0`` inside an ``if`` is evaluated only at
+events. Between events its value is frozen, so the integrator sees a smooth residual;
+the zero crossing of ``x - 0`` is located by root finding, and the integration is
+restarted with the new value. :func:`if_else` turns each relation of its condition into
+a discrete symbol (a run-time input of the compiled model) plus an event indicator.
+Relations that depend on time and parameters only, affinely in time (``time >= t_on``),
+become time events, which the integrator hits exactly.
+
+Use :func:`no_event` to write a condition that is evaluated continuously (no events;
+only for expressions that are continuous across the switch).
+"""
+
+from __future__ import annotations
+
+from contextvars import ContextVar
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+
+from flexlib.core.variables import SymInfo, _as_sx
+from flexlib.errors import ModelError
+
+__all__ = ["abs_", "if_else", "max_", "min_", "no_event", "sign"]
+
+#: Relations created while a component's equations() runs are recorded here by the flattener.
+CURRENT_RELATIONS: ContextVar[list | None] = ContextVar("flexlib_relations", default=None)
+
+
+@dataclass(eq=False)
+class Relation:
+    """A relation ``lhs < rhs`` / ``lhs <= rhs`` frozen between events.
+
+    Attributes
+    ----------
+    info : SymInfo
+        The discrete symbol (1.0 = true, 0.0 = false).
+    indicator : casadi.SX
+        ``rhs - lhs``: the relation is true when it is > 0 (``<``) or >= 0 (``<=``).
+    strict : bool
+        True for ``<``, False for ``<=``.
+    text : str
+        Printable form for diagnostics.
+    """
+
+    info: SymInfo
+    indicator: ca.SX
+    strict: bool
+    text: str
+
+    def value(self, z: float) -> bool:
+        """Relation value for indicator value ``z`` (away from an event)."""
+        return z > 0.0 if self.strict else z >= 0.0
+
+
+def _relation(lhs: ca.SX, rhs: ca.SX, strict: bool) -> ca.SX:
+    text = f"{lhs} {'<' if strict else '<='} {rhs}"
+    sym = ca.SX.sym(f"rel({text[:40]})")
+    info = SymInfo(sym, "relation", name=text)
+    rel = Relation(info, rhs - lhs, strict, text)
+    info.extra["relation"] = rel
+    sink = CURRENT_RELATIONS.get()
+    if sink is None:
+        raise ModelError("if_else() with an event-generating condition may only be used inside equations()")
+    sink.append(rel)
+    return sym
+
+
+def _discretize(cond: ca.SX) -> ca.SX:
+    """Replace the relations of a scalar boolean expression by discrete symbols."""
+    if cond.is_constant():
+        return cond
+    op = cond.op()
+    if op == ca.OP_LT:
+        return _relation(cond.dep(0), cond.dep(1), True)
+    if op == ca.OP_LE:
+        return _relation(cond.dep(0), cond.dep(1), False)
+    if op == ca.OP_NOT:
+        return ca.logic_not(_discretize(cond.dep(0)))
+    if op == ca.OP_AND:
+        return ca.logic_and(_discretize(cond.dep(0)), _discretize(cond.dep(1)))
+    if op == ca.OP_OR:
+        return ca.logic_or(_discretize(cond.dep(0)), _discretize(cond.dep(1)))
+    if op in (ca.OP_EQ, ca.OP_NE):
+        raise ModelError(f"if_else(): equality test on real numbers ({cond}) cannot generate an event")
+    raise ModelError(f"if_else(): condition {cond} is not a relation (<, <=, >, >=) or a logical combination")
+
+
+def if_else(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
+    """``if cond then if_true else if_false`` with event semantics.
+
+    Parameters
+    ----------
+    cond : casadi.SX
+        Scalar relation (``x > 0``, ``time >= t0``) or a logical combination of relations
+        (``ca.logic_and``, ``ca.logic_or``, ``ca.logic_not``).
+    if_true, if_false : casadi.SX or float
+        The two branches (scalars or arrays of equal shape).
+    """
+    c = _as_sx(cond)
+    if not c.is_scalar():
+        raise ModelError("if_else(): the condition must be a scalar")
+    return ca.if_else(_discretize(c), _as_sx(if_true), _as_sx(if_false))
+
+
+def no_event(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
+    """``if cond then if_true else if_false`` evaluated continuously, without events."""
+    return ca.if_else(_as_sx(cond), _as_sx(if_true), _as_sx(if_false))
+
+
+def abs_(x: Any) -> ca.SX:
+    """``|x|`` with an event at ``x = 0``."""
+    x = _as_sx(x)
+    return if_else(x >= 0, x, -x)
+
+
+def sign(x: Any) -> ca.SX:
+    """Sign of ``x`` (-1, 0 only at the event instant, +1) with events at ``x = 0``."""
+    x = _as_sx(x)
+    return if_else(x > 0, 1.0, if_else(x < 0, -1.0, 0.0))
+
+
+def max_(a: Any, b: Any) -> ca.SX:
+    """``max(a, b)`` with an event where ``a = b``."""
+    a, b = _as_sx(a), _as_sx(b)
+    return if_else(a >= b, a, b)
+
+
+def min_(a: Any, b: Any) -> ca.SX:
+    """``min(a, b)`` with an event where ``a = b``."""
+    a, b = _as_sx(a), _as_sx(b)
+    return if_else(a <= b, a, b)

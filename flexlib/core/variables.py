@@ -1,0 +1,408 @@
+"""Declarations (parameters, variables, connector variables), ``der``, ``eq`` and ``time``.
+
+A component class declares its quantities as class attributes::
+
+    class Inertia(Component):
+        J = Parameter(unit="kg.m2", min=0.0, doc="Moment of inertia")
+        w = Variable(unit="rad/s", state_select="prefer", doc="Angular velocity")
+
+On an instance, ``self.J`` and ``self.w`` are CasADi SX symbols, so equations are
+ordinary CasADi expressions. Every scalar symbol is registered with the node that
+owns it, which is how ``der`` finds derivatives, how ``connect`` finds signal
+variables, and how the compiler names every equation and variable.
+"""
+
+from __future__ import annotations
+
+import enum
+import weakref
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import casadi as ca
+import numpy as np
+
+from flexlib.errors import ModelError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from flexlib.core.component import Node
+
+__all__ = [
+    "Declaration",
+    "Equation",
+    "Flow",
+    "Input",
+    "Output",
+    "Parameter",
+    "Potential",
+    "StateSelect",
+    "Variable",
+    "der",
+    "eq",
+    "time",
+]
+
+
+class StateSelect(enum.IntEnum):
+    """Preference for choosing a variable as a state (Modelica ``StateSelect``)."""
+
+    never = 0
+    avoid = 1
+    default = 2
+    prefer = 3
+    always = 4
+
+
+class Kind(str, enum.Enum):
+    """Role of a declared quantity."""
+
+    parameter = "parameter"
+    variable = "variable"
+    potential = "potential"
+    flow = "flow"
+    input = "input"
+    output = "output"
+
+
+# ---------------------------------------------------------------------------------------------
+# Symbol registry: scalar SX symbol (by element hash) -> SymInfo. Weak values: a SymInfo lives
+# as long as the node that owns it, and it holds the SX symbol, so a hash is never reused while
+# its entry exists.
+# ---------------------------------------------------------------------------------------------
+_REGISTRY: weakref.WeakValueDictionary[int, SymInfo] = weakref.WeakValueDictionary()
+
+
+@dataclass(eq=False)
+class SymInfo:
+    """What a scalar SX symbol stands for.
+
+    Attributes
+    ----------
+    sym : casadi.SX
+        The scalar symbol.
+    kind : str
+        ``"variable"`` (any declared variable), ``"parameter"``, ``"der"``, ``"time"`` or
+        ``"relation"`` (a discrete relation created by :func:`flexlib.if_else`).
+    node : Node or None
+        Owning component (None for time and for derivative/relation symbols).
+    name : str
+        Declaration name in the owner (``"w"``) or a description.
+    index : tuple
+        Index of the element inside an array declaration (``()`` for scalars).
+    base : SymInfo or None
+        For ``kind == "der"``: the symbol this is the time derivative of.
+    """
+
+    sym: ca.SX
+    kind: str
+    node: Any = None
+    name: str = ""
+    index: tuple = ()
+    base: SymInfo | None = None
+    _der: SymInfo | None = field(default=None, repr=False)
+    extra: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        _REGISTRY[self.sym.element_hash()] = self
+
+    @property
+    def der_info(self) -> SymInfo:
+        """The SymInfo of ``der(sym)``, created on first use."""
+        if self._der is None:
+            self._der = SymInfo(ca.SX.sym(f"der({self.sym.name()})"), "der", base=self)
+        return self._der
+
+    @property
+    def order(self) -> int:
+        """Differentiation order (0 for a plain variable)."""
+        return 0 if self.base is None else self.base.order + 1
+
+    @property
+    def root(self) -> SymInfo:
+        """The undifferentiated symbol."""
+        return self if self.base is None else self.base.root
+
+
+def lookup(sym: ca.SX) -> SymInfo | None:
+    """Return the registry entry of a scalar symbol, or None."""
+    return _REGISTRY.get(sym.element_hash())
+
+
+time = ca.SX.sym("time")
+"""Simulation time [s] (Modelica ``time``)."""
+_TIME_INFO = SymInfo(time, "time", name="time")
+
+
+# ---------------------------------------------------------------------------------------------
+# Declarations
+# ---------------------------------------------------------------------------------------------
+def _shape(shape: int | tuple[int, ...]) -> tuple[int, ...]:
+    if isinstance(shape, int):
+        shape = (shape,)
+    shape = tuple(int(s) for s in shape)
+    if len(shape) > 2 or any(s < 1 for s in shape):
+        raise ModelError(f"shape {shape}: only scalars, vectors and matrices are supported")
+    return shape
+
+
+class Declaration:
+    """Base class of the class-attribute declarations (parameters and variables).
+
+    On an instance the attribute is the CasADi SX symbol; on the class it is the
+    declaration itself (so ``Inertia.J.unit == "kg.m2"``).
+    """
+
+    kind: Kind = Kind.variable
+
+    def __init__(self, *, unit: str = "1", doc: str = "", shape: int | tuple[int, ...] = ()) -> None:
+        self.unit = unit
+        self.doc = doc
+        self.shape = _shape(shape)
+        self.name = ""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.name = name
+
+    def __get__(self, instance: Node | None, owner: type) -> Any:
+        if instance is None:
+            return self
+        return instance._symbol(self.name)
+
+    def __set__(self, instance: Node, value: Any) -> None:
+        instance._assign(self.name, value)
+
+    @property
+    def size(self) -> int:
+        """Number of scalar elements."""
+        return int(np.prod(self.shape)) if self.shape else 1
+
+    def element_names(self, base: str) -> list[tuple[str, tuple]]:
+        """Scalar element names (``r[0]``, ``R[1,2]``) in CasADi column-major nonzero order."""
+        if not self.shape:
+            return [(base, ())]
+        if len(self.shape) == 1:
+            return [(f"{base}[{i}]", (i,)) for i in range(self.shape[0])]
+        n, m = self.shape
+        return [(f"{base}[{i},{j}]", (i, j)) for j in range(m) for i in range(n)]
+
+    def new_symbol(self, label: str) -> ca.SX:
+        """A fresh SX symbol with this declaration's shape."""
+        if not self.shape:
+            return ca.SX.sym(label)
+        if len(self.shape) == 1:
+            return ca.SX.sym(label, self.shape[0])
+        return ca.SX.sym(label, *self.shape)
+
+
+class Parameter(Declaration):
+    """A numeric parameter, tunable at run time without recompiling.
+
+    Parameters
+    ----------
+    default : float or array_like, optional
+        Default value in SI units; None means the user must give a value.
+    unit : str
+        Unit in Modelica syntax (``"kg.m2"``, ``"N/m"``).
+    min, max : float, optional
+        Bounds, checked whenever a value is set (build time and run time).
+    doc : str
+        One-line description.
+    shape : int or tuple
+        ``()`` for a scalar, ``(3,)`` for a vector, ``(3, 3)`` for a matrix.
+    """
+
+    kind = Kind.parameter
+
+    def __init__(
+        self, default: Any = None, *, unit: str = "1", doc: str = "", min: float | None = None,
+        max: float | None = None, shape: int | tuple[int, ...] = (),
+    ) -> None:
+        super().__init__(unit=unit, doc=doc, shape=shape)
+        self.default = default
+        self.min = min
+        self.max = max
+
+    def check(self, path: str, value: Any) -> np.ndarray:
+        """Return ``value`` as a float array of the declared shape, or raise naming ``path``."""
+        from flexlib.errors import ParameterError
+
+        try:
+            arr = np.array(value, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise ParameterError(f"{path}: parameter value {value!r} is not numeric") from exc
+        if arr.shape != self.shape:
+            if arr.size == self.size and self.shape:
+                arr = arr.reshape(self.shape)
+            else:
+                raise ParameterError(f"{path}: parameter has shape {self.shape}, got value of shape {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise ParameterError(f"{path}: parameter value {value!r} is not finite")
+        if self.min is not None and np.any(arr < self.min):
+            raise ParameterError(f"{path} = {value!r} [{self.unit}] is below its minimum {self.min}")
+        if self.max is not None and np.any(arr > self.max):
+            raise ParameterError(f"{path} = {value!r} [{self.unit}] is above its maximum {self.max}")
+        return arr
+
+
+_STATE_SELECT = {s.name: s for s in StateSelect}
+
+
+class Variable(Declaration):
+    """A time-varying unknown.
+
+    Parameters
+    ----------
+    unit : str
+        Unit in Modelica syntax.
+    start : float or array_like
+        Start value: the initial value if ``fixed``, otherwise a guess for initialisation.
+    fixed : bool
+        True if the start value is an initial condition (Modelica ``fixed=true``).
+    nominal : float
+        Typical magnitude; scales the absolute tolerance of the integrator.
+    state_select : str
+        ``"never"``, ``"avoid"``, ``"default"``, ``"prefer"`` or ``"always"``.
+    doc : str
+        One-line description.
+    shape : int or tuple
+        ``()``, ``(n,)`` or ``(n, m)``.
+    """
+
+    kind = Kind.variable
+
+    def __init__(
+        self, *, unit: str = "1", doc: str = "", start: Any = 0.0, fixed: bool = False,
+        nominal: float = 1.0, state_select: str = "default", shape: int | tuple[int, ...] = (),
+    ) -> None:
+        super().__init__(unit=unit, doc=doc, shape=shape)
+        if state_select not in _STATE_SELECT:
+            raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)}, got {state_select!r}")
+        if not nominal > 0:
+            raise ModelError(f"nominal must be > 0, got {nominal!r}")
+        self.start = start
+        self.fixed = bool(fixed)
+        self.nominal = float(nominal)
+        self.state_select = _STATE_SELECT[state_select]
+
+
+class Potential(Variable):
+    """A connector variable that is equal across a connection (angle, position, pressure)."""
+
+    kind = Kind.potential
+
+
+class Flow(Variable):
+    """A connector variable that sums to zero over a connection, positive into the component."""
+
+    kind = Kind.flow
+
+
+class Input(Variable):
+    """A causal signal input: its value comes from the output it is connected to."""
+
+    kind = Kind.input
+
+
+class Output(Variable):
+    """A causal signal output: the block computes it."""
+
+    kind = Kind.output
+
+
+# ---------------------------------------------------------------------------------------------
+# der and eq
+# ---------------------------------------------------------------------------------------------
+def _as_sx(x: Any) -> ca.SX:
+    if isinstance(x, ca.SX):
+        return x
+    if isinstance(x, (ca.MX,)):
+        raise ModelError("flexlib equations are SX expressions; got an MX expression")
+    return ca.SX(np.asarray(x, dtype=float)) if not isinstance(x, ca.DM) else ca.SX(x)
+
+
+def der(expr: Any) -> ca.SX:
+    """Time derivative of a variable or of an expression of variables (chain rule).
+
+    Parameters
+    ----------
+    expr : casadi.SX
+        A variable symbol (scalar or array) or an expression of variables, parameters and time.
+
+    Returns
+    -------
+    casadi.SX
+        ``der(x)`` symbols for variables; ``dexpr/dt`` by forward differentiation otherwise.
+    """
+    e = _as_sx(expr)
+    if e.is_valid_input():  # a (matrix of) plain symbols
+        out = []
+        for k in range(e.nnz()):
+            s = e.nz[k]
+            info = lookup(s)
+            if info is None:
+                raise ModelError(f"der({s}): {s} is not a flexlib variable")
+            if info.kind == "time":
+                out.append(ca.SX(1.0))
+            elif info.kind in ("parameter", "relation"):
+                out.append(ca.SX(0.0))
+            else:
+                out.append(info.der_info.sym)
+        res = ca.SX(e.sparsity(), ca.vertcat(*out)) if out else ca.SX(e.shape)
+        return res
+    syms = ca.symvar(e)
+    if not syms:
+        return ca.SX.zeros(*e.shape)
+    v, d = [], []
+    for s in syms:
+        info = lookup(s)
+        if info is None:
+            raise ModelError(f"der(): symbol {s} in {e} is not a flexlib variable")
+        if info.kind in ("parameter", "relation"):
+            continue
+        v.append(s)
+        d.append(ca.SX(1.0) if info.kind == "time" else info.der_info.sym)
+    if not v:
+        return ca.SX.zeros(*e.shape)
+    flat = ca.vec(e)
+    dflat = ca.jtimes(flat, ca.vertcat(*v), ca.vertcat(*d))
+    return ca.reshape(dflat, e.shape[0], e.shape[1])
+
+
+@dataclass(eq=False)
+class Equation:
+    """One (possibly array-valued) equation ``lhs = rhs`` stored as the residual ``lhs - rhs``.
+
+    Attributes
+    ----------
+    residual : casadi.SX
+        Column of scalar residuals.
+    label : str
+        Optional description shown in diagnostics.
+    owner : str
+        Hierarchical path of the component that declared it (set by the flattener).
+    """
+
+    residual: ca.SX
+    label: str = ""
+    owner: str = ""
+
+
+def eq(lhs: Any, rhs: Any = 0.0, label: str = "") -> Equation:
+    """The equation ``lhs = rhs`` (CasADi overloads ``==``, so equations use this function).
+
+    Parameters
+    ----------
+    lhs, rhs : casadi.SX or array_like
+        Both sides, of equal shape (a scalar side is broadcast).
+    label : str
+        Optional short description used in diagnostics.
+    """
+    a, b = _as_sx(lhs), _as_sx(rhs)
+    if a.shape != b.shape:
+        if b.is_scalar():
+            b = ca.repmat(b, a.shape[0], a.shape[1])
+        elif a.is_scalar():
+            a = ca.repmat(a, b.shape[0], b.shape[1])
+        else:
+            raise ModelError(f"eq(): left side has shape {a.shape}, right side {b.shape} ({label or 'equation'})")
+    return Equation(ca.vec(a - b), label=label)

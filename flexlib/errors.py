@@ -1,0 +1,83 @@
+"""Exceptions raised by flexlib.
+
+Every message names the component path and the variable involved, so that an
+engineer can find the culprit in a model of a few thousand equations.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__all__ = [
+    "BalanceError",
+    "ConnectError",
+    "FlexlibError",
+    "InitializationError",
+    "ModelError",
+    "ParameterError",
+    "SimulationInterrupted",
+    "SolverError",
+    "StructuralSingularityError",
+]
+
+
+class FlexlibError(Exception):
+    """Base class of all flexlib errors."""
+
+
+class ModelError(FlexlibError):
+    """A model is ill-formed: bad declaration, bad equation, bad parameter value."""
+
+
+class ParameterError(ModelError):
+    """An unknown parameter name or an invalid parameter value."""
+
+
+class ConnectError(ModelError):
+    """Two connectors that cannot be connected."""
+
+
+class BalanceError(ModelError):
+    """The flattened model has more or fewer equations than unknowns.
+
+    Attributes
+    ----------
+    excess_equations : list of str
+        Descriptions of the equations in the over-determined part.
+    free_variables : list of str
+        Names of the variables in the under-determined part.
+    """
+
+    def __init__(
+        self, message: str, excess_equations: list[str] | None = None,
+        free_variables: list[str] | None = None,
+    ) -> None:
+        super().__init__(message)
+        self.excess_equations = excess_equations or []
+        self.free_variables = free_variables or []
+
+
+class StructuralSingularityError(BalanceError):
+    """Equations and unknowns balance in number, but not in structure."""
+
+
+class InitializationError(FlexlibError):
+    """Consistent initial values could not be found, or initial conditions are over/under-specified."""
+
+
+class SolverError(FlexlibError):
+    """The integrator failed.
+
+    Attributes
+    ----------
+    result : flexlib.Result or None
+        The result up to the failure (all variables, solver statistics).
+    """
+
+    def __init__(self, message: str, result: Any = None) -> None:
+        super().__init__(message)
+        self.result = result
+
+
+class SimulationInterrupted(SolverError):
+    """The run was interrupted (Ctrl-C); ``result`` holds everything up to the interrupt."""

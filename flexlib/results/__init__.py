@@ -1,0 +1,1 @@
+"""Results: access by name, plots, HDF5 files."""

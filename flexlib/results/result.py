@@ -1,0 +1,133 @@
+"""Stage 7 — results: time plus every variable by hierarchical name, solver statistics, plots."""
+
+from __future__ import annotations
+
+import difflib
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Result"]
+
+
+@dataclass
+class Result:
+    """Simulation result.
+
+    ``result["inertia2.w"]`` is the time series of a variable (aliases included);
+    ``result.t`` the time points (grid points, plus the left and right values at every event);
+    ``result.value(name, t)`` interpolates; ``result.stats`` holds solver statistics.
+
+    Attributes
+    ----------
+    model : str
+        Model (class) name.
+    t : ndarray
+        Time [s].
+    names : list of str
+        Variable names, in column order of ``values``.
+    values : ndarray
+        ``(len(t), len(names))`` array.
+    units, docs, kinds : list of str
+        Per-variable metadata.
+    parameters : dict
+        ``{name: (value, unit)}`` used in the run.
+    stats : dict
+        Solver statistics (steps, residual and Jacobian evaluations, events, timings).
+    status : str
+        ``"success"``, ``"failed"`` or ``"interrupted"``.
+    message : str
+        Solver message.
+    events : list of (float, str)
+        Event times and what triggered them.
+    index_report : str
+        Index reduction report (which equations were differentiated, which variables are states).
+    """
+
+    model: str
+    t: np.ndarray
+    names: list[str]
+    values: np.ndarray
+    units: list[str]
+    docs: list[str]
+    kinds: list[str]
+    parameters: dict[str, tuple[float, str]]
+    stats: dict[str, Any]
+    status: str = "success"
+    message: str = ""
+    events: list[tuple[float, str]] = field(default_factory=list)
+    index_report: str = ""
+    metadata: dict[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self._index = {n: k for k, n in enumerate(self.names)}
+
+    @property
+    def success(self) -> bool:
+        """True if the run reached its end time."""
+        return self.status == "success"
+
+    def _col(self, name: str) -> int:
+        try:
+            return self._index[name]
+        except KeyError:
+            close = difflib.get_close_matches(name, self.names, n=5, cutoff=0.6)
+            hint = f"; close matches: {', '.join(close)}" if close else ""
+            raise KeyError(f"no variable {name!r} in the result of {self.model}{hint}") from None
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name in ("time", "t"):
+            return self.t
+        if name in self._index:
+            return self.values[:, self._index[name]]
+        # array variables: "frame.r" -> columns r[0], r[1], ...
+        cols = [k for n, k in self._index.items() if n.startswith(name + "[")]
+        if cols:
+            return self.values[:, sorted(cols)]
+        return self.values[:, self._col(name)]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._index
+
+    def unit(self, name: str) -> str:
+        """Unit of a variable."""
+        return self.units[self._col(name)]
+
+    def value(self, name: str, t: float | np.ndarray) -> float | np.ndarray:
+        """Linear interpolation of variable ``name`` at time(s) ``t`` (right value at events)."""
+        x = self[name]
+        tt = self.t
+        # at an event time the result holds the left and right values; use the right one
+        keep = np.ones(len(tt), dtype=bool)
+        keep[:-1] = tt[1:] != tt[:-1]
+        return np.interp(t, tt[keep], x[keep])
+
+    def final(self, name: str) -> float:
+        """Value of ``name`` at the end of the run."""
+        return float(self[name][-1])
+
+    def plot(self, *names: str, ax: Any = None, title: str | None = None) -> Any:
+        """Plot variables against time with matplotlib; returns the Axes."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(8, 4.5))
+        for name in names:
+            ax.plot(self.t, self[name], label=f"{name} [{self.unit(name)}]")
+        ax.set_xlabel("time [s]")
+        ax.set_title(title or self.model)
+        ax.grid(True, alpha=0.3)
+        if names:
+            ax.legend()
+        return ax
+
+    def save(self, path: str) -> None:
+        """Write the result to an HDF5 file (atomically; layout in docs/results.md)."""
+        from flexlib.results.hdf5 import save_result
+
+        save_result(self, path)
+
+    def __repr__(self) -> str:
+        return (f"<Result {self.model}: {self.status}, t = {self.t[0] if len(self.t) else 0:g} … "
+                f"{self.t[-1] if len(self.t) else 0:g} s, {len(self.t)} points, {len(self.names)} variables>")

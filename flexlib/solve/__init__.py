@@ -1,0 +1,1 @@
+"""Solving: initialisation, IDA integration with events, the Simulation front end."""
