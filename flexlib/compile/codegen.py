@@ -38,6 +38,9 @@ __all__ = ["CompiledModel", "VariableInfo", "compile_dae"]
 
 FUNCTIONS = ("res", "jac", "out", "ind", "cond", "tev")
 
+#: Number of times :func:`compile_dae` ran in this process (tests assert that runs reuse builds).
+COMPILE_COUNT = [0]
+
 
 @dataclass
 class VariableInfo:
@@ -58,6 +61,10 @@ class RelationInfo:
     strict: bool
     time_event: bool  # affine in time, independent of y: hit exactly with tstop
     owner: str = ""
+
+    def value(self, z: float) -> bool:
+        """Relation value for indicator value ``z`` (``rhs - lhs``) away from an event."""
+        return z > 0.0 if self.strict else z >= 0.0
 
 
 @dataclass
@@ -108,6 +115,15 @@ class CompiledModel:
             self._functions[name] = f
         return f
 
+    def sx_function(self, name: str) -> ca.Function:
+        """The SX (symbolic, differentiable) version of function ``name``, even with generated C."""
+        key = f"sx_{name}"
+        f = self._functions.get(key)
+        if f is None:
+            f = ca.Function.deserialize(self.serialized[name])
+            self._functions[key] = f
+        return f
+
     def __getstate__(self) -> dict:
         state = dict(self.__dict__)
         state["_functions"] = {}
@@ -117,6 +133,7 @@ class CompiledModel:
 def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bool = False,
                 build_dir: str | os.PathLike | None = None) -> CompiledModel:
     """Build the CasADi functions of a DAE (and C code if ``codegen``)."""
+    COMPILE_COUNT[0] += 1
     t, y, yp = time, dae.y, dae.yp
     pars = ca.vertcat(*[q.sym for q in flat.parameters]) if flat.parameters else ca.SX(0, 1)
     rels = ca.vertcat(*[rel.info.sym for rel, _ in dae.relations]) if dae.relations else ca.SX(0, 1)
@@ -215,7 +232,8 @@ def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike 
     with tempfile.TemporaryDirectory(dir=build) as tmp:
         cg.generate(tmp + os.sep)
         src = Path(tmp) / f"flexlib_{digest}.c"
-        lines = sum(1 for _ in src.open())
+        with src.open() as fh:
+            lines = sum(1 for _ in fh)
         opt = "-O2" if lines < 20000 else "-O1"
         tmp_lib = Path(tmp) / lib.name
         proc = subprocess.run([cc, opt, "-shared", "-fPIC", str(src), "-o", str(tmp_lib), "-lm"],

@@ -260,8 +260,8 @@ def _check_local_balance(nodes: list[Node], equations: list[FlatEquation]) -> No
         if e.origin == "equation":
             counts[e.owner] = counts.get(e.owner, 0) + 1
     for node in nodes:
-        if not isinstance(node, Component) or not getattr(node, "check_local_balance", True):
-            continue
+        if not isinstance(node, Component) or not getattr(node, "check_local_balance", True) or node._parent is None:
+            continue  # the root model is checked globally, with culprits named
         if any(not isinstance(c, Connector) for c in node._children.values()):
             continue  # a composite: checked globally
         unknowns, flows = [], 0

@@ -77,7 +77,7 @@ class _Callbacks:
         self.pattern.indptr = self.pattern.indptr.astype(np.int32)
         self.n_events = len(state_rel)
         if self.n_events:
-            ind = model.function("ind")
+            ind = model.sx_function("ind")
             t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
             pp = ca.SX.sym("p", len(p))
             z = ind(t, y, yp, pp)

@@ -52,8 +52,8 @@ class Initializer:
             m = self.model
             t, y, ypd, yp, p = self._symbols()
             vals = ca.SX.sym("vals", len(active))
-            F = m.function("res")(t, y, yp, p)
-            C = m.function("cond")(t, y, yp, p)
+            F = m.sx_function("res")(t, y, yp, p)
+            C = m.sx_function("cond")(t, y, yp, p)
             rows = [F]
             if active:
                 rows.append(ca.vertcat(*[C[k] for k in active]) - vals)
@@ -112,7 +112,8 @@ class Initializer:
         w0 = np.concatenate([y_guess, np.zeros(len(self.diff))])
         self._check_structure(jg, w0, par, active_t, steady_t)
         w = self._solve(g, jg, w0, par, tol, self._labels(active_t, steady_t))
-        return self._split(w)
+        y, yp = self._split(w)
+        return y, self.algebraic_rates(t0, y, yp, p)
 
     def guess(self, starts: dict[str, tuple[float, bool]]) -> np.ndarray:
         """Start guesses for ``y`` from the model's start values."""
@@ -128,6 +129,30 @@ class Initializer:
     def reinit(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
                tol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
         """Recompute algebraic variables and derivatives at an event, states held."""
+        y_new, yp_new = self._reinit(t, y, yp, p, tol)
+        return y_new, self.algebraic_rates(t, y_new, yp_new, p)
+
+    def algebraic_rates(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """``yp`` with the rates of the algebraic variables filled in (by a consistent solve at ``t + δ``).
+
+        They do not enter the residual, but IDA's predictor uses them on the first step; zeros
+        make the error test fail on systems whose algebraic variables move fast.
+        """
+        alg = np.flatnonzero(~self.model.differential)
+        if len(alg) == 0:
+            return yp
+        delta = 1e-7 * max(1.0, abs(t))
+        y2 = y + delta * yp
+        try:
+            y2, _ = self._reinit(t + delta, y2, yp, p, 1e-12)
+        except InitializationError:
+            return yp
+        out = yp.copy()
+        out[alg] = (y2[alg] - y[alg]) / delta
+        return out
+
+    def _reinit(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
+                tol: float) -> tuple[np.ndarray, np.ndarray]:
         m = self.model
         if self._reinit_fns is None:
             t_s, ys, ypd, yp_s, p_s = self._symbols()
@@ -139,7 +164,7 @@ class Initializer:
                 yfull[i] = ystate[k]
             for k, i in enumerate(alg):
                 yfull[i] = ya[k]
-            F = m.function("res")(t_s, yfull, yp_s, p_s)
+            F = m.sx_function("res")(t_s, yfull, yp_s, p_s)
             w = ca.vertcat(ya, ypd)
             par = ca.vertcat(t_s, p_s, ystate)
             self._reinit_fns = (ca.Function("g", [w, par], [F]), ca.Function("jg", [w, par], [ca.jacobian(F, w)]))

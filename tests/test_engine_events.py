@@ -1,0 +1,99 @@
+"""Time and state events (Modelica event semantics), checked against closed-form solutions."""
+
+import numpy as np
+
+import flexlib as fl
+from flexlib import Parameter, Variable, der, eq, if_else, time
+
+
+class BangBang(fl.Model):
+    """An inertia driven by +T until t1, −T until t2, then +T again (time events)."""
+
+    J = Parameter(2.0, unit="kg.m2")
+    T = Parameter(1.0, unit="N.m")
+    t1 = Parameter(1.0, unit="s")
+    t2 = Parameter(2.5, unit="s")
+    w = Variable(unit="rad/s")
+    tau = Variable(unit="N.m")
+
+    def equations(self):
+        return [
+            eq(self.tau, if_else(time < self.t1, self.T, if_else(time < self.t2, -self.T, self.T))),
+            eq(self.J * der(self.w), self.tau),
+        ]
+
+
+def test_time_events_hit_exactly():
+    """Event times equal the switching parameters to 1e-12; w(t) piecewise linear (exact to 1e-9)."""
+    res = fl.Simulation(BangBang(init={"w": 0.0}), use_cache=False).run(4.0, dt_out=0.5, rtol=1e-8, atol=1e-10)
+    times = [t for t, text in res.events if text.startswith("time event")]
+    np.testing.assert_allclose(times, [1.0, 2.5], atol=1e-12)
+    assert res.stats["time_events"] == 2
+    w_exact = np.piecewise(res.t, [res.t < 1.0, (res.t >= 1.0) & (res.t < 2.5), res.t >= 2.5],
+                           [lambda t: t / 2, lambda t: 0.5 - (t - 1) / 2, lambda t: -0.25 + (t - 2.5) / 2])
+    np.testing.assert_allclose(res["w"], w_exact, atol=1e-9)
+    # left and right values are both stored at an event
+    k = np.flatnonzero(res.t == 1.0)
+    assert len(k) >= 2 and set(np.round(res["tau"][k], 12)) == {1.0, -1.0}
+
+
+def test_time_event_parameter_change_moves_event():
+    """The switching time is a run-time parameter: a new value moves the event without recompiling."""
+    sim = fl.Simulation(BangBang(init={"w": 0.0}), use_cache=False)
+    res = sim.run(4.0, dt_out=1.0, params={"t1": 0.75})
+    times = [t for t, _ in res.events]
+    np.testing.assert_allclose(times, [0.75, 2.5], atol=1e-12)
+
+
+class BouncingContact(fl.Model):
+    """A ball falling onto a stiff contact spring: the contact force switches on when h < 0."""
+
+    g = Parameter(9.81, unit="m/s2")
+    m = Parameter(1.0, unit="kg")
+    k = Parameter(1e5, unit="N/m")
+    d = Parameter(10.0, unit="N.s/m")
+    h = Variable(unit="m")
+    v = Variable(unit="m/s")
+    fc = Variable(unit="N", doc="Contact force")
+
+    def equations(self):
+        return [
+            eq(der(self.h), self.v),
+            eq(self.m * der(self.v), -self.m * self.g + self.fc),
+            eq(self.fc, if_else(self.h < 0, -self.k * self.h - self.d * self.v, 0.0)),
+        ]
+
+
+def test_state_event_located():
+    """First contact at t = sqrt(2 h0 / g) (free fall) located to 1e-8; the ball bounces back up."""
+    h0 = 1.0
+    res = fl.Simulation(BouncingContact(init={"h": h0, "v": 0.0}), use_cache=False).run(
+        1.0, dt_out=0.01, rtol=1e-10, atol=1e-12)
+    first = res.events[0][0]
+    assert abs(first - np.sqrt(2 * h0 / 9.81)) <= 1e-8
+    assert res.stats["state_events"] >= 2  # contact and lift-off
+    assert res["h"].min() < 0 and res["v"][res.t > first].max() > 4.0  # in contact, then bouncing up again
+    # contact force is zero in flight and positive in contact (the branch is frozen between events)
+    assert np.all(res["fc"][res["h"] > 1e-9] == 0.0)
+
+
+class Thermostat(fl.Model):
+    """Heater switched by a relation on the state with hysteresis written as nested relations."""
+
+    T = Variable(unit="K")
+    q = Variable(unit="W")
+
+    def equations(self):
+        return [eq(der(self.T), self.q - 0.5 * (self.T - 280.0)),
+                eq(self.q, if_else(self.T < 295.0, 10.0, 0.0))]
+
+
+def test_event_reinitialisation_keeps_states_continuous():
+    """States are continuous across events; T settles to the switching level 295 K (sliding regime)."""
+    res = fl.Simulation(Thermostat(init={"T": 290.0}), use_cache=False).run(3.0, dt_out=0.1, rtol=1e-12, atol=1e-10)
+    assert res.events
+    t_event = res.events[0][0]
+    # analytic first crossing: T(t) = 300 − 10·exp(−t/2) reaches 295 at t = 2 ln 2
+    assert abs(t_event - 2 * np.log(2)) <= 1e-8
+    k = np.flatnonzero(res.t == t_event)
+    assert np.ptp(res["T"][k]) == 0.0

@@ -1,0 +1,86 @@
+"""Results: access by name (aliases included), save/load round trip, metadata."""
+
+import h5py
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib import Connector, Flow, Parameter, Potential, Variable, der, eq
+
+
+class Flange(Connector):
+    """Translational flange."""
+
+    s = Potential(unit="m")
+    f = Flow(unit="N")
+
+
+class Mass(fl.Component):
+    """Point mass."""
+
+    m = Parameter(1.0, unit="kg", min=0.0)
+    s = Variable(unit="m", state_select="prefer")
+    v = Variable(unit="m/s", state_select="prefer")
+    flange = Flange()
+
+    def equations(self):
+        return [eq(self.s, self.flange.s), eq(der(self.s), self.v), eq(self.m * der(self.v), self.flange.f)]
+
+
+class Spring(fl.Component):
+    """Linear spring to ground."""
+
+    c = Parameter(4.0, unit="N/m", min=0.0)
+    flange = Flange()
+
+    def equations(self):
+        return [eq(self.flange.f, self.c * self.flange.s)]
+
+
+class Oscillator(fl.Model):
+    """Mass on a spring: s(t) = s0 cos(sqrt(c/m) t)."""
+
+    def __init__(self):
+        super().__init__()
+        self.mass = Mass(init={"s": 0.1, "v": 0.0})
+        self.spring = Spring()
+        self.connect(self.mass.flange, self.spring.flange)
+
+
+def test_aliases_are_reported_and_analytic():
+    res = fl.Simulation(Oscillator(), use_cache=False).run(2.0, dt_out=0.01, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(res["mass.s"], 0.1 * np.cos(2.0 * res.t), atol=1e-9)
+    np.testing.assert_array_equal(res["spring.flange.s"], res["mass.s"])  # an eliminated alias
+    np.testing.assert_array_equal(res["spring.flange.f"], -res["mass.flange.f"])
+    assert res.unit("mass.v") == "m/s"
+    with pytest.raises(KeyError, match=r"close matches:.*mass\.s"):
+        res["mass.S"]
+    assert res.value("mass.s", 0.005) == pytest.approx(0.1 * np.cos(0.01), abs=1e-5)  # linear interpolation
+
+
+def test_save_load_identical(tmp_path):
+    sim = fl.Simulation(Oscillator(), use_cache=False)
+    res = sim.run(1.0, dt_out=0.1, params={"spring.c": 9.0})
+    path = tmp_path / "osc.h5"
+    res.save(str(path))
+    back = fl.load_result(path)
+    np.testing.assert_array_equal(back.t, res.t)
+    np.testing.assert_array_equal(back.values, res.values)
+    assert back.names == res.names and back.units == res.units
+    assert back.parameters == res.parameters and back.parameters["spring.c"] == (9.0, "N/m")
+    assert back.stats == pytest.approx(res.stats)
+    assert back.model == "Oscillator" and back.index_report == res.index_report
+    with h5py.File(path) as f:  # self-describing layout (docs/results.md)
+        assert f.attrs["format"] == "flexlib-result"
+        assert f.attrs["meta_casadi"] and f.attrs["meta_scikit-sundae"]
+        assert f["time"].attrs["unit"] == "s"
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+def test_plot_returns_axes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    res = fl.Simulation(Oscillator(), use_cache=False).run(1.0, dt_out=0.1)
+    ax = res.plot("mass.s", "mass.v")
+    assert [line.get_label() for line in ax.get_lines()] == ["mass.s [m]", "mass.v [m/s]"]
