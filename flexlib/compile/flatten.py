@@ -223,7 +223,10 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> N
                 for t in terms[1:]:
                     total = total + t
                 origin = "connect" if len(elems) > 1 else "unconnected flow"
-                label = f"sum of {name} over ({names}) = 0" if len(elems) > 1 else f"{first._label(name)} = 0 (unconnected)"
+                if len(elems) > 1:
+                    label = f"sum of {name} over ({names}) = 0"
+                else:
+                    label = f"{first._label(name)} = 0 (unconnected)"
                 for k in range(total.numel()):
                     equations.append(FlatEquation(total.nz[k], owner or first.path.rpartition(".")[0], label, origin))
             else:

@@ -382,7 +382,8 @@ def _structural_pick(mask: np.ndarray, cand: list[int], need: int, jexpr: ca.SX)
     inc = sp.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
     row_match, _ = matching(inc)
     if np.any(row_match < 0):
-        raise StructuralSingularityError("dummy derivative selection: differentiated equations are structurally singular")
+        raise StructuralSingularityError(
+            "dummy derivative selection: differentiated equations are structurally singular")
     return [cand[c] for c in row_match]
 
 
@@ -399,8 +400,7 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     is_state = [c.der >= 0 and c.der not in dummies for c in cols]
     # y entries: every column that is not the derivative of a state, plus derivative columns that are states too
     entries: list[int] = []
-    yp_of: dict[int, int] = {}
-    for k, c in enumerate(cols):
+    for k in range(len(cols)):
         a = anti.get(k)
         if a is not None and is_state[a] and not is_state[k]:
             continue  # represented by yp of its antiderivative
@@ -410,14 +410,11 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     y = ca.SX.sym("y", n)
     yp = ca.SX.sym("yp", n)
     col_value: dict[int, ca.SX] = {}
-    for k, c in enumerate(cols):
+    for k in range(len(cols)):
         if k in pos:
             col_value[k] = y[pos[k]]
         else:
             col_value[k] = yp[pos[anti[k]]]
-    for k in entries:
-        if is_state[k]:
-            yp_of[k] = pos[k]
     res_list = [r.expr for r in rows]
     # link equations: a state whose derivative is itself a state
     for k in entries:

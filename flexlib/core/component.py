@@ -266,7 +266,8 @@ class Component(Node):
             self._check_scope(item, item.path)
             return ("connector", item)
         if isinstance(item, Component):
-            raise ConnectError(f"{self.path or 'model'}: connect() got component {item.path}; pass one of its connectors")
+            raise ConnectError(
+                f"{self.path or 'model'}: connect() got component {item.path}; pass one of its connectors")
         if isinstance(item, ca.SX) and item.is_valid_input() and item.nnz() >= 1:
             info = lookup(item.nz[0])
             if info is not None and info.kind == "variable":

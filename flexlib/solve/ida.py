@@ -247,7 +247,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     burst = burst + 1 if t - last_event_t <= 1e-10 * max(1.0, abs(t)) else 0
                     last_event_t = t
                     if burst > 100:
-                        raise SolverError(f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
+                        raise SolverError(
+                            f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
                 if event_kind == "time":
                     t_event, which = next_time_event(model, p, t, t_end)
             if stats["steps"] >= max_steps:
@@ -298,7 +299,8 @@ class _EventsFn:
 
 
 def _event_iteration(model: CompiledModel, init: Initializer, p: np.ndarray, t: float, y: np.ndarray,
-                     yp: np.ndarray, triggered: list[tuple[int, bool]], max_iter: int = 20) -> tuple[np.ndarray, np.ndarray]:
+                     yp: np.ndarray, triggered: list[tuple[int, bool]],
+                     max_iter: int = 20) -> tuple[np.ndarray, np.ndarray]:
     """Switch the triggered relations, re-initialise, re-evaluate the others until consistent."""
     n_par = model.n_params
     fixed = {k for k, _ in triggered}

@@ -155,7 +155,7 @@ class Initializer:
                 tol: float) -> tuple[np.ndarray, np.ndarray]:
         m = self.model
         if self._reinit_fns is None:
-            t_s, ys, ypd, yp_s, p_s = self._symbols()
+            t_s, _, ypd, yp_s, p_s = self._symbols()
             ystate = ca.SX.sym("ystate", len(self.diff))
             alg = np.flatnonzero(~m.differential)
             ya = ca.SX.sym("ya", len(alg))

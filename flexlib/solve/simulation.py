@@ -247,7 +247,8 @@ class Simulation:
         if traj.t:
             T = np.array(traj.t)
             Y, YP = np.array(traj.y).T, np.array(traj.yp).T
-            P = np.vstack([np.repeat(pvec[:, None], len(T), axis=1), np.array(traj.rel, dtype=float).reshape(len(T), m.n_relations).T])
+            rel = np.array(traj.rel, dtype=float).reshape(len(T), m.n_relations).T
+            P = np.vstack([np.repeat(pvec[:, None], len(T), axis=1), rel])
             out = m.function("out").map(len(T))
             values = np.asarray(out(T[None, :], Y, YP, P)).T
         else:
