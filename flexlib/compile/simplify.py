@@ -213,7 +213,7 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
 
 def _conditions(flat: FlatSystem, value_of: dict[int, ca.SX]) -> list[Condition]:
     """Initial conditions from fixed start values, with duplicates on one alias class merged."""
-    seen: dict[str, tuple[str, float]] = {}
+    seen: dict[int, tuple[str, float]] = {}
     out: list[Condition] = []
     for i, v in enumerate(flat.variables):
         if not v.fixed:
@@ -223,16 +223,20 @@ def _conditions(flat: FlatSystem, value_of: dict[int, ca.SX]) -> list[Condition]
             # bound to a constant/parameter: the condition is checked at initialisation time
             out.append(Condition(v.name, expr, v.start))
             continue
-        key = str(expr)
-        neg_key = str(-expr)
-        if key in seen or neg_key in seen:
-            other, val = seen.get(key) or seen[neg_key]
-            target = v.start if key in seen else -v.start
-            if abs(target - val) > 1e-12 * max(1.0, abs(val)):
-                raise InitializationError(
-                    f"conflicting initial conditions: {other} = {val:g} and {v.name} = {v.start:g}, "
-                    "but the two variables are connected (aliases)")
+        if expr.is_symbolic():
+            key, sgn = expr.element_hash(), 1.0
+        elif expr.op() == ca.OP_NEG and expr.dep(0).is_symbolic():
+            key, sgn = expr.dep(0).element_hash(), -1.0
+        else:
+            out.append(Condition(v.name, expr, v.start))
             continue
-        seen[key] = (v.name, v.start)
+        if key in seen:
+            other, val = seen[key]
+            if abs(sgn * v.start - val) > 1e-12 * max(1.0, abs(val)):
+                raise InitializationError(
+                    f"conflicting initial conditions: {other} and {v.name} = {v.start:g} are connected "
+                    "(aliases) but have different values")
+            continue
+        seen[key] = (v.name, sgn * v.start)
         out.append(Condition(v.name, expr, v.start))
     return out
