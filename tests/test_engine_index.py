@@ -173,6 +173,7 @@ def test_rerun_from_cache(tmp_path, monkeypatch):
     assert codegen.COMPILE_COUNT[0] == before
     r1 = first.run(1.0, dt_out=0.1)
     r2 = second.run(1.0, dt_out=0.1)
+    assert not first.init_cached and second.init_cached  # stage 4 is cached too
     np.testing.assert_array_equal(r1.values, r2.values)
 
 

@@ -162,6 +162,7 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     t0 = _time.perf_counter()
     key = model_key(root, {"codegen": codegen}) if use_cache else None
     timings["key"] = _time.perf_counter() - t0
+    timings["model_key"] = key
     path = cache_dir() / f"{type(root).__name__}-{key}.pkl" if key else None
     if path is not None and path.exists():
         try:

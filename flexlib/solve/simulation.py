@@ -7,14 +7,17 @@ of runs with different parameters, tolerances and end times, without recompiling
 from __future__ import annotations
 
 import difflib
+import hashlib
+import os
 import platform
+import tempfile
 import time as _time
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from flexlib.compile.cache import build, gather_values
+from flexlib.compile.cache import build, cache_dir, gather_values
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.core.component import Component
@@ -77,6 +80,7 @@ class Simulation:
         self.compiled, self.build_info = build(model, codegen=codegen, use_cache=use_cache)
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
+        self.init_cached = False
 
     @property
     def report(self) -> IndexReport:
@@ -213,6 +217,30 @@ class Simulation:
         return result
 
     def _initialize(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Stage 4, cached on disk by model key, parameters, start values and options."""
+        key = self.build_info.get("model_key")
+        path = None
+        if key:
+            h = hashlib.sha256(p.tobytes() + repr((sorted(starts.items()), steady, t0)).encode()).hexdigest()[:24]
+            path = cache_dir() / f"{self.compiled.name}-{key}-init-{h}.npz"
+            if path.exists():
+                try:
+                    with np.load(path) as data:
+                        p[:] = data["p"]
+                        self.init_cached = True
+                        return data["y"].copy(), data["yp"].copy()
+                except (OSError, KeyError, ValueError):
+                    pass
+        self.init_cached = False
+        y, yp = self._consistent_start(t0, p, starts, steady)
+        if path is not None:
+            fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz")
+            os.close(fd)
+            np.savez(tmp, y=y, yp=yp, p=p)
+            os.replace(tmp, path)
+        return y, yp
+
+    def _consistent_start(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
         m = self.compiled
         n_par = m.n_params
         y, yp = self.initializer.guess(starts), np.zeros(m.n)
