@@ -1,0 +1,5 @@
+"""1D mechanics: ``rotational`` and ``translational`` (after ``Modelica.Mechanics``)."""
+
+from . import rotational, translational
+
+__all__ = ["rotational", "translational"]

@@ -19,7 +19,7 @@ import scipy.sparse as sp
 from flexlib.compile.structure import culprits, group_by_owner, incidence, matching
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
-from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup
+from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render
 from flexlib.errors import BalanceError, ModelError, StructuralSingularityError
 
 __all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
@@ -68,11 +68,10 @@ class FlatEquation:
     origin: str = "equation"  # "equation" | "connect" | "unconnected flow"
 
     def describe(self) -> str:
-        """Short printable form for diagnostics."""
-        text = self.label or str(self.expr)
-        if len(text) > 90:
-            text = text[:87] + "..."
-        return f"{text} = 0" if not self.label else text
+        """Short printable form for diagnostics (symbols by hierarchical name)."""
+        if self.label:
+            return self.label
+        return f"{render(self.expr, 110)} = 0"
 
 
 @dataclass(eq=False)
@@ -149,6 +148,10 @@ def flatten(root: Component) -> FlatSystem:
             own = node.equations()
         finally:
             CURRENT_RELATIONS.reset(token)
+        for rel in sink:
+            rel.owner = node.path or type(node).__name__
+            rel.text = rel.describe()
+            rel.info.name = f"[{rel.text}]"
         relations.extend(sink)
         for equ in own or []:
             if not hasattr(equ, "residual"):

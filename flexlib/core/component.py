@@ -134,7 +134,8 @@ class Node:
         decl = self._decls.get(name)
         if not isinstance(decl, Parameter):
             raise ParameterError(self._unknown(name, "parameter"))
-        self._values[name] = decl.check(self._label(name), value)
+        label = self._label(name) if self._parent is not None else f"{type(self).__name__}: {name}"
+        self._values[name] = decl.check(label, value)
 
     def _unknown(self, name: str, what: str) -> str:
         pool = [n for n, d in self._decls.items() if (what != "parameter") or isinstance(d, Parameter)]

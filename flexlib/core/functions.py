@@ -49,6 +49,18 @@ class Relation:
     indicator: ca.SX
     strict: bool
     text: str
+    lhs: ca.SX | None = None
+    rhs: ca.SX | None = None
+    owner: str = ""
+
+    def describe(self) -> str:
+        """``owner: lhs < rhs`` with hierarchical names."""
+        from flexlib.core.variables import render
+
+        if self.lhs is None or self.rhs is None:
+            return self.text
+        body = f"{render(self.lhs, 60)} {'<' if self.strict else '<='} {render(self.rhs, 60)}"
+        return f"{self.owner}: {body}" if self.owner else body
 
     def value(self, z: float) -> bool:
         """Relation value for indicator value ``z`` (away from an event)."""
@@ -59,7 +71,7 @@ def _relation(lhs: ca.SX, rhs: ca.SX, strict: bool) -> ca.SX:
     text = f"{lhs} {'<' if strict else '<='} {rhs}"
     sym = ca.SX.sym(f"rel({text[:40]})")
     info = SymInfo(sym, "relation", name=text)
-    rel = Relation(info, rhs - lhs, strict, text)
+    rel = Relation(info, rhs - lhs, strict, text, lhs, rhs)
     info.extra["relation"] = rel
     sink = CURRENT_RELATIONS.get()
     if sink is None:

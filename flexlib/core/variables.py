@@ -128,6 +128,29 @@ def lookup(sym: ca.SX) -> SymInfo | None:
     return _REGISTRY.get(sym.element_hash())
 
 
+def full_name(info: SymInfo) -> str:
+    """Hierarchical name of a symbol (``inertia1.flange_a.phi``, ``der(mass.v)``, ``frame.r[0]``)."""
+    if info.kind == "der" and info.base is not None:
+        return f"der({full_name(info.base)})"
+    if info.node is None:
+        return info.name or str(info.sym)
+    label = info.node._label(info.name)
+    if info.index:
+        label += "[" + ",".join(str(i) for i in info.index) + "]"
+    return label
+
+
+def render(expr: ca.SX, limit: int = 160) -> str:
+    """Printable form of an expression with every symbol written by its hierarchical name."""
+    syms = ca.symvar(expr)
+    named = []
+    for s in syms:
+        info = lookup(s)
+        named.append(ca.SX.sym(full_name(info)) if info is not None else s)
+    text = str(ca.substitute(expr, ca.vertcat(*syms), ca.vertcat(*named))) if syms else str(expr)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 time = ca.SX.sym("time")
 """Simulation time [s] (Modelica ``time``)."""
 _TIME_INFO = SymInfo(time, "time", name="time")

@@ -1,0 +1,37 @@
+"""1D rotational mechanics after ``Modelica.Mechanics.Rotational``.
+
+Connector :class:`Flange` (angle ``phi`` [rad], flow ``tau`` [N.m], positive into the
+component); components, sources and sensors with MSL names and equations.
+"""
+
+from .angle_sensor import AngleSensor
+from .damper import Damper
+from .fixed import Fixed
+from .ideal_gear import IdealGear
+from .inertia import Inertia
+from .interfaces import Flange
+from .position import Position
+from .relative_angle_sensor import RelativeAngleSensor
+from .speed import Speed
+from .speed_sensor import SpeedSensor
+from .spring import Spring
+from .spring_damper import SpringDamper
+from .torque import Torque
+from .torque_sensor import TorqueSensor
+
+__all__ = [
+    "AngleSensor",
+    "Damper",
+    "Fixed",
+    "Flange",
+    "IdealGear",
+    "Inertia",
+    "Position",
+    "RelativeAngleSensor",
+    "Speed",
+    "SpeedSensor",
+    "Spring",
+    "SpringDamper",
+    "Torque",
+    "TorqueSensor",
+]

@@ -1,0 +1,35 @@
+"""1D translational mechanics after ``Modelica.Mechanics.Translational``.
+
+Connector :class:`Flange` (position ``s`` [m], flow ``f`` [N], positive into the
+component); components, sources and sensors with MSL names and equations.
+"""
+
+from .damper import Damper
+from .fixed import Fixed
+from .force import Force
+from .force_sensor import ForceSensor
+from .interfaces import Flange
+from .mass import Mass
+from .position import Position
+from .position_sensor import PositionSensor
+from .relative_position_sensor import RelativePositionSensor
+from .speed import Speed
+from .speed_sensor import SpeedSensor
+from .spring import Spring
+from .spring_damper import SpringDamper
+
+__all__ = [
+    "Damper",
+    "Fixed",
+    "Flange",
+    "Force",
+    "ForceSensor",
+    "Mass",
+    "Position",
+    "PositionSensor",
+    "RelativePositionSensor",
+    "Speed",
+    "SpeedSensor",
+    "Spring",
+    "SpringDamper",
+]

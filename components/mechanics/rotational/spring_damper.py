@@ -1,0 +1,57 @@
+"""Linear 1D rotational spring and damper in parallel."""
+
+from __future__ import annotations
+
+from flexlib import Parameter, Variable, eq
+
+from .interfaces import PartialCompliantWithRelativeStates
+
+__all__ = ["SpringDamper"]
+
+
+class SpringDamper(PartialCompliantWithRelativeStates):
+    """Linear 1D rotational spring and damper in parallel.
+
+    ``tau = c * (phi_rel - phi_rel0) + d * w_rel``.
+
+    Parameters
+    ----------
+    c : float
+        Spring constant [N.m/rad], >= 0.
+    d : float
+        Damping constant [N.m.s/rad], >= 0.
+    phi_rel0 : float
+        Unstretched spring angle [rad].
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
+
+    Variables
+    ---------
+    phi_rel : rad
+        Relative angle ``flange_b.phi - flange_a.phi``.
+    w_rel : rad/s
+        Relative angular velocity ``der(phi_rel)``.
+    tau : N.m
+        Total torque.
+    tau_c, tau_d : N.m
+        Spring and damper torques.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Components.SpringDamper``.
+    """
+
+    c = Parameter(unit="N.m/rad", min=0.0, doc="Spring constant")
+    d = Parameter(unit="N.m.s/rad", min=0.0, doc="Damping constant")
+    phi_rel0 = Parameter(0.0, unit="rad", doc="Unstretched spring angle")
+    tau_c = Variable(unit="N.m", doc="Spring torque")
+    tau_d = Variable(unit="N.m", doc="Damping torque")
+
+    def equations(self) -> list:
+        return [*super().equations(),
+                eq(self.tau_c, self.c * (self.phi_rel - self.phi_rel0)),
+                eq(self.tau_d, self.d * self.w_rel),
+                eq(self.tau, self.tau_c + self.tau_d)]

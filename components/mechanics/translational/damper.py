@@ -1,0 +1,42 @@
+"""Linear 1D translational damper."""
+
+from __future__ import annotations
+
+from flexlib import Parameter, eq
+
+from .interfaces import PartialCompliantWithRelativeStates
+
+__all__ = ["Damper"]
+
+
+class Damper(PartialCompliantWithRelativeStates):
+    """Linear 1D translational damper: ``f = d * v_rel``.
+
+    Parameters
+    ----------
+    d : float
+        Damping constant [N.s/m], >= 0.
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        ``flange_b.f = f``, ``flange_a.f = -f``.
+
+    Variables
+    ---------
+    s_rel : m
+        Relative distance ``flange_b.s - flange_a.s``.
+    v_rel : m/s
+        Relative velocity ``der(s_rel)``.
+    f : N
+        Damper force.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Components.Damper``.
+    """
+
+    d = Parameter(unit="N.s/m", min=0.0, doc="Damping constant")
+
+    def equations(self) -> list:
+        return [*super().equations(), eq(self.f, self.d * self.v_rel)]

@@ -1,0 +1,30 @@
+"""Ideal sensor of the absolute flange velocity."""
+
+from __future__ import annotations
+
+from flexlib import Output, der, eq
+
+from .interfaces import PartialAbsoluteSensor
+
+__all__ = ["SpeedSensor"]
+
+
+class SpeedSensor(PartialAbsoluteSensor):
+    """Ideal sensor of the absolute velocity: ``v = der(flange.s)``.
+
+    Connectors
+    ----------
+    flange : Flange
+        Measured flange (no force is exerted on it).
+    v : Output [m/s]
+        Absolute velocity of the flange.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sensors.SpeedSensor``.
+    """
+
+    v = Output(unit="m/s", doc="Absolute velocity of the flange")
+
+    def equations(self) -> list:
+        return [*super().equations(), eq(self.v, der(self.flange.s))]

@@ -1,0 +1,1 @@
+"""Example models with a default experiment, one subpackage per domain (MSL ``Examples``)."""
