@@ -151,7 +151,7 @@ def flatten(root: Component) -> FlatSystem:
         for rel in sink:
             rel.owner = node.path or type(node).__name__
             rel.text = rel.describe()
-            rel.info.name = f"[{rel.text}]"
+            rel.info.name = f"rel({rel.text})"
         relations.extend(sink)
         for equ in own or []:
             if not hasattr(equ, "residual"):
