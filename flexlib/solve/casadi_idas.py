@@ -71,6 +71,7 @@ import os
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import math
+import re
 import time as _time
 from dataclasses import dataclass, field
 from typing import Any
@@ -85,20 +86,24 @@ from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.ida import Trajectory, _event_iteration, next_time_event
 from flexlib.solve.initialization import Initializer
 
-__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "SUB_GRID", "integrate_casadi"]
+__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "SUB_GRID", "integrate_casadi"]
 
 #: Number of output intervals used when ``t_out`` is None (CasADi does not expose single steps).
 DENSE_POINTS = 1000
 #: With state relations, grid intervals are at most ``(t_end - t0) / DETECT_POINTS`` long.
 DETECT_POINTS = 500
 #: Sub-points per refinement call when locating a state event.
-SUB_GRID = 32
+SUB_GRID = 1024
 #: Relative width of the final bracket of a state event.
 EVENT_TOL = 1e-12
+#: Points of the first integrator call after a state event (doubled after every call without one).
+FIRST_CHUNK = 32
 #: Largest grid (points per integrator call); larger grids are split into several calls.
 MAX_GRID = 1024
 #: Memory cap: grid points × (size of x + size of z) per call.
 MAX_FLOATS = 4_000_000
+#: Integrators kept per model (one per grid size and options).
+MAX_INTEGRATORS = 64
 _CACHE_KEY = "casadi_idas"
 
 
@@ -135,6 +140,8 @@ class _Backend:
             if capped:
                 opts["max_step_size"] = 1.0  # one grid interval; the grid is refined to max_step
             F = ca.integrator("flexlib_idas", "idas", self.dae, 0.0, [float(k) for k in range(1, K + 1)], opts)
+            if len(self.integrators) >= MAX_INTEGRATORS:  # bounded cache: drop the oldest
+                self.integrators.pop(next(iter(self.integrators)))
             self.integrators[key] = F
             self.build_time += _time.perf_counter() - wall
         return F
@@ -191,46 +198,69 @@ def _build_backend(model: CompiledModel) -> _Backend:
     return be
 
 
-def _bucket(K: int) -> int:
-    return 1 << max(0, math.ceil(math.log2(K))) if K > 1 else 1
+def _snap(u: np.ndarray, t: float) -> np.ndarray:
+    """Interval lengths with round-off differences removed.
+
+    CasADi stops IDAS (``tstop``) wherever the control ``u`` changes, so the last-bit noise of
+    ``np.diff(np.linspace(...))`` would force a step end at every output point.
+    """
+    if len(u) < 2:
+        return u
+    same = np.abs(np.diff(u)) <= 1e-9 * np.maximum(np.abs(u[1:]), np.abs(u[:-1]))
+    idx = np.arange(len(u))
+    idx[1:][same] = 0
+    np.maximum.accumulate(idx, out=idx)
+    snapped = u[idx]
+    if np.max(np.abs(np.cumsum(snapped) - np.cumsum(u))) > 1e-13 * max(1.0, abs(t) + float(np.sum(np.abs(u)))):
+        return u  # a genuinely non-uniform grid: keep the exact lengths
+    return snapped
 
 
 class _Runner:
     """One run: calls the cached integrators, converts their output, counts statistics."""
 
     def __init__(self, model: CompiledModel, be: _Backend, p: np.ndarray, stats: dict[str, Any], rtol: float,
-                 atol: float, capped: bool, max_num_steps: int, state_rel: np.ndarray) -> None:
+                 atol: float, capped: bool, max_steps: int, state_rel: np.ndarray) -> None:
         self.model, self.be, self.p, self.stats = model, be, p, stats
-        self.rtol, self.atol, self.capped, self.mns = rtol, atol, capped, max_num_steps
+        self.rtol, self.atol, self.capped = rtol, atol, capped
+        self.max_steps = max_steps
+        self.mns = int(min(max_steps, 100_000))  # IDAS steps per output interval
         self.state_rel = state_rel
         self.n_par = model.n_params
         self.strict = np.array([model.relations[k].strict for k in state_rel], dtype=bool)
         self.ind = model.function("ind")
+        self.chunk_cap = max(1, min(MAX_GRID, MAX_FLOATS // max(1, 2 * model.n + 1)))
 
-    def run(self, t: float, y: np.ndarray, yp: np.ndarray, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Integrate from ``(t, y, yp)`` through the increasing times ``grid``; returns ``Y, YP`` (n × K)."""
-        be, K = self.be, len(grid)
-        Kb = _bucket(K)
-        F = be.integrator(Kb, self.rtol, self.atol, self.capped, self.mns)
-        u = np.zeros((1, Kb))
-        u[0, :K] = np.diff(np.concatenate([[t], grid]))
+    def run(self, t: float, y: np.ndarray, yp: np.ndarray, grid: np.ndarray,
+            steps: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Integrate from ``(t, y, yp)`` through the increasing times ``grid``; returns ``Y, YP`` (n × K).
+
+        ``steps`` are the interval lengths (default: differences of the grid, with round-off removed).
+        """
+        be = self.be
+        F = be.integrator(len(grid), self.rtol, self.atol, self.capped, self.mns)
+        u = (_snap(np.diff(np.concatenate([[t], grid])), t) if steps is None else steps)[None, :]
         x0 = np.concatenate([[t], y[be.x_idx]])
         z0 = np.concatenate([yp[be.x_idx], y[be.a_idx]])
         try:
             out = F(x0=x0, z0=z0, p=self.p, u=u)
         except RuntimeError as err:
-            msg = str(err).strip().splitlines()
-            short = next((m for m in reversed(msg) if "IDA" in m), msg[-1] if msg else "")
-            raise SolverError(f"CasADi IDAS failed between t = {t:.10g} s and t = {grid[-1]:.10g} s: {short}") from err
+            text = str(err)
+            if "IDA_TOO_MUCH_WORK" in text and self.mns >= self.max_steps:
+                raise SolverError(f"maximum number of steps ({self.max_steps}) reached between t = {t:.10g} s "
+                                  f"and t = {grid[-1]:.10g} s") from err
+            flag = re.search(r"IDA_[A-Z_]+", text)
+            short = flag.group(0) if flag else text.strip().splitlines()[-1] if text.strip() else "error"
+            raise SolverError(f"CasADi IDAS failed between t = {t:.10g} s and t = {grid[-1]:.10g} s ({short})") from err
         finally:
             st = F.stats()
             self.stats["steps"] += int(st.get("nsteps", 0))
             self.stats["nfev"] += int(st.get("n_call_daeF", 0))
             self.stats["njev"] += int(st.get("n_call_jacF", 0))
             self.stats["integrator_calls"] += 1
-        X = np.asarray(out["xf"])[:, :K]
-        Z = np.asarray(out["zf"])[:, :K]
-        n, nd = self.model.n, be.nd
+        X = np.asarray(out["xf"]).reshape(-1, len(grid))
+        Z = np.asarray(out["zf"]).reshape(-1, len(grid))
+        n, nd, K = self.model.n, be.nd, len(grid)
         Y, YP = np.empty((n, K)), np.zeros((n, K))
         Y[be.x_idx] = X[1:]
         Y[be.a_idx] = Z[nd:]
@@ -262,10 +292,11 @@ class _Runner:
         tb, yb, ypb = b
         tol = EVENT_TOL * max(1.0, abs(tb))
         while tb - ta > tol:
-            grid = ta + (tb - ta) * np.arange(1, SUB_GRID + 1) / SUB_GRID
+            m = max(2, min(SUB_GRID, self.chunk_cap))
+            h = (tb - ta) / m
+            grid = ta + h * np.arange(1, m + 1)
             grid[-1] = tb
-            grid = np.unique(grid[grid > ta])
-            Y, YP = self.run(ta, ya, ypa, grid)
+            Y, YP = self.run(ta, ya, ypa, grid, np.full(m, h))
             j, trig = self.first_switch(grid, Y, YP)
             if j < 0:  # the re-run does not switch (noise at the tolerance level): keep the bracket end
                 break
@@ -315,7 +346,7 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
     be = _backend(model)
     capped = max_step > 0.0
-    runner = _Runner(model, be, p, stats, rtol, atol, capped, int(min(max_steps, 100_000)), state_rel)
+    runner = _Runner(model, be, p, stats, rtol, atol, capped, int(max_steps), state_rel)
 
     y, yp = np.array(y0, dtype=float), np.array(yp0, dtype=float)
     traj.add(t0, y, yp, p[n_par:].copy())
@@ -325,23 +356,20 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     else:
         req = np.asarray(t_out, dtype=float)
         req = req[(req > t0) & (req <= t_end)]
-    spacing = np.inf
-    if len(state_rel):
-        spacing = (t_end - t0) / DETECT_POINTS
+    spacing = (t_end - t0) / DETECT_POINTS if len(state_rel) else np.inf
     if capped:
         spacing = min(spacing, max_step)
-    chunk_cap = max(1, min(MAX_GRID, MAX_FLOATS // max(1, 2 * model.n + 1)))
+    # With state relations, a call runs on with frozen (wrong) relation values after an event it
+    # contains, until its end: short calls right after events, doubling while none occurs.
+    chunk = runner.chunk_cap if not len(state_rel) else min(runner.chunk_cap, FIRST_CHUNK)
     t = float(t0)
     ir = 0  # next requested output
     bar = None
     last_event_t, burst = -np.inf, 0
 
-    def record_until(t_lim: float, Y: np.ndarray | None = None, YP: np.ndarray | None = None,
-                     grid: np.ndarray | None = None) -> None:
-        """Record requested outputs ``<= t_lim`` from the grid columns just computed."""
+    def record(t_lim: float, grid: np.ndarray, Y: np.ndarray, YP: np.ndarray) -> None:
+        """Record the requested outputs ``<= t_lim``; each is a column of ``grid``."""
         nonlocal ir
-        if grid is None:
-            return
         k = 0
         while ir < len(req) and req[ir] <= t_lim:
             while k < len(grid) and grid[k] < req[ir]:
@@ -366,46 +394,45 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
             raise SolverError(f"event chattering at t = {te:.10g} s: {texts} switches without time advancing")
         return y1, yp1
 
+    def time_event(te: float, ye: np.ndarray, ype: np.ndarray, which: list[int]) -> tuple[np.ndarray, np.ndarray]:
+        ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
+        trig = [(k, bool(ab[k, 0] > 0)) for k in which]
+        if any(p[n_par + k] != float(v) for k, v in trig):
+            return handle_event("time", te, ye, ype, trig)
+        return ye, ype
+
     try:
         while t < t_end:
             t_ev, which = next_time_event(model, p, t, t_end)
-            t_seg = min(t_ev, t_end)
-            # grid of this call: requested outputs in (t, t_seg], the segment end, refined for detection
-            pts = req[ir:]
-            pts = pts[pts <= t_seg]
-            pts = np.unique(np.concatenate([pts[pts > t], [t_seg]]))
-            grid_l: list[float] = []
-            prev = t
-            for q in pts:
-                nsub = max(1, math.ceil((q - prev) / spacing - 1e-9)) if np.isfinite(spacing) else 1
-                if nsub > 1:
-                    grid_l.extend(prev + (q - prev) * np.arange(1, nsub) / nsub)
-                grid_l.append(float(q))
-                prev = q
-                if len(grid_l) >= chunk_cap:
+            grid = _call_grid(t, req[ir:], t_ev, spacing, chunk)
+            while True:
+                try:
+                    Y, YP = runner.run(t, y, yp, grid)
                     break
-            grid = np.array(grid_l[:chunk_cap])
-            if len(grid_l) > chunk_cap:  # end the call on a requested point if possible
-                grid = grid[: max(1, len(grid))]
-            t_call_end = float(grid[-1])
-            Y, YP = runner.run(t, y, yp, grid)
+                except SolverError:
+                    # after an undetected event the frozen relations may drive the model somewhere the
+                    # solver cannot follow: retry a shorter call, which sees the event before that
+                    if not len(state_rel) or len(grid) == 1:
+                        raise
+                    grid = grid[: len(grid) // 2]
+                    chunk = len(grid)
             j, triggered = runner.first_switch(grid, Y, YP)
             if j >= 0:  # state event in (grid[j-1], grid[j]]
                 a = (t, y, yp) if j == 0 else (float(grid[j - 1]), Y[:, j - 1], YP[:, j - 1])
-                record_until(a[0], Y, YP, grid)
+                record(a[0], grid, Y, YP)
                 te, ye, ype, triggered = runner.locate(a, (float(grid[j]), Y[:, j], YP[:, j]), triggered)
-                if ir < len(req) and req[ir] == te:
-                    record_until(te, ye[:, None], ype[:, None], np.array([te]))
+                record(te, np.array([te]), ye[:, None], ype[:, None])
                 y, yp = handle_event("state", te, ye, ype, triggered)
                 t = te
+                if which and t == t_ev:  # a time event at the same instant
+                    y, yp = time_event(t, y, yp, which)
+                chunk = min(runner.chunk_cap, FIRST_CHUNK)
             else:
-                record_until(t_call_end, Y, YP, grid)
-                t, y, yp = t_call_end, Y[:, -1].copy(), YP[:, -1].copy()
+                record(float(grid[-1]), grid, Y, YP)
+                t, y, yp = float(grid[-1]), Y[:, -1].copy(), YP[:, -1].copy()
                 if which and t == t_ev:
-                    ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
-                    trig = [(k, bool(ab[k, 0] > 0)) for k in which]
-                    if any(p[n_par + k] != float(v) for k, v in trig):
-                        y, yp = handle_event("time", t, y, yp, trig)
+                    y, yp = time_event(t, y, yp, which)
+                chunk = min(runner.chunk_cap, 2 * chunk)
             if stats["steps"] >= max_steps:
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
             if bar is None and progress is not False:
@@ -424,7 +451,7 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         traj.status, traj.message = "failed", str(err)
         err.result = traj
         raise
-    except Exception as err:
+    except Exception as err:  # e.g. an InitializationError in the event iteration
         traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
         raise SolverError(traj.message, traj) from err
     finally:
@@ -432,3 +459,24 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
             bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0
     return traj
+
+
+def _call_grid(t: float, req: np.ndarray, t_seg: float, spacing: float, cap: int) -> np.ndarray:
+    """Grid of one integrator call from ``t``: the requested outputs up to the segment end ``t_seg``
+    and ``t_seg`` itself, intervals subdivided to at most ``spacing``, at most ``cap`` points."""
+    pts = req[req <= t_seg]
+    pts = np.unique(np.concatenate([pts[pts > t], [t_seg]]))
+    out: list[float] = []
+    prev = t
+    for q in pts:
+        nsub = max(1, math.ceil((q - prev) / spacing - 1e-9)) if np.isfinite(spacing) else 1
+        room = cap - len(out)
+        if nsub > room:  # the call ends inside this interval (not on a requested point)
+            out.extend(prev + (q - prev) * np.arange(1, room + 1) / nsub)
+            break
+        out.extend(prev + (q - prev) * np.arange(1, nsub) / nsub)
+        out.append(float(q))
+        prev = q
+        if len(out) >= cap:
+            break
+    return np.array(out)

@@ -194,22 +194,27 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     wall0 = _time.perf_counter()
     bar = None
     tiny = 0
+    interpolated = False
     last_event_t, burst = -np.inf, 0
     t_event, which = next_time_event(model, p, t, t_end)
     try:
         while t < t_end:
             tstop = min(t_end, t_event)
             r = solver.step(tstop, "onestep", tstop=tstop)
-            stats["steps"] += 1
             cur = [r.nfev, r.njev]
             if r.status < 0:
                 raise SolverError(f"IDA failed at t = {r.t:.10g} s: {r.message} (status {r.status})")
+            if r.t == t and r.status == 0 and interpolated:
+                interpolated = False
+                continue  # after an interpolated output IDA first returns its current point, no new step
+            stats["steps"] += 1
             # output points passed by this step (IDA interpolation)
             if t_out is not None:
                 while out_idx < len(t_out) and t_out[out_idx] < r.t:
                     ri = solver.step(float(t_out[out_idx]), "normal")
                     traj.add(ri.t, ri.y, ri.yp, rel_values())
                     out_idx += 1
+                    interpolated = True
                 if out_idx < len(t_out) and t_out[out_idx] == r.t:
                     traj.add(r.t, r.y, r.yp, rel_values())
                     out_idx += 1
