@@ -8,17 +8,14 @@ the ``components`` library::
     wall ─ spring[0] ─ mass[0] ─ spring[1] ─ mass[1] ─ … ─ mass[n-1] ─ force (F = F0·sin(ω·t))
 
 Every spring-damper has a cubic stiffening term, ``f = c·(s_rel − L) + c3·(s_rel − L)³ + d·v_rel``.
-The chain starts at rest in its equilibrium (``F(0) = 0``): run it with ``steady_state=True``,
-which solves ``der(x) = 0`` for every state at ``t = 0`` from the start guesses ``s = (i+1)·L``
-(every spring unstretched). (Fixed initial values ``init={"s": …}`` on every mass would be the
-natural alternative, but they trip an alias-elimination bug in ``flexlib.compile.simplify`` that
-merges initial conditions of different variables with the same declaration name.)
+The masses start at rest at ``s = (i+1)·L`` (every spring unstretched; fixed initial conditions),
+which is the equilibrium for ``F(0) = 0``.
 
 Examples
 --------
 >>> import flexlib as fl
 >>> from models.n_mass_chain import NMassChain
->>> res = fl.Simulation(NMassChain(10)).run(10.0, dt_out=0.1, steady_state=True)   # doctest: +SKIP
+>>> res = fl.Simulation(NMassChain(10)).run(10.0, dt_out=0.1)   # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -121,7 +118,7 @@ class NMassChain(fl.Model):
         masses, springs = [], []
         for i in range(self.n):
             spring = ChainSpring()
-            mass = ChainMass(guess={"s": (i + 1) * L, "v": 0.0})
+            mass = ChainMass(init={"s": (i + 1) * L, "v": 0.0})
             setattr(self, f"spring{i}", spring)
             setattr(self, f"mass{i}", mass)
             springs.append(spring)

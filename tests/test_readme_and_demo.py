@@ -22,7 +22,7 @@ def test_readme_examples_run(tmp_path, monkeypatch):
     assert len(blocks) >= 2
     namespace: dict = {}
     for block in blocks:
-        exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102 - the README is ours
+        exec(compile(block, "README.md", "exec"), namespace)
     assert (tmp_path / "oscillator.h5").exists()
     assert namespace["sim"].report.index == 3
 
