@@ -1,6 +1,7 @@
 """Time and state events (Modelica event semantics), checked against closed-form solutions."""
 
 import numpy as np
+import pytest
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq, if_else, time
@@ -88,12 +89,24 @@ class Thermostat(fl.Model):
                 eq(self.q, if_else(self.T < 295.0, 10.0, 0.0))]
 
 
-def test_event_reinitialisation_keeps_states_continuous():
-    """States are continuous across events; T settles to the switching level 295 K (sliding regime)."""
-    res = fl.Simulation(Thermostat(init={"T": 290.0}), use_cache=False).run(3.0, dt_out=0.1, rtol=1e-12, atol=1e-10)
-    assert res.events
+def test_event_reinitialisation_and_chattering():
+    """First switch at t = 2 ln 2 (T = 300 − 10·exp(−t/2) reaches 295), 1e-8; states continuous across it.
+    Afterwards the relation re-crosses at once (a sliding mode, dT/dt < 0 when off, > 0 when on): the
+    run stops with a clear chattering error that names the relation and keeps the result."""
+    sim = fl.Simulation(Thermostat(init={"T": 290.0}), use_cache=False)
+    with pytest.raises(fl.SolverError, match=r"event chattering at t = 1\.386.*Thermostat: T < 295") as err:
+        sim.run(3.0, dt_out=0.1, rtol=1e-12, atol=1e-10)
+    res = err.value.result
     t_event = res.events[0][0]
-    # analytic first crossing: T(t) = 300 − 10·exp(−t/2) reaches 295 at t = 2 ln 2
     assert abs(t_event - 2 * np.log(2)) <= 1e-8
     k = np.flatnonzero(res.t == t_event)
-    assert np.ptp(res["T"][k]) == 0.0
+    assert len(k) >= 2 and np.ptp(res["T"][k]) == 0.0
+    assert set(res["q"][k]) == {0.0, 10.0}
+
+
+def test_output_grid_kept_after_state_event():
+    """A state event inside a long step does not drop or reorder grid points."""
+    res = fl.Simulation(BouncingContact(init={"h": 1.0, "v": 0.0}), use_cache=False).run(1.0, dt_out=0.01)
+    assert np.all(np.diff(res.t) >= 0)
+    grid = np.round(np.linspace(0, 1, 101), 12)
+    assert set(grid) <= set(np.round(res.t, 12))

@@ -215,11 +215,12 @@ def _conditions(flat: FlatSystem, value_of: dict[int, ca.SX]) -> list[Condition]
     """Initial conditions from fixed start values, with duplicates on one alias class merged."""
     seen: dict[int, tuple[str, float]] = {}
     out: list[Condition] = []
+    all_vars = ca.vertcat(*[w.sym for w in flat.variables]) if flat.variables else ca.SX(0, 1)
     for i, v in enumerate(flat.variables):
         if not v.fixed:
             continue
         expr = value_of[i]
-        if not ca.depends_on(expr, ca.vertcat(*[w.sym for w in flat.variables])):
+        if not ca.depends_on(expr, all_vars):
             # bound to a constant/parameter: the condition is checked at initialisation time
             out.append(Condition(v.name, expr, v.start))
             continue

@@ -16,11 +16,14 @@ and ``a`` the algebraic entries of ``y``, the integrator sees
 in a *normalised time* ``τ``: the output grid of every integrator is ``τ = 1, 2, …, K`` and the
 physical length of interval ``k`` is the piecewise-constant control ``u_k``; physical time ``T``
 is a state (``dT/dτ = u``). One integrator per grid size ``K`` therefore serves any start time
-and any (non-uniform) output times, so integrators are built once per model and options and
-cached in ``model._functions["casadi_idas"]`` (dropped when the model is pickled). ``K`` is
-rounded up to a power of two and the unused intervals get ``u = 0`` (CasADi stops exactly at
-the last real point, because ``u`` changes there; the padding costs a few cheap steps).
+and any (non-uniform) output times, so integrators are built once per model, options and ``K``
+and cached in ``model._functions["casadi_idas"]`` (dropped when the model is pickled).
 Parameters and relation values are the integrator's ``p`` input (run-time, no rebuild).
+CasADi stops IDAS (``tstop``) wherever ``u`` changes, and since ``dx/dτ`` jumps there, IDAS's step
+history no longer fits: a uniform grid costs nothing, every change of spacing a few rejected
+steps (round-off differences of ``np.diff(grid)`` are removed first). Grids are therefore never
+padded to a common size: padding with ``u = 0`` cost 450 ms at 3000 unknowns (38 extra
+factorisations), far more than building an integrator for the exact size (~80 ms, once).
 Linear solver: ``csparse`` (sparse LU, *natural* ordering), so the columns of ``z`` and the
 rows of ``F`` are permuted once (maximum transversal, then reverse Cuthill–McKee) to keep the
 fill-in low. Error control: ``w`` (the derivatives added by the implicit trick) is excluded
@@ -32,36 +35,54 @@ the default backend; ``atol`` is scaled by each variable's ``nominal``.
 whose last grid point is the event time.
 
 *State events*: CasADi 3.8.2's own event support (DAE ``zero`` output) was not used: it only
-detects crossings from positive to negative, checks them only at output times, and
-handles the event inside C (a ``transition`` function), which cannot run flexlib's event
-iteration (``Initializer.reinit``) or switch the relation values in ``p``. Instead the
+detects crossings from positive to negative, checks them only at output times, handles the
+event inside C (a ``transition`` function, which cannot run flexlib's event iteration or
+switch the relation values in ``p``), prints "Event support is experimental", and failed in a
+test with one output interval spanning several steps (a free fall located with ``zero = h``:
+``IDA_ILL_INPUT``, "tout too far back", when its secant iteration interpolated outside the last
+step; fine with 10 or 100 output intervals). Instead the
 indicators of the state relations are evaluated at every grid point after a call; the first
 point where a relation would change value brackets the event, and the bracket is narrowed by
 re-running the integrator from its left end with :data:`SUB_GRID` uniform sub-points, until it
-is shorter than ``EVENT_TOL·max(1, |t|)`` (about 7 calls for a 0.01 s bracket). The event time
+is shorter than ``EVENT_TOL·max(1, |t|)`` (3–4 calls of ~20–50 steps each). The event time
 is the right end of the final bracket (the first point where the relation has switched, as
 IDA's root finder reports it), and :func:`flexlib.solve.ida._event_iteration` re-initialises
 before the restart. A zero crossing that reverts between two grid points is not seen: with
 state relations, grid intervals are subdivided to at most ``(t_end − t0)/DETECT_POINTS``.
+A call also integrates on past an event it contains, with the old (frozen) relation values,
+up to its end: after a state event calls are short (:data:`FIRST_CHUNK` points) and double
+while no event occurs. If a model cannot be integrated past the event with the frozen values
+(``if_else(x < 1, sqrt(1 - x), 0)`` gives NaN for ``x > 1``), the call fails: it is retried on
+half its grid with a small step budget (:data:`RETRY_STEPS`) until it stops before the event,
+and if even one interval fails, the last reachable time is found by bisection; a state
+relation whose indicator is ~0 there (:data:`STUCK_TOL`) is switched as the event, otherwise
+the run fails with the first error.
 
 *Output*: on the requested grid ``t_out`` (IDAS's own interpolation). IDAS's individual steps
 are not accessible through ``casadi.integrator``, so ``t_out=None`` (every step) is replaced
 by a uniform grid of :data:`DENSE_POINTS` intervals (plus the event instants).
 
-Measured trade-offs (2-core VM, chain benchmark ``benchmarks/chain.py``, rtol 1e-6)
-------------------------------------------------------------------------------------
-* Every integrator call is a cold IDAS start (``IDAReInit`` + ``IDACalcIC``, order 1, small
-  first step), so each event and each chunk boundary costs a few dozen steps more than the
-  default backend, which re-initialises only at events.
-* CasADi evaluates the residual with its SX virtual machine, not with flexlib's generated C
-  code: at 3001 unknowns the residual costs about 75 µs per call here against a few µs
-  compiled; and the implicit trick doubles the size of the linear system. For large models
-  this backend is therefore *slower* than the default one (see ``benchmarks/README.md``);
-  it pays off for small models, where the default backend's Python callbacks dominate.
-* Integrator construction (symbolic Jacobian): ~10 ms at 300 unknowns, ~80 ms at 3000, per
-  grid-size bucket, once per process.
-* A failing integrator call raises inside CasADi without partial results, so the trajectory
-  of a failed run ends at the last successful call.
+Measured trade-offs (2-core VM shared with other jobs; ``benchmarks/README.md`` has the tables)
+-------------------------------------------------------------------------------------------
+* No Python in the integration loop: on small models this backend is 4–8× faster than the
+  default one (chain of 10 masses, 31 unknowns: 12 ms vs 55 ms; index-3 pendulum at rtol 1e-8:
+  25 ms vs 190 ms), whose time goes into scikit-sundae's per-step and per-callback Python
+  overhead (``benchmarks/ida_overhead.py``).
+* On large models it is *slower*: CasADi evaluates the residual with its SX virtual machine,
+  not with flexlib's generated C code (~100 µs per call at 3001 unknowns), and the implicit trick
+  enlarges the sparse LU (csparse, no fill-reducing ordering of its own). Chain of 1000 masses
+  (3001 unknowns): 364 ms vs 210 ms for the default backend (CasADi's plain IDAS route: 366 ms).
+* Every integrator call is a cold IDAS start (``IDAReInit`` + ``IDACalcIC``, order 1, small first
+  step): events cost more than in the default backend (bouncing ball at rtol 1e-10: ~17 calls,
+  ~970 steps against 372 steps).
+* Integrator construction (symbolic Jacobian): ~1 ms at 30 unknowns, ~10 ms at 300, ~80 ms at
+  3000, per grid size and options, once per process.
+* A failing integrator call raises inside CasADi without partial results, so the trajectory of
+  a failed run ends at the last successful call.
+* Every relation switch is an event, also in a sliding mode: the thermostat of
+  ``tests/test_engine_events.py`` (heater off above 295 K, but cooling below it at once) stops
+  with "event chattering" here, where the default backend misses the immediate re-crossing and
+  keeps the heater off below 295 K.
 """
 
 from __future__ import annotations
@@ -86,7 +107,8 @@ from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.ida import Trajectory, _event_iteration, next_time_event
 from flexlib.solve.initialization import Initializer
 
-__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "SUB_GRID", "integrate_casadi"]
+__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "RETRY_STEPS", "STUCK_TOL", "SUB_GRID",
+           "integrate_casadi"]
 
 #: Number of output intervals used when ``t_out`` is None (CasADi does not expose single steps).
 DENSE_POINTS = 1000
@@ -102,6 +124,10 @@ FIRST_CHUNK = 32
 MAX_GRID = 1024
 #: Memory cap: grid points × (size of x + size of z) per call.
 MAX_FLOATS = 4_000_000
+#: IDAS steps per output interval allowed in the retries after a failed call.
+RETRY_STEPS = 500
+#: An indicator within this (relative) distance of zero where IDAS cannot proceed is taken as an event.
+STUCK_TOL = 1e-6
 #: Integrators kept per model (one per grid size and options).
 MAX_INTEGRATORS = 64
 _CACHE_KEY = "casadi_idas"
@@ -135,7 +161,7 @@ class _Backend:
             opts: dict[str, Any] = {
                 "linear_solver": "csparse", "reltol": float(rtol), "abstol": float(atol),
                 "abstolv": abstolv.tolist(), "max_num_steps": int(max_num_steps),
-                "disable_internal_warnings": True,
+                "disable_internal_warnings": True, "show_eval_warnings": False,
             }
             if capped:
                 opts["max_step_size"] = 1.0  # one grid interval; the grid is refined to max_step
@@ -232,31 +258,33 @@ class _Runner:
         self.chunk_cap = max(1, min(MAX_GRID, MAX_FLOATS // max(1, 2 * model.n + 1)))
 
     def run(self, t: float, y: np.ndarray, yp: np.ndarray, grid: np.ndarray,
-            steps: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+            steps: np.ndarray | None = None, budget: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Integrate from ``(t, y, yp)`` through the increasing times ``grid``; returns ``Y, YP`` (n × K).
 
-        ``steps`` are the interval lengths (default: differences of the grid, with round-off removed).
+        ``steps`` are the interval lengths (default: differences of the grid, with round-off removed);
+        ``budget`` limits the IDAS steps per output interval (default: ``min(max_steps, 100000)``).
         """
         be = self.be
-        F = be.integrator(len(grid), self.rtol, self.atol, self.capped, self.mns)
+        mns = self.mns if budget is None else min(self.mns, budget)
+        F = be.integrator(len(grid), self.rtol, self.atol, self.capped, mns)
         u = (_snap(np.diff(np.concatenate([[t], grid])), t) if steps is None else steps)[None, :]
         x0 = np.concatenate([[t], y[be.x_idx]])
         z0 = np.concatenate([yp[be.x_idx], y[be.a_idx]])
         try:
             out = F(x0=x0, z0=z0, p=self.p, u=u)
+            st = F.stats()  # (a failed call's statistics are not available: its work is not counted)
+            self.stats["steps"] += int(st.get("nsteps", 0))
+            self.stats["nfev"] += int(st.get("n_call_daeF", 0))
+            self.stats["njev"] += int(st.get("n_call_jacF", 0))
         except RuntimeError as err:
             text = str(err)
-            if "IDA_TOO_MUCH_WORK" in text and self.mns >= self.max_steps:
+            if "IDA_TOO_MUCH_WORK" in text and mns >= self.max_steps:
                 raise SolverError(f"maximum number of steps ({self.max_steps}) reached between t = {t:.10g} s "
                                   f"and t = {grid[-1]:.10g} s") from err
             flag = re.search(r"IDA_[A-Z_]+", text)
             short = flag.group(0) if flag else text.strip().splitlines()[-1] if text.strip() else "error"
             raise SolverError(f"CasADi IDAS failed between t = {t:.10g} s and t = {grid[-1]:.10g} s ({short})") from err
         finally:
-            st = F.stats()
-            self.stats["steps"] += int(st.get("nsteps", 0))
-            self.stats["nfev"] += int(st.get("n_call_daeF", 0))
-            self.stats["njev"] += int(st.get("n_call_jacF", 0))
             self.stats["integrator_calls"] += 1
         X = np.asarray(out["xf"]).reshape(-1, len(grid))
         Z = np.asarray(out["zf"]).reshape(-1, len(grid))
@@ -267,16 +295,17 @@ class _Runner:
         YP[be.x_idx] = Z[:nd]
         return Y, YP
 
-    def first_switch(self, grid: np.ndarray, Y: np.ndarray, YP: np.ndarray) -> tuple[int, list[tuple[int, bool]]]:
-        """First grid column where a state relation changes value, and the relations switching there."""
-        if not len(self.state_rel):
-            return -1, []
+    def indicators(self, grid: np.ndarray, Y: np.ndarray, YP: np.ndarray) -> np.ndarray:
+        """Indicators of the state relations at the grid columns (relations × columns)."""
         K = len(grid)
         f = self.be.ind_maps.get(K)
         if f is None:
             f = self.be.ind_maps[K] = self.ind.map(K)
         P = np.repeat(self.p[:, None], K, axis=1)
-        Zi = np.asarray(f(grid[None, :], Y, YP, P)).reshape(-1, K)[self.state_rel]
+        return np.asarray(f(np.asarray(grid)[None, :], Y, YP, P)).reshape(-1, K)[self.state_rel]
+
+    def first_switch(self, Zi: np.ndarray) -> tuple[int, list[tuple[int, bool]]]:
+        """First column of ``Zi`` where a state relation changes value, and the relations switching there."""
         new = np.where(self.strict[:, None], Zi > 0.0, Zi >= 0.0)
         cur = self.p[self.n_par + self.state_rel][:, None] != 0.0
         hit = np.flatnonzero(np.any(new != cur, axis=0))
@@ -287,7 +316,16 @@ class _Runner:
 
     def locate(self, a: tuple[float, np.ndarray, np.ndarray], b: tuple[float, np.ndarray, np.ndarray],
                triggered: list[tuple[int, bool]]) -> tuple[float, np.ndarray, np.ndarray, list[tuple[int, bool]]]:
-        """Narrow the bracket ``(a, b]`` of a state event by re-running sub-grids from ``a``."""
+        """Narrow the bracket ``(a, b]`` (time, y, y') of a state event by re-running the integrator from ``a``.
+
+        Each call has a uniform sub-grid of ``SUB_GRID`` points (uniform: a change of the interval
+        length ``u`` would stop IDAS and break its step history) and keeps the first sub-interval
+        where a relation switches, so the earliest of several crossings is found; about
+        ``log(width/tol)/log(SUB_GRID)`` calls. (Points clustered around a secant estimate were
+        tried: the non-uniform ``u`` cost ~200 steps per call, ten times a uniform call.)
+        Returns the event time (the first point where a relation has switched), the state there
+        and the switching relations.
+        """
         ta, ya, ypa = a
         tb, yb, ypb = b
         tol = EVENT_TOL * max(1.0, abs(tb))
@@ -296,14 +334,47 @@ class _Runner:
             h = (tb - ta) / m
             grid = ta + h * np.arange(1, m + 1)
             grid[-1] = tb
-            Y, YP = self.run(ta, ya, ypa, grid, np.full(m, h))
-            j, trig = self.first_switch(grid, Y, YP)
-            if j < 0:  # the re-run does not switch (noise at the tolerance level): keep the bracket end
+            steps = np.full(m, h)
+            Y, YP = self.run(ta, ya, ypa, grid, steps)
+            Zi = self.indicators(grid, Y, YP)
+            j, trig = self.first_switch(Zi)
+            if j < 0:  # the re-run does not switch at all (noise at the tolerance level): keep b
                 break
             if j > 0:
                 ta, ya, ypa = float(grid[j - 1]), Y[:, j - 1], YP[:, j - 1]
             tb, yb, ypb, triggered = float(grid[j]), Y[:, j], YP[:, j], trig
         return tb, yb, ypb, triggered
+
+    def stuck(self, t: float, y: np.ndarray, yp: np.ndarray,
+              t1: float) -> tuple[float, np.ndarray, np.ndarray, list[tuple[int, bool]]] | None:
+        """After IDAS failed on ``(t, t1]``, bisect for the last time it can reach.
+
+        A relation that switches before that point is an ordinary event (located as usual). If
+        none does but a state-relation indicator is ~0 where IDAS gets stuck (e.g. ``sqrt(1 - x)``
+        in the branch of ``if_else(x < 1, …)``, evaluated with the relation frozen), that relation
+        is switched there. Returns None (a genuine failure) otherwise.
+        """
+        z0 = self.indicators(np.array([t]), y[:, None], yp[:, None])[:, 0]
+        lo, ylo, yplo, hi = t, y, yp, t1
+        tol = EVENT_TOL * max(1.0, abs(t1))
+        while hi - lo > tol:
+            mid = 0.5 * (lo + hi)
+            try:
+                Y, YP = self.run(lo, ylo, yplo, np.array([mid]), budget=RETRY_STEPS)
+            except SolverError:
+                hi = mid
+                continue
+            j, trig = self.first_switch(self.indicators(np.array([mid]), Y, YP))
+            if j == 0:
+                return self.locate((lo, ylo, yplo), (mid, Y[:, 0], YP[:, 0]), trig)
+            lo, ylo, yplo = mid, Y[:, 0], YP[:, 0]
+        z = self.indicators(np.array([lo]), ylo[:, None], yplo[:, None])[:, 0]
+        scale = np.maximum(np.abs(z0), 1.0)
+        k = int(np.argmin(np.abs(z) / scale))
+        if lo == t or abs(z[k]) > STUCK_TOL * scale[k]:
+            return None
+        rel = int(self.state_rel[k])
+        return lo, ylo, yplo, [(rel, not bool(self.p[self.n_par + rel]))]
 
 
 def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
@@ -366,6 +437,7 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     ir = 0  # next requested output
     bar = None
     last_event_t, burst = -np.inf, 0
+    suspect = False  # a call failed since the last event: retries use a small step budget
 
     def record(t_lim: float, grid: np.ndarray, Y: np.ndarray, YP: np.ndarray) -> None:
         """Record the requested outputs ``<= t_lim``; each is a column of ``grid``."""
@@ -380,7 +452,8 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
 
     def handle_event(kind: str, te: float, ye: np.ndarray, ype: np.ndarray,
                      triggered: list[tuple[int, bool]]) -> tuple[np.ndarray, np.ndarray]:
-        nonlocal last_event_t, burst
+        nonlocal last_event_t, burst, suspect
+        suspect = False
         traj.add(te, ye, ype, p[n_par:].copy())
         y1, yp1 = _event_iteration(model, init, p, te, ye, ype, triggered)
         stats["state_events" if kind == "state" else "time_events"] += 1
@@ -405,22 +478,43 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         while t < t_end:
             t_ev, which = next_time_event(model, p, t, t_end)
             grid = _call_grid(t, req[ir:], t_ev, spacing, chunk)
+            event = None
+            first_error: SolverError | None = None
+            budget = RETRY_STEPS if suspect else None
+            tried_stuck = False
             while True:
                 try:
-                    Y, YP = runner.run(t, y, yp, grid)
+                    Y, YP = runner.run(t, y, yp, grid, budget=budget)
                     break
-                except SolverError:
-                    # after an undetected event the frozen relations may drive the model somewhere the
-                    # solver cannot follow: retry a shorter call, which sees the event before that
-                    if not len(state_rel) or len(grid) == 1:
-                        raise
-                    grid = grid[: len(grid) // 2]
-                    chunk = len(grid)
-            j, triggered = runner.first_switch(grid, Y, YP)
-            if j >= 0:  # state event in (grid[j-1], grid[j]]
-                a = (t, y, yp) if j == 0 else (float(grid[j - 1]), Y[:, j - 1], YP[:, j - 1])
-                record(a[0], grid, Y, YP)
-                te, ye, ype, triggered = runner.locate(a, (float(grid[j]), Y[:, j], YP[:, j]), triggered)
+                except SolverError as err:
+                    # past an event inside the call the frozen relation values may drive the model
+                    # where the solver cannot follow (NaN, stiffness): retry shorter calls on a small
+                    # step budget, which see the event before that, then bisect for the point IDAS
+                    # cannot pass; a single interval gets the full budget before the run fails
+                    if not len(state_rel) or (tried_stuck and budget is None):
+                        raise first_error or err from None
+                    first_error = first_error or err
+                    suspect = True
+                    if len(grid) > 1:
+                        grid = grid[: len(grid) // 2]
+                        chunk, budget = len(grid), RETRY_STEPS
+                        continue
+                    if not tried_stuck:
+                        tried_stuck = True
+                        event = runner.stuck(t, y, yp, float(grid[0]))
+                        if event is not None:
+                            break
+                    budget = None
+            j, triggered = -1, []
+            if event is None and len(state_rel):
+                Zi = runner.indicators(grid, Y, YP)
+                j, triggered = runner.first_switch(Zi)
+            if event is not None or j >= 0:  # state event in (grid[j-1], grid[j]]
+                if event is None:
+                    a = (t, y, yp) if j == 0 else (float(grid[j - 1]), Y[:, j - 1], YP[:, j - 1])
+                    record(a[0], grid, Y, YP)
+                    event = runner.locate(a, (float(grid[j]), Y[:, j], YP[:, j]), triggered)
+                te, ye, ype, triggered = event
                 record(te, np.array([te]), ye[:, None], ype[:, None])
                 y, yp = handle_event("state", te, ye, ype, triggered)
                 t = te

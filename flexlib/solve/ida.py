@@ -33,7 +33,11 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.initialization import Initializer
 
-__all__ = ["Trajectory", "integrate"]
+__all__ = ["DENSE_MAX", "Trajectory", "integrate"]
+
+#: Systems up to this many unknowns use IDA's dense LU (faster than sparse LU there, measured in
+#: benchmarks/ida_overhead.py); larger ones use SuperLU_MT with the CasADi sparsity pattern.
+DENSE_MAX = 40
 
 
 @dataclass
@@ -60,7 +64,7 @@ class Trajectory:
 class _Callbacks:
     """IDA callbacks on CasADi FunctionBuffers sharing one parameter array."""
 
-    def __init__(self, model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> None:
+    def __init__(self, model: CompiledModel, p: np.ndarray, state_rel: np.ndarray, dense: bool) -> None:
         self.p = p
         res, jac = model.function("res"), model.function("jac")
         self._fr, self._evr = res.buffer()
@@ -75,6 +79,11 @@ class _Callbacks:
                                       shape=(model.n, model.n))
         self.pattern.indices = self.pattern.indices.astype(np.int32)
         self.pattern.indptr = self.pattern.indptr.astype(np.int32)
+        if dense:  # dense LU: evaluate the CSC nonzeros into a buffer, scatter into IDA's 2-D matrix
+            self._nz = np.zeros(len(model.jac_row))
+            self._rows = np.asarray(model.jac_row, dtype=np.intp)
+            self._cols = np.repeat(np.arange(model.n), np.diff(model.jac_colind))
+            self.jacfn = self._jacfn_dense  # type: ignore[method-assign]
         self.n_events = len(state_rel)
         if self.n_events:
             ind = model.sx_function("ind")
@@ -104,6 +113,17 @@ class _Callbacks:
         fj.set_arg(2, memoryview(yp))
         fj.set_res(0, memoryview(JJ))
         self._evj()
+
+    def _jacfn_dense(self, t: float, y: np.ndarray, yp: np.ndarray, r: np.ndarray, cj: float,
+                     JJ: np.ndarray) -> None:
+        self._tj[0] = t
+        self._cj[0] = cj
+        fj = self._fj
+        fj.set_arg(1, memoryview(y))
+        fj.set_arg(2, memoryview(yp))
+        fj.set_res(0, memoryview(self._nz))
+        self._evj()
+        JJ[self._rows, self._cols] = self._nz
 
     def eventsfn(self, t: float, y: np.ndarray, yp: np.ndarray, events: np.ndarray) -> None:
         self._tz[0] = t
@@ -164,11 +184,16 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     traj = Trajectory()
     n_par = model.n_params
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
-    cb = _Callbacks(model, p, state_rel)
+    dense = model.n <= DENSE_MAX
+    cb = _Callbacks(model, p, state_rel, dense)
     opts: dict[str, Any] = dict(
         rtol=rtol, atol=atol * model.nominal, algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
-        linsolver="sparse", sparsity=cb.pattern, jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,
+        jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,
     )
+    if dense:
+        opts["linsolver"] = "dense"
+    else:
+        opts.update(linsolver="sparse", sparsity=cb.pattern)
     ev_holder = _EventsFn(cb.eventsfn, cb.n_events)
     if cb.n_events:
         opts.update(eventsfn=ev_holder, num_events=cb.n_events)
@@ -195,6 +220,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     bar = None
     tiny = 0
     interpolated = False
+    watch = 2 if len(state_rel) else 0
+    ind_fn = model.function("ind")
     last_event_t, burst = -np.inf, 0
     t_event, which = next_time_event(model, p, t, t_end)
     try:
@@ -211,7 +238,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
             # output points passed by this step (IDA interpolation)
             if t_out is not None:
                 while out_idx < len(t_out) and t_out[out_idx] < r.t:
-                    ri = solver.step(float(t_out[out_idx]), "normal")
+                    ri = _interpolate(solver, float(t_out[out_idx]))
                     traj.add(ri.t, ri.y, ri.yp, rel_values())
                     out_idx += 1
                     interpolated = True
@@ -236,6 +263,14 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                 ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
                 triggered = [(k, bool(ab[k, 0] > 0)) for k in which]
                 event_kind = "time"
+            elif watch > 0:
+                # IDA ignores a root function that is zero at a restart until it leaves zero, so a
+                # relation that re-crosses at once (sliding) is caught by checking its sign here
+                watch -= 1
+                z = np.asarray(ind_fn(t, r.y, r.yp, p)).ravel()
+                triggered = [(int(k), model.relations[k].value(z[k])) for k in state_rel
+                             if float(model.relations[k].value(z[k])) != p[n_par + k]]
+                event_kind = "state" if triggered else None
             if event_kind:
                 changed = [k for k, v in triggered if p[n_par + k] != float(v)]
                 if changed:
@@ -249,6 +284,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     traj.events.append((t, f"{event_kind} event: {texts}"))
                     solver.init_step(t, y1, yp1)
                     traj.add(t, y1, yp1, rel_values())
+                    watch = 2 if len(state_rel) else 0
                     burst = burst + 1 if t - last_event_t <= 1e-10 * max(1.0, abs(t)) else 0
                     last_event_t = t
                     if burst > 100:
@@ -283,6 +319,16 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
             bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0
     return traj
+
+
+def _interpolate(solver: Any, tq: float) -> Any:
+    """IDA's interpolated solution at ``tq`` inside the last step (after a root return, IDA may first
+    report the root once more; ask again)."""
+    for _ in range(3):
+        ri = solver.step(tq, "normal")
+        if ri.t == tq and ri.status in (0, 1):
+            return ri
+    raise SolverError(f"internal: IDA did not return the interpolated solution at t = {tq:.10g} s")
 
 
 class _EventsFn:

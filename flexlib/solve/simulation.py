@@ -81,6 +81,7 @@ class Simulation:
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self.init_cached = False
+        self._maps: dict[int, Any] = {}
 
     @property
     def report(self) -> IndexReport:
@@ -93,9 +94,11 @@ class Simulation:
         return [n for n, d in zip(self.compiled.y_names, self.compiled.differential, strict=True) if d]
 
     # -- parameters -------------------------------------------------------------------------------
-    def parameter_vector(self, params: dict[str, Any] | None = None) -> np.ndarray:
+    def parameter_vector(self, params: dict[str, Any] | None = None,
+                         values: dict[str, float] | None = None) -> np.ndarray:
         """Parameter values from the model instance, with ``params`` overrides (validated)."""
-        values, _ = gather_values(self.model)
+        if values is None:
+            values, _ = gather_values(self.model)
         m = self.compiled
         vec = np.array([values.get(n, d) for n, d in zip(m.param_names, m.param_defaults, strict=True)])
         for name, value in (params or {}).items():
@@ -139,6 +142,7 @@ class Simulation:
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
         max_step: float = 0.0, max_steps: int = 5_000_000, params: dict[str, Any] | None = None,
         steady_state: bool = False, progress: bool | None = None, result_file: str | None = None,
+        solver: str = "ida",
     ) -> Result:
         """Initialise and integrate.
 
@@ -166,6 +170,10 @@ class Simulation:
             Progress bar (default: shown for runs longer than about 2 s).
         result_file : str, optional
             Write the result to this HDF5 file, also when the run fails or is interrupted.
+        solver : {"ida", "casadi-idas"}
+            ``"ida"``: SUNDIALS IDA through scikit-sundae (default; every step, progress bar).
+            ``"casadi-idas"``: CasADi's built-in IDAS, all in C — faster for small models, same
+            results and events (see ``flexlib/solve/casadi_idas.py``).
 
         Returns
         -------
@@ -196,14 +204,20 @@ class Simulation:
         else:
             grid = None
         m = self.compiled
-        pvec = self.parameter_vector(params)
+        values, starts = gather_values(self.model)
+        pvec = self.parameter_vector(params, values)
         p = np.concatenate([pvec, np.zeros(m.n_relations)])
-        _, starts = gather_values(self.model)
         wall = _time.perf_counter()
         y0, yp0 = self._initialize(t0, p, starts, steady_state)
         t_init = _time.perf_counter() - wall
+        if solver == "ida":
+            backend = integrate
+        elif solver == "casadi-idas":
+            from flexlib.solve.casadi_idas import integrate_casadi as backend
+        else:
+            raise ValueError(f"solver must be 'ida' or 'casadi-idas', got {solver!r}")
         try:
-            traj = integrate(m, self.initializer, p, y0, yp0, t0, t1, grid, rtol=rtol, atol=atol,
+            traj = backend(m, self.initializer, p, y0, yp0, t0, t1, grid, rtol=rtol, atol=atol,
                              max_step=max_step, max_steps=max_steps, progress=progress)
         except SolverError as err:
             traj = err.result if isinstance(err.result, Trajectory) else Trajectory()
@@ -277,7 +291,9 @@ class Simulation:
             Y, YP = np.array(traj.y).T, np.array(traj.yp).T
             rel = np.array(traj.rel, dtype=float).reshape(len(T), m.n_relations).T
             P = np.vstack([np.repeat(pvec[:, None], len(T), axis=1), rel])
-            out = m.function("out").map(len(T))
+            out = self._maps.get(len(T))
+            if out is None:
+                out = self._maps[len(T)] = m.function("out").map(len(T))
             values = np.asarray(out(T[None, :], Y, YP, P)).T
         else:
             T, values = np.zeros(0), np.zeros((0, len(names)))

@@ -1,0 +1,234 @@
+"""The CasADi-IDAS backend (``flexlib.solve.casadi_idas``) against closed-form solutions and the default backend."""
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib import Parameter, Variable, der, eq, if_else, time
+from flexlib.compile.cache import gather_values
+from flexlib.solve import casadi_idas, ida
+from flexlib.solve.casadi_idas import integrate_casadi
+
+BACKENDS = {"ida": ida.integrate, "casadi": integrate_casadi}
+STATS_KEYS = {"steps", "nfev", "njev", "state_events", "time_events", "restarts"}
+
+
+def _run(sim: fl.Simulation, backend: str, t_end: float, grid, params=None, **kw) -> fl.Result:
+    """What ``Simulation.run`` does, with the integrator chosen explicitly."""
+    m = sim.compiled
+    pvec = sim.parameter_vector(params)
+    p = np.concatenate([pvec, np.zeros(m.n_relations)])
+    _, starts = gather_values(sim.model)
+    y0, yp0 = sim._initialize(0.0, p, starts, False)
+    try:
+        traj = BACKENDS[backend](m, sim.initializer, p, y0, yp0, 0.0, t_end, grid, **kw)
+    except fl.SolverError as err:
+        err.result = sim._result(err.result, pvec, 0.0, kw.get("rtol", 1e-6), kw.get("atol", 1e-8))
+        raise
+    return sim._result(traj, pvec, 0.0, kw.get("rtol", 1e-6), kw.get("atol", 1e-8))
+
+
+# -- (a) damped oscillator ---------------------------------------------------------------------------------------
+class Oscillator(fl.Model):
+    """m·x'' + d·x' + k·x = 0 (raw component)."""
+
+    m = Parameter(1.0, unit="kg")
+    k = Parameter(4.0, unit="N/m")
+    d = Parameter(0.4, unit="N.s/m")
+    x = Variable(unit="m")
+    v = Variable(unit="m/s")
+
+    def equations(self):
+        return [eq(der(self.x), self.v), eq(self.m * der(self.v), -self.k * self.x - self.d * self.v)]
+
+
+def _oscillator_exact(t, m=1.0, k=4.0, d=0.4, x0=1.0):
+    delta = d / (2 * m)
+    wd = np.sqrt(k / m - delta**2)
+    return x0 * np.exp(-delta * t) * (np.cos(wd * t) + delta / wd * np.sin(wd * t))
+
+
+def test_oscillator_matches_analytic_and_default_backend():
+    """x(t) of the underdamped oscillator to 1e-6 on a 101-point grid (rtol 1e-8); both backends agree."""
+    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    grid = np.linspace(0.0, 10.0, 101)
+    res = {b: _run(sim, b, 10.0, grid, rtol=1e-8, atol=1e-10) for b in BACKENDS}
+    for b, r in res.items():
+        np.testing.assert_array_equal(r.t, grid)
+        np.testing.assert_allclose(r["x"], _oscillator_exact(grid), atol=1e-6, err_msg=b)
+        assert STATS_KEYS <= set(r.stats), b
+    np.testing.assert_allclose(res["casadi"]["x"], res["ida"]["x"], atol=2e-7)
+    np.testing.assert_allclose(res["casadi"]["v"], res["ida"]["v"], atol=5e-7)
+    assert res["casadi"].stats["steps"] > 0 and res["casadi"].stats["nfev"] >= res["casadi"].stats["steps"]
+    assert res["casadi"].stats["restarts"] == 0
+
+
+def test_parameters_are_runtime_inputs_and_integrators_are_cached():
+    """A second run with another stiffness reuses the built CasADi integrator (no rebuild)."""
+    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    grid = np.linspace(0.0, 5.0, 51)
+    _run(sim, "casadi", 5.0, grid, rtol=1e-8, atol=1e-10)
+    backend = sim.compiled._functions["casadi_idas"]
+    built = dict(backend.integrators)
+    build_time = backend.build_time
+    r = _run(sim, "casadi", 5.0, grid, params={"k": 9.0}, rtol=1e-8, atol=1e-10)
+    assert sim.compiled._functions["casadi_idas"] is backend
+    assert backend.integrators.keys() >= built.keys()
+    assert all(backend.integrators[k] is f for k, f in built.items())
+    assert backend.build_time == build_time  # same grid size and options: nothing new was built
+    np.testing.assert_allclose(r["x"], _oscillator_exact(grid, k=9.0), atol=1e-6)
+
+
+def test_dense_output_when_no_grid():
+    """t_out=None (every step in the default backend) gives a uniform grid of DENSE_POINTS intervals."""
+    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    r = _run(sim, "casadi", 2.0, None)
+    assert len(r.t) == casadi_idas.DENSE_POINTS + 1
+    np.testing.assert_allclose(np.diff(r.t), 2.0 / casadi_idas.DENSE_POINTS, rtol=1e-9)
+    np.testing.assert_allclose(r["x"], _oscillator_exact(r.t), atol=1e-5)
+
+
+# -- (b) time event ----------------------------------------------------------------------------------------------
+class StepForce(fl.Model):
+    """x'' = f − x', with the force f switching from 0 to 1 at t = t_on (a time event)."""
+
+    t_on = Parameter(0.5, unit="s")
+    x = Variable(unit="m")
+    v = Variable(unit="m/s")
+    f = Variable(unit="N")
+
+    def equations(self):
+        return [eq(der(self.x), self.v), eq(der(self.v), self.f - self.v),
+                eq(self.f, if_else(time >= self.t_on, 1.0, 0.0))]
+
+
+def test_time_event_hit_exactly():
+    """The event is at t = 0.5 exactly, left and right rows are stored, v(t) = 1 − exp(−(t − 0.5)) after it."""
+    sim = fl.Simulation(StepForce(init={"x": 0.0, "v": 0.0}), use_cache=False)
+    grid = np.linspace(0.0, 2.0, 21)
+    res = {b: _run(sim, b, 2.0, grid) for b in BACKENDS}
+    for b, r in res.items():
+        assert [e[0] for e in r.events] == [0.5], b
+        assert r.stats["time_events"] == 1 and r.stats["state_events"] == 0, b
+        k = np.flatnonzero(r.t == 0.5)
+        assert len(k) == 3 and list(r["f"][k]) == [0.0, 0.0, 1.0], b
+        tt = r.t
+        v_exact = np.where(tt >= 0.5, 1.0 - np.exp(-(tt - 0.5)), 0.0)
+        v_exact[k[:2]] = 0.0
+        np.testing.assert_allclose(r["v"], v_exact, atol=1e-6, err_msg=b)
+    np.testing.assert_array_equal(res["casadi"].t, res["ida"].t)
+    assert res["casadi"].events == res["ida"].events
+    np.testing.assert_allclose(res["casadi"]["x"], res["ida"]["x"], atol=1e-6)
+
+
+def test_time_event_between_output_points():
+    """An event at 0.55 s (off the 0.1 s grid, set at run time) is hit exactly; rows as in the default backend."""
+    sim = fl.Simulation(StepForce(init={"x": 0.0, "v": 0.0}), use_cache=False)
+    grid = np.linspace(0.0, 1.0, 11)
+    res = {b: _run(sim, b, 1.0, grid, params={"t_on": 0.55}, rtol=1e-9, atol=1e-11) for b in BACKENDS}
+    for b, r in res.items():
+        assert [e[0] for e in r.events] == [0.55], b
+        assert len(r.t) == len(grid) + 2, b
+        np.testing.assert_allclose(r["v"], np.where(r.t > 0.55, 1.0 - np.exp(-(r.t - 0.55)), 0.0), atol=1e-8)
+    np.testing.assert_array_equal(res["casadi"].t, res["ida"].t)
+    np.testing.assert_allclose(res["casadi"]["x"], res["ida"]["x"], atol=1e-8)
+
+
+# -- (c) state event ---------------------------------------------------------------------------------------------
+class FallingBall(fl.Model):
+    """A ball falling under gravity onto a stiff contact spring that acts while h < 0."""
+
+    g = Parameter(9.81, unit="m/s2")
+    k = Parameter(1e4, unit="N/m")
+    d = Parameter(20.0, unit="N.s/m")
+    h = Variable(unit="m")
+    v = Variable(unit="m/s")
+    fc = Variable(unit="N")
+
+    def equations(self):
+        return [
+            eq(der(self.h), self.v),
+            eq(der(self.v), -self.g + self.fc),
+            eq(self.fc, if_else(self.h < 0, -self.k * self.h - self.d * self.v, 0.0)),
+        ]
+
+
+@pytest.mark.parametrize("rtol", [1e-6, 1e-10])
+def test_state_event_located(rtol):
+    """First contact at t = sqrt(2·h0/g) to 1e-8; lift-off found too; both backends agree."""
+    h0 = 1.0
+    sim = fl.Simulation(FallingBall(init={"h": h0, "v": 0.0}), use_cache=False)
+    grid = np.linspace(0.0, 1.0, 101)
+    res = {b: _run(sim, b, 1.0, grid, rtol=rtol, atol=rtol * 1e-2) for b in BACKENDS}
+    t_hit = np.sqrt(2 * h0 / 9.81)
+    for b, r in res.items():
+        assert abs(r.events[0][0] - t_hit) <= 1e-8, b
+        assert r.events[0][1].startswith("state event:") and r.events[0][1].endswith("h < 0"), b
+        assert r.stats["state_events"] >= 2, b  # contact and lift-off
+        k = np.flatnonzero(r.t == r.events[0][0])
+        assert len(k) == 2 and r["h"][k[0]] == r["h"][k[1]], b  # states continuous across the event
+        assert np.all(r["fc"][r["h"] > 1e-9] == 0.0), b
+    ev_c, ev_i = [e[0] for e in res["casadi"].events], [e[0] for e in res["ida"].events]
+    assert len(ev_c) == len(ev_i)
+    np.testing.assert_allclose(ev_c, ev_i, atol=1e4 * rtol)
+    # the casadi backend returns every grid point; compare where both have one
+    np.testing.assert_array_equal(np.unique(res["casadi"].t[np.isin(res["casadi"].t, grid)]), grid)
+    common = np.intersect1d(np.intersect1d(res["casadi"].t, res["ida"].t), grid)
+    assert len(common) >= len(grid) - 2
+    first = {b: {float(t): i for i, t in reversed(list(enumerate(r.t)))} for b, r in res.items()}
+    h = {b: r["h"][[first[b][float(t)] for t in common]] for b, r in res.items()}
+    np.testing.assert_allclose(h["casadi"], h["ida"], atol=1e3 * rtol)
+
+
+def test_branch_undefined_past_the_event():
+    """``if_else(x < 1, sqrt(1 - x), 0)``: integrating past x = 1 with the relation frozen gives NaN;
+    the failing calls are retried shorter and the event is found where IDAS gets stuck."""
+
+    class SqrtBranch(fl.Model):
+        x = Variable()
+
+        def equations(self):
+            return [eq(der(self.x), 1.0 + if_else(self.x < 1, ca.sqrt(1 - self.x), 0.0))]
+
+    sim = fl.Simulation(SqrtBranch(init={"x": 0.0}), use_cache=False)
+    grid = np.linspace(0.0, 2.0, 5)
+    res = {b: _run(sim, b, 2.0, grid) for b in BACKENDS}
+    # x' = 1 + sqrt(1 - x) from 0 reaches x = 1 at t = 2·(1 − ln 2) (with s = sqrt(1 − x):
+    # dt = −2s/(1 + s) ds); afterwards x' = 1. The sqrt singularity limits the accuracy of both.
+    t_hit = 2 * (1 - np.log(2))
+    for b, r in res.items():
+        assert len(r.events) == 1 and abs(r.events[0][0] - t_hit) < 5e-5, b
+        np.testing.assert_allclose(r["x"][-1], 1.0 + 2.0 - t_hit, atol=5e-5, err_msg=b)
+
+
+def test_max_step_option():
+    """``max_step`` bounds the step size (at least t_end / max_step steps) without changing the result."""
+    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    r = _run(sim, "casadi", 10.0, np.linspace(0.0, 10.0, 11), max_step=0.01)
+    assert r.stats["steps"] >= 1000
+    np.testing.assert_allclose(r["x"], _oscillator_exact(r.t), atol=1e-5)
+
+
+def test_failure_raises_solver_error_with_partial_result():
+    """A finite-time blow-up (x' = x², x(0) = 1) raises SolverError carrying the trajectory so far."""
+
+    class BlowUp(fl.Model):
+        x = Variable()
+
+        def equations(self):
+            return [eq(der(self.x), self.x**2)]
+
+    sim = fl.Simulation(BlowUp(init={"x": 1.0}), use_cache=False)
+    with pytest.raises(fl.SolverError) as exc:
+        _run(sim, "casadi", 2.0, np.linspace(0.0, 2.0, 41))
+    result = exc.value.result
+    assert result.status == "failed" and "CasADi IDAS failed" in result.message
+    assert 0.0 < len(result.t) and result.t[-1] < 1.0
+    np.testing.assert_allclose(result["x"], 1.0 / (1.0 - result.t), rtol=1e-4)
+
+
+def test_max_steps():
+    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    with pytest.raises(fl.SolverError, match="maximum number of steps"):
+        _run(sim, "casadi", 10.0, np.linspace(0.0, 10.0, 11), max_steps=20)
