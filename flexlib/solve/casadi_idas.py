@@ -104,7 +104,7 @@ from scipy.sparse.csgraph import maximum_bipartite_matching, reverse_cuthill_mck
 
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import SimulationInterrupted, SolverError
-from flexlib.solve.ida import Trajectory, _event_iteration, next_time_event
+from flexlib.solve.ida import Progress, Trajectory, _event_iteration, next_time_event
 from flexlib.solve.initialization import Initializer
 
 __all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "RETRY_STEPS", "STUCK_TOL", "SUB_GRID",
@@ -435,7 +435,7 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     chunk = runner.chunk_cap if not len(state_rel) else min(runner.chunk_cap, FIRST_CHUNK)
     t = float(t0)
     ir = 0  # next requested output
-    bar = None
+    bar = Progress(model.name, t0, t_end, progress)
     last_event_t, burst = -np.inf, 0
     suspect = False  # a call failed since the last event: retries use a small step budget
 
@@ -529,15 +529,7 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                 chunk = min(runner.chunk_cap, 2 * chunk)
             if stats["steps"] >= max_steps:
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
-            if bar is None and progress is not False:
-                if progress or _time.perf_counter() - wall0 > 2.0:
-                    from tqdm.auto import tqdm
-
-                    bar = tqdm(total=float(t_end - t0), unit="s", desc=model.name, leave=False,
-                               bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s [{elapsed}<{remaining}]")
-            if bar is not None:
-                bar.n = float(t - t0)
-                bar.refresh()
+            bar.update(t)
     except KeyboardInterrupt:
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
@@ -549,8 +541,7 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
         raise SolverError(traj.message, traj) from err
     finally:
-        if bar is not None:
-            bar.close()
+        bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0
     return traj
 

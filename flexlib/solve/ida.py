@@ -33,7 +33,7 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.initialization import Initializer
 
-__all__ = ["DENSE_MAX", "Trajectory", "integrate"]
+__all__ = ["DENSE_MAX", "Progress", "Trajectory", "integrate"]
 
 #: Systems up to this many unknowns use IDA's dense LU (faster than sparse LU there, measured in
 #: benchmarks/ida_overhead.py); larger ones use SuperLU_MT with the CasADi sparsity pattern.
@@ -134,6 +134,42 @@ class _Callbacks:
         self._evz()
 
 
+class Progress:
+    """A tqdm progress bar over simulated time that appears once a run has taken ``delay`` seconds.
+
+    Parameters
+    ----------
+    name : str
+        Label (the model name).
+    t0, t_end : float
+        Simulated time span [s].
+    show : bool or None
+        True: from the start; False: never; None: after ``delay`` seconds of wall time.
+    """
+
+    def __init__(self, name: str, t0: float, t_end: float, show: bool | None, delay: float = 2.0) -> None:
+        self.name, self.t0, self.t_end, self.show = name, t0, t_end, show
+        self.deadline = _time.perf_counter() + (0.0 if show else delay)
+        self.bar: Any = None
+
+    def update(self, t: float) -> None:
+        """Show simulated time ``t`` (creates the bar when due)."""
+        if self.bar is None:
+            if self.show is False or _time.perf_counter() < self.deadline:
+                return
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=float(self.t_end - self.t0), unit="s", desc=self.name, leave=False,
+                            bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s [{elapsed}<{remaining}]")
+        self.bar.n = float(t - self.t0)
+        self.bar.refresh()
+
+    def close(self) -> None:
+        """Remove the bar."""
+        if self.bar is not None:
+            self.bar.close()
+
+
 def next_time_event(model: CompiledModel, p: np.ndarray, t: float, t_end: float) -> tuple[float, list[int]]:
     """Earliest time event after ``t`` (at most ``t_end``) and the relations switching there."""
     timed = [k for k, r in enumerate(model.relations) if r.time_event]
@@ -217,7 +253,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         while out_idx < len(t_out) and t_out[out_idx] <= t0:
             out_idx += 1
     wall0 = _time.perf_counter()
-    bar = None
+    bar = Progress(model.name, t0, t_end, progress)
     tiny = 0
     interpolated = False
     watch = 2 if len(state_rel) else 0
@@ -294,15 +330,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     t_event, which = next_time_event(model, p, t, t_end)
             if stats["steps"] >= max_steps:
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
-            if bar is None and progress is not False and stats["steps"] % 64 == 0:
-                if progress or _time.perf_counter() - wall0 > 2.0:
-                    from tqdm.auto import tqdm
-
-                    bar = tqdm(total=float(t_end - t0), unit="s", desc=model.name, leave=False,
-                               bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} s [{elapsed}<{remaining}]")
-            if bar is not None and stats["steps"] % 16 == 0:
-                bar.n = float(t - t0)
-                bar.refresh()
+            if stats["steps"] % 32 == 0:
+                bar.update(t)
     except KeyboardInterrupt:
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
@@ -315,8 +344,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         raise SolverError(traj.message, traj) from err
     finally:
         stats["nfev"], stats["njev"] = done[0] + cur[0], done[1] + cur[1]
-        if bar is not None:
-            bar.close()
+        bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0
     return traj
 
