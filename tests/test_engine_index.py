@@ -198,3 +198,19 @@ def test_parameter_change_reuses_compiled_model(value):
     assert codegen.COMPILE_COUNT[0] == before
     np.testing.assert_allclose(res["w1"][-1], 2.0 / (value + 3.0), rtol=1e-8)
     assert res.parameters["J1"][0] == value
+
+
+def test_dynamic_state_selection_full_rotations():
+    """A Cartesian pendulum looping over the top (u0 = 8 m/s > sqrt(4gL)): x and y both pass through
+    zero, so every static choice of states becomes singular. The run re-selects states as it goes;
+    |x²+y²−L²| ≤ 1e-9 at every step and energy drift ≤ 1e-6 relative (conservative system) over 10 s."""
+    sim = fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False)
+    res = sim.run(10.0, rtol=1e-9, atol=1e-11)
+    assert res.stats["state_switches"] >= 4
+    assert any(text.startswith("state selection") for _, text in res.events)
+    x, y, u, v = (res[k] for k in "xyuv")
+    assert np.max(np.abs(x**2 + y**2 - 1.0)) <= 1e-9
+    energy = 0.5 * (u**2 + v**2) + 9.81 * y
+    assert np.max(np.abs(energy - energy[0])) / abs(energy[0]) <= 1e-6
+    turns = np.unwrap(np.arctan2(x, -y))
+    assert turns[-1] > 4 * 2 * np.pi  # several full revolutions

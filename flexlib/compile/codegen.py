@@ -36,7 +36,7 @@ from flexlib.errors import FlexlibError
 
 __all__ = ["CompiledModel", "VariableInfo", "compile_dae"]
 
-FUNCTIONS = ("res", "jac", "out", "ind", "cond", "tev")
+FUNCTIONS = ("res", "jac", "out", "ind", "cond", "tev", "cols", "jlev")
 
 #: Number of times :func:`compile_dae` ran in this process (tests assert that runs reuse builds).
 COMPILE_COUNT = [0]
@@ -89,6 +89,15 @@ class CompiledModel:
     jac_row: np.ndarray
     row_labels: list[str] = field(default_factory=list)
     cond_depends: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    col_names: list[str] = field(default_factory=list)
+    levels: list[tuple[int, int, list[int], list[int]]] = field(default_factory=list)
+    """Per selection level: (rows, candidates, costs, selected positions) for the state-selection monitor."""
+    _structure: Any = field(default=None, repr=False)
+
+    @property
+    def has_state_choice(self) -> bool:
+        """True if some dummy-derivative level has more candidates than it needs (states may be re-selected)."""
+        return any(nc > nr for nr, nc, _, _ in self.levels)
     stats: dict[str, Any] = field(default_factory=dict)
     serialized: dict[str, str] = field(default_factory=dict)
     library: str | None = None
@@ -105,7 +114,7 @@ class CompiledModel:
         return len(self.relations)
 
     def function(self, name: str) -> ca.Function:
-        """The CasADi function ``name`` (one of ``res, jac, out, ind, cond, tev``)."""
+        """The CasADi function ``name`` (one of ``FUNCTIONS``)."""
         f = self._functions.get(name)
         if f is None:
             if self.library is not None and name in ("res", "jac") and Path(self.library).exists():
@@ -127,6 +136,7 @@ class CompiledModel:
     def __getstate__(self) -> dict:
         state = dict(self.__dict__)
         state["_functions"] = {}
+        state["_structure"] = None
         return state
 
 
@@ -162,6 +172,9 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         tev_rows.append(ca.horzcat(slope, offset))
     tev = ca.vertcat(*tev_rows) if tev_rows else ca.SX(0, 2)
     fns["tev"] = ca.Function("flexlib_tev", [p], [tev])
+    fns["cols"] = ca.Function("flexlib_cols", [t, y, yp, p], [dae.col_values])
+    jl = [ca.vec(j) for j in dae.level_jacobians]
+    fns["jlev"] = ca.Function("flexlib_jlev", [t, y, yp, p], [ca.vertcat(*jl) if jl else ca.SX(0, 1)])
     for f in fns.values():
         if f.has_free():
             raise FlexlibError(f"internal error: function {f.name()} has free symbols {f.get_free()}")
@@ -180,9 +193,12 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         param_defaults=np.array([q.value for q in flat.parameters]), variables=variables, relations=relations,
         conditions=[(c.name, c.value) for c in dae.conditions], report=dae.report,
         jac_colind=np.asarray(colind, dtype=np.int32), jac_row=np.asarray(row, dtype=np.int32),
-        row_labels=dae.row_labels,
+        row_labels=dae.row_labels, col_names=dae.col_names,
+        levels=[(len(lev.rows), len(lev.cands), lev.costs, [lev.cands.index(c) for c in lev.selected])
+                for lev in dae.levels],
         cond_depends=np.array([bool(ca.depends_on(c.expr, ca.vertcat(y, yp))) for c in dae.conditions], dtype=bool),
     )
+    model._structure = dae.structure
     model.serialized = {k: f.serialize() for k, f in fns.items()}
     model._functions = dict(fns)
     if codegen:

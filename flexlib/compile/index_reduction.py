@@ -110,6 +110,51 @@ class DAE:
     report: IndexReport
     owners: list[str]
     row_labels: list[str] = field(default_factory=list)
+    col_names: list[str] = field(default_factory=list)
+    col_values: ca.SX | None = None
+    levels: list[Level] = field(default_factory=list)
+    level_jacobians: list[ca.SX] = field(default_factory=list)
+    structure: Structure | None = None
+
+
+@dataclass(eq=False)
+class Level:
+    """One level of the dummy-derivative selection (Mattsson–Söderlind): ``need`` of the candidate
+    derivatives ``cands`` are made dummies so that the block of ``rows`` over them is regular."""
+
+    rows: list[int]
+    cands: list[int]
+    costs: list[int]
+    selected: list[int]
+
+
+@dataclass(eq=False)
+class Structure:
+    """Index-reduced equations before state selection (kept to re-select states at run time)."""
+
+    simple: SimpleSystem
+    rows: list
+    cols: list
+    param_values: dict[int, float]
+
+    def select(self, point: tuple[ca.SX, np.ndarray] | None = None) -> tuple[set[int], list[Level]]:
+        """Dummy derivatives chosen at ``point`` (symbols, values); the start values if None."""
+        return _select_dummies(self.rows, self.cols, self.simple.variables, self.simple, self.param_values, point)
+
+    def assemble(self, dummies: set[int], levels: list[Level]) -> DAE:
+        """The index-1 DAE for a dummy-derivative selection."""
+        return _assemble(self.simple, self.rows, self.cols, dummies, levels, self)
+
+    def point(self, col_values: np.ndarray, t: float, p: np.ndarray) -> tuple[ca.SX, np.ndarray]:
+        """A numeric point for :meth:`select` from all column values, time and the parameter vector."""
+        syms = [time, *[c.info.sym for c in self.cols]]
+        syms += [q for q in self._param_syms()]
+        syms += [rel.info.sym for rel, _ in self.simple.relations]
+        vals = np.concatenate([[t], col_values, p])
+        return ca.vertcat(*syms), vals
+
+    def _param_syms(self) -> list[ca.SX]:
+        return [q.sym for q in self.simple.flat.parameters]
 
 
 @dataclass(eq=False)
@@ -250,8 +295,9 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
     pant = _Pantelides(cols, rows)
     pant.run(len(equations))
     _differentiate(rows, cols)
-    dummies = _select_dummies(rows, cols, variables, simple, param_values)
-    return _assemble(simple, rows, cols, dummies)
+    structure = Structure(simple, rows, cols, param_values)
+    dummies, levels = structure.select()
+    return structure.assemble(dummies, levels)
 
 
 def _differentiate(rows: list[_Row], cols: list[_Col]) -> None:
@@ -301,21 +347,27 @@ def _cost(col: _Col, cols: list[_Col], variables: list[FlatVariable]) -> int:
 
 
 def _select_dummies(rows: list[_Row], cols: list[_Col], variables: list[FlatVariable],
-                    simple: SimpleSystem, param_values: dict[int, float]) -> set[int]:
+                    simple: SimpleSystem, param_values: dict[int, float],
+                    point: tuple[ca.SX, np.ndarray] | None = None) -> tuple[set[int], list[Level]]:
     g = [k for k, r in enumerate(rows) if r.der < 0]
     z = [k for k, c in enumerate(cols) if c.der < 0]
     anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
     dummies: set[int] = set()
+    levels: list[Level] = []
     if not any(rows[k].order > 0 for k in g):
-        return dummies
-    point_syms, point_vals = _numeric_point(simple, cols, param_values)
-    # relations: freeze at their start values
-    rel_syms = [rel.info.sym for rel, _ in simple.relations]
-    if rel_syms:
-        ind = ca.Function("ind", [point_syms], [ca.vertcat(*[i for _, i in simple.relations])])
-        zval = np.asarray(ind(point_vals)).ravel()
-        point_syms = ca.vertcat(point_syms, *rel_syms)
-        point_vals = np.concatenate([point_vals, [float(rel.value(z)) for (rel, _), z in zip(simple.relations, zval)]])
+        return dummies, levels
+    if point is None:
+        point_syms, point_vals = _numeric_point(simple, cols, param_values)
+        # relations: freeze at their start values
+        rel_syms = [rel.info.sym for rel, _ in simple.relations]
+        if rel_syms:
+            ind = ca.Function("ind", [point_syms], [ca.vertcat(*[i for _, i in simple.relations])])
+            zval = np.asarray(ind(point_vals)).ravel()
+            point_syms = ca.vertcat(point_syms, *rel_syms)
+            point_vals = np.concatenate([point_vals, [float(rel.value(z))
+                                                      for (rel, _), z in zip(simple.relations, zval)]])
+    else:
+        point_syms, point_vals = point
     level = 1
     while True:
         g_diff = [r for r in g if rows[r].order > 0]
@@ -330,12 +382,14 @@ def _select_dummies(rows: list[_Row], cols: list[_Col], variables: list[FlatVari
         jexpr = ca.jacobian(ca.vertcat(*[rows[r].expr for r in g_diff]), ca.vertcat(*[cols[c].info.sym for c in cand]))
         jfun = ca.Function("jsel", [point_syms], [jexpr])
         J = np.asarray(jfun(point_vals))
-        selected = _pick_columns(J, cand, [_cost(cols[c], cols, variables) for c in cand], need)
+        costs = [_cost(cols[c], cols, variables) for c in cand]
+        selected = _pick_columns(J, cand, costs, need)
         if selected is None:
             log.warning("dummy derivative selection is numerically singular at the start values "
                         "(level %d); using a structural selection", level)
             selected = _structural_pick(J != 0, cand, need, jexpr)
         dummies.update(selected)
+        levels.append(Level(list(g_diff), list(cand), costs, list(selected)))
         always = [cols[anti[c]] for c in selected if cols[anti[c]].order == 0
                   and variables[cols[anti[c]].var].state_select is StateSelect.always]
         for col in always:
@@ -343,7 +397,7 @@ def _select_dummies(rows: list[_Row], cols: list[_Col], variables: list[FlatVari
         g = [rows[r].pred for r in g_diff]
         z = [anti[c] for c in selected]
         level += 1
-    return dummies
+    return dummies, levels
 
 
 def _pick_columns(J: np.ndarray, cand: list[int], cost: list[int], need: int) -> list[int] | None:
@@ -394,7 +448,8 @@ def _col_name(col: _Col, variables: list[FlatVariable]) -> str:
     return name
 
 
-def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int]) -> DAE:
+def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],
+              levels: list[Level], structure: Structure) -> DAE:
     variables = simple.variables
     anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
     is_state = [c.der >= 0 and c.der not in dummies for c in cols]
@@ -455,6 +510,13 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     F = ca.substitute([F], [allsyms], [allnew])[0]
     out_names = list(simple.outputs)
     out_exprs = final([simple.outputs[nm] for nm in out_names])
+    col_exprs = final([c.info.sym for c in cols])
+    level_jacs = []
+    for lev in levels:
+        jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
+                          ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
+        jflat = final([ca.vec(jac)[k] for k in range(jac.numel())])
+        level_jacs.append(ca.reshape(ca.vertcat(*jflat), jac.shape[0], jac.shape[1]))
     cond_exprs = final([c.expr for c in simple.conditions])
     rel_exprs = final([i for _, i in simple.relations])
     names = [_col_name(cols[entries[i]], variables) for i in keep]
@@ -469,6 +531,8 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
         conditions=[Condition(c.name, e, c.value) for c, e in zip(simple.conditions, cond_exprs, strict=True)],
         relations=[(rel, e) for (rel, _), e in zip(simple.relations, rel_exprs, strict=True)],
         report=report, owners=owners, row_labels=labels,
+        col_names=[_col_name(c, variables) for c in cols], col_values=ca.vertcat(*col_exprs),
+        levels=levels, level_jacobians=level_jacs, structure=structure,
     )
 
 

@@ -52,9 +52,12 @@ class Trajectory:
     stats: dict[str, Any] = field(default_factory=dict)
     status: str = "success"
     message: str = ""
+    models: list[CompiledModel] = field(default_factory=list)
+    seg: list[int] = field(default_factory=list)
 
     def add(self, t: float, y: np.ndarray, yp: np.ndarray, rel: np.ndarray) -> None:
-        """Append one output row (copies)."""
+        """Append one output row (copies); rows belong to the last model in ``models``."""
+        self.seg.append(len(self.models) - 1)
         self.t.append(float(t))
         self.y.append(np.array(y, dtype=float))
         self.yp.append(np.array(yp, dtype=float))
@@ -193,7 +196,8 @@ def next_time_event(model: CompiledModel, p: np.ndarray, t: float, t_end: float)
 
 def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
               t0: float, t_end: float, t_out: np.ndarray | None, *, rtol: float = 1e-6, atol: float = 1e-8,
-              max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None) -> Trajectory:
+              max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None,
+              monitor: Any = None) -> Trajectory:
     """Integrate from consistent ``y0, yp0`` at ``t0`` to ``t_end``.
 
     Parameters
@@ -210,6 +214,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         Maximum number of internal steps for the whole run.
     progress : bool or None
         Show a progress bar; None shows one when the run takes longer than 2 s.
+    monitor : StateSelectionMonitor, optional
+        Dynamic state selection: checked after every step when the model has a choice of states.
 
     Returns
     -------
@@ -217,26 +223,11 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         With ``status`` ``"success"``; failures raise :class:`SolverError` (``.result`` is set by
         the caller from ``err.trajectory``).
     """
-    traj = Trajectory()
+    traj = Trajectory(models=[model])
     n_par = model.n_params
-    state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
-    dense = model.n <= DENSE_MAX
-    cb = _Callbacks(model, p, state_rel, dense)
-    opts: dict[str, Any] = dict(
-        rtol=rtol, atol=atol * model.nominal, algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
-        jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,
-    )
-    if dense:
-        opts["linsolver"] = "dense"
-    else:
-        opts.update(linsolver="sparse", sparsity=cb.pattern)
-    ev_holder = _EventsFn(cb.eventsfn, cb.n_events)
-    if cb.n_events:
-        opts.update(eventsfn=ev_holder, num_events=cb.n_events)
-    with warnings.catch_warnings():  # "sparsity ignored in favour of jacfn": we pass both on purpose
-        warnings.simplefilter("ignore", UserWarning)
-        solver = sun.ida.IDA(cb.resfn, **opts)
-    stats = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0}
+    solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
+    stats = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
+             "state_switches": 0}
     traj.stats = stats
     done = [0, 0]  # evaluations of finished IDA segments (IDAReInit resets the counters)
     cur = [0, 0]
@@ -289,6 +280,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                                   "beyond repair, or discontinuous without an event)")
             t = r.t
             event_kind = None
+            changed: list[int] = []
             triggered: list[tuple[int, bool]] = []
             if r.status == 2:
                 info = ev_holder.last_roots()
@@ -328,6 +320,23 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                             f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
                 if event_kind == "time":
                     t_event, which = next_time_event(model, p, t, t_end)
+            if monitor is not None and model.has_state_choice and monitor.needs_switch(model, t, r.y, r.yp, p):
+                y_now, yp_now = (y1, yp1) if event_kind and changed else (r.y, r.yp)
+                switched = monitor.switch(model, t, y_now, yp_now, p)
+                if switched is not None:
+                    done = [done[0] + cur[0], done[1] + cur[1]]
+                    cur = [0, 0]
+                    model, y1, yp1 = switched
+                    init = Initializer(model)
+                    y1, yp1 = init.reinit(t, y1, yp1, p)
+                    solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
+                    ind_fn = model.function("ind")
+                    solver.init_step(t, y1, yp1)
+                    traj.models.append(model)
+                    traj.add(t, y1, yp1, rel_values())
+                    stats["state_switches"] += 1
+                    states = ", ".join(n for n, d in zip(model.y_names, model.differential, strict=True) if d)
+                    traj.events.append((t, f"state selection: states are now {states}"))
             if stats["steps"] >= max_steps:
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
             if stats["steps"] % 32 == 0:
@@ -347,6 +356,29 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0
     return traj
+
+
+def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
+                 max_step: float) -> tuple[Any, _Callbacks, _EventsFn, np.ndarray]:
+    """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above."""
+    state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
+    dense = model.n <= DENSE_MAX
+    cb = _Callbacks(model, p, state_rel, dense)
+    opts: dict[str, Any] = dict(
+        rtol=rtol, atol=atol * model.nominal, algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
+        jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,
+    )
+    if dense:
+        opts["linsolver"] = "dense"
+    else:
+        opts.update(linsolver="sparse", sparsity=cb.pattern)
+    ev_holder = _EventsFn(cb.eventsfn, cb.n_events)
+    if cb.n_events:
+        opts.update(eventsfn=ev_holder, num_events=cb.n_events)
+    with warnings.catch_warnings():  # "sparsity ignored in favour of jacfn": we pass both on purpose
+        warnings.simplefilter("ignore", UserWarning)
+        solver = sun.ida.IDA(cb.resfn, **opts)
+    return solver, cb, ev_holder, state_rel
 
 
 def _interpolate(solver: Any, tq: float) -> Any:

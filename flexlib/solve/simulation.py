@@ -81,7 +81,8 @@ class Simulation:
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self.init_cached = False
-        self._maps: dict[int, Any] = {}
+        self._maps: dict[tuple, Any] = {}
+        self._state_monitor: Any = None
 
     @property
     def report(self) -> IndexReport:
@@ -142,7 +143,7 @@ class Simulation:
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
         max_step: float = 0.0, max_steps: int = 5_000_000, params: dict[str, Any] | None = None,
         steady_state: bool = False, progress: bool | None = None, result_file: str | None = None,
-        solver: str = "ida",
+        solver: str = "ida", dynamic_states: bool = True,
     ) -> Result:
         """Initialise and integrate.
 
@@ -174,6 +175,9 @@ class Simulation:
             ``"ida"``: SUNDIALS IDA through scikit-sundae (default; every step, progress bar).
             ``"casadi-idas"``: CasADi's built-in IDAS, all in C — faster for small models, same
             results and events (see ``flexlib/solve/casadi_idas.py``).
+        dynamic_states : bool
+            Re-select the states during the run when the selected dummy-derivative blocks become
+            ill-conditioned (default backend only; see ``flexlib/solve/state_selection.py``).
 
         Returns
         -------
@@ -210,15 +214,18 @@ class Simulation:
         wall = _time.perf_counter()
         y0, yp0 = self._initialize(t0, p, starts, steady_state)
         t_init = _time.perf_counter() - wall
+        extra: dict[str, Any] = {}
         if solver == "ida":
             backend = integrate
+            if m.has_state_choice and dynamic_states:
+                extra["monitor"] = self._monitor()
         elif solver == "casadi-idas":
             from flexlib.solve.casadi_idas import integrate_casadi as backend
         else:
             raise ValueError(f"solver must be 'ida' or 'casadi-idas', got {solver!r}")
         try:
             traj = backend(m, self.initializer, p, y0, yp0, t0, t1, grid, rtol=rtol, atol=atol,
-                             max_step=max_step, max_steps=max_steps, progress=progress)
+                             max_step=max_step, max_steps=max_steps, progress=progress, **extra)
         except SolverError as err:
             traj = err.result if isinstance(err.result, Trajectory) else Trajectory()
             err.result = self._result(traj, pvec, t_init, rtol, atol)
@@ -229,6 +236,20 @@ class Simulation:
         if result_file:
             result.save(result_file)
         return result
+
+    def _monitor(self) -> Any:
+        from flexlib.compile.flatten import flatten
+        from flexlib.compile.index_reduction import reduce_index
+        from flexlib.compile.simplify import simplify
+        from flexlib.solve.state_selection import StateSelectionMonitor
+
+        if self._state_monitor is None:
+            def rebuild() -> Any:
+                flat = flatten(self.model)
+                return reduce_index(simplify(flat), {q.sym.element_hash(): q.value for q in flat.parameters}).structure
+
+            self._state_monitor = StateSelectionMonitor(rebuild)
+        return self._state_monitor
 
     def _initialize(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
         """Stage 4, cached on disk by model key, parameters, start values and options."""
@@ -288,13 +309,19 @@ class Simulation:
         names = [v.name for v in m.variables]
         if traj.t:
             T = np.array(traj.t)
-            Y, YP = np.array(traj.y).T, np.array(traj.yp).T
-            rel = np.array(traj.rel, dtype=float).reshape(len(T), m.n_relations).T
-            P = np.vstack([np.repeat(pvec[:, None], len(T), axis=1), rel])
-            out = self._maps.get(len(T))
-            if out is None:
-                out = self._maps[len(T)] = m.function("out").map(len(T))
-            values = np.asarray(out(T[None, :], Y, YP, P)).T
+            values = np.zeros((len(T), len(names)))
+            seg = np.array(traj.seg) if traj.seg else np.zeros(len(T), dtype=int)
+            rel = np.array(traj.rel, dtype=float).reshape(len(T), m.n_relations)
+            for k in np.unique(seg):
+                rows = np.flatnonzero(seg == k)
+                model = traj.models[k] if traj.models else m
+                Y, YP = np.array([traj.y[i] for i in rows]).T, np.array([traj.yp[i] for i in rows]).T
+                P = np.vstack([np.repeat(pvec[:, None], len(rows), axis=1), rel[rows].T])
+                key = (id(model), len(rows))
+                out = self._maps.get(key)
+                if out is None:
+                    out = self._maps[key] = model.function("out").map(len(rows))
+                values[rows] = np.asarray(out(T[None, rows], Y, YP, P)).T
         else:
             T, values = np.zeros(0), np.zeros((0, len(names)))
         stats = dict(traj.stats)
