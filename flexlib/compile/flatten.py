@@ -16,6 +16,7 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
+from flexlib.compile.overdetermined import OrientationTree, orientation_tree
 from flexlib.compile.structure import culprits, group_by_owner, incidence, matching
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
@@ -40,6 +41,7 @@ class FlatVariable:
     state_select: StateSelect
     kind: Kind
     owner: str
+    der_rule: ca.SX | None = None
 
 
 @dataclass(eq=False)
@@ -118,6 +120,14 @@ def flatten(root: Component) -> FlatSystem:
     relations: list[Relation] = []
     by_hash: dict[int, int] = {}
 
+    # -- over-determined connectors: spanning tree; components may then declare dependent quantities
+    tree = orientation_tree(nodes)
+    for node in nodes:
+        if isinstance(node, Component):
+            node.__dict__["_od_depth"] = tree.depth
+            node.__dict__["_od_selected_roots"] = tree.roots
+            node.on_structure()
+
     # -- declarations ---------------------------------------------------------------------------
     for node in nodes:
         for name, decl in node._decls.items():
@@ -133,10 +143,17 @@ def flatten(root: Component) -> FlatSystem:
             start, fixed = node.start_of(name)
             starts = np.asarray(start, dtype=float).flatten(order="F")
             kind = decl.kind
+            rule = None
+            if getattr(decl, "derivative", None) is not None:
+                rule = ca.vec(ca.SX(decl.derivative(node)))
+                if rule.numel() != decl.size:
+                    raise ModelError(f"{node._label(name)}: derivative rule has {rule.numel()} entries, "
+                                     f"the variable {decl.size}")
             for k, (label, sym) in enumerate(_scalars(node, name)):
                 by_hash[sym.element_hash()] = len(variables)
                 variables.append(FlatVariable(label, sym, lookup(sym), decl.unit, decl.doc, float(starts[k]), fixed,
-                                              decl.nominal, decl.state_select, kind, node.path))
+                                              decl.nominal, decl.state_select, kind, node.path,
+                                              None if rule is None else rule[k]))
 
     # -- component equations --------------------------------------------------------------------
     for node in nodes:
@@ -161,6 +178,7 @@ def flatten(root: Component) -> FlatSystem:
                 equations.append(FlatEquation(res[k], node.path, equ.label, "equation"))
 
     _connection_equations(nodes, equations)
+    _overdetermined_equations(tree, equations)
     _check_inputs(root, nodes)
     _check_local_balance(nodes, equations)
     flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash)
@@ -232,6 +250,8 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> N
                     label = f"{first._label(name)} = 0 (unconnected)"
                 for k in range(total.numel()):
                     equations.append(FlatEquation(total.nz[k], owner or first.path.rpartition(".")[0], label, origin))
+            elif getattr(decl, "overdetermined", False):
+                continue  # equated along the spanning tree (_overdetermined_equations)
             else:
                 s0 = first._symbol(name)
                 for conn in conns[1:]:
@@ -239,6 +259,22 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> N
                     label = f"{first._label(name)} = {conn._label(name)}"
                     for k in range(diff.numel()):
                         equations.append(FlatEquation(diff.nz[k], owner, label, "connect"))
+
+
+def _overdetermined_equations(tree: OrientationTree, equations: list[FlatEquation]) -> None:
+    """Full equality of over-determined records along tree connections; equality constraints on broken ones."""
+    for a, b, owner in tree.tree_edges:
+        for name, decl in a._decls.items():
+            if getattr(decl, "overdetermined", False):
+                diff = a._symbol(name) - b._symbol(name)
+                label = f"{a._label(name)} = {b._label(name)}"
+                for k in range(diff.numel()):
+                    equations.append(FlatEquation(diff.nz[k], owner, label, "connect"))
+    for a, b, owner in tree.broken_edges:
+        residue = ca.vec(ca.SX(a.equality_constraint(b)))
+        label = f"loop closure {a.path} ~ {b.path}"
+        for k in range(residue.numel()):
+            equations.append(FlatEquation(residue[k], owner, f"{label} [{k}]", "loop closure"))
 
 
 def _check_inputs(root: Component, nodes: list[Node]) -> None:
@@ -268,6 +304,8 @@ def _check_local_balance(nodes: list[Node], equations: list[FlatEquation]) -> No
     for node in nodes:
         if not isinstance(node, Component) or not getattr(node, "check_local_balance", True) or node._parent is None:
             continue  # the root model is checked globally, with culprits named
+        if any(isinstance(c, Connector) and c.overdetermined for c in node._children.values()):
+            continue  # over-determined records are counted by the spanning tree (global check)
         if any(not isinstance(c, Connector) for c in node._children.values()):
             continue  # a composite: checked globally
         unknowns, flows = [], 0

@@ -178,9 +178,11 @@ class _Row:
 class _Pantelides:
     """Pantelides' algorithm on the structural incidence (iterative augmenting paths)."""
 
-    def __init__(self, cols: list[_Col], rows: list[_Row]) -> None:
+    def __init__(self, cols: list[_Col], rows: list[_Row], col_of: dict[int, int], rules: dict[int, ca.SX]) -> None:
         self.cols, self.rows = cols, rows
         self.assign = [-1] * len(cols)
+        self.col_of = col_of   # symbol hash -> column
+        self.rules = rules     # column -> expression of its derivative (derivative rules)
 
     def _augment(self, start: int, vcol: set[int], vrow: set[int]) -> bool:
         cols, rows, assign = self.cols, self.rows, self.assign
@@ -202,6 +204,11 @@ class _Pantelides:
             advanced = False
             for c in it:
                 if cols[c].der >= 0 or c in vcol:
+                    continue
+                if c in self.rules and assign[c] >= 0:
+                    # a variable with a derivative rule (orientation matrix) is determined by its own
+                    # equations; its derivative is known, so those equations are never re-matched or
+                    # differentiated for it
                     continue
                 vcol.add(c)
                 r2 = assign[c]
@@ -236,26 +243,38 @@ class _Pantelides:
                 for r in sorted(vrow):
                     self._derive_row(r)
                 for c in sorted(vcol):
-                    if self.assign[c] >= 0:
+                    if self.assign[c] >= 0 and cols[c].der >= 0:
                         self.assign[cols[c].der] = rows[self.assign[c]].der
                 i = rows[i].der
 
     def _derive_col(self, c: int) -> int:
         col = self.cols[c]
+        if c in self.rules:
+            return -1  # its derivative is an expression (derivative rule), never an unknown
         if col.der < 0:
             col.der = len(self.cols)
-            self.cols.append(_Col(col.var, col.order + 1, col.info.der_info))
+            info = col.info.der_info
+            self.cols.append(_Col(col.var, col.order + 1, info))
+            self.col_of[info.sym.element_hash()] = col.der
             self.assign.append(-1)
         return col.der
 
     def _derive_row(self, r: int) -> int:
+        """Differentiate row ``r`` symbolically (forward AD, derivative rules substituted); the new row's
+        incidence is read off the derivative, so rules change the structure as they should."""
         row = self.rows[r]
         if row.der < 0:
-            inc = set(row.inc)
-            for c in row.inc:
-                inc.add(self._derive_col(c))
+            plain = [c for c in sorted(row.inc) if c not in self.rules]
+            ruled = [c for c in sorted(row.inc) if c in self.rules]
+            for c in plain:
+                self._derive_col(c)
+            v = ca.vertcat(time, *[self.cols[c].info.sym for c in plain + ruled])
+            vd = ca.vertcat(ca.SX(1.0), *[self.cols[self.cols[c].der].info.sym for c in plain],
+                            *[self.rules[c] for c in ruled])
+            expr = ca.jtimes(row.expr, v, vd)
+            inc = {self.col_of[s.element_hash()] for s in ca.symvar(expr) if s.element_hash() in self.col_of}
             row.der = len(self.rows)
-            self.rows.append(_Row(row.source, row.order + 1, inc, pred=r))
+            self.rows.append(_Row(row.source, row.order + 1, inc, expr, pred=r))
         return row.der
 
 
@@ -292,31 +311,12 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
         for c in range(len(cols)):
             for r in rowidx[colind[c]:colind[c + 1]]:
                 rows[r].inc.add(c)
-    pant = _Pantelides(cols, rows)
+    rules = {col_of[h]: e for h, e in simple.der_rules.items() if h in col_of}
+    pant = _Pantelides(cols, rows, col_of, rules)
     pant.run(len(equations))
-    _differentiate(rows, cols)
     structure = Structure(simple, rows, cols, param_values)
     dummies, levels = structure.select()
     return structure.assemble(dummies, levels)
-
-
-def _differentiate(rows: list[_Row], cols: list[_Col]) -> None:
-    """Compute the expressions of differentiated rows, one generation at a time (batched AD)."""
-    todo = [r for r in rows if r.expr is None]
-    gen = 1
-    while todo:
-        batch = [r for r in todo if rows[r.pred].expr is not None]
-        if not batch:
-            raise RuntimeError("index reduction: differentiation order broken")
-        src = ca.vertcat(*[rows[r.pred].expr for r in batch])
-        have = [c for c in cols if c.der >= 0]
-        v = ca.vertcat(time, *[c.info.sym for c in have])
-        vd = ca.vertcat(ca.SX(1.0), *[cols[c.der].info.sym for c in have])
-        out = ca.jtimes(src, v, vd)
-        for k, r in enumerate(batch):
-            r.expr = out[k]
-        todo = [r for r in todo if r.expr is None]
-        gen += 1
 
 
 def _numeric_point(simple: SimpleSystem, cols: list[_Col], param_values: dict[int, float]) -> tuple[ca.SX, np.ndarray]:

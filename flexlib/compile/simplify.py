@@ -60,6 +60,8 @@ class SimpleSystem:
     conditions: list[Condition]
     relations: list[tuple[Relation, ca.SX]]
     n_eliminated: int
+    der_rules: dict[int, ca.SX] = dataclasses.field(default_factory=dict)
+    """Derivative rules of remaining unknowns (by symbol hash), written in the remaining unknowns."""
 
 
 def _classify(flat: FlatSystem, e: ca.SX) -> tuple | None:
@@ -202,13 +204,29 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
         out = ca.substitute([ca.vertcat(*exprs)], [ca.vertcat(*old_syms)], [ca.vertcat(*new_exprs)])[0]
         return [out[k] for k in range(out.numel())]
 
+    # derivative rules: each alias class takes the rule of a member, rescaled by the member's sign
+    rule_owner: dict[int, ca.SX] = {}
+    for root, members in classes.items():
+        if root in binding:
+            continue
+        rep_sym = value_of[members[0][0]]
+        rep_sym = rep_sym if rep_sym.is_symbolic() else rep_sym.dep(0)
+        for i, _ in members:
+            v = flat.variables[i]
+            if v.der_rule is not None:
+                sgn = 1.0 if value_of[i].is_symbolic() else -1.0  # v = ±rep
+                rule_owner[rep_sym.element_hash()] = sgn * v.der_rule
+                break
+    rule_hashes = list(rule_owner)
+    rule_exprs = subst([rule_owner[h] for h in rule_hashes])
+    der_rules = dict(zip(rule_hashes, rule_exprs, strict=True))
     new_eq_exprs = subst([e.expr for e in kept_eqs])
     equations = [dataclasses.replace(e, expr=x) for e, x in zip(kept_eqs, new_eq_exprs, strict=True)]
     rel_ind = subst([r.indicator for r in flat.relations])
     relations = list(zip(flat.relations, rel_ind, strict=True))
     outputs = {v.name: value_of[i] for i, v in enumerate(flat.variables)}
     conditions = _conditions(flat, value_of)
-    return SimpleSystem(flat, kept_vars, equations, outputs, conditions, relations, n_elim)
+    return SimpleSystem(flat, kept_vars, equations, outputs, conditions, relations, n_elim, der_rules)
 
 
 def _conditions(flat: FlatSystem, value_of: dict[int, ca.SX]) -> list[Condition]:

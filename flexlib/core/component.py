@@ -190,7 +190,19 @@ class Connector(Node):
 
     Two connectors can be connected when they declare the same variables (name, kind,
     shape, unit). A flow variable is positive into the component that owns the connector.
+    A connector with over-determined potentials (``Potential(overdetermined=True)``) must
+    implement :meth:`equality_constraint`.
     """
+
+    @property
+    def overdetermined(self) -> bool:
+        """True if the connector has over-determined potentials."""
+        return any(getattr(d, "overdetermined", False) for d in self._decls.values())
+
+    def equality_constraint(self, other: Connector) -> Any:
+        """Residue (a short vector) that is zero when the over-determined records of ``self`` and
+        ``other`` describe the same thing; used where a connection closes a loop."""
+        raise NotImplementedError(f"{type(self).__name__} has over-determined variables but no equality_constraint")
 
     def signature(self) -> tuple:
         """What must match for two connectors to be connectable."""
@@ -225,6 +237,47 @@ class Component(Node):
     """
 
     experiment: ClassVar[Any] = None
+
+    # -- over-determined connectors (Modelica Connections.branch/root/potentialRoot/rooted/isRoot) ------
+    def branch(self, a: Connector, b: Connector) -> None:
+        """Declare that this component's equations relate the over-determined records of ``a`` and ``b``
+        (e.g. a joint computes the orientation of frame_b from frame_a, or the reverse: see :meth:`rooted`)."""
+        self.__dict__.setdefault("_od_branches", []).append((a, b))
+
+    def definite_root(self, conn: Connector) -> None:
+        """Declare ``conn``'s over-determined record a definite root (this component computes it, e.g. World)."""
+        self.__dict__.setdefault("_od_roots", []).append(conn)
+
+    def potential_root(self, conn: Connector, priority: int = 0) -> None:
+        """Declare that this component can compute ``conn``'s record from states if no definite root
+        reaches it (a free body); lower ``priority`` is chosen first."""
+        self.__dict__.setdefault("_od_potential_roots", []).append((conn, priority))
+
+    def rooted(self, conn: Connector) -> bool:
+        """For a :meth:`branch` ``(a, b)`` of this component: True if ``conn`` is on the side nearer the root,
+        so the equations compute the other side from it. Valid inside :meth:`equations`."""
+        depth = self.__dict__.get("_od_depth")
+        if depth is None:
+            raise ModelError(f"{self.path}: rooted() is only available while the model is flattened")
+        for a, b in self.__dict__.get("_od_branches", []):
+            if conn is a or conn is b:
+                other = b if conn is a else a
+                return depth[id(conn)] < depth[id(other)]
+        raise ModelError(f"{self.path}: rooted({conn.path}): {conn.path} is not in a branch() of this component")
+
+    def is_root(self, conn: Connector) -> bool:
+        """True if ``conn`` was chosen as the root of its orientation tree. Valid inside :meth:`equations`."""
+        roots = self.__dict__.get("_od_selected_roots")
+        if roots is None:
+            raise ModelError(f"{self.path}: is_root() is only available while the model is flattened")
+        return id(conn) in roots
+
+    def on_structure(self) -> None:
+        """Called when the model structure is known, before equations are collected.
+
+        A component may add declarations here that depend on :meth:`is_root` / :meth:`rooted`
+        (a free body adds its orientation states). Default: nothing.
+        """
 
     def equations(self) -> list[Equation]:
         """The component's own equations (connections are added by the compiler)."""

@@ -289,6 +289,11 @@ class Variable(Declaration):
         One-line description.
     shape : int or tuple
         ``()``, ``(n,)`` or ``(n, m)``.
+    derivative : callable, optional
+        ``derivative(node) -> expression``: the time derivative of this variable in terms of other
+        variables of the same node (Modelica's derivative annotation; for a frame's orientation
+        matrix ``der(T) = −[w×] T``). Index reduction uses it instead of introducing ``der(x)`` as an
+        unknown, so such a variable is never a state and its derivative costs no equations.
     """
 
     kind = Kind.variable
@@ -296,8 +301,10 @@ class Variable(Declaration):
     def __init__(
         self, *, unit: str = "1", doc: str = "", start: Any = 0.0, fixed: bool = False,
         nominal: float = 1.0, state_select: str = "default", shape: int | tuple[int, ...] = (),
+        derivative: Any = None,
     ) -> None:
         super().__init__(unit=unit, doc=doc, shape=shape)
+        self.derivative = derivative
         if state_select not in _STATE_SELECT:
             raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)}, got {state_select!r}")
         if not nominal > 0:
@@ -309,9 +316,24 @@ class Variable(Declaration):
 
 
 class Potential(Variable):
-    """A connector variable that is equal across a connection (angle, position, pressure)."""
+    """A connector variable that is equal across a connection (angle, position, pressure).
+
+    Parameters
+    ----------
+    overdetermined : bool
+        True for the entries of an over-determined record (the orientation of a 3D frame: 9 matrix
+        entries for 3 degrees of freedom). They are equated only along a spanning tree of the
+        connection graph; a connection that closes a loop uses the connector's
+        ``equality_constraint`` instead (Modelica spec §9.4). See :meth:`Component.branch`.
+    **kwargs
+        As :class:`Variable`.
+    """
 
     kind = Kind.potential
+
+    def __init__(self, *, overdetermined: bool = False, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.overdetermined = bool(overdetermined)
 
 
 class Flow(Variable):

@@ -13,10 +13,13 @@ variables and derivatives are recomputed.
 
 from __future__ import annotations
 
+import warnings
+
 import casadi as ca
 import numpy as np
 import scipy.optimize as so
 import scipy.sparse as sps
+import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.structure import culprits, group_by_owner, matching
@@ -236,10 +239,15 @@ class Initializer:
             norm = np.linalg.norm(r, np.inf)
             if norm <= tol * scale:
                 return w
-            try:
-                step = sps.linalg.spsolve(jac(w), -r)
-            except RuntimeError:
-                break
+            J = jac(w)
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", sps.linalg.MatrixRankWarning)
+                try:
+                    step = sps.linalg.spsolve(J, -r)
+                except (RuntimeError, sps.linalg.MatrixRankWarning):
+                    step = None
+            if step is None or not np.all(np.isfinite(step)):  # singular: least-squares (Gauss–Newton) step
+                step = sps.linalg.lsqr(J, -r, atol=1e-14, btol=1e-14)[0]
             if not np.all(np.isfinite(step)):
                 break
             lam = 1.0
@@ -255,8 +263,9 @@ class Initializer:
         if np.linalg.norm(r, np.inf) <= tol * scale:
             return w
         # robust fallback: trust-region least squares
-        sol = so.least_squares(fun, w, jac=jac, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=500,
-                               tr_solver="lsmr" if len(w) > 200 else "exact")
+        big = len(w) > 200
+        sol = so.least_squares(fun, w, jac=jac if big else (lambda x: jac(x).toarray()), method="trf",
+                               xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=500, tr_solver="lsmr" if big else "exact")
         w, r = sol.x, fun(sol.x)
         if np.linalg.norm(r, np.inf) <= max(tol, 1e-8) * scale:
             return w

@@ -44,15 +44,15 @@ class StateSelectionMonitor:
     ratio : float
         Switch when the smallest singular value of the selected block drops below ``ratio``
         times that of the best block (hysteresis: a new selection is at least ``1/ratio`` better).
-    hadamard : float
-        Blocks whose Hadamard ratio is above this are taken as well-conditioned without further work;
-        while every block is above 2.5 times this, only every fourth step is checked.
+    every : int
+        Check every this many steps while the selection is comfortably conditioned (every step once a
+        ratio falls below 0.5).
     """
 
-    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.2, hadamard: float = 0.2) -> None:
+    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.2, every: int = 8) -> None:
         self.rebuild = rebuild
         self.ratio = ratio
-        self.hadamard = hadamard
+        self.every = every
         self._variants: dict[tuple, CompiledModel] = {}
         self._buffers: dict[int, tuple] = {}
         self._skip = 0
@@ -60,11 +60,11 @@ class StateSelectionMonitor:
     def needs_switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
         """True if a clearly better-conditioned selection exists at this point.
 
-        Cheap test first: the Hadamard ratio ``|det M| / prod(column norms)`` of each selected block
-        (1 for orthogonal columns, 0 when singular). Only a block below ``hadamard`` gets the full
-        comparison of smallest singular values against the best selection.
+        For each level with a choice, the ratio of the smallest singular values of the selected block
+        and of the best block (pivoted QR by ``state_select`` class, as at compile time) is computed.
+        Below ``ratio``: switch. While every ratio is above 0.5 only every ``every``-th step is checked.
         """
-        if self._skip > 0:  # all blocks were far from singular a moment ago
+        if self._skip > 0:
             self._skip -= 1
             return False
         J = self._jlev(model, t, y, yp, p)
@@ -75,18 +75,14 @@ class StateSelectionMonitor:
             offset += n_rows * n_cands
             if n_cands == n_rows:
                 continue
-            current = block[:, selected]
-            norms = float(np.prod(np.sqrt(np.einsum("ij,ij->j", current, current))))
-            ratio = abs(float(np.linalg.det(current))) / norms if norms > 0 else 0.0
-            worst = min(worst, ratio)
-            if ratio >= self.hadamard:
-                continue
             best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
             if best is None or sorted(best) == sorted(selected):
                 continue
-            if _smallest_sv(current) < self.ratio * _smallest_sv(block[:, best]):
+            quality = _smallest_sv(block[:, selected]) / max(_smallest_sv(block[:, best]), 1e-300)
+            if quality < self.ratio:
                 return True
-        self._skip = 0 if worst < 2.5 * self.hadamard else 3
+            worst = min(worst, quality)
+        self._skip = 0 if worst < 0.5 else self.every - 1
         return False
 
     def _jlev(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> np.ndarray:

@@ -1,0 +1,124 @@
+"""Rigid body with mass and inertia tensor (MSL ``MultiBody.Parts.Body``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from flexlib import Component, Parameter, Variable, der, eq
+from flexlib.errors import ParameterError
+
+from .frames import resolve2
+from .interfaces import Frame
+from .world import gravity_of
+
+__all__ = ["Body", "quaternion_to_T", "quaternion_w"]
+
+
+def quaternion_to_T(Q: Any) -> ca.SX:
+    """Transformation matrix world → frame of the unit quaternion ``Q = (e·sin(φ/2), cos(φ/2))``."""
+    q1, q2, q3, q4 = Q[0], Q[1], Q[2], Q[3]
+    return ca.vertcat(
+        ca.horzcat(2 * (q1**2 + q4**2) - 1, 2 * (q1 * q2 + q3 * q4), 2 * (q1 * q3 - q2 * q4)),
+        ca.horzcat(2 * (q2 * q1 - q3 * q4), 2 * (q2**2 + q4**2) - 1, 2 * (q2 * q3 + q1 * q4)),
+        ca.horzcat(2 * (q3 * q1 + q2 * q4), 2 * (q3 * q2 - q1 * q4), 2 * (q3**2 + q4**2) - 1),
+    )
+
+
+def quaternion_w(Q: Any, dQ: Any) -> ca.SX:
+    """Angular velocity resolved in the frame from a quaternion and its derivative (MSL angularVelocity2)."""
+    q1, q2, q3, q4 = Q[0], Q[1], Q[2], Q[3]
+    M = ca.vertcat(ca.horzcat(q4, q3, -q2, -q1), ca.horzcat(-q3, q4, q1, -q2), ca.horzcat(q2, -q1, q4, -q3))
+    return 2 * ca.mtimes(M, dQ)
+
+
+class Body(Component):
+    """Rigid body: Newton–Euler equations resolved in ``frame_a``.
+
+    ``f_a = m·(T_a (a_0 − g_0) + z × r_CM + w × (w × r_CM))``,
+    ``t_a = I z + w × (I w) + r_CM × f_a``, with ``w`` and ``z = der(w)`` the angular velocity and
+    acceleration of frame_a resolved in frame_a, ``I`` the inertia tensor at the centre of mass
+    resolved in frame_a, and ``g_0`` the World's gravity. If no definite root (World/Fixed) reaches
+    the body, it is the root of its orientation tree and its orientation comes from a unit
+    quaternion ``Q`` (states; ``|Q| = 1`` is kept by index reduction — no drift, no singularity).
+
+    Parameters
+    ----------
+    m : float
+        Mass [kg], ≥ 0.
+    r_CM : array_like (3,)
+        Centre of mass from frame_a, resolved in frame_a [m].
+    I : array_like (3, 3)
+        Inertia tensor at the centre of mass, resolved in frame_a [kg.m2]; symmetric positive
+        semi-definite (checked).
+
+    Connectors
+    ----------
+    frame_a : Frame
+        Body-fixed frame.
+
+    Variables
+    ---------
+    r_0 [m], v_0 [m/s], a_0 [m/s2]: origin of frame_a in world; w_a [rad/s], z_a [rad/s2]: angular
+    velocity and acceleration resolved in frame_a; Q [1]: orientation quaternion (free body only).
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``MultiBody.Parts.Body``; Shabana, *Dynamics of Multibody
+    Systems*, 4th ed., §3.
+    """
+
+    m = Parameter(1.0, unit="kg", min=0.0, doc="Mass")
+    r_CM = Parameter([0.0, 0.0, 0.0], unit="m", shape=3, doc="Centre of mass from frame_a resolved in frame_a")
+    I = Parameter(np.diag([1e-3, 1e-3, 1e-3]), unit="kg.m2", shape=(3, 3), doc="Inertia tensor at CM in frame_a")
+    r_0 = Variable(unit="m", shape=3, state_select="avoid", doc="Origin of frame_a resolved in world")
+    v_0 = Variable(unit="m/s", shape=3, state_select="avoid", doc="Velocity of frame_a origin in world")
+    a_0 = Variable(unit="m/s2", shape=3, doc="Acceleration of frame_a origin in world")
+    w_a = Variable(unit="rad/s", shape=3, state_select="avoid", doc="Angular velocity resolved in frame_a")
+    z_a = Variable(unit="rad/s2", shape=3, doc="Angular acceleration resolved in frame_a")
+    Q = Variable(unit="1", shape=4, start=[0.0, 0.0, 0.0, 1.0], state_select="prefer",
+                 doc="Orientation quaternion (e·sin(φ/2), cos(φ/2)); used only by a free body")
+    frame_a = Frame(doc="Body frame")
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.potential_root(self.frame_a)
+        self._check_inertia()
+
+    def _assign(self, name: str, value: Any) -> None:
+        super()._assign(name, value)
+        if name in ("I", "m") and "I" in self._decls:
+            self._check_inertia()
+
+    def _check_inertia(self) -> None:
+        I = self.parameter_value("I")
+        label = self.path or type(self).__name__
+        if I is None:
+            return
+        if not np.allclose(I, I.T, atol=1e-12 * max(1.0, np.abs(I).max())):
+            raise ParameterError(f"{label}: inertia tensor I is not symmetric: {I.tolist()}")
+        eig = np.linalg.eigvalsh(I)
+        if eig.min() < -1e-12 * max(1.0, eig.max()):
+            raise ParameterError(f"{label}: inertia tensor I is not positive semi-definite (eigenvalues {eig})")
+        if not (eig[0] + eig[1] >= eig[2] * (1 - 1e-9)):
+            raise ParameterError(f"{label}: inertia tensor I violates the triangle inequality (eigenvalues {eig})")
+
+    def equations(self):
+        fa = self.frame_a
+        g_0 = gravity_of(self)
+        w, z, r_cm = self.w_a, self.z_a, self.r_CM
+        eqs = [
+            eq(self.r_0, fa.r_0), eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0),
+            eq(der(self.w_a), self.z_a),
+            eq(fa.f, self.m * (resolve2(fa.T, self.a_0 - g_0) + ca.cross(z, r_cm) + ca.cross(w, ca.cross(w, r_cm)))),
+            eq(fa.t, ca.mtimes(self.I, z) + ca.cross(w, ca.mtimes(self.I, w)) + ca.cross(r_cm, fa.f)),
+        ]
+        if self.is_root(fa):
+            Q = self.Q
+            eqs += [eq(fa.T, quaternion_to_T(Q)), eq(fa.w, quaternion_w(Q, der(Q))),
+                    eq(ca.dot(Q, Q), 1.0, label="quaternion norm"), eq(self.w_a, fa.w)]
+        else:  # orientation comes through the tree; Q is unused (eliminated as a constant)
+            eqs += [eq(self.w_a, fa.w), eq(self.Q, [0.0, 0.0, 0.0, 1.0])]
+        return eqs

@@ -1,0 +1,64 @@
+"""The inertial frame and the uniform gravity field (MSL ``MultiBody.World``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+
+from flexlib import Component, Parameter, eq
+from flexlib.errors import ModelError
+
+from .interfaces import Frame
+
+__all__ = ["World", "gravity_of"]
+
+
+class World(Component):
+    """Inertial frame at the origin and uniform gravity ``g_0 = g·n`` [m/s²] in world coordinates.
+
+    ``frame_b`` is the world frame (a definite orientation root). Bodies find the World of their
+    model and use its gravity.
+
+    Parameters
+    ----------
+    g : float
+        Magnitude of the gravity acceleration [m/s2], ≥ 0.
+    n : array_like (3,)
+        Direction of gravity, resolved in world [1] (normalised; default −y).
+
+    Connectors
+    ----------
+    frame_b : Frame
+        The world frame.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.World``.
+    """
+
+    g = Parameter(9.81, unit="m/s2", min=0.0, doc="Gravity acceleration magnitude")
+    n = Parameter([0.0, -1.0, 0.0], unit="1", shape=3, doc="Direction of gravity resolved in world")
+    frame_b = Frame(doc="World frame")
+
+    def __init__(self, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.definite_root(self.frame_b)
+
+    def gravity(self) -> ca.SX:
+        """Gravity acceleration resolved in world [m/s2]."""
+        return self.g * self.n / ca.norm_2(self.n)
+
+    def equations(self):
+        fb = self.frame_b
+        return [eq(fb.r_0, 0.0), eq(fb.T, ca.SX.eye(3)), eq(fb.w, 0.0)]
+
+
+def gravity_of(component: Component) -> ca.SX:
+    """Gravity acceleration (world-resolved) of the model ``component`` belongs to."""
+    worlds = [n for n in component.root.walk() if isinstance(n, World)]
+    if not worlds:
+        raise ModelError(f"{component.path}: the model has no World (it provides gravity and the inertial frame)")
+    if len(worlds) > 1:
+        raise ModelError(f"{component.path}: the model has {len(worlds)} World components; use one")
+    return worlds[0].gravity()
