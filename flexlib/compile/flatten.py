@@ -86,6 +86,8 @@ class FlatSystem:
     equations: list[FlatEquation]
     relations: list[Relation]
     by_hash: dict[int, int] = field(default_factory=dict)
+    initial: list[FlatEquation] = field(default_factory=list)
+    """Initial equations (hold at the start time only; they count as initial conditions)."""
 
     def variable(self, sym: ca.SX) -> FlatVariable | None:
         """The flat variable of a scalar symbol, if any."""
@@ -118,6 +120,7 @@ def flatten(root: Component) -> FlatSystem:
     parameters: list[FlatParameter] = []
     equations: list[FlatEquation] = []
     relations: list[Relation] = []
+    initial: list[FlatEquation] = []
     by_hash: dict[int, int] = {}
 
     # -- over-determined connectors: spanning tree; components may then declare dependent quantities
@@ -170,6 +173,9 @@ def flatten(root: Component) -> FlatSystem:
             rel.text = rel.describe()
             rel.info.name = f"rel({rel.text})"
         relations.extend(sink)
+        for equ in node.initial_equations() or []:
+            for k in range(equ.residual.numel()):
+                initial.append(FlatEquation(equ.residual[k], node.path, equ.label or "initial equation", "initial"))
         for equ in own or []:
             if not hasattr(equ, "residual"):
                 raise ModelError(f"{node.path or type(node).__name__}.equations() returned {equ!r}; use eq(lhs, rhs)")
@@ -181,7 +187,7 @@ def flatten(root: Component) -> FlatSystem:
     _overdetermined_equations(tree, equations)
     _check_inputs(root, nodes)
     _check_local_balance(nodes, equations)
-    flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash)
+    flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash, initial)
     _check_symbols(flat)
     check_balance(flat)
     return flat

@@ -183,6 +183,10 @@ class _Pantelides:
         self.assign = [-1] * len(cols)
         self.col_of = col_of   # symbol hash -> column
         self.rules = rules     # column -> expression of its derivative (derivative rules)
+        self.defined_by = _defining_rows(rows, cols, rules)
+        for c in list(rules):  # a rule column without a defining row is treated as an ordinary unknown
+            if c not in self.defined_by:
+                del rules[c]
 
     def _augment(self, start: int, vcol: set[int], vrow: set[int]) -> bool:
         cols, rows, assign = self.cols, self.rows, self.assign
@@ -193,7 +197,7 @@ class _Pantelides:
         # first a free column directly adjacent (Pantelides: look for an unassigned variable first)
         while stack:
             r, it = stack[-1]
-            free = next((c for c in rows[r].inc if cols[c].der < 0 and assign[c] < 0), None)
+            free = next((c for c in rows[r].inc if cols[c].der < 0 and assign[c] < 0 and c not in self.rules), None)
             if free is not None:
                 assign[free] = r
                 # flip the path
@@ -205,11 +209,8 @@ class _Pantelides:
             for c in it:
                 if cols[c].der >= 0 or c in vcol:
                     continue
-                if c in self.rules and assign[c] >= 0:
-                    # a variable with a derivative rule (orientation matrix) is determined by its own
-                    # equations; its derivative is known, so those equations are never re-matched or
-                    # differentiated for it
-                    continue
+                if c in self.rules:
+                    continue  # determined by its defining row (pre-matched); known everywhere else
                 vcol.add(c)
                 r2 = assign[c]
                 if r2 < 0 or r2 in vrow:
@@ -227,7 +228,13 @@ class _Pantelides:
 
     def run(self, n_orig: int, max_rounds: int = 10000) -> None:
         cols, rows = self.cols, self.rows
+        defining = set()
+        for c, r in self.defined_by.items():
+            self.assign[c] = r
+            defining.add(r)
         for k in range(n_orig):
+            if k in defining:
+                continue
             i = k
             rounds = 0
             while True:
@@ -276,6 +283,36 @@ class _Pantelides:
             row.der = len(self.rows)
             self.rows.append(_Row(row.source, row.order + 1, inc, expr, pred=r))
         return row.der
+
+
+def _defining_rows(rows: list[_Row], cols: list[_Col], rules: dict[int, ca.SX]) -> dict[int, int]:
+    """For each column with a derivative rule, the row that defines it explicitly (``T_b = T_rel·T_a``,
+    ``T = T(Q)``: linear in it with a unit coefficient), found by a matching over such pairs."""
+    import scipy.sparse as sp
+
+    from flexlib.compile.structure import matching
+
+    rule_cols = sorted(rules)
+    if not rule_cols:
+        return {}
+    index = {c: k for k, c in enumerate(rule_cols)}
+    entries = []
+    for r, row in enumerate(rows):
+        if row.order:
+            continue
+        for c in row.inc:
+            if c in index:
+                sym = cols[c].info.sym
+                if ca.is_linear(row.expr, sym):
+                    coef = ca.jacobian(row.expr, sym)
+                    if coef.is_constant() and abs(float(ca.evalf(coef))) == 1.0:
+                        entries.append((r, index[c]))
+    if not entries:
+        return {}
+    rr, cc = zip(*entries, strict=True)
+    inc = sp.csr_matrix((np.ones(len(rr)), (rr, cc)), shape=(len(rows), len(rule_cols)))
+    _, col_match = matching(inc)
+    return {rule_cols[k]: int(r) for k, r in enumerate(col_match) if r >= 0}
 
 
 def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:

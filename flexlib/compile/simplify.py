@@ -226,6 +226,9 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
     relations = list(zip(flat.relations, rel_ind, strict=True))
     outputs = {v.name: value_of[i] for i, v in enumerate(flat.variables)}
     conditions = _conditions(flat, value_of)
+    initial_exprs = subst([e.expr for e in flat.initial])
+    for k, (e, expr) in enumerate(zip(flat.initial, initial_exprs, strict=True)):
+        conditions.append(Condition(f"{e.owner or '(model)'}: {e.label} #{k}", expr, 0.0))
     return SimpleSystem(flat, kept_vars, equations, outputs, conditions, relations, n_elim, der_rules)
 
 

@@ -279,6 +279,15 @@ class Component(Node):
         (a free body adds its orientation states). Default: nothing.
         """
 
+    def initial_equations(self) -> list[Equation]:
+        """Equations that hold at the start time only (Modelica ``initial equation``).
+
+        They replace fixed start values where those cannot express the condition, e.g. the initial
+        orientation of a free body (3 equations on a 4-entry quaternion). Each counts as one initial
+        condition. Default: none.
+        """
+        return []
+
     def equations(self) -> list[Equation]:
         """The component's own equations (connections are added by the compiler)."""
         return []

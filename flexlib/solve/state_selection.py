@@ -46,10 +46,10 @@ class StateSelectionMonitor:
         times that of the best block (hysteresis: a new selection is at least ``1/ratio`` better).
     every : int
         Check every this many steps while the selection is comfortably conditioned (every step once a
-        ratio falls below 0.5).
+        ratio falls below twice ``ratio``).
     """
 
-    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.2, every: int = 8) -> None:
+    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.5, every: int = 8) -> None:
         self.rebuild = rebuild
         self.ratio = ratio
         self.every = every
@@ -62,7 +62,7 @@ class StateSelectionMonitor:
 
         For each level with a choice, the ratio of the smallest singular values of the selected block
         and of the best block (pivoted QR by ``state_select`` class, as at compile time) is computed.
-        Below ``ratio``: switch. While every ratio is above 0.5 only every ``every``-th step is checked.
+        Below ``ratio``: switch. While every ratio is above twice ``ratio`` only every ``every``-th step is checked.
         """
         if self._skip > 0:
             self._skip -= 1
@@ -82,7 +82,7 @@ class StateSelectionMonitor:
             if quality < self.ratio:
                 return True
             worst = min(worst, quality)
-        self._skip = 0 if worst < 0.5 else self.every - 1
+        self._skip = 0 if worst < min(1.0, 2 * self.ratio) else self.every - 1
         return False
 
     def _jlev(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> np.ndarray:

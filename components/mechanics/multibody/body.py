@@ -10,11 +10,32 @@ import numpy as np
 from flexlib import Component, Parameter, Variable, der, eq
 from flexlib.errors import ParameterError
 
-from .frames import resolve2
+from .frames import equality_constraint, resolve2
 from .interfaces import Frame
 from .world import gravity_of
 
-__all__ = ["Body", "quaternion_to_T", "quaternion_w"]
+__all__ = ["Body", "quaternion_from_T", "quaternion_to_T", "quaternion_w"]
+
+
+def quaternion_from_T(T: np.ndarray) -> np.ndarray:
+    """Unit quaternion ``(e·sin(φ/2), cos(φ/2))`` of a numeric transformation matrix (MSL ``from_T``)."""
+    T = np.asarray(T, dtype=float)
+    c1, c2, c3, c4 = 1 + T[0, 0] - T[1, 1] - T[2, 2], 1 + T[1, 1] - T[0, 0] - T[2, 2], \
+        1 + T[2, 2] - T[0, 0] - T[1, 1], 1 + T[0, 0] + T[1, 1] + T[2, 2]
+    k = int(np.argmax([c1, c2, c3, c4]))
+    if k == 3:
+        q4 = np.sqrt(c4) / 2
+        q = [(T[1, 2] - T[2, 1]) / (4 * q4), (T[2, 0] - T[0, 2]) / (4 * q4), (T[0, 1] - T[1, 0]) / (4 * q4), q4]
+    elif k == 0:
+        q1 = np.sqrt(c1) / 2
+        q = [q1, (T[0, 1] + T[1, 0]) / (4 * q1), (T[0, 2] + T[2, 0]) / (4 * q1), (T[1, 2] - T[2, 1]) / (4 * q1)]
+    elif k == 1:
+        q2 = np.sqrt(c2) / 2
+        q = [(T[0, 1] + T[1, 0]) / (4 * q2), q2, (T[1, 2] + T[2, 1]) / (4 * q2), (T[2, 0] - T[0, 2]) / (4 * q2)]
+    else:
+        q3 = np.sqrt(c3) / 2
+        q = [(T[0, 2] + T[2, 0]) / (4 * q3), (T[1, 2] + T[2, 1]) / (4 * q3), q3, (T[0, 1] - T[1, 0]) / (4 * q3)]
+    return np.array(q)
 
 
 def quaternion_to_T(Q: Any) -> ca.SX:
@@ -53,6 +74,13 @@ class Body(Component):
     I : array_like (3, 3)
         Inertia tensor at the centre of mass, resolved in frame_a [kg.m2]; symmetric positive
         semi-definite (checked).
+    Q_start : array_like (4,)
+        Start orientation as a quaternion ``(e·sin(φ/2), cos(φ/2))`` [1], used if ``orientation_fixed``
+        (and as the initial guess of a free body's quaternion).
+    w_start : array_like (3,)
+        Start angular velocity resolved in frame_a [rad/s], used if ``w_fixed``.
+    orientation_fixed, w_fixed : bool
+        True if the start orientation / angular velocity are initial conditions (structural).
 
     Connectors
     ----------
@@ -73,6 +101,8 @@ class Body(Component):
     m = Parameter(1.0, unit="kg", min=0.0, doc="Mass")
     r_CM = Parameter([0.0, 0.0, 0.0], unit="m", shape=3, doc="Centre of mass from frame_a resolved in frame_a")
     I = Parameter(np.diag([1e-3, 1e-3, 1e-3]), unit="kg.m2", shape=(3, 3), doc="Inertia tensor at CM in frame_a")
+    Q_start = Parameter([0.0, 0.0, 0.0, 1.0], unit="1", shape=4, doc="Start orientation quaternion (e sin, cos)")
+    w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3, doc="Start angular velocity resolved in frame_a")
     r_0 = Variable(unit="m", shape=3, state_select="avoid", doc="Origin of frame_a resolved in world")
     v_0 = Variable(unit="m/s", shape=3, state_select="avoid", doc="Velocity of frame_a origin in world")
     a_0 = Variable(unit="m/s2", shape=3, doc="Acceleration of frame_a origin in world")
@@ -82,10 +112,24 @@ class Body(Component):
                  doc="Orientation quaternion (e·sin(φ/2), cos(φ/2)); used only by a free body")
     frame_a = Frame(doc="Body frame")
 
-    def __init__(self, **kwargs: Any) -> None:
+    def __init__(self, orientation_fixed: bool = False, w_fixed: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
+        self.orientation_fixed = orientation_fixed
+        self.w_fixed = w_fixed
         self.potential_root(self.frame_a)
         self._check_inertia()
+        q0 = self.parameter_value("Q_start")
+        self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)
+
+    def initial_equations(self):
+        """``orientation_fixed``: T(t0) = T(Q_start) (3 equations); ``w_fixed``: w_a(t0) = w_start."""
+        out = []
+        if self.orientation_fixed:
+            q0 = self.Q_start / ca.norm_2(self.Q_start)
+            out.append(eq(equality_constraint(quaternion_to_T(q0), self.frame_a.T), 0.0, label="start orientation"))
+        if self.w_fixed:
+            out.append(eq(self.w_a, self.w_start, label="start angular velocity"))
+        return out
 
     def _assign(self, name: str, value: Any) -> None:
         super()._assign(name, value)

@@ -1,0 +1,84 @@
+"""Prismatic joint (MSL ``MultiBody.Joints.Prismatic``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from flexlib import Parameter, Variable, der, eq
+from flexlib.components.mechanics.translational.interfaces import Flange
+from flexlib.errors import ParameterError
+
+from .frames import resolve1
+from .interfaces import PartialTwoFrames
+
+__all__ = ["Prismatic"]
+
+
+class Prismatic(PartialTwoFrames):
+    """Translation of frame_b relative to frame_a by ``s`` along the fixed axis ``n``; same orientation.
+
+    ``r_0,b = r_0,a + T_aᵀ (e s)``; ``T_b = T_a``, ``w_b = w_a``; ``f_a + f_b = 0``;
+    ``t_a + t_b + (e s) × f_b = 0``; the driving force along the axis is ``f = −e·f_b`` (zero without an
+    axis flange).
+
+    Parameters
+    ----------
+    n : array_like (3,)
+        Direction of translation resolved in frame_a [1]; normalised, must not be zero.
+
+    Connectors
+    ----------
+    frame_a, frame_b : Frame
+    axis, support : translational Flange (if ``use_axis_flange``)
+        Drive flange (position ``s``, force ``f``) and its housing.
+
+    Variables
+    ---------
+    s [m], v [m/s], a [m/s2]: relative position, velocity, acceleration; f [N]: driving force.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``MultiBody.Joints.Prismatic``.
+    """
+
+    n = Parameter([1.0, 0.0, 0.0], unit="1", shape=3, doc="Direction of translation resolved in frame_a")
+    s = Variable(unit="m", state_select="prefer", doc="Relative distance from frame_a to frame_b along n")
+    v = Variable(unit="m/s", state_select="prefer", doc="Relative velocity")
+    a = Variable(unit="m/s2", doc="Relative acceleration")
+    f = Variable(unit="N", doc="Driving force in direction of the axis")
+
+    def __init__(self, use_axis_flange: bool = False, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.use_axis_flange = use_axis_flange
+        if use_axis_flange:
+            self.axis = Flange(doc="Drive flange (s, f)")
+            self.support = Flange(doc="Housing of the drive")
+        _check_axis(self, "n")
+
+    def _assign(self, name: str, value: Any) -> None:
+        super()._assign(name, value)
+        if name == "n":
+            _check_axis(self, "n")
+
+    def equations(self):
+        a, b = self.frame_a, self.frame_b
+        e = self.n / ca.norm_2(self.n)
+        es = e * self.s
+        eqs = [eq(b.r_0, a.r_0 + resolve1(a.T, es)), eq(der(self.s), self.v), eq(der(self.v), self.a),
+               eq(a.f + b.f, 0.0), eq(a.t + b.t + ca.cross(es, b.f), 0.0), eq(self.f, -ca.dot(e, b.f))]
+        eqs += [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
+        if self.use_axis_flange:
+            eqs += [eq(self.axis.s - self.support.s, self.s), eq(self.axis.f, self.f), eq(self.support.f, -self.f)]
+        else:
+            eqs.append(eq(self.f, 0.0, label="free joint axis (no drive)"))
+        return eqs
+
+
+def _check_axis(component: Any, name: str) -> None:
+    n = component.parameter_value(name)
+    if n is not None and not np.linalg.norm(n) > 1e-12:
+        raise ParameterError(f"{component.path or type(component).__name__}: joint axis {name} = {n.tolist()} "
+                             "has zero length")
