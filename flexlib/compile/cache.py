@@ -24,8 +24,9 @@ from typing import Any
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel, compile_dae
-from flexlib.compile.flatten import flatten
+from flexlib.compile.flatten import check_balance, flatten
 from flexlib.compile.index_reduction import reduce_index
+from flexlib.compile.redundancy import remove_redundant
 from flexlib.compile.simplify import simplify
 from flexlib.core.component import Component, Node
 from flexlib.core.variables import Parameter
@@ -175,13 +176,19 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         except Exception as exc:  # a corrupt or stale cache entry is rebuilt
             log.warning("ignoring unreadable cache entry %s: %s", path, exc)
     t = _time.perf_counter()
-    flat = flatten(root)
+    flat = flatten(root, check=False)
+    has_loops = any(e.origin == "loop closure" for e in flat.equations)
+    if not has_loops:  # diagnostics in the user's own equations; loops are checked once redundancy is removed
+        check_balance(flat.name, flat.variables, flat.equations)
     timings["flatten"] = _time.perf_counter() - t
     t = _time.perf_counter()
-    simple = simplify(flat)
+    params = {q.sym.element_hash(): q.value for q in flat.parameters}
+    simple = remove_redundant(simplify(flat), params)
+    if has_loops:
+        check_balance(flat.name, simple.variables, simple.equations)
     timings["simplify"] = _time.perf_counter() - t
     t = _time.perf_counter()
-    dae = reduce_index(simple, {q.sym.element_hash(): q.value for q in flat.parameters})
+    dae = reduce_index(simple, params)
     timings["index_reduction"] = _time.perf_counter() - t
     t = _time.perf_counter()
     use_c = (dae.y.numel() > 300) if codegen == "auto" else bool(codegen)

@@ -67,7 +67,8 @@ class FlatEquation:
     expr: ca.SX
     owner: str
     label: str
-    origin: str = "equation"  # "equation" | "connect" | "unconnected flow"
+    origin: str = "equation"  # "equation" | "connect" | "unconnected flow" | "loop closure" | "initial"
+    meta: tuple | None = None  # loop closure: ("position" | "orientation", frame_a, frame_b, component)
 
     def describe(self) -> str:
         """Short printable form for diagnostics (symbols by hierarchical name)."""
@@ -101,7 +102,7 @@ def _scalars(node: Node, name: str) -> list[tuple[str, ca.SX]]:
     return [(label, sym.nz[k]) for k, (label, _) in enumerate(decl.element_names(node._label(name)))]
 
 
-def flatten(root: Component) -> FlatSystem:
+def flatten(root: Component, check: bool = True) -> FlatSystem:
     """Flatten the instance tree below ``root`` and check its balance.
 
     Raises
@@ -183,20 +184,22 @@ def flatten(root: Component) -> FlatSystem:
             for k in range(res.numel()):
                 equations.append(FlatEquation(res[k], node.path, equ.label, "equation"))
 
-    _connection_equations(nodes, equations)
+    _connection_equations(nodes, equations, {frozenset((id(a), id(b))) for a, b, _ in tree.broken_edges})
     _overdetermined_equations(tree, equations)
     _check_inputs(root, nodes)
     _check_local_balance(nodes, equations)
     flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash, initial)
     _check_symbols(flat)
-    check_balance(flat)
+    if check:
+        check_balance(flat.name, flat.variables, flat.equations)
     return flat
 
 
 # ---------------------------------------------------------------------------------------------
 # Connections
 # ---------------------------------------------------------------------------------------------
-def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> None:
+def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
+                          broken: set[frozenset] | None = None) -> None:
     parent: dict[tuple[int, str], tuple[int, str]] = {}
     members: dict[tuple[int, str], tuple[Connector, str]] = {}
 
@@ -217,6 +220,7 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> N
         if isinstance(node, Connector):
             element(node, "inside")
     where: dict[tuple[int, str], str] = {}
+    edges: list[tuple[tuple[int, str], Connector, Connector, str]] = []
     for node in nodes:
         if not isinstance(node, Component):
             continue
@@ -229,6 +233,7 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> N
             ka = element(a[1], "outside" if a[1]._parent is node else "inside")
             kb = element(b[1], "outside" if b[1]._parent is node else "inside")
             where[ka] = where[kb] = node.path
+            edges.append((ka, a[1], b[1], node.path))
             ra, rb = find(ka), find(kb)
             if ra != rb:
                 parent[ra] = rb
@@ -258,13 +263,35 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation]) -> N
                     equations.append(FlatEquation(total.nz[k], owner or first.path.rpartition(".")[0], label, origin))
             elif getattr(decl, "overdetermined", False):
                 continue  # equated along the spanning tree (_overdetermined_equations)
-            else:
-                s0 = first._symbol(name)
-                for conn in conns[1:]:
-                    diff = s0 - conn._symbol(name)
-                    label = f"{first._label(name)} = {conn._label(name)}"
+            else:  # equal along the set's connections; a broken (loop-closing) one gives loop-closure rows
+                set_edges = [e for e in edges if find(e[0]) == root_key]
+                set_edges.sort(key=lambda e: frozenset((id(e[1]), id(e[2]))) in (broken or set()))
+                group = {id(c): id(c) for c in conns}
+
+                def gfind(x: int, group: dict[int, int] = group) -> int:
+                    while group[x] != x:
+                        x = group[x]
+                    return x
+
+                for _, ca_, cb_, edge_owner in set_edges:
+                    ra_, rb_ = gfind(id(ca_)), gfind(id(cb_))
+                    if ra_ == rb_:
+                        continue
+                    group[ra_] = rb_
+                    diff = ca_._symbol(name) - cb_._symbol(name)
+                    is_loop = frozenset((id(ca_), id(cb_))) in (broken or set())
+                    label = f"{ca_._label(name)} = {cb_._label(name)}"
                     for k in range(diff.numel()):
-                        equations.append(FlatEquation(diff.nz[k], owner, label, "connect"))
+                        meta = ("position", ca_, cb_, k) if is_loop else None
+                        equations.append(FlatEquation(diff.nz[k], edge_owner or owner, label,
+                                                      "loop closure" if is_loop else "connect", meta))
+                for conn in conns[1:]:  # members not joined by edges (should not happen): chain equality
+                    if gfind(id(conn)) != gfind(id(first)):
+                        diff = first._symbol(name) - conn._symbol(name)
+                        group[gfind(id(conn))] = gfind(id(first))
+                        for k in range(diff.numel()):
+                            equations.append(FlatEquation(diff.nz[k], owner, f"{first._label(name)} = "
+                                                          f"{conn._label(name)}", "connect"))
 
 
 def _overdetermined_equations(tree: OrientationTree, equations: list[FlatEquation]) -> None:
@@ -280,7 +307,8 @@ def _overdetermined_equations(tree: OrientationTree, equations: list[FlatEquatio
         residue = ca.vec(ca.SX(a.equality_constraint(b)))
         label = f"loop closure {a.path} ~ {b.path}"
         for k in range(residue.numel()):
-            equations.append(FlatEquation(residue[k], owner, f"{label} [{k}]", "loop closure"))
+            equations.append(FlatEquation(residue[k], owner, f"{label} [{k}]", "loop closure",
+                                          ("orientation", a, b, k)))
 
 
 def _check_inputs(root: Component, nodes: list[Node]) -> None:
@@ -350,24 +378,28 @@ def _check_symbols(flat: FlatSystem) -> None:
             raise ModelError(f"{s}: der(der(x)) is not supported; introduce a velocity variable")
 
 
-def check_balance(flat: FlatSystem) -> None:
-    """Raise if the flat model is unbalanced or structurally singular, naming the culprits."""
-    n_eq, n_var = len(flat.equations), len(flat.variables)
+def check_balance(name: str, variables: list[FlatVariable], equations: list[FlatEquation]) -> None:
+    """Raise if the system is unbalanced or structurally singular, naming the culprits.
+
+    Run on the flat model, or after alias elimination and redundant-constraint removal (a planar
+    loop built in 3D is structurally singular until its redundant rows are dropped).
+    """
+    n_eq, n_var = len(equations), len(variables)
     if n_eq == 0 and n_var == 0:
-        raise ModelError(f"model {flat.name} has no variables and no equations")
-    syms = ca.vertcat(*[v.sym for v in flat.variables]) if flat.variables else ca.SX(0, 1)
-    exprs = ca.vertcat(*[e.expr for e in flat.equations]) if flat.equations else ca.SX(0, 1)
+        raise ModelError(f"model {name} has no variables and no equations")
+    syms = ca.vertcat(*[v.sym for v in variables]) if variables else ca.SX(0, 1)
+    exprs = ca.vertcat(*[e.expr for e in equations]) if equations else ca.SX(0, 1)
     inc = incidence(exprs, syms)
-    with_der = [k for k, v in enumerate(flat.variables) if v.info._der is not None]
+    with_der = [k for k, v in enumerate(variables) if v.info._der is not None]
     if with_der:
-        dinc = incidence(exprs, ca.vertcat(*[flat.variables[k].info._der.sym for k in with_der])).tocoo()
+        dinc = incidence(exprs, ca.vertcat(*[variables[k].info._der.sym for k in with_der])).tocoo()
         inc = inc + sp.csr_matrix((dinc.data, (dinc.row, np.asarray(with_der)[dinc.col])), shape=inc.shape)
     row_match, col_match = matching(inc)
     if n_eq == n_var and np.all(row_match >= 0):
         return
     rows, cols = culprits(inc, row_match, col_match)
-    eq_items = [(flat.equations[r].owner, flat.equations[r].describe()) for r in rows]
-    var_items = [(flat.variables[c].owner, flat.variables[c].name) for c in cols]
+    eq_items = [(equations[r].owner, equations[r].describe()) for r in rows]
+    var_items = [(variables[c].owner, variables[c].name) for c in cols]
     parts = []
     if rows:
         parts.append("Equations in the over-determined part (too many equations for their variables):\n"
@@ -376,8 +408,8 @@ def check_balance(flat: FlatSystem) -> None:
         parts.append("Variables in the under-determined part (not determined by any equation):\n"
                      + group_by_owner(var_items))
     if n_eq != n_var:
-        msg = f"model {flat.name} is unbalanced: {n_eq} equations for {n_var} unknowns.\n" + "\n".join(parts)
+        msg = f"model {name} is unbalanced: {n_eq} equations for {n_var} unknowns.\n" + "\n".join(parts)
         raise BalanceError(msg, [t for _, t in eq_items], [t for _, t in var_items])
-    msg = (f"model {flat.name} is structurally singular: {n_eq} equations and {n_var} unknowns, but the "
+    msg = (f"model {name} is structurally singular: {n_eq} equations and {n_var} unknowns, but the "
            "equations cannot be solved for the unknowns.\n" + "\n".join(parts))
     raise StructuralSingularityError(msg, [t for _, t in eq_items], [t for _, t in var_items])

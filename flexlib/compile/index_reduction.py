@@ -54,12 +54,15 @@ class IndexReport:
         Variables chosen as states (``der(x)`` for a derivative chosen as state).
     dummy_derivatives : list of str
         Derivatives made algebraic (their variables are not states).
+    redundant : list of str
+        Redundant loop-closure constraints that were dropped, with the reaction set to zero.
     """
 
     index: int
     differentiated: list[tuple[str, str, int]] = field(default_factory=list)
     states: list[str] = field(default_factory=list)
     dummy_derivatives: list[str] = field(default_factory=list)
+    redundant: list[str] = field(default_factory=list)
 
     def __str__(self) -> str:
         lines = [f"DAE index {self.index}; {len(self.states)} states"]
@@ -69,6 +72,9 @@ class IndexReport:
         lines.append("States: " + (", ".join(self.states) or "none"))
         if self.dummy_derivatives:
             lines.append("Dummy derivatives: " + ", ".join(self.dummy_derivatives))
+        if self.redundant:
+            lines.append("Redundant constraints removed:")
+            lines += [f"  {text}" for text in self.redundant]
         return "\n".join(lines)
 
 
@@ -684,4 +690,4 @@ def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: s
     index = max_diff + 1 if (max_diff > 0 or has_alg) else 0
     states = [_col_name(c, variables) for k, c in enumerate(cols) if is_state[k]]
     dummy_names = [_col_name(cols[k], variables) for k in sorted(dummies)]
-    return IndexReport(index, differentiated, states, dummy_names)
+    return IndexReport(index, differentiated, states, dummy_names, list(simple.redundant))

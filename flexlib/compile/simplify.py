@@ -62,6 +62,8 @@ class SimpleSystem:
     n_eliminated: int
     der_rules: dict[int, ca.SX] = dataclasses.field(default_factory=dict)
     """Derivative rules of remaining unknowns (by symbol hash), written in the remaining unknowns."""
+    redundant: list[str] = dataclasses.field(default_factory=list)
+    """Redundant loop-closure constraints that were dropped (filled by ``redundancy.remove_redundant``)."""
 
 
 def _classify(flat: FlatSystem, e: ca.SX) -> tuple | None:
@@ -134,7 +136,7 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
 
     n_elim = 0
     for equ in flat.equations:
-        cls = _classify(flat, equ.expr)
+        cls = None if equ.origin == "loop closure" else _classify(flat, equ.expr)
         if cls is None:
             kept_eqs.append(equ)
             continue

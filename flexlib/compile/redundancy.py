@@ -1,0 +1,151 @@
+"""Redundant loop-closure constraints: detect, drop, and report (the ADAMS approach, made explicit).
+
+A kinematic loop closed by a connection that the orientation tree broke contributes six
+equations — three on the positions of the two frames, three orientation residues. A planar
+loop built in 3D (a four-bar with parallel axes) satisfies three of them identically: they are
+redundant, the DAE is singular, and the matching reactions (axial force, two tilting moments)
+are statically indeterminate.
+
+Before index reduction, each loop's rows are written in joint coordinates (the frame
+positions and orientations are replaced by their explicit tree equations — symbolic forward
+kinematics), and the rank of their Jacobian at the start configuration is found by QR with
+column pivoting. Each dependent row is dropped and replaced by "the dual reaction component at
+the cut is zero": the world-resolved force component for a position row, the frame-resolved
+torque component for an orientation row. Reactions in the remaining (determinate) directions
+are unaffected. The report names every dropped row and the reaction set to zero; a compliant
+joint (bushing) resolves such reactions physically instead.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import casadi as ca
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+
+from flexlib.compile.flatten import FlatEquation
+from flexlib.compile.simplify import SimpleSystem
+from flexlib.compile.structure import matching
+from flexlib.core.component import Connector
+from flexlib.core.variables import Kind
+
+__all__ = ["remove_redundant"]
+
+_AXES = "xyz"
+
+
+def _frame_variables(simple: SimpleSystem) -> list[int]:
+    out = []
+    for k, v in enumerate(simple.variables):
+        node = v.info.node
+        if isinstance(node, Connector) and node.overdetermined and v.kind is Kind.potential:
+            out.append(k)
+    return out
+
+
+def _explicit_definitions(simple: SimpleSystem, var_ids: list[int]) -> tuple[ca.SX, ca.SX]:
+    """Symbols and expressions ``v := f(...)`` from rows that are explicit in a frame variable."""
+    eqs = simple.equations
+    entries, coefs = [], {}
+    syms = {k: simple.variables[k].sym for k in var_ids}
+    for r, e in enumerate(eqs):
+        if e.origin == "loop closure":
+            continue
+        present = {s.element_hash() for s in ca.symvar(e.expr)}
+        for j, k in enumerate(var_ids):
+            sym = syms[k]
+            if sym.element_hash() not in present or not ca.is_linear(e.expr, sym):
+                continue
+            c = ca.jacobian(e.expr, sym)
+            if c.is_constant() and abs(float(ca.evalf(c))) == 1.0:
+                entries.append((r, j))
+                coefs[(r, j)] = float(ca.evalf(c))
+    if not entries:
+        return ca.SX(0, 1), ca.SX(0, 1)
+    rr, cc = zip(*entries, strict=True)
+    inc = sp.csr_matrix((np.ones(len(rr)), (rr, cc)), shape=(len(eqs), len(var_ids)))
+    _, col_match = matching(inc)
+    vs, defs = [], []
+    for j, r in enumerate(col_match):
+        if r < 0:
+            continue
+        sym = syms[var_ids[j]]
+        rest = ca.substitute(eqs[r].expr, sym, ca.SX(0.0))
+        vs.append(sym)
+        defs.append(-rest / coefs[(int(r), j)])
+    return ca.vertcat(*vs), ca.vertcat(*defs)
+
+
+def _reaction(simple: SimpleSystem, meta: tuple) -> tuple[ca.SX, str]:
+    kind, a, _, k = meta
+    out = simple.outputs
+    if kind == "position":
+        T = [[out[f"{a._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
+        f = [out[f"{a._label('f')}[{i}]"] for i in range(3)]
+        expr = sum(T[j][k] * f[j] for j in range(3))  # (Tᵀ f)_k: cut force along world axis k
+        return expr, f"force along world {_AXES[k]} at {a.path}"
+    return out[f"{a._label('t')}[{k}]"], f"torque about {a.path} axis {_AXES[k]}"
+
+
+def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> SimpleSystem:
+    """Drop numerically redundant loop-closure rows (replaced by zero indeterminate reactions)."""
+    loop = [r for r, e in enumerate(simple.equations) if e.origin == "loop closure"]
+    if not loop:
+        return simple
+    vs, defs = _explicit_definitions(simple, _frame_variables(simple))
+    L = ca.vertcat(*[simple.equations[r].expr for r in loop])
+    for _ in range(len(simple.variables) + 1):
+        if vs.numel() == 0 or not ca.depends_on(L, vs):
+            break
+        L = ca.substitute([L], [vs], [defs])[0]
+    qs, qv = [], []
+    var_by_hash = {v.sym.element_hash(): v for v in simple.variables}
+    for s in ca.symvar(L):
+        v = var_by_hash.get(s.element_hash())
+        if v is not None:
+            qs.append(s)
+            qv.append(v.start)
+    if not qs:
+        G = np.zeros((len(loop), 0))
+    else:
+        q = ca.vertcat(*qs)
+        psyms = [lookup_sym(h) for h in param_values]
+        point_syms = ca.vertcat(q, *[p for p in psyms if p is not None])
+        point_vals = np.concatenate([qv, [param_values[h] for h, p in zip(param_values, psyms, strict=True)
+                                          if p is not None]])
+        rel_syms = [rel.info.sym for rel, _ in simple.relations]
+        jac = ca.jacobian(L, q)
+        if rel_syms:
+            jac = ca.substitute(jac, ca.vertcat(*rel_syms), ca.SX.zeros(len(rel_syms)))
+        G = np.asarray(ca.Function("G", [point_syms], [jac])(point_vals))
+    scale = max(1.0, float(np.abs(G).max()) if G.size else 1.0)
+    if G.shape[1]:
+        _, R, piv = sla.qr(G.T, mode="economic", pivoting=True)
+        diag = np.abs(np.diag(R))
+        rank = int(np.sum(diag > 1e-9 * scale))
+    else:
+        piv, rank = np.arange(len(loop)), 0
+    dropped = sorted(int(piv[k]) for k in range(rank, len(loop)))
+    if not dropped:
+        return simple
+    equations = list(simple.equations)
+    report = []
+    for k in dropped:
+        r = loop[k]
+        old = equations[r]
+        expr, what = _reaction(simple, old.meta)
+        equations[r] = FlatEquation(expr, old.owner, f"indeterminate reaction: {what} = 0", "redundant reaction")
+        report.append(f"{old.owner or '(model)'}: dropped redundant constraint '{old.label}'; {what} is "
+                      "statically indeterminate and set to 0")
+    return dataclasses.replace(simple, equations=equations, redundant=report)
+
+
+def lookup_sym(h: int) -> ca.SX | None:
+    """Parameter symbol by element hash."""
+    from flexlib.core.variables import _REGISTRY
+
+    info = _REGISTRY.get(h)
+    return None if info is None else info.sym
+
