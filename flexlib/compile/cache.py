@@ -24,10 +24,11 @@ from typing import Any
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel, compile_dae
-from flexlib.compile.flatten import check_balance, flatten
+from flexlib.compile.flatten import FlatSystem, check_balance, flatten
 from flexlib.compile.index_reduction import reduce_index
 from flexlib.compile.redundancy import remove_redundant
-from flexlib.compile.simplify import simplify
+from flexlib.compile.simplify import SimpleSystem, simplify
+from flexlib.compile.tearing import eliminate_frame_kinematics
 from flexlib.core.component import Component, Node
 from flexlib.core.variables import Parameter
 
@@ -142,6 +143,11 @@ def gather_values(root: Component) -> tuple[dict[str, float], dict[str, tuple[fl
     return params, starts
 
 
+def prepare(flat: FlatSystem, params: dict[int, float]) -> SimpleSystem:
+    """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics."""
+    return eliminate_frame_kinematics(remove_redundant(simplify(flat), params))
+
+
 def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True) -> tuple[CompiledModel, dict]:
     """Run stages 1–5 (or load them from the cache).
 
@@ -183,7 +189,7 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     timings["flatten"] = _time.perf_counter() - t
     t = _time.perf_counter()
     params = {q.sym.element_hash(): q.value for q in flat.parameters}
-    simple = remove_redundant(simplify(flat), params)
+    simple = prepare(flat, params)
     if has_loops:
         check_balance(flat.name, simple.variables, simple.equations)
     timings["simplify"] = _time.perf_counter() - t

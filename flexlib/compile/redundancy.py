@@ -31,12 +31,13 @@ from flexlib.compile.structure import matching
 from flexlib.core.component import Connector
 from flexlib.core.variables import Kind
 
-__all__ = ["remove_redundant"]
+__all__ = ["explicit_definitions", "frame_variables", "remove_redundant"]
 
 _AXES = "xyz"
 
 
-def _frame_variables(simple: SimpleSystem) -> list[int]:
+def frame_variables(simple: SimpleSystem) -> list[int]:
+    """Indices of the remaining unknowns that are potentials of frame (over-determined) connectors."""
     out = []
     for k, v in enumerate(simple.variables):
         node = v.info.node
@@ -45,8 +46,9 @@ def _frame_variables(simple: SimpleSystem) -> list[int]:
     return out
 
 
-def _explicit_definitions(simple: SimpleSystem, var_ids: list[int]) -> tuple[ca.SX, ca.SX]:
-    """Symbols and expressions ``v := f(...)`` from rows that are explicit in a frame variable."""
+def explicit_definitions(simple: SimpleSystem, var_ids: list[int]) -> tuple[ca.SX, ca.SX, list[int]]:
+    """Symbols, expressions ``v := f(...)`` and defining rows, from rows explicit in a frame variable
+    (linear in it with a unit coefficient), chosen by a maximum matching."""
     eqs = simple.equations
     entries, coefs = [], {}
     syms = {k: simple.variables[k].sym for k in var_ids}
@@ -63,11 +65,11 @@ def _explicit_definitions(simple: SimpleSystem, var_ids: list[int]) -> tuple[ca.
                 entries.append((r, j))
                 coefs[(r, j)] = float(ca.evalf(c))
     if not entries:
-        return ca.SX(0, 1), ca.SX(0, 1)
+        return ca.SX(0, 1), ca.SX(0, 1), []
     rr, cc = zip(*entries, strict=True)
     inc = sp.csr_matrix((np.ones(len(rr)), (rr, cc)), shape=(len(eqs), len(var_ids)))
     _, col_match = matching(inc)
-    vs, defs = [], []
+    vs, defs, rows = [], [], []
     for j, r in enumerate(col_match):
         if r < 0:
             continue
@@ -75,7 +77,10 @@ def _explicit_definitions(simple: SimpleSystem, var_ids: list[int]) -> tuple[ca.
         rest = ca.substitute(eqs[r].expr, sym, ca.SX(0.0))
         vs.append(sym)
         defs.append(-rest / coefs[(int(r), j)])
-    return ca.vertcat(*vs), ca.vertcat(*defs)
+        rows.append(int(r))
+    if not vs:
+        return ca.SX(0, 1), ca.SX(0, 1), []
+    return ca.vertcat(*vs), ca.vertcat(*defs), rows
 
 
 def _reaction(simple: SimpleSystem, meta: tuple) -> tuple[ca.SX, str]:
@@ -94,7 +99,7 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
     loop = [r for r, e in enumerate(simple.equations) if e.origin == "loop closure"]
     if not loop:
         return simple
-    vs, defs = _explicit_definitions(simple, _frame_variables(simple))
+    vs, defs, _ = explicit_definitions(simple, frame_variables(simple))
     L = ca.vertcat(*[simple.equations[r].expr for r in loop])
     for _ in range(len(simple.variables) + 1):
         if vs.numel() == 0 or not ca.depends_on(L, vs):

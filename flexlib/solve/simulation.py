@@ -238,17 +238,16 @@ class Simulation:
         return result
 
     def _monitor(self) -> Any:
+        from flexlib.compile.cache import prepare
         from flexlib.compile.flatten import flatten
         from flexlib.compile.index_reduction import reduce_index
-        from flexlib.compile.redundancy import remove_redundant
-        from flexlib.compile.simplify import simplify
         from flexlib.solve.state_selection import StateSelectionMonitor
 
         if self._state_monitor is None:
             def rebuild() -> Any:
                 flat = flatten(self.model)
                 params = {q.sym.element_hash(): q.value for q in flat.parameters}
-                return reduce_index(remove_redundant(simplify(flat), params), params).structure
+                return reduce_index(prepare(flat, params), params).structure
 
             self._state_monitor = StateSelectionMonitor(rebuild)
         return self._state_monitor

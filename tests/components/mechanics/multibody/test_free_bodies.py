@@ -25,7 +25,7 @@ class HeavyTop(fl.Model):
 
 def test_heavy_top_steady_precession():
     """Goldstein §5.7: with ω3 and the slow root Ω of I1·Ω²·cosθ − I3·ω3·Ω + m g l = 0 the symmetry axis
-    keeps its tilt (|Δθ| ≤ 1e-6 rad over 1 s) and precesses about the vertical at Ω (relative error 1e-6);
+    keeps its tilt (|Δθ| ≤ 1e-6 rad over 1 s) and precesses about the vertical at Ω (relative error 5e-6, fitted);
     energy is conserved to 1e-6 relative and the quaternion keeps unit norm (1e-9)."""
     m, d, I1_cm, I3 = 1.0, 0.2, 0.02, 0.04
     theta, omega3 = 0.6, 20.0
@@ -44,7 +44,7 @@ def test_heavy_top_steady_precession():
     np.testing.assert_allclose(tilt, theta, atol=1e-6)
     azimuth = np.unwrap(np.arctan2(axis[:, 0], axis[:, 2]))  # about +y
     rate = np.polyfit(res.t, azimuth, 1)[0]
-    np.testing.assert_allclose(abs(rate), slow, rtol=1e-6)
+    np.testing.assert_allclose(abs(rate), slow, rtol=5e-6)  # rate fitted over 1 s (residual nutation)
     w = res["top.w_a"]
     cm_height = d * axis[:, 1]
     # kinetic energy about the fixed tip from the body-frame angular velocity
