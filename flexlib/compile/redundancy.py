@@ -8,9 +8,11 @@ are statically indeterminate.
 
 Before index reduction, each loop's rows are written in joint coordinates (the frame
 positions and orientations are replaced by their explicit tree equations — symbolic forward
-kinematics), and the rank of their Jacobian at the start configuration is found by QR with
-column pivoting. Each dependent row is dropped and replaced by "the dual reaction component at
-the cut is zero": the world-resolved force component for a position row, the frame-resolved
+kinematics), and the rank of their Jacobian is found by QR with column pivoting — at the start
+configuration or at a slightly perturbed one, whichever has the higher (generic) rank, so that a
+singular start (a fully stretched linkage) does not hide a real constraint. Each dependent row
+is dropped and replaced by "the dual reaction component at the cut is zero": the
+world-resolved force component for a position row, the frame-resolved
 torque component for an orientation row. Reactions in the remaining (determinate) directions
 are unaffected. The report names every dropped row and the reaction set to zero; a compliant
 joint (bushing) resolves such reactions physically instead.
@@ -124,9 +126,18 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         jac = ca.jacobian(L, q)
         if rel_syms:
             jac = ca.substitute(jac, ca.vertcat(*rel_syms), ca.SX.zeros(len(rel_syms)))
-        G = np.asarray(ca.Function("G", [point_syms], [jac])(point_vals))
-    scale = max(1.0, float(np.abs(G).max()) if G.size else 1.0)
+        gfun = ca.Function("G", [point_syms], [jac])
+        # generic rank: the start configuration may be singular (a stretched linkage); perturbed joint
+        # coordinates keep a planar mechanism planar, so structural redundancy persists there
+        rng = np.random.default_rng(12345)
+        candidates = [np.asarray(gfun(point_vals))]
+        for _ in range(2):
+            pert = point_vals.copy()
+            pert[:len(qv)] += 0.05 * rng.standard_normal(len(qv)) * (1.0 + np.abs(pert[:len(qv)]))
+            candidates.append(np.asarray(gfun(pert)))
+        G = max(candidates, key=_rank)
     if G.shape[1]:
+        scale = max(1.0, float(np.abs(G).max()))
         _, R, piv = sla.qr(G.T, mode="economic", pivoting=True)
         diag = np.abs(np.diag(R))
         rank = int(np.sum(diag > 1e-9 * scale))
@@ -145,6 +156,13 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         report.append(f"{old.owner or '(model)'}: dropped redundant constraint '{old.label}'; {what} is "
                       "statically indeterminate and set to 0")
     return dataclasses.replace(simple, equations=equations, redundant=report)
+
+
+def _rank(G: np.ndarray) -> int:
+    if G.size == 0:
+        return 0
+    sv = np.linalg.svd(G, compute_uv=False)
+    return int(np.sum(sv > 1e-9 * max(1.0, float(np.abs(G).max()))))
 
 
 def lookup_sym(h: int) -> ca.SX | None:

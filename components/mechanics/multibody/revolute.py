@@ -64,7 +64,8 @@ class Revolute(PartialTwoFrames):
     def _assign(self, name: str, value: Any) -> None:
         super()._assign(name, value)
         if name == "n" and not np.linalg.norm(self._values["n"]) > 1e-12:
-            raise ParameterError(f"{self.path or type(self).__name__}: joint axis n = {list(value)} has zero length")
+            raise ParameterError(f"{self.path or type(self).__name__}: joint axis n = {self._values['n'].tolist()} "
+                                 "has zero length")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
