@@ -48,7 +48,8 @@ def frame_variables(simple: SimpleSystem) -> list[int]:
     return out
 
 
-def explicit_definitions(simple: SimpleSystem, var_ids: list[int]) -> tuple[ca.SX, ca.SX, list[int]]:
+def explicit_definitions(simple: SimpleSystem, var_ids: list[int],
+                         require_algebraic: bool = False) -> tuple[ca.SX, ca.SX, list[int]]:
     """Symbols, expressions ``v := f(...)`` and defining rows, from rows explicit in a frame variable
     (linear in it with a unit coefficient), chosen by a maximum matching."""
     eqs = simple.equations
@@ -57,7 +58,10 @@ def explicit_definitions(simple: SimpleSystem, var_ids: list[int]) -> tuple[ca.S
     for r, e in enumerate(eqs):
         if e.origin == "loop closure":
             continue
-        present = {s.element_hash() for s in ca.symvar(e.expr)}
+        symbols = ca.symvar(e.expr)
+        present = {s.element_hash() for s in symbols}
+        if require_algebraic and any(_is_derivative(s) for s in symbols):
+            continue  # a row with derivatives (a dynamic equation) stays: it defines a derivative
         for j, k in enumerate(var_ids):
             sym = syms[k]
             if sym.element_hash() not in present or not ca.is_linear(e.expr, sym):
@@ -156,6 +160,13 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         report.append(f"{old.owner or '(model)'}: dropped redundant constraint '{old.label}'; {what} is "
                       "statically indeterminate and set to 0")
     return dataclasses.replace(simple, equations=equations, redundant=report)
+
+
+def _is_derivative(sym: ca.SX) -> bool:
+    from flexlib.core.variables import lookup
+
+    info = lookup(sym)
+    return info is not None and info.kind == "der"
 
 
 def _rank(G: np.ndarray) -> int:

@@ -1,0 +1,52 @@
+"""Sensor of the cut torque between two coinciding frames (MSL ``Sensors.CutTorque``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexlib import Output, eq
+
+from ._resolve import check_resolve_in_frame
+from .frames import resolve1
+from .interfaces import PartialTwoFrames
+
+__all__ = ["CutTorque"]
+
+
+class CutTorque(PartialTwoFrames):
+    """Measures the torque exerted by the frame_a side on the frame_b side; the loads pass through.
+
+    The frames coincide rigidly: ``r_0,b = r_0,a``, ``T_b = T_a``, ``w_b = w_a`` (an orientation
+    branch); ``f_a + f_b = 0``, ``t_a + t_b = 0``. Output ``torque = t_a`` (``resolve_in_frame="frame_a"``,
+    default) or ``T_aᵀ t_a`` (``"world"``): the cut torque about the common origin that the frame_a side
+    exerts on everything behind frame_b.
+
+    Parameters
+    ----------
+    resolve_in_frame : {"frame_a", "world"}
+        Frame in which the output is resolved (structural constructor argument).
+
+    Connectors
+    ----------
+    frame_a, frame_b : Frame
+        The two sides of the cut.
+    torque : Output (3,) [N.m]
+        Cut torque resolved in ``resolve_in_frame``.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Sensors.CutTorque``
+    (``positiveSign = true``; no ``frame_resolve`` connector).
+    """
+
+    torque = Output(unit="N.m", shape=3, doc="Torque exerted by the frame_a side on the frame_b side")
+
+    def __init__(self, resolve_in_frame: str = "frame_a", **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.resolve_in_frame = check_resolve_in_frame(self, resolve_in_frame, ("frame_a", "world"))
+
+    def equations(self) -> list:
+        a, b = self.frame_a, self.frame_b
+        orient = [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
+        out = a.t if self.resolve_in_frame == "frame_a" else resolve1(a.T, a.t)
+        return [eq(b.r_0, a.r_0), *orient, eq(a.f + b.f, 0.0), eq(a.t + b.t, 0.0), eq(self.torque, out)]
