@@ -14,15 +14,15 @@ import os
 
 os.environ["OMP_NUM_THREADS"] = "1"
 
-import sys  # noqa: E402
-import tempfile  # noqa: E402
-import time  # noqa: E402
-from pathlib import Path  # noqa: E402
+import sys
+import tempfile
+import time
+from pathlib import Path
 
-import numpy as np  # noqa: E402
+import numpy as np
 
-import flexlib as fl  # noqa: E402
-from flexlib.models.n_link_pendulum import NLinkPendulum  # noqa: E402
+import flexlib as fl
+from flexlib.models.n_link_pendulum import NLinkPendulum
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
