@@ -36,9 +36,17 @@ class Revolute(PartialTwoFrames):
     axis, support : rotational Flange (if ``use_axis_flange``)
         Drive flange (angle ``phi``, torque ``tau``) and its housing (fixed to frame_a).
 
+    mu, r_bearing, F_preload, tau_c0, stribeck, w_s, d, w_reg
+        Joint friction (used if ``use_friction``): ``τ_f = (τ_C + (stribeck−1)·τ_C·exp(−(w/w_s)²))·tanh(w/w_reg)
+        + d·w`` with the Coulomb level ``τ_C = tau_c0 + mu·r_bearing·(|F_radial| + F_preload)`` [N.m]; the
+        radial bearing force is the cut force of frame_b normal to the axis (smoothed near zero). The model
+        is regularised (``tanh``, no events): sticking is a very slow creep below ``w_reg``. Units: mu [1],
+        r_bearing [m], F_preload [N], tau_c0 [N.m], stribeck [1], w_s [rad/s], d [N.m.s/rad], w_reg [rad/s].
+
     Variables
     ---------
-    phi [rad], w [rad/s], a [rad/s2]: relative angle, speed and acceleration; tau [N.m]: driving torque.
+    phi [rad], w [rad/s], a [rad/s2]: relative angle, speed and acceleration; tau [N.m]: net axial torque on
+    the frame_b side (drive torque minus friction); tau_f [N.m]: friction torque.
 
     References
     ----------
@@ -46,14 +54,24 @@ class Revolute(PartialTwoFrames):
     """
 
     n = Parameter([0.0, 0.0, 1.0], unit="1", shape=3, doc="Axis of rotation resolved in frame_a")
+    mu = Parameter(0.0, unit="1", min=0.0, doc="Bearing friction coefficient (journal: torque = mu*r*|F|)")
+    r_bearing = Parameter(0.0, unit="m", min=0.0, doc="Bearing (journal) radius")
+    F_preload = Parameter(0.0, unit="N", min=0.0, doc="Mounting preload added to the radial bearing force")
+    tau_c0 = Parameter(0.0, unit="N.m", min=0.0, doc="Load-independent Coulomb friction torque")
+    stribeck = Parameter(1.0, unit="1", min=1.0, doc="Ratio of break-away (static) to Coulomb friction")
+    w_s = Parameter(0.1, unit="rad/s", min=1e-9, doc="Stribeck velocity")
+    d = Parameter(0.0, unit="N.m.s/rad", min=0.0, doc="Viscous friction coefficient")
+    w_reg = Parameter(1e-3, unit="rad/s", min=1e-12, doc="Regularisation speed of the Coulomb friction")
     phi = Variable(unit="rad", state_select="prefer", doc="Relative rotation angle from frame_a to frame_b")
     w = Variable(unit="rad/s", state_select="prefer", doc="Relative angular velocity")
     a = Variable(unit="rad/s2", doc="Relative angular acceleration")
-    tau = Variable(unit="N.m", doc="Driving torque in direction of the axis")
+    tau = Variable(unit="N.m", doc="Net torque about the axis on the frame_b side (drive minus friction)")
+    tau_f = Variable(unit="N.m", doc="Friction torque opposing the relative rotation")
 
-    def __init__(self, use_axis_flange: bool = False, **kwargs: Any) -> None:
+    def __init__(self, use_axis_flange: bool = False, use_friction: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.use_axis_flange = use_axis_flange
+        self.use_friction = use_friction
         if use_axis_flange:
             self.axis = Flange(doc="Drive flange (phi, tau)")
             self.support = Flange(doc="Housing of the drive, fixed to frame_a")
@@ -80,9 +98,20 @@ class Revolute(PartialTwoFrames):
             eqs += [eq(a.T, absolute_rotation(b.T, T_rel)), eq(a.w, ca.mtimes(T_rel, b.w) - e * self.w),
                     eq(b.f, -resolve1(T_rel, a.f)), eq(b.t, -resolve1(T_rel, a.t))]
         eqs.append(eq(self.tau, -ca.dot(e, b.t)))
+        eqs.append(eq(self.tau_f, self.friction_torque(e) if self.use_friction else 0.0))
         if self.use_axis_flange:
-            eqs += [eq(self.axis.phi - self.support.phi, self.phi), eq(self.axis.tau, self.tau),
-                    eq(self.support.tau, -self.tau)]
+            eqs += [eq(self.axis.phi - self.support.phi, self.phi), eq(self.axis.tau, self.tau + self.tau_f),
+                    eq(self.support.tau, -(self.tau + self.tau_f))]
         else:
-            eqs.append(eq(self.tau, 0.0, label="free joint axis (no drive)"))
+            eqs.append(eq(self.tau, -self.tau_f, label="no drive: only friction acts about the axis"))
         return eqs
+
+    def friction_torque(self, e: Any) -> ca.SX:
+        """Regularised Coulomb–Stribeck–viscous friction torque with a journal-bearing Coulomb level."""
+        f = self.frame_b.f
+        f_radial = f - ca.dot(e, f) * e
+        F_n = ca.sqrt(ca.dot(f_radial, f_radial) + 1e-12) + self.F_preload
+        tau_c = self.tau_c0 + self.mu * self.r_bearing * F_n
+        w = self.w
+        return (tau_c * (1 + (self.stribeck - 1) * ca.exp(-(w / self.w_s) ** 2)) * ca.tanh(w / self.w_reg)
+                + self.d * w)
