@@ -21,6 +21,7 @@ PACKAGES = [
     "flexlib.components.blocks",
     "flexlib.components.mechanics.rotational",
     "flexlib.components.mechanics.translational",
+    "flexlib.components.mechanics.multibody",
 ]
 
 

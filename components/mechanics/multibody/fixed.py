@@ -25,6 +25,10 @@ class Fixed(Component):
     ----------
     frame_b : Frame
         The fixed frame (a definite orientation root).
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``MultiBody.Parts.Fixed``.
     """
 
     r = Parameter([0.0, 0.0, 0.0], unit="m", shape=3, doc="Position resolved in world")

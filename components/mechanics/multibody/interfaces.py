@@ -52,7 +52,19 @@ class Frame(Connector):
 
 
 class PartialTwoFrames(Component):
-    """Base of components with two frames whose orientations are related by this component's equations."""
+    """Base of components with two frames whose orientations are related by this component's equations.
+
+    Declares ``branch(frame_a, frame_b)``: the subclass computes one frame's orientation from the other,
+    in the direction given by ``rooted(frame_a)``.
+
+    Connectors
+    ----------
+    frame_a, frame_b : Frame
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``MultiBody.Interfaces.PartialTwoFrames``.
+    """
 
     frame_a = Frame(doc="First frame")
     frame_b = Frame(doc="Second frame")

@@ -28,6 +28,8 @@ class Prismatic(PartialTwoFrames):
     ----------
     n : array_like (3,)
         Direction of translation resolved in frame_a [1]; normalised, must not be zero.
+    use_axis_flange : bool
+        True if the joint has a drive flange ``axis`` and its housing ``support`` (structural).
 
     Connectors
     ----------

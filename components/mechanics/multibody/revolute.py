@@ -29,19 +29,36 @@ class Revolute(PartialTwoFrames):
     ----------
     n : array_like (3,)
         Axis of rotation resolved in frame_a (= frame_b) [1]; normalised, must not be zero.
+    mu : float
+        Bearing friction coefficient [1] (journal bearing: Coulomb torque μ·r·|F|).
+    r_bearing : float
+        Bearing (journal) radius [m].
+    F_preload : float
+        Mounting preload added to the radial bearing force [N].
+    tau_c0 : float
+        Load-independent Coulomb friction torque [N.m].
+    stribeck : float
+        Ratio of break-away (static) to Coulomb friction [1], ≥ 1.
+    w_s : float
+        Stribeck velocity [rad/s].
+    d : float
+        Viscous friction coefficient [N.m.s/rad].
+    w_reg : float
+        Regularisation speed of the Coulomb friction [rad/s].
+    use_axis_flange : bool
+        True if the joint has a drive flange ``axis`` and its housing ``support`` (structural).
+    use_friction : bool
+        True if joint friction acts (structural). Friction law:
+        ``τ_f = (τ_C + (stribeck−1)·τ_C·exp(−(w/w_s)²))·tanh(w/w_reg) + d·w`` with
+        ``τ_C = tau_c0 + mu·r_bearing·(|F_radial| + F_preload)``; the radial bearing force is the cut force
+        of frame_b normal to the axis (smoothed near zero). Regularised (``tanh``, no events): sticking is a
+        very slow creep below ``w_reg``.
 
     Connectors
     ----------
     frame_a, frame_b : Frame
     axis, support : rotational Flange (if ``use_axis_flange``)
         Drive flange (angle ``phi``, torque ``tau``) and its housing (fixed to frame_a).
-
-    mu, r_bearing, F_preload, tau_c0, stribeck, w_s, d, w_reg
-        Joint friction (used if ``use_friction``): ``τ_f = (τ_C + (stribeck−1)·τ_C·exp(−(w/w_s)²))·tanh(w/w_reg)
-        + d·w`` with the Coulomb level ``τ_C = tau_c0 + mu·r_bearing·(|F_radial| + F_preload)`` [N.m]; the
-        radial bearing force is the cut force of frame_b normal to the axis (smoothed near zero). The model
-        is regularised (``tanh``, no events): sticking is a very slow creep below ``w_reg``. Units: mu [1],
-        r_bearing [m], F_preload [N], tau_c0 [N.m], stribeck [1], w_s [rad/s], d [N.m.s/rad], w_reg [rad/s].
 
     Variables
     ---------

@@ -148,6 +148,41 @@ def test_line_force_with_1d_spring_damper_equals_spring_damper_line():
     np.testing.assert_allclose(res["anchor.frame_b.f"], 2 * e1 * res["spring3d.f"][:, None], atol=1e-7, rtol=0)
 
 
+class Boom(fl.Model):
+    """Two identical links on revolutes held by a spring-damper from a wall point: SpringDamperLine vs LineForce
+    with a 1D SpringDamper (the set-up of a hydraulic cylinder between two frames of a mechanism)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.world = World(g=G)
+        self.wall = Fixed(r=[0.0, -0.5, 0.0])
+        self.rev1, self.rev2 = Revolute(init={"phi": 0.2, "w": 0.0}), Revolute(init={"phi": 0.2, "w": 0.0})
+        self.rod1, self.rod2 = FixedTranslation(r=[1.0, 0.0, 0.0]), FixedTranslation(r=[1.0, 0.0, 0.0])
+        self.body1, self.body2 = Body(m=3.0, I=np.diag([0.01] * 3)), Body(m=3.0, I=np.diag([0.01] * 3))
+        for rev, rod, body in ((self.rev1, self.rod1, self.body1), (self.rev2, self.rod2, self.body2)):
+            self.connect(self.world.frame_b, rev.frame_a)
+            self.connect(rev.frame_b, rod.frame_a)
+            self.connect(rod.frame_b, body.frame_a)
+        self.spring3d = SpringDamperLine(c=200.0, d=5.0, s_unstretched=0.9)
+        self.line = LineForce()
+        self.spring1d = tr.SpringDamper(c=200.0, d=5.0, s_rel0=0.9)
+        self.connect(self.wall.frame_b, self.spring3d.frame_a, self.line.frame_a)
+        self.connect(self.spring3d.frame_b, self.rod1.frame_b)
+        self.connect(self.line.frame_b, self.rod2.frame_b)
+        self.connect(self.line.flange_a, self.spring1d.flange_a)
+        self.connect(self.line.flange_b, self.spring1d.flange_b)
+
+
+def test_line_force_in_a_mechanism():
+    """Same joint angle (1e-9 rad) and tension (1e-8 N) over 3 s; the joint coordinates are the only states."""
+    sim = fl.Simulation(Boom(), use_cache=False)
+    assert sorted(sim.states) == ["rev1.phi", "rev1.w", "rev2.phi", "rev2.w"]
+    res = sim.run(3.0, dt_out=0.01, **TOL)
+    np.testing.assert_allclose(res["rev2.phi"], res["rev1.phi"], atol=1e-9, rtol=0)
+    np.testing.assert_allclose(res["line.f_b"], res["spring3d.f"], atol=1e-8, rtol=0)
+    assert np.ptp(res["rev1.phi"]) > 1.0
+
+
 class PushedApart(fl.Model):
     """A 1D force source F on a LineForce: (1) only flange_b connected, the source's support grounded
     (MSL cardinality rule: the tension acts at both frames); (2) the source's support on flange_a."""

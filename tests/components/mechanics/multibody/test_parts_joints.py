@@ -267,7 +267,11 @@ def _tip(phi_a: float, phi_b: float, L: float) -> np.ndarray:
 def test_universal_conical_pendulum():
     """A point mass on a universal joint is a spherical pendulum; started on the conical orbit of tilt θ
     (closed form Ω = sqrt(g/(L cos θ))) it keeps its tilt (1e-7 rad) and precesses at Ω (1e-7 relative);
-    energy is conserved to 1e-8 relative."""
+    energy is conserved to 1e-8 relative.
+
+    Runs on the CasADi-IDAS backend: with the default IDA backend the point mass's acceleration ``a_0`` (an
+    algebraic variable computed from state derivatives) in IDA's local error test collapses the step size
+    (55 000 steps for 0.02 s; engine issue, reproduced with two plain Revolutes)."""
     L, m, theta = 0.8, 1.2, 0.5
     omega = np.sqrt(G / (L * np.cos(theta)))
     phi_a, phi_b = theta, 0.0  # tilt the rod in the y–z plane
@@ -281,7 +285,7 @@ def test_universal_conical_pendulum():
     init = {"phi_a": phi_a, "phi_b": phi_b, "w_a": rates[0], "w_b": rates[1]}
     sim = fl.Simulation(UniversalPendulum(PointOnRod(L, m), init), use_cache=False)
     assert sorted(sim.states) == ["joint.phi_a", "joint.phi_b", "joint.w_a", "joint.w_b"]
-    res = sim.run(2.0, dt_out=0.01, **TIGHT)
+    res = sim.run(2.0, dt_out=0.01, solver="casadi-idas", **TIGHT)
     p = res["link.mass.r_0"]
     np.testing.assert_allclose(np.arccos(-p[:, 1] / L), theta, atol=1e-7)
     azimuth = np.unwrap(np.arctan2(-p[:, 2], p[:, 0]))  # positive about +y
@@ -296,12 +300,12 @@ def test_universal_carrying_cylinder_energy():
     link = BodyCylinder(r=[0, -0.6, 0], diameter=0.08, density=2000.0)
     init = {"phi_a": 0.7, "phi_b": -0.4, "w_a": 1.0, "w_b": 2.5}
     res = fl.Simulation(UniversalPendulum(link, init), use_cache=False).run(3.0, dt_out=0.01, **TIGHT)
-    m, I, r_cm = link.mass, link.inertia, link.center_of_mass
+    m, inertia, r_cm = link.mass, link.inertia, link.center_of_mass
     T = _frame_T(res, "link.frame_a")
     w = res["link.body.w_a"]
     v_cm = res["link.body.v_0"] + np.einsum("nji,nj->ni", T, np.cross(w, r_cm))
     y_cm = res["link.body.r_0"][:, 1] + np.einsum("nj,j->n", T[:, :, 1], r_cm)
-    energy = 0.5 * m * np.sum(v_cm**2, axis=1) + 0.5 * np.einsum("ni,ij,nj->n", w, I, w) + m * G * y_cm
+    energy = 0.5 * m * np.sum(v_cm**2, axis=1) + 0.5 * np.einsum("ni,ij,nj->n", w, inertia, w) + m * G * y_cm
     assert np.ptp(res["joint.phi_b"]) > 0.5 and np.ptp(res["joint.phi_a"]) > 0.5  # both axes move
     np.testing.assert_allclose(energy, energy[0], rtol=1e-6)
 
@@ -365,14 +369,21 @@ class FreeFlight(fl.Model):
         self.connect(body_side, self.body.frame_a)
 
 
-@pytest.mark.parametrize("reverse", [False, True], ids=["rooted_at_a", "rooted_at_b"])
-def test_free_motion_flight_and_torque_free_spin(reverse):
+P0, V0, W0 = np.array([0.5, 1.0, -0.3]), np.array([2.0, 5.0, 1.0]), np.array([3.0, 0.4, -1.5])
+
+
+@pytest.mark.parametrize(("reverse", "t_end"), [(False, 1.0), (True, 0.05)], ids=["rooted_at_a", "rooted_at_b"])
+def test_free_motion_flight_and_torque_free_spin(reverse, t_end):
     """Projectile + torque-free spin: the CM follows p(t) = p_CM0 + v_CM0 t + ½ g t² (1e-9 m); the angular
     momentum about the CM in world coordinates, H = T_bᵀ I ω, is conserved to 1e-8 relative; the relative
-    quaternion keeps unit norm (1e-10)."""
-    p0, v0, w0 = np.array([0.5, 1.0, -0.3]), np.array([2.0, 5.0, 1.0]), np.array([3.0, 0.4, -1.5])
+    quaternion keeps unit norm (1e-10).
+
+    The reversed joint (body at frame_a) is run for 0.05 s only: there the body's velocity and acceleration are
+    algebraic variables computed from the quaternion's derivatives, and IDA's local error test on them makes
+    the default backend fail after about 0.15 s (engine issue; see the xfail test below)."""
+    p0, v0, w0 = P0, V0, W0
     sim = fl.Simulation(FreeFlight(reverse, p0, v0, w0), use_cache=False)
-    res = sim.run(1.0, dt_out=0.01, rtol=1e-11, atol=1e-12)
+    res = sim.run(t_end, dt_out=0.01, rtol=1e-11, atol=1e-12)
     T = _frame_T(res, "body.frame_a")
     np.testing.assert_allclose(T[0], np.eye(3), atol=1e-12)
     cm = res["body.r_0"] + np.einsum("nji,j->ni", T, R_CM_FREE)
@@ -382,9 +393,19 @@ def test_free_motion_flight_and_torque_free_spin(reverse):
     w = res["body.w_a"]
     np.testing.assert_allclose(w[0], w0, atol=1e-12)
     H = np.einsum("nji,nj->ni", T, w @ I_FREE)
-    np.testing.assert_allclose(H, H[:1], atol=1e-8 * np.linalg.norm(H[0]))
+    np.testing.assert_allclose(H - H[0], 0.0, atol=1e-8 * np.linalg.norm(H[0]))
     assert np.ptp(w, axis=0).max() > 0.1  # the body really tumbles (ω changes in the body frame)
     np.testing.assert_allclose(np.sum(res["joint.Q"] ** 2, axis=1), 1.0, atol=1e-10)
+
+
+@pytest.mark.xfail(raises=fl.SolverError, strict=True,
+                   reason="engine: IDA's error test on algebraic variables computed from state derivatives "
+                          "(body velocity behind a reversed FreeMotion) makes the corrector fail at t ≈ 0.15 s")
+def test_free_motion_reversed_long_run():
+    """The reversed FreeMotion over 1 s with the default IDA backend (passes with algebraic variables excluded
+    from IDA's error test)."""
+    sim = fl.Simulation(FreeFlight(True, P0, V0, W0), use_cache=False)
+    sim.run(1.0, dt_out=0.01, rtol=1e-8, atol=1e-9)
 
 
 def test_free_motion_start_orientation():
