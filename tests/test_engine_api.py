@@ -189,3 +189,15 @@ def test_steady_state_initialisation():
     np.testing.assert_allclose(res["p"], 1e5, rtol=1e-10)
     with pytest.raises(fl.InitializationError, match=r"under-specified[\s\S]*\bp\b"):
         fl.Simulation(Tank(), use_cache=False).run(1.0)
+
+
+def test_sub_component_name_clashing_with_a_method():
+    """A child named after a method (``root``, ``connect``) would shadow it: clear error naming it."""
+
+    class Bad(fl.Model):
+        def __init__(self):
+            super().__init__()
+            self.connect = Source()
+
+    with pytest.raises(fl.ModelError, match=r"'connect' is a method or attribute of Bad"):
+        Bad()

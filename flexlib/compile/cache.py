@@ -1,7 +1,8 @@
 """The build pipeline (stages 1–5) with a disk cache keyed by the model's structure.
 
 The key is a hash of what determines the equations: for every node of the instance tree
-its class (and the source files of its class hierarchy), its declarations (names, shapes,
+its class (and the source files of the packages of its class hierarchy, so helper modules count
+too), its declarations (names, shapes,
 units, ``fixed`` flags, state selection), its plain-data structural attributes and its
 connections; plus flexlib's own compiler sources and the build options. Parameter values
 and start values are *not* in the key: they are run-time inputs, read from the model at
@@ -63,7 +64,9 @@ def _class_hash(cls: type) -> str | None:
             return None
         if src is None or not Path(src).exists():
             return None
-        parts.append(f"{klass.__module__}.{klass.__qualname__}:{_file_hash(src)}")
+        # the class's module and its sibling modules (helpers such as frames.py are imported, not inherited)
+        package = sorted(str(f) for f in Path(src).parent.glob("*.py"))
+        parts.append(f"{klass.__module__}.{klass.__qualname__}:" + ",".join(_file_hash(f) for f in package))
     return "|".join(parts)
 
 

@@ -67,6 +67,9 @@ class Node:
         return type(self)(*args, **kwargs)
 
     def _add_child(self, name: str, node: Node) -> None:
+        if hasattr(type(self), name) and not isinstance(getattr(type(self), name), Node):
+            raise ModelError(f"{self._label(name)}: '{name}' is a method or attribute of {type(self).__name__}; "
+                             "choose another name for the sub-component")
         if node._parent is not None or node._name:
             raise ModelError(f"{self._label(name)}: component is already part of {node.path or node._name!r}")
         node.__dict__["_parent"] = self
