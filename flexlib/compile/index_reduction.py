@@ -29,6 +29,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from flexlib.compile.flatten import FlatEquation, FlatVariable
+from flexlib.compile.post_simplify import post_simplify as _post_simplify
 from flexlib.compile.simplify import Condition, SimpleSystem
 from flexlib.core.functions import Relation
 from flexlib.core.variables import StateSelect, SymInfo, time
@@ -577,105 +578,6 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
         col_names=[_col_name(c, variables) for c in cols], col_values=ca.vertcat(*col_exprs),
         levels=levels, level_jacobians=level_jacs, structure=structure,
     )
-
-
-def _linear_single(e: ca.SX, sym: ca.SX) -> bool:
-    return bool(ca.is_linear(e, sym)) and ca.jacobian(e, sym).is_constant()
-
-
-def _post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray):
-    """Substitute known state derivatives and eliminate trivial algebraic aliases.
-
-    Returns the new residual, the kept entry indices, and the substitution (symbols → values)
-    that expresses eliminated entries in kept ones.
-    """
-    n = F.numel()
-    rows = [F[k] for k in range(n)]
-    y_hash = {y[i].element_hash(): i for i in range(n)}
-    inc_yp = _incidence_lists(F, yp)
-    # (a) known derivatives: row = c*yp_s + f(y), f without yp
-    defined: dict[int, tuple[int, ca.SX]] = {}
-    for r in range(n):
-        if len(inc_yp[r]) != 1:
-            continue
-        i = inc_yp[r][0]
-        if not differential[i] or i in defined:
-            continue
-        e = rows[r]
-        if not _linear_single(e, yp[i]):
-            continue
-        coef = float(ca.evalf(ca.jacobian(e, yp[i])))
-        if coef == 0.0:
-            continue
-        f = ca.substitute(e, yp[i], ca.SX(0.0))
-        defined[i] = (r, -f / coef)
-    if defined:
-        dsyms = ca.vertcat(*[yp[i] for i in defined])
-        dvals = ca.vertcat(*[v for _, v in defined.values()])
-        def_rows = {r for r, _ in defined.values()}
-        others = [k for k in range(n) if k not in def_rows]
-        if others:
-            new = ca.substitute([ca.vertcat(*[rows[k] for k in others])], [dsyms], [dvals])[0]
-            for j, k in enumerate(others):
-                rows[k] = new[j]
-    # (b) algebraic aliases: row = a - b or a + b with a algebraic y entry, b any y/yp entry
-    alias: dict[int, tuple[float, ca.SX]] = {}
-    dropped_rows: set[int] = set()
-
-    def resolve(sym: ca.SX) -> tuple[float, ca.SX]:
-        s = 1.0
-        while sym.element_hash() in y_hash and y_hash[sym.element_hash()] in alias:
-            s2, sym = alias[y_hash[sym.element_hash()]]
-            s *= s2
-        return s, sym
-
-    for r in range(n):
-        e = rows[r]
-        if e.is_symbolic() or e.op() not in (ca.OP_SUB, ca.OP_ADD):
-            continue
-        d0, d1 = e.dep(0), e.dep(1)
-        if not (d0.is_symbolic() and d1.is_symbolic()):
-            continue
-        # d0 = sgn*d1 with d0 = s0*a, d1 = s1*b  ->  a = k*b and b = k*a, k = sgn*s0*s1
-        sgn = 1.0 if e.op() == ca.OP_SUB else -1.0
-        s0, a = resolve(d0)
-        s1, b = resolve(d1)
-        ha, hb = a.element_hash(), b.element_hash()
-        if ha == hb:
-            continue
-        k = sgn * s0 * s1
-        if ha in y_hash and not differential[y_hash[ha]]:
-            alias[y_hash[ha]] = (k, b)
-        elif hb in y_hash and not differential[y_hash[hb]]:
-            alias[y_hash[hb]] = (k, a)
-        else:
-            continue
-        dropped_rows.add(r)
-    if alias:
-        asyms, avals = [], []
-        for i in alias:
-            s, target = resolve(y[i])
-            asyms.append(y[i])
-            avals.append(s * target)
-        subs_syms, subs_vals = ca.vertcat(*asyms), ca.vertcat(*avals)
-        kept_rows = [k for k in range(n) if k not in dropped_rows]
-        new = ca.substitute([ca.vertcat(*[rows[k] for k in kept_rows])], [subs_syms], [subs_vals])[0]
-        rows = [new[j] for j in range(len(kept_rows))]
-    else:
-        subs_syms, subs_vals = ca.SX(0, 1), ca.SX(0, 1)
-        kept_rows = list(range(n))
-    keep = [i for i in range(n) if i not in alias]
-    return ca.vertcat(*rows), keep, subs_syms, subs_vals, kept_rows
-
-
-def _incidence_lists(F: ca.SX, v: ca.SX) -> list[list[int]]:
-    spj = ca.jacobian_sparsity(F, v)
-    colind, row = spj.get_ccs()
-    out: list[list[int]] = [[] for _ in range(F.numel())]
-    for c in range(v.numel()):
-        for r in row[colind[c]:colind[c + 1]]:
-            out[r].append(c)
-    return out
 
 
 def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],
