@@ -1,9 +1,10 @@
 """Component libraries of flexlib (installed as ``flexlib.components``).
 
-``blocks`` (signal sources and math, after ``Modelica.Blocks``) and ``mechanics`` (1D
-rotational and translational mechanics, after ``Modelica.Mechanics``).
+``control`` (signal sources, math and controllers, after ``Modelica.Blocks``),
+``mechanics`` (1D rotational and translational, 3D multibody, after ``Modelica.Mechanics``)
+and ``hydraulics`` (isothermal-liquid hydraulics with mass-flow ports).
 """
 
-from . import blocks, mechanics
+from . import control, hydraulics, mechanics
 
-__all__ = ["blocks", "mechanics"]
+__all__ = ["control", "hydraulics", "mechanics"]

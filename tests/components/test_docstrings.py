@@ -18,7 +18,7 @@ import flexlib as fl
 from flexlib.core.variables import Parameter
 
 PACKAGES = [
-    "flexlib.components.blocks",
+    "flexlib.components.control",
     "flexlib.components.mechanics.rotational",
     "flexlib.components.mechanics.translational",
     "flexlib.components.mechanics.multibody",

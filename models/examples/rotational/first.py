@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import flexlib as fl
-from flexlib.components.blocks import Sine
+from flexlib.components.control import Sine
 from flexlib.components.mechanics.rotational import Damper, Fixed, IdealGear, Inertia, Spring, Torque
 
 __all__ = ["FirstDriveTrain"]

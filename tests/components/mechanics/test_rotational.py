@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.blocks import Constant, Ramp, Sine
+from flexlib.components.control import Constant, Ramp, Sine
 from flexlib.components.mechanics.rotational import (
     AngleSensor,
     Damper,

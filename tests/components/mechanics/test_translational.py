@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.blocks import Constant, Sine, Step
+from flexlib.components.control import Constant, Sine, Step
 from flexlib.components.mechanics.translational import (
     Damper,
     Fixed,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.blocks import Constant
+from flexlib.components.control import Constant
 from flexlib.components.mechanics import translational as tr
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
 from flexlib.components.mechanics.multibody.absolute_angular_velocity import AbsoluteAngularVelocity

@@ -128,7 +128,7 @@ class SliderCrank(fl.Model):
                  lock_crank: bool = False,
                  F: float = 0.0) -> None:
         super().__init__()
-        from flexlib.components.blocks import Constant
+        from flexlib.components.control import Constant
         from flexlib.components.mechanics import rotational, translational
         from flexlib.components.mechanics.multibody import Prismatic
 

@@ -1,4 +1,4 @@
-"""Signal blocks after ``Modelica.Blocks``: sources (``Constant``, ``Step``, ``Ramp``, ``Sine``)
+"""Signal blocks and controllers after ``Modelica.Blocks``: sources (``Constant``, ``Step``, ``Ramp``, ``Sine``)
 and math (``Gain``, ``Add``, ``Feedback``). Outputs are named ``y``, inputs ``u`` / ``u1``, ``u2``.
 """
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.blocks import Add, Constant, Feedback, Gain, Sine
+from flexlib.components.control import Add, Constant, Feedback, Gain, Sine
 
 
 class Chain(fl.Model):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.blocks import Constant, Ramp, Sine, Step
+from flexlib.components.control import Constant, Ramp, Sine, Step
 from flexlib.components.mechanics.translational import Force, Mass
 
 TOL = {"rtol": 1e-8, "atol": 1e-10}

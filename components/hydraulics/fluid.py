@@ -1,0 +1,112 @@
+"""Hydraulic fluid property record (the ``Medium`` of the hydraulics library).
+
+A :class:`Fluid` is a structural choice, like a Modelica ``Medium`` package: its numbers
+enter the equations as constants, so changing the fluid changes the model (and its cache
+key); component parameters stay run-time tunable.
+
+Density follows from a bulk modulus that is constant for the pure liquid,
+``beta = rho * dp/drho``, so ``rho_liq(p) = rho_ref * exp((p - p_ref) / beta)``.
+Entrained (undissolved) air adds a gas volume fraction ``x_air`` at ``p_ref`` that is
+compressed polytropically, ``V_air(p) = V_air_ref * (p_ref / p)^(1/n)``. The mixture
+density and its effective bulk modulus ``beta_eff = rho / (d rho/dp)`` are then
+
+    rho(p)      = m / (V_liq(p) + V_air(p))     per unit mass, with
+    V_liq/m     = (1 - x_air) / rho_ref * exp(-(p - p_ref) / beta)
+    V_air/m     = x_air / rho_ref * (p_ref / p)^(1/n)
+
+(air mass neglected), which is the model of Simscape Fluids' isothermal liquid with
+entrained air and of Merritt (1967), *Hydraulic Control Systems*, §2.3. With ``x_air = 0``
+the pure-liquid law is recovered and ``beta_eff = beta``.
+
+References
+----------
+H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §2.3 (effective bulk modulus).
+MathWorks Simscape Fluids, *Isothermal Liquid Properties (IL)* block documentation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+
+from flexlib.errors import ModelError
+
+__all__ = ["HLP46", "Fluid"]
+
+
+@dataclass(frozen=True)
+class Fluid:
+    """Properties of a hydraulic liquid, optionally with entrained air.
+
+    Parameters
+    ----------
+    name : str
+        Name used in reports.
+    rho_ref : float
+        Density of the liquid at ``p_ref`` [kg/m3], > 0.
+    p_ref : float
+        Reference (atmospheric) absolute pressure [Pa], > 0.
+    beta : float
+        Isothermal bulk modulus of the pure liquid [Pa], > 0.
+    nu : float
+        Kinematic viscosity [m2/s], > 0.
+    x_air : float
+        Volume fraction of entrained air at ``p_ref`` [1], 0 <= x_air < 1.
+    n_air : float
+        Polytropic exponent of the air [1] (1 = isothermal, 1.4 = adiabatic).
+    p_min : float
+        Lowest absolute pressure the property laws are evaluated at [Pa]; below it the
+        air law is clamped so that a cavitating volume does not divide by zero.
+    """
+
+    name: str = "HLP46"
+    rho_ref: float = 870.0
+    p_ref: float = 1.01325e5
+    beta: float = 1.6e9
+    nu: float = 46e-6
+    x_air: float = 0.0
+    n_air: float = 1.0
+    p_min: float = 1e3
+
+    def __post_init__(self) -> None:
+        for field in ("rho_ref", "p_ref", "beta", "nu", "n_air", "p_min"):
+            value = getattr(self, field)
+            if not value > 0:
+                raise ModelError(f"Fluid {self.name!r}: {field} must be > 0 (got {value!r})")
+        if not 0.0 <= self.x_air < 1.0:
+            raise ModelError(f"Fluid {self.name!r}: x_air must be in [0, 1) (got {self.x_air!r})")
+
+    @property
+    def mu(self) -> float:
+        """Dynamic viscosity at ``p_ref`` [Pa.s]."""
+        return self.nu * self.rho_ref
+
+    def specific_volume(self, p: Any) -> Any:
+        """Specific volume ``1/rho`` of the mixture at absolute pressure ``p`` [m3/kg]."""
+        v_liq = (1.0 - self.x_air) / self.rho_ref * ca.exp(-(p - self.p_ref) / self.beta)
+        if self.x_air == 0.0:
+            return v_liq
+        p_c = ca.fmax(p, self.p_min)
+        return v_liq + self.x_air / self.rho_ref * (self.p_ref / p_c) ** (1.0 / self.n_air)
+
+    def density(self, p: Any) -> Any:
+        """Density of the mixture at absolute pressure ``p`` [kg/m3] (CasADi or float)."""
+        return 1.0 / self.specific_volume(p)
+
+    def bulk_modulus(self, p: Any) -> Any:
+        """Effective bulk modulus ``rho / (d rho / dp)`` at absolute pressure ``p`` [Pa]."""
+        v_liq = (1.0 - self.x_air) / self.rho_ref * ca.exp(-(p - self.p_ref) / self.beta)
+        dv_dp = -v_liq / self.beta
+        v = v_liq
+        if self.x_air != 0.0:
+            p_c = ca.fmax(p, self.p_min)
+            v_air = self.x_air / self.rho_ref * (self.p_ref / p_c) ** (1.0 / self.n_air)
+            v = v + v_air
+            dv_dp = dv_dp - v_air / (self.n_air * p_c)
+        return -v / dv_dp
+
+
+#: HLP46-like mineral oil at 40 °C, no entrained air (ISO VG 46: nu = 46 mm2/s at 40 °C).
+HLP46 = Fluid()
