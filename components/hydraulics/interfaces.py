@@ -42,6 +42,10 @@ class PartialTwoPort(Component):
     ----------
     fluid : Fluid
         Fluid property record (structural; default HLP46).
+
+    References
+    ----------
+    MathWorks Simscape Fluids, isothermal-liquid two-port restrictions (``Local Restriction (IL)``).
     """
 
     port_a = Port(doc="Port a (flow from a to b is positive)")
