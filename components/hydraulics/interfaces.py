@@ -16,11 +16,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexlib import Component, Connector, Flow, Potential, Variable, eq
+from flexlib import Component, Connector, Flow, Potential, Variable, der, eq
 
 from .fluid import HLP46, Fluid
 
-__all__ = ["PartialTwoPort", "Port"]
+__all__ = ["PartialTwoPort", "Port", "chamber_equations"]
 
 
 class Port(Connector):
@@ -63,3 +63,34 @@ class PartialTwoPort(Component):
         rho = self.fluid.density(0.5 * (a.p + b.p))
         return [eq(a.m_flow, self.m_flow), eq(a.m_flow + b.m_flow, 0.0),
                 eq(self.dp, a.p - b.p), eq(self.m_flow, rho * self.q)]
+
+
+def chamber_equations(fluid: Fluid, m: Any, p: Any, V: Any, m_flow_in: Any) -> list:
+    """Mass balance of a lumped compressible chamber (volume, cylinder chamber, hose).
+
+    The stored mass ``m`` is the differential state and the pressure follows from it:
+
+        der(m) = Σ m_flow_in,     m = rho(p) * V
+
+    which is ``dp/dt = beta_eff / V * (Σ q_in - dV/dt)`` written in conserved form. BDF
+    methods preserve linear invariants, so the total mass of a circuit is conserved to the
+    Newton tolerance whatever the step size (the mass-balance test relies on it).
+
+    Parameters
+    ----------
+    fluid : Fluid
+        Fluid property record.
+    m : casadi.SX
+        Stored mass variable [kg].
+    p : casadi.SX
+        Chamber pressure variable [Pa].
+    V : casadi.SX or float
+        Chamber volume [m3], > 0 (may depend on a piston position).
+    m_flow_in : casadi.SX
+        Net mass flow into the chamber [kg/s].
+
+    References
+    ----------
+    H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §2.3 (continuity equation).
+    """
+    return [eq(m, fluid.density(p) * V), eq(der(m), m_flow_in)]
