@@ -12,6 +12,8 @@ not to decide which equations to write; structural choices are constructor argum
 
 from __future__ import annotations
 
+import dataclasses
+import enum
 import hashlib
 import inspect
 import logging
@@ -87,7 +89,15 @@ def _plain(value: Any) -> Any:
         items = [_plain(v) for v in value]
         return None if any(i is _SKIP for i in items) else tuple(items)
     if isinstance(value, dict):
-        return tuple(sorted((str(k), _plain(v)) for k, v in value.items()))
+        items = [(str(k), _plain(v)) for k, v in value.items()]
+        return None if any(i is _SKIP for _, i in items) else tuple(sorted(items))
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):  # e.g. a fluid record
+        items = [(f.name, _plain(getattr(value, f.name))) for f in dataclasses.fields(value)]
+        if any(i is _SKIP for _, i in items):
+            return _SKIP
+        return (type(value).__module__, type(value).__qualname__, tuple(items))
+    if isinstance(value, enum.Enum):
+        return (type(value).__qualname__, value.name)
     return _SKIP
 
 
@@ -113,8 +123,9 @@ def model_key(root: Component, options: dict[str, Any]) -> str | None:
             if name.startswith("_") or isinstance(value, Node):
                 continue
             pv = _plain(value)
-            if pv is not _SKIP:
-                h.update(repr((name, pv)).encode())
+            if pv is _SKIP:  # an attribute the key cannot represent: do not risk a wrong cache hit
+                return None
+            h.update(repr((name, pv)).encode())
         for a, b in node._connections:
             h.update(repr((_conn_label(a), _conn_label(b))).encode())
     return h.hexdigest()[:32]

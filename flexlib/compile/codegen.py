@@ -102,6 +102,7 @@ class CompiledModel:
     serialized: dict[str, str] = field(default_factory=dict)
     library: str | None = None
     _functions: dict[str, ca.Function] = field(default_factory=dict, repr=False)
+    _sx: dict[str, ca.Function] = field(default_factory=dict, repr=False)  # serialized only when pickled
 
     @property
     def n_params(self) -> int:
@@ -120,22 +121,24 @@ class CompiledModel:
             if self.library is not None and name in ("res", "jac") and Path(self.library).exists():
                 f = ca.external(f"flexlib_{name}", self.library)
             else:
-                f = ca.Function.deserialize(self.serialized[name])
+                f = self.sx_function(name)
             self._functions[name] = f
         return f
 
     def sx_function(self, name: str) -> ca.Function:
         """The SX (symbolic, differentiable) version of function ``name``, even with generated C."""
-        key = f"sx_{name}"
-        f = self._functions.get(key)
+        f = self._sx.get(name)
         if f is None:
             f = ca.Function.deserialize(self.serialized[name])
-            self._functions[key] = f
+            self._sx[name] = f
         return f
 
     def __getstate__(self) -> dict:
+        if not self.serialized:
+            self.serialized = {k: f.serialize() for k, f in self._sx.items()}
         state = dict(self.__dict__)
         state["_functions"] = {}
+        state["_sx"] = {}
         state["_structure"] = None
         return state
 
@@ -199,7 +202,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         cond_depends=np.array([bool(ca.depends_on(c.expr, ca.vertcat(y, yp))) for c in dae.conditions], dtype=bool),
     )
     model._structure = dae.structure
-    model.serialized = {k: f.serialize() for k, f in fns.items()}
+    model._sx = dict(fns)
     model._functions = dict(fns)
     if codegen:
         model.library = generate_c(fns["res"], fns["jac"], build_dir)

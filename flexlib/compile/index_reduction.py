@@ -541,14 +541,16 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     allsyms = ca.vertcat(y_keep, yp_keep)
     allnew = ca.vertcat(y_new, yp_new)
 
-    def final(exprs: list[ca.SX]) -> list[ca.SX]:
-        if not exprs:
-            return []
-        e = ca.vertcat(*exprs)
+    def final_matrix(e: ca.SX) -> ca.SX:
         e = ca.substitute([e], [col_syms], [col_vals])[0]
         if subs_syms.numel():
             e = ca.substitute([e], [subs_syms], [subs_vals])[0]
-        e = ca.substitute([e], [allsyms], [allnew])[0]
+        return ca.substitute([e], [allsyms], [allnew])[0]
+
+    def final(exprs: list[ca.SX]) -> list[ca.SX]:
+        if not exprs:
+            return []
+        e = final_matrix(ca.vertcat(*exprs))
         return [e[k] for k in range(e.numel())]
 
     F = ca.substitute([F], [allsyms], [allnew])[0]
@@ -559,8 +561,7 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     for lev in levels:
         jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
                           ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
-        jflat = final([ca.vec(jac)[k] for k in range(jac.numel())])
-        level_jacs.append(ca.reshape(ca.vertcat(*jflat), jac.shape[0], jac.shape[1]))
+        level_jacs.append(final_matrix(jac))
     cond_exprs = final([c.expr for c in simple.conditions])
     rel_exprs = final([i for _, i in simple.relations])
     names = [_col_name(cols[entries[i]], variables) for i in keep]

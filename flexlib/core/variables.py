@@ -142,6 +142,10 @@ def full_name(info: SymInfo) -> str:
 
 def render(expr: ca.SX, limit: int = 160) -> str:
     """Printable form of an expression with every symbol written by its hierarchical name."""
+    if ca.n_nodes(expr) > 8 * limit:  # printing would cost more than it tells: name the symbols instead
+        names = [full_name(i) if (i := lookup(s)) is not None else str(s) for s in ca.symvar(expr)]
+        text = f"<expression of {len(names)} symbols: " + ", ".join(names) + ">"
+        return text if len(text) <= limit else text[: limit - 4] + "...>"
     syms = ca.symvar(expr)
     named = []
     for s in syms:

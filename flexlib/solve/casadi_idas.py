@@ -100,9 +100,10 @@ from typing import Any
 import casadi as ca
 import numpy as np
 import scipy.sparse as sps
-from scipy.sparse.csgraph import maximum_bipartite_matching, reverse_cuthill_mckee
+from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from flexlib.compile.codegen import CompiledModel
+from flexlib.compile.structure import matching
 from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.ida import Progress, Trajectory, _event_iteration, next_time_event
 from flexlib.solve.initialization import Initializer
@@ -185,7 +186,7 @@ def _fill_reducing_order(model: CompiledModel) -> tuple[np.ndarray, np.ndarray]:
     """Column order (entries of ``y``) and row order (equations) for csparse's natural-order LU."""
     n = model.n
     J = sps.csc_matrix((np.ones(len(model.jac_row)), model.jac_row, model.jac_colind), shape=(n, n)).tocsr()
-    match = maximum_bipartite_matching(J, perm_type="column")  # match[row] = column
+    match, _ = matching(J)  # match[row] = column
     if n == 0 or np.any(match < 0):
         return np.arange(n), np.arange(n)
     row_of = np.empty(n, dtype=int)

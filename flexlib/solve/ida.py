@@ -29,6 +29,7 @@ import numpy as np
 import scipy.sparse as sps
 import sksundae as sun
 
+from flexlib.compile import structure
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.initialization import Initializer
@@ -358,14 +359,54 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     return traj
 
 
+def derivative_level(model: CompiledModel) -> np.ndarray:
+    """Mask of the algebraic unknowns excluded from IDA's error test (empty for most models).
+
+    Derivative-level unknowns are algebraic columns determined only through ``yp``: structurally,
+    the columns left in the under-determined part when the equations free of ``yp`` are matched to
+    the algebraic unknowns (Dulmage–Mendelsohn) — accelerations, reactions, and dummy states
+    computed from derivatives of the true states. When one of them is itself differentiated (a
+    body's velocity behind a joint whose coordinates are the states, as with a reversed
+    FreeMotion), its local error is one order lower than BDF's estimate assumes, and the error
+    test on it and on the accelerations above it collapses the step size (a reversed FreeMotion
+    failed after 0.15 s). Then all derivative-level unknowns are excluded from the error test by
+    an infinite absolute tolerance, which is what SUNDIALS' ``IDASetSuppressAlg`` does (not
+    exposed by scikit-sundae). Otherwise nothing is excluded: the atol trick also relaxes IDA's
+    Newton test, and excluding a pendulum's rod force loosened its position constraint sixfold.
+    """
+    mask = getattr(model, "_derivative_level", None)
+    if mask is not None:
+        return mask
+    f = model.sx_function("res")
+    y, yp = ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+    F = f(ca.SX.sym("t"), y, yp, ca.SX.sym("p", f.size1_in(3)))
+    dyp = structure.incidence(F, yp)
+    alg = np.flatnonzero(~model.differential)
+    free_rows = np.flatnonzero(np.diff(dyp.indptr) == 0)
+    mask = np.zeros(model.n, dtype=bool)
+    if len(alg):
+        inc = structure.incidence(F, y)[free_rows][:, alg]
+        row_match, col_match = structure.matching(inc)
+        _, under = structure.culprits(inc, row_match, col_match)
+        mask[alg[under]] = True
+    differentiated = {name[4:-1] for name in model.col_names if name.startswith("der(")}
+    if not np.any(mask & np.array([name in differentiated for name in model.y_names], dtype=bool)):
+        mask[:] = False
+    model.__dict__["_derivative_level"] = mask
+    return mask
+
+
 def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
                  max_step: float) -> tuple[Any, _Callbacks, _EventsFn, np.ndarray]:
     """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above."""
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
     dense = model.n <= DENSE_MAX
     cb = _Callbacks(model, p, state_rel, dense)
+    atol_vec = atol * model.nominal
+    if os.environ.get("FLEXLIB_EXCLUDE_DERIVATIVE_LEVEL", "1") == "1":
+        atol_vec = np.where(derivative_level(model), 1e20, atol_vec)
     opts: dict[str, Any] = dict(
-        rtol=rtol, atol=atol * model.nominal, algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
+        rtol=rtol, atol=atol_vec, algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
         jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,
     )
     if dense:
