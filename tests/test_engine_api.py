@@ -191,6 +191,28 @@ def test_steady_state_initialisation():
         fl.Simulation(Tank(), use_cache=False).run(1.0)
 
 
+class TwoLags(fl.Model):
+    """Two first-order lags; the first has an initial equation of its own (x = 0.5 at t0)."""
+
+    x = Variable()
+    z = Variable()
+
+    def initial_equations(self):
+        return [eq(self.x, 0.5)]
+
+    def equations(self):
+        return [eq(der(self.x), 1.0 - self.x), eq(der(self.z), 2.0 - self.z)]
+
+
+def test_steady_state_complements_initial_equations():
+    """steady_state=True adds der(·) = 0 only for states the model's own initial equations leave free:
+    x keeps its initial equation (0.5), z starts at its steady state 2 (exact), and x then follows
+    1 - 0.5·exp(-t) (1e-7)."""
+    res = fl.Simulation(TwoLags(), use_cache=False).run(1.0, dt_out=0.25, steady_state=True, rtol=1e-9, atol=1e-11)
+    np.testing.assert_allclose(res["z"], 2.0, rtol=1e-12)
+    np.testing.assert_allclose(res["x"], 1.0 - 0.5 * np.exp(-res.t), atol=1e-7)
+
+
 def test_sub_component_name_clashing_with_a_method():
     """A child named after a method (``root``, ``connect``) would shadow it: clear error naming it."""
 

@@ -109,14 +109,34 @@ class Initializer:
         if steady_state:
             fixed_names = {m.conditions[k][0] for k in active}
             steady = [k for k, i in enumerate(self.diff) if m.y_names[i] not in fixed_names]
-        active_t, steady_t = tuple(active), tuple(steady)
-        g, jg = self._init_functions(active_t, steady_t)
         par = np.concatenate([[t0], p, cond_vals[active]])
         w0 = np.concatenate([y_guess, np.zeros(len(self.diff))])
+        if steady:
+            steady = self._complementary_steady(tuple(active), tuple(steady), w0, par)
+        active_t, steady_t = tuple(active), tuple(steady)
+        g, jg = self._init_functions(active_t, steady_t)
         self._check_structure(jg, w0, par, active_t, steady_t)
         w = self._solve(g, jg, w0, par, tol, self._labels(active_t, steady_t))
         y, yp = self._split(w)
         return y, self.algebraic_rates(t0, y, yp, p)
+
+    def _complementary_steady(self, active: tuple[int, ...], steady: tuple[int, ...], w0: np.ndarray,
+                              par: np.ndarray) -> list[int]:
+        """The ``der(x) = 0`` rows that complement the model's own initial conditions.
+
+        Initial equations and fixed start values of algebraic variables (a volume's start
+        pressure fixes its stored mass) take the place of some steady-state rows. Rows are
+        matched in priority order (model equations, initial conditions, then steady-state rows);
+        augmenting paths never unmatch a row, so the steady-state rows left unmatched are exactly
+        those the other conditions make redundant.
+        """
+        _, jg = self._init_functions(active, steady)
+        pattern = jg.sparsity_out(0)
+        colind, row = pattern.get_ccs()
+        inc = sps.csc_matrix((np.ones(len(row)), row, colind), shape=pattern.shape).tocsr()
+        row_match, _ = matching(inc, in_order=True)
+        first = self.model.n + len(active)
+        return [k for j, k in enumerate(steady) if row_match[first + j] >= 0]
 
     def guess(self, starts: dict[str, tuple[float, bool]]) -> np.ndarray:
         """Start guesses for ``y`` from the model's start values."""
@@ -264,9 +284,20 @@ class Initializer:
             return w
         # robust fallback: trust-region least squares
         big = len(w) > 200
-        sol = so.least_squares(fun, w, jac=jac if big else (lambda x: jac(x).toarray()), method="trf",
-                               xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=500, tr_solver="lsmr" if big else "exact")
-        w, r = sol.x, fun(sol.x)
+
+        def fun_finite(x: np.ndarray) -> np.ndarray:  # a non-finite trial point makes the trust region shrink
+            rx = fun(x)
+            return rx if np.all(np.isfinite(rx)) else np.full_like(rx, 1e150)
+
+        try:
+            sol = so.least_squares(fun_finite, w, jac=jac if big else (lambda x: jac(x).toarray()), method="trf",
+                                   xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=500,
+                                   tr_solver="lsmr" if big else "exact")
+            if np.all(np.isfinite(fun(sol.x))):
+                w = sol.x
+        except ValueError:  # non-finite Jacobian: keep the damped-Newton point for the report
+            pass
+        r = fun(w)
         if np.linalg.norm(r, np.inf) <= max(tol, 1e-8) * scale:
             return w
         worst = np.argsort(-np.abs(r))[:5]
