@@ -37,11 +37,13 @@ def test_coulomb_bearing_friction_decelerates_linearly(axis, F_preload, F_radial
 
 
 def test_stribeck_and_viscous_curve():
-    """Friction torque vs speed follows (τ_C + (s−1)τ_C e^{−(w/w_s)²})·tanh(w/w_reg) + d·w (1e-9)."""
+    """Friction torque vs speed follows (τ_C + (s−1)τ_C e^{−(w/w_s)²})·tanh(w/w_reg) + d·w (1e-8 at rtol 1e-10:
+    the torque depends on the bearing's reaction force, a derivative-level unknown outside IDA's error test
+    whose value between steps is interpolated)."""
     tau_c0, s, w_s, d = 0.3, 1.8, 0.5, 0.02
     res = fl.Simulation(Rotor([0, 0, 1], w0=3.0, tau_c0=tau_c0, stribeck=s, w_s=w_s, d=d, w_reg=1e-3),
                         use_cache=False).run(2.0, dt_out=0.01, rtol=1e-10, atol=1e-12)
     w = res["bearing.w"]
     expected = (tau_c0 * (1 + (s - 1) * np.exp(-(w / w_s) ** 2)) * np.tanh(w / 1e-3) + d * w)
-    np.testing.assert_allclose(res["bearing.tau_f"], expected, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(res["bearing.tau_f"], expected, rtol=1e-8, atol=1e-12)
     np.testing.assert_allclose(res["bearing.tau"], -res["bearing.tau_f"], atol=1e-12)
