@@ -170,7 +170,9 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     root : Component
         The top-level model.
     codegen : bool or "auto"
-        Generate and compile C code; ``"auto"`` does so above 300 unknowns after alias elimination.
+        Generate and compile C code; ``"auto"`` does so above 300 unknowns after alias elimination
+        when the residual and Jacobian have at most ``AUTO_C_MAX_INSTRUCTIONS`` operations (see
+        :func:`flexlib.compile.codegen.compile_dae`).
     use_cache : bool
         Read and write the disk cache.
 
@@ -211,9 +213,10 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     dae = reduce_index(simple, params)
     timings["index_reduction"] = _time.perf_counter() - t
     t = _time.perf_counter()
-    use_c = (dae.y.numel() > 300) if codegen == "auto" else bool(codegen)
+    use_c: bool | str = "auto" if codegen == "auto" else bool(codegen)
     build_dir = cache_dir() if key else None
     model = compile_dae(flat, simple, dae, codegen=use_c, build_dir=build_dir)
+    use_c = model.library is not None
     timings["compile"] = _time.perf_counter() - t
     model.stats = {"n_flat_equations": len(flat.equations), "n_aliases": simple.n_eliminated,
                    "n_unknowns": model.n, "n_states": int(model.differential.sum()),
