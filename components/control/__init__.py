@@ -1,13 +1,45 @@
-"""Signal blocks and controllers after ``Modelica.Blocks``: sources (``Constant``, ``Step``, ``Ramp``, ``Sine``)
-and math (``Gain``, ``Add``, ``Feedback``). Outputs are named ``y``, inputs ``u`` / ``u1``, ``u2``.
+"""Signal blocks and controllers after ``Modelica.Blocks``: sources, math, nonlinear blocks, linear systems, LimPID.
+
+Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``; math ``Gain``, ``Add``,
+``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``; continuous
+``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs are named ``y``, inputs ``u`` / ``u1``, ``u2``,
+``u3`` (``u_s``, ``u_m`` on the PID).
 """
 
 from .add import Add
 from .constant import Constant
+from .dead_zone import DeadZone
 from .feedback import Feedback
+from .first_order import FirstOrder
 from .gain import Gain
+from .lim_pid import LimPID
+from .limiter import Limiter
+from .product import Product
 from .ramp import Ramp
+from .rate_limiter import RateLimiter
 from .sine import Sine
 from .step import Step
+from .switch import Switch
+from .time_table import TimeTable
+from .transfer_function import TransferFunction
+from .trapezoid import Trapezoid
 
-__all__ = ["Add", "Constant", "Feedback", "Gain", "Ramp", "Sine", "Step"]
+__all__ = [
+    "Add",
+    "Constant",
+    "DeadZone",
+    "Feedback",
+    "FirstOrder",
+    "Gain",
+    "LimPID",
+    "Limiter",
+    "Product",
+    "Ramp",
+    "RateLimiter",
+    "Sine",
+    "Step",
+    "Switch",
+    "TimeTable",
+    "TransferFunction",
+    "Trapezoid",
+]

@@ -4,6 +4,7 @@ Connector :class:`Flange` (angle ``phi`` [rad], flow ``tau`` [N.m], positive int
 component); components, sources and sensors with MSL names and equations.
 """
 
+from .acc_sensor import AccSensor
 from .angle_sensor import AngleSensor
 from .damper import Damper
 from .fixed import Fixed
@@ -12,6 +13,7 @@ from .inertia import Inertia
 from .interfaces import Flange
 from .position import Position
 from .relative_angle_sensor import RelativeAngleSensor
+from .relative_speed_sensor import RelativeSpeedSensor
 from .speed import Speed
 from .speed_sensor import SpeedSensor
 from .spring import Spring
@@ -20,6 +22,7 @@ from .torque import Torque
 from .torque_sensor import TorqueSensor
 
 __all__ = [
+    "AccSensor",
     "AngleSensor",
     "Damper",
     "Fixed",
@@ -28,6 +31,7 @@ __all__ = [
     "Inertia",
     "Position",
     "RelativeAngleSensor",
+    "RelativeSpeedSensor",
     "Speed",
     "SpeedSensor",
     "Spring",

@@ -4,6 +4,7 @@ Connector :class:`Flange` (position ``s`` [m], flow ``f`` [N], positive into the
 component); components, sources and sensors with MSL names and equations.
 """
 
+from .acc_sensor import AccSensor
 from .damper import Damper
 from .fixed import Fixed
 from .force import Force
@@ -13,12 +14,14 @@ from .mass import Mass
 from .position import Position
 from .position_sensor import PositionSensor
 from .relative_position_sensor import RelativePositionSensor
+from .relative_speed_sensor import RelativeSpeedSensor
 from .speed import Speed
 from .speed_sensor import SpeedSensor
 from .spring import Spring
 from .spring_damper import SpringDamper
 
 __all__ = [
+    "AccSensor",
     "Damper",
     "Fixed",
     "Flange",
@@ -28,6 +31,7 @@ __all__ = [
     "Position",
     "PositionSensor",
     "RelativePositionSensor",
+    "RelativeSpeedSensor",
     "Speed",
     "SpeedSensor",
     "Spring",

@@ -1,0 +1,139 @@
+"""Benchmark: hydraulic position servo driven into its end stops (issue 5).
+
+Fixed-displacement pump (20 cm3/rev at 1500 rpm = 30 L/min) with a relief valve (160 bar) and a 0.5 L
+supply volume → proportional 4/3 valve (40 L/min at 35 bar per edge, 30 Hz spool) → 63/36 × 400 mm
+cylinder lifting 300 kg (vertical, gravity on the load) → position measured at the rod end and fed back
+through a LimPID (PID, output limited to ±1 = the valve command). The set-point ramps at 0.12 m/s
+between −30 mm and +430 mm over 20 s: the piston is driven into the rod-end and the cap-end stops twice
+each, the controller saturates there and the pump flow goes over the relief valve.
+
+It reports the build time (cold, fresh cache), the run time (best of 2), IDA steps, residual and
+Jacobian evaluations, state and time events, and a sanity check: the tracking error where the
+set-point is inside the stroke (10 mm margin, 0.5 s after leaving a stop), the penetration into the
+stops, and whether the valve command stayed in [−1, 1].
+
+Run: ``python benchmarks/hydraulic_servo.py`` (from the repository root). No timing is asserted.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
+
+import math
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import flexlib as fl
+from flexlib.components.control import Constant, LimPID, TimeTable
+from flexlib.components.hydraulics import (
+    DirectionalValve43,
+    DoubleActingCylinder,
+    FixedDisplacementPump,
+    PressureReliefValve,
+    Tank,
+    Volume,
+)
+from flexlib.components.mechanics.translational import Fixed, Force, Mass, PositionSensor
+
+T_END, RTOL, ATOL = 20.0, 1e-6, 1e-8
+STROKE, MASS, G = 0.4, 300.0, 9.81
+#: Set-point [m] vs time [s]: ramps at 0.12 m/s to 30 mm beyond the rod-end and the cap-end stops, held 1.5 s.
+SET_POINT = ([0.0, 1.0, 3.75, 5.25, 9.08, 10.58, 14.42, 15.92, 19.75, 20.0],
+             [0.1, 0.1, 0.43, 0.43, -0.03, -0.03, 0.43, 0.43, -0.03, -0.03])
+
+
+class HydraulicServo(fl.Model):
+    """Pump, relief valve, 4/3 proportional valve, cylinder lifting a mass, PID position loop."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.tank = Tank()
+        self.pump = FixedDisplacementPump(D=20e-6 / (2 * math.pi))
+        self.speed = Constant(k=1500 * 2 * math.pi / 60)
+        self.supply = Volume(V=5e-4, p_start=1e5)
+        self.relief = PressureReliefValve(p_crack=160e5, p_grad=4e9)
+        self.valve = DirectionalValve43(Q_nom=40 / 60000, dp_nom=35e5, omega=2 * math.pi * 30, zeta=0.7,
+                                        A_leak=1e-10)
+        self.cylinder = DoubleActingCylinder(d_bore=0.063, d_rod=0.036, stroke=STROKE, m=8.0, F_c=300.0,
+                                             stribeck=1.5, d=3000.0, x_start=0.1, G_int=1e-13,
+                                             p_A_start=MASS * G / (math.pi / 4 * 0.063**2) + 1e5)
+        self.fixed, self.load = Fixed(), Mass(m=MASS)
+        self.weight, self.gravity = Force(), Constant(k=-MASS * G)
+        self.sensor = PositionSensor()
+        self.set_point = TimeTable(t=SET_POINT[0], y=SET_POINT[1])
+        self.controller = LimPID(controller_type="PID", k=25.0, Ti=0.5, Td=0.02, Nd=10.0, y_max=1.0, y_min=-1.0)
+        self.connect(self.speed.y, self.pump.w)
+        self.connect(self.tank.port, self.pump.port_a, self.relief.port_b, self.valve.port_T)
+        self.connect(self.pump.port_b, self.supply.port, self.relief.port_a, self.valve.port_P)
+        self.connect(self.valve.port_A, self.cylinder.port_A)
+        self.connect(self.valve.port_B, self.cylinder.port_B)
+        self.connect(self.fixed.flange, self.cylinder.flange_a)
+        self.connect(self.cylinder.flange_b, self.load.flange_a, self.weight.flange, self.sensor.flange)
+        self.connect(self.gravity.y, self.weight.f)
+        self.connect(self.set_point.y, self.controller.u_s)
+        self.connect(self.sensor.s, self.controller.u_m)
+        self.connect(self.controller.y, self.valve.u)
+
+
+def main() -> None:
+    os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
+    t0 = time.perf_counter()
+    model = HydraulicServo()
+    sim = fl.Simulation(model, use_cache=False)
+    build = time.perf_counter() - t0
+    n_states = int(sim.compiled.differential.sum())
+    print(f"Hydraulic servo into the end stops, {T_END:g} s, rtol {RTOL:g}, atol {ATOL:g}, 2001 output points\n")
+    print("| solver | unknowns | states | build cold (s) | run (s, best of 2) | IDA steps | res evals | jac evals "
+          "| state events | time events |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    runs = {}
+    for solver in ("ida", "casadi-idas"):
+        best, res = math.inf, None
+        try:
+            for _ in range(2):
+                t0 = time.perf_counter()
+                res = sim.run(T_END, dt_out=0.01, rtol=RTOL, atol=ATOL, progress=False, solver=solver)
+                best = min(best, time.perf_counter() - t0)
+        except fl.SolverError as err:
+            print(f"| {solver} | failed: {str(err)[:150]} |")
+            continue
+        assert res is not None
+        runs[solver] = res
+        s = res.stats
+        print(f"| {solver} | {sim.compiled.n} | {n_states} | {build:.2f} | {best:.2f} | {s['steps']} | {s['nfev']} "
+              f"| {s['njev']} | {s['state_events']} | {s['time_events']} |")
+    res = runs["ida"]
+    if "casadi-idas" in runs:
+        diff = np.abs(runs["casadi-idas"]["cylinder.x"] - res["cylinder.x"]).max()
+        print(f"\nida vs casadi-idas: max position difference {1e6 * diff:.1f} µm")
+
+    x, ref = res["cylinder.x"], res["set_point.y"]
+    inside = (ref > 0.01) & (ref < STROKE - 0.01)
+    # leave 0.5 s after the set-point re-enters the stroke for the piston to catch up
+    settle = np.zeros_like(inside)
+    for k in np.flatnonzero(inside):
+        settle[k] = np.all(inside[max(0, k - 50):k + 1])
+    err = np.abs(x - ref)[settle]
+    print("\nSanity checks")
+    rms = np.sqrt(np.mean(err**2))
+    print(f"  tracking error inside the stroke: max {1e3 * err.max():.2f} mm, rms {1e3 * rms:.2f} mm"
+          f" ({settle.mean() * 100:.0f} % of the samples)")
+    print(f"  end stops: x in [{1e6 * x.min():.1f} µm, stroke + {1e6 * (x.max() - STROKE):.1f} µm]; "
+          f"stop contacts {sum('cylinder' in e for _, e in res.events)} events")
+    print(f"  controller saturated {np.mean(np.abs(res['controller.y']) > 0.999) * 100:.0f} % of the time; "
+          f"relief valve open {np.mean(res['relief.q'] > 1e-6) * 100:.0f} %; "
+          f"supply pressure max {res['supply.p'].max() / 1e5:.0f} bar")
+    model.valve.check_command(res)  # raises if the command left [-1, 1]
+    print(f"  valve command within [-1, 1]: yes (max |u| - 1 = {np.abs(res['valve.u']).max() - 1:.1e})")
+
+
+if __name__ == "__main__":
+    main()

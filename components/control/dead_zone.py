@@ -1,0 +1,52 @@
+"""Region of zero output."""
+
+from __future__ import annotations
+
+from flexlib import Parameter, eq, if_else
+
+from .interfaces import PartialSISO, ValueChecks
+
+__all__ = ["DeadZone"]
+
+
+class DeadZone(ValueChecks, PartialSISO):
+    """Dead zone: zero output for ``u_min <= u <= u_max``, slope 1 outside.
+
+    .. math::
+
+        y = \\begin{cases} u - u_{max} & u > u_{max} \\\\ u - u_{min} & u < u_{min}
+            \\\\ 0 & \\text{else} \\end{cases}
+
+    Both zone edges are state events.
+
+    Parameters
+    ----------
+    u_max : float
+        Upper limit of the dead zone [1].
+    u_min : float
+        Lower limit of the dead zone [1], <= ``u_max`` (given explicitly; MSL's default is
+        ``-u_max``).
+
+    Connectors
+    ----------
+    u : Input [1]
+        Input signal.
+    y : Output [1]
+        Output signal.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Blocks.Nonlinear.DeadZone``.
+    """
+
+    u_max = Parameter(unit="1", doc="Upper limit of the dead zone")
+    u_min = Parameter(unit="1", doc="Lower limit of the dead zone")
+
+    def check_values(self) -> None:
+        hi, lo = self._value("u_max"), self._value("u_min")
+        if hi is not None and lo is not None and hi < lo:
+            raise self._value_error(f"limits must be consistent, but u_max = {hi:g} < u_min = {lo:g}")
+
+    def equations(self) -> list:
+        u = self.u
+        return [eq(self.y, if_else(u > self.u_max, u - self.u_max, if_else(u < self.u_min, u - self.u_min, 0.0)))]

@@ -1,0 +1,68 @@
+"""First-order transfer function block (one pole)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexlib import Parameter, der, eq
+
+from .interfaces import INIT_TYPES, PartialSISO, ValueChecks, check_choice
+
+__all__ = ["FirstOrder"]
+
+
+class FirstOrder(ValueChecks, PartialSISO):
+    """First-order lag ``y = k / (T s + 1) u``: ``der(y) = (k u - y) / T``.
+
+    Parameters
+    ----------
+    k : float
+        Gain [1].
+    T : float
+        Time constant [s], != 0.
+    y_start : float
+        Initial value of the output (= state) [1].
+    init_type : str
+        ``"initial_state"`` (default) or ``"initial_output"``: ``y = y_start`` at the start;
+        ``"steady_state"``: ``der(y) = 0``; ``"no_init"``: no initial equation (give
+        ``init={"y": ...}`` or run with ``steady_state=True``).
+
+    Connectors
+    ----------
+    u : Input [1]
+        Input signal.
+    y : Output [1]
+        Output signal (the state).
+
+    Notes
+    -----
+    MSL's default ``initType`` is NoInit, which Modelica tools resolve with the start value
+    ``y_start``; flexlib asks for complete initial conditions, so the default here is
+    ``"initial_state"``, the same start.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Blocks.Continuous.FirstOrder``.
+    """
+
+    k = Parameter(1.0, unit="1", doc="Gain")
+    T = Parameter(unit="s", doc="Time constant")
+    y_start = Parameter(0.0, unit="1", doc="Initial value of the output")
+
+    def __init__(self, init_type: str = "initial_state", **kw: Any) -> None:
+        super().__init__(**kw)
+        self.init_type = check_choice(self, "init_type", init_type, INIT_TYPES)
+
+    def check_value(self, name: str, value: float) -> None:
+        if name == "T" and value == 0.0:
+            raise self._value_error("time constant T must be != 0")
+
+    def initial_equations(self) -> list:
+        if self.init_type == "steady_state":
+            return [eq(der(self.y), 0.0, label="steady state")]
+        if self.init_type in ("initial_state", "initial_output"):
+            return [eq(self.y, self.y_start, label="y = y_start")]
+        return []
+
+    def equations(self) -> list:
+        return [eq(der(self.y), (self.k * self.u - self.y) / self.T)]

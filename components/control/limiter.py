@@ -1,0 +1,71 @@
+"""Limit the range of a signal."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexlib import Parameter, eq, if_else, no_event
+
+from .interfaces import PartialSISO, ValueChecks
+
+__all__ = ["Limiter", "limit"]
+
+
+def limit(u: Any, upper: Any, lower: Any, strict: bool = False) -> Any:
+    """``upper`` if ``u > upper``, ``lower`` if ``u < lower``, else ``u`` (events unless ``strict``)."""
+    select = no_event if strict else if_else
+    return select(u > upper, upper, select(u < lower, lower, u))
+
+
+class Limiter(ValueChecks, PartialSISO):
+    """Limiter: the input passes while ``u_min <= u <= u_max``, otherwise the violated limit.
+
+    .. math::
+
+        y = \\begin{cases} u_{max} & u > u_{max} \\\\ u_{min} & u < u_{min} \\\\ u & \\text{else} \\end{cases}
+
+    Each limit crossing is a state event (the integrator stops exactly at the kink), unless
+    ``strict`` is set.
+
+    Parameters
+    ----------
+    u_max : float
+        Upper limit of the input signal [1].
+    u_min : float
+        Lower limit of the input signal [1], <= ``u_max``. MSL's default ``-u_max`` is not
+        copied: both limits are given explicitly.
+    strict : bool
+        True to evaluate the limits continuously (MSL ``strict``: ``noEvent``, no events), for
+        inputs that must not be stopped at; default False (events).
+
+    Connectors
+    ----------
+    u : Input [1]
+        Input signal.
+    y : Output [1]
+        Limited signal.
+
+    Notes
+    -----
+    ``u_max >= u_min`` is checked on the instance; values passed to ``sim.run(params=...)``
+    are not cross-checked.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Blocks.Nonlinear.Limiter``.
+    """
+
+    u_max = Parameter(unit="1", doc="Upper limit of the input signal")
+    u_min = Parameter(unit="1", doc="Lower limit of the input signal")
+
+    def __init__(self, strict: bool = False, **kw: Any) -> None:
+        super().__init__(**kw)
+        self.strict = bool(strict)
+
+    def check_values(self) -> None:
+        hi, lo = self._value("u_max"), self._value("u_min")
+        if hi is not None and lo is not None and hi < lo:
+            raise self._value_error(f"limits must be consistent, but u_max = {hi:g} < u_min = {lo:g}")
+
+    def equations(self) -> list:
+        return [eq(self.y, limit(self.u, self.u_max, self.u_min, self.strict))]

@@ -1,0 +1,87 @@
+"""Trapezoidal signal."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexlib import Parameter, eq, if_else, time
+from flexlib.errors import ModelError
+
+from .interfaces import PartialSignalSource, ValueChecks
+
+__all__ = ["Trapezoid"]
+
+
+class Trapezoid(ValueChecks, PartialSignalSource):
+    """Trapezoidal signal: ``nperiod`` periods of rise, plateau, fall and zero, then ``offset``.
+
+    In period ``k`` (starting at ``Ts = start_time + k period``) the output is ``offset`` plus
+    ``amplitude (time - Ts)/rising`` until ``Ts + rising``, ``amplitude`` until
+    ``Ts + rising + width``, a linear fall to 0 during ``falling``, then 0 until the next
+    period. Before ``start_time`` and after ``nperiod`` periods it is ``offset``. Every corner
+    is a time event, so the integrator never steps across a kink.
+
+    Parameters
+    ----------
+    amplitude : float
+        Amplitude of the trapezoid [1].
+    rising : float
+        Rising duration [s], >= 0.
+    width : float
+        Width (plateau) duration [s], >= 0.
+    falling : float
+        Falling duration [s], >= 0.
+    period : float
+        Time for one period [s], > 0; a phase that does not fit is cut at the period end.
+    nperiod : int
+        Number of periods, >= 0 (structural: 4 time events per period).
+    offset : float
+        Offset of the output signal [1].
+    start_time : float
+        Output = offset for time < start_time [s].
+
+    Connectors
+    ----------
+    y : Output [1]
+        Output signal.
+
+    Notes
+    -----
+    MSL's ``nperiod < 0`` (infinitely many periods) is not supported: the engine's time
+    events are relations affine in time, one per corner, so their number is fixed when the
+    model is built. Give enough periods for the run (``nperiod >= t_end / period``).
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Blocks.Sources.Trapezoid``.
+    """
+
+    amplitude = Parameter(1.0, unit="1", doc="Amplitude of trapezoid")
+    rising = Parameter(0.0, unit="s", min=0.0, doc="Rising duration of trapezoid")
+    width = Parameter(0.5, unit="s", min=0.0, doc="Width duration of trapezoid")
+    falling = Parameter(0.0, unit="s", min=0.0, doc="Falling duration of trapezoid")
+    period = Parameter(unit="s", min=0.0, doc="Time for one period")
+
+    def __init__(self, nperiod: int, **kw: Any) -> None:
+        if int(nperiod) != nperiod or nperiod < 0:
+            raise ModelError(f"Trapezoid: nperiod must be an integer >= 0, got {nperiod!r} (infinitely many "
+                             "periods, MSL's nperiod < 0, cannot be time events; give the number of periods)")
+        super().__init__(**kw)
+        self.nperiod = int(nperiod)
+
+    def check_value(self, name: str, value: float) -> None:
+        if name == "period" and not value > 0.0:
+            raise self._value_error(f"period must be > 0, got {value:g}")
+
+    def equations(self) -> list:
+        A, P = self.amplitude, self.period
+        T_r = self.rising
+        T_w = T_r + self.width
+        T_f = T_w + self.falling
+        shape: Any = 0.0  # after the last period
+        for k in reversed(range(self.nperiod)):
+            Ts = self.start_time + k * P
+            fall = if_else(time < Ts + T_f, A * (Ts + T_f - time) / self.falling, 0.0)
+            inside = if_else(time < Ts + T_r, A * (time - Ts) / self.rising, if_else(time < Ts + T_w, A, fall))
+            shape = if_else(time < Ts + P, inside, shape)
+        return [eq(self.y, self.offset + if_else(time < self.start_time, 0.0, shape))]

@@ -1,0 +1,58 @@
+"""Shared shaft and port equations of the displacement pumps (private helper)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexlib import Component, Input, Variable, der, eq
+
+from ..mechanics.rotational.interfaces import Flange
+from ._checks import PositiveParameters, store_fluid
+from .fluid import HLP46, Fluid
+from .interfaces import Port
+
+__all__ = ["PartialPump"]
+
+
+class PartialPump(PositiveParameters, Component):
+    """Pump with suction ``port_a``, delivery ``port_b`` and a shaft (speed signal or flange).
+
+    A subclass provides :meth:`displacement` (the effective displacement [m3/rad]) and may add
+    equations. The pump stores no mass; volume flows are counted at the suction density:
+
+        q = eta_v * D_eff * w - C_leak * dp,   port_a.m_flow = rho(port_a.p) * q = -port_b.m_flow
+        tau = D_eff * dp / eta_m,              dp = port_b.p - port_a.p
+    """
+
+    port_a = Port(doc="Suction (inlet) port")
+    port_b = Port(doc="Delivery (outlet, pressure) port")
+    q = Variable(unit="m3/s", nominal=1e-3, doc="Delivered volume flow at suction density")
+    m_flow = Variable(unit="kg/s", doc="Delivered mass flow (a to b)")
+    dp = Variable(unit="Pa", nominal=1e7, doc="Pressure rise port_b.p - port_a.p")
+    tau = Variable(unit="N.m", doc="Shaft torque needed to drive the pump")
+
+    def __init__(self, use_flange: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(**kw)
+        store_fluid(self, fluid)
+        self.use_flange = bool(use_flange)
+        if self.use_flange:
+            self.flange = Flange(doc="Drive shaft; flange.tau is the driving torque into the pump")
+            self.w = Variable(unit="rad/s", doc="Shaft angular velocity")
+        else:
+            self.w = Input(unit="rad/s", doc="Shaft angular velocity")
+
+    def displacement(self) -> Any:
+        """Effective displacement [m3/rad]."""
+        raise NotImplementedError
+
+    def equations(self) -> list:
+        a, b = self.port_a, self.port_b
+        d_eff = self.displacement()
+        eqs = [eq(self.dp, b.p - a.p),
+               eq(self.q, self.eta_v * d_eff * self.w - self.C_leak * self.dp),
+               eq(self.m_flow, self.fluid.density(a.p) * self.q),
+               eq(a.m_flow, self.m_flow), eq(b.m_flow, -self.m_flow),
+               eq(self.tau, d_eff * self.dp / self.eta_m)]
+        if self.use_flange:
+            eqs += [eq(self.w, der(self.flange.phi)), eq(self.flange.tau, self.tau)]
+        return eqs

@@ -1,0 +1,350 @@
+"""Double-acting (differential) hydraulic cylinder, 1D and between two 3D frames."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import casadi as ca
+
+from flexlib import Component, Parameter, Variable, der, eq, if_else
+from flexlib.components.mechanics.translational.interfaces import Flange
+from flexlib.errors import ParameterError
+
+from ._checks import PositiveParameters, store_fluid
+from .fluid import HLP46, Fluid
+from .interfaces import Port, chamber_equations
+
+__all__ = ["DoubleActingCylinder", "LineCylinder"]
+
+
+class DoubleActingCylinder(PositiveParameters, Component):
+    """Double-acting differential cylinder: two compressible chambers, piston and rod mass, friction,
+    internal and external leakage and end-of-stroke contact.
+
+    Geometry: the piston position ``x = flange_b.s - flange_a.s - L0`` runs from 0 (fully retracted,
+    piston on the cap-end stop) to ``stroke`` (fully extended); ``L0`` is the distance between the
+    flanges at ``x = 0`` (the closed length of a cylinder between pins). Piston area ``A_p = π/4·d_bore²``,
+    annulus area ``A_r = A_p − π/4·d_rod²``; chamber volumes ``V_A = V_dead_A + A_p·x``,
+    ``V_B = V_dead_B + A_r·(stroke − x)``.
+
+    Chambers (:func:`~.interfaces.chamber_equations`, stored mass as state, exact mass balance)::
+
+        der(m_A) = port_A.m_flow − m_flow_int,           m_A = rho(p_A)·V_A
+        der(m_B) = port_B.m_flow + m_flow_int − m_flow_ext, m_B = rho(p_B)·V_B
+        m_flow_int = rho(p̄)·G_int·(p_A − p_B)            (laminar piston-seal leakage A → B)
+        m_flow_ext = rho(p_B)·G_ext·(p_B − p_D)          (laminar rod-seal leakage out of chamber B)
+
+    ``p_D`` is the drain port pressure (``use_drain``) or the ambient pressure ``fluid.p_ref``: without a
+    drain the rod-seal leakage leaves the circuit (its mass is ``∫m_flow_ext dt``).
+
+    Rod (piston + rod, mass ``m``, moving with flange_b; the housing is massless — connect a Mass or a
+    body to flange_a for it)::
+
+        m·der(v_rod) = F + flange_b.f,   v_rod = der(flange_b.s),   flange_a.f = F
+        F = F_hyd − F_fric + F_stop,     F_hyd = p_A·A_p − p_B·A_r − p_ref·(A_p − A_r)
+
+    (absolute pressures: the ambient pressure acts on the rod cross-section.) Friction, regularised
+    Coulomb + Stribeck + viscous (no events; sticking is a slow creep below ``v_reg``)::
+
+        F_fric = F_c·(1 + (stribeck − 1)·exp(−(v/v_s)²))·tanh(v/v_reg) + d·v
+
+    End stops: a stiff spring–damper contact at each end, switched by state events (``if_else``); it
+    acts only while the piston is beyond the end (penetration ``−x`` or ``x − stroke``), damps only
+    in contact and never pulls (the contact force is clipped at zero)::
+
+        F_stop = max(0, c_stop·(−x) − d_stop·v)     if x < 0
+               − max(0, c_stop·(x − stroke) + d_stop·v)   if x > stroke
+
+    The static penetration is ``F/c_stop`` (0.06 mm for 60 kN on the default 1e9 N/m).
+
+    Parameters
+    ----------
+    d_bore : float
+        Piston (bore) diameter [m], > 0.
+    d_rod : float
+        Rod diameter [m], > 0 and < d_bore.
+    stroke : float
+        Stroke [m], > 0.
+    L0 : float
+        Distance flange_b.s − flange_a.s at x = 0 (closed length between the mounting points) [m].
+    V_dead_A, V_dead_B : float
+        Dead volumes of the cap-side and rod-side chambers at the ends of the stroke (ports, hoses
+        inside the cylinder) [m3], > 0.
+    m : float
+        Mass of piston and rod [kg], >= 0.
+    F_c : float
+        Coulomb friction force of the seals [N], >= 0.
+    stribeck : float
+        Ratio of break-away (static) to Coulomb friction [1], >= 1.
+    v_s : float
+        Stribeck velocity [m/s], > 0.
+    d : float
+        Viscous friction coefficient [N.s/m], >= 0.
+    v_reg : float
+        Regularisation velocity of the Coulomb friction (``tanh(v/v_reg)``) [m/s], > 0.
+    G_int : float
+        Internal (piston seal) laminar leakage coefficient, volume flow per pressure difference
+        [m3/(s.Pa)], >= 0.
+    G_ext : float
+        External (rod seal) laminar leakage coefficient from chamber B [m3/(s.Pa)], >= 0.
+    c_stop : float
+        Contact stiffness of the end stops [N/m], > 0.
+    d_stop : float
+        Contact damping of the end stops [N.s/m], >= 0.
+    x_start : float
+        Initial piston position [m], in [0, stroke] (used if ``x_fixed``).
+    v_start : float
+        Initial piston velocity [m/s] (used if ``x_fixed``).
+    p_A_start, p_B_start : float
+        Initial absolute chamber pressures [Pa], > 0 (used if ``p_fixed``).
+    x_fixed : bool
+        True if ``x(t0) = x_start`` and ``v(t0) = v_start`` are initial conditions (structural; set it
+        False when the position follows from the rest of the model, e.g. a 3D linkage).
+    p_fixed : bool
+        True if ``p_A(t0) = p_A_start`` and ``p_B(t0) = p_B_start`` are initial conditions (structural;
+        False to let ``run(steady_state=True)`` or ``init={"p_A": ...}`` decide).
+    use_drain : bool
+        True if the rod-seal leakage goes to the drain port ``port_D`` (structural); otherwise it
+        leaves the circuit at ``fluid.p_ref``.
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port_A : Port
+        Cap-side chamber (pressure extends the rod); m_flow positive into the cylinder.
+    port_B : Port
+        Rod-side (annulus) chamber (pressure retracts the rod).
+    port_D : Port
+        Drain of the rod seal (only if ``use_drain``).
+    flange_a : translational Flange
+        Cylinder housing (mounting); ``flange_a.f = F``.
+    flange_b : translational Flange
+        Rod end, moves with the piston mass.
+
+    Variables
+    ---------
+    x [m], v [m/s], a [m/s2]: piston position, velocity, acceleration relative to the housing;
+    p_A, p_B [Pa]; m_A, m_B [kg] (states); V_A, V_B [m3]; F, F_hyd, F_fric, F_stop [N];
+    m_flow_int, m_flow_ext [kg/s]; v_rod [m/s]: absolute rod velocity.
+
+    Notes
+    -----
+    Cross-parameter conditions (``d_rod < d_bore``, ``x_start`` within the stroke) are checked when a
+    value is set on the component; run-time overrides ``run(params=...)`` are checked against the
+    declared bounds only.
+
+    References
+    ----------
+    MathWorks Simscape Fluids, *Double-Acting Actuator (IL)* block documentation (chambers, hard stops).
+    Hopsan component library, *Piston* (``HydraulicCylinderC``): chambers, leakage, end stops.
+    H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §5.2 (actuator continuity and load equations).
+    H. Olsson et al., "Friction models and friction compensation", *Eur. J. Control* 4 (1998), §2
+    (Stribeck friction).
+    """
+
+    _positive = ("d_bore", "d_rod", "stroke", "V_dead_A", "V_dead_B", "v_s", "v_reg", "c_stop", "p_A_start",
+                 "p_B_start")
+
+    d_bore = Parameter(unit="m", min=0.0, doc="Piston (bore) diameter")
+    d_rod = Parameter(unit="m", min=0.0, doc="Rod diameter")
+    stroke = Parameter(unit="m", min=0.0, doc="Stroke")
+    L0 = Parameter(0.0, unit="m", doc="Distance flange_b.s - flange_a.s at x = 0")
+    V_dead_A = Parameter(1e-5, unit="m3", min=0.0, doc="Dead volume of chamber A")
+    V_dead_B = Parameter(1e-5, unit="m3", min=0.0, doc="Dead volume of chamber B")
+    m = Parameter(unit="kg", min=0.0, doc="Mass of piston and rod")
+    F_c = Parameter(0.0, unit="N", min=0.0, doc="Coulomb friction force")
+    stribeck = Parameter(1.0, unit="1", min=1.0, doc="Break-away / Coulomb friction ratio")
+    v_s = Parameter(0.01, unit="m/s", min=0.0, doc="Stribeck velocity")
+    d = Parameter(0.0, unit="N.s/m", min=0.0, doc="Viscous friction coefficient")
+    v_reg = Parameter(1e-4, unit="m/s", min=0.0, doc="Regularisation velocity of the Coulomb friction")
+    G_int = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Internal laminar leakage coefficient A -> B")
+    G_ext = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="External laminar leakage coefficient out of B")
+    c_stop = Parameter(1e9, unit="N/m", min=0.0, doc="End-stop contact stiffness")
+    d_stop = Parameter(1e5, unit="N.s/m", min=0.0, doc="End-stop contact damping")
+    x_start = Parameter(0.0, unit="m", doc="Initial piston position")
+    v_start = Parameter(0.0, unit="m/s", doc="Initial piston velocity")
+    p_A_start = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Initial pressure in chamber A")
+    p_B_start = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Initial pressure in chamber B")
+
+    x = Variable(unit="m", state_select="prefer", doc="Piston position relative to the housing")
+    v = Variable(unit="m/s", state_select="prefer", doc="Piston velocity relative to the housing")
+    a = Variable(unit="m/s2", doc="Piston acceleration relative to the housing")
+    v_rod = Variable(unit="m/s", state_select="avoid", doc="Absolute velocity of the rod (flange_b)")
+    a_rod = Variable(unit="m/s2", doc="Absolute acceleration of the rod (flange_b)")
+    p_A = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in chamber A")
+    p_B = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in chamber B")
+    m_A = Variable(unit="kg", state_select="prefer", nominal=0.1, doc="Fluid mass in chamber A")
+    m_B = Variable(unit="kg", state_select="prefer", nominal=0.1, doc="Fluid mass in chamber B")
+    V_A = Variable(unit="m3", doc="Volume of chamber A")
+    V_B = Variable(unit="m3", doc="Volume of chamber B")
+    F = Variable(unit="N", nominal=1e4, doc="Net force of housing and fluid on the rod (extending)")
+    F_hyd = Variable(unit="N", nominal=1e4, doc="Pressure force on the piston (extending)")
+    F_fric = Variable(unit="N", nominal=1e3, doc="Friction force opposing v")
+    F_stop = Variable(unit="N", nominal=1e4, doc="End-stop contact force (extending)")
+    m_flow_int = Variable(unit="kg/s", doc="Internal leakage mass flow A -> B")
+    m_flow_ext = Variable(unit="kg/s", doc="External leakage mass flow out of chamber B")
+
+    port_A = Port(doc="Cap-side chamber")
+    port_B = Port(doc="Rod-side chamber")
+    flange_a = Flange(doc="Housing (mounting)")
+    flange_b = Flange(doc="Rod end")
+
+    def __init__(self, x_fixed: bool = True, p_fixed: bool = True, use_drain: bool = False,
+                 fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(**kw)
+        store_fluid(self, fluid)
+        self.x_fixed = bool(x_fixed)
+        self.p_fixed = bool(p_fixed)
+        self.use_drain = bool(use_drain)
+        if self.use_drain:
+            self.port_D = Port(doc="Drain of the rod seal")
+        self.__dict__["_ready"] = True
+        self._check_geometry()
+
+    def _assign(self, name: str, value: Any) -> None:
+        super()._assign(name, value)
+        if self.__dict__.get("_ready"):
+            self._check_geometry()
+
+    def _check_geometry(self) -> None:
+        label = self.path or type(self).__name__
+        val = {n: self.parameter_value(n) for n in ("d_bore", "d_rod", "stroke", "x_start")}
+        if val["d_bore"] is not None and val["d_rod"] is not None and not val["d_rod"] < val["d_bore"]:
+            raise ParameterError(f"{label}: rod diameter d_rod = {float(val['d_rod'])!r} m >= bore "
+                                 f"d_bore = {float(val['d_bore'])!r} m (no annulus)")
+        if val["stroke"] is not None and not 0.0 <= val["x_start"] <= val["stroke"]:
+            raise ParameterError(f"{label}: x_start = {float(val['x_start'])!r} m is outside the stroke "
+                                 f"[0, {float(val['stroke'])!r}] m")
+
+    # -- geometry --------------------------------------------------------------------------------
+    @property
+    def A_p(self) -> ca.SX:
+        """Piston area [m2]."""
+        return math.pi / 4.0 * self.d_bore**2
+
+    @property
+    def A_r(self) -> ca.SX:
+        """Annulus (rod-side) area [m2]."""
+        return math.pi / 4.0 * (self.d_bore**2 - self.d_rod**2)
+
+    def friction_force(self) -> ca.SX:
+        """Regularised Coulomb–Stribeck–viscous friction force opposing ``v`` [N]."""
+        v = self.v
+        return (self.F_c * (1.0 + (self.stribeck - 1.0) * ca.exp(-(v / self.v_s) ** 2)) * ca.tanh(v / self.v_reg)
+                + self.d * v)
+
+    def stop_force(self) -> ca.SX:
+        """End-stop contact force (state events at contact and at zero contact force) [N]."""
+        x, v = self.x, self.v
+        f_cap = self.c_stop * (-x) - self.d_stop * v
+        f_rod = self.c_stop * (x - self.stroke) + self.d_stop * v
+        return (if_else(ca.logic_and(x < 0.0, f_cap > 0.0), f_cap, 0.0)
+                - if_else(ca.logic_and(x > self.stroke, f_rod > 0.0), f_rod, 0.0))
+
+    def equations(self) -> list:
+        fa, fb, fl = self.flange_a, self.flange_b, self.fluid
+        p_A, p_B = self.p_A, self.p_B
+        p_D = self.port_D.p if self.use_drain else fl.p_ref
+        rho_AB = fl.density(0.5 * (p_A + p_B))
+        eqs = [
+            eq(self.x, fb.s - fa.s - self.L0, label="piston position"),
+            eq(der(self.x), self.v), eq(der(self.v), self.a),
+            eq(der(fb.s), self.v_rod), eq(der(self.v_rod), self.a_rod),
+            eq(self.port_A.p, p_A), eq(self.port_B.p, p_B),
+            eq(self.V_A, self.V_dead_A + self.A_p * self.x),
+            eq(self.V_B, self.V_dead_B + self.A_r * (self.stroke - self.x)),
+            eq(self.m_flow_int, rho_AB * self.G_int * (p_A - p_B)),
+            eq(self.m_flow_ext, fl.density(p_B) * self.G_ext * (p_B - p_D)),
+            *chamber_equations(fl, self.m_A, p_A, self.V_A, self.port_A.m_flow - self.m_flow_int),
+            *chamber_equations(fl, self.m_B, p_B, self.V_B, self.port_B.m_flow + self.m_flow_int - self.m_flow_ext),
+            eq(self.F_hyd, p_A * self.A_p - p_B * self.A_r - fl.p_ref * (self.A_p - self.A_r)),
+            eq(self.F_fric, self.friction_force()),
+            eq(self.F_stop, self.stop_force()),
+            eq(self.F, self.F_hyd - self.F_fric + self.F_stop),
+            eq(self.m * self.a_rod, self.F + fb.f, label="piston and rod: Newton"),
+            eq(fa.f, self.F, label="massless housing"),
+        ]
+        if self.use_drain:
+            eqs.append(eq(self.port_D.m_flow, -self.m_flow_ext))
+        return eqs
+
+    def initial_equations(self) -> list:
+        """``x_fixed``: x = x_start, v = v_start; ``p_fixed``: p_A = p_A_start, p_B = p_B_start."""
+        out = []
+        if self.x_fixed:
+            out += [eq(self.x, self.x_start, label="start position"), eq(self.v, self.v_start, label="start velocity")]
+        if self.p_fixed:
+            out += [eq(self.p_A, self.p_A_start, label="start pressure A"),
+                    eq(self.p_B, self.p_B_start, label="start pressure B")]
+        return out
+
+
+class LineCylinder(Component):
+    """Double-acting cylinder acting along the straight line between the origins of two 3D frames.
+
+    A :class:`~flexlib.components.mechanics.multibody.LineForce` carries a
+    :class:`DoubleActingCylinder` between its 1D flanges: the cylinder housing is pinned at ``frame_a``
+    and the rod end at ``frame_b``, so the piston position is ``x = |r_b − r_a| − L0`` with ``L0`` the
+    closed length (pin-to-pin distance at x = 0). The cylinder force acts along the line on both frames
+    (no torques: pin joints at both ends). The rod inertia ``m`` acts along the line with the acceleration
+    of the length (``d²|r_b − r_a|/dt²``), exact when frame_a does not accelerate; its transverse
+    inertia is not represented (put a Body on frame_b for that, or set ``m = 0``).
+
+    Parameters
+    ----------
+    x_fixed : bool
+        True if the cylinder's start position is an initial condition (structural; default False:
+        the position follows from the 3D model's initial conditions).
+    s_small : float
+        Regularisation length of the line [m] (see LineForce); passed as ``s_small=``.
+    **cylinder
+        Parameters of :class:`DoubleActingCylinder` (``d_bore``, ``d_rod``, ``stroke``, ``L0``, ``m``,
+        ...), and its structural options ``p_fixed``, ``use_drain``, ``fluid``. They live on the
+        sub-component ``cylinder``: run-time overrides are ``params={"<name>.cylinder.d_bore": ...}``.
+
+    Connectors
+    ----------
+    frame_a, frame_b : multibody Frame
+        Pin points of the housing and of the rod end.
+    port_A, port_B : Port
+        Cap-side and rod-side chambers.
+    port_D : Port
+        Rod-seal drain (only with ``use_drain=True``).
+
+    Variables
+    ---------
+    Those of ``cylinder`` (x, v, p_A, p_B, F, ...) and of ``line`` (length, f_a, f_b).
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Forces.LineForceWithMass`` (1D element
+    between two frames); MathWorks Simscape Fluids, *Double-Acting Actuator (IL)* with Simscape Multibody
+    (actuator between two frames).
+    """
+
+    def __init__(self, x_fixed: bool = False, s_small: float = 1e-6, **cylinder: Any) -> None:
+        from flexlib.components.mechanics.multibody.interfaces import Frame
+        from flexlib.components.mechanics.multibody.line_force import LineForce
+
+        init = cylinder.pop("init", None)
+        guess = cylinder.pop("guess", None)
+        doc = cylinder.pop("doc", "")
+        super().__init__(doc=doc, init=init, guess=guess)
+        self.frame_a = Frame(doc="Housing pin")
+        self.frame_b = Frame(doc="Rod-end pin")
+        self.port_A = Port(doc="Cap-side chamber")
+        self.port_B = Port(doc="Rod-side chamber")
+        self.line = LineForce(s_small=s_small)
+        self.cylinder = DoubleActingCylinder(x_fixed=x_fixed, **cylinder)
+        self.connect(self.frame_a, self.line.frame_a)
+        self.connect(self.frame_b, self.line.frame_b)
+        self.connect(self.line.flange_a, self.cylinder.flange_a)
+        self.connect(self.line.flange_b, self.cylinder.flange_b)
+        self.connect(self.port_A, self.cylinder.port_A)
+        self.connect(self.port_B, self.cylinder.port_B)
+        if self.cylinder.use_drain:
+            self.port_D = Port(doc="Rod-seal drain")
+            self.connect(self.port_D, self.cylinder.port_D)
+

@@ -1,0 +1,221 @@
+"""Proportional 4/3 directional valve with spool dynamics."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from flexlib import Component, Input, Parameter, Variable, der, eq, no_event
+from flexlib.errors import ModelError, ParameterError
+
+from ._checks import PositiveParameters, store_fluid
+from .flow_laws import critical_pressure, orifice_mass_flow
+from .fluid import HLP46, Fluid
+from .interfaces import Port
+
+__all__ = ["DirectionalValve43"]
+
+#: Normalised laps (P→A, P→B, A→T, B→T) of the centre configurations; negative = underlap (open).
+CENTRES = {
+    "closed": (0.0, 0.0, 0.0, 0.0),
+    "open": (-0.1, -0.1, -0.1, -0.1),
+    "float": (0.0, 0.0, -0.1, -0.1),
+    "tandem": (0.1, 0.1, 0.1, 0.1),
+}
+
+
+class DirectionalValve43(PositiveParameters, Component):
+    """Proportional 4/3 directional valve (4 ports, 3 positions): spool dynamics and four metering edges.
+
+    Spool: the command ``u`` (normalised, −1…1) is clipped to [−1, 1] and drives the normalised spool
+    position ``xs`` through a second-order lag::
+
+        der(xs) = vs,   der(vs) = omega²·(clip(u) − xs) − 2·zeta·omega·vs
+
+    Edges P→A and B→T open for ``xs > 0``, P→B and A→T for ``xs < 0``. Each edge ``e`` has the normalised
+    lap ``lap_e`` (> 0 overlap: the edge opens only beyond ``lap_e``; < 0 underlap: open in the centre)
+    and the opening fraction (continuous, no events; clipped to [0, 1])::
+
+        h_PA = (xs − lap_PA)/(1 − lap_PA),  h_BT = (xs − lap_BT)/(1 − lap_BT),
+        h_PB = (−xs − lap_PB)/(1 − lap_PB), h_AT = (−xs − lap_AT)/(1 − lap_AT),
+        A_e = A_max·clip(h_e, 0, 1) + A_leak
+
+    so every edge is fully open at full stroke. ``A_max`` follows from the nominal flow of one fully open
+    edge at the nominal pressure drop across that edge (data-sheet rating "Q_nom at Δp_nom per control
+    edge"): ``Q_nom = Cd·A_max·sqrt(2·dp_nom/rho_ref)``. The edge flow is the orifice law with a smooth
+    laminar transition (:func:`~.flow_laws.orifice_mass_flow`, density at the mean edge pressure), so the
+    leakage area ``A_leak`` of a closed edge gives a laminar leakage. The valve stores no fluid::
+
+        port_P.m_flow = m_PA + m_PB (+ m_PT),  port_A.m_flow = m_AT − m_PA,
+        port_B.m_flow = m_BT − m_PB,           port_T.m_flow = −(m_AT + m_BT (+ m_PT))
+
+    Centre configurations (``centre``, structural) set the default laps: ``"closed"`` (all 0: critical
+    centre, all ports blocked in neutral), ``"open"`` (all −0.1: all ports connected), ``"float"`` (P
+    edges 0, tank edges −0.1: A and B to T, P blocked), ``"tandem"`` (all 0.1, plus a P→T bypass of
+    nominal flow ``Q_nom_PT`` whose opening ``1 − |xs|/xs_PT`` closes at ``|xs| = xs_PT``). Laps passed
+    explicitly override the preset.
+
+    Parameters
+    ----------
+    Q_nom : float
+        Nominal volume flow of one fully open edge at ``dp_nom`` [m3/s], > 0.
+    dp_nom : float
+        Nominal pressure drop per edge for ``Q_nom`` [Pa], > 0 (35 bar per edge for servo valves,
+        5–10 bar for proportional valves).
+    Cd : float
+        Discharge coefficient [1], > 0.
+    omega : float
+        Natural frequency of the spool [rad/s], > 0.
+    zeta : float
+        Damping ratio of the spool [1], > 0.
+    lap_PA, lap_PB, lap_AT, lap_BT : float
+        Normalised lap of each edge [1], < 1 (> 0 overlap, < 0 underlap).
+    A_leak : float
+        Leakage area of every edge (added to the opening) [m2], >= 0.
+    Q_nom_PT : float
+        Nominal flow of the tandem-centre P→T bypass at ``dp_nom`` [m3/s] (``centre="tandem"`` only).
+    xs_PT : float
+        Spool position at which the tandem bypass is closed [1], > 0.
+    Re_cr : float
+        Critical Reynolds number of the laminar–turbulent transition [1], > 0.
+    centre : str
+        ``"closed"`` (default), ``"open"``, ``"float"`` or ``"tandem"`` (structural; see above).
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port_P, port_T, port_A, port_B : Port
+        Supply, tank and the two consumer ports; m_flow positive into the valve.
+    u : Input [1]
+        Spool command, −1…1 (clipped; see Notes).
+
+    Variables
+    ---------
+    xs [1], vs [1/s]: spool position and velocity (states, start 0 fixed); u_sat [1]: clipped command;
+    m_PA, m_PB, m_AT, m_BT (m_PT) [kg/s]: edge mass flows; q_A, q_B [m3/s]: volume flows out of
+    ports A and B.
+
+    Notes
+    -----
+    A signal cannot be checked when the model is built, and flexlib has no run-time assertion: a command
+    outside [−1, 1] is clipped (continuously, without events: a controller output saturated at exactly
+    ±1 must not create an event indicator that stays at zero), and :meth:`check_command` raises a
+    ModelError naming the valve and the first time the command left the range. The edge openings are
+    clipped the same way (a servo valve around its null would otherwise make an event at every
+    crossing).
+
+    References
+    ----------
+    MathWorks Simscape Fluids, *4-Way 3-Position Directional Valve (IL)* block documentation (edges,
+    laps, leakage area).
+    Hopsan component library, *4/3 Directional Valve* (``Hydraulic43Valve``): spool second-order
+    dynamics, overlaps per edge.
+    H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §3.4–3.5 (four-way spool valves, rated flow).
+    """
+
+    _positive = ("Q_nom", "dp_nom", "Cd", "omega", "zeta", "xs_PT", "Re_cr")
+
+    Q_nom = Parameter(6e-4, unit="m3/s", min=0.0, doc="Nominal flow of one open edge at dp_nom")
+    dp_nom = Parameter(35e5, unit="Pa", min=0.0, doc="Nominal pressure drop per edge")
+    Cd = Parameter(0.7, unit="1", min=0.0, doc="Discharge coefficient")
+    omega = Parameter(2 * math.pi * 30.0, unit="rad/s", min=0.0, doc="Spool natural frequency")
+    zeta = Parameter(0.8, unit="1", min=0.0, doc="Spool damping ratio")
+    lap_PA = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge P->A")
+    lap_PB = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge P->B")
+    lap_AT = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge A->T")
+    lap_BT = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge B->T")
+    A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area per edge")
+    Q_nom_PT = Parameter(6e-4, unit="m3/s", min=0.0, doc="Nominal flow of the tandem P->T bypass")
+    xs_PT = Parameter(0.1, unit="1", min=0.0, doc="Spool position closing the tandem bypass")
+    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
+
+    u = Input(unit="1", doc="Spool command (-1..1)")
+    xs = Variable(unit="1", fixed=True, state_select="prefer", doc="Normalised spool position")
+    vs = Variable(unit="1/s", fixed=True, state_select="prefer", doc="Spool velocity")
+    u_sat = Variable(unit="1", doc="Spool command clipped to [-1, 1]")
+    m_PA = Variable(unit="kg/s", doc="Mass flow through edge P->A")
+    m_PB = Variable(unit="kg/s", doc="Mass flow through edge P->B")
+    m_AT = Variable(unit="kg/s", doc="Mass flow through edge A->T")
+    m_BT = Variable(unit="kg/s", doc="Mass flow through edge B->T")
+    q_A = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow out of port A")
+    q_B = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow out of port B")
+
+    port_P = Port(doc="Supply")
+    port_T = Port(doc="Tank")
+    port_A = Port(doc="Consumer A")
+    port_B = Port(doc="Consumer B")
+
+    def __init__(self, centre: str = "closed", fluid: Fluid = HLP46, **kw: Any) -> None:
+        if centre not in CENTRES:
+            raise ModelError(f"{type(self).__name__}: centre must be one of {sorted(CENTRES)}, got {centre!r}")
+        for name, lap in zip(("lap_PA", "lap_PB", "lap_AT", "lap_BT"), CENTRES[centre], strict=True):
+            kw.setdefault(name, lap)
+        super().__init__(**kw)
+        store_fluid(self, fluid)
+        self.centre = centre
+        if centre == "tandem":
+            self.m_PT = Variable(unit="kg/s", doc="Mass flow through the tandem bypass P->T")
+
+    def _assign(self, name: str, value: Any) -> None:
+        super()._assign(name, value)
+        if name.startswith("lap_") and not np.all(self._values[name] < 1.0):
+            raise ParameterError(f"{self._label(name)} = {float(self._values[name])!r} must be < 1 (normalised lap)")
+
+    # -- edges -----------------------------------------------------------------------------------
+    @property
+    def A_max(self) -> ca.SX:
+        """Area of a fully open edge from the nominal rating [m2]."""
+        return self.Q_nom / (self.Cd * ca.sqrt(2.0 * self.dp_nom / self.fluid.rho_ref))
+
+    def _edge(self, opening: Any, A_max: Any, p_up: Any, p_down: Any) -> ca.SX:
+        """Mass flow through one edge of normalised opening ``opening`` (clipped to [0, 1])."""
+        h = no_event(opening > 0.0, no_event(opening < 1.0, opening, 1.0), 0.0)
+        area = A_max * h + self.A_leak
+        rho = self.fluid.density(0.5 * (p_up + p_down))
+        p_cr = critical_pressure(area, self.Cd, rho, self.fluid.nu, self.Re_cr)
+        return orifice_mass_flow(p_up - p_down, area, self.Cd, rho, p_cr)
+
+    def equations(self) -> list:
+        P, T, A, B = self.port_P, self.port_T, self.port_A, self.port_B
+        xs, w = self.xs, self.omega
+        eqs = [
+            eq(self.u_sat, no_event(self.u > 1.0, 1.0, no_event(self.u < -1.0, -1.0, self.u))),
+            eq(der(xs), self.vs),
+            eq(der(self.vs), w**2 * (self.u_sat - xs) - 2.0 * self.zeta * w * self.vs),
+            eq(self.m_PA, self._edge((xs - self.lap_PA) / (1.0 - self.lap_PA), self.A_max, P.p, A.p)),
+            eq(self.m_BT, self._edge((xs - self.lap_BT) / (1.0 - self.lap_BT), self.A_max, B.p, T.p)),
+            eq(self.m_PB, self._edge((-xs - self.lap_PB) / (1.0 - self.lap_PB), self.A_max, P.p, B.p)),
+            eq(self.m_AT, self._edge((-xs - self.lap_AT) / (1.0 - self.lap_AT), self.A_max, A.p, T.p)),
+            eq(A.m_flow, self.m_AT - self.m_PA), eq(B.m_flow, self.m_BT - self.m_PB),
+            eq(self.q_A, -A.m_flow / self.fluid.density(A.p)), eq(self.q_B, -B.m_flow / self.fluid.density(B.p)),
+        ]
+        if self.centre == "tandem":
+            A_PT = self.Q_nom_PT / (self.Cd * ca.sqrt(2.0 * self.dp_nom / self.fluid.rho_ref))
+            abs_xs = no_event(xs > 0.0, xs, -xs)
+            eqs += [eq(self.m_PT, self._edge(1.0 - abs_xs / self.xs_PT, A_PT, P.p, T.p)),
+                    eq(P.m_flow, self.m_PA + self.m_PB + self.m_PT),
+                    eq(T.m_flow, -(self.m_AT + self.m_BT + self.m_PT))]
+        else:
+            eqs += [eq(P.m_flow, self.m_PA + self.m_PB), eq(T.m_flow, -(self.m_AT + self.m_BT))]
+        return eqs
+
+    def check_command(self, result: Any, tol: float = 1e-6) -> None:
+        """Raise ModelError if the spool command of this valve left [−1, 1] during ``result``.
+
+        Parameters
+        ----------
+        result : Result
+            A result of a model that contains this valve.
+        tol : float
+            Allowed excess [1] (a controller limited to ±1 reaches it within the solver tolerance).
+        """
+        u = np.asarray(result[f"{self.path}.u"])
+        bad = np.flatnonzero(np.abs(u) > 1.0 + tol)
+        if bad.size:
+            k = int(bad[0])
+            raise ModelError(f"{self.path}: spool command u = {u[k]:.9g} out of range [-1, 1] at t = "
+                             f"{result.t[k]:.6g} s (max |u| = {np.abs(u).max():.6g}); the valve clipped it")

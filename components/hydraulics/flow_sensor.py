@@ -1,0 +1,54 @@
+"""Ideal flow rate sensor."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexlib import Component, Output, eq
+
+from ._checks import store_fluid
+from .fluid import HLP46, Fluid
+from .interfaces import Port
+
+__all__ = ["FlowSensor"]
+
+
+class FlowSensor(Component):
+    """Ideal flow sensor in series: no pressure drop, measures the flow from a to b.
+
+    ``port_a.p = port_b.p``, ``port_a.m_flow + port_b.m_flow = 0``,
+    ``m_flow = port_a.m_flow`` and ``q = m_flow / rho(p)`` (volume flow at the line pressure).
+
+    Parameters
+    ----------
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port_a, port_b : Port
+        Flow from a to b is positive.
+    m_flow : Output [kg/s]
+        Mass flow rate from a to b.
+    q : Output [m3/s]
+        Volume flow rate from a to b at the line pressure.
+
+    References
+    ----------
+    MathWorks Simscape Fluids, *Flow Rate Sensor (IL)* block documentation.
+    Hopsan component library, *Flow Sensor* (``HydraulicFlowSensor``).
+    """
+
+    port_a = Port(doc="Inlet")
+    port_b = Port(doc="Outlet")
+    m_flow = Output(unit="kg/s", doc="Mass flow rate from a to b")
+    q = Output(unit="m3/s", nominal=1e-3, doc="Volume flow rate from a to b at the line pressure")
+
+    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(**kw)
+        store_fluid(self, fluid)
+
+    def equations(self) -> list:
+        a, b = self.port_a, self.port_b
+        return [eq(a.p, b.p), eq(a.m_flow + b.m_flow, 0.0), eq(self.m_flow, a.m_flow),
+                eq(self.q * self.fluid.density(a.p), self.m_flow)]

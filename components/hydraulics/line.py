@@ -1,0 +1,138 @@
+"""Lumped hydraulic line (pipe or hose): capacitance, friction and optional inertance."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from flexlib import Component, Parameter, Variable, der, eq
+
+from ._checks import PositiveParameters, store_fluid
+from .fluid import HLP46, Fluid
+from .interfaces import Port, chamber_equations
+
+__all__ = ["Line"]
+
+#: Blasius over laminar friction factor: f_t / f_lam = (0.3164 / 64) Re**0.75.
+_C_BLASIUS = 0.3164 / 64.0
+
+
+class Line(PositiveParameters, Component):
+    """Lumped line of circular bore (pipe, tube or hose), π lumping.
+
+    The fluid volume ``V = pi d**2 / 4 * L`` is split into two chambers of ``V/2`` at the
+    ends (the port pressures ``p_a``, ``p_b``; each a :func:`chamber_equations` mass balance);
+    between them the mass flow ``m_flow`` (a to b) meets the friction drop and, optionally,
+    the fluid inertance:
+
+    .. math::
+
+        \\frac{L}{A}\\,\\dot{\\dot m} = p_a - p_b - \\Delta p_f \\quad (\\text{inertance; else } 0),
+        \\qquad \\Delta p_f = R_{lam}\\, q\\, \\big(1 + (c\\,Re^{3/4})^8\\big)^{1/8}
+
+    with ``q = m_flow / rho`` (mean pressure), the Hagen–Poiseuille resistance
+    ``R_lam = 128 mu L / (pi d**4)``, ``mu = nu * rho``, ``Re = |q| d / (A nu)`` and
+    ``c = 0.3164 / 64``: the laminar law for small ``Re`` and Blasius' smooth-pipe friction
+    ``f = 0.3164 Re**-0.25`` for turbulent flow, blended by an 8-norm of the two friction
+    factors (an analytic function of ``q**2``: smooth through zero, no events; +9 % at the
+    intersection ``Re ≈ 1190``, < 0.1 % below ``Re = 500`` and above ``Re = 3000``). With
+    ``use_turbulence=False`` the friction is purely laminar.
+
+    Wall compliance (hoses): each half volume grows with pressure,
+    ``V(p) = V/2 * (1 + k_wall * (p - p_ref))``, so the effective bulk modulus is
+    ``1 / (1/beta + k_wall)``; ``k_wall = 0`` is a rigid pipe. One lump resolves the first
+    mode only; for wave effects put several lines in series (the inner half volumes of
+    neighbours then add up to full segments).
+
+    Parameters
+    ----------
+    L : float
+        Length [m], > 0.
+    d : float
+        Inner (bore) diameter [m], > 0.
+    k_wall : float
+        Wall compliance, relative volume change per pressure (1 / wall bulk modulus) [1/Pa], >= 0.
+    p_start : float or None
+        Initial pressure of both ends [Pa] (structural; also fixes ``m_flow = 0`` at the start
+        with inertance). ``None`` leaves them free (``init=`` or steady state). Do not fix
+        it as well in a volume connected to the same node.
+    use_turbulence : bool
+        True to add the turbulent (Blasius) friction to the laminar one (structural).
+    use_inertance : bool
+        True to model the fluid inertance ``L / A`` (structural; adds the state ``m_flow``
+        and a fast mode).
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port_a, port_b : Port
+        Line ends; ``m_flow`` is positive from a to b.
+
+    Variables
+    ---------
+    p_a, p_b : Pa
+        End pressures.
+    m_a, m_b : kg
+        Masses stored in the end halves.
+    m_flow : kg/s
+        Mass flow from a to b through the friction element.
+    q : m3/s
+        Volume flow from a to b (mean-pressure density).
+    dp_f : Pa
+        Friction pressure drop.
+
+    References
+    ----------
+    MathWorks Simscape Fluids, *Pipe (IL)* block documentation (laminar and turbulent friction,
+    fluid inertia, flexible wall).
+    Hopsan component library, ``HydraulicLaminarOrifice`` (laminar resistance) and
+    ``HydraulicTLMlossless`` (line capacitance and wave propagation).
+    H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §2.4 (lumped line parameters).
+    F. M. White, *Fluid Mechanics*, 7th ed., §6.4 (Hagen–Poiseuille) and §6.6 (Blasius).
+    """
+
+    _positive = ("L", "d")
+    L = Parameter(unit="m", min=0.0, doc="Length")
+    d = Parameter(unit="m", min=0.0, doc="Inner diameter")
+    k_wall = Parameter(0.0, unit="1/Pa", min=0.0, doc="Wall compliance (1 / wall bulk modulus)")
+    port_a = Port(doc="End a")
+    port_b = Port(doc="End b")
+    p_a = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure at end a")
+    p_b = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure at end b")
+    m_a = Variable(unit="kg", doc="Mass in the half at end a")
+    m_b = Variable(unit="kg", doc="Mass in the half at end b")
+    m_flow = Variable(unit="kg/s", doc="Mass flow from a to b")
+    q = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow from a to b")
+    dp_f = Variable(unit="Pa", nominal=1e6, doc="Friction pressure drop")
+
+    def __init__(self, p_start: float | None = None, use_turbulence: bool = True, use_inertance: bool = False,
+                 fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(**kw)
+        store_fluid(self, fluid)
+        self.use_turbulence = bool(use_turbulence)
+        self.use_inertance = bool(use_inertance)
+        for name in ("p_a", "p_b"):
+            self.set_start(name, fluid.p_ref if p_start is None else p_start, fixed=p_start is not None)
+        if use_inertance and p_start is not None:
+            self.set_start("m_flow", 0.0, fixed=True)
+
+    def equations(self) -> list:
+        fl, a, b = self.fluid, self.port_a, self.port_b
+        area = math.pi / 4.0 * self.d**2
+        v_half = 0.5 * area * self.L
+        rho = fl.density(0.5 * (self.p_a + self.p_b))
+        r_lam = 128.0 * fl.nu * rho * self.L / (math.pi * self.d**4)
+        friction = r_lam * self.q
+        if self.use_turbulence:
+            re2 = (self.q * self.d / (area * fl.nu)) ** 2
+            friction = friction * (1.0 + _C_BLASIUS**8 * re2**3) ** 0.125
+        eqs = [eq(a.p, self.p_a), eq(b.p, self.p_b),
+               *chamber_equations(fl, self.m_a, self.p_a, v_half * (1.0 + self.k_wall * (self.p_a - fl.p_ref)),
+                                  a.m_flow - self.m_flow),
+               *chamber_equations(fl, self.m_b, self.p_b, v_half * (1.0 + self.k_wall * (self.p_b - fl.p_ref)),
+                                  b.m_flow + self.m_flow),
+               eq(self.m_flow, rho * self.q), eq(self.dp_f, friction)]
+        if self.use_inertance:
+            return [*eqs, eq(self.L / area * der(self.m_flow), self.p_a - self.p_b - self.dp_f)]
+        return [*eqs, eq(self.p_a - self.p_b, self.dp_f)]

@@ -1,0 +1,75 @@
+"""Orifice with its opening area given by a signal."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+
+from flexlib import Input, Parameter, eq
+
+from ._checks import PositiveParameters, store_fluid
+from .flow_laws import critical_pressure, orifice_mass_flow
+from .fluid import HLP46, Fluid
+from .interfaces import PartialTwoPort
+
+__all__ = ["VariableOrifice"]
+
+
+class VariableOrifice(PositiveParameters, PartialTwoPort):
+    """Orifice whose opening area is the input signal ``A`` (a valve edge, a throttle).
+
+    Same flow law as :class:`Orifice` with the effective area
+    ``A_eff = A_leak + max(A, 0)``: a negative or zero command closes the orifice down to
+    the leakage area, which keeps the laminar transition pressure finite.
+
+    Parameters
+    ----------
+    Cd : float
+        Discharge coefficient [1], > 0.
+    A_leak : float
+        Leakage area of the closed orifice [m2], > 0.
+    Re_cr : float
+        Critical Reynolds number of the laminar–turbulent transition [1], > 0.
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port_a, port_b : Port
+        Flow from a to b is positive.
+    A : Input [m2]
+        Opening area command.
+
+    Variables
+    ---------
+    m_flow : kg/s
+        Mass flow from a to b.
+    q : m3/s
+        Volume flow from a to b (mean-pressure density).
+    dp : Pa
+        Pressure drop ``port_a.p - port_b.p``.
+
+    References
+    ----------
+    MathWorks Simscape Fluids, *Orifice (IL)* block documentation (variable orifice, area
+    parameterization).
+    Hopsan component library, *2/2 Valve* (``Hydraulic22Valve``, turbulent flow through a commanded area).
+    H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §3.2 (orifice flow).
+    """
+
+    _positive = ("Cd", "A_leak", "Re_cr")
+    Cd = Parameter(0.64, unit="1", min=0.0, doc="Discharge coefficient")
+    A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area of the closed orifice")
+    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
+    A = Input(unit="m2", doc="Opening area command")
+
+    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(fluid=fluid, **kw)
+        store_fluid(self, fluid)
+
+    def equations(self) -> list:
+        rho = self.fluid.density(0.5 * (self.port_a.p + self.port_b.p))
+        area = self.A_leak + ca.fmax(self.A, 0.0)
+        p_cr = critical_pressure(area, self.Cd, rho, self.fluid.nu, self.Re_cr)
+        return [*super().equations(), eq(self.m_flow, orifice_mass_flow(self.dp, area, self.Cd, rho, p_cr))]

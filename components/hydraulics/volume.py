@@ -1,0 +1,73 @@
+"""Lumped compressible volume."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from flexlib import Component, Parameter, Variable, eq
+
+from ._checks import PositiveParameters, store_fluid
+from .fluid import HLP46, Fluid
+from .interfaces import Port, chamber_equations
+
+__all__ = ["Volume"]
+
+
+class Volume(PositiveParameters, Component):
+    """Constant lumped volume of compressible fluid (hydraulic capacitance).
+
+    Mass balance with the stored mass as state (:func:`chamber_equations`):
+
+    .. math::
+
+        \\dot m = \\sum \\dot m_{in}, \\qquad m = \\rho(p)\\, V
+
+    i.e. ``dp/dt = beta_eff(p) / V * q_in``. Any number of components can be connected to
+    the single ``port`` (a node of the circuit).
+
+    Parameters
+    ----------
+    V : float
+        Volume [m3], > 0.
+    p_start : float or None
+        Initial absolute pressure [Pa] (structural: fixes ``p`` at the start time). ``None``
+        leaves the initial pressure free (start guess ``fluid.p_ref``), to be set by
+        ``init={"p": ...}``, by ``run(steady_state=True)`` or by the circuit.
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port : Port
+        Node port; ``port.m_flow`` is the mass flow into the volume.
+
+    Variables
+    ---------
+    p : Pa
+        Pressure in the volume.
+    m : kg
+        Stored mass (differential state).
+
+    References
+    ----------
+    MathWorks Simscape Fluids, *Constant Volume Chamber (IL)* block documentation.
+    Hopsan component library, *Volume* (``HydraulicVolumeMultiPort``).
+    H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §2.3 (continuity equation).
+    """
+
+    _positive = ("V",)
+    V = Parameter(unit="m3", min=0.0, doc="Volume")
+    p = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in the volume")
+    m = Variable(unit="kg", doc="Stored mass")
+    port = Port(doc="Node port")
+
+    def __init__(self, p_start: float | None = None, fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(**kw)
+        store_fluid(self, fluid)
+        if p_start is not None:
+            self.set_start("p", p_start, fixed=True)
+        else:
+            self.set_start("p", fluid.p_ref, fixed=False)
+
+    def equations(self) -> list:
+        return [eq(self.port.p, self.p), *chamber_equations(self.fluid, self.m, self.p, self.V, self.port.m_flow)]
