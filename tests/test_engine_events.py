@@ -110,3 +110,28 @@ def test_output_grid_kept_after_state_event():
     assert np.all(np.diff(res.t) >= 0)
     grid = np.round(np.linspace(0, 1, 101), 12)
     assert set(grid) <= set(np.round(res.t, 12))
+
+
+class SaturatedRamp(fl.Model):
+    """A first-order lag driven by min(u, 1), where u ramps from 0 to exactly 1 on [0.5, 0.55] and then holds:
+    the state event of ``u > 1`` falls exactly on the time event ending the ramp."""
+
+    x = Variable(start=0.0, fixed=True)
+    u = Variable()
+
+    def equations(self):
+        ramp = if_else(time < 0.5, 0.0, if_else(time < 0.55, (time - 0.5) / 0.05, 1.0))
+        return [eq(self.u, ramp), eq(der(self.x), if_else(self.u > 1.0, 1.0, self.u) - self.x)]
+
+
+def test_state_event_coinciding_with_time_event():
+    """A state event found exactly at a time event does not hide the time event (it used to leave the next
+    stop time equal to the current time and IDA refused to start). x(1) matches the closed form of
+    der(x) = u - x (1e-7)."""
+    res = fl.Simulation(SaturatedRamp(), use_cache=False).run(1.0, dt_out=0.05, rtol=1e-10, atol=1e-12)
+    # closed form: on [0.5, 0.55] x' = 20(t-0.5) - x, x(0.5) = 0; on [0.55, 1] x' = 1 - x
+    a, t1 = 20.0, 0.05
+    x1 = a * (t1 - 1.0 + np.exp(-t1))
+    expected = 1.0 - (1.0 - x1) * np.exp(-(1.0 - 0.55))
+    assert abs(res["x"][-1] - expected) < 1e-7
+    assert any(abs(t - 0.55) < 1e-12 for t, _ in res.events)

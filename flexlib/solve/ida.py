@@ -283,16 +283,17 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
             event_kind = None
             changed: list[int] = []
             triggered: list[tuple[int, bool]] = []
+            time_hit = bool(which) and r.status in (1, 2) and t >= t_event
             if r.status == 2:
                 info = ev_holder.last_roots()
                 for j in np.flatnonzero(info):
                     triggered.append((int(state_rel[j]), bool(info[j] > 0)))
                 event_kind = "state"
-            elif r.status == 1 and which and t == t_event:
+            if time_hit:  # also when a state event is found exactly at the time event
                 ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
-                triggered = [(k, bool(ab[k, 0] > 0)) for k in which]
-                event_kind = "time"
-            elif watch > 0:
+                triggered += [(k, bool(ab[k, 0] > 0)) for k in which]
+                event_kind = event_kind or "time"
+            elif r.status != 2 and watch > 0:
                 # IDA ignores a root function that is zero at a restart until it leaves zero, so a
                 # relation that re-crosses at once (sliding) is caught by checking its sign here
                 watch -= 1
@@ -319,7 +320,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     if burst > 100:
                         raise SolverError(
                             f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
-                if event_kind == "time":
+                if time_hit:
                     t_event, which = next_time_event(model, p, t, t_end)
             if monitor is not None and model.has_state_choice and monitor.needs_switch(model, t, r.y, r.yp, p):
                 y_now, yp_now = (y1, yp1) if event_kind and changed else (r.y, r.yp)
