@@ -1,4 +1,4 @@
-"""Benchmark: hydraulic position servo driven into its end stops (issue 5).
+"""Benchmark: hydraulic position servo driven into its end stops (issue 4).
 
 Fixed-displacement pump (20 cm3/rev at 1500 rpm = 30 L/min) with a relief valve (160 bar) and a 0.5 L
 supply volume → proportional 4/3 valve (40 L/min at 35 bar per edge, 30 Hz spool) → 63/36 × 400 mm

@@ -25,6 +25,9 @@ def test_readme_examples_run(tmp_path, monkeypatch):
         exec(compile(block, "README.md", "exec"), namespace)
     assert (tmp_path / "oscillator.h5").exists()
     assert namespace["sim"].report.index == 3
+    lift = namespace["res"]  # the hydraulic example: the piston extends at Q / A_piston (0.5 %)
+    area = 3.141592653589793 / 4 * 0.063**2
+    assert abs(lift["cylinder.v"][-1] - lift["flow.q"][-1] / area) <= 5e-3 * lift["cylinder.v"][-1]
 
 
 def test_demo_runs(tmp_path, capsys):
