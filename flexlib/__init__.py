@@ -6,7 +6,7 @@ _os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (s
 
 from flexlib.compile.cache import build
 from flexlib.core.component import Component, Connector, Model
-from flexlib.core.functions import abs_, if_else, max_, min_, no_event, sign
+from flexlib.core.functions import abs_, assert_, if_else, max_, min_, no_event, sign
 from flexlib.core.variables import (
     Flow,
     Input,
@@ -61,6 +61,7 @@ __all__ = [
     "Variable",
     "__version__",
     "abs_",
+    "assert_",
     "build",
     "der",
     "eq",

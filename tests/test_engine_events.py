@@ -135,3 +135,33 @@ def test_state_event_coinciding_with_time_event():
     expected = 1.0 - (1.0 - x1) * np.exp(-(1.0 - 0.55))
     assert abs(res["x"][-1] - expected) < 1e-7
     assert any(abs(t - 0.55) < 1e-12 for t, _ in res.events)
+
+
+class Bounded(fl.Model):
+    """x grows at 1 m/s; an assertion requires x <= 0.5 m."""
+
+    x = Variable(unit="m", start=0.0, fixed=True)
+
+    def equations(self):
+        fl.assert_(self.x <= 0.5, "x must stay below 0.5 m")
+        return [eq(der(self.x), 1.0)]
+
+
+@pytest.mark.parametrize("solver", ["ida", "casadi-idas"])
+def test_assertion_stops_the_run_at_the_violation(solver):
+    """assert_: the run stops where x crosses 0.5 (t = 0.5 s to 1e-9), the error names the component, the
+    relation and the message, and the result up to the violation is kept; false at the start fails at once."""
+    with pytest.raises(fl.SolverError, match=r"assertion failed at t = 0.5 s:\n  Bounded: x <= 0.5: x must stay") as e:
+        fl.Simulation(Bounded(), use_cache=False).run(1.0, dt_out=0.1, solver=solver, progress=False)
+    assert abs(e.value.result.t[-1] - 0.5) < 1e-9
+    assert abs(e.value.result["x"][-1] - 0.5) < 1e-9
+    model = Bounded()
+    model.set_start("x", 0.7)
+    with pytest.raises(fl.SolverError, match=r"assertion failed at t = 0 s"):
+        fl.Simulation(model, use_cache=False).run(1.0, solver=solver, progress=False)
+    with pytest.raises(fl.ModelError, match=r"assert_\(\): the condition must be one relation"):
+        class Bad(Bounded):
+            def equations(self):
+                fl.assert_(self.x + 1.0, "not a relation")
+                return []
+        fl.Simulation(Bad(), use_cache=False)

@@ -61,6 +61,7 @@ class RelationInfo:
     strict: bool
     time_event: bool  # affine in time, independent of y: hit exactly with tstop
     owner: str = ""
+    assertion: str = ""  # from assert_(): must stay true (message shown when it becomes false)
 
     def value(self, z: float) -> bool:
         """Relation value for indicator value ``z`` (``rhs - lhs``) away from an event."""
@@ -177,7 +178,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     tev_rows = []
     for rel, ind in dae.relations:
         timed = not ca.depends_on(ind, ca.vertcat(y, yp)) and ca.depends_on(ind, t) and bool(ca.is_linear(ind, t))
-        relations.append(RelationInfo(rel.text, rel.strict, timed))
+        relations.append(RelationInfo(rel.text, rel.strict, timed, rel.owner, rel.assertion))
         slope = ca.jacobian(ind, t) if timed else ca.SX(0.0)
         offset = ca.substitute(ind, t, ca.SX(0.0)) if timed else ca.SX(0.0)
         tev_rows.append(ca.horzcat(slope, offset))

@@ -23,7 +23,7 @@ import casadi as ca
 from flexlib.core.variables import SymInfo, _as_sx
 from flexlib.errors import ModelError
 
-__all__ = ["abs_", "if_else", "max_", "min_", "no_event", "sign"]
+__all__ = ["abs_", "assert_", "if_else", "max_", "min_", "no_event", "sign"]
 
 #: Relations created while a component's equations() runs are recorded here by the flattener.
 CURRENT_RELATIONS: ContextVar[list | None] = ContextVar("flexlib_relations", default=None)
@@ -52,6 +52,7 @@ class Relation:
     lhs: ca.SX | None = None
     rhs: ca.SX | None = None
     owner: str = ""
+    assertion: str = ""  # set by assert_(): the relation must stay true; message if it becomes false
 
     def describe(self) -> str:
         """``owner: lhs < rhs`` with hierarchical names."""
@@ -115,6 +116,30 @@ def if_else(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
     if not c.is_scalar():
         raise ModelError("if_else(): the condition must be a scalar")
     return ca.if_else(_discretize(c), _as_sx(if_true), _as_sx(if_false))
+
+
+def assert_(cond: Any, message: str) -> None:
+    """Modelica ``assert(cond, message)``: the run stops with an error when ``cond`` becomes false.
+
+    Call it inside :meth:`Component.equations` (it adds no equation). ``cond`` is one relation
+    (``u <= u_max``); it becomes an event indicator, so the violation is located in time, and the
+    :class:`~flexlib.SolverError` names the component, the relation and ``message``, keeping the
+    result up to the violation. A condition false at the start fails the run at once.
+
+    Parameters
+    ----------
+    cond : casadi.SX
+        A single relation (``<``, ``<=``, ``>``, ``>=``) that must hold during the whole run.
+    message : str
+        What is wrong, for the user (units and limits help).
+    """
+    c = _as_sx(cond)
+    if not c.is_scalar() or c.is_constant() or c.op() not in (ca.OP_LT, ca.OP_LE):
+        raise ModelError(f"assert_(): the condition must be one relation (<, <=, >, >=), got {c}")
+    _discretize(c)
+    sink = CURRENT_RELATIONS.get()
+    assert sink is not None  # _discretize raised otherwise
+    sink[-1].assertion = message
 
 
 def no_event(cond: Any, if_true: Any, if_false: Any) -> ca.SX:

@@ -471,6 +471,16 @@ def _event_iteration(model: CompiledModel, init: Initializer, p: np.ndarray, t: 
                 p[n_par + k] = v
                 changed = True
         if not changed:
+            check_assertions(model, p, t)
             return y1, yp1
         y, yp = y1, yp1
     raise SolverError(f"event iteration did not converge at t = {t:.10g} s")
+
+
+def check_assertions(model: CompiledModel, p: np.ndarray, t: float) -> None:
+    """Raise :class:`SolverError` if a relation declared with :func:`flexlib.assert_` is false."""
+    n_par = model.n_params
+    failed = [r for k, r in enumerate(model.relations) if r.assertion and p[n_par + k] != 1.0]
+    if failed:
+        lines = "\n".join(f"  {r.text}: {r.assertion}" for r in failed)
+        raise SolverError(f"assertion failed at t = {t:.10g} s:\n{lines}")

@@ -24,7 +24,7 @@ from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
 from flexlib.errors import ParameterError, SolverError
 from flexlib.results.result import Result
-from flexlib.solve.ida import Trajectory, integrate
+from flexlib.solve.ida import Trajectory, check_assertions, integrate
 from flexlib.solve.initialization import Initializer
 
 __all__ = ["Experiment", "Simulation"]
@@ -225,6 +225,7 @@ class Simulation:
         else:
             raise ValueError(f"solver must be 'ida' or 'casadi-idas', got {solver!r}")
         try:
+            check_assertions(m, p, t0)
             traj = backend(m, self.initializer, p, y0, yp0, t0, t1, grid, rtol=rtol, atol=atol,
                              max_step=max_step, max_steps=max_steps, progress=progress, **extra)
         except SolverError as err:

@@ -515,17 +515,14 @@ def test_valve_bad_parameters(factory, match):
         factory()
 
 
-def test_valve_command_out_of_range_is_clipped_and_reported():
-    """(g) A spool command of 1.5 is clipped to 1 (the spool settles at 1) and check_command reports it.
-
-    flexlib has no run-time assertion, so the check runs on the result; reference: the clipping law
-    u_sat = min(max(u, −1), 1). Tolerance: spool position 1e-6.
-    """
+def test_valve_command_out_of_range_stops_the_run():
+    """(g) A spool command stepping to 1.5 at t = 0.05 s stops the run with an error naming the valve, the
+    relation and the time (located to 1e-9 s); the result up to the violation is kept. A command of
+    exactly -1 (saturated controller) runs through."""
     model = ValveBench(100 * BAR, 50 * BAR, 50 * BAR, 1.5, t_step=0.05)
-    _, res = run(model, 0.3, dt_out=0.01)
-    assert res["valve.xs"][-1] == pytest.approx(1.0, abs=1e-6)
-    assert res["valve.u_sat"].max() == pytest.approx(1.0, abs=1e-12)
-    with pytest.raises(fl.ModelError, match=r"valve: spool command u = 1.5 out of range \[-1, 1\] at t = 0.05 s"):
-        model.valve.check_command(res)
+    match = r"assertion failed at t = 0.05 s:\n  valve: .*spool command above \+1"
+    with pytest.raises(fl.SolverError, match=match) as err:
+        run(model, 0.3, dt_out=0.01)
+    assert abs(err.value.result.t[-1] - 0.05) < 1e-9
     _, ok = run(ValveBench(100 * BAR, 50 * BAR, 50 * BAR, -1.0, t_step=0.05), 0.1, dt_out=0.01)
-    model.valve.check_command(ok)  # in range: no error
+    assert ok["valve.u_sat"].min() == pytest.approx(-1.0, abs=1e-12)
