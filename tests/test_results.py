@@ -84,3 +84,30 @@ def test_plot_returns_axes():
     res = fl.Simulation(Oscillator(), use_cache=False).run(1.0, dt_out=0.1)
     ax = res.plot("mass.s", "mass.v")
     assert [line.get_label() for line in ax.get_lines()] == ["mass.s [m]", "mass.v [m/s]"]
+
+
+def test_display_units_in_plots_and_summary():
+    """Plots and summaries show volume flow in L/min, pressure in bar and speed in rpm (results stay SI):
+    a FlowSource of 1e-4 m3/s reads 6 L/min; the tank's 1.01325e5 Pa reads 1.01325 bar."""
+    import matplotlib
+
+    from flexlib.components.hydraulics import FlowSensor, FlowSource, Tank
+
+    matplotlib.use("Agg")
+
+    class Feed(fl.Model):
+        def __init__(self):
+            super().__init__()
+            self.source, self.sensor, self.tank = FlowSource(q=1e-4), FlowSensor(), Tank()
+            self.connect(self.source.port, self.sensor.port_a)
+            self.connect(self.sensor.port_b, self.tank.port)
+
+    res = fl.Simulation(Feed(), use_cache=False).run(0.1, dt_out=0.05)
+    assert res.unit("sensor.q") == "m3/s" and res["sensor.q"][-1] == pytest.approx(1e-4, rel=1e-12)
+    values, unit = res.display("sensor.q")
+    assert unit == "L/min" and values[-1] == pytest.approx(6.0, rel=1e-12)
+    ax = res.plot("sensor.q", "tank.port.p")
+    assert [line.get_label() for line in ax.get_lines()] == ["sensor.q [L/min]", "tank.port.p [bar]"]
+    assert ax.get_lines()[1].get_ydata()[-1] == pytest.approx(1.01325, rel=1e-12)
+    table = res.summary("sensor.q", "tank.port.p").splitlines()
+    assert "L/min" in table[1] and "6" in table[1].split()[2] and "bar" in table[2]

@@ -8,7 +8,15 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Result"]
+__all__ = ["DISPLAY_UNITS", "Result"]
+
+#: Units shown in plots and summaries instead of SI, as engineers read them: ``{SI unit: (unit, factor)}``
+#: (value shown = SI value × factor). Results themselves stay in SI.
+DISPLAY_UNITS: dict[str, tuple[str, float]] = {
+    "m3/s": ("L/min", 60000.0),
+    "Pa": ("bar", 1e-5),
+    "rad/s": ("rpm", 60.0 / (2.0 * np.pi)),
+}
 
 
 @dataclass
@@ -107,20 +115,35 @@ class Result:
         """Value of ``name`` at the end of the run."""
         return float(self[name][-1])
 
-    def plot(self, *names: str, ax: Any = None, title: str | None = None) -> Any:
-        """Plot variables against time with matplotlib; returns the Axes."""
+    def display(self, name: str) -> tuple[np.ndarray, str]:
+        """Values of ``name`` in its display unit (:data:`DISPLAY_UNITS`: L/min, bar, rpm) and that unit."""
+        unit = self.unit(name)
+        shown, factor = DISPLAY_UNITS.get(unit, (unit, 1.0))
+        return self[name] * factor, shown
+
+    def plot(self, *names: str, ax: Any = None, title: str | None = None, si: bool = False) -> Any:
+        """Plot variables against time with matplotlib (display units unless ``si``); returns the Axes."""
         import matplotlib.pyplot as plt
 
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 4.5))
         for name in names:
-            ax.plot(self.t, self[name], label=f"{name} [{self.unit(name)}]")
+            values, unit = (self[name], self.unit(name)) if si else self.display(name)
+            ax.plot(self.t, values, label=f"{name} [{unit}]")
         ax.set_xlabel("time [s]")
         ax.set_title(title or self.model)
         ax.grid(True, alpha=0.3)
         if names:
             ax.legend()
         return ax
+
+    def summary(self, *names: str) -> str:
+        """Table of final, minimum and maximum values in display units (flows in L/min, pressures in bar)."""
+        rows = [f"{'variable':<36} {'unit':>7} {'final':>12} {'min':>12} {'max':>12}"]
+        for name in names:
+            values, unit = self.display(name)
+            rows.append(f"{name:<36} {unit:>7} {values[-1]:>12.5g} {values.min():>12.5g} {values.max():>12.5g}")
+        return "\n".join(rows)
 
     def save(self, path: str) -> None:
         """Write the result to an HDF5 file (atomically; layout in docs/results.md)."""
