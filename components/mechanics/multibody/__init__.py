@@ -7,6 +7,7 @@ from .body import Body
 from .body_box import BodyBox
 from .body_cylinder import BodyCylinder
 from .body_shape import BodyShape
+from .bushing import Bushing
 from .cut_force import CutForce
 from .cut_torque import CutTorque
 from .cylindrical import Cylindrical
@@ -36,6 +37,7 @@ __all__ = [
     "BodyBox",
     "BodyCylinder",
     "BodyShape",
+    "Bushing",
     "CutForce",
     "CutTorque",
     "Cylindrical",
