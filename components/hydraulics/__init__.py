@@ -3,7 +3,7 @@ fluid record, sources, volumes, lines, orifices, valves, pumps, cylinders and mo
 
 from .check_valve import CheckValve
 from .counterbalance_valve import CounterbalanceValve
-from .cylinder import DoubleActingCylinder, LineCylinder
+from .cylinder import DoubleActingCylinder
 from .directional_valve import DirectionalValve43
 from .fixed_displacement_pump import FixedDisplacementPump
 from .flow_laws import critical_pressure, orifice_mass_flow, to_lpm
@@ -13,6 +13,7 @@ from .fluid import HLP46, Fluid
 from .hydraulic_motor import HydraulicMotor
 from .interfaces import PartialTwoPort, Port, chamber_equations
 from .line import Line
+from .line_cylinder import LineCylinder
 from .orifice import Orifice
 from .pressure_compensated_pump import PressureCompensatedPump
 from .pressure_relief_valve import PressureReliefValve
