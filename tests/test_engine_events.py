@@ -165,3 +165,20 @@ def test_assertion_stops_the_run_at_the_violation(solver):
                 fl.assert_(self.x + 1.0, "not a relation")
                 return []
         fl.Simulation(Bad(), use_cache=False)
+
+
+class Saturating(fl.Model):
+    """der(x) = 1 below x = 1 and 2 - x above: the only steady state is x = 2, on the far side of the relation
+    from the start guess x = 0."""
+
+    x = Variable()
+
+    def equations(self):
+        return [eq(der(self.x), if_else(self.x > 1.0, 2.0 - self.x, 1.0))]
+
+
+def test_initialisation_switches_a_relation_when_its_branch_has_no_solution():
+    """steady_state=True from a start guess on the branch without a steady state: initialisation switches the
+    relation and finds x = 2 (exact, 1e-12), instead of failing with the guess's branch."""
+    res = fl.Simulation(Saturating(), use_cache=False).run(1.0, dt_out=0.5, steady_state=True, progress=False)
+    np.testing.assert_allclose(res["x"], 2.0, atol=1e-12)

@@ -116,7 +116,13 @@ class Initializer:
         active_t, steady_t = tuple(active), tuple(steady)
         g, jg = self._init_functions(active_t, steady_t)
         self._check_structure(jg, w0, par, active_t, steady_t)
-        w = self._solve(g, jg, w0, par, tol, self._labels(active_t, steady_t))
+        try:
+            w = self._solve(g, jg, w0, par, tol, self._labels(active_t, steady_t))
+        except InitializationError as err:
+            best = getattr(err, "best", None)
+            if best is not None:
+                err.point = self._split(best)
+            raise
         y, yp = self._split(w)
         return y, self.algebraic_rates(t0, y, yp, p)
 
@@ -303,4 +309,6 @@ class Initializer:
         worst = np.argsort(-np.abs(r))[:5]
         lines = "\n".join(f"  |residual| = {abs(r[k]):.3g}  in  {labels[k][1] if k < len(labels) else k}"
                           for k in worst if abs(r[k]) > tol)
-        raise InitializationError("could not find consistent initial values; largest residuals:\n" + lines)
+        err = InitializationError("could not find consistent initial values; largest residuals:\n" + lines)
+        err.best = w  # the best point found, for callers that can change the problem and retry
+        raise err
