@@ -142,6 +142,7 @@ class _Backend:
     x_idx: np.ndarray  # y entries that are x (after T), in x order
     a_idx: np.ndarray  # y entries that are algebraic z (after w), in z order
     nominal: np.ndarray
+    excluded: np.ndarray | None = None  # per algebraic entry: kept out of the error test
     integrators: dict[tuple, ca.Function] = field(default_factory=dict)
     ind_maps: dict[int, ca.Function] = field(default_factory=dict)
     build_time: float = 0.0
@@ -157,8 +158,10 @@ class _Backend:
         if F is None:
             wall = _time.perf_counter()
             nd = self.nd
-            abstolv = np.concatenate([[atol], atol * self.nominal[self.x_idx], np.full(nd, 1e10),
-                                      atol * self.nominal[self.a_idx]])
+            alg_tol = atol * self.nominal[self.a_idx]
+            if self.excluded is not None:  # derivative-level unknowns: out of the error test, as in ida.py
+                alg_tol = np.where(self.excluded, 1e20, alg_tol)
+            abstolv = np.concatenate([[atol], atol * self.nominal[self.x_idx], np.full(nd, 1e10), alg_tol])
             opts: dict[str, Any] = {
                 "linear_solver": "csparse", "reltol": float(rtol), "abstol": float(atol),
                 "abstolv": abstolv.tolist(), "max_num_steps": int(max_num_steps),
@@ -220,7 +223,13 @@ def _build_backend(model: CompiledModel) -> _Backend:
     F = F[[int(r) for r in rows]] if model.n else F
     dae = {"t": tau, "x": ca.vertcat(T, xd), "z": ca.vertcat(w, ya), "p": p, "u": u,
            "ode": ca.vertcat(u, u * w), "alg": F}
-    be = _Backend(dae=dae, x_idx=x_idx, a_idx=a_idx, nominal=np.asarray(model.nominal, dtype=float))
+    excluded = None
+    if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":
+        from flexlib.solve.ida import derivative_level
+
+        excluded = derivative_level(model)[a_idx]
+    be = _Backend(dae=dae, x_idx=x_idx, a_idx=a_idx, nominal=np.asarray(model.nominal, dtype=float),
+                  excluded=excluded)
     be.build_time = _time.perf_counter() - wall
     return be
 
