@@ -31,6 +31,7 @@ import numpy as np
 from flexlib.compile.flatten import FlatSystem
 from flexlib.compile.index_reduction import DAE, IndexReport
 from flexlib.compile.simplify import SimpleSystem
+from flexlib.compile.structure import derivative_level
 from flexlib.core.variables import time
 from flexlib.errors import FlexlibError
 
@@ -102,6 +103,8 @@ class CompiledModel:
     stats: dict[str, Any] = field(default_factory=dict)
     serialized: dict[str, str] = field(default_factory=dict)
     library: str | None = None
+    #: algebraic unknowns kept out of IDA's local error test (``structure.derivative_level``)
+    derivative_level: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     _functions: dict[str, ca.Function] = field(default_factory=dict, repr=False)
     _sx: dict[str, ca.Function] = field(default_factory=dict, repr=False)  # serialized only when pickled
 
@@ -213,6 +216,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     model._structure = dae.structure
     model._sx = dict(fns)
     model._functions = dict(fns)
+    model.derivative_level = derivative_level(F, y, yp, dae.differential)
     if codegen == "auto":
         codegen = (model.n > AUTO_C_MIN_UNKNOWNS
                    and fns["res"].n_instructions() + fns["jac"].n_instructions() <= AUTO_C_MAX_INSTRUCTIONS)

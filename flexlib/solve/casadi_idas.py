@@ -225,9 +225,7 @@ def _build_backend(model: CompiledModel) -> _Backend:
            "ode": ca.vertcat(u, u * w), "alg": F}
     excluded = None
     if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":
-        from flexlib.solve.ida import derivative_level
-
-        excluded = derivative_level(model)[a_idx]
+        excluded = model.derivative_level[a_idx]
     be = _Backend(dae=dae, x_idx=x_idx, a_idx=a_idx, nominal=np.asarray(model.nominal, dtype=float),
                   excluded=excluded)
     be.build_time = _time.perf_counter() - wall

@@ -29,7 +29,6 @@ import numpy as np
 import scipy.sparse as sps
 import sksundae as sun
 
-from flexlib.compile import structure
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.initialization import Initializer
@@ -360,42 +359,6 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     return traj
 
 
-def derivative_level(model: CompiledModel) -> np.ndarray:
-    """Mask of the algebraic unknowns kept out of IDA's local error test.
-
-    Derivative-level unknowns are algebraic columns determined only through ``yp``: structurally,
-    the columns left in the under-determined part when the equations free of ``yp`` are matched to
-    the algebraic unknowns (Dulmage–Mendelsohn) — accelerations, joint reactions, and velocities
-    computed from derivatives of the states. Their local error behaves like that of the index-2
-    variables of a Hessenberg DAE, one order lower than BDF's estimate assumes, and the error test
-    on them can collapse the step size: a point mass on a universal joint took 27 600 steps for
-    0.01 s, a reversed FreeMotion failed after 0.15 s; excluded, they run 2 s in 1 321 steps with
-    the orbit's tilt held to 3e-10 rad. They are excluded by an infinite absolute tolerance, which
-    is what SUNDIALS' ``IDASetSuppressAlg`` does for all algebraic variables (it is not exposed by
-    scikit-sundae); positions and velocities stay in the test. The infinite tolerance also leaves
-    them out of IDA's Newton convergence test, so constraints are held to the requested tolerance
-    rather than below it (a Cartesian pendulum's |x²+y²−L²| ≤ 6e-9 at rtol 1e-8, was 4e-10).
-    Set ``FLEXLIB_ERROR_TEST_ALL=1`` to keep every unknown in the test.
-    """
-    mask = getattr(model, "_derivative_level", None)
-    if mask is not None:
-        return mask
-    f = model.sx_function("res")
-    y, yp = ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
-    F = f(ca.SX.sym("t"), y, yp, ca.SX.sym("p", f.size1_in(3)))
-    dyp = structure.incidence(F, yp)
-    alg = np.flatnonzero(~model.differential)
-    free_rows = np.flatnonzero(np.diff(dyp.indptr) == 0)
-    mask = np.zeros(model.n, dtype=bool)
-    if len(alg):
-        inc = structure.incidence(F, y)[free_rows][:, alg]
-        row_match, col_match = structure.matching(inc)
-        _, under = structure.culprits(inc, row_match, col_match)
-        mask[alg[under]] = True
-    model.__dict__["_derivative_level"] = mask
-    return mask
-
-
 def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
                  max_step: float) -> tuple[Any, _Callbacks, _EventsFn, np.ndarray]:
     """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above."""
@@ -403,8 +366,8 @@ def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
     dense = model.n <= DENSE_MAX
     cb = _Callbacks(model, p, state_rel, dense)
     atol_vec = atol * model.nominal
-    if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":
-        atol_vec = np.where(derivative_level(model), 1e20, atol_vec)
+    if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":  # see structure.derivative_level
+        atol_vec = np.where(model.derivative_level, 1e20, atol_vec)
     opts: dict[str, Any] = dict(
         rtol=rtol, atol=atol_vec, algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
         jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,

@@ -379,7 +379,7 @@ def test_free_motion_flight_and_torque_free_spin(reverse, t_end):
 
     With the reversed joint (body at frame_a) the body's velocity is an algebraic variable computed from the
     quaternion's derivatives; the engine keeps such derivative-level unknowns out of IDA's error test
-    (``flexlib.solve.ida.derivative_level``), without which the run failed after 0.15 s."""
+    (``flexlib.compile.structure.derivative_level``), without which the run failed after 0.15 s."""
     p0, v0, w0 = P0, V0, W0
     sim = fl.Simulation(FreeFlight(reverse, p0, v0, w0), use_cache=False)
     res = sim.run(t_end, dt_out=0.01, rtol=1e-11, atol=1e-12)
