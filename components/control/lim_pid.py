@@ -7,7 +7,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib import Input, Parameter, Variable, der, eq, no_event
+from flexlib import Input, Parameter, Variable, assert_, der, eq, no_event
 from flexlib.errors import ModelError
 
 from .interfaces import INIT_TYPES, PartialSVcontrol, ValueChecks, check_choice
@@ -104,10 +104,10 @@ class LimPID(ValueChecks, PartialSVcontrol):
     Notes
     -----
     Values given at construction are checked together (``Ti > 0``, ``Td >= 0``, ``k != 0``,
-    ``y_max >= y_min``, ``y_start`` within the limits for ``"initial_output"``); run-time
-    ``params`` get the single-value bounds only. With ``"steady_state"`` the integrator's
-    ``der(xi) = 0`` fixes the control error; it is singular when the measurement is fixed by
-    another initial condition (see MSL's documentation).
+    ``y_max >= y_min``, ``y_start`` within the limits for ``"initial_output"``); for run-time
+    ``params`` the limits' order is asserted (``flexlib.assert_``: the run fails at t0 naming the block).
+    With ``"steady_state"`` the integrator's ``der(xi) = 0`` fixes the control error; it is singular
+    when the measurement is fixed by another initial condition (see MSL's documentation).
 
     References
     ----------
@@ -191,6 +191,7 @@ class LimPID(ValueChecks, PartialSVcontrol):
         return self.k_ff * self.u_ff if self.use_feed_forward else 0.0
 
     def equations(self) -> list:
+        assert_(self.y_min <= self.y_max, "output limits must satisfy y_min <= y_max")
         e = self.u_s - self.u_m
         eqs = [eq(self.control_error, e)]
         if self.with_D:

@@ -7,7 +7,7 @@ from typing import Any
 
 import casadi as ca
 
-from flexlib import Component, Parameter, Variable, der, eq, if_else
+from flexlib import Component, Parameter, Variable, assert_, der, eq, if_else
 from flexlib.components.mechanics.translational.interfaces import Flange
 from flexlib.errors import ParameterError
 
@@ -132,8 +132,8 @@ class DoubleActingCylinder(PositiveParameters, Component):
     Notes
     -----
     Cross-parameter conditions (``d_rod < d_bore``, ``x_start`` within the stroke) are checked when a
-    value is set on the component; run-time overrides ``run(params=...)`` are checked against the
-    declared bounds only.
+    value is set on the component, and asserted (``flexlib.assert_``) for run-time overrides
+    ``run(params=...)``, which then fail at t0 naming the cylinder.
 
     References
     ----------
@@ -244,6 +244,9 @@ class DoubleActingCylinder(PositiveParameters, Component):
                 - if_else(ca.logic_and(x > self.stroke, f_rod > 0.0), f_rod, 0.0))
 
     def equations(self) -> list:
+        assert_(self.d_rod < self.d_bore, "rod diameter d_rod must be smaller than the bore d_bore")
+        assert_(self.x_start >= 0.0, "x_start must lie within the stroke [0, stroke]")
+        assert_(self.x_start <= self.stroke, "x_start must lie within the stroke [0, stroke]")
         fa, fb, fl = self.flange_a, self.flange_b, self.fluid
         p_A, p_B = self.p_A, self.p_B
         p_D = self.port_D.p if self.use_drain else fl.p_ref

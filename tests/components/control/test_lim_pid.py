@@ -256,3 +256,10 @@ def test_bad_parameters_are_rejected():
     sim = fl.Simulation(OpenLoop(1.0, 0.0, **limits), use_cache=False)
     with pytest.raises(fl.ParameterError, match=r"pid\.Ti"):
         sim.run(0.1, params={"pid.Ti": 0.0})
+
+
+def test_limits_overridden_at_run_time_are_asserted():
+    """Limits swapped by a run-time override (y_max < y_min) fail the run at t0, naming the block."""
+    sim = fl.Simulation(SpeedLoop(controller_type="PI", k=8.0, Ti=0.3, y_max=100.0, y_min=-100.0), use_cache=False)
+    with pytest.raises(fl.SolverError, match=r"assertion failed at t = 0 s:\n  pid: .*y_min <= y_max"):
+        sim.run(0.1, params={"pid.y_max": -200.0}, progress=False)

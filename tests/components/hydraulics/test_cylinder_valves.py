@@ -165,6 +165,11 @@ def test_cylinder_bad_parameter_set_later():
         model.cylinder.d_rod = 0.07
     with pytest.raises(fl.ParameterError, match=r"^cylinder.stroke = -1.0 \[m\] is below its minimum"):
         fl.Simulation(model).run(0.1, params={"cylinder.stroke": -1.0})
+    sim = fl.Simulation(model, use_cache=False)
+    with pytest.raises(fl.SolverError, match=r"assertion failed at t = 0 s:\n  cylinder: .*d_rod must be smaller"):
+        sim.run(0.1, params={"cylinder.d_rod": 0.07})  # a run-time override is asserted
+    with pytest.raises(fl.SolverError, match=r"cylinder: .*x_start must lie within the stroke"):
+        sim.run(0.1, params={"cylinder.x_start": 0.5})
 
 
 # ---------------------------------------------------------------------------------------------------------------
