@@ -105,7 +105,7 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.structure import matching
 from flexlib.errors import SimulationInterrupted, SolverError
-from flexlib.solve.ida import Progress, Trajectory, _event_iteration, next_time_event
+from flexlib.solve.ida import Progress, Trajectory, _event_iteration, absolute_tolerances, next_time_event
 from flexlib.solve.initialization import Initializer
 
 __all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "RETRY_STEPS", "STUCK_TOL", "SUB_GRID",
@@ -141,8 +141,7 @@ class _Backend:
     dae: dict[str, ca.SX]
     x_idx: np.ndarray  # y entries that are x (after T), in x order
     a_idx: np.ndarray  # y entries that are algebraic z (after w), in z order
-    nominal: np.ndarray
-    excluded: np.ndarray | None = None  # per algebraic entry: kept out of the error test
+    model: CompiledModel
     integrators: dict[tuple, ca.Function] = field(default_factory=dict)
     ind_maps: dict[int, ca.Function] = field(default_factory=dict)
     build_time: float = 0.0
@@ -158,10 +157,8 @@ class _Backend:
         if F is None:
             wall = _time.perf_counter()
             nd = self.nd
-            alg_tol = atol * self.nominal[self.a_idx]
-            if self.excluded is not None:  # derivative-level unknowns: out of the error test, as in ida.py
-                alg_tol = np.where(self.excluded, 1e20, alg_tol)
-            abstolv = np.concatenate([[atol], atol * self.nominal[self.x_idx], np.full(nd, 1e10), alg_tol])
+            tol = absolute_tolerances(self.model, atol)
+            abstolv = np.concatenate([[atol], tol[self.x_idx], np.full(nd, 1e10), tol[self.a_idx]])
             opts: dict[str, Any] = {
                 "linear_solver": "csparse", "reltol": float(rtol), "abstol": float(atol),
                 "abstolv": abstolv.tolist(), "max_num_steps": int(max_num_steps),
@@ -223,11 +220,7 @@ def _build_backend(model: CompiledModel) -> _Backend:
     F = F[[int(r) for r in rows]] if model.n else F
     dae = {"t": tau, "x": ca.vertcat(T, xd), "z": ca.vertcat(w, ya), "p": p, "u": u,
            "ode": ca.vertcat(u, u * w), "alg": F}
-    excluded = None
-    if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":
-        excluded = model.derivative_level[a_idx]
-    be = _Backend(dae=dae, x_idx=x_idx, a_idx=a_idx, nominal=np.asarray(model.nominal, dtype=float),
-                  excluded=excluded)
+    be = _Backend(dae=dae, x_idx=x_idx, a_idx=a_idx, model=model)
     be.build_time = _time.perf_counter() - wall
     return be
 

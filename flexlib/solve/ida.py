@@ -359,17 +359,25 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     return traj
 
 
+def absolute_tolerances(model: CompiledModel, atol: float) -> np.ndarray:
+    """Per-unknown absolute tolerances: ``atol`` scaled by each nominal value, infinite for the
+    derivative-level unknowns kept out of the error test (``structure.derivative_level``; both
+    backends) unless ``FLEXLIB_ERROR_TEST_ALL=1``."""
+    atol_vec = atol * np.asarray(model.nominal, dtype=float)
+    if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":
+        atol_vec = np.where(model.derivative_level, 1e20, atol_vec)
+    return atol_vec
+
+
 def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
                  max_step: float) -> tuple[Any, _Callbacks, _EventsFn, np.ndarray]:
     """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above."""
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
     dense = model.n <= DENSE_MAX
     cb = _Callbacks(model, p, state_rel, dense)
-    atol_vec = atol * model.nominal
-    if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":  # see structure.derivative_level
-        atol_vec = np.where(model.derivative_level, 1e20, atol_vec)
     opts: dict[str, Any] = dict(
-        rtol=rtol, atol=atol_vec, algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
+        rtol=rtol, atol=absolute_tolerances(model, atol),
+        algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
         jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,
     )
     if dense:

@@ -2,18 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from flexlib import Output, eq
 
-from ._resolve import check_resolve_in_frame
-from .frames import resolve1
-from .interfaces import PartialTwoFrames
+from .interfaces import PartialCutSensor
 
 __all__ = ["CutTorque"]
 
 
-class CutTorque(PartialTwoFrames):
+class CutTorque(PartialCutSensor):
     """Measures the torque exerted by the frame_a side on the frame_b side; the loads pass through.
 
     The frames coincide rigidly: ``r_0,b = r_0,a``, ``T_b = T_a``, ``w_b = w_a`` (an orientation
@@ -41,12 +37,5 @@ class CutTorque(PartialTwoFrames):
 
     torque = Output(unit="N.m", shape=3, doc="Torque exerted by the frame_a side on the frame_b side")
 
-    def __init__(self, resolve_in_frame: str = "frame_a", **kwargs: Any) -> None:
-        super().__init__(**kwargs)
-        self.resolve_in_frame = check_resolve_in_frame(self, resolve_in_frame, ("frame_a", "world"))
-
-    def equations(self) -> list:
-        a, b = self.frame_a, self.frame_b
-        orient = [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
-        out = a.t if self.resolve_in_frame == "frame_a" else resolve1(a.T, a.t)
-        return [eq(b.r_0, a.r_0), *orient, eq(a.f + b.f, 0.0), eq(a.t + b.t, 0.0), eq(self.torque, out)]
+    def measurement_equations(self) -> list:
+        return [eq(self.torque, self.resolved(self.frame_a.t))]

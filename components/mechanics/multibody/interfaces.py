@@ -13,11 +13,12 @@ from typing import Any
 
 import casadi as ca
 
-from flexlib import Component, Connector, Flow, Potential
+from flexlib import Component, Connector, Flow, Potential, eq
 
-from .frames import equality_constraint, skew
+from ._resolve import check_resolve_in_frame
+from .frames import equality_constraint, resolve1, skew
 
-__all__ = ["Frame", "PartialTwoFrames"]
+__all__ = ["Frame", "PartialCutSensor", "PartialTwoFrames"]
 
 
 class Frame(Connector):
@@ -72,3 +73,40 @@ class PartialTwoFrames(Component):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.branch(self.frame_a, self.frame_b)
+
+
+class PartialCutSensor(PartialTwoFrames):
+    """Base of the cut sensors: two rigidly coinciding frames through which all loads pass.
+
+    ``r_0,b = r_0,a``, ``T_b = T_a``, ``w_b = w_a`` (an orientation branch in the direction given by
+    ``rooted(frame_a)``), ``f_a + f_b = 0``, ``t_a + t_b = 0``. A subclass adds the equation of its
+    measured output (:meth:`measurement_equations`).
+
+    Parameters
+    ----------
+    resolve_in_frame : {"frame_a", "world"}
+        Frame in which the output is resolved (structural constructor argument).
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``MultiBody.Sensors.Internal.BasicCutForce`` / ``BasicCutTorque``.
+    """
+
+    def __init__(self, resolve_in_frame: str = "frame_a", **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.resolve_in_frame = check_resolve_in_frame(self, resolve_in_frame, ("frame_a", "world"))
+
+    def resolved(self, v_a: Any) -> Any:
+        """A vector resolved in frame_a, resolved in ``resolve_in_frame``."""
+        return v_a if self.resolve_in_frame == "frame_a" else resolve1(self.frame_a.T, v_a)
+
+    def measurement_equations(self) -> list:
+        """Equations of the measured output."""
+        raise NotImplementedError
+
+    def equations(self) -> list:
+        a, b = self.frame_a, self.frame_b
+        orient = [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
+        return [eq(b.r_0, a.r_0), *orient, eq(a.f + b.f, 0.0), eq(a.t + b.t, 0.0),
+                *self.measurement_equations()]
+
