@@ -26,9 +26,12 @@ from flexlib.errors import (
     InitializationError,
     ModelError,
     ParameterError,
+    ResultFileError,
+    RunArgumentError,
     SimulationInterrupted,
     SolverError,
     StructuralSingularityError,
+    StructureChangedError,
 )
 from flexlib.results.hdf5 import load_result
 from flexlib.results.result import Result
@@ -53,11 +56,14 @@ __all__ = [
     "ParameterError",
     "Potential",
     "Result",
+    "ResultFileError",
+    "RunArgumentError",
     "Simulation",
     "SimulationInterrupted",
     "SolverError",
     "StateSelect",
     "StructuralSingularityError",
+    "StructureChangedError",
     "Variable",
     "__version__",
     "abs_",

@@ -10,14 +10,19 @@ from typing import Any
 
 __all__ = [
     "BalanceError",
+    "CacheWarning",
     "ConnectError",
     "FlexlibError",
     "InitializationError",
     "ModelError",
     "ParameterError",
+    "ResultFileError",
+    "ResultSaveWarning",
+    "RunArgumentError",
     "SimulationInterrupted",
     "SolverError",
     "StructuralSingularityError",
+    "StructureChangedError",
 ]
 
 
@@ -81,3 +86,25 @@ class SolverError(FlexlibError):
 
 class SimulationInterrupted(SolverError):
     """The run was interrupted (Ctrl-C); ``result`` holds everything up to the interrupt."""
+
+
+class RunArgumentError(FlexlibError, ValueError):
+    """An argument of :meth:`Simulation.run` (or of a result-file operation) is invalid; checked before any work."""
+
+
+class ResultFileError(FlexlibError, OSError):
+    """A result file cannot be read (missing, truncated, not a flexlib result, from a newer format) or written."""
+
+
+class StructureChangedError(ModelError):
+    """A numeric choice made when the model was built (dropped redundant loop rows, dummy-derivative
+    pivots) does not hold at the parameter and start values of this run, and could not be rebuilt."""
+
+
+class CacheWarning(UserWarning):
+    """The disk cache could not be used (unwritable, unsafe, damaged entry); flexlib went on without it."""
+
+
+class ResultSaveWarning(UserWarning):
+    """A result could not be written to its file; the result is kept in memory and returned (or attached
+    to the solver error)."""
