@@ -6,7 +6,8 @@ From the index-1 DAE this builds
 * ``jac(t, y, yp, p, cj) -> dF/dy + cj·dF/dyp`` — IDA's iteration matrix, sparse (CSC);
 * ``out(t, y, yp, p) -> every model variable`` — for results;
 * ``ind(t, y, yp, p) -> relation indicators`` — for events;
-* ``cond(t, y, yp, p) -> initial-condition expressions``.
+* ``cond(t, y, yp, p) -> initial-condition expressions``;
+* ``chk(t, y, yp, p) -> loop-closure rows dropped as redundant`` — zero while the build's choice holds.
 
 ``p`` holds the model parameters followed by the discrete values of the event relations, so
 a parameter change never needs a recompile. With ``codegen=True`` the functions are written
@@ -30,6 +31,7 @@ import numpy as np
 
 from flexlib.compile.flatten import FlatSystem
 from flexlib.compile.index_reduction import DAE, IndexReport
+from flexlib.compile.redundancy import CHECK_PREFIX
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import derivative_level
 from flexlib.core.variables import time
@@ -37,7 +39,7 @@ from flexlib.errors import FlexlibError
 
 __all__ = ["CompiledModel", "VariableInfo", "compile_dae"]
 
-FUNCTIONS = ("res", "jac", "out", "ind", "cond", "tev", "cols", "jlev")
+FUNCTIONS = ("res", "jac", "out", "ind", "cond", "tev", "cols", "jlev", "chk")
 
 #: Number of times :func:`compile_dae` ran in this process (tests assert that runs reuse builds).
 COMPILE_COUNT = [0]
@@ -92,6 +94,8 @@ class CompiledModel:
     row_labels: list[str] = field(default_factory=list)
     cond_depends: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     col_names: list[str] = field(default_factory=list)
+    check_labels: list[str] = field(default_factory=list)
+    """Loop-closure rows dropped as redundant at build time (``chk`` evaluates them; they must stay 0)."""
     levels: list[tuple[int, int, list[int], list[int]]] = field(default_factory=list)
     """Per selection level: (rows, candidates, costs, selected positions) for the state-selection monitor."""
     _structure: Any = field(default=None, repr=False)
@@ -166,8 +170,10 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     cj = ca.SX.sym("cj")
     F = dae.residual
     J = ca.jacobian(F, y) + cj * ca.jacobian(F, yp)
-    out_names = list(dae.outputs)
+    out_names = [k for k in dae.outputs if not k.startswith(CHECK_PREFIX)]
+    check_names = [k for k in dae.outputs if k.startswith(CHECK_PREFIX)]
     outs = ca.vertcat(*[dae.outputs[k] for k in out_names])
+    checks = ca.vertcat(*[dae.outputs[k] for k in check_names]) if check_names else ca.SX(0, 1)
     inds = ca.vertcat(*[e for _, e in dae.relations]) if dae.relations else ca.SX(0, 1)
     conds = ca.vertcat(*[c.expr for c in dae.conditions]) if dae.conditions else ca.SX(0, 1)
     fns = {
@@ -176,6 +182,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         "out": ca.Function("flexlib_out", [t, y, yp, p], [outs]),
         "ind": ca.Function("flexlib_ind", [t, y, yp, p], [inds]),
         "cond": ca.Function("flexlib_cond", [t, y, yp, p], [conds]),
+        "chk": ca.Function("flexlib_chk", [t, y, yp, p], [checks]),
     }
     relations: list[RelationInfo] = []
     tev_rows = []
@@ -209,6 +216,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         conditions=[(c.name, c.value) for c in dae.conditions], report=dae.report,
         jac_colind=np.asarray(colind, dtype=np.int32), jac_row=np.asarray(row, dtype=np.int32),
         row_labels=dae.row_labels, col_names=dae.col_names,
+        check_labels=[k[len(CHECK_PREFIX):] for k in check_names],
         levels=[(len(lev.rows), len(lev.cands), lev.costs, [lev.cands.index(c) for c in lev.selected])
                 for lev in dae.levels],
         cond_depends=np.array([bool(ca.depends_on(c.expr, ca.vertcat(y, yp))) for c in dae.conditions], dtype=bool),
@@ -231,6 +239,8 @@ def _start_sources(simple: SimpleSystem, dae: DAE) -> list[list[tuple[str, float
     """For each ``y`` entry, the variables (with sign) whose start value seeds it."""
     members: dict[int, list[tuple[str, float]]] = {}
     for name, expr in simple.outputs.items():
+        if name.startswith(CHECK_PREFIX):
+            continue
         if expr.is_symbolic():
             members.setdefault(expr.element_hash(), []).append((name, 1.0))
         elif expr.op() == ca.OP_NEG and expr.dep(0).is_symbolic():

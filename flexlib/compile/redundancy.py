@@ -33,9 +33,15 @@ from flexlib.compile.structure import matching
 from flexlib.core.component import Connector
 from flexlib.core.variables import Kind
 
-__all__ = ["explicit_definitions", "frame_variables", "remove_redundant"]
+__all__ = ["CHECK_PREFIX", "explicit_definitions", "frame_variables", "remove_redundant"]
 
 _AXES = "xyz"
+
+#: Output-name prefix of the dropped loop rows. They travel with the model's outputs through tearing and
+#: index reduction (so they end up as functions of ``t, y, yp, p``) and become the compiled ``chk``
+#: function: every run checks, at its own parameter and start values, that the rows dropped as redundant
+#: at build time still hold (a parameter change can make a planar loop spatial; see ``docs/engine.md``).
+CHECK_PREFIX = "#dropped:"
 
 
 def frame_variables(simple: SimpleSystem) -> list[int]:
@@ -151,15 +157,17 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
     if not dropped:
         return simple
     equations = list(simple.equations)
+    outputs = dict(simple.outputs)
     report = []
     for k in dropped:
         r = loop[k]
         old = equations[r]
         expr, what = _reaction(simple, old.meta)
+        outputs[f"{CHECK_PREFIX}{old.owner + ': ' if old.owner else ''}{old.label} (dual to the {what})"] = old.expr
         equations[r] = FlatEquation(expr, old.owner, f"indeterminate reaction: {what} = 0", "redundant reaction")
         report.append(f"{old.owner or '(model)'}: dropped redundant constraint '{old.label}'; {what} is "
                       "statically indeterminate and set to 0")
-    return dataclasses.replace(simple, equations=equations, redundant=report)
+    return dataclasses.replace(simple, equations=equations, outputs=outputs, redundant=report)
 
 
 def _is_derivative(sym: ca.SX) -> bool:

@@ -22,8 +22,9 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
-from flexlib.errors import InitializationError, ParameterError, SolverError
+from flexlib.errors import InitializationError, ParameterError, SolverError, StructureChangedError
 from flexlib.results.result import Result
+from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
 from flexlib.solve.ida import Trajectory, check_assertions, integrate
 from flexlib.solve.initialization import Initializer
 
@@ -77,6 +78,7 @@ class Simulation:
         if not isinstance(model, Component):
             raise TypeError(f"Simulation expects a flexlib Component, got {type(model).__name__}")
         self.model = model
+        self._codegen = codegen
         self.compiled: CompiledModel
         self.compiled, self.build_info = build(model, codegen=codegen, use_cache=use_cache)
         self.initializer = Initializer(self.compiled)
@@ -215,6 +217,18 @@ class Simulation:
         wall = _time.perf_counter()
         y0, yp0 = self._initialize(t0, p, starts, steady_state)
         t_init = _time.perf_counter() - wall
+        try:
+            check_dropped_rows(m, t0, y0, yp0, p, START_TOL, where="at the start", overrides=params)
+        except StructureChangedError:
+            if not self.build_info.get("cached"):
+                raise
+            # the cached entry was built at another instance's values (the key holds structure, not values):
+            # rebuild at this instance's own values, without touching the cached entry, and start again
+            self._rebuild_uncached()
+            return self.run(t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol,
+                            atol=atol, max_step=max_step, max_steps=max_steps, params=params,
+                            steady_state=steady_state, progress=progress, result_file=result_file,
+                            solver=solver, dynamic_states=dynamic_states)
         extra: dict[str, Any] = {}
         if solver == "ida":
             backend = integrate
@@ -237,7 +251,38 @@ class Simulation:
         result = self._result(traj, pvec, t_init, rtol, atol)
         if result_file:
             result.save(result_file)
+        try:
+            self._check_trajectory(traj, pvec, rtol, atol, params)
+        except StructureChangedError as err:
+            err.result = result  # type: ignore[attr-defined]
+            raise
         return result
+
+    def _rebuild_uncached(self) -> None:
+        """Build again from this instance's own values (no cache read or write)."""
+        self.compiled, self.build_info = build(self.model, codegen=self._codegen, use_cache=False)
+        self.initializer = Initializer(self.compiled)
+        self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
+        self._maps.clear()
+        self._state_monitor = None
+
+    def _check_trajectory(self, traj: Trajectory, pvec: np.ndarray, rtol: float, atol: float,
+                          params: dict[str, Any] | None) -> None:
+        """The dropped loop rows over every recorded row (a choice that held at the start by coincidence)."""
+        if not traj.t:
+            return
+        T = np.array(traj.t)
+        seg = np.array(traj.seg) if traj.seg else np.zeros(len(T), dtype=int)
+        rel = np.array(traj.rel, dtype=float).reshape(len(T), -1)
+        for k in np.unique(seg):
+            model = traj.models[k] if traj.models else self.compiled
+            if not model.check_labels:
+                continue
+            rows = np.flatnonzero(seg == k)
+            Y, YP = np.array([traj.y[i] for i in rows]).T, np.array([traj.yp[i] for i in rows]).T
+            P = np.vstack([np.repeat(pvec[:, None], len(rows), axis=1), rel[rows].T])
+            check_dropped_rows(model, T[rows], Y, YP, P, run_tolerance(rtol, atol), where="during the run",
+                               overrides=params)
 
     def _monitor(self) -> Any:
         from flexlib.compile.cache import prepare

@@ -1,0 +1,77 @@
+"""Build-time numeric choices are re-checked at every run (issue 8, "never silently wrong").
+
+The redundancy analysis drops the loop-closure rows that are dependent at the build's parameter
+values (3 for a planar four-bar). A run whose parameters make the loop spatial must not report
+success with a gap in the loop; a cached entry built at other values must not be reused blindly.
+Reference for the planar runs: Norton's closed-form four-bar position analysis
+(``tests/references_multibody.py``).
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import flexlib as fl
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "components" / "mechanics" / "multibody"))
+import references_multibody as ref
+from test_loops import A, B, C, D, FourBar
+
+TH2 = 0.3
+TH3, TH4 = ref.fourbar_angles(A, B, C, D, TH2, "open")
+
+
+class AxisFourBar(FourBar):
+    """The planar four-bar with the rocker's joint axis as a constructor argument."""
+
+    def __init__(self, rocker_axis: tuple[float, float, float] = (0.0, 0.0, 1.0)) -> None:
+        super().__init__(TH2, TH3, TH4, w2=1.0)
+        self.rev4.n = np.array(rocker_axis, dtype=float)
+
+
+def test_params_override_that_makes_the_loop_spatial_is_refused():
+    sim = fl.Simulation(AxisFourBar(), use_cache=False)
+    with pytest.raises(fl.StructureChangedError) as info:
+        sim.run(0.1, dt_out=0.01, params={"rev4.n": [0.0, 0.3, 1.0]})
+    msg = str(info.value)
+    assert "rev3.frame_b" in msg and "rev4.n" in msg and "dropped as redundant" in msg
+
+
+def test_same_simulation_still_runs_after_a_refused_override():
+    sim = fl.Simulation(AxisFourBar(), use_cache=False)
+    with pytest.raises(fl.StructureChangedError):
+        sim.run(0.05, params={"rev4.n": [0.0, 0.3, 1.0]})
+    res = sim.run(0.2, dt_out=0.01, rtol=1e-8, atol=1e-10)
+    ref3, ref4 = ref.fourbar_angles(A, B, C, D, res["rev1.phi"], "open")
+    np.testing.assert_allclose(res["rev4.phi"], ref4, atol=1e-7)
+    np.testing.assert_allclose(res["rev1.phi"] + res["rev2.phi"], ref3, atol=1e-7)
+
+
+def test_cached_planar_entry_is_not_reused_for_a_spatial_loop():
+    """Same structure key (the axis is a parameter value): the cached build's dropped rows do not hold, so
+    the model is rebuilt at its own values and gives the same answer as an uncached build (0 states)."""
+    sim = fl.Simulation(AxisFourBar())
+    assert sim.run(0.05).status == "success"
+    tilted = fl.Simulation(AxisFourBar((0.0, 0.3, 1.0)))
+    with pytest.raises(fl.InitializationError) as cached_err:
+        tilted.run(0.1, dt_out=0.01)
+    with pytest.raises(fl.InitializationError) as fresh_err:
+        fl.Simulation(AxisFourBar((0.0, 0.3, 1.0)), use_cache=False).run(0.1, dt_out=0.01)
+    assert "0 states" in str(cached_err.value)
+    assert str(cached_err.value) == str(fresh_err.value)
+    assert tilted.build_info["cached"] is False  # rebuilt, not the planar entry
+
+
+def test_override_that_keeps_the_loop_planar_runs_and_matches_closed_form():
+    """A longer crank through ``params`` keeps the loop planar: the dropped rows still hold, no false alarm,
+    and the angles follow the closed form for the new crank length to 1e-7 rad."""
+    a2 = 0.25
+    th3, th4 = ref.fourbar_angles(a2, B, C, D, TH2, "open")
+    sim = fl.Simulation(FourBar(TH2, th3, th4, w2=2.0), use_cache=False)
+    res = sim.run(0.5, dt_out=0.01, rtol=1e-8, atol=1e-10, params={"crank.r": [a2, 0.0, 0.0]})
+    ref3, ref4 = ref.fourbar_angles(a2, B, C, D, res["rev1.phi"], "open")
+    np.testing.assert_allclose(res["rev4.phi"], ref4, atol=1e-7)
+    np.testing.assert_allclose(res["rev1.phi"] + res["rev2.phi"], ref3, atol=1e-7)
