@@ -189,7 +189,8 @@ class Result:
             else:
                 rows.append(self._summary_row(name, values, unit))
         if not self.success:
-            rows.append(f"({self.status}: {self.message})" if self.message else f"({self.status})")
+            message = " ".join(self.message.split())
+            rows.append(f"({self.status}: {message})" if message else f"({self.status})")
         return "\n".join(rows)
 
     @staticmethod

@@ -160,8 +160,8 @@ def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.nda
         raise _bad("dt_out", dt_out, "must be a positive finite number [s]; omit it to record every solver step")
     points = (t1 - t0) / dt + 1.0
     if not points <= MAX_OUTPUT_POINTS:
-        raise _bad("dt_out", dt_out, f"gives {points:.3g} output points over [{t0:g}, {t1:g}] s, more than "
-                   f"{MAX_OUTPUT_POINTS:.0e}",
+        raise _bad("dt_out", dt_out, f"gives {points:.0f} output points over [{t0:g}, {t1:g}] s, more than "
+                   f"{MAX_OUTPUT_POINTS}",
                    "use a larger dt_out, give the times you need as output_times, or omit dt_out to record "
                    "every solver step")
     n = int(np.floor((t1 - t0) / dt + 1e-9))
