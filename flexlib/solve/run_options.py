@@ -78,7 +78,9 @@ def _bad(name: str, value: Any, allowed: str, hint: str = "") -> RunArgumentErro
     shown = f"<array of shape {value.shape}>" if isinstance(value, np.ndarray) else " ".join(repr(value).split())
     if len(shown) > 80:
         shown = shown[:77] + "..."
-    return RunArgumentError(f"run(): {name} = {shown} is invalid: {allowed}{'; ' + hint if hint else ''}")
+    err = RunArgumentError(f"run(): {name} = {shown} is invalid: {allowed}{'; ' + hint if hint else ''}")
+    err.argument = name  # type: ignore[attr-defined]
+    return err
 
 
 def _real(name: str, value: Any, allowed: str) -> float:
@@ -171,10 +173,21 @@ def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.nda
     return grid
 
 
-def check_run_arguments(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: Any, atol: Any,
-                        max_step: Any, max_steps: Any, params: Any, steady_state: Any, dynamic_states: Any,
-                        progress: Any, solver: Any, result_file: Any) -> RunOptions:
-    """Check every argument of a run (defaults already resolved) and build the output grid.
+def check_run_arguments(experiment: Any, source: str, *, t_start: Any, t_end: Any, dt_out: Any, output_times: Any,
+                        rtol: Any, atol: Any, max_step: Any, max_steps: Any, params: Any, steady_state: Any,
+                        dynamic_states: Any, progress: Any, solver: Any, result_file: Any) -> RunOptions:
+    """Check every argument of a run and build the output grid.
+
+    Parameters
+    ----------
+    experiment : Experiment
+        The model's defaults for ``t_start``, ``t_end``, ``dt_out``, ``rtol`` and ``atol`` (``None`` given).
+        ``dt_out`` is taken from it only when neither ``t_end``, ``dt_out`` nor ``output_times`` is given.
+    source : str
+        Where ``experiment`` comes from (``"Model.experiment"``), named when one of its values is invalid.
+    t_start, t_end, dt_out, output_times, rtol, atol, max_step, max_steps, params, steady_state, \
+dynamic_states, progress, solver, result_file
+        As given to :meth:`Simulation.run`.
 
     Returns
     -------
@@ -185,6 +198,27 @@ def check_run_arguments(*, t_start: Any, t_end: Any, dt_out: Any, output_times: 
     RunArgumentError
         Naming the argument, the value and what is allowed.
     """
+    defaulted = {name for name, given in (("t_start", t_start), ("t_end", t_end), ("rtol", rtol), ("atol", atol))
+                 if given is None}
+    if dt_out is None and output_times is None and t_end is None and experiment.dt_out is not None:
+        dt_out = experiment.dt_out
+        defaulted.add("dt_out")
+    try:
+        return _check(
+            t_start=experiment.t_start if t_start is None else t_start,
+            t_end=experiment.t_end if t_end is None else t_end, dt_out=dt_out, output_times=output_times,
+            rtol=experiment.rtol if rtol is None else rtol, atol=experiment.atol if atol is None else atol,
+            max_step=max_step, max_steps=max_steps, params=params, steady_state=steady_state,
+            dynamic_states=dynamic_states, progress=progress, solver=solver, result_file=result_file)
+    except RunArgumentError as err:
+        if getattr(err, "argument", None) in defaulted:
+            raise RunArgumentError(f"{err} (the value comes from {source})") from None
+        raise
+
+
+def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: Any, atol: Any, max_step: Any,
+           max_steps: Any, params: Any, steady_state: Any, dynamic_states: Any, progress: Any, solver: Any,
+           result_file: Any) -> RunOptions:
     t0 = _real("t_start", t_start, "must be a finite time [s]")
     t1 = _real("t_end", t_end, "must be a finite time [s]")
     if not math.isfinite(t0):

@@ -81,7 +81,9 @@ def _sigterm_as_interrupt() -> Iterator[_StopState]:
     previous: Any = None
     if threading.current_thread() is threading.main_thread() and hasattr(signal, "SIGTERM"):
         previous = signal.getsignal(signal.SIGTERM)
-        if previous is not None:  # None: installed outside Python, cannot be restored, leave it alone
+        if previous is None or previous is signal.SIG_IGN:
+            previous = None  # set outside Python (cannot be restored) or ignored on purpose: leave it alone
+        else:
             signal.signal(signal.SIGTERM, state.handler)
     try:
         yield state
@@ -205,7 +207,7 @@ class Simulation:
         self, t_end: float | None = None, *, t_start: float | None = None, dt_out: float | None = None,
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
         max_step: float = 0.0, max_steps: int = 5_000_000, params: dict[str, Any] | None = None,
-        steady_state: bool = False, progress: bool | None = None, result_file: str | None = None,
+        steady_state: bool = False, progress: bool | None = None, result_file: str | os.PathLike | None = None,
         solver: str = "ida", dynamic_states: bool = True,
     ) -> Result:
         """Initialise and integrate.
@@ -232,8 +234,8 @@ class Simulation:
             Initialise with ``der(x) = 0`` for every state without an initial condition of its own.
         progress : bool, optional
             Progress bar (default: shown for runs longer than about 2 s).
-        result_file : str, optional
-            Write the result to this HDF5 file, also when the run fails or is interrupted.
+        result_file : str or os.PathLike, optional
+            Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM).
         solver : {"ida", "casadi-idas"}
             ``"ida"``: SUNDIALS IDA through scikit-sundae (default; every step, progress bar).
             ``"casadi-idas"``: CasADi's built-in IDAS, all in C — faster for small models, same
@@ -248,17 +250,22 @@ class Simulation:
 
         Raises
         ------
+        RunArgumentError
+            An argument is invalid (checked before any work; a ``ValueError``). See docs/results.md.
         SolverError
             The integration failed; ``err.result`` holds the result up to the failure.
         SimulationInterrupted
-            Ctrl-C; ``err.result`` holds the result up to the interrupt.
+            Ctrl-C or SIGTERM; ``err.result`` holds the result up to the interrupt.
+
+        Warns
+        -----
+        ResultSaveWarning
+            ``result_file`` could not be written; the result is returned (or attached to the error) anyway.
         """
         exp = getattr(self.model, "experiment", None) or Experiment()
         opts = check_run_arguments(
-            t_start=exp.t_start if t_start is None else t_start, t_end=exp.t_end if t_end is None else t_end,
-            dt_out=dt_out if dt_out is not None else (exp.dt_out if output_times is None and t_end is None else None),
-            output_times=output_times, rtol=exp.rtol if rtol is None else rtol,
-            atol=exp.atol if atol is None else atol, max_step=max_step, max_steps=max_steps, params=params,
+            exp, f"{type(self.model).__name__}.experiment", t_start=t_start, t_end=t_end, dt_out=dt_out,
+            output_times=output_times, rtol=rtol, atol=atol, max_step=max_step, max_steps=max_steps, params=params,
             steady_state=steady_state, dynamic_states=dynamic_states, progress=progress, solver=solver,
             result_file=result_file)
         t0, t1 = opts.t_start, opts.t_end

@@ -150,3 +150,17 @@ def test_accepted_edge_cases_run(sim, tmp_path):
     res = sim.run(1.0, dt_out=0.25, result_file=path, max_step=0.01, max_steps=np.int64(200))
     assert fl.load_result(path).t.tolist() == [0.0, 0.25, 0.5, 0.75, 1.0]
     assert not [p for p in path.parent.iterdir() if p.name != "run.h5"]  # no probe or temporary file left
+
+
+def test_bad_value_from_the_models_experiment_names_it():
+    """A run without arguments takes t_end, dt_out and tolerances from the model's ``experiment``: a bad value
+    there is named as coming from it."""
+
+    class Timed(Osc):
+        experiment = fl.Experiment(t_end=2.0, dt_out=0.0)
+
+    sim = fl.Simulation(Timed(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    with pytest.raises(fl.RunArgumentError, match=r"dt_out = 0\.0 is invalid.*comes from Timed\.experiment"):
+        sim.run()
+    res = sim.run(1.0)  # an explicit t_end: the experiment's dt_out is not used, every step is recorded
+    assert res.success and len(res.t) > 2
