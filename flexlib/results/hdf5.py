@@ -1,9 +1,10 @@
 """Result files (HDF5, self-describing, written atomically). Layout: docs/results.md.
 
-Writing goes to a temporary file ``<name>.<pid>.<random>.tmp`` in the target directory, renamed over the
-target at the end (``os.replace``), so a crash, a kill or Ctrl-C never leaves a half-written file under the
-final name; a writer that was killed (SIGKILL) leaves its temporary file behind, and the next save into
-that directory removes it once the process named by the pid no longer exists. Reading checks the file
+Writing goes to a temporary file ``<name>.<host>.<pid>.<random>.tmp`` in the target directory, renamed over
+the target at the end (``os.replace``), so a crash, a kill or Ctrl-C never leaves a half-written file under the
+final name; a writer that was killed (SIGKILL) leaves its temporary file behind, and the next save of that
+file on the same host removes it once the process named by the pid no longer exists (temporary files of other
+hosts, e.g. on a shared file system, are left alone: their pids mean nothing here). Reading checks the file
 before trusting it; every problem is a :class:`~flexlib.errors.ResultFileError` naming the path.
 """
 
@@ -13,6 +14,7 @@ import glob
 import json
 import os
 import re
+import socket
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -53,6 +55,11 @@ def _reason(err: BaseException) -> str:
     return str(err) or type(err).__name__
 
 
+def _host() -> str:
+    """This host's name as it appears in temporary file names (letters, digits and ``-`` only)."""
+    return re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname()) or "host"
+
+
 def _pid_alive(pid: int) -> bool:
     if pid <= 0:
         return False
@@ -70,8 +77,9 @@ def _pid_alive(pid: int) -> bool:
 def remove_orphans(path: str | os.PathLike) -> list[Path]:
     """Remove the temporary files of ``path`` left by writers that no longer run.
 
-    A temporary file ``<name>.<pid>.<random>.tmp`` belongs to the process ``pid``; it is removed only when
-    that process does not exist any more (a killed writer). Files of running writers are kept.
+    A temporary file ``<name>.<host>.<pid>.<random>.tmp`` belongs to the process ``pid`` on ``host``; it is
+    removed only when ``host`` is this host and that process does not exist any more (a killed writer).
+    Files of running writers and of other hosts are kept.
 
     Returns
     -------
@@ -79,7 +87,8 @@ def remove_orphans(path: str | os.PathLike) -> list[Path]:
         The files removed.
     """
     path = Path(path)
-    pattern = re.compile(re.escape(path.name) + r"\.(\d+)\.[^.]+\.tmp")
+    pattern = re.compile(re.escape(path.name) + r"\.([A-Za-z0-9-]+)\.(\d+)\.[^.]+\.tmp")
+    host = _host()
     removed = []
     try:
         candidates = list(path.parent.glob(glob.escape(path.name) + ".*.tmp"))
@@ -87,7 +96,7 @@ def remove_orphans(path: str | os.PathLike) -> list[Path]:
         return removed
     for cand in candidates:
         match = pattern.fullmatch(cand.name)
-        if match is None or _pid_alive(int(match.group(1))):
+        if match is None or match.group(1) != host or _pid_alive(int(match.group(2))):
             continue
         try:
             cand.unlink()
@@ -118,7 +127,8 @@ def save_result(result: Result, path: str | os.PathLike) -> None:
                               f"{path.parent}: {_reason(err)}") from None
     remove_orphans(path)
     try:
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f"{path.name}.{os.getpid()}.", suffix=".tmp")
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f"{path.name}.{_host()}.{os.getpid()}.",
+                                   suffix=".tmp")
     except OSError as err:
         raise ResultFileError(f"cannot write the result to {path}: {_reason(err)}") from None
     os.close(fd)

@@ -247,23 +247,27 @@ def test_temporary_name_carries_the_pid(osc, tmp_path, monkeypatch):
 
     monkeypatch.setattr(hdf5.os, "replace", spy)
     osc.run(0.2).save(tmp_path / "run.h5")
-    assert len(seen) == 1 and seen[0].startswith(f"run.h5.{os.getpid()}.") and seen[0].endswith(".tmp")
+    assert len(seen) == 1 and seen[0].startswith(f"run.h5.{hdf5._host()}.{os.getpid()}.")
+    assert seen[0].endswith(".tmp")
 
 
 def test_orphaned_temporaries_of_dead_writers_are_removed(osc, tmp_path):
-    """A writer killed mid-save leaves ``run.h5.<pid>.<random>.tmp``; the next save into that directory
-    removes it once that pid is gone, and keeps temporaries of live writers and of other files."""
+    """A writer killed mid-save leaves ``run.h5.<host>.<pid>.<random>.tmp``; the next save of that file removes
+    it once that pid is gone, and keeps temporaries of live writers, of other hosts and of other files."""
     child = subprocess.Popen([sys.executable, "-c", "pass"])
     child.wait()  # a pid that no longer exists
-    orphan = tmp_path / f"run.h5.{child.pid}.k3j2x9qa.tmp"
+    host = hdf5._host()
+    orphan = tmp_path / f"run.h5.{host}.{child.pid}.k3j2x9qa.tmp"
     orphan.write_bytes(b"\x89HDF half written")
-    live = tmp_path / f"run.h5.{os.getppid()}.a1b2c3d4.tmp"  # the parent of pytest is alive
+    live = tmp_path / f"run.h5.{host}.{os.getppid()}.a1b2c3d4.tmp"  # the parent of pytest is alive
     live.write_bytes(b"busy")
-    other = tmp_path / f"other.h5.{child.pid}.zzzzzzzz.tmp"
+    elsewhere = tmp_path / f"run.h5.{host}x.{child.pid}.q1w2e3r4.tmp"  # another host on a shared file system
+    elsewhere.write_bytes(b"maybe busy")
+    other = tmp_path / f"other.h5.{host}.{child.pid}.zzzzzzzz.tmp"
     other.write_bytes(b"not ours")
     osc.run(0.2).save(tmp_path / "run.h5")
     assert not orphan.exists()
-    assert live.exists() and other.exists()
+    assert live.exists() and elsewhere.exists() and other.exists()
     assert fl.load_result(tmp_path / "run.h5").success
 
 
