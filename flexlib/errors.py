@@ -12,11 +12,13 @@ __all__ = [
     "BalanceError",
     "CacheWarning",
     "ConnectError",
+    "EmptyResultError",
     "FlexlibError",
     "InitializationError",
     "ModelError",
     "ParameterError",
     "ResultFileError",
+    "ResultKeyError",
     "ResultSaveWarning",
     "RunArgumentError",
     "SimulationInterrupted",
@@ -108,3 +110,14 @@ class CacheWarning(UserWarning):
 class ResultSaveWarning(UserWarning):
     """A result could not be written to its file; the result is kept in memory and returned (or attached
     to the solver error)."""
+
+
+class ResultKeyError(FlexlibError, KeyError):
+    """No variable of that name in a result; the message suggests close matches ("did you mean")."""
+
+    def __str__(self) -> str:  # KeyError would show the repr of the message
+        return str(self.args[0]) if self.args else ""
+
+
+class EmptyResultError(FlexlibError, ValueError):
+    """A value was asked of a result without rows (a run that failed or was interrupted at its start)."""

@@ -1,81 +1,288 @@
-"""Result files (HDF5, self-describing, written atomically). Layout: docs/results.md."""
+"""Result files (HDF5, self-describing, written atomically). Layout: docs/results.md.
+
+Writing goes to a temporary file ``<name>.<host>.<pid>.<random>.tmp`` in the target directory, renamed over
+the target at the end (``os.replace``), so a crash, a kill or Ctrl-C never leaves a half-written file under the
+final name; a writer that was killed (SIGKILL) leaves its temporary file behind, and the next save of that
+file on the same host removes it once the process named by the pid no longer exists (temporary files of other
+hosts, e.g. on a shared file system, are left alone: their pids mean nothing here). Reading checks the file
+before trusting it; every problem is a :class:`~flexlib.errors.ResultFileError` naming the path.
+"""
 
 from __future__ import annotations
 
+import glob
 import json
 import os
+import re
+import socket
 import tempfile
 from pathlib import Path
+from typing import Any
 
 import h5py
 import numpy as np
 
+from flexlib.errors import ResultFileError, RunArgumentError
 from flexlib.results.result import Result
 
-__all__ = ["FORMAT", "load_result", "save_result"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "load_result", "remove_orphans", "save_result"]
 
 FORMAT = "flexlib-result"
+#: Version of the layout written; files with a higher version are refused on reading.
 FORMAT_VERSION = 1
 _STR = h5py.string_dtype("utf-8")
 
+#: Datasets every result file has (``docs/results.md``).
+_REQUIRED = ("time", "variables/values", "variables/names", "variables/units", "variables/docs", "variables/kinds",
+             "parameters/names", "parameters/values", "parameters/units", "events/time", "events/text")
+_ATTRS = ("model", "status", "message", "index_report", "solver_stats")
+_STATUSES = ("success", "failed", "interrupted")
+
+
+def _as_path(path: Any, what: str) -> Path:
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise RunArgumentError(f"{what}: the path must be a str or os.PathLike, got {path!r} "
+                               f"({type(path).__name__})")
+    if not os.fspath(path):
+        raise RunArgumentError(f"{what}: the path is an empty string")
+    return Path(os.fspath(path)).expanduser()
+
+
+def _reason(err: BaseException) -> str:
+    """The OS reason of an error, without a repeated file name."""
+    if isinstance(err, OSError) and err.strerror:
+        return err.strerror
+    return str(err) or type(err).__name__
+
+
+def _host() -> str:
+    """This host's name as it appears in temporary file names (letters, digits and ``-`` only)."""
+    return re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname()) or "host"
+
+
+def _pid_alive(pid: int) -> bool:
+    if pid <= 0:
+        return False
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError):
+        return True  # exists (owned by someone else), or cannot tell: keep its file
+    return True
+
+
+def remove_orphans(path: str | os.PathLike) -> list[Path]:
+    """Remove the temporary files of ``path`` left by writers that no longer run.
+
+    A temporary file ``<name>.<host>.<pid>.<random>.tmp`` belongs to the process ``pid`` on ``host``; it is
+    removed only when ``host`` is this host and that process does not exist any more (a killed writer).
+    Files of running writers and of other hosts are kept.
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+    """
+    path = Path(path)
+    pattern = re.compile(re.escape(path.name) + r"\.([A-Za-z0-9-]+)\.(\d+)\.[^.]+\.tmp")
+    host = _host()
+    removed = []
+    try:
+        candidates = list(path.parent.glob(glob.escape(path.name) + ".*.tmp"))
+    except OSError:
+        return removed
+    for cand in candidates:
+        match = pattern.fullmatch(cand.name)
+        if match is None or match.group(1) != host or _pid_alive(int(match.group(2))):
+            continue
+        try:
+            cand.unlink()
+            removed.append(cand)
+        except OSError:
+            pass  # another process removed it first, or no permission: not ours to insist on
+    return removed
+
 
 def save_result(result: Result, path: str | os.PathLike) -> None:
-    """Write ``result`` to ``path``: a temporary file in the same directory, then an atomic rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
+    """Write ``result`` to ``path``: a temporary file in the same directory, then an atomic rename.
+
+    Raises
+    ------
+    ResultFileError
+        The file cannot be written (directory not creatable, permission, disk full); names the path and
+        the reason. Nothing is left behind: no partial file under ``path``, no temporary file.
+    RunArgumentError
+        ``path`` is not a path.
+    """
+    path = _as_path(path, "save_result")
+    if path.is_dir():
+        raise ResultFileError(f"cannot write the result to {path}: it is a directory")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise ResultFileError(f"cannot write the result to {path}: cannot create its directory "
+                              f"{path.parent}: {_reason(err)}") from None
+    remove_orphans(path)
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f"{path.name}.{_host()}.{os.getpid()}.",
+                                   suffix=".tmp")
+    except OSError as err:
+        raise ResultFileError(f"cannot write the result to {path}: {_reason(err)}") from None
     os.close(fd)
     try:
-        with h5py.File(tmp, "w") as f:
-            f.attrs["format"] = FORMAT
-            f.attrs["format_version"] = FORMAT_VERSION
-            f.attrs["model"] = result.model
-            f.attrs["status"] = result.status
-            f.attrs["message"] = result.message
-            f.attrs["index_report"] = result.index_report
-            for key, val in result.metadata.items():
-                f.attrs[f"meta_{key}"] = str(val)
-            ds = f.create_dataset("time", data=result.t)
-            ds.attrs["unit"] = "s"
-            g = f.create_group("variables")
-            g.create_dataset("values", data=result.values, compression="gzip" if result.values.size > 1e5 else None)
-            g.create_dataset("names", data=np.array(result.names, dtype=object), dtype=_STR)
-            g.create_dataset("units", data=np.array(result.units, dtype=object), dtype=_STR)
-            g.create_dataset("docs", data=np.array(result.docs, dtype=object), dtype=_STR)
-            g.create_dataset("kinds", data=np.array(result.kinds, dtype=object), dtype=_STR)
-            pg = f.create_group("parameters")
-            names = list(result.parameters)
-            pg.create_dataset("names", data=np.array(names, dtype=object), dtype=_STR)
-            pg.create_dataset("values", data=np.array([result.parameters[n][0] for n in names], dtype=float))
-            units = np.array([result.parameters[n][1] for n in names], dtype=object)
-            pg.create_dataset("units", data=units, dtype=_STR)
-            eg = f.create_group("events")
-            eg.create_dataset("time", data=np.array([e[0] for e in result.events], dtype=float))
-            eg.create_dataset("text", data=np.array([e[1] for e in result.events], dtype=object), dtype=_STR)
-            f.attrs["solver_stats"] = json.dumps(result.stats, default=float)
+        _write(result, tmp)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as err:
         Path(tmp).unlink(missing_ok=True)
+        if isinstance(err, OSError):
+            raise ResultFileError(f"cannot write the result to {path}: {_reason(err)}") from err
         raise
+
+
+def _write(result: Result, tmp: str) -> None:
+    with h5py.File(tmp, "w") as f:
+        f.attrs["format"] = FORMAT
+        f.attrs["format_version"] = FORMAT_VERSION
+        f.attrs["model"] = result.model
+        f.attrs["status"] = result.status
+        f.attrs["message"] = result.message
+        f.attrs["index_report"] = result.index_report
+        for key, val in result.metadata.items():
+            f.attrs[f"meta_{key}"] = str(val)
+        ds = f.create_dataset("time", data=np.asarray(result.t, dtype=float).reshape(-1))
+        ds.attrs["unit"] = "s"
+        g = f.create_group("variables")
+        values = np.asarray(result.values, dtype=float).reshape(len(result.t), len(result.names))
+        g.create_dataset("values", data=values, compression="gzip" if values.size > 1e5 else None)
+        g.create_dataset("names", data=np.array(result.names, dtype=object), dtype=_STR)
+        g.create_dataset("units", data=np.array(result.units, dtype=object), dtype=_STR)
+        g.create_dataset("docs", data=np.array(result.docs, dtype=object), dtype=_STR)
+        g.create_dataset("kinds", data=np.array(result.kinds, dtype=object), dtype=_STR)
+        pg = f.create_group("parameters")
+        names = list(result.parameters)
+        pg.create_dataset("names", data=np.array(names, dtype=object), dtype=_STR)
+        pg.create_dataset("values", data=np.array([result.parameters[n][0] for n in names], dtype=float))
+        units = np.array([result.parameters[n][1] for n in names], dtype=object)
+        pg.create_dataset("units", data=units, dtype=_STR)
+        eg = f.create_group("events")
+        eg.create_dataset("time", data=np.array([e[0] for e in result.events], dtype=float))
+        eg.create_dataset("text", data=np.array([e[1] for e in result.events], dtype=object), dtype=_STR)
+        f.attrs["solver_stats"] = json.dumps(result.stats, default=float)
 
 
 def _strings(ds: h5py.Dataset) -> list[str]:
     return [s.decode() if isinstance(s, bytes) else str(s) for s in ds[()]]
 
 
+def _what_is(path: Path) -> str:
+    """A short description of a file that is not HDF5 (for the error message)."""
+    size = path.stat().st_size
+    if size == 0:
+        return "an empty file"
+    with open(path, "rb") as fh:
+        head = fh.read(512)
+    if head.startswith(b"\x89HDF"):
+        return f"a truncated or damaged HDF5 file ({size} bytes)"
+    try:
+        text = head.decode("utf-8")
+    except UnicodeDecodeError:
+        return f"not an HDF5 file ({size} bytes of binary data)"
+    first = text.splitlines()[0][:60] if text.splitlines() else ""
+    kind = "CSV " if "," in first or ";" in first or "\t" in first else ""
+    return f"not an HDF5 file but {kind}text ({size} bytes, first line {first!r})"
+
+
 def load_result(path: str | os.PathLike) -> Result:
-    """Read a result written by :meth:`Result.save`."""
-    with h5py.File(path, "r") as f:
-        if f.attrs.get("format") != FORMAT:
-            raise ValueError(f"{path}: not a flexlib result file")
-        g, pg, eg = f["variables"], f["parameters"], f["events"]
-        params = {n: (float(v), u) for n, v, u in zip(_strings(pg["names"]), pg["values"][()], _strings(pg["units"]),
-                                                     strict=True)}
-        meta = {k[5:]: str(v) for k, v in f.attrs.items() if k.startswith("meta_")}
-        return Result(
-            model=str(f.attrs["model"]), t=f["time"][()], names=_strings(g["names"]), values=g["values"][()],
-            units=_strings(g["units"]), docs=_strings(g["docs"]), kinds=_strings(g["kinds"]), parameters=params,
-            stats=json.loads(f.attrs["solver_stats"]), status=str(f.attrs["status"]), message=str(f.attrs["message"]),
-            events=list(zip(eg["time"][()].tolist(), _strings(eg["text"]), strict=True)),
-            index_report=str(f.attrs["index_report"]), metadata=meta,
-        )
+    """Read a result written by :meth:`Result.save`.
+
+    Raises
+    ------
+    ResultFileError
+        The file is missing, not HDF5, truncated or damaged, not a flexlib result, incomplete (a group or
+        dataset missing, inconsistent shapes) or from a newer format version; the message names the path
+        and the problem.
+    RunArgumentError
+        ``path`` is not a path.
+    """
+    path = _as_path(path, "load_result")
+    if not path.exists():
+        raise ResultFileError(f"cannot read the result file {path}: no such file")
+    if path.is_dir():
+        raise ResultFileError(f"cannot read the result file {path}: it is a directory")
+    try:
+        hdf5 = h5py.is_hdf5(path)
+    except OSError as err:
+        raise ResultFileError(f"cannot read the result file {path}: {_reason(err)}") from None
+    if not hdf5:
+        raise ResultFileError(f"cannot read the result file {path}: {_what_is(path)}")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as err:
+        raise ResultFileError(f"cannot read the result file {path}: {_what_is(path)}: {err}") from None
+    try:
+        with f:
+            return _read(f, path)
+    except ResultFileError:
+        raise
+    except (OSError, KeyError, ValueError, TypeError, IndexError) as err:
+        raise ResultFileError(f"cannot read the result file {path}: damaged ({type(err).__name__}: {err})") from None
+
+
+def _read(f: h5py.File, path: Path) -> Result:
+    def bad(problem: str) -> ResultFileError:
+        return ResultFileError(f"cannot read the result file {path}: {problem}")
+
+    fmt = f.attrs.get("format")
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode(errors="replace")
+    if fmt != FORMAT:
+        found = "no 'format' attribute" if fmt is None else f"format attribute {fmt!r}"
+        raise bad(f"not a flexlib result file ({found}; expected {FORMAT!r})")
+    version = f.attrs.get("format_version")
+    if version is None or not np.issubdtype(np.asarray(version).dtype, np.integer) or np.asarray(version).ndim:
+        raise bad(f"format_version is missing or not an integer ({version!r}); supported: 1 ... {FORMAT_VERSION}")
+    if int(version) > FORMAT_VERSION or int(version) < 1:
+        raise bad(f"format_version {int(version)} is not supported: this flexlib reads format_version "
+                  f"1 ... {FORMAT_VERSION} (a newer flexlib wrote this file; upgrade flexlib to read it)")
+    missing = ["/" + name for name in _REQUIRED if name not in f or not isinstance(f[name], h5py.Dataset)]
+    missing += [f"attribute {a!r}" for a in _ATTRS if a not in f.attrs]
+    if missing:
+        raise bad(f"incomplete flexlib result, missing {', '.join(missing)}")
+    t = np.asarray(f["time"][()], dtype=float)
+    g, pg, eg = f["variables"], f["parameters"], f["events"]
+    names = _strings(g["names"])
+    values = np.asarray(g["values"][()], dtype=float)
+    if t.ndim != 1:
+        raise bad(f"/time has shape {t.shape}, expected one dimension")
+    if values.shape != (len(t), len(names)):
+        raise bad(f"/variables/values has shape {values.shape}, expected {(len(t), len(names))} "
+                  "(time points × variable names)")
+    meta_lists = {k: _strings(g[k]) for k in ("units", "docs", "kinds")}
+    for key, lst in meta_lists.items():
+        if len(lst) != len(names):
+            raise bad(f"/variables/{key} has {len(lst)} entries for {len(names)} variables")
+    pnames, pvalues, punits = _strings(pg["names"]), np.asarray(pg["values"][()], dtype=float), _strings(pg["units"])
+    if not len(pnames) == len(pvalues) == len(punits):
+        raise bad(f"/parameters has {len(pnames)} names, {len(pvalues)} values and {len(punits)} units")
+    ev_t, ev_text = np.asarray(eg["time"][()], dtype=float), _strings(eg["text"])
+    if len(ev_t) != len(ev_text):
+        raise bad(f"/events has {len(ev_t)} times and {len(ev_text)} texts")
+    status = str(f.attrs["status"])
+    if status not in _STATUSES:
+        raise bad(f"status {status!r} is not one of {', '.join(_STATUSES)}")
+    try:
+        stats = json.loads(f.attrs["solver_stats"])
+    except (TypeError, ValueError) as err:
+        raise bad(f"the attribute 'solver_stats' is not JSON ({err})") from None
+    meta = {k[5:]: str(v) for k, v in f.attrs.items() if k.startswith("meta_")}
+    return Result(
+        model=str(f.attrs["model"]), t=t, names=names, values=values, units=meta_lists["units"],
+        docs=meta_lists["docs"], kinds=meta_lists["kinds"],
+        parameters={n: (float(v), u) for n, v, u in zip(pnames, pvalues, punits, strict=True)},
+        stats=stats, status=status, message=str(f.attrs["message"]),
+        events=list(zip(ev_t.tolist(), ev_text, strict=True)), index_report=str(f.attrs["index_report"]),
+        metadata=meta,
+    )

@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import difflib
+import os
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+from flexlib.errors import EmptyResultError, ResultKeyError
 
 __all__ = ["DISPLAY_UNITS", "Result"]
 
@@ -80,11 +83,24 @@ class Result:
         try:
             return self._index[name]
         except KeyError:
-            close = difflib.get_close_matches(name, self.names, n=5, cutoff=0.6)
-            hint = f"; close matches: {', '.join(close)}" if close else ""
-            raise KeyError(f"no variable {name!r} in the result of {self.model}{hint}") from None
+            raise self._unknown(name) from None
+
+    def _unknown(self, name: Any) -> ResultKeyError:
+        if not isinstance(name, str):
+            return ResultKeyError(f"result of {self.model}: variables are looked up by name (str), got {name!r} "
+                                  f"({type(name).__name__})")
+        pool = sorted({n.split("[")[0] for n in self.names} | set(self.names))
+        close = difflib.get_close_matches(name, pool, n=5, cutoff=0.6)
+        if not close:  # a wrong component path with the right variable: match on the last part
+            leaf = name.rpartition(".")[2]
+            close = [n for n in pool if n.rpartition(".")[2] == leaf][:5]
+        hint = f"; did you mean {close[0]!r}? (close matches: {', '.join(close)})" if close else ""
+        return ResultKeyError(f"no variable {name!r} in the result of {self.model} "
+                              f"({len(self.names)} variables){hint}")
 
     def __getitem__(self, name: str) -> np.ndarray:
+        if not isinstance(name, str):
+            raise self._unknown(name)
         if name in ("time", "t"):
             return self.t
         if name in self._index:
@@ -93,18 +109,38 @@ class Result:
         cols = [k for n, k in self._index.items() if n.startswith(name + "[")]
         if cols:
             return self.values[:, sorted(cols)]
-        return self.values[:, self._col(name)]
+        raise self._unknown(name)
+
+    def _require_rows(self, what: str) -> None:
+        if not len(self.t):
+            why = f" ({self.message})" if self.message else ""
+            raise EmptyResultError(f"{what}: the result of {self.model} has no rows; the run is {self.status}{why}")
 
     def __contains__(self, name: str) -> bool:
         return name in self._index
 
     def unit(self, name: str) -> str:
-        """Unit of a variable."""
+        """Unit of a variable (of its first element for an array variable)."""
+        if name in ("time", "t"):
+            return "s"
+        if isinstance(name, str) and name not in self._index:
+            elem = next((n for n in self.names if n.startswith(name + "[")), None)
+            if elem is not None:
+                return self.units[self._index[elem]]
         return self.units[self._col(name)]
 
     def value(self, name: str, t: float | np.ndarray) -> float | np.ndarray:
-        """Linear interpolation of variable ``name`` at time(s) ``t`` (right value at events)."""
+        """Linear interpolation of variable ``name`` at time(s) ``t`` (right value at events).
+
+        Raises
+        ------
+        ResultKeyError
+            No such variable.
+        EmptyResultError
+            The result has no rows.
+        """
         x = self[name]
+        self._require_rows(f"value({name!r}, t)")
         tt = self.t
         # at an event time the result holds the left and right values; use the right one
         keep = np.ones(len(tt), dtype=bool)
@@ -112,8 +148,10 @@ class Result:
         return np.interp(t, tt[keep], x[keep])
 
     def final(self, name: str) -> float:
-        """Value of ``name`` at the end of the run."""
-        return float(self[name][-1])
+        """Value of ``name`` at the end of the run (:class:`EmptyResultError` if the result has no rows)."""
+        x = self[name]
+        self._require_rows(f"final({name!r})")
+        return float(x[-1])
 
     def display(self, name: str) -> tuple[np.ndarray, str]:
         """Values of ``name`` in its display unit (:data:`DISPLAY_UNITS`: L/min, bar, rpm) and that unit."""
@@ -131,22 +169,44 @@ class Result:
             values, unit = (self[name], self.unit(name)) if si else self.display(name)
             ax.plot(self.t, values, label=f"{name} [{unit}]")
         ax.set_xlabel("time [s]")
-        ax.set_title(title or self.model)
+        ax.set_title(title or (self.model if len(self.t) else f"{self.model} (no rows: run {self.status})"))
         ax.grid(True, alpha=0.3)
         if names:
             ax.legend()
         return ax
 
     def summary(self, *names: str) -> str:
-        """Table of final, minimum and maximum values in display units (flows in L/min, pressures in bar)."""
+        """Table of final, minimum and maximum values in display units (flows in L/min, pressures in bar).
+
+        A result without rows (a run that failed at its start) gives the table with ``-`` and a line saying
+        why; a result that did not succeed says so in its last line."""
         rows = [f"{'variable':<36} {'unit':>7} {'final':>12} {'min':>12} {'max':>12}"]
         for name in names:
             values, unit = self.display(name)
-            rows.append(f"{name:<36} {unit:>7} {values[-1]:>12.5g} {values.min():>12.5g} {values.max():>12.5g}")
+            if values.ndim > 1:  # array variable: one row per element
+                elems = [n for n in self.names if n.startswith(name + "[")]
+                rows += [self._summary_row(n, *self.display(n)) for n in elems]
+            else:
+                rows.append(self._summary_row(name, values, unit))
+        if not self.success:
+            message = " ".join(self.message.split())
+            rows.append(f"({self.status}: {message})" if message else f"({self.status})")
         return "\n".join(rows)
 
-    def save(self, path: str) -> None:
-        """Write the result to an HDF5 file (atomically; layout in docs/results.md)."""
+    @staticmethod
+    def _summary_row(name: str, values: np.ndarray, unit: str) -> str:
+        if not len(values):
+            return f"{name:<36} {unit:>7} {'-':>12} {'-':>12} {'-':>12}"
+        return f"{name:<36} {unit:>7} {values[-1]:>12.5g} {values.min():>12.5g} {values.max():>12.5g}"
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the result to an HDF5 file (atomically; layout in docs/results.md).
+
+        Raises
+        ------
+        ResultFileError
+            The file cannot be written; names the path and the reason. Nothing partial is left behind.
+        """
         from flexlib.results.hdf5 import save_result
 
         save_result(self, path)

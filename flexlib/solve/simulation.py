@@ -10,9 +10,15 @@ import difflib
 import hashlib
 import os
 import platform
+import signal
 import tempfile
+import threading
 import time as _time
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -22,13 +28,76 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
-from flexlib.errors import InitializationError, ParameterError, SolverError, StructureChangedError
+from flexlib.errors import (
+    InitializationError,
+    ParameterError,
+    ResultFileError,
+    ResultSaveWarning,
+    SimulationInterrupted,
+    SolverError,
+    StructureChangedError,
+)
+from flexlib.results.hdf5 import save_result
 from flexlib.results.result import Result
 from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
 from flexlib.solve.ida import Trajectory, check_assertions, integrate
 from flexlib.solve.initialization import Initializer
+from flexlib.solve.run_options import check_run_arguments
 
 __all__ = ["Experiment", "Simulation"]
+
+
+class _Rebuild(Exception):
+    """The cached build does not fit this instance: leave the guarded block and rebuild."""
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, turned into the Ctrl-C path of a run."""
+
+
+class _StopState:
+    """What the SIGTERM handler of one run has seen.
+
+    ``stopping`` is set once the run is ending (interrupted, failed or done): a SIGTERM then no longer
+    interrupts (the result is being assembled and written) but is delivered again, to the handler that was
+    there before the run, once the run has ended."""
+
+    def __init__(self) -> None:
+        self.signalled = False
+        self.stopping = False
+        self.pending = False
+
+    @property
+    def by(self) -> str:
+        return "SIGTERM" if self.signalled else "the user"
+
+    def handler(self, signum: int, frame: Any) -> None:
+        if self.stopping:
+            self.pending = True
+            return
+        self.signalled = self.stopping = True
+        raise _Terminated("SIGTERM")
+
+
+@contextmanager
+def _sigterm_as_interrupt() -> Iterator[_StopState]:
+    """During a run (main thread only), SIGTERM takes the Ctrl-C path: the run stops, keeps and writes its
+    result, and raises SimulationInterrupted. The previous handler is restored afterwards, also on error."""
+    state = _StopState()
+    previous: Any = None
+    if threading.current_thread() is threading.main_thread() and hasattr(signal, "SIGTERM"):
+        previous = signal.getsignal(signal.SIGTERM)
+        if previous is None or previous is signal.SIG_IGN:
+            previous = None  # set outside Python (cannot be restored) or ignored on purpose: leave it alone
+        else:
+            signal.signal(signal.SIGTERM, state.handler)
+    try:
+        yield state
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+            if state.pending:  # a SIGTERM that arrived while the result was written: deliver it now
+                signal.raise_signal(signal.SIGTERM)
 
 
 @dataclass(frozen=True)
@@ -145,7 +214,7 @@ class Simulation:
         self, t_end: float | None = None, *, t_start: float | None = None, dt_out: float | None = None,
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
         max_step: float = 0.0, max_steps: int = 5_000_000, params: dict[str, Any] | None = None,
-        steady_state: bool = False, progress: bool | None = None, result_file: str | None = None,
+        steady_state: bool = False, progress: bool | None = None, result_file: str | os.PathLike | None = None,
         solver: str = "ida", dynamic_states: bool = True,
     ) -> Result:
         """Initialise and integrate.
@@ -172,8 +241,8 @@ class Simulation:
             Initialise with ``der(x) = 0`` for every state without an initial condition of its own.
         progress : bool, optional
             Progress bar (default: shown for runs longer than about 2 s).
-        result_file : str, optional
-            Write the result to this HDF5 file, also when the run fails or is interrupted.
+        result_file : str or os.PathLike, optional
+            Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM).
         solver : {"ida", "casadi-idas"}
             ``"ida"``: SUNDIALS IDA through scikit-sundae (default; every step, progress bar).
             ``"casadi-idas"``: CasADi's built-in IDAS, all in C — faster for small models, same
@@ -188,40 +257,73 @@ class Simulation:
 
         Raises
         ------
+        RunArgumentError
+            An argument is invalid (checked before any work; a ``ValueError``). See docs/results.md.
         SolverError
             The integration failed; ``err.result`` holds the result up to the failure.
         SimulationInterrupted
-            Ctrl-C; ``err.result`` holds the result up to the interrupt.
+            Ctrl-C or SIGTERM; ``err.result`` holds the result up to the interrupt.
+
+        Warns
+        -----
+        ResultSaveWarning
+            ``result_file`` could not be written; the result is returned (or attached to the error) anyway.
         """
         exp = getattr(self.model, "experiment", None) or Experiment()
-        t0 = exp.t_start if t_start is None else float(t_start)
-        t1 = exp.t_end if t_end is None else float(t_end)
-        if not t1 > t0:
-            raise ValueError(f"t_end ({t1}) must be greater than t_start ({t0})")
-        dt = dt_out if dt_out is not None else (exp.dt_out if output_times is None and t_end is None else None)
-        rtol = exp.rtol if rtol is None else rtol
-        atol = exp.atol if atol is None else atol
-        if output_times is not None:
-            grid = np.asarray(output_times, dtype=float)
-        elif dt is not None:
-            n = int(np.floor((t1 - t0) / dt + 1e-9))
-            grid = t0 + dt * np.arange(n + 1)
-            if grid[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
-                grid = np.append(grid, t1)
-        else:
-            grid = None
+        opts = check_run_arguments(
+            exp, f"{type(self.model).__name__}.experiment", t_start=t_start, t_end=t_end, dt_out=dt_out,
+            output_times=output_times, rtol=rtol, atol=atol, max_step=max_step, max_steps=max_steps, params=params,
+            steady_state=steady_state, dynamic_states=dynamic_states, progress=progress, solver=solver,
+            result_file=result_file)
+        t0, t1 = opts.t_start, opts.t_end
         m = self.compiled
         values, starts = gather_values(self.model)
-        pvec = self.parameter_vector(params, values)
+        pvec = self.parameter_vector(opts.params, values)
         p = np.concatenate([pvec, np.zeros(m.n_relations)])
-        wall = _time.perf_counter()
-        y0, yp0 = self._initialize(t0, p, starts, steady_state)
-        t_init = _time.perf_counter() - wall
-        try:
-            check_dropped_rows(m, t0, y0, yp0, p, START_TOL, where="at the start", overrides=params)
-        except StructureChangedError:
-            if not self.build_info.get("cached"):
+        stale = False
+        with _sigterm_as_interrupt() as stop:
+            wall = _time.perf_counter()
+            t_init = 0.0
+            try:
+                y0, yp0 = self._initialize(t0, p, starts, opts.steady_state)
+                t_init = _time.perf_counter() - wall
+                if self._stale_cached_build(t0, y0, yp0, p, opts.params):
+                    stale = True
+                    raise _Rebuild
+                extra: dict[str, Any] = {}
+                if opts.solver == "ida":
+                    backend = integrate
+                    if m.has_state_choice and opts.dynamic_states:
+                        extra["monitor"] = self._monitor()
+                else:
+                    from flexlib.solve.casadi_idas import integrate_casadi as backend
+                check_assertions(m, p, t0)
+                traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, rtol=opts.rtol, atol=opts.atol,
+                               max_step=opts.max_step, max_steps=opts.max_steps, progress=opts.progress, **extra)
+            except SolverError as err:
+                stop.stopping = True
+                traj = err.result if isinstance(err.result, Trajectory) else Trajectory(status="failed",
+                                                                                        message=str(err))
+                if isinstance(err, SimulationInterrupted) and stop.signalled:
+                    traj.message = traj.message.replace("by the user", f"by {stop.by}")
+                    err.args = (traj.message,)
+                err.result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+                self._keep(err.result, opts.result_file)
                 raise
+            except _Rebuild:
+                pass
+            except KeyboardInterrupt:  # Ctrl-C or SIGTERM outside the backend's step loop (initialisation)
+                stop.stopping = True
+                where = "during initialisation" if not t_init else "before the first step"
+                traj = Trajectory(status="interrupted", message=f"interrupted by {stop.by} {where} at t = {t0:.10g} s")
+                result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+                self._keep(result, opts.result_file)
+                raise SimulationInterrupted(traj.message, result) from None
+            stop.stopping = True
+            if not stale:
+                result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+                self._keep(result, opts.result_file)
+        if stale:
             # the cached entry was built at another instance's values (the key holds structure, not values):
             # rebuild at this instance's own values, without touching the cached entry, and start again
             self._rebuild_uncached()
@@ -229,34 +331,41 @@ class Simulation:
                             atol=atol, max_step=max_step, max_steps=max_steps, params=params,
                             steady_state=steady_state, progress=progress, result_file=result_file,
                             solver=solver, dynamic_states=dynamic_states)
-        extra: dict[str, Any] = {}
-        if solver == "ida":
-            backend = integrate
-            if m.has_state_choice and dynamic_states:
-                extra["monitor"] = self._monitor()
-        elif solver == "casadi-idas":
-            from flexlib.solve.casadi_idas import integrate_casadi as backend
-        else:
-            raise ValueError(f"solver must be 'ida' or 'casadi-idas', got {solver!r}")
         try:
-            check_assertions(m, p, t0)
-            traj = backend(m, self.initializer, p, y0, yp0, t0, t1, grid, rtol=rtol, atol=atol,
-                             max_step=max_step, max_steps=max_steps, progress=progress, **extra)
-        except SolverError as err:
-            traj = err.result if isinstance(err.result, Trajectory) else Trajectory()
-            err.result = self._result(traj, pvec, t_init, rtol, atol)
-            if result_file:
-                err.result.save(result_file)
-            raise
-        result = self._result(traj, pvec, t_init, rtol, atol)
-        if result_file:
-            result.save(result_file)
-        try:
-            self._check_trajectory(traj, pvec, rtol, atol, params)
+            self._check_trajectory(traj, pvec, opts.rtol, opts.atol, opts.params)
         except StructureChangedError as err:
             err.result = result  # type: ignore[attr-defined]
             raise
         return result
+
+    def _stale_cached_build(self, t0: float, y0: np.ndarray, yp0: np.ndarray, p: np.ndarray,
+                            params: dict[str, Any] | None) -> bool:
+        """Check the build's dropped loop rows at the consistent start; True if a cached entry made for other
+        values must be rebuilt (a fresh build's violation is the user's override: StructureChangedError)."""
+        try:
+            check_dropped_rows(self.compiled, t0, y0, yp0, p, START_TOL, where="at the start", overrides=params)
+        except StructureChangedError:
+            if not self.build_info.get("cached"):
+                raise
+            return True
+        return False
+
+    @staticmethod
+    def _keep(result: Result, path: Path | None) -> None:
+        """Write ``result`` to ``path`` (if given) without ever losing it: a failed write is a
+        :class:`ResultSaveWarning` naming the path and the reason; Ctrl-C during the write leaves no file
+        (the write is atomic) and raises :class:`SimulationInterrupted` carrying the result."""
+        if path is None:
+            return
+        try:
+            save_result(result, path)
+        except KeyboardInterrupt:
+            raise SimulationInterrupted(f"interrupted while writing the result file {path} (not written; the "
+                                        f"result is in err.result)", result) from None
+        except Exception as err:  # any failure to write must not hide the result
+            reason = str(err) if isinstance(err, ResultFileError) else f"{path}: {type(err).__name__}: {err}"
+            warnings.warn(ResultSaveWarning(f"the result was not saved: {reason}; it is kept in memory "
+                                            "(returned, or err.result of the solver error)"), stacklevel=3)
 
     def _rebuild_uncached(self) -> None:
         """Build again from this instance's own values (no cache read or write)."""

@@ -1,0 +1,268 @@
+"""Signals during a run: SIGTERM (timeouts, batch schedulers, containers) takes the Ctrl-C path, so the result
+up to that point is kept and written; Ctrl-C during a save leaves no partial file (issue 8: before, SIGTERM
+wrote nothing)."""
+
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib import Variable, der, eq
+from flexlib.results import hdf5
+from flexlib.solve import ida, simulation
+
+
+class Osc(fl.Model):
+    """x'' = -x, x(0) = 1: x = cos t."""
+
+    x = Variable()
+    v = Variable()
+
+    def equations(self):
+        return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
+
+
+class BlowUp(fl.Model):
+    """x' = x², x(0) = 1: blows up at t = 1."""
+
+    x = Variable()
+
+    def equations(self):
+        return [eq(der(self.x), self.x**2)]
+
+
+@pytest.fixture(scope="module")
+def sim():
+    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+
+
+@pytest.fixture
+def recorder():
+    """A Python SIGTERM handler in place before the run (records calls); restored after the test."""
+    calls = []
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: calls.append(signum))
+    yield calls
+    signal.signal(signal.SIGTERM, previous)
+
+
+def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
+    """Deliver ``signum`` to this process from inside the ``n``-th residual evaluation of IDA."""
+    calls = {"n": 0}
+    original = ida._Callbacks.resfn
+
+    def resfn(self, t, y, yp, r):
+        calls["n"] += 1
+        if calls["n"] == n:
+            signal.raise_signal(signum)
+        original(self, t, y, yp, r)
+
+    monkeypatch.setattr(ida._Callbacks, "resfn", resfn)
+
+
+CHILD = textwrap.dedent("""
+    import sys
+    import flexlib as fl
+    from flexlib import Variable, der, eq
+    from flexlib.solve import simulation
+
+    class Osc(fl.Model):
+        x = Variable()
+        v = Variable()
+
+        def equations(self):
+            return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
+
+    sim = fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    real = simulation.integrate
+
+    def announce(*args, **kwargs):
+        print("integrating", flush=True)
+        return real(*args, **kwargs)
+
+    simulation.integrate = announce
+    try:
+        sim.run(1e5, dt_out=0.1, result_file=sys.argv[1], progress=False)
+    except fl.SimulationInterrupted as err:
+        print("interrupted", err.result.status, len(err.result.t), flush=True)
+        sys.exit(3)
+    print("finished", flush=True)
+""")
+
+
+def test_sigterm_from_outside_writes_the_result(tmp_path):
+    """A separate process starts a long run (1e5 s) with result_file and gets SIGTERM while integrating: it
+    raises SimulationInterrupted and leaves a readable file with status interrupted and rows x = cos t."""
+    path = tmp_path / "long.h5"
+    script = tmp_path / "child.py"
+    script.write_text(CHILD)
+    child = subprocess.Popen([sys.executable, str(script), str(path)], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True)
+    try:
+        line = child.stdout.readline()
+        assert line.strip() == "integrating", child.stderr.read()
+        time.sleep(0.5)
+        child.send_signal(signal.SIGTERM)
+        out, err = child.communicate(timeout=120)
+    finally:
+        if child.poll() is None:
+            child.kill()
+    assert child.returncode == 3, err
+    assert out.startswith("interrupted interrupted ")
+    res = fl.load_result(path)
+    assert res.status == "interrupted" and "interrupted by SIGTERM at t = " in res.message
+    assert len(res.t) > 10 and 0 < res.t[-1] < 1e5
+    np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-3)
+    assert [p.name for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
+
+
+def test_sigterm_during_the_steps(sim, monkeypatch, tmp_path, recorder):
+    signal_at_call(monkeypatch, 300)
+    path = tmp_path / "run.h5"
+    with pytest.raises(fl.SimulationInterrupted, match=r"interrupted by SIGTERM at t = ") as err:
+        sim.run(100.0, dt_out=0.01, result_file=path)
+    res = err.value.result
+    assert res.status == "interrupted" and 0 < res.t[-1] < 100
+    np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-4)
+    assert fl.load_result(path).status == "interrupted"
+    assert recorder == []  # the run's handler took it; the previous one is back
+    assert signal.getsignal(signal.SIGTERM) is not simulation._StopState.handler
+
+
+def test_sigterm_with_the_casadi_backend(sim, monkeypatch, tmp_path, recorder):
+    from flexlib.solve import casadi_idas
+
+    calls = {"n": 0}
+    original = casadi_idas.Progress.update
+
+    def update(self, t):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            signal.raise_signal(signal.SIGTERM)
+        original(self, t)
+
+    monkeypatch.setattr(casadi_idas.Progress, "update", update)
+    with pytest.raises(fl.SimulationInterrupted, match=r"interrupted by SIGTERM at t = ") as err:
+        sim.run(100.0, dt_out=0.01, solver="casadi-idas", result_file=tmp_path / "run.h5")
+    assert err.value.result.status == "interrupted" and len(err.value.result.t) > 1
+    assert fl.load_result(tmp_path / "run.h5").status == "interrupted"
+
+
+def test_sigterm_during_initialisation(sim, monkeypatch, tmp_path, recorder):
+    real = sim._initialize
+
+    def initialize(*args):
+        signal.raise_signal(signal.SIGTERM)
+        return real(*args)
+
+    monkeypatch.setattr(sim, "_initialize", initialize)
+    with pytest.raises(fl.SimulationInterrupted, match=r"interrupted by SIGTERM during initialisation") as err:
+        sim.run(1.0, result_file=tmp_path / "init.h5")
+    assert err.value.result.status == "interrupted" and len(err.value.result.t) == 0
+    back = fl.load_result(tmp_path / "init.h5")
+    assert back.status == "interrupted" and back.values.shape[0] == 0
+
+
+def test_ctrl_c_signal_during_the_steps(sim, monkeypatch, tmp_path):
+    signal_at_call(monkeypatch, 300, signal.SIGINT)
+    with pytest.raises(fl.SimulationInterrupted, match=r"interrupted by the user at t = "):
+        sim.run(100.0, dt_out=0.01, result_file=tmp_path / "run.h5")
+    assert fl.load_result(tmp_path / "run.h5").status == "interrupted"
+
+
+@pytest.mark.parametrize("outcome", ["success", "solver error", "argument error", "interrupt"])
+def test_previous_handler_is_restored(monkeypatch, recorder, outcome):
+    model = BlowUp(init={"x": 1.0}) if outcome == "solver error" else Osc(init={"x": 1.0, "v": 0.0})
+    run = fl.Simulation(model, use_cache=False).run
+    mine = signal.getsignal(signal.SIGTERM)
+    if outcome == "success":
+        run(1.0)
+    elif outcome == "solver error":
+        with pytest.raises(fl.SolverError, match=r"at t = 0\.9"):
+            run(2.0)
+    elif outcome == "argument error":
+        with pytest.raises(fl.RunArgumentError, match="dt_out"):
+            run(1.0, dt_out=0.0)
+    else:
+        signal_at_call(monkeypatch, 50)
+        with pytest.raises(fl.SimulationInterrupted, match="SIGTERM"):
+            run(100.0)
+    assert signal.getsignal(signal.SIGTERM) is mine
+    signal.raise_signal(signal.SIGTERM)
+    assert recorder == [signal.SIGTERM]
+
+
+def test_sigterm_while_writing_is_delivered_after_the_file_is_complete(sim, monkeypatch, tmp_path, recorder):
+    """The run has ended and its file is being written when SIGTERM arrives: the write completes, the run
+    returns, and the signal then reaches the handler that was there before the run."""
+    real = hdf5._write
+
+    def write(result, tmp):
+        signal.raise_signal(signal.SIGTERM)
+        assert recorder == []  # not yet
+        real(result, tmp)
+
+    monkeypatch.setattr(hdf5, "_write", write)
+    res = sim.run(1.0, dt_out=0.1, result_file=tmp_path / "run.h5")
+    assert res.success and recorder == [signal.SIGTERM]
+    assert len(fl.load_result(tmp_path / "run.h5").t) == 11
+
+
+def test_ctrl_c_during_a_save_leaves_no_partial_file(sim, saved_file, monkeypatch):
+    """SIGINT when the temporary file is written but not yet renamed: the previous file is intact and no
+    temporary file remains."""
+    before = saved_file.read_bytes()
+    real = hdf5._write
+
+    def write(result, tmp):
+        real(result, tmp)
+        signal.raise_signal(signal.SIGINT)
+
+    monkeypatch.setattr(hdf5, "_write", write)
+    with pytest.raises(KeyboardInterrupt):
+        sim.run(0.5).save(saved_file)
+    assert saved_file.read_bytes() == before
+    assert [p.name for p in saved_file.parent.iterdir()] == [saved_file.name]
+
+
+def test_ctrl_c_during_the_save_of_a_run_keeps_the_result(sim, monkeypatch, tmp_path):
+    def write(result, tmp):
+        signal.raise_signal(signal.SIGINT)
+
+    monkeypatch.setattr(hdf5, "_write", write)
+    path = tmp_path / "run.h5"
+    with pytest.raises(fl.SimulationInterrupted, match=r"interrupted while writing the result file .*run\.h5 "
+                                                       r"\(not written") as err:
+        sim.run(1.0, dt_out=0.1, result_file=path)
+    assert err.value.result.success and len(err.value.result.t) == 11
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_run_in_a_thread_installs_no_handler(sim, recorder):
+    """signal.signal works in the main thread only: a run in another thread leaves SIGTERM alone and works."""
+    mine = signal.getsignal(signal.SIGTERM)
+    out = {}
+
+    def work():
+        try:
+            out["res"] = sim.run(1.0, dt_out=0.5)
+        except BaseException as err:  # reported below
+            out["err"] = err
+
+    thread = threading.Thread(target=work)
+    thread.start()
+    thread.join(60)
+    assert "err" not in out and out["res"].success
+    assert signal.getsignal(signal.SIGTERM) is mine
+
+
+@pytest.fixture
+def saved_file(sim, tmp_path):
+    path = tmp_path / "keep.h5"
+    sim.run(0.2).save(path)
+    return path
