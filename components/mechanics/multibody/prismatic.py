@@ -58,12 +58,10 @@ class Prismatic(PartialTwoFrames):
         if use_axis_flange:
             self.axis = Flange(doc="Drive flange (s, f)")
             self.support = Flange(doc="Housing of the drive")
-        _check_axis(self, "n")
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name == "n":
-            _check_axis(self, "n")
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        check_axis(self, values, "n")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
@@ -79,8 +77,8 @@ class Prismatic(PartialTwoFrames):
         return eqs
 
 
-def _check_axis(component: Any, name: str) -> None:
-    n = component.parameter_value(name)
+def check_axis(component: Any, values: dict[str, Any], name: str, what: str = "joint axis") -> None:
+    """Raise :class:`~flexlib.ParameterError` if the axis ``values[name]`` of ``component`` has zero length."""
+    n = values.get(name)
     if n is not None and not np.linalg.norm(n) > 1e-12:
-        raise ParameterError(f"{component.path or type(component).__name__}: joint axis {name} = {n.tolist()} "
-                             "has zero length")
+        raise ParameterError(f"{component.where}: {what} {name} = {n.tolist()} has zero length")

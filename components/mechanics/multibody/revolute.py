@@ -5,14 +5,13 @@ from __future__ import annotations
 from typing import Any
 
 import casadi as ca
-import numpy as np
 
 from flexlib import Parameter, Variable, der, eq
 from flexlib.components.mechanics.rotational.interfaces import Flange
-from flexlib.errors import ParameterError
 
 from .frames import absolute_rotation, planar_rotation, resolve1
 from .interfaces import PartialTwoFrames
+from .prismatic import check_axis
 
 __all__ = ["Revolute"]
 
@@ -92,15 +91,10 @@ class Revolute(PartialTwoFrames):
         if use_axis_flange:
             self.axis = Flange(doc="Drive flange (phi, tau)")
             self.support = Flange(doc="Housing of the drive, fixed to frame_a")
-        n = self.parameter_value("n")
-        if n is not None and not np.linalg.norm(n) > 1e-12:
-            raise ParameterError(f"{self.path or type(self).__name__}: joint axis n = {n.tolist()} has zero length")
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name == "n" and not np.linalg.norm(self._values["n"]) > 1e-12:
-            raise ParameterError(f"{self.path or type(self).__name__}: joint axis n = {self._values['n'].tolist()} "
-                                 "has zero length")
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        check_axis(self, values, "n")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
