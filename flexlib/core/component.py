@@ -314,6 +314,24 @@ class Connector(Node):
         ``other`` describe the same thing; used where a connection closes a loop."""
         raise NotImplementedError(f"{type(self).__name__} has over-determined variables but no equality_constraint")
 
+    def connection_set(self) -> list[Connector]:
+        """The other connectors connected to this one, directly or through other connections, in the whole
+        model (Modelica's connection set; the basis of MSL's ``cardinality``-style structural choices)."""
+        links: dict[int, list[Connector]] = {}
+        for node in self.root.walk():
+            for a, b in getattr(node, "_connections", ()):
+                if a[0] == "connector" and b[0] == "connector":
+                    links.setdefault(id(a[1]), []).append(b[1])
+                    links.setdefault(id(b[1]), []).append(a[1])
+        seen, stack, out = {id(self)}, [self], []
+        while stack:
+            for other in links.get(id(stack.pop()), ()):
+                if id(other) not in seen:
+                    seen.add(id(other))
+                    out.append(other)
+                    stack.append(other)
+        return out
+
     def signature(self) -> tuple:
         """What must match for two connectors to be connectable."""
         return tuple(sorted((n, d.kind.value, d.shape, d.unit) for n, d in self._decls.items()))

@@ -7,10 +7,10 @@ from typing import Any
 import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
-from flexlib.components.mechanics.rotational.interfaces import Flange
+from flexlib.components.mechanics.rotational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
 
 from .frames import absolute_rotation, planar_rotation, resolve1
-from .interfaces import PartialTwoFrames
+from .interfaces import PartialTwoFrames, support_grounded
 from .prismatic import check_axis
 
 __all__ = ["Revolute"]
@@ -57,7 +57,10 @@ class Revolute(PartialTwoFrames):
     ----------
     frame_a, frame_b : Frame
     axis, support : rotational Flange (if ``use_axis_flange``)
-        Drive flange (angle ``phi``, torque ``tau``) and its housing (fixed to frame_a).
+        Drive flange (angle ``phi``, torque ``tau``) and its housing. A support connected to nothing or only
+        to sensors is grounded inside the joint (``support.phi = 0``, MSL: "fixed in the world frame"), so a
+        ``RelativeAngleSensor`` between ``support`` and ``axis`` reads ``phi``; a support connected to a
+        ``Fixed``, a housing or a source takes the reaction ``-(tau + tau_f)``.
 
     Variables
     ---------
@@ -111,8 +114,11 @@ class Revolute(PartialTwoFrames):
         eqs.append(eq(self.tau, -ca.dot(e, b.t)))
         eqs.append(eq(self.tau_f, self.friction_torque(e) if self.use_friction else 0.0))
         if self.use_axis_flange:
-            eqs += [eq(self.axis.phi - self.support.phi, self.phi), eq(self.axis.tau, self.tau + self.tau_f),
-                    eq(self.support.tau, -(self.tau + self.tau_f))]
+            eqs += [eq(self.axis.phi - self.support.phi, self.phi), eq(self.axis.tau, self.tau + self.tau_f)]
+            if support_grounded(self.support, (PartialAbsoluteSensor, PartialRelativeSensor)):
+                eqs.append(eq(self.support.phi, 0.0, label="support grounded in the world (MSL)"))
+            else:
+                eqs.append(eq(self.support.tau, -(self.tau + self.tau_f)))
         else:
             eqs.append(eq(self.tau, -self.tau_f, label="no drive: only friction acts about the axis"))
         return eqs
