@@ -197,13 +197,28 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
     return flat
 
 
+_SX_FLOAT = ca.SX.__float__
+
+
+def _symbolic_float(self: ca.SX) -> float:
+    """``float(SX)`` while equations are collected: CasADi returns NaN for a symbolic expression, which is how
+    ``math.sin(x)`` silently turns into a NaN constant; refuse it instead."""
+    if not self.is_constant():
+        raise ModelError(
+            f"float() of the symbolic expression {render(self, 60)}: a function of Python's 'math' module "
+            "(math.sin, math.sqrt, math.exp, ...) or float()/int() was applied to a symbol; use the casadi "
+            "(ca.sin, ca.sqrt) or numpy (np.sin) functions on symbols")
+    return _SX_FLOAT(self)
+
+
 def _call(node: Component, method: str) -> list:
     """``node.equations()`` / ``node.initial_equations()``, with any error naming the component."""
     where = f"{node.path or '(model)'} ({type(node).__name__}).{method}()"
+    ca.SX.__float__ = _symbolic_float
     try:
         return getattr(node, method)()
     except (ModelError, StructuralSingularityError, BalanceError) as exc:
-        if node.path and node.path in str(exc):
+        if node.path and str(exc).startswith(node.path):
             raise
         raise type(exc)(f"{where}: {exc}") from exc
     except Exception as exc:
@@ -215,6 +230,8 @@ def _call(node: Component, method: str) -> list:
                 "fl.if_else(cond, a, b) (events) or fl.no_event(...), and combine relations with "
                 "casadi.logic_and / logic_or / logic_not") from exc
         raise ModelError(f"{where} failed: {type(exc).__name__}: {text}") from exc
+    finally:
+        ca.SX.__float__ = _SX_FLOAT
 
 
 def _nonfinite_constant(expr: ca.SX) -> float | None:

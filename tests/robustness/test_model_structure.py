@@ -141,13 +141,15 @@ def test_reassigning_the_same_component_is_harmless():
 
 # -- equations written with the wrong functions -----------------------------------------------------------------
 def test_math_sin_on_symbol_names_component_and_suggests_casadi():
-    with pytest.raises(fl.ModelError, match=r"inner \(Leaf\): equation .* contains the constant nan.*math.*"
-                                            r"casadi \(ca\.sin"):
+    """CasADi's float(SX) is NaN for a symbol, so math.sin(x) used to become a silent NaN constant."""
+    with pytest.raises(fl.ModelError, match=r"^inner \(Leaf\)\.equations\(\): float\(\) of the symbolic expression "
+                                            r"inner\.x: a function of Python's 'math' module.*casadi \(ca\.sin"):
         fl.Simulation(Holder("math.sin"), use_cache=False)
 
 
 def test_math_sqrt_on_symbol_in_nested_component_names_full_path():
-    with pytest.raises(fl.ModelError, match=r"^sub\.inner \(Leaf\): equation .*nan"):
+    with pytest.raises(fl.ModelError, match=r"^sub\.inner \(Leaf\)\.equations\(\): float\(\) of the symbolic "
+                                            r"expression sub\.inner\.x"):
         fl.Simulation(Outer("math.sqrt"), use_cache=False)
 
 
@@ -157,8 +159,28 @@ def test_math_exp_in_initial_equation_is_reported():
             super().__init__()
             self.start = MathInit()
 
-    with pytest.raises(fl.ModelError, match=r"^start \(MathInit\): equation .*nan"):
+    with pytest.raises(fl.ModelError, match=r"^start \(MathInit\)\.initial_equations\(\): float\(\) of the symbolic "
+                                            r"expression start\.x"):
         fl.Simulation(M(), use_cache=False)
+
+
+def test_float_of_constant_sx_is_still_allowed():
+    """float() of a constant CasADi expression inside equations() is legitimate and keeps working."""
+
+    class ConstLeaf(fl.Component):
+        x = fl.Variable(unit="1", start=1.0, fixed=True)
+
+        def equations(self):
+            return [fl.eq(fl.der(self.x), -math.sin(ca.SX(0.5)) * self.x)]
+
+    class M(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.leaf = ConstLeaf()
+
+    res = fl.Simulation(M(), use_cache=False).run(1.0, dt_out=0.5, rtol=1e-9, atol=1e-11, progress=False)
+    np.testing.assert_allclose(res["leaf.x"], np.exp(-math.sin(0.5) * res.t), rtol=1e-6)
+    assert float(ca.SX.sym("y")) != float(ca.SX.sym("y"))  # outside equations() CasADi's own behaviour is untouched
 
 
 def test_nan_constant_names_component_and_equation_label():
