@@ -130,7 +130,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
         if isinstance(node, Component):
             node.__dict__["_od_depth"] = tree.depth
             node.__dict__["_od_selected_roots"] = tree.roots
-            node.on_structure()
+            _call(node, "on_structure")
 
     # -- declarations ---------------------------------------------------------------------------
     for node in nodes:

@@ -124,6 +124,10 @@ class Node(metaclass=_NodeMeta):
             self._decls[name] = value
         elif name in self._decls:
             self._assign(name, value)
+        elif name in self._children:
+            old = self._children[name]
+            raise ModelError(f"{self._label(name)}: holds {type(old).__name__} {old.path}; assigning {value!r} to the "
+                             "same name would hide it (the component stays in the model). Choose another name")
         else:
             object.__setattr__(self, name, value)
 

@@ -132,6 +132,32 @@ def test_second_component_under_same_name_inside_constructor():
         Careless()
 
 
+def test_plain_value_over_a_component_name_is_refused():
+    m = TwoInertias()
+    with pytest.raises(fl.ModelError, match=r"j2: holds Inertia j2; assigning 3\.0 to the same name would hide it"):
+        m.j2 = 3.0
+    assert isinstance(m.j2, rot.Inertia)
+
+
+def test_error_in_on_structure_names_the_component():
+    class Fragile(fl.Component):
+        x = fl.Variable(unit="1")
+
+        def on_structure(self) -> None:
+            raise KeyError("missing table")
+
+        def equations(self):
+            return [fl.eq(self.x, 1.0)]
+
+    class M(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.part = Fragile()
+
+    with pytest.raises(fl.ModelError, match=r"^part \(Fragile\)\.on_structure\(\) failed: KeyError: 'missing table'"):
+        fl.Simulation(M(), use_cache=False)
+
+
 def test_reassigning_the_same_component_is_harmless():
     m = TwoInertias()
     j1 = m.j1

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.control import Constant, FirstOrder, Limiter, LimPID, RateLimiter, Sine
+from flexlib.components.control import Constant, FirstOrder, Limiter, LimPID, RateLimiter, Sine, TransferFunction
 from flexlib.components.hydraulics import DirectionalValve43, PressureSource, Tank
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 
@@ -267,3 +267,29 @@ def test_bounds_are_described():
 def test_valid_override_is_used(bounded):
     res = bounded.run(0.1, dt_out=0.1, params={"part.gap": 2.0, "part.ratio": 0.25}, progress=False)
     np.testing.assert_allclose(res["part.x"], 0.5, rtol=0, atol=1e-12)
+
+
+class Filtered(fl.Model):
+    def __init__(self) -> None:
+        super().__init__()
+        self.step = Constant(k=1.0)
+        self.tf = TransferFunction(b=[1.0], a=[0.1, 1.0])
+        self.connect(self.step.y, self.tf.u)
+
+
+def test_transfer_function_zero_leading_coefficient_at_construction():
+    with pytest.raises(fl.ParameterError, match=r"^TransferFunction: leading denominator coefficient a\[0\] must be "
+                                                r"!= 0, got a = \[0\.0, 1\.0\]"):
+        TransferFunction(b=[1.0], a=[0.0, 1.0])
+
+
+def test_transfer_function_zero_leading_coefficient_at_run_time():
+    """Used to be a constructor-only check: a run-time ``a[0] = 0`` divided by zero in the model."""
+    sim = fl.Simulation(Filtered(), use_cache=False)
+    with pytest.raises(fl.ParameterError, match=r"^tf: leading denominator coefficient a\[0\] must be != 0, "
+                                                r"got a = \[0\.0, 1\.0\]"):
+        sim.run(0.1, params={"tf.a[0]": 0.0})
+    with pytest.raises(fl.ParameterError, match=r"^tf: leading denominator coefficient"):
+        sim.run(0.1, params={"tf.a": [0.0, 2.0]})
+    res = sim.run(0.5, dt_out=0.5, params={"tf.a": [0.2, 1.0]}, rtol=1e-9, atol=1e-11, progress=False)
+    np.testing.assert_allclose(res["tf.y"][-1], 1.0 - np.exp(-0.5 / 0.2), rtol=1e-6)  # first-order step response
