@@ -71,8 +71,8 @@ class TransferFunction(PartialSISO):
 
     def __init__(self, b: Any = (1.0,), a: Any = (1.0,), x_start: Any = None,
                  init_type: str = "initial_state", init: dict | None = None, guess: dict | None = None,
-                 **kw: Any) -> None:
-        super().__init__(**kw)  # x is declared below, so init/guess on it are applied afterwards
+                 state_select: dict | None = None, **kw: Any) -> None:
+        super().__init__(**kw)  # x is declared below, so init/guess/state_select on it are applied afterwards
         b, a = np.atleast_1d(np.asarray(b, dtype=float)), np.atleast_1d(np.asarray(a, dtype=float))
         name = type(self).__name__
         if b.ndim != 1 or a.ndim != 1 or len(b) == 0 or len(a) == 0:
@@ -94,6 +94,8 @@ class TransferFunction(PartialSISO):
         for fixed, starts in ((True, init), (False, guess)):
             for var, value in (starts or {}).items():
                 self.set_start(var, value, fixed=fixed)
+        for var, value in (state_select or {}).items():
+            self.set_state_select(var, value)
 
     def check(self, values: dict) -> None:
         a = values.get("a")

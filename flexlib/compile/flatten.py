@@ -21,7 +21,7 @@ from flexlib.compile.structure import culprits, group_by_owner, incidence, match
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
 from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render
-from flexlib.errors import BalanceError, ModelError, StructuralSingularityError
+from flexlib.errors import BalanceError, FlexlibError, ModelError, StructuralSingularityError
 
 __all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
 
@@ -217,10 +217,15 @@ def _call(node: Component, method: str) -> list:
     ca.SX.__float__ = _symbolic_float
     try:
         return getattr(node, method)()
-    except (ModelError, StructuralSingularityError, BalanceError) as exc:
+    except FlexlibError as exc:  # keep the class (and its attributes); put the component in front
         if node.path and str(exc).startswith(node.path):
             raise
-        raise type(exc)(f"{where}: {exc}") from exc
+        try:
+            named = type(exc)(f"{where}: {exc}")
+            named.__dict__.update(exc.__dict__)
+        except Exception:  # an error class with another constructor: keep it as it is
+            raise exc from None
+        raise named from exc
     except Exception as exc:
         text = str(exc)
         if "Cannot compute the truth value" in text:

@@ -234,7 +234,8 @@ class Node(metaclass=_NodeMeta):
         pool = [n for n, d in self._decls.items() if (what != "parameter") or isinstance(d, Parameter)]
         close = difflib.get_close_matches(name, pool, n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else f"; known: {', '.join(sorted(pool)) or 'none'}"
-        return f"{type(self).__name__} {self.path or '(model)'}: unknown {what} {name!r}{hint}"
+        where = self.path or ("(model)" if self._children else "(unnamed)")
+        return f"{type(self).__name__} {where}: unknown {what} {name!r}{hint}"
 
     def set_start(self, name: str, value: Any, fixed: bool = True) -> None:
         """Set the start value of variable ``name`` (an initial condition if ``fixed``)."""
@@ -362,6 +363,10 @@ class Component(Node):
         ``{variable: value}`` initial conditions (start value with ``fixed=True``).
     guess : dict, optional
         ``{variable: value}`` start values used only as initialisation guesses.
+    state_select : dict, optional
+        ``{variable: "never" | "avoid" | "default" | "prefer" | "always"}`` (or :class:`~flexlib.StateSelect`
+        members): this instance's preference for choosing the variable as a state, overriding the declaration
+        (Modelica's ``stateSelect`` modifier, e.g. ``Revolute(state_select={"phi": "always", "w": "always"})``).
     doc : str, optional
         Description of this instance.
     **params

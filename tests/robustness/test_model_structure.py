@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.control import Constant, Gain
+from flexlib.components.control import Constant, Gain, TransferFunction
 from flexlib.components.mechanics import rotational as rot
 from flexlib.components.mechanics import translational as tr
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Prismatic, Revolute, World
@@ -240,6 +240,14 @@ def test_correct_leaf_still_runs():
 def test_state_select_unknown_variable_has_did_you_mean():
     with pytest.raises(fl.ModelError, match=r"Revolute .*unknown variable 'ph'; did you mean phi.*state_select"):
         Revolute(state_select={"ph": "always"})
+
+
+def test_state_select_unknown_variable_on_transfer_function():
+    """TransferFunction declares its states in its constructor; state_select is applied after them."""
+    with pytest.raises(fl.ModelError, match=r"TransferFunction \(unnamed\): unknown variable 'xs'; did you mean x"):
+        TransferFunction(b=[1.0], a=[0.1, 1.0], state_select={"xs": "always"})
+    tf = TransferFunction(b=[1.0], a=[0.1, 1.0], state_select={"x_scaled": "avoid"})
+    assert tf.state_select_of("x_scaled") is fl.StateSelect.avoid
 
 
 def test_state_select_bad_value_lists_choices():
