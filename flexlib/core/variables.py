@@ -275,9 +275,9 @@ class Parameter(Declaration):
                 arr = arr.reshape(self.shape)
             else:
                 raise ParameterError(f"{path}: parameter has shape {self.shape}, got value of shape {arr.shape}")
-        if not np.all(np.isfinite(arr)):
-            raise ParameterError(f"{path}: parameter value {value!r} is not finite")
         shown = value if np.ndim(value) == 0 else arr.tolist()
+        if not np.all(np.isfinite(arr)):
+            raise ParameterError(f"{path}: parameter value {shown!r} is not finite")
         if self.min is not None and np.any(arr < self.min):
             raise ParameterError(f"{path} = {shown!r} [{self.unit}] is below its minimum {self.min}")
         if self.max is not None and np.any(arr > self.max):

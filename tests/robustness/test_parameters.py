@@ -293,3 +293,24 @@ def test_transfer_function_zero_leading_coefficient_at_run_time():
         sim.run(0.1, params={"tf.a": [0.0, 2.0]})
     res = sim.run(0.5, dt_out=0.5, params={"tf.a": [0.2, 1.0]}, rtol=1e-9, atol=1e-11, progress=False)
     np.testing.assert_allclose(res["tf.y"][-1], 1.0 - np.exp(-0.5 / 0.2), rtol=1e-6)  # first-order step response
+
+
+def test_nan_override_is_named(limited):
+    with pytest.raises(fl.ParameterError, match=r"^limiter\.u_max: parameter value nan is not finite"):
+        limited.run(0.1, params={"limiter.u_max": float("nan")})
+
+
+def test_nan_element_override_is_named(pendulum):
+    with pytest.raises(fl.ParameterError, match=r"^body\.I: parameter value \[\[nan, 0\.0, 0\.0\], .* is not finite"):
+        pendulum.run(0.1, params={"body.I[0,0]": float("nan")})
+
+
+def test_wrong_shape_override_is_named(pendulum):
+    with pytest.raises(fl.ParameterError, match=r"^body\.I: parameter has shape \(3, 3\), got value of shape \(2,\)"):
+        pendulum.run(0.1, params={"body.I": [1.0, 2.0]})
+
+
+def test_element_index_out_of_range_suggests_names(pendulum):
+    with pytest.raises(fl.ParameterError, match=r"unknown parameter 'body\.I\[3,3\]' in model Pendulum; did you mean "
+                                                r"body\.I\["):
+        pendulum.run(0.1, params={"body.I[3,3]": 1.0})
