@@ -371,6 +371,13 @@ class Component(Node):
         Description of this instance.
     **params
         Parameter values (SI), overriding declared defaults.
+
+    Notes
+    -----
+    Parameter values are validated by one hook on every path: each value against its declaration's bounds
+    (``min``/``max``/``gt``/``lt``), and all values of the instance together by :meth:`check` (rules between
+    parameters), when the component is built or a value is assigned, at flatten and for
+    ``Simulation.run(params=...)`` overrides. Override :meth:`check` rather than the constructor for such rules.
     """
 
     experiment: ClassVar[Any] = None

@@ -230,6 +230,22 @@ def test_error_inside_equations_names_the_component():
         fl.Simulation(Outer("typo"), use_cache=False)
 
 
+def test_flexlib_error_in_equations_keeps_its_class_and_gets_the_path():
+    class Picky(fl.Component):
+        x = fl.Variable(unit="1")
+
+        def equations(self):
+            raise fl.ParameterError("table must have two columns")
+
+    class M(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.lookup = Picky()
+
+    with pytest.raises(fl.ParameterError, match=r"^lookup \(Picky\)\.equations\(\): table must have two columns"):
+        fl.Simulation(M(), use_cache=False)
+
+
 def test_correct_leaf_still_runs():
     """The checks above do not reject a correct model: x' = -x from 1 gives exp(-t) (1e-6)."""
     res = fl.Simulation(Holder("ok"), use_cache=False).run(1.0, dt_out=0.5, rtol=1e-9, atol=1e-11, progress=False)
