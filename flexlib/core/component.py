@@ -234,7 +234,7 @@ class Node(metaclass=_NodeMeta):
         pool = [n for n, d in self._decls.items() if (what != "parameter") or isinstance(d, Parameter)]
         close = difflib.get_close_matches(name, pool, n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else f"; known: {', '.join(sorted(pool)) or 'none'}"
-        where = self.path or ("(model)" if self._children else "(unnamed)")
+        where = self.path or ("(model)" if self._connections else "(unnamed)")
         return f"{type(self).__name__} {where}: unknown {what} {name!r}{hint}"
 
     def set_start(self, name: str, value: Any, fixed: bool = True) -> None:

@@ -18,6 +18,7 @@ import pytest
 
 import flexlib as fl
 from flexlib.components.control import Constant, Gain, TransferFunction
+from flexlib.components.hydraulics import LineCylinder
 from flexlib.components.mechanics import rotational as rot
 from flexlib.components.mechanics import translational as tr
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Prismatic, Revolute, World
@@ -264,6 +265,14 @@ def test_state_select_unknown_variable_on_transfer_function():
         TransferFunction(b=[1.0], a=[0.1, 1.0], state_select={"xs": "always"})
     tf = TransferFunction(b=[1.0], a=[0.1, 1.0], state_select={"x_scaled": "avoid"})
     assert tf.state_select_of("x_scaled") is fl.StateSelect.avoid
+
+
+def test_state_select_passes_through_line_cylinder_to_the_cylinder():
+    """A composite that forwards its keyword arguments forwards state_select too; a typo is named."""
+    cyl = LineCylinder(d_bore=0.063, d_rod=0.036, stroke=0.4, state_select={"x": "always", "v": "always"})
+    assert cyl.cylinder.state_select_of("x") is fl.StateSelect.always
+    with pytest.raises(fl.ModelError, match=r"DoubleActingCylinder \(unnamed\): unknown variable 'xx'; did you mean x"):
+        LineCylinder(d_bore=0.063, d_rod=0.036, stroke=0.4, state_select={"xx": "always"})
 
 
 def test_state_select_bad_value_lists_choices():
