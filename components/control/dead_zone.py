@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from flexlib import Parameter, eq, if_else
+from flexlib import Parameter, ParameterError, eq, if_else
 
-from .interfaces import PartialSISO, ValueChecks
+from .interfaces import PartialSISO, scalar
 
 __all__ = ["DeadZone"]
 
 
-class DeadZone(ValueChecks, PartialSISO):
+class DeadZone(PartialSISO):
     """Dead zone: zero output for ``u_min <= u <= u_max``, slope 1 outside.
 
     .. math::
@@ -42,10 +42,10 @@ class DeadZone(ValueChecks, PartialSISO):
     u_max = Parameter(unit="1", doc="Upper limit of the dead zone")
     u_min = Parameter(unit="1", doc="Lower limit of the dead zone")
 
-    def check_values(self) -> None:
-        hi, lo = self._value("u_max"), self._value("u_min")
+    def check(self, values: dict) -> None:
+        hi, lo = scalar(values, "u_max"), scalar(values, "u_min")
         if hi is not None and lo is not None and hi < lo:
-            raise self._value_error(f"limits must be consistent, but u_max = {hi:g} < u_min = {lo:g}")
+            raise ParameterError(f"{self.where}: limits must be consistent, but u_max = {hi:g} < u_min = {lo:g}")
 
     def equations(self) -> list:
         u = self.u

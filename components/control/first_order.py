@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexlib import Parameter, der, eq
+from flexlib import Parameter, ParameterError, der, eq
 
-from .interfaces import INIT_TYPES, PartialSISO, ValueChecks, check_choice
+from .interfaces import INIT_TYPES, PartialSISO, check_choice, scalar
 
 __all__ = ["FirstOrder"]
 
 
-class FirstOrder(ValueChecks, PartialSISO):
+class FirstOrder(PartialSISO):
     """First-order lag ``y = k / (T s + 1) u``: ``der(y) = (k u - y) / T``.
 
     Parameters
@@ -53,9 +53,9 @@ class FirstOrder(ValueChecks, PartialSISO):
         super().__init__(**kw)
         self.init_type = check_choice(self, "init_type", init_type, INIT_TYPES)
 
-    def check_value(self, name: str, value: float) -> None:
-        if name == "T" and value == 0.0:
-            raise self._value_error("time constant T must be != 0")
+    def check(self, values: dict) -> None:
+        if scalar(values, "T") == 0.0:
+            raise ParameterError(f"{self.param_label('T')} = 0: time constant T must be != 0")
 
     def initial_equations(self) -> list:
         if self.init_type == "steady_state":

@@ -13,10 +13,8 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
 from flexlib import Component, Input, Output, Parameter
-from flexlib.errors import ModelError, ParameterError
+from flexlib.errors import ModelError
 
 __all__ = [
     "INIT_TYPES",
@@ -25,8 +23,8 @@ __all__ = [
     "PartialSO",
     "PartialSVcontrol",
     "PartialSignalSource",
-    "ValueChecks",
     "check_choice",
+    "scalar",
 ]
 
 #: Initialisation options of the continuous blocks (MSL ``Modelica.Blocks.Types.Init``: NoInit,
@@ -42,45 +40,10 @@ def check_choice(block: Any, option: str, value: Any, choices: tuple) -> Any:
     return value
 
 
-class ValueChecks:
-    """Mixin: parameter values are checked when assigned (:meth:`check_value`) and together
-    (:meth:`check_values`) after construction and after every later assignment.
-
-    ``Parameter(min=, max=)`` bounds are also checked at run time; the checks here give clearer
-    messages and strict bounds, and hold the relations between parameters (``u_max >= u_min``),
-    which values passed to ``sim.run(params=...)`` do not get.
-    """
-
-    def __init__(self, **kw: Any) -> None:
-        super().__init__(**kw)
-        self.__dict__["_values_complete"] = True
-        self.check_values()
-
-    def _assign(self, name: str, value: Any) -> None:
-        try:
-            number = float(value) if np.ndim(value) == 0 else None
-        except (TypeError, ValueError):
-            number = None  # arrays and bad values: the Parameter's own check reports them
-        if number is not None and np.isfinite(number):
-            self.check_value(name, number)
-        super()._assign(name, value)
-        if self.__dict__.get("_values_complete"):
-            self.check_values()
-
-    def check_value(self, name: str, value: float) -> None:
-        """Raise :class:`~flexlib.ParameterError` if ``value`` is invalid for scalar parameter ``name``."""
-
-    def check_values(self) -> None:
-        """Raise :class:`~flexlib.ParameterError` for inconsistent parameter values."""
-
-    def _value_error(self, message: str) -> ParameterError:
-        """A ParameterError naming this block (its path once it is part of a model)."""
-        return ParameterError(f"{type(self).__name__} {self.path or '(unnamed)'}: {message}")
-
-    def _value(self, name: str) -> float | None:
-        """Current value of scalar parameter ``name`` (None if it has no value yet)."""
-        v = self.parameter_value(name)
-        return None if v is None else float(v)
+def scalar(values: dict[str, Any], name: str) -> float | None:
+    """Scalar parameter ``name`` from the ``values`` given to :meth:`~flexlib.Component.check` (None if absent)."""
+    v = values.get(name)
+    return None if v is None else float(v)
 
 
 class PartialSO(Component):

@@ -7,10 +7,10 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib import Input, Parameter, Variable, assert_, der, eq, no_event
-from flexlib.errors import ModelError
+from flexlib import Input, Parameter, Variable, der, eq, no_event
+from flexlib.errors import ModelError, ParameterError
 
-from .interfaces import INIT_TYPES, PartialSVcontrol, ValueChecks, check_choice
+from .interfaces import INIT_TYPES, PartialSVcontrol, check_choice, scalar
 from .limiter import limit
 
 __all__ = ["LimPID"]
@@ -20,7 +20,7 @@ SMALL = 1e-60  # Modelica.Constants.small
 EPS = float(np.finfo(float).eps)
 
 
-class LimPID(ValueChecks, PartialSVcontrol):
+class LimPID(PartialSVcontrol):
     """P, PI, PD or PID controller with output limits and anti-windup (MSL LimPID).
 
     With ``e = u_s - u_m``, the block of MSL 4.0 written out (``d = 0`` without D, ``xi = 0``
@@ -104,8 +104,8 @@ class LimPID(ValueChecks, PartialSVcontrol):
     Notes
     -----
     Values given at construction are checked together (``Ti > 0``, ``Td >= 0``, ``k != 0``,
-    ``y_max >= y_min``, ``y_start`` within the limits for ``"initial_output"``); for run-time
-    ``params`` the limits' order is asserted (``flexlib.assert_``: the run fails at t0 naming the block).
+    ``y_max >= y_min``, ``y_start`` within the limits for ``"initial_output"``), again at flatten and
+    for run-time ``params`` (:meth:`check`), naming the block.
     With ``"steady_state"`` the integrator's ``der(xi) = 0`` fixes the control error; it is singular
     when the measurement is fixed by another initial condition (see MSL's documentation).
 
@@ -116,7 +116,7 @@ class LimPID(ValueChecks, PartialSVcontrol):
     """
 
     k = Parameter(1.0, unit="1", doc="Gain of the controller")
-    Ti = Parameter(0.5, unit="s", min=SMALL, doc="Time constant of the integrator")
+    Ti = Parameter(0.5, unit="s", gt=0.0, doc="Time constant of the integrator")
     Td = Parameter(0.1, unit="s", min=0.0, doc="Time constant of the derivative block")
     y_max = Parameter(unit="1", doc="Upper limit of the output")
     y_min = Parameter(unit="1", doc="Lower limit of the output")
@@ -141,7 +141,6 @@ class LimPID(ValueChecks, PartialSVcontrol):
         if init_type == "initial_output" and "I" not in controller_type:
             raise ModelError(f"LimPID: init_type='initial_output' needs an integrator (PI or PID), "
                              f"not controller_type={controller_type!r}")
-        self.__dict__["_init_output"] = init_type == "initial_output"  # read by check_values()
         super().__init__(**kw)
         self.controller_type, self.init_type = controller_type, init_type
         self.with_I, self.with_D = "I" in controller_type, "D" in controller_type
@@ -149,22 +148,19 @@ class LimPID(ValueChecks, PartialSVcontrol):
         if self.use_feed_forward:
             self.u_ff = Input(unit="1", doc="Feed-forward signal")
 
-    def check_value(self, name: str, value: float) -> None:
-        if name == "k" and abs(value) < SMALL:
-            raise self._value_error("controller gain k must be non-zero")
-        if name in ("Ti", "Ni", "Nd") and not value > 0.0:
-            raise self._value_error(f"{name} must be > 0, got {value:g}")
-        if name == "Td" and value < 0.0:
-            raise self._value_error(f"Td must be >= 0, got {value:g}")
-
-    def check_values(self) -> None:
-        hi, lo, y0 = self._value("y_max"), self._value("y_min"), self._value("y_start")
+    def check(self, values: dict) -> None:
+        k = scalar(values, "k")
+        if k is not None and abs(k) < SMALL:
+            raise ParameterError(f"{self.where}: controller gain k must be non-zero, got {k:g}")
+        hi, lo, y0 = scalar(values, "y_max"), scalar(values, "y_min"), scalar(values, "y_start")
         if hi is None or lo is None:
             return
         if hi < lo:
-            raise self._value_error(f"limits must be consistent, but y_max = {hi:g} < y_min = {lo:g}")
-        if self.__dict__["_init_output"] and not lo <= y0 <= hi:
-            raise self._value_error(f"y_start = {y0:g} is outside the limits y_min = {lo:g} and y_max = {hi:g}")
+            raise ParameterError(f"{self.where}: limits must be consistent (y_max >= y_min), but y_max = {hi:g} "
+                                 f"< y_min = {lo:g}")
+        if getattr(self, "init_type", None) == "initial_output" and y0 is not None and not lo <= y0 <= hi:
+            raise ParameterError(f"{self.where}: y_start = {y0:g} is outside the limits y_min = {lo:g} and "
+                                 f"y_max = {hi:g}")
 
     def _derivative(self) -> tuple[Any, Any]:
         """``(der(xd), d)`` of MSL's Derivative block with k = Td, T = Tf (zero gain if Td ≈ 0)."""
@@ -191,7 +187,6 @@ class LimPID(ValueChecks, PartialSVcontrol):
         return self.k_ff * self.u_ff if self.use_feed_forward else 0.0
 
     def equations(self) -> list:
-        assert_(self.y_min <= self.y_max, "output limits must satisfy y_min <= y_max")
         e = self.u_s - self.u_m
         eqs = [eq(self.control_error, e)]
         if self.with_D:

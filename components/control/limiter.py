@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexlib import Parameter, eq, if_else, no_event
+from flexlib import Parameter, ParameterError, eq, if_else, no_event
 
-from .interfaces import PartialSISO, ValueChecks
+from .interfaces import PartialSISO, scalar
 
 __all__ = ["Limiter", "limit"]
 
@@ -17,7 +17,7 @@ def limit(u: Any, upper: Any, lower: Any, strict: bool = False) -> Any:
     return select(u > upper, upper, select(u < lower, lower, u))
 
 
-class Limiter(ValueChecks, PartialSISO):
+class Limiter(PartialSISO):
     """Limiter: the input passes while ``u_min <= u <= u_max``, otherwise the violated limit.
 
     .. math::
@@ -47,8 +47,8 @@ class Limiter(ValueChecks, PartialSISO):
 
     Notes
     -----
-    ``u_max >= u_min`` is checked on the instance; values passed to ``sim.run(params=...)``
-    are not cross-checked.
+    ``u_max >= u_min`` is checked on the instance, at flatten and for values passed to
+    ``sim.run(params=...)``.
 
     References
     ----------
@@ -62,10 +62,11 @@ class Limiter(ValueChecks, PartialSISO):
         super().__init__(**kw)
         self.strict = bool(strict)
 
-    def check_values(self) -> None:
-        hi, lo = self._value("u_max"), self._value("u_min")
+    def check(self, values: dict) -> None:
+        hi, lo = scalar(values, "u_max"), scalar(values, "u_min")
         if hi is not None and lo is not None and hi < lo:
-            raise self._value_error(f"limits must be consistent, but u_max = {hi:g} < u_min = {lo:g}")
+            raise ParameterError(f"{self.where}: limits must be consistent (u_max >= u_min), but u_max = {hi:g} "
+                                 f"< u_min = {lo:g}")
 
     def equations(self) -> list:
         return [eq(self.y, limit(self.u, self.u_max, self.u_min, self.strict))]

@@ -6,13 +6,13 @@ from typing import Any
 
 from flexlib import Parameter, Variable, der, eq
 
-from .interfaces import INIT_TYPES, PartialSISO, ValueChecks, check_choice
+from .interfaces import INIT_TYPES, PartialSISO, check_choice
 from .limiter import limit
 
 __all__ = ["RateLimiter"]
 
 
-class RateLimiter(ValueChecks, PartialSISO):
+class RateLimiter(PartialSISO):
     """Slew-rate limiter: ``y`` follows ``u`` with a rate between ``falling`` and ``rising``.
 
     .. math::
@@ -56,9 +56,9 @@ class RateLimiter(ValueChecks, PartialSISO):
     Modelica Standard Library 4.0, ``Modelica.Blocks.Nonlinear.SlewRateLimiter``.
     """
 
-    rising = Parameter(1.0, unit="1/s", min=0.0, doc="Maximum rising slew rate")
-    falling = Parameter(-1.0, unit="1/s", max=0.0, doc="Maximum falling slew rate")
-    Td = Parameter(0.001, unit="s", min=0.0, doc="Derivative time constant")
+    rising = Parameter(1.0, unit="1/s", gt=0.0, doc="Maximum rising slew rate")
+    falling = Parameter(-1.0, unit="1/s", lt=0.0, doc="Maximum falling slew rate")
+    Td = Parameter(0.001, unit="s", gt=0.0, doc="Derivative time constant")
     y_start = Parameter(0.0, unit="1", doc="Initial value of the output")
     rate = Variable(unit="1/s", doc="Unlimited rate (u - y)/Td")
 
@@ -66,10 +66,6 @@ class RateLimiter(ValueChecks, PartialSISO):
         super().__init__(**kw)
         self.init_type = check_choice(self, "init_type", init_type, INIT_TYPES)
         self.strict = bool(strict)
-
-    def check_value(self, name: str, value: float) -> None:
-        if (name in ("rising", "Td") and not value > 0.0) or (name == "falling" and not value < 0.0):
-            raise self._value_error(f"{name} must be {'< 0' if name == 'falling' else '> 0'}, got {value:g}")
 
     def initial_equations(self) -> list:
         if self.init_type == "steady_state":

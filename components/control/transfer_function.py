@@ -71,16 +71,14 @@ class TransferFunction(PartialSISO):
 
     def __init__(self, b: Any = (1.0,), a: Any = (1.0,), x_start: Any = None,
                  init_type: str = "initial_state", init: dict | None = None, guess: dict | None = None,
-                 **kw: Any) -> None:
-        super().__init__(**kw)  # x is declared below, so init/guess on it are applied afterwards
+                 state_select: dict | None = None, **kw: Any) -> None:
+        super().__init__(**kw)  # x is declared below, so init/guess/state_select on it are applied afterwards
         b, a = np.atleast_1d(np.asarray(b, dtype=float)), np.atleast_1d(np.asarray(a, dtype=float))
         name = type(self).__name__
         if b.ndim != 1 or a.ndim != 1 or len(b) == 0 or len(a) == 0:
             raise ParameterError(f"{name}: b and a must be non-empty vectors, got {b!r} and {a!r}")
         if len(b) > len(a):
             raise ParameterError(f"{name}: transfer function is not proper: len(b) = {len(b)} > len(a) = {len(a)}")
-        if a[0] == 0.0:
-            raise ParameterError(f"{name}: leading denominator coefficient a[0] must be != 0, got a = {a.tolist()}")
         self.init_type = check_choice(self, "init_type", init_type, INIT_TYPES)
         self.nx = len(a) - 1
         self.b = Parameter(unit="1", shape=len(b), doc="Numerator coefficients, highest power of s first")
@@ -96,6 +94,14 @@ class TransferFunction(PartialSISO):
         for fixed, starts in ((True, init), (False, guess)):
             for var, value in (starts or {}).items():
                 self.set_start(var, value, fixed=fixed)
+        for var, value in (state_select or {}).items():
+            self.set_state_select(var, value)
+
+    def check(self, values: dict) -> None:
+        a = values.get("a")
+        if a is not None and np.ravel(a)[0] == 0.0:
+            raise ParameterError(f"{self.where}: leading denominator coefficient a[0] must be != 0, "
+                                 f"got a = {np.ravel(a).tolist()}")
 
     def _scaling(self) -> tuple[ca.SX, ca.SX, ca.SX]:
         """``bb`` (b padded to the length of a), ``d = bb[0]/a[0]`` and ``a_end`` (MSL)."""

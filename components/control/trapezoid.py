@@ -7,12 +7,12 @@ from typing import Any
 from flexlib import Parameter, eq, if_else, time
 from flexlib.errors import ModelError
 
-from .interfaces import PartialSignalSource, ValueChecks
+from .interfaces import PartialSignalSource
 
 __all__ = ["Trapezoid"]
 
 
-class Trapezoid(ValueChecks, PartialSignalSource):
+class Trapezoid(PartialSignalSource):
     """Trapezoidal signal: ``nperiod`` periods of rise, plateau, fall and zero, then ``offset``.
 
     In period ``k`` (starting at ``Ts = start_time + k period``) the output is ``offset`` plus
@@ -60,7 +60,7 @@ class Trapezoid(ValueChecks, PartialSignalSource):
     rising = Parameter(0.0, unit="s", min=0.0, doc="Rising duration of trapezoid")
     width = Parameter(0.5, unit="s", min=0.0, doc="Width duration of trapezoid")
     falling = Parameter(0.0, unit="s", min=0.0, doc="Falling duration of trapezoid")
-    period = Parameter(unit="s", min=0.0, doc="Time for one period")
+    period = Parameter(unit="s", gt=0.0, doc="Time for one period")
 
     def __init__(self, nperiod: int, **kw: Any) -> None:
         if int(nperiod) != nperiod or nperiod < 0:
@@ -68,10 +68,6 @@ class Trapezoid(ValueChecks, PartialSignalSource):
                              "periods, MSL's nperiod < 0, cannot be time events; give the number of periods)")
         super().__init__(**kw)
         self.nperiod = int(nperiod)
-
-    def check_value(self, name: str, value: float) -> None:
-        if name == "period" and not value > 0.0:
-            raise self._value_error(f"period must be > 0, got {value:g}")
 
     def equations(self) -> list:
         A, P = self.amplitude, self.period

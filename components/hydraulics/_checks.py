@@ -2,8 +2,9 @@
 
 :class:`Parameter` bounds (``min=0.0``) reject negative values whenever a value is set, at
 build time and at run time. Quantities that must be strictly positive (a volume, a
-displacement, a time constant) are listed in ``_positive`` and checked here as soon as they
-are set, with a message naming the component and the parameter.
+displacement, a time constant) are listed in ``_positive`` and checked by the components'
+parameter hook (:meth:`flexlib.Component.check`), which runs at construction, at flatten and
+for ``run(params=...)`` overrides, with a message naming the component and the parameter.
 """
 
 from __future__ import annotations
@@ -25,14 +26,14 @@ class PositiveParameters:
 
     _positive: tuple[str, ...] = ()
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)  # type: ignore[misc]  # bounds, shape, finiteness
-        if name in self._positive:
-            v = self._values[name]  # type: ignore[attr-defined]
-            if not np.all(v > 0.0):
-                label = self._label(name) if self._parent is not None else f"{type(self).__name__}: {name}"  # type: ignore[attr-defined]
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)  # type: ignore[misc]
+        for name in self._positive:
+            v = values.get(name)
+            if v is not None and not np.all(v > 0.0):
                 unit = self._decls[name].unit  # type: ignore[attr-defined]
-                raise ParameterError(f"{label} must be > 0 [{unit}] (got {float(np.min(v))!r})")
+                raise ParameterError(f"{self.param_label(name)} must be > 0 [{unit}] "  # type: ignore[attr-defined]
+                                     f"(got {float(np.min(v))!r})")
 
 
 def store_fluid(node: Any, fluid: Fluid) -> None:

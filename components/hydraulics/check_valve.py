@@ -96,12 +96,15 @@ class CheckValve(PositiveParameters, PartialTwoPort):
     def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(fluid=fluid, **kw)
         store_fluid(self, fluid)
-        label = f"{type(self).__name__}"
-        pc, po = self.parameter_value("p_crack"), self.parameter_value("p_open")
-        if not po > pc:
+
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        label = self.where
+        pc, po = values.get("p_crack"), values.get("p_open")
+        if pc is not None and po is not None and not po > pc:
             raise ParameterError(f"{label}: p_open = {float(po)!r} Pa must be > p_crack = {float(pc)!r} Pa")
-        a_max, a_leak = self.parameter_value("A_max"), self.parameter_value("A_leak")
-        if a_max is not None and not a_leak < a_max:
+        a_max, a_leak = values.get("A_max"), values.get("A_leak")
+        if a_max is not None and a_leak is not None and not a_leak < a_max:
             raise ParameterError(f"{label}: A_leak = {float(a_leak)!r} m2 must be < A_max = {float(a_max)!r} m2")
 
     def equations(self) -> list:

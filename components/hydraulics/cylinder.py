@@ -7,7 +7,7 @@ from typing import Any
 
 import casadi as ca
 
-from flexlib import Component, Parameter, Variable, assert_, der, eq, if_else
+from flexlib import Component, Parameter, Variable, der, eq, if_else
 from flexlib.components.mechanics.translational.interfaces import Flange
 from flexlib.errors import ParameterError
 
@@ -131,9 +131,9 @@ class DoubleActingCylinder(PositiveParameters, Component):
 
     Notes
     -----
-    Cross-parameter conditions (``d_rod < d_bore``, ``x_start`` within the stroke) are checked when a
-    value is set on the component, and asserted (``flexlib.assert_``) for run-time overrides
-    ``run(params=...)``, which then fail at t0 naming the cylinder.
+    Cross-parameter conditions (``d_rod < d_bore``, ``x_start`` within the stroke) are checked by
+    :meth:`check` whenever values are set: on the component, at flatten and for run-time overrides
+    ``run(params=...)``, naming the cylinder.
 
     References
     ----------
@@ -200,21 +200,15 @@ class DoubleActingCylinder(PositiveParameters, Component):
         self.use_drain = bool(use_drain)
         if self.use_drain:
             self.port_D = Port(doc="Drain of the rod seal")
-        self.__dict__["_ready"] = True
-        self._check_geometry()
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if self.__dict__.get("_ready"):
-            self._check_geometry()
-
-    def _check_geometry(self) -> None:
-        label = self.path or type(self).__name__
-        val = {n: self.parameter_value(n) for n in ("d_bore", "d_rod", "stroke", "x_start")}
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        label = self.where
+        val = {n: values.get(n) for n in ("d_bore", "d_rod", "stroke", "x_start")}
         if val["d_bore"] is not None and val["d_rod"] is not None and not val["d_rod"] < val["d_bore"]:
             raise ParameterError(f"{label}: rod diameter d_rod = {float(val['d_rod'])!r} m >= bore "
                                  f"d_bore = {float(val['d_bore'])!r} m (no annulus)")
-        if val["stroke"] is not None and not 0.0 <= val["x_start"] <= val["stroke"]:
+        if val["stroke"] is not None and val["x_start"] is not None and not 0.0 <= val["x_start"] <= val["stroke"]:
             raise ParameterError(f"{label}: x_start = {float(val['x_start'])!r} m is outside the stroke "
                                  f"[0, {float(val['stroke'])!r}] m")
 
@@ -244,9 +238,6 @@ class DoubleActingCylinder(PositiveParameters, Component):
                 - if_else(ca.logic_and(x > self.stroke, f_rod > 0.0), f_rod, 0.0))
 
     def equations(self) -> list:
-        assert_(self.d_rod < self.d_bore, "rod diameter d_rod must be smaller than the bore d_bore")
-        assert_(self.x_start >= 0.0, "x_start must lie within the stroke [0, stroke]")
-        assert_(self.x_start <= self.stroke, "x_start must lie within the stroke [0, stroke]")
         fa, fb, fl = self.flange_a, self.flange_b, self.fluid
         p_A, p_B = self.p_A, self.p_B
         p_D = self.port_D.p if self.use_drain else fl.p_ref

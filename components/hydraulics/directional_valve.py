@@ -160,10 +160,11 @@ class DirectionalValve43(PositiveParameters, Component):
         if centre == "tandem":
             self.m_PT = Variable(unit="kg/s", doc="Mass flow through the tandem bypass P->T")
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name.startswith("lap_") and not np.all(self._values[name] < 1.0):
-            raise ParameterError(f"{self._label(name)} = {float(self._values[name])!r} must be < 1 (normalised lap)")
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        for name in ("lap_PA", "lap_PB", "lap_AT", "lap_BT"):
+            if name in values and not np.all(values[name] < 1.0):
+                raise ParameterError(f"{self.param_label(name)} = {float(values[name])!r} must be < 1 (normalised lap)")
 
     # -- edges -----------------------------------------------------------------------------------
     @property

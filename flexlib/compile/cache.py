@@ -117,7 +117,7 @@ def model_key(root: Component, options: dict[str, Any]) -> str | None:
         for name, decl in node._decls.items():
             item = (name, decl.kind.value, decl.shape, decl.unit)
             if not isinstance(decl, Parameter):
-                item += (node.start_of(name)[1], decl.nominal, int(decl.state_select))
+                item += (node.start_of(name)[1], decl.nominal, int(node.state_select_of(name)))
             h.update(repr(item).encode())
         for name, value in sorted(node.__dict__.items()):
             if name.startswith("_") or isinstance(value, Node):

@@ -21,7 +21,7 @@ from flexlib.compile.structure import culprits, group_by_owner, incidence, match
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
 from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render
-from flexlib.errors import BalanceError, ModelError, StructuralSingularityError
+from flexlib.errors import BalanceError, FlexlibError, ModelError, StructuralSingularityError
 
 __all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
 
@@ -130,10 +130,11 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
         if isinstance(node, Component):
             node.__dict__["_od_depth"] = tree.depth
             node.__dict__["_od_selected_roots"] = tree.roots
-            node.on_structure()
+            _call(node, "on_structure")
 
     # -- declarations ---------------------------------------------------------------------------
     for node in nodes:
+        node.validate()  # cross-parameter rules, now with the instance path known
         for name, decl in node._decls.items():
             if isinstance(decl, Parameter):
                 value = node.parameter_value(name)
@@ -156,7 +157,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             for k, (label, sym) in enumerate(_scalars(node, name)):
                 by_hash[sym.element_hash()] = len(variables)
                 variables.append(FlatVariable(label, sym, lookup(sym), decl.unit, decl.doc, float(starts[k]), fixed,
-                                              decl.nominal, decl.state_select, kind, node.path,
+                                              decl.nominal, node.state_select_of(name), kind, node.path,
                                               None if rule is None else rule[k]))
 
     # -- component equations --------------------------------------------------------------------
@@ -166,7 +167,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
         sink: list[Relation] = []
         token = CURRENT_RELATIONS.set(sink)
         try:
-            own = node.equations()
+            own = _call(node, "equations")
         finally:
             CURRENT_RELATIONS.reset(token)
         for rel in sink:
@@ -174,7 +175,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             rel.text = rel.describe()
             rel.info.name = f"rel({rel.text})"
         relations.extend(sink)
-        for equ in node.initial_equations() or []:
+        for equ in _call(node, "initial_equations") or []:
             for k in range(equ.residual.numel()):
                 initial.append(FlatEquation(equ.residual[k], node.path, equ.label or "initial equation", "initial"))
         for equ in own or []:
@@ -184,6 +185,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             for k in range(res.numel()):
                 equations.append(FlatEquation(res[k], node.path, equ.label, "equation"))
 
+    _check_finite(nodes, equations, initial)
     _connection_equations(nodes, equations, {frozenset((id(a), id(b))) for a, b, _ in tree.broken_edges})
     _overdetermined_equations(tree, equations)
     _check_inputs(root, nodes)
@@ -193,6 +195,81 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
     if check:
         check_balance(flat.name, flat.variables, flat.equations)
     return flat
+
+
+_SX_FLOAT = ca.SX.__float__
+
+
+def _symbolic_float(self: ca.SX) -> float:
+    """``float(SX)`` while equations are collected: CasADi returns NaN for a symbolic expression, which is how
+    ``math.sin(x)`` silently turns into a NaN constant; refuse it instead."""
+    if not self.is_constant():
+        raise ModelError(
+            f"float() of the symbolic expression {render(self, 60)}: a function of Python's 'math' module "
+            "(math.sin, math.sqrt, math.exp, ...) or float()/int() was applied to a symbol; use the casadi "
+            "(ca.sin, ca.sqrt) or numpy (np.sin) functions on symbols")
+    return _SX_FLOAT(self)
+
+
+def _call(node: Component, method: str) -> list:
+    """``node.equations()`` / ``node.initial_equations()``, with any error naming the component."""
+    where = f"{node.path or '(model)'} ({type(node).__name__}).{method}()"
+    ca.SX.__float__ = _symbolic_float
+    try:
+        return getattr(node, method)()
+    except FlexlibError as exc:  # keep the class (and its attributes); put the component in front
+        if node.path and str(exc).startswith(node.path):
+            raise
+        try:
+            named = type(exc)(f"{where}: {exc}")
+            named.__dict__.update(exc.__dict__)
+        except Exception:  # an error class with another constructor: keep it as it is
+            raise exc from None
+        raise named from exc
+    except Exception as exc:
+        text = str(exc)
+        if "Cannot compute the truth value" in text:
+            raise ModelError(
+                f"{where}: a Python 'if', 'and', 'or', 'not' or comparison chain was applied to a symbolic "
+                "expression, which has no truth value while the model is built; write the condition with "
+                "fl.if_else(cond, a, b) (events) or fl.no_event(...), and combine relations with "
+                "casadi.logic_and / logic_or / logic_not") from exc
+        raise ModelError(f"{where} failed: {type(exc).__name__}: {text}") from exc
+    finally:
+        ca.SX.__float__ = _SX_FLOAT
+
+
+def _nonfinite_constant(expr: ca.SX) -> float | None:
+    """A NaN or infinite numeric constant in the expression graph of ``expr``, if any."""
+    syms = ca.symvar(expr)
+    if not syms:
+        vals = np.asarray(ca.DM(expr)).ravel()
+        bad = vals[~np.isfinite(vals)]
+        return float(bad[0]) if bad.size else None
+    f = ca.Function("f", syms, [expr])
+    for k in range(f.n_instructions()):
+        if f.instruction_id(k) == ca.OP_CONST:
+            c = float(f.instruction_constant(k))
+            if not np.isfinite(c):
+                return c
+    return None
+
+
+def _check_finite(nodes: list[Node], equations: list[FlatEquation], initial: list[FlatEquation]) -> None:
+    """Reject NaN/inf constants in the equations, naming the component and the equation (``math.sin(symbol)``
+    silently gives a NaN constant: the ``math`` module converts the symbol to a float, which is NaN)."""
+    rows = equations + initial
+    if not rows or _nonfinite_constant(ca.vertcat(*[e.expr for e in rows])) is None:
+        return  # the usual case: one pass over the whole graph
+    types = {node.path: type(node).__name__ for node in nodes}
+    for e in rows:
+        c = _nonfinite_constant(e.expr)
+        if c is not None:
+            raise ModelError(
+                f"{e.owner or '(model)'} ({types.get(e.owner, 'model')}): equation {e.describe()!r} contains the "
+                f"constant {c}. A NaN usually comes from a function of Python's 'math' module (math.sin, "
+                "math.sqrt, math.exp, ...) applied to a symbol, which turns the symbol into float('nan'): use "
+                "the casadi (ca.sin, ca.sqrt) or numpy (np.sin) functions on symbols")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -17,13 +17,34 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
-from flexlib.core.variables import Declaration, Equation, Kind, Parameter, SymInfo, Variable, lookup
+from flexlib.core.variables import (
+    _STATE_SELECT,
+    Declaration,
+    Equation,
+    Kind,
+    Parameter,
+    StateSelect,
+    SymInfo,
+    Variable,
+    lookup,
+)
 from flexlib.errors import ConnectError, ModelError, ParameterError
 
 __all__ = ["Component", "Connector", "Model", "Node"]
 
 
-class Node:
+class _NodeMeta(type):
+    """Runs a node's parameter checks once its constructor (the outermost ``__init__``) has finished,
+    so cross-parameter rules see every value and every structural option."""
+
+    def __call__(cls, *args: Any, **kwargs: Any) -> Any:
+        obj = super().__call__(*args, **kwargs)
+        obj.__dict__["_constructed"] = True
+        obj.validate()
+        return obj
+
+
+class Node(metaclass=_NodeMeta):
     """Common base of components and connectors (named, hierarchical, with declarations)."""
 
     def __new__(cls, *args: Any, **kwargs: Any) -> Node:
@@ -33,7 +54,7 @@ class Node:
 
     def __init__(
         self, *, doc: str = "", init: dict[str, Any] | None = None,
-        guess: dict[str, Any] | None = None, **params: Any,
+        guess: dict[str, Any] | None = None, state_select: dict[str, Any] | None = None, **params: Any,
     ) -> None:
         d = self.__dict__
         d["_parent"] = None
@@ -45,6 +66,7 @@ class Node:
         d["_infos"] = []
         d["_values"] = {}
         d["_starts"] = {}
+        d["_state_select"] = {}
         d["_connections"] = []
         for klass in reversed(type(self).__mro__):
             for name, value in vars(klass).items():
@@ -60,6 +82,11 @@ class Node:
             self.set_start(name, value, fixed=True)
         for name, value in (guess or {}).items():
             self.set_start(name, value, fixed=False)
+        if state_select is not None and not isinstance(state_select, dict):
+            raise ModelError(f"{type(self).__name__}: state_select must be a dict {{variable: 'always' | "
+                             f"'prefer' | 'default' | 'avoid' | 'never'}}, got {state_select!r}")
+        for name, value in (state_select or {}).items():
+            self.set_state_select(name, value)
 
     # -- construction -------------------------------------------------------------------------
     def _clone(self) -> Node:
@@ -81,6 +108,14 @@ class Node:
         if name.startswith("_") or "_children" not in self.__dict__:
             object.__setattr__(self, name, value)
         elif isinstance(value, Node):
+            old = self._children.get(name)
+            if old is not None:
+                if old is value:
+                    return
+                raise ModelError(
+                    f"{self._label(name)}: already holds {type(old).__name__} {old.path}; assigning "
+                    f"{type(value).__name__} {value.path or '(unnamed)'} to the same name would drop it. "
+                    "Choose another attribute name")
             self._add_child(name, value)
         elif isinstance(value, Declaration):
             if name in self._decls and name in self._syms:
@@ -89,6 +124,10 @@ class Node:
             self._decls[name] = value
         elif name in self._decls:
             self._assign(name, value)
+        elif name in self._children:
+            old = self._children[name]
+            raise ModelError(f"{self._label(name)}: holds {type(old).__name__} {old.path}; assigning {value!r} to the "
+                             "same name would hide it (the component stays in the model). Choose another name")
         else:
             object.__setattr__(self, name, value)
 
@@ -137,14 +176,66 @@ class Node:
         decl = self._decls.get(name)
         if not isinstance(decl, Parameter):
             raise ParameterError(self._unknown(name, "parameter"))
-        label = self._label(name) if self._parent is not None else f"{type(self).__name__}: {name}"
-        self._values[name] = decl.check(label, value)
+        checked = decl.check(self.param_label(name), value)
+        if self.__dict__.get("_constructed"):  # a later assignment: the cross-parameter rules must still hold
+            values = self.parameter_values()
+            values[name] = checked
+            self.validate(values)
+        self._values[name] = checked
+
+    # -- parameter validation (one hook for construction, flatten and run(params=...)) -------------
+    @property
+    def where(self) -> str:
+        """How messages name this instance: its path in the model, or its class name while unattached."""
+        return self.path or type(self).__name__
+
+    def param_label(self, name: str) -> str:
+        """How messages name parameter ``name`` of this instance (``"boom.cyl2.Q_nom"``, or
+        ``"DirectionalValve43: Q_nom"`` while unattached)."""
+        return self._label(name) if self._parent is not None else f"{type(self).__name__}: {name}"
+
+    def parameter_values(self) -> dict[str, np.ndarray]:
+        """``{name: value}`` of the parameters of this instance that have a value (given or default)."""
+        out = {}
+        for name, decl in self._decls.items():
+            if isinstance(decl, Parameter):
+                value = self.parameter_value(name)
+                if value is not None:
+                    out[name] = value
+        return out
+
+    def check(self, values: dict[str, np.ndarray]) -> None:
+        """Cross-parameter rules of this component (limits ordered, rod thinner than bore, ...).
+
+        Override to raise :class:`~flexlib.ParameterError` when ``values`` (``{name: float array}`` of
+        every parameter of this instance, each already within its declared bounds) break a rule. While
+        the instance is being built a parameter without a value yet is absent (use ``values.get``); at
+        flatten and at run time all are present.
+        Read the values from ``values`` only, not from the instance: the same hook checks the
+        constructor's values, the values at flatten and the values of a ``run(params=...)`` override.
+        Name parameters with :meth:`param_label`; a message that does not name the instance gets its
+        path in front. Call ``super().check(values)`` when a base class has rules too. Default: none.
+        """
+
+    def validate(self, values: dict[str, np.ndarray] | None = None) -> None:
+        """Run :meth:`check` on ``values`` (default: the instance's current values), naming this
+        instance in any error."""
+        if values is None:
+            values = self.parameter_values()
+        try:
+            self.check(values)
+        except ParameterError as exc:
+            msg = str(exc)
+            if self.where not in msg:
+                raise ParameterError(f"{self.where}: {msg}") from None
+            raise
 
     def _unknown(self, name: str, what: str) -> str:
         pool = [n for n, d in self._decls.items() if (what != "parameter") or isinstance(d, Parameter)]
         close = difflib.get_close_matches(name, pool, n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else f"; known: {', '.join(sorted(pool)) or 'none'}"
-        return f"{type(self).__name__} {self.path or '(model)'}: unknown {what} {name!r}{hint}"
+        where = self.path or ("(model)" if self._connections else "(unnamed)")
+        return f"{type(self).__name__} {where}: unknown {what} {name!r}{hint}"
 
     def set_start(self, name: str, value: Any, fixed: bool = True) -> None:
         """Set the start value of variable ``name`` (an initial condition if ``fixed``)."""
@@ -156,6 +247,27 @@ class Node:
             raise ModelError(f"{self._label(name)}: start value has {arr.size} elements, variable has {decl.size}")
         self._starts[name] = (arr.reshape(decl.shape) if decl.shape else arr.reshape(()), bool(fixed))
 
+    def set_state_select(self, name: str, value: Any) -> None:
+        """Override the state preference of variable ``name`` on this instance (Modelica's ``stateSelect``
+        modifier): ``"never"``, ``"avoid"``, ``"default"``, ``"prefer"``, ``"always"`` or a
+        :class:`~flexlib.StateSelect` member."""
+        decl = self._decls.get(name)
+        if not isinstance(decl, Variable):
+            raise ModelError(self._unknown(name, "variable") + " (in state_select)")
+        if isinstance(value, StateSelect):
+            self._state_select[name] = value
+            return
+        choice = _STATE_SELECT.get(value) if isinstance(value, str) else None
+        if choice is None:
+            raise ModelError(f"{self._label(name) if self._parent else type(self).__name__ + ': ' + name}: "
+                             f"state_select {value!r} is not one of {', '.join(_STATE_SELECT)} (or fl.StateSelect)")
+        self._state_select[name] = choice
+
+    def state_select_of(self, name: str) -> StateSelect:
+        """State preference of variable ``name`` after the instance override (else the declaration's)."""
+        sel = self._state_select.get(name)
+        return sel if sel is not None else self._decls[name].state_select
+
     def parameter_value(self, name: str) -> np.ndarray | None:
         """Current value of parameter ``name`` (None if it has neither a value nor a default)."""
         if name in self._values:
@@ -163,7 +275,7 @@ class Node:
         decl = self._decls[name]
         if decl.default is None:
             return None
-        return decl.check(self._label(name), decl.default)
+        return decl.check(self.param_label(name), decl.default)
 
     def start_of(self, name: str) -> tuple[np.ndarray, bool]:
         """``(start, fixed)`` of variable ``name`` after instance overrides."""
@@ -207,6 +319,24 @@ class Connector(Node):
         ``other`` describe the same thing; used where a connection closes a loop."""
         raise NotImplementedError(f"{type(self).__name__} has over-determined variables but no equality_constraint")
 
+    def connection_set(self) -> list[Connector]:
+        """The other connectors connected to this one, directly or through other connections, in the whole
+        model (Modelica's connection set; the basis of MSL's ``cardinality``-style structural choices)."""
+        links: dict[int, list[Connector]] = {}
+        for node in self.root.walk():
+            for a, b in getattr(node, "_connections", ()):
+                if a[0] == "connector" and b[0] == "connector":
+                    links.setdefault(id(a[1]), []).append(b[1])
+                    links.setdefault(id(b[1]), []).append(a[1])
+        seen, stack, out = {id(self)}, [self], []
+        while stack:
+            for other in links.get(id(stack.pop()), ()):
+                if id(other) not in seen:
+                    seen.add(id(other))
+                    out.append(other)
+                    stack.append(other)
+        return out
+
     def signature(self) -> tuple:
         """What must match for two connectors to be connectable."""
         return tuple(sorted((n, d.kind.value, d.shape, d.unit) for n, d in self._decls.items()))
@@ -233,10 +363,21 @@ class Component(Node):
         ``{variable: value}`` initial conditions (start value with ``fixed=True``).
     guess : dict, optional
         ``{variable: value}`` start values used only as initialisation guesses.
+    state_select : dict, optional
+        ``{variable: "never" | "avoid" | "default" | "prefer" | "always"}`` (or :class:`~flexlib.StateSelect`
+        members): this instance's preference for choosing the variable as a state, overriding the declaration
+        (Modelica's ``stateSelect`` modifier, e.g. ``Revolute(state_select={"phi": "always", "w": "always"})``).
     doc : str, optional
         Description of this instance.
     **params
         Parameter values (SI), overriding declared defaults.
+
+    Notes
+    -----
+    Parameter values are validated by one hook on every path: each value against its declaration's bounds
+    (``min``/``max``/``gt``/``lt``), and all values of the instance together by :meth:`check` (rules between
+    parameters), when the component is built or a value is assigned, at flatten and for
+    ``Simulation.run(params=...)`` overrides. Override :meth:`check` rather than the constructor for such rules.
     """
 
     experiment: ClassVar[Any] = None
@@ -304,6 +445,13 @@ class Component(Node):
         if len(items) < 2:
             raise ConnectError(f"{self.path or 'model'}: connect() needs at least two connectors")
         resolved = [self._resolve(item) for item in items]
+        seen: dict[int, Any] = {}
+        for item in resolved:
+            key = id(item[1])
+            if key in seen:
+                raise ConnectError(f"{self.path or 'model'}: connect() got {self._show(item)} twice; "
+                                   "a connector cannot be connected to itself")
+            seen[key] = item
         first = resolved[0]
         for other in resolved[1:]:
             if first[0] == "connector" and other[0] == "connector":

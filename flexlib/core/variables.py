@@ -231,7 +231,11 @@ class Parameter(Declaration):
     unit : str
         Unit in Modelica syntax (``"kg.m2"``, ``"N/m"``).
     min, max : float, optional
-        Bounds, checked whenever a value is set (build time and run time).
+        Inclusive bounds (``min <= value <= max``), checked for every element whenever a value is set:
+        at construction, at flatten and for ``run(params=...)`` overrides.
+    gt, lt : float, optional
+        Exclusive bounds (``gt < value < lt``), checked like ``min``/``max`` (Modelica's
+        ``min=Modelica.Constants.small`` for a quantity that must be strictly positive: ``gt=0``).
     doc : str
         One-line description.
     shape : int or tuple
@@ -242,12 +246,21 @@ class Parameter(Declaration):
 
     def __init__(
         self, default: Any = None, *, unit: str = "1", doc: str = "", min: float | None = None,
-        max: float | None = None, shape: int | tuple[int, ...] = (),
+        max: float | None = None, gt: float | None = None, lt: float | None = None,
+        shape: int | tuple[int, ...] = (),
     ) -> None:
         super().__init__(unit=unit, doc=doc, shape=shape)
         self.default = default
         self.min = min
         self.max = max
+        self.gt = gt
+        self.lt = lt
+
+    def rules(self) -> str:
+        """The bounds as text (``"> 0, <= 1"``; empty without bounds)."""
+        parts = [f"{op} {b:g}" for op, b in ((">=", self.min), (">", self.gt), ("<=", self.max), ("<", self.lt))
+                 if b is not None]
+        return ", ".join(parts)
 
     def check(self, path: str, value: Any) -> np.ndarray:
         """Return ``value`` as a float array of the declared shape, or raise naming ``path``."""
@@ -262,12 +275,17 @@ class Parameter(Declaration):
                 arr = arr.reshape(self.shape)
             else:
                 raise ParameterError(f"{path}: parameter has shape {self.shape}, got value of shape {arr.shape}")
+        shown = value if np.ndim(value) == 0 else arr.tolist()
         if not np.all(np.isfinite(arr)):
-            raise ParameterError(f"{path}: parameter value {value!r} is not finite")
+            raise ParameterError(f"{path}: parameter value {shown!r} is not finite")
         if self.min is not None and np.any(arr < self.min):
-            raise ParameterError(f"{path} = {value!r} [{self.unit}] is below its minimum {self.min}")
+            raise ParameterError(f"{path} = {shown!r} [{self.unit}] is below its minimum {self.min}")
         if self.max is not None and np.any(arr > self.max):
-            raise ParameterError(f"{path} = {value!r} [{self.unit}] is above its maximum {self.max}")
+            raise ParameterError(f"{path} = {shown!r} [{self.unit}] is above its maximum {self.max}")
+        if self.gt is not None and np.any(arr <= self.gt):
+            raise ParameterError(f"{path} must be > {self.gt:g}, got {shown!r} [{self.unit}]")
+        if self.lt is not None and np.any(arr >= self.lt):
+            raise ParameterError(f"{path} must be < {self.lt:g}, got {shown!r} [{self.unit}]")
         return arr
 
 

@@ -169,28 +169,52 @@ class Simulation:
     # -- parameters -------------------------------------------------------------------------------
     def parameter_vector(self, params: dict[str, Any] | None = None,
                          values: dict[str, float] | None = None) -> np.ndarray:
-        """Parameter values from the model instance, with ``params`` overrides (validated)."""
+        """Parameter values from the model instance, with ``params`` overrides.
+
+        Each overridden value passes the same checks as a value given to the component's constructor:
+        the declared bounds of its parameter and the component's cross-parameter rules
+        (:meth:`~flexlib.Component.check`) with the overridden values of that instance. An element
+        override (``"body.I[0,0]"``) is checked together with the rest of its array.
+        """
         if values is None:
             values, _ = gather_values(self.model)
         m = self.compiled
         vec = np.array([values.get(n, d) for n, d in zip(m.param_names, m.param_defaults, strict=True)])
+        touched: dict[int, tuple[Any, set[str]]] = {}
         for name, value in (params or {}).items():
             found = self._find_decl(name)
             if found is None:
                 close = difflib.get_close_matches(name, m.param_names, n=3)
                 hint = f"; did you mean {', '.join(close)}?" if close else ""
                 raise ParameterError(f"unknown parameter {name!r} in model {m.name}{hint}")
-            _, decl, elem = found
+            node, decl, elem = found
+            decl_name = name.rpartition(".")[2].split("[")[0]
             if elem is None:  # the whole declaration (scalar or array)
                 flat = np.asarray(decl.check(name, value), dtype=float).flatten(order="F")
                 for (label, _), v in zip(decl.element_names(name), flat, strict=True):
                     vec[self._param_index[label]] = v
-            else:  # one element of an array parameter
-                v = float(np.asarray(value, dtype=float))
-                if (decl.min is not None and v < decl.min) or (decl.max is not None and v > decl.max) \
-                        or not np.isfinite(v):
-                    raise ParameterError(f"{name} = {v!r} [{decl.unit}] is outside [{decl.min}, {decl.max}]")
+            else:  # one element of an array parameter: checked below with the rest of the array
+                try:
+                    v = float(np.asarray(value, dtype=float))
+                except (TypeError, ValueError) as exc:
+                    raise ParameterError(f"{name}: parameter value {value!r} is not a number") from exc
                 vec[self._param_index[name]] = v
+            touched.setdefault(id(node), (node, set()))[1].add(decl_name)
+        for node, names in touched.values():
+            current: dict[str, np.ndarray] = {}
+            for pname, pdecl in node._decls.items():
+                if not isinstance(pdecl, Parameter):
+                    continue
+                labels = [label for label, _ in pdecl.element_names(node._label(pname))]
+                if all(label in self._param_index for label in labels):
+                    arr = np.array([vec[self._param_index[label]] for label in labels])
+                    arr = arr.reshape(pdecl.shape, order="F") if pdecl.shape else arr.reshape(())
+                else:  # not a run-time parameter of the compiled model: the instance value holds
+                    arr = node.parameter_value(pname)
+                if pname in names:
+                    arr = pdecl.check(node._label(pname), arr)
+                current[pname] = arr
+            node.validate(current)
         return vec
 
     def _find_decl(self, name: str) -> tuple[Any, Parameter, Any] | None:

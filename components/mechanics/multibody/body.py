@@ -117,9 +117,9 @@ class Body(Component):
         self.orientation_fixed = orientation_fixed
         self.w_fixed = w_fixed
         self.potential_root(self.frame_a)
-        self._check_inertia()
         q0 = self.parameter_value("Q_start")
-        self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)
+        if np.linalg.norm(q0) > 1e-12:  # else check() names the zero quaternion
+            self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)
 
     def initial_equations(self):
         """``orientation_fixed``: T(t0) = T(Q_start) (3 equations); ``w_fixed``: w_a(t0) = w_start."""
@@ -131,14 +131,15 @@ class Body(Component):
             out.append(eq(self.w_a, self.w_start, label="start angular velocity"))
         return out
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name in ("I", "m") and "I" in self._decls:
-            self._check_inertia()
-
-    def _check_inertia(self) -> None:
-        I = self.parameter_value("I")
-        label = self.path or type(self).__name__
+    def check(self, values: dict[str, Any]) -> None:
+        """The inertia tensor is symmetric, positive semi-definite and obeys the triangle inequality
+        (principal moments ``I1 + I2 >= I3``); ``Q_start`` is not zero."""
+        super().check(values)
+        label = self.where
+        q = values.get("Q_start")
+        if q is not None and not np.linalg.norm(q) > 1e-12:
+            raise ParameterError(f"{self.param_label('Q_start')} = {q.tolist()} has zero length")
+        I = values.get("I")
         if I is None:
             return
         if not np.allclose(I, I.T, atol=1e-12 * max(1.0, np.abs(I).max())):

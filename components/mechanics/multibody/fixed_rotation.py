@@ -57,18 +57,12 @@ class FixedRotation(PartialTwoFrames):
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self._check_axis()
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name == "n":
-            self._check_axis()
-
-    def _check_axis(self) -> None:
-        n = self.parameter_value("n")
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        n = values.get("n")
         if n is not None and not np.linalg.norm(n) > 1e-12:
-            raise ParameterError(f"{self.path or type(self).__name__}: rotation axis n = {n.tolist()} "
-                                 "has zero length")
+            raise ParameterError(f"{self.where}: rotation axis n = {n.tolist()} has zero length")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b

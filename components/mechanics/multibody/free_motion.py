@@ -78,19 +78,15 @@ class FreeMotion(PartialTwoFrames):
         super().__init__(**kwargs)
         self.orientation_fixed = orientation_fixed
         self.w_fixed = w_fixed
-        self._check_quaternion()
         q0 = self.parameter_value("Q_start")
-        self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)
+        if np.linalg.norm(q0) > 1e-12:  # else check() names the zero quaternion
+            self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name == "Q_start":
-            self._check_quaternion()
-
-    def _check_quaternion(self) -> None:
-        q = self.parameter_value("Q_start")
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        q = values.get("Q_start")
         if q is not None and not np.linalg.norm(q) > 1e-12:
-            raise ParameterError(f"{self.path or type(self).__name__}: Q_start = {q.tolist()} has zero length")
+            raise ParameterError(f"{self.where}: Q_start = {q.tolist()} has zero length")
 
     def initial_equations(self):
         """``orientation_fixed``: T_rel(t0) = T(Q_start) (3 equations); ``w_fixed``: w_rel_b(t0) = w_start."""

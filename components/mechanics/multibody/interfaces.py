@@ -18,7 +18,7 @@ from flexlib import Component, Connector, Flow, Potential, eq
 from ._resolve import check_resolve_in_frame
 from .frames import equality_constraint, resolve1, skew
 
-__all__ = ["Frame", "PartialCutSensor", "PartialTwoFrames"]
+__all__ = ["Frame", "PartialCutSensor", "PartialTwoFrames", "support_grounded"]
 
 
 class Frame(Connector):
@@ -110,3 +110,15 @@ class PartialCutSensor(PartialTwoFrames):
         return [eq(b.r_0, a.r_0), *orient, eq(a.f + b.f, 0.0), eq(a.t + b.t, 0.0),
                 *self.measurement_equations()]
 
+
+
+def support_grounded(support: Connector, sensors: tuple[type, ...]) -> bool:
+    """True if a joint's drive ``support`` flange is grounded inside the joint (MSL's joints: "the support
+    is assumed to be fixed in the world frame"; a 1D component's ``useSupport = false``).
+
+    That is the case unless the support is connected to a component other than a pure measuring sensor
+    (``sensors``: the 1D sensors that exert no force and fix no position): a housing, a ``Fixed`` or a
+    torque source then determine the support themselves, as before. So a relative angle sensor between
+    ``support`` and ``axis`` reads the joint angle.
+    """
+    return all(isinstance(c._parent, sensors) for c in support.connection_set())

@@ -8,11 +8,11 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Parameter, Variable, der, eq
-from flexlib.components.mechanics.translational.interfaces import Flange
+from flexlib.components.mechanics.translational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
 from flexlib.errors import ParameterError
 
 from .frames import resolve1
-from .interfaces import PartialTwoFrames
+from .interfaces import PartialTwoFrames, support_grounded
 
 __all__ = ["Prismatic"]
 
@@ -35,7 +35,9 @@ class Prismatic(PartialTwoFrames):
     ----------
     frame_a, frame_b : Frame
     axis, support : translational Flange (if ``use_axis_flange``)
-        Drive flange (position ``s``, force ``f``) and its housing.
+        Drive flange (position ``s``, force ``f``) and its housing. A support connected to nothing or only to
+        sensors is grounded inside the joint (``support.s = 0``, MSL), so a ``RelativePositionSensor`` between
+        ``support`` and ``axis`` reads ``s``; a support connected to a ``Fixed`` or a source takes ``-f``.
 
     Variables
     ---------
@@ -58,12 +60,10 @@ class Prismatic(PartialTwoFrames):
         if use_axis_flange:
             self.axis = Flange(doc="Drive flange (s, f)")
             self.support = Flange(doc="Housing of the drive")
-        _check_axis(self, "n")
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name == "n":
-            _check_axis(self, "n")
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        check_axis(self, values, "n")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
@@ -73,14 +73,18 @@ class Prismatic(PartialTwoFrames):
                eq(a.f + b.f, 0.0), eq(a.t + b.t + ca.cross(es, b.f), 0.0), eq(self.f, -ca.dot(e, b.f))]
         eqs += [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
         if self.use_axis_flange:
-            eqs += [eq(self.axis.s - self.support.s, self.s), eq(self.axis.f, self.f), eq(self.support.f, -self.f)]
+            eqs += [eq(self.axis.s - self.support.s, self.s), eq(self.axis.f, self.f)]
+            if support_grounded(self.support, (PartialAbsoluteSensor, PartialRelativeSensor)):
+                eqs.append(eq(self.support.s, 0.0, label="support grounded in the world (MSL)"))
+            else:
+                eqs.append(eq(self.support.f, -self.f))
         else:
             eqs.append(eq(self.f, 0.0, label="free joint axis (no drive)"))
         return eqs
 
 
-def _check_axis(component: Any, name: str) -> None:
-    n = component.parameter_value(name)
+def check_axis(component: Any, values: dict[str, Any], name: str, what: str = "joint axis") -> None:
+    """Raise :class:`~flexlib.ParameterError` if the axis ``values[name]`` of ``component`` has zero length."""
+    n = values.get(name)
     if n is not None and not np.linalg.norm(n) > 1e-12:
-        raise ParameterError(f"{component.path or type(component).__name__}: joint axis {name} = {n.tolist()} "
-                             "has zero length")
+        raise ParameterError(f"{component.where}: {what} {name} = {n.tolist()} has zero length")

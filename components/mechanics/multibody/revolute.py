@@ -5,14 +5,13 @@ from __future__ import annotations
 from typing import Any
 
 import casadi as ca
-import numpy as np
 
 from flexlib import Parameter, Variable, der, eq
-from flexlib.components.mechanics.rotational.interfaces import Flange
-from flexlib.errors import ParameterError
+from flexlib.components.mechanics.rotational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
 
 from .frames import absolute_rotation, planar_rotation, resolve1
-from .interfaces import PartialTwoFrames
+from .interfaces import PartialTwoFrames, support_grounded
+from .prismatic import check_axis
 
 __all__ = ["Revolute"]
 
@@ -58,7 +57,10 @@ class Revolute(PartialTwoFrames):
     ----------
     frame_a, frame_b : Frame
     axis, support : rotational Flange (if ``use_axis_flange``)
-        Drive flange (angle ``phi``, torque ``tau``) and its housing (fixed to frame_a).
+        Drive flange (angle ``phi``, torque ``tau``) and its housing. A support connected to nothing or only
+        to sensors is grounded inside the joint (``support.phi = 0``, MSL: "fixed in the world frame"), so a
+        ``RelativeAngleSensor`` between ``support`` and ``axis`` reads ``phi``; a support connected to a
+        ``Fixed``, a housing or a source takes the reaction ``-(tau + tau_f)``.
 
     Variables
     ---------
@@ -92,15 +94,10 @@ class Revolute(PartialTwoFrames):
         if use_axis_flange:
             self.axis = Flange(doc="Drive flange (phi, tau)")
             self.support = Flange(doc="Housing of the drive, fixed to frame_a")
-        n = self.parameter_value("n")
-        if n is not None and not np.linalg.norm(n) > 1e-12:
-            raise ParameterError(f"{self.path or type(self).__name__}: joint axis n = {n.tolist()} has zero length")
 
-    def _assign(self, name: str, value: Any) -> None:
-        super()._assign(name, value)
-        if name == "n" and not np.linalg.norm(self._values["n"]) > 1e-12:
-            raise ParameterError(f"{self.path or type(self).__name__}: joint axis n = {self._values['n'].tolist()} "
-                                 "has zero length")
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        check_axis(self, values, "n")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
@@ -117,8 +114,11 @@ class Revolute(PartialTwoFrames):
         eqs.append(eq(self.tau, -ca.dot(e, b.t)))
         eqs.append(eq(self.tau_f, self.friction_torque(e) if self.use_friction else 0.0))
         if self.use_axis_flange:
-            eqs += [eq(self.axis.phi - self.support.phi, self.phi), eq(self.axis.tau, self.tau + self.tau_f),
-                    eq(self.support.tau, -(self.tau + self.tau_f))]
+            eqs += [eq(self.axis.phi - self.support.phi, self.phi), eq(self.axis.tau, self.tau + self.tau_f)]
+            if support_grounded(self.support, (PartialAbsoluteSensor, PartialRelativeSensor)):
+                eqs.append(eq(self.support.phi, 0.0, label="support grounded in the world (MSL)"))
+            else:
+                eqs.append(eq(self.support.tau, -(self.tau + self.tau_f)))
         else:
             eqs.append(eq(self.tau, -self.tau_f, label="no drive: only friction acts about the axis"))
         return eqs
