@@ -130,7 +130,8 @@ class Initializer:
             raise
         y, yp = self._split(w)
         if held:
-            self._check_equilibrium(y, yp, [k for k in held if k not in steady], active_t, steady_t)
+            self._check_equilibrium(y, yp, [k for k in held if k not in steady], active_t, steady_t,
+                                    cond_vals[list(active_t)])
         return y, self.algebraic_rates(t0, y, yp, p)
 
     def _check_finite(self, p: np.ndarray, starts: dict[str, tuple[float, bool]]) -> None:
@@ -184,7 +185,7 @@ class Initializer:
         return held
 
     def _check_equilibrium(self, y: np.ndarray, yp: np.ndarray, dropped: list[int], active: tuple[int, ...],
-                           steady: tuple[int, ...]) -> None:
+                           steady: tuple[int, ...], cond_vals: np.ndarray) -> None:
         """``steady_state=True``: a state held by a fixed start value whose ``der(x) = 0`` could not be imposed
         must still be at rest; otherwise name the fixed start values that prevent the equilibrium."""
         m = self.model
@@ -205,20 +206,25 @@ class Initializer:
         culprit_names: list[str] = []
         lines = []
         for j, k in enumerate(moving):
-            order = [*range(n), n + na + ns + j, *range(n, n + na + ns)]
-            row_match, _ = matching(inc[order], in_order=True)
-            for pos, r in enumerate(order):
-                if n <= r < n + na and row_match[pos] < 0:
-                    name = m.conditions[active[r - n]][0]
-                    if name not in culprit_names:
-                        culprit_names.append(name)
+            dropped_row = n + na + ns + j
+            for c in range(na) if na <= 60 else []:
+                # condition c stands in the way if, matched after everything else, it is the one left over
+                order = [*range(n), dropped_row, *(n + q for q in range(na) if q != c), *range(n + na, n + na + ns),
+                         n + c]
+                row_match, _ = matching(inc[order], in_order=True)
+                if row_match[-1] < 0:
+                    name, value = m.conditions[active[c]][0], float(np.asarray(cond_vals)[c])
+                    text = (f"{name.rsplit(' #', 1)[0]} (initial equation)" if ": " in name and " #" in name
+                            else f"{name} = {value:g} (fixed start value)")
+                    if text not in culprit_names:
+                        culprit_names.append(text)
             i = int(self.diff[k])
             lines.append(f"  der({m.y_names[i]}) = {yp[i]:.6g} at the start (component {m.y_owners[i] or '(model)'})")
-        conds = ", ".join(f"{nm} (fixed start value)" for nm in culprit_names) or "the fixed start values above"
+        conds = ", ".join(culprit_names) or "the fixed start values"
         raise InitializationError(
             "steady_state=True: no equilibrium with the fixed start values; these states would not be at rest:\n"
-            + "\n".join(lines) + f"\nconflicting conditions: {conds}. Leave one of them free (not fixed) so the "
-            "equilibrium can choose it, or run without steady_state=True.")
+            + "\n".join(lines) + f"\nconflicting conditions (freeing any one of them allows it): {conds}. Leave one of "
+            "them free (not fixed) so that the equilibrium can choose it, or run without steady_state=True.")
 
     def _complementary_steady(self, active: tuple[int, ...], steady: tuple[int, ...], w0: np.ndarray,
                               par: np.ndarray, n_held: int = 0) -> list[int]:
