@@ -161,7 +161,8 @@ def step_failure_lines(model: Any, p: np.ndarray, t: float, y: np.ndarray, yp: n
 
     1. Non-finite residuals or Jacobian entries at ``(t, y, yp)``, then at predicted points
        ``(t + h, y + h·yp)`` for ``h`` and smaller steps (the division by zero or the square root of
-       a negative number that the failed step ran into), naming the equation and its variables.
+       a negative number that the failed step ran into), naming the equation and its variables; else, if IDA's
+       iteration matrix ``dF/dy + dF/dy'/h`` is numerically singular there, the dependent equations.
     2. The unknowns with the largest rate relative to their error weight, ``|y'|/(rtol·|y| + atol_i)``
        (the ones that dominate IDA's local error estimate), grouped by component, with their values.
 
@@ -200,6 +201,11 @@ def step_failure_lines(model: Any, p: np.ndarray, t: float, y: np.ndarray, yp: n
             if found:
                 lines += found
                 break
+    if not lines and n <= _DENSE_SVD_MAX and np.all(np.isfinite(y)) and np.all(np.isfinite(yp)):
+        # a singular iteration matrix dF/dy + cj·dF/dy' (an index change, a constraint that loses rank)
+        with np.errstate(all="ignore"):
+            J = sps.csc_matrix(jac(t, y, yp, p, 1.0 / h).sparse())
+        lines += singular_lines(J, rows, cols, np.asarray(model.nominal, dtype=float), rtol=1e-9)
     with np.errstate(all="ignore"):
         weight = rtol * np.abs(y) + np.asarray(atol_vec, dtype=float)
         rate = np.abs(yp) / weight

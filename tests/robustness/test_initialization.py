@@ -285,6 +285,8 @@ def test_steady_state_holds_the_boom():
     assert abs(res["hinge.w"][-1]) < 1e-5 and abs(res["hinge.phi"][-1] - phi) < 1e-8
     assert res["supply.p"][0] > 160e5  # on the relief valve
     assert abs(res["supply.p"][-1] / res["supply.p"][0] - 1.0) < 1e-6  # and stays there: der(supply.m) ≈ 0
+    for name in ("cyl.cylinder.m_A", "cyl.cylinder.m_B", "supply.m"):  # stored masses (~0.3–1 kg) at rest:
+        assert abs(res[name][-1] - res[name][0]) < 1e-9, name  # only the closed valve's 1e-12 m² leakage moves them
 
 
 def test_steady_state_with_fixed_pressures_names_the_conflict():
@@ -346,3 +348,26 @@ def test_singular_reinit_at_an_event_names_the_equation():
     assert "t = 0.5" in msg and "switched gain" in msg
     assert "variables they leave undetermined:\n  (model): z" in msg
     assert err.value.result is not None and err.value.result.t[-1] == pytest.approx(0.5)
+
+
+def test_steady_state_with_a_spool_fixed_off_its_command_names_the_valve():
+    """The valve's spool starts fixed at 0 (component default) while the command is 0.5: no equilibrium; the
+    error names the spool state of the valve and its fixed start value."""
+    model = _boom()
+    model.cmd.k = 0.5
+    with pytest.raises(fl.InitializationError, match=r"der\(valve\.vs\) = [\s\S]*valve\.xs = 0 \(fixed start value\)"):
+        fl.Simulation(model).run(0.01, steady_state=True, progress=False)
+
+
+def test_non_finite_start_of_a_vector_variable_is_named():
+    """A NaN in one entry of a 3D body's start position names that entry (0-based, as the result names it)."""
+    from flexlib.components.mechanics.multibody import Body, World
+
+    class Free(fl.Model):
+        def __init__(self):
+            super().__init__()
+            self.world = World()
+            self.body = Body(m=1.0, I=np.eye(3), init={"r_0": [0.0, math.nan, 0.0], "v_0": [0.0, 0.0, 0.0]})
+
+    with pytest.raises(fl.InitializationError, match=r"not finite: body\.r_0\[1\] = nan \(fixed\)"):
+        sim(Free()).run(0.1)

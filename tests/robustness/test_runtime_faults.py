@@ -209,3 +209,43 @@ def test_cylinder_with_default_x_start_is_quiet(capfd):
     out, errout = capfd.readouterr()
     assert "identically 0" not in out + errout
     assert res["cylinder.x"][-1] > 0.0
+
+
+class Fading(fl.Model):
+    """(1 − t)·z = x − 2: the equation stops determining z at t = 1 (the iteration matrix becomes singular)."""
+
+    x = Variable(unit="m")
+    z = Variable(unit="m")
+
+    def equations(self):
+        return [eq(der(self.x), 1.0), eq((1.0 - fl.time) * self.z, self.x - 2.0, label="fading gain")]
+
+
+def test_singular_iteration_matrix_names_equation_and_variable():
+    msg, res = _fail(Fading(init={"x": 0.0}))
+    assert "numerically singular" in msg
+    assert "fading gain" in msg.split("dependent equations:")[1]
+    assert "variables they leave undetermined:\n  (model): z" in msg
+    assert res.t[-1] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_arc_cosine_out_of_range_names_the_equation():
+    """y = acos(x) with x = t reaching 1 at t = 1: NaN beyond; named with x's value."""
+
+    class Angle(fl.Model):
+        x = Variable(unit="1")
+        y = Variable(unit="rad")
+
+        def equations(self):
+            return [eq(der(self.x), 1.0), eq(self.y, ca.acos(self.x), label="angle from cosine")]
+
+    msg, res = _fail(Angle(init={"x": 0.0}))
+    assert "equation (model): angle from cosine" in msg and "x = 1" in msg
+    assert res.t[-1] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_blow_up_with_casadi_idas_keeps_result():
+    """The CasADi-IDAS backend keeps its own message; the partial result is still attached."""
+    with pytest.raises(fl.SolverError) as err:
+        sim(BlowUp(init={"x": 1.0})).run(2.0, dt_out=0.05, solver="casadi-idas", progress=False)
+    assert err.value.result is not None and err.value.result.t[-1] < 1.0
