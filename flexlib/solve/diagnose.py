@@ -30,8 +30,10 @@ from flexlib.compile.structure import group_by_owner
 
 __all__ = ["nonfinite_lines", "row_scale", "singular_lines", "step_failure_lines"]
 
-#: Dense rank analysis (SVD) up to this many unknowns; pivoted QR of the scaled matrix above.
+#: Dense rank analysis (SVD) up to this many unknowns; pivoted QR of the scaled matrix above, up to
+#: ``_DENSE_QR_MAX`` (both O(n³): beyond that the analysis would take longer than the failure is worth).
 _DENSE_SVD_MAX = 1500
+_DENSE_QR_MAX = 3000
 
 
 def _owner(label: str) -> str:
@@ -111,15 +113,17 @@ def nonfinite_lines(r: np.ndarray, J: sps.spmatrix | None, rows: Sequence[tuple[
 def singular_lines(J: sps.spmatrix, rows: Sequence[tuple[str, str]], cols: Sequence[tuple[str, str]],
                    nominal: np.ndarray, rtol: float = 1e-10) -> list[str]:
     """If the scaled Jacobian is numerically singular, lines naming the dependent equations and the
-    variables of its null space, grouped by component; empty if it is regular.
+    variables of its null space, grouped by component; empty if it is regular (or above 3000 unknowns).
 
     The columns are scaled by the nominal values and the rows by their largest entry, then the rank is
     found by SVD (dense, up to 1500 unknowns) or pivoted QR. Equations with a weight above 1e-3 in a left
     null vector are the dependent ones; variables with a weight above 1e-3 in a right null vector are the
     ones the equations fail to determine.
     """
+    if J.shape[0] == 0 or J.shape[1] == 0 or max(J.shape) > _DENSE_QR_MAX:
+        return []
     A = sps.csr_matrix(J).toarray().astype(float)
-    if A.size == 0 or not np.all(np.isfinite(A)):
+    if not np.all(np.isfinite(A)):
         return []
     A = A * np.asarray(nominal, dtype=float)[None, :]
     rs = np.abs(A).max(axis=1)

@@ -79,7 +79,7 @@ class Initializer:
 
     # -- public ---------------------------------------------------------------------------------
     def initial(self, t0: float, p: np.ndarray, starts: dict[str, tuple[float, bool]],
-                steady_state: bool = False, tol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
+                steady_state: bool = False, tol: float = 1e-10, diagnose: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Consistent initial values at ``t0``.
 
         Parameters
@@ -122,7 +122,7 @@ class Initializer:
         self._check_structure(jg, w0, par, active_t, steady_t)
         try:
             w = self._solve(g, jg, w0, par, tol, self._labels(active_t, steady_t), self._unknown_names(),
-                            self._nominal_w())
+                            self._nominal_w(), diagnose=diagnose)
         except InitializationError as err:
             best = getattr(err, "best", None)
             if best is not None:
@@ -313,7 +313,7 @@ class Initializer:
         delta = 1e-7 * max(1.0, abs(t))
         y2 = y + delta * yp
         try:
-            y2, _ = self._reinit(t + delta, y2, yp, p, 1e-12)
+            y2, _ = self._reinit(t + delta, y2, yp, p, 1e-12, diagnose=False)
         except InitializationError:
             return yp
         out = yp.copy()
@@ -321,7 +321,7 @@ class Initializer:
         return out
 
     def _reinit(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
-                tol: float) -> tuple[np.ndarray, np.ndarray]:
+                tol: float, diagnose: bool = True) -> tuple[np.ndarray, np.ndarray]:
         m = self.model
         if self._reinit_fns is None:
             t_s, _, ypd, yp_s, p_s = self._symbols()
@@ -346,12 +346,92 @@ class Initializer:
         cols = ([(m.y_owners[i], m.y_names[i]) for i in self._alg]
                 + [(m.y_owners[i], f"der({m.y_names[i]})") for i in self.diff])
         w = self._solve(g, jg, w0, par, tol, labels, cols, np.concatenate([nom[self._alg], nom[self.diff]]),
-                        what=f"could not find consistent values at t = {t:.10g} s (states held)")
+                        what=f"could not find consistent values at t = {t:.10g} s (states held)", diagnose=diagnose)
         y_new = y.copy()
         y_new[self._alg] = w[:len(self._alg)]
         yp_new = np.zeros(m.n)
         yp_new[self.diff] = w[len(self._alg):]
         return y_new, yp_new
+
+    def consistent_start(self, t0: float, p: np.ndarray, starts: dict[str, tuple[float, bool]],
+                         steady: bool) -> tuple[np.ndarray, np.ndarray]:
+        """Consistent ``y(t0)``, ``y'(t0)`` together with the relation values in ``p`` (updated in place).
+
+        Relations start from their values at the start guesses and are iterated to agree with the solution;
+        when the branch chosen by the guesses has no solution (a limiter's guess on the wrong side), the
+        relations are re-evaluated at the best point found, then switched one at a time
+        (:meth:`start_by_flipping`), before the failure is reported.
+        """
+        m = self.model
+        n_par = m.n_params
+        y, yp = self.guess(starts), np.zeros(m.n)
+        if m.n_relations:
+            with np.errstate(all="ignore"):
+                z = np.asarray(m.function("ind")(t0, y, yp, p)).ravel()
+            ab = np.asarray(m.function("tev")(p)).reshape(-1, 2)
+            for k, rel in enumerate(m.relations):
+                if rel.time_event and z[k] == 0.0:
+                    p[n_par + k] = float(ab[k, 0] > 0)
+                else:
+                    p[n_par + k] = float(rel.value(z[k]))
+        failed: InitializationError | None = None
+        for _ in range(20):
+            try:
+                y, yp = self.initial(t0, p, starts, steady)
+                failed = None
+            except InitializationError as err:
+                failed = err
+                # no solution with these relation values: re-evaluate the relations at the best point
+                # found (the start guesses may lie on the wrong side of a limiter) and try again
+                point = getattr(err, "point", None)
+                if not m.n_relations or point is None:
+                    raise
+                with np.errstate(all="ignore"):
+                    z = np.asarray(m.function("ind")(t0, point[0], point[1], p)).ravel()
+                flipped = False
+                for k, rel in enumerate(m.relations):
+                    v = float(rel.value(z[k]))
+                    if not rel.time_event and v != p[n_par + k]:
+                        p[n_par + k], flipped = v, True
+                if not flipped:
+                    return self.start_by_flipping(t0, p, starts, steady, err)
+                continue
+            if not m.n_relations:
+                break
+            z = np.asarray(m.function("ind")(t0, y, yp, p)).ravel()
+            changed = False
+            for k, rel in enumerate(m.relations):
+                if rel.time_event:
+                    continue
+                v = float(rel.value(z[k]))
+                if v != p[n_par + k]:
+                    p[n_par + k], changed = v, True
+            if not changed:
+                break
+        if failed is not None:
+            raise failed
+        return y, yp
+
+    def start_by_flipping(self, t0: float, p: np.ndarray, starts: dict[str, tuple[float, bool]], steady: bool,
+                          err: InitializationError, most: int = 16) -> tuple[np.ndarray, np.ndarray]:
+        """Try the start with one state relation switched at a time (a start guess on the wrong side of a
+        limiter gives a branch without solution); accept a switch whose solution agrees with it, else raise
+        ``err`` (the failure of the unswitched problem, with its diagnosis)."""
+        m = self.model
+        n_par = m.n_params
+        state_rel = [k for k, rel in enumerate(m.relations) if not rel.time_event][:most]
+        for k in state_rel:
+            trial = p.copy()
+            trial[n_par + k] = 1.0 - trial[n_par + k]
+            try:
+                y, yp = self.initial(t0, trial, starts, steady, diagnose=False)
+            except InitializationError:
+                continue
+            z = np.asarray(m.function("ind")(t0, y, yp, trial)).ravel()
+            if all(float(m.relations[j].value(z[j])) == trial[n_par + j] for j in state_rel):
+                p[:] = trial
+                return y, yp
+        raise err
 
     # -- internals ------------------------------------------------------------------------------
     def _split(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -395,7 +475,7 @@ class Initializer:
 
     def _solve(self, g: ca.Function, jg: ca.Function, w0: np.ndarray, par: np.ndarray, tol: float,
                labels: list[tuple[str, str]], cols: list[tuple[str, str]], nominal: np.ndarray,
-               what: str = "could not find consistent initial values") -> np.ndarray:
+               what: str = "could not find consistent initial values", diagnose: bool = True) -> np.ndarray:
         """Solve ``g(w) = 0`` from ``w0``: damped Newton (sparse LU), then trust-region least squares.
 
         Newton iterates to the absolute ``tol`` while it makes progress; where it stalls (round-off: an equation
@@ -471,6 +551,10 @@ class Initializer:
             s = row_scale(J, nominal)
             if wnorm(r, s) <= max(tol, 1e-8):
                 return w
+            if not diagnose:  # a trial whose failure the caller discards
+                err = InitializationError(f"{what} (trial)")
+                err.best = w
+                raise err
             # the failure, named
             nf = nonfinite_lines(r, J, labels, cols, w, "at the best point found")
             if not nf and not np.array_equal(w, w0):
