@@ -112,11 +112,14 @@ class Initializer:
         par = np.concatenate([[t0], p, cond_vals[active]])
         w0 = np.concatenate([y_guess, np.zeros(len(self.diff))])
         if steady_state and len(self.diff):
-            # der(x) = 0 for every state; those of states held by a fixed start value come first (the start
-            # value says where the equilibrium is sought, and free states take the values that make it one)
-            held = self._held_states(tuple(active))
+            # der(x) = 0 for every state; those of states held by an initial condition come first (the start
+            # value says where the equilibrium is sought, and free states take the values that make it one);
+            # a state held by a fixed start value must then be at rest (checked below), one held by a
+            # component's initial equation may start away from equilibrium (a partial steady state)
+            held, by_start = self._held_states(tuple(active))
             cand = held + [k for k in range(len(self.diff)) if k not in held]
             steady = self._complementary_steady(tuple(active), tuple(cand), w0, par, len(held))
+            held = by_start
         active_t, steady_t = tuple(active), tuple(steady)
         g, jg = self._init_functions(active_t, steady_t)
         self._check_structure(jg, w0, par, active_t, steady_t)
@@ -158,12 +161,13 @@ class Initializer:
         nom = np.asarray(self.model.nominal, dtype=float)
         return np.concatenate([nom, nom[self.diff]])
 
-    def _held_states(self, active: tuple[int, ...]) -> list[int]:
-        """Positions (in ``self.diff``) of the states fixed by a start value (a condition on that state alone;
-        initial equations of components do not count: they may describe a start away from equilibrium)."""
+    def _held_states(self, active: tuple[int, ...]) -> tuple[list[int], list[int]]:
+        """Positions (in ``self.diff``) of the states held by an initial condition on that state alone: all of
+        them (a fixed start value or a component's initial equation, such as a cylinder's ``x = x_start``),
+        and those held by a fixed start value only (the user's ``init``, which equilibrium must respect)."""
         m = self.model
         if not active:
-            return []
+            return [], []
         cond = m.sx_function("cond")
         t, y, _, yp, p = self._symbols()
         C = cond(t, y, yp, p)
@@ -175,14 +179,18 @@ class Initializer:
                 cols_of.setdefault(int(r), []).append(j)
         pos = {int(i): k for k, i in enumerate(self.diff)}
         held: list[int] = []
+        by_start: list[int] = []
         for r, k in enumerate(active):
-            name = m.conditions[k][0]
-            if ": " in name and " #" in name:  # an initial equation of a component
-                continue
             cols = cols_of.get(r, [])
-            if len(cols) == 1 and cols[0] in pos and pos[cols[0]] not in held:
-                held.append(pos[cols[0]])
-        return held
+            if len(cols) != 1 or cols[0] not in pos:
+                continue
+            state = pos[cols[0]]
+            if state not in held:
+                held.append(state)
+            name = m.conditions[k][0]
+            if not (": " in name and " #" in name) and state not in by_start:  # not an initial equation
+                by_start.append(state)
+        return held, by_start
 
     def _check_equilibrium(self, y: np.ndarray, yp: np.ndarray, dropped: list[int], active: tuple[int, ...],
                            steady: tuple[int, ...], cond_vals: np.ndarray) -> None:

@@ -301,6 +301,58 @@ def test_steady_state_with_fixed_pressures_names_the_conflict():
     assert "cyl.cylinder: start pressure A (initial equation)" in msg
 
 
+def _lift():
+    from flexlib.components.control import Constant
+    from flexlib.components.hydraulics import (
+        DirectionalValve43,
+        DoubleActingCylinder,
+        FixedDisplacementPump,
+        PressureReliefValve,
+        Tank,
+        Volume,
+    )
+    from flexlib.components.mechanics.translational import Fixed, Force, Mass
+
+    class Lift(fl.Model):
+        """A 500 kg load under gravity (constant force −m·g) on a vertical 63/36 cylinder started at x = 0.2 m
+        (the cylinder's own initial equation, x_fixed), closed-centre valve, pump with 160 bar relief."""
+
+        def __init__(self):
+            super().__init__()
+            self.tank, self.supply = Tank(), Volume(V=5e-4)
+            self.pump = FixedDisplacementPump(D=20e-6 / (2 * math.pi))
+            self.speed = Constant(k=1500 * 2 * math.pi / 60)
+            self.relief = PressureReliefValve(p_crack=160e5, p_grad=4e9)
+            self.valve = DirectionalValve43(Q_nom=40 / 60000, dp_nom=35e5)
+            self.cmd = Constant(k=0.0)
+            self.cylinder = DoubleActingCylinder(d_bore=BORE, d_rod=ROD, stroke=0.4, m=8.0, d=3000.0, p_fixed=False,
+                                                 x_start=0.2)
+            self.ground, self.load = Fixed(), Mass(m=500.0)
+            self.weight, self.g = Force(), Constant(k=-500.0 * 9.81)
+            self.connect(self.speed.y, self.pump.w)
+            self.connect(self.cmd.y, self.valve.u)
+            self.connect(self.g.y, self.weight.f)
+            self.connect(self.weight.flange, self.load.flange_b)
+            self.connect(self.tank.port, self.pump.port_a, self.relief.port_b, self.valve.port_T)
+            self.connect(self.pump.port_b, self.supply.port, self.relief.port_a, self.valve.port_P)
+            self.connect(self.valve.port_A, self.cylinder.port_A)
+            self.connect(self.valve.port_B, self.cylinder.port_B)
+            self.connect(self.ground.flange, self.cylinder.flange_a)
+            self.connect(self.cylinder.flange_b, self.load.flange_a)
+
+    return Lift()
+
+
+def test_steady_state_holds_a_load_on_a_1d_cylinder():
+    """1D DoubleActingCylinder with x fixed by its initial equation: steady_state=True gives the holding
+    pressures, p_A·A_P − p_B·A_R − p_ref·(A_P − A_R) = m·g (no friction at rest), 1e-6 relative; the load does
+    not accelerate (|a| < 1e-6 m/s²). Formerly the hydraulic rows won: p_A = p_B and a = 8.4 m/s²."""
+    res = fl.Simulation(_lift()).run(0.02, dt_out=0.01, steady_state=True, rtol=1e-8, atol=1e-10, progress=False)
+    p_A, p_B = res["cylinder.p_A"][0], res["cylinder.p_B"][0]
+    np.testing.assert_allclose(p_A * A_P - p_B * A_R - 1.01325e5 * (A_P - A_R), 500.0 * 9.81, rtol=1e-6)
+    assert abs(res["cylinder.a"][0]) < 1e-6 and abs(res["cylinder.x"][-1] - 0.2) < 1e-8
+
+
 class Pendulum(fl.Model):
     """Simple pendulum phi'' = -g/L·sin(phi)."""
 
