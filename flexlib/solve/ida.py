@@ -88,6 +88,8 @@ class _Callbacks:
             self._cols = np.repeat(np.arange(model.n), np.diff(model.jac_colind))
             self.jacfn = self._jacfn_dense  # type: ignore[method-assign]
         self.n_events = len(state_rel)
+        # the value an exactly-zero indicator stands for: false for a strict relation (z > 0), true otherwise
+        self._at_zero = np.array([-1e-300 if model.relations[int(k)].strict else 1e-300 for k in state_rel])
         if self.n_events:
             ind = model.sx_function("ind")
             t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
@@ -135,6 +137,23 @@ class _Callbacks:
         fz.set_arg(2, memoryview(yp))
         fz.set_res(0, memoryview(events))
         self._evz()
+        if not events.all():
+            _off_zero(events, self._at_zero)
+
+
+def _off_zero(events: np.ndarray, at_zero: np.ndarray) -> None:
+    """Replace indicators that are exactly zero by ``at_zero`` (±1e-300: the side of the relation's value there).
+
+    A relation's value at a zero indicator is decided by its strictness (``z > 0`` is false at 0, ``z >= 0``
+    true); IDA's root finding only needs to see a sign change when that value changes. An exact zero gives
+    it nothing more, but one that stays zero over the first step (a body at rest on its contact, x = 0) makes
+    SUNDIALS print "some root functions identically 0" (IDARcheck1; ``IDASetNoInactiveRootWarn`` is not
+    exposed by scikit-sundae). With the sign of the value at zero, an indicator that reaches zero from the
+    other side is still a sign change (the relation switches there), one that leaves zero to the same side
+    is none — exactly the relation's events.
+    """
+    zero = events == 0.0
+    events[zero] = at_zero[zero]
 
 
 class Progress:

@@ -249,3 +249,32 @@ def test_blow_up_with_casadi_idas_keeps_result():
     with pytest.raises(fl.SolverError) as err:
         sim(BlowUp(init={"x": 1.0})).run(2.0, dt_out=0.05, solver="casadi-idas", progress=False)
     assert err.value.result is not None and err.value.result.t[-1] < 1.0
+
+
+class Resting(fl.Model):
+    """A mass resting exactly on a one-sided contact at x = 0 (no force): the indicator stays exactly zero."""
+
+    x = Variable(unit="m")
+    v = Variable(unit="m/s")
+    push = Parameter(0.0, unit="m/s2")
+
+    def equations(self):
+        return [eq(der(self.x), self.v),
+                eq(der(self.v), self.push + if_else(self.x < 0.0, -1e4 * self.x - 50.0 * self.v, 0.0))]
+
+
+def test_relation_identically_zero_over_the_first_step_is_quiet(capfd):
+    res = sim(Resting(init={"x": 0.0, "v": 0.0})).run(1.0, dt_out=0.5, progress=False)
+    out, errout = capfd.readouterr()
+    assert "identically 0" not in out + errout
+    assert res["x"][-1] == 0.0 and res.stats["state_events"] == 0
+
+
+def test_relation_zero_at_start_still_switches_when_it_moves(capfd):
+    """The same contact pushed into the wall (push = −1 m/s²): the contact event at t = 0⁺ is kept, and the
+    mass settles at the static penetration x = push/c = −1e-4 m (1e-9 m)."""
+    res = sim(Resting(init={"x": 0.0, "v": 0.0})).run(2.0, dt_out=0.5, params={"push": -1.0}, progress=False)
+    out, errout = capfd.readouterr()
+    assert "identically 0" not in out + errout
+    assert res.stats["state_events"] >= 1
+    assert res["x"][-1] == pytest.approx(-1e-4, abs=1e-9)
