@@ -88,14 +88,13 @@ class _Callbacks:
             self._cols = np.repeat(np.arange(model.n), np.diff(model.jac_colind))
             self.jacfn = self._jacfn_dense  # type: ignore[method-assign]
         self.n_events = len(state_rel)
-        # the value an exactly-zero indicator stands for: false for a strict relation (z > 0), true otherwise
-        self._at_zero = np.array([-1e-300 if model.relations[int(k)].strict else 1e-300 for k in state_rel])
         if self.n_events:
             ind = model.sx_function("ind")
             t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
             pp = ca.SX.sym("p", len(p))
             z = ind(t, y, yp, pp)
-            zc = ca.Function("zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
+            zc = ca.Function("zc", [t, y, yp, pp], [ca.vertcat(*[_off_zero(z[int(k)], model.relations[int(k)].strict)
+                                                                 for k in state_rel])])
             self._zc = zc
             self._fz, self._evz = zc.buffer()
             self._tz = np.zeros(1)
@@ -137,23 +136,20 @@ class _Callbacks:
         fz.set_arg(2, memoryview(yp))
         fz.set_res(0, memoryview(events))
         self._evz()
-        if not events.all():
-            _off_zero(events, self._at_zero)
 
 
-def _off_zero(events: np.ndarray, at_zero: np.ndarray) -> None:
-    """Replace indicators that are exactly zero by ``at_zero`` (±1e-300: the side of the relation's value there).
+def _off_zero(z: ca.SX, strict: bool) -> ca.SX:
+    """The indicator ``z`` for IDA's root finding, with an exact zero replaced by ±1e-300: the side of the
+    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true).
 
-    A relation's value at a zero indicator is decided by its strictness (``z > 0`` is false at 0, ``z >= 0``
-    true); IDA's root finding only needs to see a sign change when that value changes. An exact zero gives
-    it nothing more, but one that stays zero over the first step (a body at rest on its contact, x = 0) makes
-    SUNDIALS print "some root functions identically 0" (IDARcheck1; ``IDASetNoInactiveRootWarn`` is not
-    exposed by scikit-sundae). With the sign of the value at zero, an indicator that reaches zero from the
-    other side is still a sign change (the relation switches there), one that leaves zero to the same side
-    is none — exactly the relation's events.
+    IDA only needs a sign change where the relation's value changes. An exact zero gives it nothing more, but
+    one that stays zero over the first step (a body at rest on its contact, x = 0) makes SUNDIALS print "some
+    root functions identically 0" (IDARcheck1; ``IDASetNoInactiveRootWarn`` is not exposed by
+    scikit-sundae). With the sign of the value at zero, an indicator reaching zero from the other side is
+    still a sign change (the relation switches there), one leaving zero to the same side is none — exactly
+    the relation's events. Part of the compiled event function: no cost per call in Python.
     """
-    zero = events == 0.0
-    events[zero] = at_zero[zero]
+    return ca.if_else(z == 0, -1e-300 if strict else 1e-300, z)
 
 
 class Progress:
