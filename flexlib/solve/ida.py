@@ -93,7 +93,8 @@ class _Callbacks:
             t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
             pp = ca.SX.sym("p", len(p))
             z = ind(t, y, yp, pp)
-            zc = ca.Function("zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
+            zc = ca.Function("zc", [t, y, yp, pp], [ca.vertcat(*[_off_zero(z[int(k)], model.relations[int(k)].strict)
+                                                                 for k in state_rel])])
             self._zc = zc
             self._fz, self._evz = zc.buffer()
             self._tz = np.zeros(1)
@@ -135,6 +136,20 @@ class _Callbacks:
         fz.set_arg(2, memoryview(yp))
         fz.set_res(0, memoryview(events))
         self._evz()
+
+
+def _off_zero(z: ca.SX, strict: bool) -> ca.SX:
+    """The indicator ``z`` for IDA's root finding, with an exact zero replaced by ±1e-300: the side of the
+    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true).
+
+    IDA only needs a sign change where the relation's value changes. An exact zero gives it nothing more, but
+    one that stays zero over the first step (a body at rest on its contact, x = 0) makes SUNDIALS print "some
+    root functions identically 0" (IDARcheck1; ``IDASetNoInactiveRootWarn`` is not exposed by
+    scikit-sundae). With the sign of the value at zero, an indicator reaching zero from the other side is
+    still a sign change (the relation switches there), one leaving zero to the same side is none — exactly
+    the relation's events. Part of the compiled event function: no cost per call in Python.
+    """
+    return ca.if_else(z == 0, -1e-300 if strict else 1e-300, z)
 
 
 class Progress:
@@ -257,7 +272,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
             r = solver.step(tstop, "onestep", tstop=tstop)
             cur = [r.nfev, r.njev]
             if r.status < 0:
-                raise SolverError(f"IDA failed at t = {r.t:.10g} s: {r.message} (status {r.status})")
+                raise SolverError(failure_message(f"IDA failed at t = {r.t:.10g} s: {r.message} (status {r.status})",
+                                                  model, p, r.t, r.y, r.yp, traj, rtol, atol))
             if r.t == t and r.status == 0 and interpolated:
                 interpolated = False
                 continue  # after an interpolated output IDA first returns its current point, no new step
@@ -276,8 +292,9 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                 traj.add(r.t, r.y, r.yp, rel_values())
             tiny = tiny + 1 if r.t - t <= 1e-14 * max(1.0, abs(r.t)) else 0
             if tiny > 200:
-                raise SolverError(f"IDA step size underflow at t = {r.t:.10g} s (the model may be stiff "
-                                  "beyond repair, or discontinuous without an event)")
+                raise SolverError(failure_message(f"IDA step size underflow at t = {r.t:.10g} s (the model may be "
+                                                  "stiff beyond repair, or discontinuous without an event)",
+                                                  model, p, r.t, r.y, r.yp, traj, rtol, atol))
             t = r.t
             event_kind = None
             changed: list[int] = []
@@ -369,10 +386,47 @@ def absolute_tolerances(model: CompiledModel, atol: float) -> np.ndarray:
     return atol_vec
 
 
+def failure_message(head: str, model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
+                    traj: Trajectory, rtol: float, atol: float) -> str:
+    """``head`` followed by what failed (:func:`flexlib.solve.diagnose.step_failure_lines`): non-finite values
+    at the last accepted point ``(t, y, yp)`` or just after it with the equation that produced them, and the
+    unknowns that dominate the local error test, by component."""
+    from flexlib.solve.diagnose import step_failure_lines
+
+    times = [tt for tt in traj.t if tt < t]
+    h = t - times[-1] if times else 1e-6 * max(1.0, abs(t))
+    h = max(h, 1e-12 * max(1.0, abs(t)))
+    try:
+        lines = step_failure_lines(model, p, t, np.asarray(y, dtype=float), np.asarray(yp, dtype=float), rtol,
+                                   absolute_tolerances(model, atol), h)
+    except Exception as exc:  # the diagnosis must never hide the failure itself
+        lines = [f"(no further diagnosis: {type(exc).__name__}: {exc})"]
+    return head + ("\n" + "\n".join(lines) if lines else "")
+
+
+def state_relations(model: CompiledModel) -> np.ndarray:
+    """Indices of the relations IDA's root finding watches: not time events, and not constant during a run.
+
+    A relation of parameters only (a cylinder's ``x_start >= 0`` asserted for run-time overrides) cannot
+    change after the start, where it is evaluated; given to IDA as a root function it is identically zero
+    when it holds with equality (``x_start = 0``), and SUNDIALS prints "some root functions identically 0"
+    (IDARcheck1) on every run.
+    """
+    cand = [k for k, r in enumerate(model.relations) if not r.time_event]
+    if not cand:
+        return np.zeros(0, dtype=int)
+    ind = model.sx_function("ind")
+    t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+    pp = ca.SX.sym("p", model.n_params + model.n_relations)
+    z = ind(t, y, yp, pp)
+    txy = ca.vertcat(t, y, yp)
+    return np.array([k for k in cand if ca.depends_on(z[k], txy)], dtype=int)
+
+
 def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
                  max_step: float) -> tuple[Any, _Callbacks, _EventsFn, np.ndarray]:
     """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above."""
-    state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
+    state_rel = state_relations(model)
     dense = model.n <= DENSE_MAX
     cb = _Callbacks(model, p, state_rel, dense)
     opts: dict[str, Any] = dict(

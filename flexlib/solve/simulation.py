@@ -29,7 +29,6 @@ from flexlib.compile.index_reduction import IndexReport
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
 from flexlib.errors import (
-    InitializationError,
     ParameterError,
     ResultFileError,
     ResultSaveWarning,
@@ -457,74 +456,8 @@ class Simulation:
         return y, yp
 
     def _consistent_start(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
-        m = self.compiled
-        n_par = m.n_params
-        y, yp = self.initializer.guess(starts), np.zeros(m.n)
-        if m.n_relations:
-            ind = m.function("ind")
-            z = np.asarray(ind(t0, y, yp, p)).ravel()
-            ab = np.asarray(m.function("tev")(p)).reshape(-1, 2)
-            for k, rel in enumerate(m.relations):
-                if rel.time_event and z[k] == 0.0:
-                    p[n_par + k] = float(ab[k, 0] > 0)
-                else:
-                    p[n_par + k] = float(rel.value(z[k]))
-        failed: InitializationError | None = None
-        for _ in range(20):
-            try:
-                y, yp = self.initializer.initial(t0, p, starts, steady)
-                failed = None
-            except InitializationError as err:
-                failed = err
-                # no solution with these relation values: re-evaluate the relations at the best point
-                # found (the start guesses may lie on the wrong side of a limiter) and try again
-                point = getattr(err, "point", None)
-                if not m.n_relations or point is None:
-                    raise
-                z = np.asarray(m.function("ind")(t0, point[0], point[1], p)).ravel()
-                flipped = False
-                for k, rel in enumerate(m.relations):
-                    v = float(rel.value(z[k]))
-                    if not rel.time_event and v != p[n_par + k]:
-                        p[n_par + k], flipped = v, True
-                if not flipped:
-                    return self._start_by_flipping(t0, p, starts, steady, err)
-                continue
-            if not m.n_relations:
-                break
-            z = np.asarray(m.function("ind")(t0, y, yp, p)).ravel()
-            changed = False
-            for k, rel in enumerate(m.relations):
-                if rel.time_event:
-                    continue
-                v = float(rel.value(z[k]))
-                if v != p[n_par + k]:
-                    p[n_par + k], changed = v, True
-            if not changed:
-                break
-        if failed is not None:
-            raise failed
-        return y, yp
-
-    def _start_by_flipping(self, t0: float, p: np.ndarray, starts: dict, steady: bool,
-                           err: InitializationError, most: int = 16) -> tuple[np.ndarray, np.ndarray]:
-        """Try the start with one state relation switched at a time (a start guess on the wrong side of a
-        limiter gives a branch without solution); accept a switch whose solution agrees with it."""
-        m = self.compiled
-        n_par = m.n_params
-        state_rel = [k for k, rel in enumerate(m.relations) if not rel.time_event][:most]
-        for k in state_rel:
-            trial = p.copy()
-            trial[n_par + k] = 1.0 - trial[n_par + k]
-            try:
-                y, yp = self.initializer.initial(t0, trial, starts, steady)
-            except InitializationError:
-                continue
-            z = np.asarray(m.function("ind")(t0, y, yp, trial)).ravel()
-            if all(float(m.relations[j].value(z[j])) == trial[n_par + j] for j in state_rel):
-                p[:] = trial
-                return y, yp
-        raise err
+        """Stage 4 proper: :meth:`flexlib.solve.initialization.Initializer.consistent_start`."""
+        return self.initializer.consistent_start(t0, p, starts, steady)
 
     def _result(self, traj: Trajectory, pvec: np.ndarray, t_init: float, rtol: float, atol: float) -> Result:
         m = self.compiled

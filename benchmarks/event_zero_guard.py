@@ -1,0 +1,57 @@
+"""Cost of the exact-zero guard in the compiled state-event function (CasADi ``if_else``, see
+``flexlib.solve.ida._off_zero``) against the plain indicators, on the boom of
+``tests/robustness/test_initialization.py`` (4 watched relations). Interleaved, three rounds.
+
+    python benchmarks/event_zero_guard.py
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+import timeit
+from pathlib import Path
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("FLEXLIB_CACHE_DIR", tempfile.mkdtemp(prefix="flexlib_bench_"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "robustness"))
+
+import casadi as ca
+import numpy as np
+from test_initialization import _boom
+
+import flexlib as fl
+from flexlib.solve import ida
+
+
+def main() -> None:
+    sim = fl.Simulation(_boom())
+    m = sim.compiled
+    p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
+    rel = ida.state_relations(m)
+    t, y, yp, pp = ca.SX.sym("t"), ca.SX.sym("y", m.n), ca.SX.sym("yp", m.n), ca.SX.sym("p", len(p))
+    z = m.sx_function("ind")(t, y, yp, pp)
+    plain = ca.Function("a", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in rel])])
+    guard = ca.Function("b", [t, y, yp, pp],
+                        [ca.vertcat(*[ida._off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
+    keep = []  # the buffers read these arrays: keep them alive
+    calls = []
+    for f in (plain, guard):
+        fb, ev = f.buffer()
+        arrays = (np.zeros(1), np.ones(m.n) * 0.37, np.zeros(m.n), p, np.zeros(len(rel)))
+        for k, a in enumerate(arrays[:4]):
+            fb.set_arg(k, memoryview(a))
+        fb.set_res(0, memoryview(arrays[4]))
+        keep.append((fb, arrays))
+        calls.append(ev)
+    n = 200_000
+    for _ in range(3):
+        a = timeit.timeit(calls[0], number=n) / n
+        b = timeit.timeit(calls[1], number=n) / n
+        print(f"{len(rel)} indicators: plain {a * 1e6:.3f} us, guarded {b * 1e6:.3f} us per call "
+              f"(+{(b - a) * 1e6:.3f} us, ratio {b / a:.2f})")
+
+
+if __name__ == "__main__":
+    main()
