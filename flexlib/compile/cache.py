@@ -30,6 +30,7 @@ import dataclasses
 import enum
 import hashlib
 import inspect
+import io
 import json
 import os
 import re
@@ -48,7 +49,7 @@ import numpy as np
 
 from flexlib.compile.codegen import CompiledModel, file_problem
 from flexlib.core.component import Component, Node
-from flexlib.core.variables import Parameter
+from flexlib.core.variables import Declaration, Parameter
 from flexlib.errors import CacheWarning, ModelError
 
 __all__ = ["CacheEntryError", "cache_dir", "code_digest", "gather_values", "load", "model_key", "store",
@@ -83,10 +84,10 @@ def warn_once(where: Path | str, reason: str) -> None:
     warnings.warn(f"flexlib cache {where}: {reason}", CacheWarning, stacklevel=3)
 
 
-def dir_problem(path: Path) -> str | None:
-    """Why ``path`` is not a safe cache directory (None if it is)."""
+def dir_problem(path: Path, follow: bool = False) -> str | None:
+    """Why ``path`` is not a safe cache directory (None if it is); ``follow``: a symbolic link to one is fine."""
     try:
-        st = path.lstat()
+        st = path.stat() if follow else path.lstat()
     except OSError as exc:
         return f"cannot be read ({exc.strerror or exc})"
     if not stat.S_ISDIR(st.st_mode):
@@ -109,7 +110,7 @@ def usable_cache_dir() -> Path | None:
     except OSError as exc:
         warn_once(path, f"cannot be created ({exc.strerror or exc}); building without the cache")
         return None
-    problem = dir_problem(path)
+    problem = dir_problem(path, follow=True)
     if problem is None:
         lib = path / "lib"
         try:
@@ -217,6 +218,9 @@ def _digest_value(h: Any, value: Any, seen: set[int], module: str) -> None:
         return
     if isinstance(value, types.FunctionType):
         _digest_function(h, value, seen, module)
+        return
+    if isinstance(value, (Declaration, Node)):  # keyed by model_key through the instance tree
+        h.update(f"<{type(value).__module__}.{type(value).__qualname__}>".encode())
         return
     if isinstance(value, type):
         if value.__module__ == module and _source_file(value) is None:
@@ -446,11 +450,11 @@ def load(entry: Path) -> CompiledModel | None:
         raise CacheEntryError(meta_path, "no manifest")
     arrays_path = entry / "arrays.npz"
     arr_entry = manifest["arrays.npz"]
-    problem = file_problem(arrays_path, str(arr_entry.get("sha256")), arr_entry.get("size", -1))
-    if problem is not None:
-        raise CacheEntryError(arrays_path, problem)
+    raw = _read_checked(arrays_path)
+    if len(raw) != arr_entry.get("size") or hashlib.sha256(raw).hexdigest() != arr_entry.get("sha256"):
+        raise CacheEntryError(arrays_path, "size or SHA-256 differs from the manifest")
     try:
-        with np.load(arrays_path, allow_pickle=False) as data:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
             arrays = {k: data[k] for k in data.files}
     except Exception as exc:
         raise CacheEntryError(arrays_path, f"unreadable arrays ({type(exc).__name__}: {exc})") from None
@@ -467,7 +471,9 @@ def load(entry: Path) -> CompiledModel | None:
         meta = dict(meta, library=str(lib_path), library_sha256=lib_entry["sha256"], library_size=lib_entry["size"])
     try:
         model = CompiledModel.from_data(meta, arrays)
-    except (ValueError, TypeError, KeyError) as exc:
+        for name in model.serialized:  # deserialize and check every function now: a bad one is a damaged entry
+            model.sx_function(name)
+    except (ValueError, TypeError, KeyError, RuntimeError) as exc:
         raise CacheEntryError(meta_path, f"invalid metadata ({exc})") from None
     return model
 
@@ -541,11 +547,9 @@ def load_init(path: Path) -> dict[str, np.ndarray] | None:
     """
     if not path.exists() and not path.is_symlink():
         return None
-    problem = file_problem(path)
-    if problem is not None:
-        raise CacheEntryError(path, problem)
+    raw = _read_checked(path, limit=1 << 30)
     try:
-        with np.load(path, allow_pickle=False) as data:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
             out = {k: np.array(data[k], dtype=float) for k in ("y", "yp", "p", "residual")}
     except Exception as exc:
         raise CacheEntryError(path, f"unreadable initial values ({type(exc).__name__}: {exc})") from None

@@ -389,6 +389,9 @@ def check_serialized(text: str, name: str) -> None:
     head = b"\x0a\x00\x00\x00SXFunction"
     if data[18:18 + len(head)] != head:
         raise ValueError(f"function {name!r}: the stream is not an SXFunction")
+    label = len(name).to_bytes(4, "little") + name.encode()
+    if data[36:36 + len(label)] != label:
+        raise ValueError(f"function {name!r}: the stream holds another function")
     if b"External" in data or b"Callback" in data:
         raise ValueError(f"function {name!r}: the stream refers to external code")
 
