@@ -47,7 +47,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib.compile.codegen import CompiledModel, file_problem
+from flexlib.compile.codegen import CompiledModel, deserialize_function, file_problem
 from flexlib.core.component import Component, Node
 from flexlib.core.variables import Declaration, Parameter
 from flexlib.errors import CacheWarning, ModelError
@@ -469,12 +469,22 @@ def load(entry: Path) -> CompiledModel | None:
         if problem is not None:
             raise CacheEntryError(lib_path, problem)
         meta = dict(meta, library=str(lib_path), library_sha256=lib_entry["sha256"], library_size=lib_entry["size"])
+    functions = manifest.get("functions")
     try:
         model = CompiledModel.from_data(meta, arrays)
-        for name in model.serialized:  # deserialize and check every function now: a bad one is a damaged entry
-            model.sx_function(name)
+        if not isinstance(functions, dict) or set(functions) != set(model.serialized):
+            raise ValueError("no manifest of the functions")
+        for name, text in model.serialized.items():
+            if hashlib.sha256(text.encode()).hexdigest() != functions[name]:
+                raise ValueError(f"function {name!r}: SHA-256 differs from the manifest")
+        # deserialize and check now what every run needs anyway (a bad one is a damaged entry)
+        for name in model.functions_needed():
+            f = deserialize_function(model.serialized[name], f"flexlib_{name}")
+            model.check_function(name, f)
+            model._sx[name] = f
     except (ValueError, TypeError, KeyError, RuntimeError) as exc:
         raise CacheEntryError(meta_path, f"invalid metadata ({exc})") from None
+    model.stats["cache_entry"] = str(entry)
     return model
 
 
@@ -512,6 +522,7 @@ def store(entry: Path, model: CompiledModel) -> None:
         np.savez(tmp_dir / "arrays.npz", **arrays)
         data = (tmp_dir / "arrays.npz").read_bytes()
         manifest["arrays.npz"] = {"sha256": hashlib.sha256(data).hexdigest(), "size": len(data)}
+        manifest["functions"] = {k: hashlib.sha256(t.encode()).hexdigest() for k, t in meta["serialized"].items()}
         doc = {"format": FORMAT, "model": meta, "manifest": manifest}
         (tmp_dir / "model.json").write_text(json.dumps(doc))
         try:

@@ -165,10 +165,23 @@ class CompiledModel:
         """
         f = self._sx.get(name)
         if f is None:
-            f = deserialize_function(self.serialized[name], f"flexlib_{name}")
-            self.check_function(name, f)
+            try:
+                f = deserialize_function(self.serialized[name], f"flexlib_{name}")
+                self.check_function(name, f)
+            except (ValueError, RuntimeError) as exc:
+                raise FlexlibError(f"the stored function {name!r} of model {self.name} is damaged ({exc}); "
+                                   f"remove its entry from the cache ({self.stats.get('cache_entry', '?')})") from None
             self._sx[name] = f
         return f
+
+    def functions_needed(self) -> list[str]:
+        """The functions every run of this model evaluates (the others are deserialized when first used)."""
+        names = ["out", "ind", "cond", "tev"]
+        if self.library is None:
+            names += ["res", "jac"]
+        if self.has_state_choice:
+            names += ["cols", "jlev"]
+        return names
 
     def signature(self, name: str) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
         """Expected (input shapes, output shapes) of function ``name``."""
@@ -257,7 +270,7 @@ class CompiledModel:
         if set(model.serialized) != set(FUNCTIONS):
             raise ValueError(f"functions {sorted(model.serialized)} stored, expected {sorted(FUNCTIONS)}")
         for name, text in model.serialized.items():
-            check_serialized(text, f"flexlib_{name}")
+            check_serialized(text, f"flexlib_{name}", full=False)
         return model
 
 
@@ -268,23 +281,29 @@ def _expect(value: Any, kind: type | tuple[type, ...], what: str) -> Any:
 
 
 def _str_list(v: Any, what: str) -> list[str]:
-    return [_expect(x, str, what) for x in _expect(v, list, what)]
+    if type(v) is not list or not all(type(x) is str for x in v):
+        raise ValueError(f"{what}: expected a list of strings")
+    return v
 
 
 def _pair(v: Any, what: str) -> tuple[str, float]:
-    _expect(v, list, what)
-    if len(v) != 2:
-        raise ValueError(f"{what}: expected a pair")
-    return _expect(v[0], str, what), float(_expect(v[1], (int, float), what))
+    if type(v) is not list or len(v) != 2 or type(v[0]) is not str or type(v[1]) not in (int, float):
+        raise ValueError(f"{what}: expected a (name, number) pair")
+    return v[0], float(v[1])
+
+
+_RECORD_FIELDS: dict[type, frozenset[str]] = {}
+_RECORD_VALUES = (str, bool, int, float, list)
 
 
 def _record(kind: type, v: Any, what: str) -> Any:
-    _expect(v, dict, what)
-    names = {f.name: f for f in dataclasses.fields(kind)}
-    if set(v) - set(names):
-        raise ValueError(f"{what}: unexpected keys {sorted(set(v) - set(names))}")
-    for key, val in v.items():
-        _expect(val, (str, bool, int, float, list), f"{what}.{key}")
+    names = _RECORD_FIELDS.get(kind)
+    if names is None:
+        names = _RECORD_FIELDS[kind] = frozenset(f.name for f in dataclasses.fields(kind))
+    if type(v) is not dict or not v.keys() <= names:
+        raise ValueError(f"{what}: expected a record with keys from {sorted(names)}")
+    if not all(type(val) in _RECORD_VALUES for val in v.values()):
+        raise ValueError(f"{what}: unexpected value types")
     return kind(**v)
 
 
@@ -379,11 +398,12 @@ def _decode(text: str) -> bytes:
     return (codes[0::2] | (codes[1::2] << 4)).astype(np.uint8).tobytes()
 
 
-def check_serialized(text: str, name: str) -> None:
+def check_serialized(text: str, name: str, full: bool = True) -> None:
     """Refuse a serialized stream that is not a plain ``SXFunction`` named ``name`` (checked before CasADi
-    reads it: deserializing an ``External`` function would load a shared library)."""
+    reads it: deserializing an ``External`` function would load a shared library). ``full=False`` checks the
+    header only (the type and name); ``full=True`` also refuses any reference to external code in the body."""
     try:
-        data = _decode(text)
+        data = _decode(text if full else text[:160])
     except (UnicodeEncodeError, ValueError) as exc:
         raise ValueError(f"function {name!r}: {exc}") from None
     head = b"\x0a\x00\x00\x00SXFunction"
@@ -392,7 +412,7 @@ def check_serialized(text: str, name: str) -> None:
     label = len(name).to_bytes(4, "little") + name.encode()
     if data[36:36 + len(label)] != label:
         raise ValueError(f"function {name!r}: the stream holds another function")
-    if b"External" in data or b"Callback" in data:
+    if full and (b"External" in data or b"Callback" in data):
         raise ValueError(f"function {name!r}: the stream refers to external code")
 
 

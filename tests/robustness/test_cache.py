@@ -8,6 +8,7 @@ same arithmetic; only the cache handling differs).
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import pickle
@@ -188,6 +189,17 @@ def test_swapped_functions_are_rebuilt(cdir):
     doc = json.loads(meta.read_text())
     doc["model"]["serialized"]["res"] = doc["model"]["serialized"]["out"]
     meta.write_text(json.dumps(doc))
+    _heals(cdir, "model.json.*(SHA-256 differs from the manifest|another function)")
+
+
+def test_swapped_functions_with_consistent_manifest_are_rebuilt(cdir):
+    """The same, with the manifest updated to match: the stream's name check catches it."""
+    _run()
+    meta = _entry(cdir) / "model.json"
+    doc = json.loads(meta.read_text())
+    doc["model"]["serialized"]["res"] = doc["model"]["serialized"]["out"]
+    doc["manifest"]["functions"]["res"] = doc["manifest"]["functions"]["out"]
+    meta.write_text(json.dumps(doc))
     _heals(cdir, "another function")
 
 
@@ -211,8 +223,6 @@ class _Evil:
 def test_pickled_arrays_never_unpickled(cdir, tmp_path):
     """An ``arrays.npz`` carrying a pickled object, with a manifest updated to match it, is refused by
     ``allow_pickle=False``: the payload (which would write a marker file) never runs."""
-    import hashlib
-
     _run()
     entry = _entry(cdir)
     marker = tmp_path / "marker"
@@ -267,6 +277,7 @@ def test_external_function_stream_is_refused_before_deserializing(cdir, tmp_path
     meta = _entry(cdir) / "model.json"
     doc = json.loads(meta.read_text())
     doc["model"]["serialized"]["res"] = stream
+    doc["manifest"]["functions"]["res"] = hashlib.sha256(stream.encode()).hexdigest()  # a consistent planting
     meta.write_text(json.dumps(doc))
     with pytest.warns(CacheWarning, match="not an SXFunction"):
         sim = _run()
