@@ -38,6 +38,7 @@ import shutil
 import stat
 import sys
 import tempfile
+import time
 import types
 import uuid
 import warnings
@@ -299,8 +300,10 @@ def _engine_hash() -> str:
 
 def _plain(value: Any) -> Any:
     """``value`` as hashable plain data for the key, or ``_SKIP`` if it cannot be represented."""
-    if isinstance(value, (bool, int, float, str, bytes, type(None))):
+    if isinstance(value, (bool, int, float, str, type(None))):
         return value
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        return ("bytes", hashlib.sha256(value).hexdigest())
     if isinstance(value, np.generic):
         return _plain(value.item())
     if isinstance(value, np.ndarray):
@@ -517,6 +520,7 @@ def store(entry: Path, model: CompiledModel) -> None:
         meta["library"] = rel
         manifest[rel] = {"sha256": model.library_sha256, "size": model.library_size}
     meta["library_sha256"], meta["library_size"] = None, 0  # the manifest is authoritative
+    remove_stale(directory)
     tmp_dir = Path(tempfile.mkdtemp(prefix=f".{entry.name}.", suffix=".tmp", dir=directory))
     try:
         np.savez(tmp_dir / "arrays.npz", **arrays)
@@ -533,6 +537,31 @@ def store(entry: Path, model: CompiledModel) -> None:
             # another process stored the entry first: keep it
     finally:
         shutil.rmtree(tmp_dir, ignore_errors=True)
+
+
+#: temporary files and directories older than this [s] are left over from a killed process
+STALE_AGE = 3600.0
+
+
+def remove_stale(directory: Path, age: float = STALE_AGE) -> None:
+    """Remove temporary items (``.*.tmp``, ``.*.trash``) older than ``age`` seconds from the cache directory
+    and its ``lib/``: left behind by processes killed while writing (a live writer's items are newer)."""
+    now = time.time()
+    for folder in (directory, directory / "lib"):
+        try:
+            items = [p for p in folder.iterdir() if p.name.startswith(".") and p.name.endswith((".tmp", ".trash"))]
+        except OSError:
+            continue
+        for item in items:
+            try:
+                if now - item.lstat().st_mtime < age:
+                    continue
+                if item.is_dir() and not item.is_symlink():
+                    shutil.rmtree(item, ignore_errors=True)
+                else:
+                    item.unlink()
+            except OSError:
+                pass
 
 
 def discard(path: Path) -> None:

@@ -548,7 +548,7 @@ def generate_c(res: ca.Function, jac: ca.Function,
     cg = ca.CodeGenerator(f"flexlib_{digest}.c")
     cg.add(res)
     cg.add(jac)
-    with tempfile.TemporaryDirectory(dir=build) as tmp:
+    with tempfile.TemporaryDirectory(dir=build, prefix=".flexlib-gcc-", suffix=".tmp") as tmp:
         cg.generate(tmp + os.sep)
         src = Path(tmp) / f"flexlib_{digest}.c"
         with src.open() as fh:

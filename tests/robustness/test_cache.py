@@ -595,3 +595,55 @@ def test_cached_loop_model_switches_states_mid_run(cdir):
     toggle = np.arccos((0.5**2 + 0.6**2 - (0.9 - 0.7) ** 2) / (2 * 0.5 * 0.6))
     assert runs[1]["rev1.phi"].min() == pytest.approx(toggle, abs=1e-3)
     assert cached.build.flat is not None  # stages 1-3 were run again by the same pipeline, and kept
+
+
+def test_leftovers_of_killed_writers_are_removed(cdir):
+    """Temporary entries, libraries and gcc directories of a process killed while writing are removed once
+    older than an hour; a live writer's (new) items are left alone."""
+    _run()
+    old, new = cdir / ".Oscillator-x.abc.tmp", cdir / "lib" / ".flexlib-gcc-def.tmp"
+    stale_lib = cdir / "lib" / ".flexlib_0.so.123.tmp"
+    for d in (old, new):
+        d.mkdir()
+        (d / "model.json").write_text("{")
+    stale_lib.write_bytes(b"\x7fELF")
+    for item in (old, stale_lib):
+        os.utime(item, (0, 0))
+    cache.remove_stale(cdir)
+    assert not old.exists() and not stale_lib.exists() and new.exists()
+    assert _run().build.cached
+
+
+def test_entry_replaced_by_a_symlink_is_refused(cdir, tmp_path):
+    """An entry directory that is a symbolic link (to a directory someone else controls) is not followed."""
+    _run()
+    entry = _entry(cdir)
+    elsewhere = tmp_path / "elsewhere"
+    entry.rename(elsewhere)
+    entry.symlink_to(elsewhere)
+    _heals(cdir, f"{entry.name}.*symbolic link")
+
+
+def test_library_symlink_is_refused(cdir, tmp_path):
+    """A library replaced by a symbolic link to a file with the right bytes elsewhere is not loaded."""
+    _prime(cdir)
+    lib = _library(cdir)
+    elsewhere = tmp_path / "elsewhere.so"
+    lib.rename(elsewhere)
+    lib.symlink_to(elsewhere)
+    _heals(cdir, f"{lib.name}.*not a regular file", codegen=True)
+
+
+def test_pickled_initial_values_never_unpickled(cdir, tmp_path):
+    """Cached initial values carrying a pickled object are refused (``allow_pickle=False``); the payload never
+    runs and a fresh initialisation gives the reference answer."""
+    _run()
+    init = _init_file(cdir)
+    marker = tmp_path / "marker"
+    evil = np.empty(1, dtype=object)
+    evil[0] = _Evil(marker)
+    np.savez(init, y=evil, yp=np.zeros(2), p=np.zeros(3), residual=np.zeros(1))
+    with pytest.warns(CacheWarning, match=init.name):
+        sim = _run()
+    assert not marker.exists() and not sim.init_cached
+    np.testing.assert_allclose(sim.last.values, _reference(), rtol=0, atol=1e-12)
