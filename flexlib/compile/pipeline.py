@@ -53,7 +53,8 @@ class Build:
 
     Notes
     -----
-    ``model, timings = flexlib.build(root)`` still works: a ``Build`` unpacks as ``(compiled, timings)``.
+    ``model, timings = flexlib.build(root)`` still works: a ``Build`` unpacks and indexes as
+    ``(compiled, timings)``.
     """
 
     compiled: CompiledModel
@@ -66,6 +67,12 @@ class Build:
 
     def __iter__(self) -> Any:
         return iter((self.compiled, self.timings))
+
+    def __getitem__(self, index: int) -> Any:
+        return (self.compiled, self.timings)[index]
+
+    def __len__(self) -> int:
+        return 2
 
     def analyse(self, root: Component) -> Build:
         """Run stages 1–3 for ``root`` if they are not in memory (a cached build) and return self."""

@@ -529,6 +529,7 @@ def test_pipeline_stages_are_inspectable(cdir):
     assert cached.analyse(Oscillator()).flat is not None
     model, timings = fl.build(Oscillator(), codegen=False)
     assert timings["cached"] and model.n == b.compiled.n
+    assert fl.build(Oscillator(), codegen=False)[1]["cached"]
     sim = fl.Simulation(Oscillator(), codegen=False)
     assert sim.build.compiled is sim.compiled and sim.build_info is sim.build.timings
 
