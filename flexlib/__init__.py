@@ -4,7 +4,7 @@ import os as _os
 
 _os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (see docs/engine.md)
 
-from flexlib.compile.cache import build
+from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component, Connector, Model
 from flexlib.core.functions import abs_, assert_, if_else, max_, min_, no_event, sign
 from flexlib.core.variables import (
@@ -21,6 +21,7 @@ from flexlib.core.variables import (
 )
 from flexlib.errors import (
     BalanceError,
+    CacheWarning,
     ConnectError,
     EmptyResultError,
     FlexlibError,
@@ -44,6 +45,8 @@ __version__ = "0.1.0"
 
 __all__ = [
     "BalanceError",
+    "Build",
+    "CacheWarning",
     "Component",
     "ConnectError",
     "Connector",

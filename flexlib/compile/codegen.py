@@ -17,11 +17,14 @@ at 3.6× faster residuals for large models).
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import os
 import shutil
+import stat
 import subprocess
 import tempfile
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -35,7 +38,7 @@ from flexlib.compile.redundancy import CHECK_PREFIX
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import derivative_level
 from flexlib.core.variables import time
-from flexlib.errors import FlexlibError
+from flexlib.errors import CacheWarning, FlexlibError
 
 __all__ = ["CompiledModel", "VariableInfo", "compile_dae"]
 
@@ -73,7 +76,7 @@ class RelationInfo:
 
 @dataclass
 class CompiledModel:
-    """Everything the solver needs, picklable for the disk cache (functions are serialized)."""
+    """Everything the solver needs; :meth:`to_data` / :meth:`from_data` give the disk cache's plain-data form."""
 
     name: str
     n: int
@@ -107,6 +110,9 @@ class CompiledModel:
     stats: dict[str, Any] = field(default_factory=dict)
     serialized: dict[str, str] = field(default_factory=dict)
     library: str | None = None
+    #: manifest of ``library``: SHA-256 and size [bytes], recorded by the process that compiled it
+    library_sha256: str | None = None
+    library_size: int = 0
     #: algebraic unknowns kept out of IDA's local error test (``structure.derivative_level``)
     derivative_level: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     _functions: dict[str, ca.Function] = field(default_factory=dict, repr=False)
@@ -123,23 +129,94 @@ class CompiledModel:
         return len(self.relations)
 
     def function(self, name: str) -> ca.Function:
-        """The CasADi function ``name`` (one of ``FUNCTIONS``)."""
+        """The CasADi function ``name`` (one of ``FUNCTIONS``).
+
+        ``res`` and ``jac`` come from the compiled library when there is one; the library is loaded only
+        after its size and SHA-256 match the manifest written by the process that compiled it (a damaged or
+        replaced library gives a :class:`~flexlib.errors.CacheWarning` and the SX function instead).
+        """
         f = self._functions.get(name)
         if f is None:
-            if self.library is not None and name in ("res", "jac") and Path(self.library).exists():
-                f = ca.external(f"flexlib_{name}", self.library)
-            else:
+            if self.library is not None and name in ("res", "jac"):
+                problem = self.library_problem()
+                if problem is None:
+                    f = ca.external(f"flexlib_{name}", self.library)
+                else:
+                    warnings.warn(f"compiled model library {self.library} not used ({problem}); "
+                                  "using the symbolic functions", CacheWarning, stacklevel=2)
+                    self.library = None
+                    self._functions.pop("res", None)
+                    self._functions.pop("jac", None)
+            if f is None:
                 f = self.sx_function(name)
             self._functions[name] = f
         return f
 
+    def library_problem(self) -> str | None:
+        """Why the compiled library must not be loaded (None: it matches its manifest)."""
+        if self.library is None:
+            return None
+        if self.library_sha256 is None:
+            return "no manifest entry (size and SHA-256) for it"
+        return file_problem(Path(self.library), self.library_sha256, self.library_size)
+
     def sx_function(self, name: str) -> ca.Function:
-        """The SX (symbolic, differentiable) version of function ``name``, even with generated C."""
+        """The SX (symbolic, differentiable) version of function ``name``, even with generated C.
+
+        A function read from the cache is checked before use: the serialized stream must describe an
+        ``SXFunction`` (no external code), and the deserialized function must have the expected name and
+        signature (:meth:`check_function`).
+        """
         f = self._sx.get(name)
         if f is None:
-            f = ca.Function.deserialize(self.serialized[name])
+            try:
+                f = deserialize_function(self.serialized[name], f"flexlib_{name}")
+                self.check_function(name, f)
+            except (ValueError, RuntimeError) as exc:
+                raise FlexlibError(f"the stored function {name!r} of model {self.name} is damaged ({exc}); "
+                                   f"remove its entry from the cache ({self.stats.get('cache_entry', '?')})") from None
             self._sx[name] = f
         return f
+
+    def functions_needed(self) -> list[str]:
+        """The functions every run of this model evaluates (the others are deserialized when first used)."""
+        names = ["out", "ind", "cond", "tev"]
+        if self.library is None:
+            names += ["res", "jac"]
+        if self.has_state_choice:
+            names += ["cols", "jlev"]
+        return names
+
+    def signature(self, name: str) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
+        """Expected (input shapes, output shapes) of function ``name``."""
+        n, n_p = self.n, self.n_params + self.n_relations
+        tyyp = [(1, 1), (n, 1), (n, 1), (n_p, 1)]
+        n_lev = sum(nr * nc for nr, nc, _, _ in self.levels)
+        return {
+            "res": (tyyp, [(n, 1)]),
+            "jac": ([*tyyp, (1, 1)], [(n, n)]),
+            "out": (tyyp, [(len(self.variables), 1)]),
+            "ind": (tyyp, [(self.n_relations, 1)]),
+            "cond": (tyyp, [(len(self.conditions), 1)]),
+            "tev": ([(n_p, 1)], [(self.n_relations, 2)]),
+            "cols": (tyyp, [(len(self.col_names), 1)]),
+            "jlev": (tyyp, [(n_lev, 1)]),
+            "chk": (tyyp, [(len(self.check_labels), 1)]),
+        }[name]
+
+    def check_function(self, name: str, f: ca.Function) -> None:
+        """Raise ``ValueError`` unless ``f`` is the SX function ``flexlib_<name>`` with this model's signature."""
+        if not isinstance(f, ca.Function) or not f.is_a("SXFunction"):
+            raise ValueError(f"function {name!r} is not an SX function")
+        if f.name() != f"flexlib_{name}":
+            raise ValueError(f"function {name!r} is named {f.name()!r}")
+        ins, outs = self.signature(name)
+        got_in = [(f.size1_in(k), f.size2_in(k)) for k in range(f.n_in())]
+        got_out = [(f.size1_out(k), f.size2_out(k)) for k in range(f.n_out())]
+        if got_in != ins or got_out != outs:
+            raise ValueError(f"function {name!r} has inputs {got_in} and outputs {got_out}, expected {ins} and {outs}")
+        if name == "jac" and f.nnz_out(0) != len(self.jac_row):
+            raise ValueError(f"function 'jac' has {f.nnz_out(0)} nonzeros, expected {len(self.jac_row)}")
 
     def __getstate__(self) -> dict:
         if not self.serialized:
@@ -149,6 +226,206 @@ class CompiledModel:
         state["_sx"] = {}
         state["_structure"] = None
         return state
+
+    # -- plain-data form (the disk cache: JSON + arrays, no pickle) -------------------------------------------
+    def to_data(self) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+        """The model as JSON-able metadata and numeric arrays (functions as CasADi serialized strings)."""
+        if not self.serialized:
+            self.serialized = {k: f.serialize() for k, f in self._sx.items()}
+        meta: dict[str, Any] = {}
+        arrays: dict[str, np.ndarray] = {}
+        for f in dataclasses.fields(self):
+            if f.name in _TRANSIENT:
+                continue
+            value = getattr(self, f.name)
+            if f.name in _ARRAYS:
+                arrays[f.name] = np.asarray(value)
+            elif f.name == "variables":
+                meta[f.name] = [dataclasses.asdict(v) for v in value]
+            elif f.name == "relations":
+                meta[f.name] = [dataclasses.asdict(r) for r in value]
+            elif f.name == "report":
+                meta[f.name] = dataclasses.asdict(value)
+            else:
+                meta[f.name] = value
+        return meta, arrays
+
+    @classmethod
+    def from_data(cls, meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> CompiledModel:
+        """Inverse of :meth:`to_data`; every field is type-checked (``ValueError`` on anything unexpected)."""
+        _expect(meta, dict, "metadata")
+        kw: dict[str, Any] = {}
+        for f in dataclasses.fields(cls):
+            if f.name in _TRANSIENT:
+                continue
+            if f.name in _ARRAYS:
+                if f.name not in arrays:
+                    raise ValueError(f"array {f.name!r} missing")
+                a = np.asarray(arrays[f.name])
+                if a.dtype.kind not in _ARRAYS[f.name] or a.ndim != 1:
+                    raise ValueError(f"array {f.name!r} has dtype {a.dtype} and shape {a.shape}")
+                kw[f.name] = a
+                continue
+            if f.name not in meta:
+                raise ValueError(f"field {f.name!r} missing")
+            kw[f.name] = _FIELD_CHECKS[f.name](meta[f.name], f.name)
+        model = cls(**kw)
+        if len(model.differential) != model.n or len(model.nominal) != model.n or len(model.y_names) != model.n:
+            raise ValueError("inconsistent sizes")
+        if set(model.serialized) != set(FUNCTIONS):
+            raise ValueError(f"functions {sorted(model.serialized)} stored, expected {sorted(FUNCTIONS)}")
+        for name, text in model.serialized.items():
+            check_serialized(text, f"flexlib_{name}", full=False)
+        return model
+
+
+def _expect(value: Any, kind: type | tuple[type, ...], what: str) -> Any:
+    if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+        raise ValueError(f"{what}: expected {kind}, got {type(value).__name__}")
+    return value
+
+
+def _str_list(v: Any, what: str) -> list[str]:
+    if type(v) is not list or not all(type(x) is str for x in v):
+        raise ValueError(f"{what}: expected a list of strings")
+    return v
+
+
+def _pair(v: Any, what: str) -> tuple[str, float]:
+    if type(v) is not list or len(v) != 2 or type(v[0]) is not str or type(v[1]) not in (int, float):
+        raise ValueError(f"{what}: expected a (name, number) pair")
+    return v[0], float(v[1])
+
+
+_RECORD_FIELDS: dict[type, frozenset[str]] = {}
+_RECORD_VALUES = (str, bool, int, float, list)
+
+
+def _record(kind: type, v: Any, what: str) -> Any:
+    names = _RECORD_FIELDS.get(kind)
+    if names is None:
+        names = _RECORD_FIELDS[kind] = frozenset(f.name for f in dataclasses.fields(kind))
+    if type(v) is not dict or not v.keys() <= names:
+        raise ValueError(f"{what}: expected a record with keys from {sorted(names)}")
+    if not all(type(val) in _RECORD_VALUES for val in v.values()):
+        raise ValueError(f"{what}: unexpected value types")
+    return kind(**v)
+
+
+def _report(v: Any, what: str) -> IndexReport:
+    rep = _record(IndexReport, v, what)
+    _expect(rep.index, int, what)
+    rep.differentiated = [(_expect(o, str, what), _expect(e, str, what), _expect(k, int, what))
+                          for o, e, k in _expect(rep.differentiated, list, what)]
+    for name in ("states", "dummy_derivatives", "redundant"):
+        setattr(rep, name, _str_list(getattr(rep, name), what))
+    return rep
+
+
+def _levels(v: Any, what: str) -> list[tuple[int, int, list[int], list[int]]]:
+    out = []
+    for item in _expect(v, list, what):
+        nr, nc, costs, sel = _expect(item, list, what)
+        out.append((_expect(nr, int, what), _expect(nc, int, what),
+                    [_expect(c, int, what) for c in _expect(costs, list, what)],
+                    [_expect(c, int, what) for c in _expect(sel, list, what)]))
+    return out
+
+
+def _plain_dict(v: Any, what: str) -> dict[str, Any]:
+    for key, val in _expect(v, dict, what).items():
+        _expect(val, (str, bool, int, float, type(None)), f"{what}.{key}")
+    return v
+
+
+_TRANSIENT = {"_structure", "_functions", "_sx"}
+_ARRAYS = {"differential": "b", "nominal": "f", "param_defaults": "f", "jac_colind": "i", "jac_row": "i",
+           "cond_depends": "b", "derivative_level": "b"}
+_FIELD_CHECKS: dict[str, Any] = {
+    "name": lambda v, w: _expect(v, str, w),
+    "n": lambda v, w: _expect(v, int, w),
+    "y_names": _str_list,
+    "y_owners": _str_list,
+    "start_sources": lambda v, w: [[_pair(s, w) for s in _expect(row, list, w)] for row in _expect(v, list, w)],
+    "param_names": _str_list,
+    "param_units": _str_list,
+    "variables": lambda v, w: [_record(VariableInfo, x, w) for x in _expect(v, list, w)],
+    "relations": lambda v, w: [_record(RelationInfo, x, w) for x in _expect(v, list, w)],
+    "conditions": lambda v, w: [_pair(s, w) for s in _expect(v, list, w)],
+    "report": _report,
+    "row_labels": _str_list,
+    "col_names": _str_list,
+    "check_labels": _str_list,
+    "levels": _levels,
+    "stats": _plain_dict,
+    "serialized": lambda v, w: {_expect(k, str, w): _expect(s, str, w) for k, s in _expect(v, dict, w).items()},
+    "library": lambda v, w: v if v is None else _expect(v, str, w),
+    "library_sha256": lambda v, w: v if v is None else _expect(v, str, w),
+    "library_size": lambda v, w: _expect(v, int, w),
+}
+
+
+def file_problem(path: Path, sha256: str | None = None, size: int | None = None) -> str | None:
+    """Why the file ``path`` must not be used, or None.
+
+    It must be a regular file (not a link) owned by this user and not writable by others, and match its
+    manifest entry (``size`` [bytes] and ``sha256``) when one is given.
+    """
+    try:
+        st = path.lstat()
+    except OSError as exc:
+        return f"cannot read it: {exc.strerror or exc}"
+    if not stat.S_ISREG(st.st_mode):
+        return "not a regular file"
+    if hasattr(os, "getuid") and st.st_uid != os.getuid():
+        return f"owned by uid {st.st_uid}, not by this user"
+    if st.st_mode & 0o022:
+        return "writable by other users"
+    if size is not None and st.st_size != size:
+        return f"size {st.st_size} bytes, manifest says {size}"
+    if sha256 is not None and _sha256(path) != sha256:
+        return "SHA-256 differs from the manifest"
+    return None
+
+
+def _sha256(path: Path) -> str:
+    h = hashlib.sha256()
+    with path.open("rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _decode(text: str) -> bytes:
+    """CasADi's serialized text (two letters a–p per byte, low nibble first) as bytes."""
+    codes = np.frombuffer(text.encode("ascii"), dtype=np.uint8).astype(np.int16) - 97
+    if len(codes) % 2 or len(codes) == 0 or codes.min() < 0 or codes.max() > 15:
+        raise ValueError("not a CasADi serialized stream")
+    return (codes[0::2] | (codes[1::2] << 4)).astype(np.uint8).tobytes()
+
+
+def check_serialized(text: str, name: str, full: bool = True) -> None:
+    """Refuse a serialized stream that is not a plain ``SXFunction`` named ``name`` (checked before CasADi
+    reads it: deserializing an ``External`` function would load a shared library). ``full=False`` checks the
+    header only (the type and name); ``full=True`` also refuses any reference to external code in the body."""
+    try:
+        data = _decode(text if full else text[:160])
+    except (UnicodeEncodeError, ValueError) as exc:
+        raise ValueError(f"function {name!r}: {exc}") from None
+    head = b"\x0a\x00\x00\x00SXFunction"
+    if data[18:18 + len(head)] != head:
+        raise ValueError(f"function {name!r}: the stream is not an SXFunction")
+    label = len(name).to_bytes(4, "little") + name.encode()
+    if data[36:36 + len(label)] != label:
+        raise ValueError(f"function {name!r}: the stream holds another function")
+    if full and (b"External" in data or b"Callback" in data):
+        raise ValueError(f"function {name!r}: the stream refers to external code")
+
+
+def deserialize_function(text: str, name: str) -> ca.Function:
+    """Deserialize a checked SX function stream (:func:`check_serialized`)."""
+    check_serialized(text, name)
+    return ca.Function.deserialize(text)
 
 
 #: ``codegen="auto"``: C code above this many unknowns ...
@@ -229,7 +506,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         codegen = (model.n > AUTO_C_MIN_UNKNOWNS
                    and fns["res"].n_instructions() + fns["jac"].n_instructions() <= AUTO_C_MAX_INSTRUCTIONS)
     if codegen:
-        model.library = generate_c(fns["res"], fns["jac"], build_dir)
+        model.library, model.library_sha256, model.library_size = generate_c(fns["res"], fns["jac"], build_dir)
         model._functions.pop("res")
         model._functions.pop("jac")
     return model
@@ -260,31 +537,43 @@ def _start_sources(simple: SimpleSystem, dae: DAE) -> list[list[tuple[str, float
     return out
 
 
-def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike | None) -> str:
-    """Write ``res`` and ``jac`` as C, compile them with gcc and return the shared library path."""
+def generate_c(res: ca.Function, jac: ca.Function,
+               build_dir: str | os.PathLike | None) -> tuple[str, str, int]:
+    """Write ``res`` and ``jac`` as C, compile them with gcc and return the shared library's manifest.
+
+    The library is named by the SHA-256 of its own bytes (``flexlib_<sha256[:32]>.so``, so processes
+    compiling the same model concurrently never overwrite each other's file with different bytes) and is
+    moved into ``build_dir`` atomically. The hash and size are computed here, from the file this process
+    just compiled, before it is visible to anyone else.
+
+    Returns
+    -------
+    path, sha256, size
+        The library path, its SHA-256 (hex) and its size [bytes].
+    """
     cc = shutil.which("gcc") or shutil.which("cc")
     if cc is None:
         raise FlexlibError("codegen=True needs a C compiler (gcc) on PATH")
     build = Path(build_dir) if build_dir else Path(tempfile.mkdtemp(prefix="flexlib_"))
     build.mkdir(parents=True, exist_ok=True)
     digest = hashlib.sha256((res.serialize() + jac.serialize()).encode()).hexdigest()[:16]
-    lib = build / f"flexlib_{digest}.so"
-    if lib.exists():
-        return str(lib)
     cg = ca.CodeGenerator(f"flexlib_{digest}.c")
     cg.add(res)
     cg.add(jac)
-    with tempfile.TemporaryDirectory(dir=build) as tmp:
+    with tempfile.TemporaryDirectory(dir=build, prefix=".flexlib-gcc-", suffix=".tmp") as tmp:
         cg.generate(tmp + os.sep)
         src = Path(tmp) / f"flexlib_{digest}.c"
         with src.open() as fh:
             lines = sum(1 for _ in fh)
         # gcc time grows faster than linearly with the optimisation level; -O0 code still beats the SX VM ~2x
         opt = "-O2" if lines < 3000 else "-O1" if lines < 30000 else "-O0"
-        tmp_lib = Path(tmp) / lib.name
+        tmp_lib = Path(tmp) / f"flexlib_{digest}.so"
         proc = subprocess.run([cc, opt, "-shared", "-fPIC", str(src), "-o", str(tmp_lib), "-lm"],
                               capture_output=True, text=True, check=False)
         if proc.returncode != 0:
             raise FlexlibError(f"gcc failed on the generated model code:\n{proc.stderr[-2000:]}")
+        os.chmod(tmp_lib, 0o700)
+        sha, size = _sha256(tmp_lib), tmp_lib.stat().st_size
+        lib = build / f"flexlib_{sha[:32]}.so"
         os.replace(tmp_lib, lib)
-    return str(lib)
+    return str(lib), sha, size

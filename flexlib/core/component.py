@@ -416,6 +416,23 @@ class Component(Node):
             raise ModelError(f"{self.path}: is_root() is only available while the model is flattened")
         return id(conn) in roots
 
+    def structure_key(self) -> Any:
+        """Extra plain data that decides this component's equations, for the disk cache key.
+
+        The key already covers the class's code, declarations, connections and plain-data attributes.
+        Override this when the equations depend on something the key cannot see, typically the *contents*
+        of a file named by an attribute (``modal_file="boom.h5"``: return a hash of the file's bytes, or of
+        the data read from it), so that changing the file does not reuse a stale compiled model. flexlib
+        never guesses files from strings. Return numbers, strings, bytes, arrays, tuples, lists or dicts of
+        these. Default: nothing.
+
+        Examples
+        --------
+        >>> def structure_key(self):                                  # doctest: +SKIP
+        ...     return hashlib.sha256(Path(self.modal_file).read_bytes()).hexdigest()
+        """
+        return ()
+
     def on_structure(self) -> None:
         """Called when the model structure is known, before equations are collected.
 

@@ -11,7 +11,6 @@ import hashlib
 import os
 import platform
 import signal
-import tempfile
 import threading
 import time as _time
 import warnings
@@ -23,9 +22,11 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.compile.cache import build, cache_dir, gather_values
+from flexlib.compile import cache
+from flexlib.compile.cache import gather_values
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.index_reduction import IndexReport
+from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
 from flexlib.errors import (
@@ -135,6 +136,16 @@ class Simulation:
     use_cache : bool
         Use the disk cache (``$FLEXLIB_CACHE_DIR``, default ``~/.cache/flexlib``).
 
+    Attributes
+    ----------
+    build : Build
+        Every stage's product (``sim.build.flat``, ``.simple``, ``.dae`` while in memory; see
+        :mod:`flexlib.compile.pipeline`).
+    compiled : CompiledModel
+        The compiled model (``sim.build.compiled``).
+    build_info : dict
+        Build timings [s], ``cached`` and ``model_key`` (``sim.build.timings``).
+
     Examples
     --------
     >>> sim = Simulation(model)                      # doctest: +SKIP
@@ -147,8 +158,9 @@ class Simulation:
             raise TypeError(f"Simulation expects a flexlib Component, got {type(model).__name__}")
         self.model = model
         self._codegen = codegen
-        self.compiled: CompiledModel
-        self.compiled, self.build_info = build(model, codegen=codegen, use_cache=use_cache)
+        self.build: Build = build(model, codegen=codegen, use_cache=use_cache)
+        self.compiled: CompiledModel = self.build.compiled
+        self.build_info: dict[str, Any] = self.build.timings
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self.init_cached = False
@@ -392,7 +404,8 @@ class Simulation:
 
     def _rebuild_uncached(self) -> None:
         """Build again from this instance's own values (no cache read or write)."""
-        self.compiled, self.build_info = build(self.model, codegen=self._codegen, use_cache=False)
+        self.build = build(self.model, codegen=self._codegen, use_cache=False)
+        self.compiled, self.build_info = self.build.compiled, self.build.timings
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self._maps.clear()
@@ -417,43 +430,67 @@ class Simulation:
                                overrides=params)
 
     def _monitor(self) -> Any:
-        from flexlib.compile.cache import prepare
-        from flexlib.compile.flatten import flatten
-        from flexlib.compile.index_reduction import reduce_index
         from flexlib.solve.state_selection import StateSelectionMonitor
 
         if self._state_monitor is None:
-            def rebuild() -> Any:
-                flat = flatten(self.model)
-                params = {q.sym.element_hash(): q.value for q in flat.parameters}
-                return reduce_index(prepare(flat, params), params).structure
-
-            self._state_monitor = StateSelectionMonitor(rebuild)
+            # the same pipeline as the build (stages 1-3 again if the compiled model came from the cache)
+            self._state_monitor = StateSelectionMonitor(lambda: self.build.structure(self.model))
         return self._state_monitor
 
     def _initialize(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
-        """Stage 4, cached on disk by model key, parameters, start values and options."""
-        key = self.build_info.get("model_key")
+        """Stage 4, cached on disk by model key, parameters, start values and options.
+
+        Cached values are used only if the residual at the run's parameters is as small as when they were
+        stored; a damaged file or a failed check gives one :class:`~flexlib.errors.CacheWarning` naming the
+        file, and a fresh initialisation replaces it.
+        """
+        key = self.build.key
+        directory = cache.usable_cache_dir() if key else None
         path = None
-        if key:
+        if directory is not None:
             h = hashlib.sha256(p.tobytes() + repr((sorted(starts.items()), steady, t0)).encode()).hexdigest()[:24]
-            path = cache_dir() / f"{self.compiled.name}-{key}-init-{h}.npz"
-            if path.exists():
-                try:
-                    with np.load(path) as data:
-                        p[:] = data["p"]
-                        self.init_cached = True
-                        return data["y"].copy(), data["yp"].copy()
-                except (OSError, KeyError, ValueError):
-                    pass
+            path = cache.entry_path(directory, self.compiled.name, f"{key}-init-{h}").with_suffix(".npz")
+            try:
+                data = cache.load_init(path)
+                if data is not None:
+                    problem = self._cached_start_problem(t0, p, data)
+                    if problem is not None:
+                        raise cache.CacheEntryError(path, problem)
+                    p[:] = data["p"]
+                    self.init_cached = True
+                    return data["y"].copy(), data["yp"].copy()
+            except cache.CacheEntryError as err:
+                cache.warn_once(err.path, f"damaged cached initial values ({err.reason}); removing them and "
+                                          "initialising afresh")
+                cache.discard(err.path)
         self.init_cached = False
         y, yp = self._consistent_start(t0, p, starts, steady)
         if path is not None:
-            fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz")
-            os.close(fd)
-            np.savez(tmp, y=y, yp=yp, p=p)
-            os.replace(tmp, path)
+            residual = self._residual_norm(t0, y, yp, p)
+            try:
+                cache.store_init(path, y=y, yp=yp, p=p, residual=np.array([residual]))
+            except OSError as exc:
+                cache.warn_once(path, f"cannot store initial values ({exc})")
         return y, yp
+
+    def _residual_norm(self, t0: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> float:
+        F = np.asarray(self.compiled.function("res")(t0, y, yp, p), dtype=float).ravel()
+        return float(np.max(np.abs(F))) if F.size else 0.0
+
+    def _cached_start_problem(self, t0: float, p: np.ndarray, data: dict[str, np.ndarray]) -> str | None:
+        """Why cached initial values must not be used for a run with parameter vector ``p`` (None: usable)."""
+        m = self.compiled
+        y, yp, pc, stored = data["y"], data["yp"], data["p"], data["residual"]
+        if y.shape != (m.n,) or yp.shape != (m.n,) or pc.shape != p.shape or stored.shape != (1,):
+            return "sizes do not match the model"
+        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp)) and np.all(np.isfinite(pc))):
+            return "non-finite values"
+        trial = np.concatenate([p[:m.n_params], pc[m.n_params:]])  # the run's parameters, cached relations
+        residual = self._residual_norm(t0, y, yp, trial)
+        limit = max(1e-10, 10.0 * float(stored[0]))
+        if not residual <= limit:
+            return f"largest residual {residual:.3g} at the run's parameters exceeds {limit:.3g}"
+        return None
 
     def _consistent_start(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
         """Stage 4 proper: :meth:`flexlib.solve.initialization.Initializer.consistent_start`."""

@@ -1,0 +1,176 @@
+"""The compiler pipeline: model instance → flat system → simplified system → index-1 DAE → compiled model.
+
+One function, :func:`build`, runs the stages (or loads their product from the disk cache) and returns a
+:class:`Build` holding every stage's product, so each can be inspected::
+
+    b = flexlib.build(model)
+    b.flat        # stage 1: FlatSystem (variables, equations, parameters) — flexlib.compile.flatten
+    b.simple      # stage 2: SimpleSystem after alias elimination, redundant loop rows, frame kinematics
+    b.dae         # stage 3: DAE after index reduction (b.dae.structure for state re-selection)
+    b.compiled    # stage 5: CompiledModel (CasADi functions, optionally compiled C)
+    b.timings     # seconds per stage, ``cached``, ``model_key``
+
+``Simulation``, the state-selection monitor's rebuild (:meth:`Build.analyse`) and the tests all call it.
+A build loaded from the cache has only ``compiled`` until :meth:`Build.analyse` runs stages 1–3 again.
+:mod:`flexlib.compile.cache` only keys, loads and stores.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, field
+from typing import Any
+
+from flexlib.compile import cache
+from flexlib.compile.codegen import CompiledModel, compile_dae
+from flexlib.compile.flatten import FlatSystem, check_balance, flatten
+from flexlib.compile.index_reduction import DAE, Structure, reduce_index
+from flexlib.compile.redundancy import remove_redundant
+from flexlib.compile.simplify import SimpleSystem, simplify
+from flexlib.compile.tearing import eliminate_frame_kinematics
+from flexlib.core.component import Component
+
+__all__ = ["Build", "analyse", "build", "prepare"]
+
+
+@dataclass
+class Build:
+    """The products of the pipeline's stages for one model.
+
+    Attributes
+    ----------
+    compiled : CompiledModel
+        Stage 5, what the solver needs.
+    flat, simple, dae : FlatSystem, SimpleSystem, DAE or None
+        Stages 1–3 (None for a build loaded from the disk cache until :meth:`analyse` runs).
+    timings : dict
+        Wall time [s] per stage (``key``, ``flatten``, ``simplify``, ``index_reduction``, ``compile``,
+        ``total``), ``cached`` and ``model_key``.
+    cached : bool
+        True if ``compiled`` was loaded from the disk cache.
+    key : str or None
+        The cache key (None without the cache or for a model the key cannot represent).
+
+    Notes
+    -----
+    ``model, timings = flexlib.build(root)`` still works: a ``Build`` unpacks and indexes as
+    ``(compiled, timings)``.
+    """
+
+    compiled: CompiledModel
+    flat: FlatSystem | None = None
+    simple: SimpleSystem | None = None
+    dae: DAE | None = None
+    timings: dict[str, Any] = field(default_factory=dict)
+    cached: bool = False
+    key: str | None = None
+
+    def __iter__(self) -> Any:
+        return iter((self.compiled, self.timings))
+
+    def __getitem__(self, index: int) -> Any:
+        return (self.compiled, self.timings)[index]
+
+    def __len__(self) -> int:
+        return 2
+
+    def analyse(self, root: Component) -> Build:
+        """Run stages 1–3 for ``root`` if they are not in memory (a cached build) and return self."""
+        if self.dae is None:
+            self.flat, self.simple, self.dae, times = analyse(root)
+            self.timings.update({f"{k}_analyse": v for k, v in times.items()})
+        return self
+
+    def structure(self, root: Component) -> Structure:
+        """The index-reduction structure (stage 3) used by the state-selection monitor."""
+        if self.compiled._structure is not None:
+            return self.compiled._structure
+        return self.analyse(root).dae.structure
+
+
+def prepare(flat: FlatSystem, params: dict[int, float]) -> SimpleSystem:
+    """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics."""
+    return eliminate_frame_kinematics(remove_redundant(simplify(flat), params))
+
+
+def analyse(root: Component) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, float]]:
+    """Stages 1–3: flatten, simplify, reduce the index (with the balance check where it belongs).
+
+    A model with closed kinematic loops is balance-checked after the redundant loop rows are removed
+    (stage 2), every other model right after flattening, so the diagnostics name the user's equations.
+    """
+    times: dict[str, float] = {}
+    t = _time.perf_counter()
+    flat = flatten(root, check=False)
+    has_loops = any(e.origin == "loop closure" for e in flat.equations)
+    if not has_loops:
+        check_balance(flat.name, flat.variables, flat.equations)
+    times["flatten"] = _time.perf_counter() - t
+    t = _time.perf_counter()
+    params = {q.sym.element_hash(): q.value for q in flat.parameters}
+    simple = prepare(flat, params)
+    if has_loops:
+        check_balance(flat.name, simple.variables, simple.equations)
+    times["simplify"] = _time.perf_counter() - t
+    t = _time.perf_counter()
+    dae = reduce_index(simple, params)
+    times["index_reduction"] = _time.perf_counter() - t
+    return flat, simple, dae, times
+
+
+def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True) -> Build:
+    """Run stages 1–5, or load their product from the disk cache.
+
+    Parameters
+    ----------
+    root : Component
+        The top-level model.
+    codegen : bool or "auto"
+        Generate and compile C code; ``"auto"`` lets :func:`flexlib.compile.codegen.compile_dae` decide by
+        size.
+    use_cache : bool
+        Read and write the disk cache (``$FLEXLIB_CACHE_DIR``, default ``~/.cache/flexlib``). A cache
+        directory that cannot be used gives one :class:`~flexlib.errors.CacheWarning` and a build without
+        the cache; a damaged entry gives one ``CacheWarning`` naming the file and is rebuilt.
+
+    Returns
+    -------
+    Build
+        Every stage's product (unpacks as ``compiled, timings`` like earlier versions).
+    """
+    timings: dict[str, Any] = {"cached": False}
+    t0 = _time.perf_counter()
+    directory = cache.usable_cache_dir() if use_cache else None
+    key = cache.model_key(root, {"codegen": codegen}) if directory is not None else None
+    timings["key"] = _time.perf_counter() - t0
+    timings["model_key"] = key
+    entry = cache.entry_path(directory, type(root).__name__, key) if key else None
+    if entry is not None:
+        try:
+            model = cache.load(entry)
+        except cache.CacheEntryError as err:
+            cache.warn_once(err.path, f"damaged cache entry ({err.reason}); removing and rebuilding it")
+            if err.path.name.endswith(".so"):
+                cache.discard(err.path)
+            cache.discard(entry)
+            model = None
+        if model is not None:
+            timings["cached"] = True
+            timings["total"] = _time.perf_counter() - t0
+            return Build(compiled=model, timings=timings, cached=True, key=key)
+    flat, simple, dae, times = analyse(root)
+    timings.update(times)
+    t = _time.perf_counter()
+    use_c: bool | str = "auto" if codegen == "auto" else bool(codegen)
+    model = compile_dae(flat, simple, dae, codegen=use_c, build_dir=directory / "lib" if entry else None)
+    timings["compile"] = _time.perf_counter() - t
+    model.stats = {"n_flat_equations": len(flat.equations), "n_aliases": simple.n_eliminated,
+                   "n_unknowns": model.n, "n_states": int(model.differential.sum()),
+                   "jac_nnz": len(model.jac_row), "codegen": model.library is not None}
+    if entry is not None:
+        try:
+            cache.store(entry, model)
+        except (OSError, cache.CacheEntryError) as exc:
+            cache.warn_once(entry, f"cannot store the compiled model ({exc}); it is used without caching")
+    timings["total"] = _time.perf_counter() - t0
+    return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key)
