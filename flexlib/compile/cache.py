@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel, compile_dae
+from flexlib.compile.constants import assumptions_hold, eliminate_constants
 from flexlib.compile.flatten import FlatSystem, check_balance, flatten
 from flexlib.compile.index_reduction import reduce_index
 from flexlib.compile.redundancy import remove_redundant
@@ -159,7 +160,7 @@ def gather_values(root: Component) -> tuple[dict[str, float], dict[str, tuple[fl
 
 def prepare(flat: FlatSystem, params: dict[int, float]) -> SimpleSystem:
     """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics."""
-    return eliminate_frame_kinematics(remove_redundant(simplify(flat), params))
+    return eliminate_constants(eliminate_frame_kinematics(remove_redundant(simplify(flat), params)), params)
 
 
 def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True) -> tuple[CompiledModel, dict]:
@@ -191,7 +192,7 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         try:
             with path.open("rb") as fh:
                 model = pickle.load(fh)
-            if model.library is None or Path(model.library).exists():
+            if (model.library is None or Path(model.library).exists()) and assumptions_hold(model.assumed, root):
                 timings["cached"] = True
                 timings["total"] = _time.perf_counter() - t0
                 return model, timings

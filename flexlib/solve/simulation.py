@@ -19,6 +19,7 @@ import numpy as np
 
 from flexlib.compile.cache import build, cache_dir, gather_values
 from flexlib.compile.codegen import CompiledModel
+from flexlib.compile.constants import check_assumed
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
@@ -120,6 +121,7 @@ class Simulation:
                         or not np.isfinite(v):
                     raise ParameterError(f"{name} = {v!r} [{decl.unit}] is outside [{decl.min}, {decl.max}]")
                 vec[self._param_index[name]] = v
+        check_assumed(m.assumed, m.param_names, vec, m.name)
         return vec
 
     def _find_decl(self, name: str) -> tuple[Any, Parameter, Any] | None:
