@@ -115,6 +115,8 @@ class CompiledModel:
     library_size: int = 0
     #: algebraic unknowns kept out of IDA's local error test (``structure.derivative_level``)
     derivative_level: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    #: parameter conditions the build relied on (``constants.eliminate_constants``), checked at every run
+    assumed: dict[str, str] = field(default_factory=dict)
     _functions: dict[str, ca.Function] = field(default_factory=dict, repr=False)
     _sx: dict[str, ca.Function] = field(default_factory=dict, repr=False)  # serialized only when pickled
 
@@ -356,6 +358,7 @@ _FIELD_CHECKS: dict[str, Any] = {
     "row_labels": _str_list,
     "col_names": _str_list,
     "check_labels": _str_list,
+    "assumed": lambda v, w: {_expect(k, str, w): _expect(s, str, w) for k, s in _expect(v, dict, w).items()},
     "levels": _levels,
     "stats": _plain_dict,
     "serialized": lambda v, w: {_expect(k, str, w): _expect(s, str, w) for k, s in _expect(v, dict, w).items()},
@@ -497,6 +500,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         levels=[(len(lev.rows), len(lev.cands), lev.costs, [lev.cands.index(c) for c in lev.selected])
                 for lev in dae.levels],
         cond_depends=np.array([bool(ca.depends_on(c.expr, ca.vertcat(y, yp))) for c in dae.conditions], dtype=bool),
+        assumed=dict(simple.assumed),
     )
     model._structure = dae.structure
     model._sx = dict(fns)

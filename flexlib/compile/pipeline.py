@@ -23,6 +23,7 @@ from typing import Any
 
 from flexlib.compile import cache
 from flexlib.compile.codegen import CompiledModel, compile_dae
+from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
 from flexlib.compile.flatten import FlatSystem, check_balance, flatten
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
 from flexlib.compile.redundancy import remove_redundant
@@ -89,8 +90,8 @@ class Build:
 
 
 def prepare(flat: FlatSystem, params: dict[int, float]) -> SimpleSystem:
-    """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics."""
-    return eliminate_frame_kinematics(remove_redundant(simplify(flat), params))
+    """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics, constant unknowns."""
+    return eliminate_constants(eliminate_frame_kinematics(remove_redundant(simplify(flat), params)), params)
 
 
 def analyse(root: Component) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, float]]:
@@ -141,7 +142,8 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     timings: dict[str, Any] = {"cached": False}
     t0 = _time.perf_counter()
     directory = cache.usable_cache_dir() if use_cache else None
-    key = cache.model_key(root, {"codegen": codegen}) if directory is not None else None
+    key = (cache.model_key(root, {"codegen": codegen, "zero_geometry": zero_geometry()})
+           if directory is not None else None)
     timings["key"] = _time.perf_counter() - t0
     timings["model_key"] = key
     entry = cache.entry_path(directory, type(root).__name__, key) if key else None
@@ -154,6 +156,9 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
                 cache.discard(err.path)
             cache.discard(entry)
             model = None
+        if model is not None and not assumptions_hold(model.assumed, root):
+            model = None  # built under parameter assumptions this instance breaks: build it for its own values
+            entry = None
         if model is not None:
             timings["cached"] = True
             timings["total"] = _time.perf_counter() - t0

@@ -64,6 +64,11 @@ class SimpleSystem:
     """Derivative rules of remaining unknowns (by symbol hash), written in the remaining unknowns."""
     redundant: list[str] = dataclasses.field(default_factory=list)
     """Redundant loop-closure constraints that were dropped (filled by ``redundancy.remove_redundant``)."""
+    assumed: dict[str, str] = dataclasses.field(default_factory=dict)
+    """Conditions on parameters (name → ``"= 0"``, ``"> 0"``, ``"< 0"``) that the elimination of constants
+    relies on (``constants.py``); a run violating one is refused."""
+    n_constants: int = 0
+    """Number of unknowns found constant (``constants.eliminate_constants``)."""
 
 
 def _classify(flat: FlatSystem, e: ca.SX) -> tuple | None:

@@ -25,6 +25,7 @@ import numpy as np
 from flexlib.compile import cache
 from flexlib.compile.cache import gather_values
 from flexlib.compile.codegen import CompiledModel
+from flexlib.compile.constants import check_assumed
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component
@@ -226,6 +227,7 @@ class Simulation:
                     arr = pdecl.check(node._label(pname), arr)
                 current[pname] = arr
             node.validate(current)
+        check_assumed(m.assumed, m.param_names, vec, m.name)
         return vec
 
     def _find_decl(self, name: str) -> tuple[Any, Parameter, Any] | None:

@@ -1,0 +1,453 @@
+"""Stage 2d — structurally constant unknowns, eliminated after tearing (the way aliases are).
+
+After alias elimination and tearing (the frame orientations and origins are substituted), some unknowns are
+fixed by the equations alone: a joint angle held by a rotational ``Fixed``, the motion of frames on fixed
+pivots, the reactions that redundant loop rows set to zero, and whatever follows from them. They are found by
+propagation to a fixpoint:
+
+- a row left with a single unknown ``x``, linear in it with a coefficient built from parameters only and
+  otherwise only parameters (``c(p)·x + d(p) = 0``: a sum of knowns, a product with a known zero), gives
+  ``x = −d/c`` — a literal constant or a parameter expression, kept symbolic so ``run(params=...)`` changes it;
+- a known ``x`` makes ``der(x) = 0`` (``v = der(constant)``), and its value is substituted everywhere, which
+  can leave further rows with one unknown.
+
+A row with one unknown must determine that unknown in any matching, so the remaining system is the original
+one with a triangular block removed; a maximum matching checks that it is still structurally regular
+(otherwise nothing is eliminated). Eliminated variables stay in results by name (their value expression).
+
+**Planar mechanisms (opt-in, ``FLEXLIB_ZERO_GEOMETRY=1``).** A planar mechanism built from 3D components is
+planar only because some parameters are zero (in-plane components of joint axes, out-of-plane components of
+rod vectors and centres of mass, products of inertia, out-of-plane gravity), so its out-of-plane forces,
+torques, velocities and accelerations are zero numerically, not structurally. With the option, when no row
+can be solved with the parameters symbolic, rows that become solvable with the zero-valued parameters of
+frame components set to 0 are used, as few of those parameters as each row needs are *assumed* zero
+(Modelica's ``Evaluate=true``) and substituted everywhere, and an axis ``n = (0, 0, n_z)`` normalised as
+``n_z/|n_z|`` is made exact by assuming the sign of ``n_z``. The conditions are recorded
+(``SimpleSystem.assumed``, ``CompiledModel.assumed``): a run whose parameters violate one fails with
+:class:`~flexlib.errors.StructureChangedError` naming the parameter (:func:`check_assumed`), and a cached build
+made under other values is rebuilt (:func:`assumptions_hold`). Not the default yet: two existing tests (a
+static slider-crank at rtol 1e-10, a line force compared to 1e-8) lose their tolerance with it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from collections.abc import Iterable
+
+import casadi as ca
+import numpy as np
+import scipy.sparse as sp
+
+from flexlib.compile.simplify import SimpleSystem
+from flexlib.compile.structure import matching
+from flexlib.core.component import Component
+from flexlib.core.variables import lookup
+
+__all__ = ["assumptions_hold", "check_assumed", "eliminate_constants", "zero_geometry"]
+
+
+def _kinds(e: ca.SX, var_of: dict[int, int], der_of: dict[int, int]) -> tuple[list[int], list[int], bool]:
+    """Unknowns, variables whose derivative appears, and whether time or a relation appears in ``e``."""
+    unknowns, ders = [], []
+    other = False
+    for s in ca.symvar(e):
+        h = s.element_hash()
+        if h in var_of:
+            unknowns.append(var_of[h])
+        elif h in der_of:
+            ders.append(der_of[h])
+        else:
+            info = lookup(s)
+            if info is None or info.kind != "parameter":
+                other = True
+    return unknowns, ders, other
+
+
+def _params_only(e: ca.SX) -> bool:
+    return all((info := lookup(s)) is not None and info.kind == "parameter" for s in ca.symvar(e))
+
+
+class _Solver:
+    """Which unknown a row fixes to a constant, and to what value."""
+
+    def __init__(self, simple: SimpleSystem, param_values: dict[int, float]) -> None:
+        self.simple = simple
+        self.var_of = {v.sym.element_hash(): k for k, v in enumerate(simple.variables)}
+        self.der_of = {v.info._der.sym.element_hash(): k for k, v in enumerate(simple.variables)
+                       if v.info._der is not None}
+        self.ruled = {self.var_of[h] for h in simple.der_rules if h in self.var_of}
+        syms = [lookup_param(h) for h in param_values]
+        self.psyms = [s for s in syms if s is not None]
+        self.pvals = np.array([param_values[s.element_hash()] for s in self.psyms])
+        self.pvec = ca.vertcat(*self.psyms) if self.psyms else ca.SX(0, 1)
+
+    def value_at(self, e: ca.SX) -> float:
+        """Numeric value of a parameter expression at the build's parameter values."""
+        f = ca.Function("v", [self.pvec], [e])
+        return float(f(self.pvals))
+
+    def solve(self, e: ca.SX) -> tuple[int, ca.SX] | None:
+        unknowns, ders, other = _kinds(e, self.var_of, self.der_of)
+        if not unknowns:
+            return None
+        if len(unknowns) == 1 and not ders and not other:
+            k = unknowns[0]
+            x = self.simple.variables[k].sym
+            if k not in self.ruled and ca.is_linear(e, x):
+                c = ca.jacobian(e, x)
+                if not c.is_zero() and _params_only(c):
+                    rest = ca.substitute(e, x, ca.SX(0.0))
+                    if rest.is_zero():
+                        return k, ca.SX(0.0)
+                    if self.value_at(c) != 0.0:
+                        return k, ca.simplify(-rest / c)
+        return None
+
+
+def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float]) -> SimpleSystem:
+    """Eliminate the unknowns that the equations fix to constants or parameter expressions.
+
+    Parameters
+    ----------
+    simple : SimpleSystem
+        The system after alias elimination, redundant-constraint removal and tearing.
+    param_values : dict
+        Parameter values by symbol hash (the build's values; used to find the zero-valued parameters
+        and to check that a parameter coefficient is not zero).
+
+    Returns
+    -------
+    SimpleSystem
+        Without the constant unknowns and their rows; ``outputs`` give every eliminated variable's value,
+        ``assumed`` names the zero-valued parameters the elimination relies on.
+    """
+    if not simple.equations:
+        return simple
+    for use_zeros in ((True, False) if zero_geometry() else (False,)):
+        found = _propagate(simple, param_values, use_zeros)
+        if found is None:
+            continue
+        known, rows, assumed, signs = found
+        if not known:
+            return simple
+        return _apply(simple, known, rows, assumed, signs)
+    return simple
+
+
+def _propagate(simple: SimpleSystem, param_values: dict[int, float],
+               use_zeros: bool) -> tuple[dict[int, ca.SX], set[int], set[int], dict[int, float]] | None:
+    """Known values by variable index, the rows used, the assumed zero parameters; None if the
+    remaining system would not be structurally regular."""
+    solver = _Solver(simple, param_values)
+    geometric = _frame_parameters(simple)
+    scalar = {q.sym.element_hash() for q in simple.flat.parameters if not q.index}
+    zero_syms = {s.element_hash(): s for s, v in zip(solver.psyms, solver.pvals, strict=True)
+                 if v == 0.0 and s.element_hash() in geometric}
+    eqs = [e.expr for e in simple.equations]
+    alive = list(range(len(eqs)))
+    known: dict[int, ca.SX] = {}
+    order: list[tuple[int, int]] = []  # (variable, row) in the order found
+    assumed: set[int] = set()
+    signs: dict[int, float] = {}  # parameter hash -> sign assumed (fabs(p) -> sign*... made exact)
+    cand: dict[int, tuple[int, ca.SX] | None] = {}
+    zero_cand: dict[int, tuple[int, ca.SX, list[int]] | None] = {}
+    dirty = set(alive)
+    new_old: list[ca.SX] = []
+    new_val: list[ca.SX] = []
+    values = dict(zip([q.element_hash() for q in solver.psyms], solver.pvals.tolist(), strict=True))
+    while True:
+        if new_old:
+            _substitute_rows(eqs, alive, new_old, new_val, dirty)
+            if any(h in assumed for h in (x.element_hash() for x in new_old)):
+                sign_old, sign_new = _sign_rewrites(eqs, alive, geometric, values, signs)
+                if sign_old:
+                    _substitute_rows(eqs, alive, sign_old, sign_new, dirty)
+            new_old, new_val = [], []
+        for r in dirty:
+            cand[r] = solver.solve(eqs[r])
+            zero_cand.pop(r, None)
+        dirty = set()
+        chosen = [(r, cand[r][0], cand[r][1], []) for r in alive if cand[r] is not None]
+        if not chosen and use_zeros and zero_syms:
+            for r in alive:
+                if r not in zero_cand:
+                    zero_cand[r] = _zero_solve(solver, eqs[r], zero_syms, scalar)
+            chosen = [(r, *zero_cand[r]) for r in alive if zero_cand[r] is not None]
+        if not chosen:
+            break
+        used = set()
+        for r, k, val, zs in chosen:
+            if k in known or k in used:
+                continue
+            used.add(k)
+            known[k] = val
+            order.append((k, r))
+            alive.remove(r)
+            v = simple.variables[k]
+            new_old.append(v.sym)
+            new_val.append(val)
+            if v.info._der is not None:
+                new_old.append(v.info._der.sym)
+                new_val.append(ca.SX(0.0))
+            for h in zs:
+                if h not in assumed:
+                    assumed.add(h)
+                    new_old.append(zero_syms[h])
+                    new_val.append(ca.SX(0.0))
+    if not known:
+        return {}, set(), set(), {}
+    if len(known) == len(simple.variables):  # IDA needs one unknown: keep the last one found with its row
+        k, r = order.pop()
+        del known[k]
+        alive.append(r)
+        eqs[r] = simple.equations[r].expr
+        osyms = [simple.variables[j].sym for j in known] + [lookup_param(h) for h in assumed]
+        ovals = list(known.values()) + [ca.SX(0.0)] * len(assumed)
+        osyms += [lookup_param(h) for h in signs]
+        ovals += [sg * ca.fabs(lookup_param(h)) for h, sg in signs.items()]
+        ders = [simple.variables[j].info._der.sym for j in known if simple.variables[j].info._der is not None]
+        osyms += ders
+        ovals += [ca.SX(0.0)] * len(ders)
+        eqs[r] = ca.substitute([eqs[r]], [ca.vertcat(*osyms)], [ca.vertcat(*ovals)])[0]
+    if not _regular(simple, [eqs[r] for r in alive], known):
+        return None
+    used_rows = set(range(len(eqs))) - set(alive)
+    return known, used_rows, assumed, signs
+
+
+def zero_geometry() -> bool:
+    """True if ``FLEXLIB_ZERO_GEOMETRY=1``: zero-valued frame parameters may be assumed (see the module doc)."""
+    return os.environ.get("FLEXLIB_ZERO_GEOMETRY", "") == "1"
+
+
+def _frame_parameters(simple: SimpleSystem) -> set[int]:
+    """Hashes of the parameters of components with a 3D frame (over-determined connector): joint axes,
+    rod vectors, centres of mass, inertia tensors, gravity — the parameters that make a mechanism planar."""
+    from flexlib.core.component import Connector
+
+    out = set()
+    frame_owner: dict[int, bool] = {}
+    for q in simple.flat.parameters:
+        key = id(q.node)
+        if key not in frame_owner:
+            frame_owner[key] = any(isinstance(c, Connector) and c.overdetermined for c in q.node._children.values())
+        if frame_owner[key]:
+            out.add(q.sym.element_hash())
+    return out
+
+
+def _sign_rewrites(eqs: list[ca.SX], alive: list[int], geometric: set[int], values: dict[int, float],
+                   signs: dict[int, float]) -> tuple[list[ca.SX], list[ca.SX]]:
+    """``p → sign(p)·|p|`` for the non-zero frame parameters that appear as ``|p|`` (the norm of an axis
+    with two components at zero): ``p/|p|`` becomes exactly ±1, so a planar rotation's out-of-plane
+    entries become literal 0 and 1. Records the sign as an assumption."""
+    rows = [eqs[r] for r in alive]
+    if not rows:
+        return [], []
+    vec = ca.vertcat(*rows)
+    syms = ca.symvar(vec)
+    f = ca.Function("scan", [ca.vertcat(*syms)], [vec])
+    holds: dict[int, int] = {}
+    found: set[int] = set()
+    for k in range(f.n_instructions()):
+        op = f.instruction_id(k)
+        out = f.instruction_output(k)
+        if op == ca.OP_FABS:
+            j = holds.get(f.instruction_input(k)[0])
+            if j is not None:
+                found.add(j)
+        for o in out:
+            holds.pop(o, None)
+        if op == ca.OP_INPUT:
+            holds[out[0]] = f.instruction_input(k)[1]
+    old, new = [], []
+    for j in sorted(found):
+        p = syms[j]
+        h = p.element_hash()
+        if h in signs or h not in geometric or values.get(h, 0.0) == 0.0:
+            continue
+        signs[h] = float(np.sign(values[h]))
+        old.append(p)
+        new.append(signs[h] * ca.fabs(p))
+    return old, new
+
+
+def _zero_solve(solver: _Solver, e: ca.SX, zero_syms: dict[int, ca.SX],
+                scalar: set[int]) -> tuple[int, ca.SX, list[int]] | None:
+    """Solve row ``e`` with zero-valued frame parameters set to 0, assuming as few of them as needed
+    (scalar parameters such as gravity or a mass are released first, then vector and tensor entries)."""
+    present = [s for s in ca.symvar(e) if s.element_hash() in zero_syms]
+    if not present:
+        return None
+
+    def attempt(zs: list[ca.SX]) -> tuple[int, ca.SX] | None:
+        return solver.solve(ca.substitute(e, ca.vertcat(*zs), ca.SX.zeros(len(zs)))) if zs else None
+
+    res = attempt(present)
+    if res is None:
+        return None
+    need = sorted(present, key=lambda z: z.element_hash() not in scalar)
+    for z in list(need):
+        rest = [w for w in need if w.element_hash() != z.element_hash()]
+        trial = attempt(rest)
+        if trial is not None and trial[0] == res[0]:
+            need, res = rest, trial
+    return res[0], res[1], [s.element_hash() for s in need]
+
+
+def _substitute_rows(eqs: list[ca.SX], alive: list[int], old: list[ca.SX], new: list[ca.SX], dirty: set[int]) -> None:
+    """Substitute ``old → new`` in the alive rows that depend on ``old``; mark them dirty."""
+    if not alive:
+        return
+    vec = ca.vertcat(*[eqs[r] for r in alive])
+    osym = ca.vertcat(*old)
+    spj = ca.jacobian_sparsity(vec, osym)
+    touched = sorted(set(spj.get_triplet()[0]))
+    if not touched:
+        return
+    sub = ca.substitute([ca.vertcat(*[eqs[alive[j]] for j in touched])], [osym], [ca.vertcat(*new)])[0]
+    for i, j in enumerate(touched):
+        eqs[alive[j]] = sub[i]
+        dirty.add(alive[j])
+
+
+def _regular(simple: SimpleSystem, rows: list[ca.SX], known: dict[int, ca.SX]) -> bool:
+    """True if the remaining rows match the remaining unknowns perfectly (derivatives count for their variable)."""
+    rest = [k for k in range(len(simple.variables)) if k not in known]
+    if len(rows) != len(rest):
+        return False
+    if not rows:
+        return True
+    cols, owner = [], []
+    for j, k in enumerate(rest):
+        v = simple.variables[k]
+        cols.append(v.sym)
+        owner.append(j)
+        if v.info._der is not None:
+            cols.append(v.info._der.sym)
+            owner.append(j)
+    spj = ca.jacobian_sparsity(ca.vertcat(*rows), ca.vertcat(*cols))
+    r_idx, c_idx = spj.get_triplet()
+    inc = sp.csr_matrix((np.ones(len(r_idx)), (np.asarray(r_idx, dtype=int),
+                                                np.asarray(owner, dtype=int)[np.asarray(c_idx, dtype=int)])),
+                        shape=(len(rows), len(rest)))
+    row_match, _ = matching(inc)
+    return bool(np.all(row_match >= 0))
+
+
+def _substituter(old: list[ca.SX], new: list[ca.SX]):
+    o, n = ca.vertcat(*old), ca.vertcat(*new)
+
+    def subst(exprs: list[ca.SX]) -> list[ca.SX]:
+        if not exprs or not old:
+            return list(exprs)
+        out = ca.substitute([ca.vertcat(*exprs)], [o], [n])[0]
+        return [out[k] for k in range(out.numel())]
+
+    return subst
+
+
+def _replace(simple: SimpleSystem, keep_rows: Iterable[int], drop_vars: set[int], old: list[ca.SX],
+             new: list[ca.SX], **extra) -> SimpleSystem:
+    subst = _substituter(old, new)
+    kept = [simple.equations[r] for r in keep_rows]
+    equations = [dataclasses.replace(e, expr=x) for e, x in zip(kept, subst([e.expr for e in kept]), strict=True)]
+    variables = [v for k, v in enumerate(simple.variables) if k not in drop_vars]
+    names = list(simple.outputs)
+    outputs = dict(zip(names, subst([simple.outputs[n] for n in names]), strict=True))
+    cexprs = subst([c.expr for c in simple.conditions])
+    conditions = [dataclasses.replace(c, expr=x) for c, x in zip(simple.conditions, cexprs, strict=True)]
+    rexprs = subst([i for _, i in simple.relations])
+    relations = [(rel, x) for (rel, _), x in zip(simple.relations, rexprs, strict=True)]
+    dropped = {simple.variables[k].sym.element_hash() for k in drop_vars}
+    rk = [h for h in simple.der_rules if h not in dropped]
+    rules = dict(zip(rk, subst([simple.der_rules[h] for h in rk]), strict=True))
+    return dataclasses.replace(simple, variables=variables, equations=equations, outputs=outputs,
+                               conditions=conditions, relations=relations, der_rules=rules, **extra)
+
+
+def _apply(simple: SimpleSystem, known: dict[int, ca.SX], rows: set[int], assumed: set[int],
+           signs: dict[int, float]) -> SimpleSystem:
+    old, new = [], []
+    zero_old = [lookup_param(h) for h in assumed]
+    sign_old = [lookup_param(h) for h in signs]
+    sign_new = [sg * ca.fabs(p) for p, sg in zip(sign_old, signs.values(), strict=True)]
+    for k, val in known.items():
+        v = simple.variables[k]
+        old.append(v.sym)
+        new.append(val)
+        if v.info._der is not None:
+            old.append(v.info._der.sym)
+            new.append(ca.SX(0.0))
+    # values may contain assumed parameters only through rows solved before the assumption: set them to 0
+    if zero_old:
+        zsub = _substituter(zero_old, [ca.SX(0.0)] * len(zero_old))
+        new = zsub(new)
+        old += zero_old
+        new += [ca.SX(0.0)] * len(zero_old)
+    if sign_old:
+        new = _substituter(sign_old, sign_new)(new)
+        old += sign_old
+        new += sign_new
+    names = {q.sym.element_hash(): q.name for q in simple.flat.parameters}
+    assumed_names = dict(simple.assumed)
+    assumed_names.update({names[h]: "= 0" for h in assumed if h in names})
+    assumed_names.update({names[h]: "> 0" if sg > 0 else "< 0" for h, sg in signs.items() if h in names})
+    keep = [r for r in range(len(simple.equations)) if r not in rows]
+    return _replace(simple, keep, set(known), old, new, assumed=dict(sorted(assumed_names.items())),
+                    n_constants=simple.n_constants + len(known))
+
+
+def lookup_param(h: int) -> ca.SX | None:
+    """Parameter symbol by element hash (None if unknown)."""
+    info = lookup_info(h)
+    return None if info is None or info.kind != "parameter" else info.sym
+
+
+def lookup_info(h: int):
+    from flexlib.core.variables import _REGISTRY
+
+    return _REGISTRY.get(h)
+
+
+def _holds(condition: str, value: float) -> bool:
+    return {"= 0": value == 0.0, "> 0": value > 0.0, "< 0": value < 0.0}[condition]
+
+
+def assumptions_hold(assumed: dict[str, str], root: Component) -> bool:
+    """True if every parameter condition a (cached) build assumed holds for the values of model ``root``."""
+    if not assumed:
+        return True
+    from flexlib.compile.cache import gather_values
+
+    values, _ = gather_values(root)
+    return all(_holds(cond, values[name]) for name, cond in assumed.items() if name in values)
+
+
+def check_assumed(assumed: dict[str, str], names: list[str], vec: np.ndarray, model: str = "") -> None:
+    """Raise :class:`~flexlib.errors.StructureChangedError` if a parameter violates a build assumption.
+
+    Parameters
+    ----------
+    assumed : dict
+        Parameter name → condition the build relied on (``"= 0"``, ``"> 0"``, ``"< 0"``).
+    names : list of str
+        Names of the entries of ``vec``.
+    vec : ndarray
+        The parameter values of a run.
+    model : str
+        Model name for the message.
+    """
+    if not assumed:
+        return
+    index = {n: k for k, n in enumerate(names)}
+    bad = [(n, float(vec[index[n]]), c) for n, c in assumed.items() if n in index and not _holds(c, vec[index[n]])]
+    if bad:
+        from flexlib.errors import StructureChangedError
+
+        what = ", ".join(f"{n} = {x:g} (the build assumed {n} {c})" for n, x, c in bad)
+        raise StructureChangedError(
+            f"model {model}: {what}: the build eliminated unknowns that this parameter fixes (e.g. the "
+            "out-of-plane motion of a planar mechanism), so a run cannot change it; set the value on the "
+            "model and create a new Simulation")
