@@ -143,7 +143,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                 continue  # rows copied; the step (and any event it ended on) is reported by the next call
             if code == FD_TINY:
                 raise SolverError(f"IDA step size underflow at t = {t:.10g} s (the model may be stiff "
-                                  "beyond repair, or discontinuous without an event)")
+                                  "beyond repair, or discontinuous without an event)" + _dominant(model, drv))
             y_now = yp_now = None
             event_kind = None
             changed: list[int] = []
@@ -263,11 +263,15 @@ def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, 
 
 def _failure_message(model: CompiledModel, drv: Driver, code: int, t: float, top: int = 3) -> str:
     """IDA's failure, with the unknowns whose weighted local error estimates dominate."""
-    msg = f"IDA failed at t = {t:.10g} s: {drv.flag_name(code)} (status {code})"
+    return f"IDA failed at t = {t:.10g} s: {drv.flag_name(code)} (status {code})" + _dominant(model, drv, top)
+
+
+def _dominant(model: CompiledModel, drv: Driver, top: int = 3) -> str:
+    """``"; largest weighted local error estimates: x (…), …"`` from IDA's last step, or ``""``."""
     ewt, ele = drv.diagnostics()
     w = np.abs(ewt * ele)
-    if np.all(np.isfinite(w)) and w.max(initial=0.0) > 0.0:
-        order = np.argsort(w)[::-1][:top]
-        names = ", ".join(f"{model.y_names[i]} ({w[i]:.3g})" for i in order if w[i] > 0.0)
-        msg += f"; largest weighted local error estimates: {names}"
-    return msg
+    if not (np.all(np.isfinite(w)) and w.max(initial=0.0) > 0.0):
+        return ""
+    order = np.argsort(w)[::-1][:top]
+    names = ", ".join(f"{model.y_names[i]} ({w[i]:.3g})" for i in order if w[i] > 0.0)
+    return f"; largest weighted local error estimates: {names}"
