@@ -23,7 +23,8 @@ Python is called back only
 At a failure the rows produced so far are kept, and the message names the unknowns with the
 largest weighted local error estimates (``IDAGetEstLocalErrors`` × ``IDAGetErrWeights``), which
 scikit-sundae does not expose. ``stats`` gains the split of the integration wall time:
-``wall_model`` (residual, Jacobian and indicator evaluations), ``wall_ida`` (the rest of the C
+``wall_model`` (residual, Jacobian and indicator evaluations; also ``wall_res``, ``wall_jac``,
+``wall_root`` separately), ``wall_ida`` (the rest of the C
 step loop: IDA, linear algebra, interpolation) and ``wall_python``.
 """
 
@@ -237,6 +238,9 @@ def _collect(stats: dict[str, Any], parts: list[dict[str, float]], wall: float) 
     model_s = sum(s["t_res"] + s["t_jac"] + s["t_root"] for s in parts)
     advance_s = sum(s["t_advance"] for s in parts)
     stats["wall_model"] = model_s
+    stats["wall_res"] = sum(s["t_res"] for s in parts)
+    stats["wall_jac"] = sum(s["t_jac"] for s in parts)
+    stats["wall_root"] = sum(s["t_root"] for s in parts)
     stats["wall_ida"] = max(advance_s - model_s, 0.0)
     stats["wall_python"] = max(wall - advance_s, 0.0)
 

@@ -28,7 +28,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib.errors import FlexlibError
+from flexlib.errors import FlexlibError, NativeSolverError
 
 __all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "Driver", "NativeUnavailable", "driver_library"]
 
@@ -45,8 +45,8 @@ _ip = np.ctypeslib.ndpointer(dtype=np.int32, flags="C_CONTIGUOUS")
 _lp = np.ctypeslib.ndpointer(dtype=np.int64, flags="C_CONTIGUOUS")
 
 
-class NativeUnavailable(FlexlibError):
-    """The native driver cannot be built or loaded here (no C compiler, no bundled SUNDIALS)."""
+#: The driver cannot be built or set up here (kept as a short alias).
+NativeUnavailable = NativeSolverError
 
 
 def _sundials_libs() -> list[Path]:
