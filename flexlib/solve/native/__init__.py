@@ -203,6 +203,8 @@ class Driver:
                          dtype=np.int64)
         fid = ctypes.cast(_casadi().casadi_c_eval_id, ctypes.c_void_p).value if any(
             ev[k].symbol is None for k in names) else None
+        self._mems = [(ev[k].id, int(m)) for k, m in zip(("res", "jac", "zc"), mems, strict=True)
+                      if k in names and ev[k].symbol is None]
         err = ctypes.create_string_buffer(128)
         diff = np.asarray(model.differential, dtype=float)
         self._ptr = lib.fd_create(model.n, len(self.row), self.colind, self.row, int(dense), n_roots,
@@ -220,6 +222,10 @@ class Driver:
         if ptr:
             self._lib.fd_free(ptr)
             self._ptr = None
+            release = _CASADI[0].casadi_c_release_id if _CASADI else None
+            for fid, mem in getattr(self, "_mems", []):  # CasADi memory slots checked out for this driver
+                if release is not None:
+                    release(fid, mem)
 
     def reinit(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
         """Restart IDA at ``t`` (after an event)."""
