@@ -121,3 +121,8 @@ class ResultKeyError(FlexlibError, KeyError):
 
 class EmptyResultError(FlexlibError, ValueError):
     """A value was asked of a result without rows (a run that failed or was interrupted at its start)."""
+
+
+class NativeSolverError(FlexlibError, RuntimeError):
+    """``solver="ida-native"`` cannot be used here: no C compiler for its driver, the SUNDIALS libraries bundled
+    with scikit-sundae are missing, or the driver failed to compile or to set up IDA. The other solvers still work."""

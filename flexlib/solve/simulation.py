@@ -280,13 +280,15 @@ class Simulation:
             Progress bar (default: shown for runs longer than about 2 s).
         result_file : str or os.PathLike, optional
             Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM).
-        solver : {"ida", "casadi-idas"}
+        solver : {"ida", "casadi-idas", "ida-native"}
             ``"ida"``: SUNDIALS IDA through scikit-sundae (default; every step, progress bar).
             ``"casadi-idas"``: CasADi's built-in IDAS, all in C — faster for small models, same
             results and events (see ``flexlib/solve/casadi_idas.py``).
+            ``"ida-native"``: the same SUNDIALS IDA as ``"ida"``, stepped in C with the model evaluated in C;
+            Python runs only at outputs and events (see ``flexlib/solve/ida_native.py``).
         dynamic_states : bool
             Re-select the states during the run when the selected dummy-derivative blocks become
-            ill-conditioned (default backend only; see ``flexlib/solve/state_selection.py``).
+            ill-conditioned (``ida`` and ``ida-native``; see ``flexlib/solve/state_selection.py``).
 
         Returns
         -------
@@ -328,8 +330,10 @@ class Simulation:
                     stale = True
                     raise _Rebuild
                 extra: dict[str, Any] = {}
-                if opts.solver == "ida":
+                if opts.solver in ("ida", "ida-native"):
                     backend = integrate
+                    if opts.solver == "ida-native":
+                        from flexlib.solve.ida_native import integrate_native as backend
                     if m.has_state_choice and opts.dynamic_states:
                         extra["monitor"] = self._monitor()
                 else:

@@ -1,0 +1,281 @@
+"""Integrator backend ``solver="ida-native"``: SUNDIALS IDA driven from C, Python only at outputs and events.
+
+:func:`integrate_native` has the signature, semantics and return type of
+:func:`flexlib.solve.ida.integrate` (same :class:`~flexlib.solve.ida.Trajectory`, stats keys,
+errors, events), but the step loop runs in C (``flexlib/solve/native/ida_driver.c``): the same
+SUNDIALS 7.9 IDA that scikit-sundae bundles, with the residual, the iteration matrix (CSC
+nonzeros, SuperLU_MT above :data:`~flexlib.solve.ida.DENSE_MAX` unknowns, dense LU below) and
+the event indicators evaluated in C — the model's generated library when it has one, CasADi's
+SX virtual machine through its C API otherwise. No Python runs per residual, Jacobian or step.
+
+Python is called back only
+
+* when a chunk of output rows is ready (IDA's own interpolation onto the output grid, or every
+  internal step when there is no grid), copied from a buffer in one block;
+* at time events (IDA's ``tstop``) and state events (IDA's root finding), which are handled
+  exactly as in :mod:`flexlib.solve.ida` (:func:`~flexlib.solve.ida._event_iteration`,
+  :func:`~flexlib.solve.ida.next_time_event`, the sign check of the state relations for two
+  steps after a restart) followed by ``IDAReInit``;
+* every :data:`CHUNK_STEPS` steps, to show progress, enforce ``max_steps`` and let Ctrl-C/SIGTERM in;
+* after every step while a state-selection ``monitor`` is active (as in the default backend,
+  which costs a Python round trip per step: pass ``dynamic_states=False`` for full speed).
+
+At a failure the rows produced so far are kept, and the message names the unknowns with the
+largest weighted local error estimates (``IDAGetEstLocalErrors`` × ``IDAGetErrWeights``), which
+scikit-sundae does not expose. ``stats`` gains the split of the integration wall time:
+``wall_model`` (residual, Jacobian and indicator evaluations; also ``wall_res``, ``wall_jac``,
+``wall_root`` separately), ``wall_ida`` (the rest of the C
+step loop: IDA, linear algebra, interpolation) and ``wall_python``.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from flexlib.compile.codegen import CompiledModel
+from flexlib.errors import SimulationInterrupted, SolverError
+from flexlib.solve.ida import (
+    DENSE_MAX,
+    Progress,
+    Trajectory,
+    _event_iteration,
+    absolute_tolerances,
+    next_time_event,
+)
+from flexlib.solve.initialization import Initializer
+from flexlib.solve.native import FD_CHUNK, FD_FULL, FD_ROOT, FD_TINY, FD_TSTOP, Driver, evaluators
+
+__all__ = ["CHUNK_STEPS", "integrate_native"]
+
+#: The C loop returns to Python at least every this many steps (progress bar, Ctrl-C, ``max_steps``).
+CHUNK_STEPS = 256
+#: Output rows buffered in C before Python copies them (per driver, at most ~8 MB per array).
+ROW_BUFFER_VALUES = 1_000_000
+
+
+def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
+                     t0: float, t_end: float, t_out: np.ndarray | None, *, rtol: float = 1e-6, atol: float = 1e-8,
+                     max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None,
+                     monitor: Any = None) -> Trajectory:
+    """Integrate from consistent ``y0, yp0`` at ``t0`` to ``t_end`` with the C-driven IDA.
+
+    Parameters
+    ----------
+    model : CompiledModel
+        The compiled model (generated C is used when ``model.library`` exists).
+    init : Initializer
+        Re-initialisation at events.
+    p : ndarray
+        Parameters followed by relation values (updated in place at events; the C driver reads this
+        array's memory, so it must stay the same array).
+    t_out : ndarray or None
+        Output times [s]; None records every internal step.
+    rtol, atol : float
+        Relative and absolute tolerance (``atol`` is scaled by each variable's nominal value).
+    max_step : float
+        Maximum step size [s] (0: unlimited).
+    max_steps : int
+        Maximum number of internal steps for the whole run.
+    progress : bool or None
+        Show a progress bar; None shows one when the run takes longer than 2 s.
+    monitor : StateSelectionMonitor, optional
+        Dynamic state selection, checked after every step (the C loop then returns every step).
+
+    Returns
+    -------
+    Trajectory
+        With ``status`` ``"success"``; failures raise :class:`SolverError` with ``.result`` the
+        trajectory up to the failure (set by the caller from ``err.trajectory``).
+    """
+    if p.dtype != np.float64 or not p.flags.c_contiguous:
+        raise TypeError("integrate_native: p must be a C-contiguous float64 array (updated in place)")
+    traj = Trajectory(models=[model])
+    n_par = model.n_params
+    stats: dict[str, Any] = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
+                             "state_switches": 0}
+    traj.stats = stats
+    grid = None
+    if t_out is not None:
+        grid = np.asarray(t_out, dtype=float)
+        grid = np.ascontiguousarray(grid[grid > t0])
+    drv, state_rel = _make_driver(model, p, rtol, atol, max_step, t0, y0, yp0)
+    drv.set_grid(grid)
+    retired: list[dict[str, float]] = []  # counters of drivers replaced at state switches
+    traj.add(t0, y0, yp0, p[n_par:].copy())
+    cap = max(16, ROW_BUFFER_VALUES // max(model.n, 1))
+    if grid is not None:
+        cap = max(1, min(cap, len(grid)))
+    T, Y, YP = np.empty(cap), np.empty((cap, model.n)), np.empty((cap, model.n))
+    t = t0
+    wall0 = _time.perf_counter()
+    bar = Progress(model.name, t0, t_end, progress)
+    watch = 2 if len(state_rel) else 0
+    ind_fn = model.function("ind")
+    last_event_t, burst = -np.inf, 0
+    t_event, which = next_time_event(model, p, t, t_end)
+    use_monitor = monitor is not None and model.has_state_choice
+
+    def flush(k: int) -> None:
+        if k:
+            rel = p[n_par:].copy()
+            traj.t.extend(T[:k].tolist())
+            traj.y.extend(Y[:k].copy())
+            traj.yp.extend(YP[:k].copy())
+            traj.rel.extend([rel] * k)
+            traj.seg.extend([len(traj.models) - 1] * k)
+
+    try:
+        while t < t_end:
+            tstop = min(t_end, t_event)
+            chunk = 1 if (watch > 0 or use_monitor) else CHUNK_STEPS
+            chunk = max(1, min(chunk, max_steps - stats["steps"]))
+            code, k, t, nsteps = drv.advance(tstop, chunk, T, Y, YP)
+            stats["steps"] += nsteps
+            flush(k)
+            if code < 0:
+                raise SolverError(_failure_message(model, drv, code, t))
+            if stats["steps"] % CHUNK_STEPS < nsteps or code == FD_CHUNK:
+                bar.update(t)
+            if code == FD_FULL:
+                continue  # rows copied; the step (and any event it ended on) is reported by the next call
+            if code == FD_TINY:
+                raise SolverError(f"IDA step size underflow at t = {t:.10g} s (the model may be stiff "
+                                  "beyond repair, or discontinuous without an event)" + _dominant(model, drv))
+            y_now = yp_now = None
+            event_kind = None
+            changed: list[int] = []
+            triggered: list[tuple[int, bool]] = []
+            time_hit = bool(which) and code in (FD_TSTOP, FD_ROOT) and t >= t_event
+            if code == FD_ROOT:
+                info = drv.roots()
+                triggered = [(int(state_rel[j]), bool(info[j] > 0)) for j in np.flatnonzero(info)]
+                event_kind = "state"
+            if time_hit:  # also when a state event is found exactly at the time event
+                ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
+                triggered += [(k, bool(ab[k, 0] > 0)) for k in which]
+                event_kind = event_kind or "time"
+            elif code != FD_ROOT and watch > 0:
+                # IDA ignores a root function that is zero at a restart until it leaves zero, so a relation
+                # that re-crosses at once (sliding) is caught by checking its sign (as the default backend)
+                watch -= 1
+                y_now, yp_now = drv.state()
+                z = np.asarray(ind_fn(t, y_now, yp_now, p)).ravel()
+                triggered = [(int(k), model.relations[k].value(z[k])) for k in state_rel
+                             if float(model.relations[k].value(z[k])) != p[n_par + k]]
+                event_kind = "state" if triggered else None
+            if event_kind:
+                changed = [k for k, v in triggered if p[n_par + k] != float(v)]
+                if changed:
+                    if y_now is None:
+                        y_now, yp_now = drv.state()
+                    traj.add(t, y_now, yp_now, p[n_par:].copy())
+                    y_now, yp_now = _event_iteration(model, init, p, t, y_now, yp_now, triggered)
+                    stats["state_events" if event_kind == "state" else "time_events"] += 1
+                    stats["restarts"] += 1
+                    texts = ", ".join(model.relations[k].text for k, _ in triggered)
+                    traj.events.append((t, f"{event_kind} event: {texts}"))
+                    drv.reinit(t, y_now, yp_now)
+                    traj.add(t, y_now, yp_now, p[n_par:].copy())
+                    watch = 2 if len(state_rel) else 0
+                    burst = burst + 1 if t - last_event_t <= 1e-10 * max(1.0, abs(t)) else 0
+                    last_event_t = t
+                    if burst > 100:
+                        raise SolverError(
+                            f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
+                if time_hit:
+                    t_event, which = next_time_event(model, p, t, t_end)
+            if use_monitor:
+                if y_now is None:
+                    y_now, yp_now = drv.state()
+                if monitor.needs_switch(model, t, y_now, yp_now, p):
+                    switched = monitor.switch(model, t, y_now, yp_now, p)
+                    if switched is not None:
+                        model, y1, yp1 = switched
+                        init = Initializer(model)
+                        y1, yp1 = init.reinit(t, y1, yp1, p)
+                        pos = drv.grid_pos()
+                        retired.append(drv.stats())
+                        drv, state_rel = _make_driver(model, p, rtol, atol, max_step, t, y1, yp1)
+                        if grid is not None:
+                            grid = np.ascontiguousarray(grid[pos:])
+                        drv.set_grid(grid)
+                        Y, YP = np.empty((cap, model.n)), np.empty((cap, model.n))
+                        ind_fn = model.function("ind")
+                        traj.models.append(model)
+                        traj.add(t, y1, yp1, p[n_par:].copy())
+                        stats["state_switches"] += 1
+                        states = ", ".join(n for n, d in zip(model.y_names, model.differential, strict=True) if d)
+                        traj.events.append((t, f"state selection: states are now {states}"))
+                        watch = 2 if len(state_rel) else 0
+                        use_monitor = model.has_state_choice
+            if stats["steps"] >= max_steps and t < t_end:
+                raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
+    except KeyboardInterrupt:
+        traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
+        raise SimulationInterrupted(traj.message, traj) from None
+    except SolverError as err:
+        traj.status, traj.message = "failed", str(err)
+        err.result = traj
+        raise
+    except Exception as err:  # e.g. an event iteration that raises
+        traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
+        raise SolverError(traj.message, traj) from err
+    finally:
+        _collect(stats, [*retired, drv.stats()], _time.perf_counter() - wall0)
+        bar.close()
+    stats["wall_integrate"] = _time.perf_counter() - wall0
+    return traj
+
+
+def _collect(stats: dict[str, Any], parts: list[dict[str, float]], wall: float) -> None:
+    """Evaluation counts and the wall-time split (model / IDA / Python) over all drivers of the run."""
+    stats["nfev"] = sum(int(s["nfev"]) for s in parts)
+    stats["njev"] = sum(int(s["njev"]) for s in parts)
+    model_s = sum(s["t_res"] + s["t_jac"] + s["t_root"] for s in parts)
+    advance_s = sum(s["t_advance"] for s in parts)
+    stats["wall_model"] = model_s
+    stats["wall_res"] = sum(s["t_res"] for s in parts)
+    stats["wall_jac"] = sum(s["t_jac"] for s in parts)
+    stats["wall_root"] = sum(s["t_root"] for s in parts)
+    stats["wall_ida"] = max(advance_s - model_s, 0.0)
+    stats["wall_python"] = max(wall - advance_s, 0.0)
+
+
+def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, max_step: float, t0: float,
+                 y0: np.ndarray, yp0: np.ndarray) -> tuple[Driver, np.ndarray]:
+    """A C driver for ``model`` (indicators of the state relations as IDA root functions)."""
+    state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
+    zc = None
+    if len(state_rel):
+        cached = model._functions.get("ida_native")
+        zc = cached["zc_fn"] if cached is not None and cached.get("zc_fn") is not None else None
+        if zc is None:
+            ind = model.sx_function("ind")
+            t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+            pp = ca.SX.sym("p", len(p))
+            z = ind(t, y, yp, pp)
+            zc = ca.Function("flexlib_zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
+    ev = evaluators(model, zc)
+    drv = Driver(model, p, ev, len(state_rel), model.n <= DENSE_MAX, rtol, absolute_tolerances(model, atol),
+                 max_step, t0, y0, yp0)
+    return drv, state_rel
+
+
+def _failure_message(model: CompiledModel, drv: Driver, code: int, t: float, top: int = 3) -> str:
+    """IDA's failure, with the unknowns whose weighted local error estimates dominate."""
+    return f"IDA failed at t = {t:.10g} s: {drv.flag_name(code)} (status {code})" + _dominant(model, drv, top)
+
+
+def _dominant(model: CompiledModel, drv: Driver, top: int = 3) -> str:
+    """``"; largest weighted local error estimates: x (…), …"`` from IDA's last step, or ``""``."""
+    ewt, ele = drv.diagnostics()
+    w = np.abs(ewt * ele)
+    if not (np.all(np.isfinite(w)) and w.max(initial=0.0) > 0.0):
+        return ""
+    order = np.argsort(w)[::-1][:top]
+    names = ", ".join(f"{model.y_names[i]} ({w[i]:.3g})" for i in order if w[i] > 0.0)
+    return f"; largest weighted local error estimates: {names}"

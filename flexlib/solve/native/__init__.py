@@ -1,0 +1,283 @@
+"""The C driver of the ``ida-native`` backend: SUNDIALS IDA stepped in C (``ida_driver.c``).
+
+The driver is compiled once per machine (and per scikit-sundae install) with ``gcc -O2`` into
+:func:`flexlib.compile.cache.cache_dir` ``/native/``, keyed by the sha256 of its source, the
+SUNDIALS library paths and the flags, and written atomically (temporary file, then
+``os.replace``). It links against the SUNDIALS 7.9 shared libraries that scikit-sundae bundles
+(full paths plus an rpath, so it needs no headers and no SUNDIALS install of its own: the
+prototypes are declared in the C source from ``sksundae/c_*.pxd``).
+
+Model functions are evaluated from C as well: the generated library's ``flexlib_res`` /
+``flexlib_jac`` symbols when the model has one (``model.library``), otherwise CasADi's SX
+virtual machine through the C API of ``libcasadi.so`` (``casadi_c_push_file`` /
+``casadi_c_eval_id``), which works for every model without gcc per model.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import threading
+from pathlib import Path
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from flexlib.errors import FlexlibError, NativeSolverError
+
+__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "Driver", "NativeUnavailable", "driver_library"]
+
+FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY = 0, 1, 2, 3, 4
+
+_SOURCE = Path(__file__).with_name("ida_driver.c")
+_SUNDIALS = ("core", "nvecserial", "sunmatrixdense", "sunmatrixsparse", "sunlinsoldense", "sunlinsolsuperlumt", "ida")
+_LOCK = threading.Lock()
+_LIB: list[ctypes.CDLL] = []
+_CASADI: list[ctypes.CDLL] = []
+
+_dp = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
+_ip = np.ctypeslib.ndpointer(dtype=np.int32, flags="C_CONTIGUOUS")
+_lp = np.ctypeslib.ndpointer(dtype=np.int64, flags="C_CONTIGUOUS")
+
+
+#: The driver cannot be built or set up here (kept as a short alias).
+NativeUnavailable = NativeSolverError
+
+
+def _sundials_libs() -> list[Path]:
+    import sksundae
+
+    libdir = Path(sksundae.__file__).resolve().parent.parent / "scikit_sundae.libs"
+    paths = []
+    for name in _SUNDIALS:
+        found = sorted(libdir.glob(f"libsundials_{name}-*.so*"))
+        if not found:
+            raise NativeUnavailable(f"SUNDIALS library 'libsundials_{name}' not found in {libdir} "
+                                    "(the ida-native backend links against scikit-sundae's bundled SUNDIALS)")
+        paths.append(found[0])
+    return paths
+
+
+def driver_library() -> Path:
+    """Path of the compiled driver (compiled now if not cached)."""
+    from flexlib.compile.cache import cache_dir
+
+    libs = _sundials_libs()
+    flags = ["-O2", "-shared", "-fPIC"]
+    key = hashlib.sha256(_SOURCE.read_bytes() + "\n".join(map(str, [*libs, *flags])).encode()).hexdigest()[:20]
+    out_dir = cache_dir() / "native"
+    target = out_dir / f"ida_driver_{key}.so"
+    if target.exists():
+        return target
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if cc is None:
+        raise NativeUnavailable("solver='ida-native' needs a C compiler (gcc) on PATH to build its driver once")
+    out_dir.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=target.name + ".", suffix=".tmp", dir=out_dir)
+    os.close(fd)
+    try:
+        cmd = [cc, *flags, str(_SOURCE), "-o", tmp, *map(str, libs), f"-Wl,-rpath,{libs[0].parent}", "-lm"]
+        proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        if proc.returncode != 0:
+            raise NativeUnavailable(f"compiling the ida-native driver failed:\n{proc.stderr[-2000:]}")
+        os.replace(tmp, target)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return target
+
+
+def _lib() -> ctypes.CDLL:
+    with _LOCK:
+        if _LIB:
+            return _LIB[0]
+        lib = ctypes.CDLL(str(driver_library()))
+        vp, i, d, L = ctypes.c_void_p, ctypes.c_int, ctypes.c_double, ctypes.c_long
+        lib.fd_create.restype = vp
+        lib.fd_create.argtypes = [i, i, _ip, _ip, i, i, vp, ctypes.POINTER(vp), vp, _ip, _ip, _lp, d, _dp, _dp, d,
+                                  d, _dp, _dp, ctypes.c_char_p]
+        lib.fd_free.argtypes = [vp]
+        lib.fd_free.restype = None
+        lib.fd_reinit.argtypes = [vp, d, _dp, _dp]
+        lib.fd_reinit.restype = i
+        lib.fd_set_grid.argtypes = [vp, vp, i]
+        lib.fd_set_grid.restype = None
+        lib.fd_grid_pos.argtypes = [vp]
+        lib.fd_grid_pos.restype = i
+        lib.fd_advance.argtypes = [vp, d, L, _dp, _dp, _dp, i, ctypes.POINTER(i), ctypes.POINTER(d),
+                                   ctypes.POINTER(L)]
+        lib.fd_advance.restype = i
+        lib.fd_state.argtypes = [vp, _dp, _dp]
+        lib.fd_state.restype = None
+        lib.fd_roots.argtypes = [vp, _ip]
+        lib.fd_roots.restype = None
+        lib.fd_diagnostics.argtypes = [vp, _dp, _dp]
+        lib.fd_diagnostics.restype = i
+        lib.fd_stats.argtypes = [vp, _lp, _dp]
+        lib.fd_stats.restype = None
+        lib.fd_flag_name.argtypes = [L, ctypes.c_char_p, i]
+        lib.fd_flag_name.restype = None
+        _LIB.append(lib)
+        return lib
+
+
+def _casadi() -> ctypes.CDLL:
+    with _LOCK:
+        if not _CASADI:
+            lib = ctypes.CDLL(str(Path(ca.__file__).parent / "libcasadi.so"), mode=ctypes.RTLD_GLOBAL)
+            lib.casadi_c_push_file.argtypes = [ctypes.c_char_p]
+            lib.casadi_c_n_loaded.restype = ctypes.c_int
+            lib.casadi_c_checkout_id.argtypes = [ctypes.c_int]
+            lib.casadi_c_checkout_id.restype = ctypes.c_int
+            _CASADI.append(lib)
+        return _CASADI[0]
+
+
+class Evaluator:
+    """One CasADi function callable from C: a generated symbol or an id of CasADi's C API."""
+
+    def __init__(self, fn: ca.Function, symbol: int | None = None, keep: Any = None) -> None:
+        self.fn = fn
+        self.symbol = symbol  # address of the generated C function, or None for the SX virtual machine
+        self.keep = keep  # the CDLL holding ``symbol``
+        self.sizes = [fn.sz_arg(), fn.sz_res(), fn.sz_iw(), fn.sz_w()]
+        self.id = -1
+        if symbol is None:
+            lib = _casadi()
+            with tempfile.TemporaryDirectory(prefix="flexlib_native_") as tmp:
+                path = os.path.join(tmp, "f.casadi")
+                fn.save(path)
+                with _LOCK:
+                    self.id = lib.casadi_c_n_loaded()
+                    if lib.casadi_c_push_file(path.encode()) != 0:
+                        raise NativeUnavailable(f"casadi_c_push_file failed for function {fn.name()}")
+
+    def checkout(self) -> int:
+        """A memory slot for one driver (0 for generated code)."""
+        return 0 if self.symbol is not None else int(_casadi().casadi_c_checkout_id(self.id))
+
+
+def evaluators(model: Any, zc: ca.Function | None) -> dict[str, Evaluator]:
+    """Evaluators of ``res``, ``jac`` (generated C when the model has a library) and ``zc``; cached on the model."""
+    cached = model._functions.get("ida_native")
+    if cached is not None and cached.get("zc_fn") is zc:
+        return cached["ev"]
+    ev: dict[str, Evaluator] = {}
+    lib_path = model.library
+    if lib_path is not None and Path(lib_path).exists():
+        clib = ctypes.CDLL(lib_path)
+        for name in ("res", "jac"):
+            sym = getattr(clib, f"flexlib_{name}")
+            ev[name] = Evaluator(model.function(name), ctypes.cast(sym, ctypes.c_void_p).value, clib)
+    else:
+        for name in ("res", "jac"):
+            ev[name] = Evaluator(model.sx_function(name))
+    if zc is not None:
+        ev["zc"] = Evaluator(zc)
+    model._functions["ida_native"] = {"ev": ev, "zc_fn": zc}  # type: ignore[assignment]
+    return ev
+
+
+class Driver:
+    """An IDA instance held in C for one model (see ``ida_driver.c``)."""
+
+    def __init__(self, model: Any, p: np.ndarray, ev: dict[str, Evaluator], n_roots: int, dense: bool, rtol: float,
+                 atol: np.ndarray, max_step: float, t0: float, y0: np.ndarray, yp0: np.ndarray) -> None:
+        lib = _lib()
+        self._lib = lib
+        self.n = model.n
+        self.p = p  # the C side reads p's memory: parameters and relation values updated in place at events
+        self._keep = [ev]
+        self.colind = np.ascontiguousarray(model.jac_colind, dtype=np.int32)
+        self.row = np.ascontiguousarray(model.jac_row, dtype=np.int32)
+        names = ["res", "jac", "zc"] if n_roots else ["res", "jac"]
+        fptr = (ctypes.c_void_p * 3)(*[ev[k].symbol if k in ev else None for k in ("res", "jac", "zc")])
+        ids = np.array([ev[k].id if k in names else -1 for k in ("res", "jac", "zc")], dtype=np.int32)
+        mems = np.array([ev[k].checkout() if k in names else 0 for k in ("res", "jac", "zc")], dtype=np.int32)
+        sizes = np.array([s for k in ("res", "jac", "zc") for s in (ev[k].sizes if k in names else [0] * 4)],
+                         dtype=np.int64)
+        fid = ctypes.cast(_casadi().casadi_c_eval_id, ctypes.c_void_p).value if any(
+            ev[k].symbol is None for k in names) else None
+        self._mems = [(ev[k].id, int(m)) for k, m in zip(("res", "jac", "zc"), mems, strict=True)
+                      if k in names and ev[k].symbol is None]
+        err = ctypes.create_string_buffer(128)
+        diff = np.asarray(model.differential, dtype=float)
+        self._ptr = lib.fd_create(model.n, len(self.row), self.colind, self.row, int(dense), n_roots,
+                                  p.ctypes.data, fptr, fid, ids, mems, sizes, rtol,
+                                  np.ascontiguousarray(atol, dtype=float), np.ascontiguousarray(diff), max_step, t0,
+                                  np.ascontiguousarray(y0, dtype=float), np.ascontiguousarray(yp0, dtype=float), err)
+        if not self._ptr:
+            raise NativeUnavailable(f"the ida-native driver could not set up IDA: {err.value.decode()} failed")
+        self.n_roots = n_roots
+        self._grid: np.ndarray | None = None
+        self._nrows, self._tnow, self._steps = ctypes.c_int(), ctypes.c_double(), ctypes.c_long()
+
+    def __del__(self) -> None:
+        ptr = getattr(self, "_ptr", None)
+        if ptr:
+            self._lib.fd_free(ptr)
+            self._ptr = None
+            release = _CASADI[0].casadi_c_release_id if _CASADI else None
+            for fid, mem in getattr(self, "_mems", []):  # CasADi memory slots checked out for this driver
+                if release is not None:
+                    release(fid, mem)
+
+    def reinit(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        """Restart IDA at ``t`` (after an event)."""
+        flag = self._lib.fd_reinit(self._ptr, t, np.ascontiguousarray(y, dtype=float),
+                                   np.ascontiguousarray(yp, dtype=float))
+        if flag != 0:
+            raise FlexlibError(f"IDAReInit failed ({self.flag_name(flag)})")
+
+    def set_grid(self, grid: np.ndarray | None) -> None:
+        """Output times for the following :meth:`advance` calls (None: every step)."""
+        self._grid = None if grid is None else np.ascontiguousarray(grid, dtype=float)
+        g = self._grid
+        self._lib.fd_set_grid(self._ptr, None if g is None else g.ctypes.data, 0 if g is None else len(g))
+
+    def grid_pos(self) -> int:
+        """Number of grid times already written."""
+        return int(self._lib.fd_grid_pos(self._ptr))
+
+    def advance(self, t_stop: float, max_chunk: int, T: np.ndarray, Y: np.ndarray,
+                YP: np.ndarray) -> tuple[int, int, float, int]:
+        """Step towards ``t_stop``; returns (code, rows written, solver time, steps taken)."""
+        code = self._lib.fd_advance(self._ptr, t_stop, max_chunk, T, Y, YP, len(T), ctypes.byref(self._nrows),
+                                    ctypes.byref(self._tnow), ctypes.byref(self._steps))
+        return code, self._nrows.value, self._tnow.value, self._steps.value
+
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        """The solver's solution at its current time."""
+        y, yp = np.empty(self.n), np.empty(self.n)
+        self._lib.fd_state(self._ptr, y, yp)
+        return y, yp
+
+    def roots(self) -> np.ndarray:
+        """IDA's root info of the last root return (+1 rising, -1 falling, 0 none)."""
+        out = np.zeros(max(self.n_roots, 1), dtype=np.int32)
+        self._lib.fd_roots(self._ptr, out)
+        return out[: self.n_roots]
+
+    def diagnostics(self) -> tuple[np.ndarray, np.ndarray]:
+        """IDA's error weights and estimated local errors of the last step."""
+        ewt, ele = np.zeros(self.n), np.zeros(self.n)
+        self._lib.fd_diagnostics(self._ptr, ewt, ele)
+        return ewt, ele
+
+    def stats(self) -> dict[str, float]:
+        """Evaluation counts and seconds spent in C."""
+        c, s = np.zeros(5, dtype=np.int64), np.zeros(4)
+        self._lib.fd_stats(self._ptr, c, s)
+        return {"nfev": int(c[0]), "njev": int(c[1]), "nroot": int(c[2]), "steps": int(c[3]), "nonfinite": int(c[4]),
+                "t_res": float(s[0]), "t_jac": float(s[1]), "t_root": float(s[2]), "t_advance": float(s[3])}
+
+    def flag_name(self, flag: int) -> str:
+        """IDA's name of a return flag."""
+        buf = ctypes.create_string_buffer(64)
+        self._lib.fd_flag_name(flag, buf, 64)
+        return buf.value.decode() or f"flag {flag}"

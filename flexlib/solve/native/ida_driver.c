@@ -1,0 +1,445 @@
+/* flexlib native IDA driver: SUNDIALS IDA stepped in C, model functions evaluated in C.
+ *
+ * The model's residual, iteration matrix and event indicators are CasADi functions with the
+ * code-generation calling convention  int f(const double** arg, double** res, long long* iw,
+ * double* w, int mem)  -- either symbols of a generated library (flexlib_res / flexlib_jac) or
+ * CasADi's SX virtual machine through its C API (casadi_c_eval_id, which takes the function id
+ * first).  Python only sets the driver up, copies output rows and handles events.
+ *
+ * SUNDIALS 7.9 as bundled with scikit-sundae (no headers shipped): the prototypes below follow
+ * sksundae/c_*.pxd (sunrealtype = double, sunindextype = int, SUNComm = int).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef double sunrealtype;
+typedef int sunindextype;
+typedef struct _SUNContext *SUNContext;
+typedef struct _N_Vector *N_Vector;
+typedef struct _SUNMatrix *SUNMatrix;
+typedef struct _SUNLinearSolver *SUNLinearSolver;
+typedef int (*IDAResFn)(sunrealtype, N_Vector, N_Vector, N_Vector, void *);
+typedef int (*IDARootFn)(sunrealtype, N_Vector, N_Vector, sunrealtype *, void *);
+typedef int (*IDALsJacFn)(sunrealtype, sunrealtype, N_Vector, N_Vector, N_Vector, SUNMatrix, void *, N_Vector,
+                          N_Vector, N_Vector);
+
+int SUNContext_Create(int comm, SUNContext *ctx);
+int SUNContext_Free(SUNContext *ctx);
+int SUNContext_ClearErrHandlers(SUNContext ctx);
+N_Vector N_VNew_Serial(sunindextype n, SUNContext ctx);
+void N_VDestroy(N_Vector v);
+sunrealtype *N_VGetArrayPointer(N_Vector v);
+SUNMatrix SUNDenseMatrix(sunindextype M, sunindextype N, SUNContext ctx);
+sunrealtype **SUNDenseMatrix_Cols(SUNMatrix A);
+SUNMatrix SUNSparseMatrix(sunindextype M, sunindextype N, sunindextype NNZ, int sparsetype, SUNContext ctx);
+sunrealtype *SUNSparseMatrix_Data(SUNMatrix A);
+sunindextype *SUNSparseMatrix_IndexValues(SUNMatrix A);
+sunindextype *SUNSparseMatrix_IndexPointers(SUNMatrix A);
+void SUNMatDestroy(SUNMatrix A);
+SUNLinearSolver SUNLinSol_Dense(N_Vector y, SUNMatrix A, SUNContext ctx);
+SUNLinearSolver SUNLinSol_SuperLUMT(N_Vector y, SUNMatrix A, int nthreads, SUNContext ctx);
+int SUNLinSolFree(SUNLinearSolver LS);
+void *IDACreate(SUNContext ctx);
+int IDAInit(void *mem, IDAResFn res, sunrealtype t0, N_Vector y0, N_Vector yp0);
+int IDAReInit(void *mem, sunrealtype t0, N_Vector y0, N_Vector yp0);
+int IDASVtolerances(void *mem, sunrealtype rtol, N_Vector atol);
+int IDASetUserData(void *mem, void *data);
+int IDASetMaxNumSteps(void *mem, long int mxsteps);
+int IDASetMaxStep(void *mem, sunrealtype hmax);
+int IDASetStopTime(void *mem, sunrealtype tstop);
+int IDASetId(void *mem, N_Vector id);
+int IDASetNoInactiveRootWarn(void *mem);
+int IDARootInit(void *mem, int nrtfn, IDARootFn g);
+int IDASolve(void *mem, sunrealtype tout, sunrealtype *tret, N_Vector yret, N_Vector ypret, int itask);
+int IDAGetDky(void *mem, sunrealtype t, int k, N_Vector dky);
+int IDAGetRootInfo(void *mem, int *rootsfound);
+int IDAGetErrWeights(void *mem, N_Vector eweight);
+int IDAGetEstLocalErrors(void *mem, N_Vector ele);
+int IDAGetLastStep(void *mem, sunrealtype *hlast);
+int IDAGetCurrentStep(void *mem, sunrealtype *hcur);
+char *IDAGetReturnFlagName(long int flag);
+int IDASetLinearSolver(void *mem, SUNLinearSolver LS, SUNMatrix A);
+int IDASetJacFn(void *mem, IDALsJacFn jac);
+void IDAFree(void **mem);
+
+#define IDA_NORMAL 1
+#define IDA_ONE_STEP 2
+#define IDA_TSTOP_RETURN 1
+#define IDA_ROOT_RETURN 2
+#define CSC_MAT 0
+
+/* return codes of fd_advance (>= 0); IDA errors are returned as they are (< 0) */
+#define FD_TSTOP 0   /* reached t_stop */
+#define FD_FULL 1    /* row buffer full: copy the rows and call again */
+#define FD_ROOT 2    /* a root of an event indicator */
+#define FD_CHUNK 3   /* max_chunk steps done (Python polls Ctrl-C, progress, step limits) */
+#define FD_TINY 4    /* more than 200 consecutive steps shorter than 1e-14 * max(1, |t|) */
+
+typedef int (*cfun_t)(const double **, double **, long long *, double *, int);
+typedef int (*cidfun_t)(int, const double **, double **, long long *, double *, int);
+
+typedef struct {
+    cfun_t f;      /* generated symbol, or NULL */
+    cidfun_t fid;  /* casadi_c_eval_id when f is NULL */
+    int id, mem;
+    const double **arg;
+    double **res;
+    long long *iw;
+    double *w;
+    double seconds;
+    long calls;
+} fun_t;
+
+typedef struct {
+    SUNContext ctx;
+    void *mem;
+    N_Vector y, yp, idv, atol, tmp;
+    SUNMatrix A;
+    SUNLinearSolver LS;
+    int n, nnz, dense, nroot;
+    int *colind, *row;
+    double *jnz;
+    double *p;
+    double tbuf, cjbuf;
+    fun_t res, jac, zc;
+    /* output grid (owned by the caller) and position */
+    const double *grid;
+    int ngrid, kgrid;
+    double tcur, tlast_row;
+    int pending_step; /* rows of the last step still to be written (buffer was full) */
+    int pending_flag;
+    long steps;
+    int tiny;
+    int *rootsfound;
+    double sec_advance;
+    int nonfinite;
+} drv_t;
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static int fcall(fun_t *f) {
+    double t0 = now();
+    int flag = f->f ? f->f(f->arg, f->res, f->iw, f->w, f->mem) : f->fid(f->id, f->arg, f->res, f->iw, f->w, f->mem);
+    f->seconds += now() - t0;
+    f->calls++;
+    return flag;
+}
+
+static int fun_setup(fun_t *f, void *fptr, void *fidptr, int id, int mem, long long sz_arg, long long sz_res,
+                     long long sz_iw, long long sz_w) {
+    f->f = (cfun_t)fptr;
+    f->fid = (cidfun_t)fidptr;
+    f->id = id;
+    f->mem = mem;
+    f->arg = calloc(sz_arg > 6 ? sz_arg : 6, sizeof(double *));
+    f->res = calloc(sz_res > 2 ? sz_res : 2, sizeof(double *));
+    f->iw = calloc(sz_iw > 1 ? sz_iw : 1, sizeof(long long));
+    f->w = calloc(sz_w > 1 ? sz_w : 1, sizeof(double));
+    f->seconds = 0.0;
+    f->calls = 0;
+    return (f->arg && f->res && f->iw && f->w) ? 0 : -1;
+}
+
+static void fun_free(fun_t *f) {
+    free(f->arg);
+    free(f->res);
+    free(f->iw);
+    free(f->w);
+}
+
+static int resfn(sunrealtype t, N_Vector y, N_Vector yp, N_Vector rr, void *data) {
+    drv_t *d = (drv_t *)data;
+    d->tbuf = t;
+    d->res.arg[0] = &d->tbuf;
+    d->res.arg[1] = N_VGetArrayPointer(y);
+    d->res.arg[2] = N_VGetArrayPointer(yp);
+    d->res.arg[3] = d->p;
+    double *r = N_VGetArrayPointer(rr);
+    d->res.res[0] = r;
+    if (fcall(&d->res)) return -1;
+    for (int i = 0; i < d->n; i++)
+        if (!isfinite(r[i])) {
+            d->nonfinite++;
+            return 1; /* recoverable: IDA retries with a smaller step */
+        }
+    return 0;
+}
+
+static int jacfn(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp, N_Vector rr, SUNMatrix J, void *data,
+                 N_Vector t1, N_Vector t2, N_Vector t3) {
+    (void)rr; (void)t1; (void)t2; (void)t3;
+    drv_t *d = (drv_t *)data;
+    d->tbuf = t;
+    d->cjbuf = cj;
+    d->jac.arg[0] = &d->tbuf;
+    d->jac.arg[1] = N_VGetArrayPointer(y);
+    d->jac.arg[2] = N_VGetArrayPointer(yp);
+    d->jac.arg[3] = d->p;
+    d->jac.arg[4] = &d->cjbuf;
+    if (d->dense) {
+        d->jac.res[0] = d->jnz;
+        if (fcall(&d->jac)) return -1;
+        double **cols = SUNDenseMatrix_Cols(J);
+        for (int j = 0; j < d->n; j++) {
+            double *c = cols[j];
+            memset(c, 0, sizeof(double) * d->n);
+            for (int k = d->colind[j]; k < d->colind[j + 1]; k++) c[d->row[k]] = d->jnz[k];
+        }
+    } else {
+        memcpy(SUNSparseMatrix_IndexPointers(J), d->colind, sizeof(int) * (d->n + 1));
+        memcpy(SUNSparseMatrix_IndexValues(J), d->row, sizeof(int) * (d->nnz ? d->nnz : 1));
+        d->jac.res[0] = SUNSparseMatrix_Data(J);
+        if (fcall(&d->jac)) return -1;
+    }
+    return 0;
+}
+
+static int rootfn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *data) {
+    drv_t *d = (drv_t *)data;
+    d->tbuf = t;
+    d->zc.arg[0] = &d->tbuf;
+    d->zc.arg[1] = N_VGetArrayPointer(y);
+    d->zc.arg[2] = N_VGetArrayPointer(yp);
+    d->zc.arg[3] = d->p;
+    d->zc.res[0] = g;
+    return fcall(&d->zc) ? -1 : 0;
+}
+
+void fd_free(drv_t *d);
+
+/* Create a driver. fun pointers/ids/work sizes: index 0 res, 1 jac, 2 zc (zc unused when nroot == 0).
+ * Returns NULL on failure (err gets a short reason). */
+drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int dense, int nroot, double *p,
+                 void **fptr, void *fid, const int *ids, const int *mems, const long long *sizes, double rtol,
+                 const double *atol, const double *differential, double max_step, double t0, const double *y0,
+                 const double *yp0, char *err) {
+    drv_t *d = calloc(1, sizeof(drv_t));
+    if (!d) return NULL;
+    d->n = n;
+    d->nnz = nnz;
+    d->dense = dense;
+    d->nroot = nroot;
+    d->p = p;
+    d->colind = malloc(sizeof(int) * (n + 1));
+    d->row = malloc(sizeof(int) * (nnz ? nnz : 1));
+    d->jnz = calloc(nnz ? nnz : 1, sizeof(double));
+    d->rootsfound = calloc(nroot ? nroot : 1, sizeof(int));
+    if (!d->colind || !d->row || !d->jnz || !d->rootsfound) goto fail;
+    memcpy(d->colind, colind, sizeof(int) * (n + 1));
+    if (nnz) memcpy(d->row, row, sizeof(int) * nnz);
+    for (int k = 0; k < 3; k++) {
+        if (k == 2 && nroot == 0) break;
+        fun_t *f = k == 0 ? &d->res : k == 1 ? &d->jac : &d->zc;
+        if (fun_setup(f, fptr[k], fid, ids[k], mems[k], sizes[4 * k], sizes[4 * k + 1], sizes[4 * k + 2],
+                      sizes[4 * k + 3])) goto fail;
+    }
+    if (SUNContext_Create(0, &d->ctx)) { strcpy(err, "SUNContext_Create"); goto fail; }
+    SUNContext_ClearErrHandlers(d->ctx); /* errors come back as flags; Python words the message */
+    d->y = N_VNew_Serial(n, d->ctx);
+    d->yp = N_VNew_Serial(n, d->ctx);
+    d->idv = N_VNew_Serial(n, d->ctx);
+    d->atol = N_VNew_Serial(n, d->ctx);
+    d->tmp = N_VNew_Serial(n, d->ctx);
+    if (!d->y || !d->yp || !d->idv || !d->atol || !d->tmp) { strcpy(err, "N_VNew_Serial"); goto fail; }
+    memcpy(N_VGetArrayPointer(d->y), y0, sizeof(double) * n);
+    memcpy(N_VGetArrayPointer(d->yp), yp0, sizeof(double) * n);
+    memcpy(N_VGetArrayPointer(d->idv), differential, sizeof(double) * n);
+    memcpy(N_VGetArrayPointer(d->atol), atol, sizeof(double) * n);
+    d->mem = IDACreate(d->ctx);
+    if (!d->mem) { strcpy(err, "IDACreate"); goto fail; }
+    if (IDAInit(d->mem, resfn, t0, d->y, d->yp)) { strcpy(err, "IDAInit"); goto fail; }
+    if (IDASVtolerances(d->mem, rtol, d->atol)) { strcpy(err, "IDASVtolerances"); goto fail; }
+    IDASetUserData(d->mem, d);
+    IDASetId(d->mem, d->idv);
+    IDASetMaxNumSteps(d->mem, 100000);
+    if (max_step > 0) IDASetMaxStep(d->mem, max_step);
+    if (dense) {
+        d->A = SUNDenseMatrix(n, n, d->ctx);
+        d->LS = d->A ? SUNLinSol_Dense(d->y, d->A, d->ctx) : NULL;
+    } else {
+        d->A = SUNSparseMatrix(n, n, nnz ? nnz : 1, CSC_MAT, d->ctx);
+        d->LS = d->A ? SUNLinSol_SuperLUMT(d->y, d->A, 1, d->ctx) : NULL;
+    }
+    if (!d->A || !d->LS) { strcpy(err, "matrix or linear solver"); goto fail; }
+    if (IDASetLinearSolver(d->mem, d->LS, d->A)) { strcpy(err, "IDASetLinearSolver"); goto fail; }
+    if (IDASetJacFn(d->mem, jacfn)) { strcpy(err, "IDASetJacFn"); goto fail; }
+    if (nroot) {
+        if (IDARootInit(d->mem, nroot, rootfn)) { strcpy(err, "IDARootInit"); goto fail; }
+        IDASetNoInactiveRootWarn(d->mem);
+    }
+    d->tcur = t0;
+    d->tlast_row = t0;
+    return d;
+fail:
+    fd_free(d);
+    return NULL;
+}
+
+void fd_free(drv_t *d) {
+    if (!d) return;
+    if (d->mem) IDAFree(&d->mem);
+    if (d->LS) SUNLinSolFree(d->LS);
+    if (d->A) SUNMatDestroy(d->A);
+    N_Vector vs[5] = {d->y, d->yp, d->idv, d->atol, d->tmp};
+    for (int i = 0; i < 5; i++)
+        if (vs[i]) N_VDestroy(vs[i]);
+    if (d->ctx) SUNContext_Free(&d->ctx);
+    fun_free(&d->res);
+    fun_free(&d->jac);
+    if (d->nroot) fun_free(&d->zc);
+    free(d->colind);
+    free(d->row);
+    free(d->jnz);
+    free(d->rootsfound);
+    free(d);
+}
+
+/* Restart at t0 from y0, yp0 (after an event). */
+int fd_reinit(drv_t *d, double t0, const double *y0, const double *yp0) {
+    memcpy(N_VGetArrayPointer(d->y), y0, sizeof(double) * d->n);
+    memcpy(N_VGetArrayPointer(d->yp), yp0, sizeof(double) * d->n);
+    d->tcur = t0;
+    d->tlast_row = t0;
+    d->tiny = 0;
+    d->pending_step = 0;
+    return IDAReInit(d->mem, t0, d->y, d->yp);
+}
+
+/* Output grid for the following fd_advance calls (times after the current one; caller keeps it alive). */
+void fd_set_grid(drv_t *d, const double *grid, int ngrid) {
+    d->grid = grid;
+    d->ngrid = ngrid;
+    d->kgrid = 0;
+}
+
+int fd_grid_pos(drv_t *d) { return d->kgrid; }
+
+/* Write the rows due after the step that reached d->tcur; 0 if all written, 1 if the buffer filled. */
+static int write_rows(drv_t *d, double *T, double *Y, double *YP, int cap, int *nrows) {
+    int n = d->n;
+    if (d->grid) {
+        while (d->kgrid < d->ngrid && d->grid[d->kgrid] <= d->tcur) {
+            if (*nrows >= cap) return 1;
+            double tq = d->grid[d->kgrid];
+            double *yr = Y + (size_t)(*nrows) * n, *ypr = YP + (size_t)(*nrows) * n;
+            if (tq == d->tcur) {
+                memcpy(yr, N_VGetArrayPointer(d->y), sizeof(double) * n);
+                memcpy(ypr, N_VGetArrayPointer(d->yp), sizeof(double) * n);
+            } else {
+                N_Vector v = d->tmp;
+                if (IDAGetDky(d->mem, tq, 0, v)) return -1;
+                memcpy(yr, N_VGetArrayPointer(v), sizeof(double) * n);
+                if (IDAGetDky(d->mem, tq, 1, v)) return -1;
+                memcpy(ypr, N_VGetArrayPointer(v), sizeof(double) * n);
+            }
+            T[*nrows] = tq;
+            (*nrows)++;
+            d->kgrid++;
+        }
+    } else if (d->tcur > d->tlast_row) {
+        if (*nrows >= cap) return 1;
+        T[*nrows] = d->tcur;
+        memcpy(Y + (size_t)(*nrows) * n, N_VGetArrayPointer(d->y), sizeof(double) * n);
+        memcpy(YP + (size_t)(*nrows) * n, N_VGetArrayPointer(d->yp), sizeof(double) * n);
+        (*nrows)++;
+        d->tlast_row = d->tcur;
+    }
+    return 0;
+}
+
+/* Integrate towards t_stop one internal step at a time, writing output rows into T (cap), Y, YP
+ * (cap x n, row-major).  Returns FD_* (>= 0) or the IDA error flag (< 0); *nrows rows written,
+ * *t_now the solver time, y_now/yp_now (n each) its solution there.  The last step's solution
+ * stays readable through fd_state until the next call. */
+int fd_advance(drv_t *d, double t_stop, long max_chunk, double *T, double *Y, double *YP, int cap, int *nrows,
+               double *t_now, long *steps_done) {
+    double w0 = now();
+    int code;
+    *nrows = 0;
+    long steps = 0;
+    if (d->pending_step) { /* the previous call filled the buffer within one step */
+        int w = write_rows(d, T, Y, YP, cap, nrows);
+        if (w == 1) { code = FD_FULL; goto done; }
+        if (w < 0) { code = -27; goto done; }
+        d->pending_step = 0;
+        if (d->pending_flag != -1000) { code = d->pending_flag; goto done; }
+    }
+    if (d->tcur >= t_stop) { code = FD_TSTOP; goto done; }
+    IDASetStopTime(d->mem, t_stop);
+    for (;;) {
+        double tret = d->tcur;
+        double tprev = d->tcur;
+        int flag = IDASolve(d->mem, t_stop, &tret, d->y, d->yp, IDA_ONE_STEP);
+        if (flag < 0) { code = flag; goto done; }
+        steps++;
+        d->steps++;
+        d->tcur = tret;
+        d->tiny = (tret - tprev <= 1e-14 * fmax(1.0, fabs(tret))) ? d->tiny + 1 : 0;
+        int next = flag == IDA_ROOT_RETURN ? FD_ROOT : flag == IDA_TSTOP_RETURN ? FD_TSTOP
+                 : d->tiny > 200 ? FD_TINY : steps >= max_chunk ? FD_CHUNK : -1000;
+        if (flag == IDA_ROOT_RETURN) IDAGetRootInfo(d->mem, d->rootsfound);
+        int w = write_rows(d, T, Y, YP, cap, nrows);
+        if (w < 0) { code = -27; goto done; }
+        if (w == 1) {
+            d->pending_step = 1;
+            d->pending_flag = next;
+            code = FD_FULL;
+            goto done;
+        }
+        if (next != -1000) { code = next; goto done; }
+        if (*nrows >= cap) { code = FD_FULL; goto done; }
+    }
+done:
+    *t_now = d->tcur;
+    *steps_done = steps;
+    d->sec_advance += now() - w0;
+    return code;
+}
+
+/* The solver's current solution (at the last step or root). */
+void fd_state(drv_t *d, double *y, double *yp) {
+    memcpy(y, N_VGetArrayPointer(d->y), sizeof(double) * d->n);
+    memcpy(yp, N_VGetArrayPointer(d->yp), sizeof(double) * d->n);
+}
+
+void fd_roots(drv_t *d, int *out) { memcpy(out, d->rootsfound, sizeof(int) * (d->nroot ? d->nroot : 1)); }
+
+/* Error weights and IDA's estimated local errors of the last step (diagnostics). */
+int fd_diagnostics(drv_t *d, double *ewt, double *ele) {
+    int f1 = IDAGetErrWeights(d->mem, d->tmp);
+    memcpy(ewt, N_VGetArrayPointer(d->tmp), sizeof(double) * d->n);
+    int f2 = IDAGetEstLocalErrors(d->mem, d->tmp);
+    memcpy(ele, N_VGetArrayPointer(d->tmp), sizeof(double) * d->n);
+    return f1 ? f1 : f2;
+}
+
+/* counters: [res calls, jac calls, root calls, steps]; seconds: [res, jac, root, advance] */
+void fd_stats(drv_t *d, long *counts, double *seconds) {
+    counts[0] = d->res.calls;
+    counts[1] = d->jac.calls;
+    counts[2] = d->nroot ? d->zc.calls : 0;
+    counts[3] = d->steps;
+    counts[4] = d->nonfinite;
+    seconds[0] = d->res.seconds;
+    seconds[1] = d->jac.seconds;
+    seconds[2] = d->nroot ? d->zc.seconds : 0.0;
+    seconds[3] = d->sec_advance;
+}
+
+/* IDA's name of a return flag (e.g. "IDA_CONV_FAIL") into buf (len bytes). */
+void fd_flag_name(long flag, char *buf, int len) {
+    char *s = IDAGetReturnFlagName(flag);
+    if (s) {
+        strncpy(buf, s, len - 1);
+        buf[len - 1] = 0;
+        free(s);
+    } else {
+        buf[0] = 0;
+    }
+}
