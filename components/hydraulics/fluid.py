@@ -95,6 +95,25 @@ class Fluid:
         """Density of the mixture at absolute pressure ``p`` [kg/m3] (CasADi or float)."""
         return 1.0 / self.specific_volume(p)
 
+    def density_deviation(self, p: Any) -> Any:
+        """``rho(p) - rho_ref`` [kg/m3], computed without cancellation (``expm1``).
+
+        Near ``p_ref`` the difference is small (``rho_ref·(p - p_ref)/beta``: 5 kg/m3 at 100 bar) and forming
+        it as ``rho(p) - rho_ref`` would lose four to five digits; the chamber mass balance
+        (:func:`~.interfaces.chamber_equations`) is written in deviations to keep them. With
+        ``u = (p - p_ref)/beta`` and ``r = (p_ref/p)^(1/n)``::
+
+            rho - rho_ref = (v_ref - v(p)) / (v(p)·v_ref),
+            v_ref - v(p)  = −(1 − x_air)/rho_ref·expm1(−u) − x_air/rho_ref·expm1(ln(p_ref/p)/n)
+        """
+        u = (p - self.p_ref) / self.beta
+        if self.x_air == 0.0:
+            return self.rho_ref * ca.expm1(u)
+        p_c = ca.fmax(p, self.p_min)
+        dv = (-(1.0 - self.x_air) * ca.expm1(-u) - self.x_air * ca.expm1(ca.log(self.p_ref / p_c) / self.n_air)) \
+            / self.rho_ref
+        return dv * self.rho_ref / self.specific_volume(p)
+
     def bulk_modulus(self, p: Any) -> Any:
         """Effective bulk modulus ``rho / (d rho / dp)`` at absolute pressure ``p`` [Pa]."""
         v_liq = (1.0 - self.x_air) / self.rho_ref * ca.exp(-(p - self.p_ref) / self.beta)

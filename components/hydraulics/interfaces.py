@@ -20,7 +20,7 @@ from flexlib import Component, Connector, Flow, Potential, Variable, der, eq
 
 from .fluid import HLP46, Fluid
 
-__all__ = ["PartialTwoPort", "Port", "chamber_equations"]
+__all__ = ["CHAMBER_FORMS", "PartialTwoPort", "Port", "chamber_equations", "check_chamber_form"]
 
 
 class Port(Connector):
@@ -65,16 +65,36 @@ class PartialTwoPort(Component):
                 eq(self.dp, a.p - b.p), eq(self.m_flow, rho * self.q)]
 
 
-def chamber_equations(fluid: Fluid, m: Any, p: Any, V: Any, m_flow_in: Any) -> list:
+#: Formulations of :func:`chamber_equations` (structural ``chamber_form`` option of the chamber components).
+CHAMBER_FORMS = ("mass", "pressure", "mass_total")
+
+
+def chamber_equations(fluid: Fluid, m: Any, p: Any, V: Any, m_flow_in: Any, *, dm: Any = None, V_ref: Any = None,
+                      dV: Any = None, form: str = "mass") -> list:
     """Mass balance of a lumped compressible chamber (volume, cylinder chamber, hose).
 
-    The stored mass ``m`` is the differential state and the pressure follows from it:
+    ``form="mass"`` (default; needs ``dm`` and ``V_ref``): the state is the *deviation* ``dm`` of the stored
+    mass from the reference mass ``m_ref = rho_ref·V_ref`` (the chamber at ``p_ref`` and a reference volume),
+    and every term of the pressure law is written as a deviation::
 
-        der(m) = Σ m_flow_in,     m = rho(p) * V
+        der(dm) = Σ m_flow_in,
+        dm = rho_ref·dV + (rho(p) − rho_ref)·V,    dV = V − V_ref,    m = m_ref + dm
 
-    which is ``dp/dt = beta_eff / V * (Σ q_in - dV/dt)`` written in conserved form. BDF
-    methods preserve linear invariants, so the total mass of a circuit is conserved to the
-    Newton tolerance whatever the step size (the mass-balance test relies on it).
+    ``form="mass_total"``: the state is the stored mass itself, ``der(m) = Σ m_flow_in``, ``m = rho(p)·V``.
+    ``form="pressure"``: the pressure is the state, ``der(rho(p)·V) = Σ m_flow_in`` (i.e.
+    ``dp/dt = beta_eff/V·(Σ q_in − dV/dt)``) and ``m = rho(p)·V`` is an output.
+
+    The mass forms conserve mass exactly: ``dm`` (or ``m``) enters linearly, BDF methods preserve linear
+    invariants, so the total mass of a circuit is conserved to the Newton tolerance whatever the step
+    (the circuit mass-balance test checks 1e-9). The pressure form conserves it only to the integration
+    tolerance. Why the deviation: the stored mass varies by ``Δp/beta`` ≈ 0.6 % over 100 bar, so with
+    ``m`` itself as the state the pressure is a difference of nearly equal numbers — IDA's predictor,
+    corrector and error estimate for ``m`` work on absolute values of ~0.01–1 kg whose last digits carry the
+    pressure (one unit of round-off in ``m`` is ``beta·eps`` ≈ 4e-7 Pa, and the ``rtol·|m|`` part of its
+    error weight is ``rtol·beta`` = 16 Pa at rtol 1e-8, a hundred times looser than ``rtol·p``). With
+    ``dm`` the state and ``dV``, ``rho − rho_ref`` computed directly (``expm1``), round-off scales with
+    the deviation, ``rtol·|dm|`` is ``rtol·(p − p_ref)`` in pressure units, as with the pressure as state,
+    and the linear invariant survives.
 
     Parameters
     ----------
@@ -85,12 +105,42 @@ def chamber_equations(fluid: Fluid, m: Any, p: Any, V: Any, m_flow_in: Any) -> l
     p : casadi.SX
         Chamber pressure variable [Pa].
     V : casadi.SX or float
-        Chamber volume [m3], > 0 (may depend on a piston position).
+        Chamber volume [m3], > 0 (may depend on a piston position or on the pressure).
     m_flow_in : casadi.SX
         Net mass flow into the chamber [kg/s].
+    dm : casadi.SX, optional
+        Mass deviation variable ``m − rho_ref·V_ref`` [kg] (the state of ``form="mass"``).
+    V_ref : casadi.SX or float, optional
+        Reference volume [m3] (a parameter expression: e.g. the start volume of a cylinder chamber).
+    dV : casadi.SX or float, optional
+        ``V − V_ref`` written without cancellation (e.g. ``A_p·(x − x_start)``); default ``V − V_ref``.
+    form : str
+        ``"mass"``, ``"pressure"`` or ``"mass_total"`` (see above).
 
     References
     ----------
     H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §2.3 (continuity equation).
+    K. E. Brenan, S. L. Campbell, L. R. Petzold, *Numerical Solution of Initial-Value Problems in DAEs*,
+    SIAM 1996, §3.1 (BDF preserves linear invariants).
     """
-    return [eq(m, fluid.density(p) * V), eq(der(m), m_flow_in)]
+    if form == "mass_total":
+        return [eq(m, fluid.density(p) * V), eq(der(m), m_flow_in)]
+    if form == "pressure":
+        return [eq(m, fluid.density(p) * V), eq(der(fluid.density(p) * V), m_flow_in)]
+    if form != "mass":
+        raise ValueError(f"chamber form must be one of {CHAMBER_FORMS}, got {form!r}")
+    if dm is None or V_ref is None:
+        raise ValueError("chamber_equations(form='mass') needs the deviation variable dm and V_ref")
+    dV = V - V_ref if dV is None else dV
+    return [eq(der(dm), m_flow_in),
+            eq(dm, fluid.rho_ref * dV + fluid.density_deviation(p) * V, label="chamber pressure law (deviation)"),
+            eq(m, fluid.rho_ref * V_ref + dm)]
+
+
+def check_chamber_form(node: Any, form: str) -> str:
+    """Validate a component's structural ``chamber_form`` option (error names the component)."""
+    if form not in CHAMBER_FORMS:
+        from flexlib.errors import ModelError
+
+        raise ModelError(f"{type(node).__name__}: chamber_form must be one of {list(CHAMBER_FORMS)}, got {form!r}")
+    return form
