@@ -13,7 +13,7 @@ from flexlib.errors import ParameterError
 
 from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations, check_chamber_form
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
 __all__ = ["DoubleActingCylinder"]
 
@@ -210,8 +210,8 @@ class DoubleActingCylinder(PositiveParameters, Component):
     F_hyd = Variable(unit="N", nominal=1e4, doc="Pressure force on the piston (extending)")
     F_fric = Variable(unit="N", nominal=1e3, doc="Friction force opposing v")
     F_stop = Variable(unit="N", nominal=1e4, doc="End-stop contact force (extending)")
-    m_flow_int = Variable(unit="kg/s", doc="Internal leakage mass flow A -> B")
-    m_flow_ext = Variable(unit="kg/s", doc="External leakage mass flow out of chamber B")
+    m_flow_int = Variable(unit="kg/s", nominal=1.0, doc="Internal leakage mass flow A -> B")
+    m_flow_ext = Variable(unit="kg/s", nominal=1.0, doc="External leakage mass flow out of chamber B")
 
     port_A = Port(doc="Cap-side chamber")
     port_B = Port(doc="Rod-side chamber")
@@ -224,6 +224,7 @@ class DoubleActingCylinder(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
+        self._physical_nominals()
         self.x_fixed = bool(x_fixed)
         self.p_fixed = bool(p_fixed)
         self.use_drain = bool(use_drain)
@@ -231,6 +232,20 @@ class DoubleActingCylinder(PositiveParameters, Component):
             self.port_D = Port(doc="Drain of the rod seal")
         self.__dict__["_ready"] = True
         self._check_geometry()
+
+    def _physical_nominals(self) -> None:
+        """Per-instance error weights from the constructor's geometry (see ``interfaces.P_NOMINAL``)."""
+        val = {n: self.parameter_value(n) for n in ("d_bore", "d_rod", "stroke", "V_dead_A", "V_dead_B")}
+        if any(v is None for v in val.values()):
+            return
+        stroke, a_p = float(val["stroke"]), math.pi / 4.0 * float(val["d_bore"]) ** 2
+        a_r = a_p - math.pi / 4.0 * float(val["d_rod"]) ** 2
+        set_nominal(self, "x", stroke)
+        set_nominal(self, "v", stroke)
+        set_nominal(self, "V_A", float(val["V_dead_A"]) + a_p * stroke)
+        set_nominal(self, "V_B", float(val["V_dead_B"]) + a_r * stroke)
+        set_nominal(self, "dm_A", chamber_mass_nominal(self.fluid, float(val["V_dead_A"]) + a_p * stroke / 2))
+        set_nominal(self, "dm_B", chamber_mass_nominal(self.fluid, float(val["V_dead_B"]) + a_r * stroke / 2))
 
     def _assign(self, name: str, value: Any) -> None:
         super()._assign(name, value)

@@ -9,7 +9,7 @@ from flexlib import Component, Parameter, Variable, der, eq
 
 from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations, check_chamber_form
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
 __all__ = ["Line"]
 
@@ -108,7 +108,7 @@ class Line(PositiveParameters, Component):
     m_b = Variable(unit="kg", nominal=0.1, doc="Mass in the half at end b")
     dm_a = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_a - rho_ref*V/2")
     dm_b = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_b - rho_ref*V/2")
-    m_flow = Variable(unit="kg/s", doc="Mass flow from a to b")
+    m_flow = Variable(unit="kg/s", nominal=1.0, doc="Mass flow from a to b")
     q = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow from a to b")
     dp_f = Variable(unit="Pa", nominal=1e6, doc="Friction pressure drop")
 
@@ -117,6 +117,12 @@ class Line(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
+        L, d = self.parameter_value("L"), self.parameter_value("d")
+        if L is not None and d is not None:  # per-instance error weights (interfaces.P_NOMINAL)
+            v_half = math.pi / 8.0 * float(d) ** 2 * float(L)
+            for end in ("a", "b"):
+                set_nominal(self, f"m_{end}", fluid.rho_ref * v_half)
+                set_nominal(self, f"dm_{end}", chamber_mass_nominal(fluid, v_half))
         self.use_turbulence = bool(use_turbulence)
         self.use_inertance = bool(use_inertance)
         for name in ("p_a", "p_b"):

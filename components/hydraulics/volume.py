@@ -8,7 +8,7 @@ from flexlib import Component, Parameter, Variable, eq
 
 from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations, check_chamber_form
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
 __all__ = ["Volume"]
 
@@ -74,6 +74,10 @@ class Volume(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
+        V = self.parameter_value("V")
+        if V is not None:  # per-instance error weights (interfaces.P_NOMINAL)
+            set_nominal(self, "m", fluid.rho_ref * float(V))
+            set_nominal(self, "dm", chamber_mass_nominal(fluid, float(V)))
         if p_start is not None:
             self.set_start("p", p_start, fixed=True)
         else:
