@@ -36,7 +36,8 @@ class DoubleActingCylinder(PositiveParameters, Component):
         m_flow_ext = rho(p_B)·G_ext·(p_B − p_D)          (laminar rod-seal leakage out of chamber B)
         q_A = port_A.m_flow / rho(p_A),  q_B = port_B.m_flow / rho(p_B)   (port volume flows, into the chamber)
 
-    The states are the deviations ``dm_A = m_A − rho_ref·V_A(x_start)`` and ``dm_B`` (likewise), with the
+    The states are the deviations ``dm_A = m_A − rho_0·V_A(x_start)`` and ``dm_B`` (likewise; ``rho_0`` the
+    density at ``fluid.p_zero``, 0 Pa for a pure liquid), with the
     volume change written as ``A_p·(x − x_start)``, so that round-off scales with the deviation, not with the
     stored mass (:func:`~.interfaces.chamber_equations`; ``chamber_form`` selects another formulation).
 
@@ -200,8 +201,8 @@ class DoubleActingCylinder(PositiveParameters, Component):
     p_B = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in chamber B")
     m_A = Variable(unit="kg", nominal=0.1, doc="Fluid mass in chamber A")
     m_B = Variable(unit="kg", nominal=0.1, doc="Fluid mass in chamber B")
-    dm_A = Variable(unit="kg", state_select="prefer", nominal=1e-3, doc="m_A - rho_ref*V_A(x_start)")
-    dm_B = Variable(unit="kg", state_select="prefer", nominal=1e-3, doc="m_B - rho_ref*V_B(x_start)")
+    dm_A = Variable(unit="kg", state_select="prefer", nominal=1e-3, doc="m_A - rho(p_zero)*V_A(x_start)")
+    dm_B = Variable(unit="kg", state_select="prefer", nominal=1e-3, doc="m_B - rho(p_zero)*V_B(x_start)")
     V_A = Variable(unit="m3", nominal=1e-3, doc="Volume of chamber A")
     V_B = Variable(unit="m3", nominal=1e-3, doc="Volume of chamber B")
     q_A = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow into chamber A at port_A")
@@ -209,7 +210,7 @@ class DoubleActingCylinder(PositiveParameters, Component):
     F = Variable(unit="N", nominal=1e4, doc="Net force of housing and fluid on the rod (extending)")
     F_hyd = Variable(unit="N", nominal=1e4, doc="Pressure force on the piston (extending)")
     F_fric = Variable(unit="N", nominal=1e3, doc="Friction force opposing v")
-    F_stop = Variable(unit="N", nominal=1e4, doc="End-stop contact force (extending)")
+    F_stop = Variable(unit="N", nominal=1e3, doc="End-stop contact force (extending)")
     m_flow_int = Variable(unit="kg/s", nominal=1.0, doc="Internal leakage mass flow A -> B")
     m_flow_ext = Variable(unit="kg/s", nominal=1.0, doc="External leakage mass flow out of chamber B")
 
@@ -321,8 +322,9 @@ class DoubleActingCylinder(PositiveParameters, Component):
         if self.use_drain:
             eqs.append(eq(self.port_D.m_flow, -self.m_flow_ext))
         if self.chamber_form != "mass":
-            eqs += [eq(self.dm_A, self.m_A - fl.rho_ref * (self.V_dead_A + self.A_p * self.x_start)),
-                    eq(self.dm_B, self.m_B - fl.rho_ref * (self.V_dead_B + self.A_r * (self.stroke - self.x_start)))]
+            rho_0 = float(fl.density(fl.p_zero))
+            eqs += [eq(self.dm_A, self.m_A - rho_0 * (self.V_dead_A + self.A_p * self.x_start)),
+                    eq(self.dm_B, self.m_B - rho_0 * (self.V_dead_B + self.A_r * (self.stroke - self.x_start)))]
         return eqs
 
     def initial_equations(self) -> list:

@@ -78,7 +78,7 @@ class Line(PositiveParameters, Component):
     m_a, m_b : kg
         Masses stored in the end halves.
     dm_a, dm_b : kg
-        Their deviations from ``rho_ref·V/2`` (states).
+        Their deviations from ``rho(p_zero)·V/2`` (states).
     m_flow : kg/s
         Mass flow from a to b through the friction element.
     q : m3/s
@@ -106,8 +106,8 @@ class Line(PositiveParameters, Component):
     p_b = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure at end b")
     m_a = Variable(unit="kg", nominal=0.1, doc="Mass in the half at end a")
     m_b = Variable(unit="kg", nominal=0.1, doc="Mass in the half at end b")
-    dm_a = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_a - rho_ref*V/2")
-    dm_b = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_b - rho_ref*V/2")
+    dm_a = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_a - rho(p_zero)*V/2")
+    dm_b = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_b - rho(p_zero)*V/2")
     m_flow = Variable(unit="kg/s", nominal=1.0, doc="Mass flow from a to b")
     q = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow from a to b")
     dp_f = Variable(unit="Pa", nominal=1e6, doc="Friction pressure drop")
@@ -150,7 +150,8 @@ class Line(PositiveParameters, Component):
                                   dV=v_half * self.k_wall * (self.p_b - fl.p_ref), form=form),
                eq(self.m_flow, rho * self.q), eq(self.dp_f, friction)]
         if form != "mass":
-            eqs += [eq(self.dm_a, self.m_a - fl.rho_ref * v_half), eq(self.dm_b, self.m_b - fl.rho_ref * v_half)]
+            rho_0 = float(fl.density(fl.p_zero))
+            eqs += [eq(self.dm_a, self.m_a - rho_0 * v_half), eq(self.dm_b, self.m_b - rho_0 * v_half)]
         if self.use_inertance:
             return [*eqs, eq(self.L / area * der(self.m_flow), self.p_a - self.p_b - self.dp_f)]
         return [*eqs, eq(self.p_a - self.p_b, self.dp_f)]

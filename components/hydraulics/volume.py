@@ -17,11 +17,11 @@ class Volume(PositiveParameters, Component):
     """Constant lumped volume of compressible fluid (hydraulic capacitance).
 
     Mass balance with the stored mass as state (:func:`chamber_equations`), written as the deviation
-    ``dm`` from the mass ``rho_ref·V`` the volume holds at ``p_ref``:
+    ``dm`` from the mass ``rho_0·V`` the volume would hold at ``p_0 = fluid.p_zero`` (0 Pa for a pure liquid):
 
     .. math::
 
-        \\dot{dm} = \\sum \\dot m_{in}, \\qquad dm = (\\rho(p) - \\rho_{ref})\\, V, \\qquad m = \\rho_{ref} V + dm
+        \\dot{dm} = \\sum \\dot m_{in}, \\qquad dm = (\\rho(p) - \\rho_0)\\, V, \\qquad m = \\rho_0 V + dm
 
     i.e. ``dp/dt = beta_eff(p) / V * q_in``; the circuit's mass is conserved exactly. Any number of
     components can be connected to the single ``port`` (a node of the circuit).
@@ -53,7 +53,7 @@ class Volume(PositiveParameters, Component):
     m : kg
         Stored mass.
     dm : kg
-        Stored mass minus ``rho_ref·V`` (differential state).
+        Stored mass minus ``rho(p_zero)·V`` (differential state).
 
     References
     ----------
@@ -66,7 +66,7 @@ class Volume(PositiveParameters, Component):
     V = Parameter(unit="m3", min=0.0, doc="Volume")
     p = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in the volume")
     m = Variable(unit="kg", nominal=0.1, doc="Stored mass")
-    dm = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="Stored mass minus rho_ref*V")
+    dm = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="Stored mass minus rho(p_zero)*V")
     port = Port(doc="Node port")
 
     def __init__(self, p_start: float | None = None, fluid: Fluid = HLP46, chamber_form: str = "mass",
@@ -87,5 +87,5 @@ class Volume(PositiveParameters, Component):
         eqs = [eq(self.port.p, self.p), *chamber_equations(self.fluid, self.m, self.p, self.V, self.port.m_flow,
                                                            dm=self.dm, V_ref=self.V, dV=0.0, form=self.chamber_form)]
         if self.chamber_form != "mass":
-            eqs.append(eq(self.dm, self.m - self.fluid.rho_ref * self.V))
+            eqs.append(eq(self.dm, self.m - float(self.fluid.density(self.fluid.p_zero)) * self.V))
         return eqs
