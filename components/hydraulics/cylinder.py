@@ -147,7 +147,8 @@ class DoubleActingCylinder(PositiveParameters, Component):
     [m3]; q_A, q_B [m3/s]: volume flows into the chambers at the ports; F, F_hyd, F_fric, F_stop [N];
     m_flow_int, m_flow_ext [kg/s]; v_rod [m/s]: absolute rod velocity.
 
-    Nominal values (error weights, ``atol·nominal``): pressures 1e7 Pa; forces 1e4 N (1e3 N friction);
+    Nominal values (error weights, ``atol·nominal``): pressures 1e7 Pa; forces 1e4 N (1e3 N friction and
+    end-stop contact, which is zero most of the time);
     position ``stroke`` and velocity ``stroke``/s (per instance, from the constructor's stroke); chamber
     mass deviations ``rho_ref·V·1e7/beta`` (the mass that 100 bar adds to the chamber at mid-stroke,
     per instance); volumes ``A_p·stroke``; port flows 1e-3 m3/s, mass flows 1 kg/s.

@@ -28,7 +28,7 @@ __all__ = ["CHAMBER_FORMS", "PartialTwoPort", "Port", "chamber_equations", "cham
 #: Nominal values (IDA's error weights are ``rtol·|y| + atol·nominal``) of the hydraulics library, chosen from the
 #: physics so that the default tolerances control what a user reads, not round-off of near-zero variables:
 #: pressures 1e7 Pa (100 bar, the working range), pressure drops 1e6 Pa, mass flows 1 kg/s (≈ 70 L/min),
-#: volume flows 1e-3 m3/s (60 L/min), shaft speeds 100 rad/s, torques 100 N.m, forces 1e4 N (1e3 N friction),
+#: volume flows 1e-3 m3/s (60 L/min), shaft speeds 100 rad/s, torques 100 N.m, forces 1e4 N (1e3 N friction, stops),
 #: normalised spool travel 1 and spool speed 100 1/s (a 30 Hz spool crosses its stroke in ~10 ms); per
 #: instance, from the constructor's geometry: piston position and speed ``stroke`` (m, m/s), chamber volume
 #: ``A_p·stroke``, and chamber mass deviations ``chamber_mass_nominal(V)``.
