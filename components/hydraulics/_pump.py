@@ -27,9 +27,9 @@ class PartialPump(PositiveParameters, Component):
     port_a = Port(doc="Suction (inlet) port")
     port_b = Port(doc="Delivery (outlet, pressure) port")
     q = Variable(unit="m3/s", nominal=1e-3, doc="Delivered volume flow at suction density")
-    m_flow = Variable(unit="kg/s", doc="Delivered mass flow (a to b)")
+    m_flow = Variable(unit="kg/s", nominal=1.0, doc="Delivered mass flow (a to b)")
     dp = Variable(unit="Pa", nominal=1e7, doc="Pressure rise port_b.p - port_a.p")
-    tau = Variable(unit="N.m", doc="Shaft torque needed to drive the pump")
+    tau = Variable(unit="N.m", nominal=100.0, doc="Shaft torque needed to drive the pump")
 
     def __init__(self, use_flange: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(**kw)
@@ -37,7 +37,7 @@ class PartialPump(PositiveParameters, Component):
         self.use_flange = bool(use_flange)
         if self.use_flange:
             self.flange = Flange(doc="Drive shaft; flange.tau is the driving torque into the pump")
-            self.w = Variable(unit="rad/s", doc="Shaft angular velocity")
+            self.w = Variable(unit="rad/s", nominal=100.0, doc="Shaft angular velocity")
         else:
             self.w = Input(unit="rad/s", doc="Shaft angular velocity")
 

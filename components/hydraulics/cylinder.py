@@ -13,7 +13,7 @@ from flexlib.errors import ParameterError
 
 from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
 __all__ = ["DoubleActingCylinder"]
 
@@ -34,17 +34,27 @@ class DoubleActingCylinder(PositiveParameters, Component):
         der(m_B) = port_B.m_flow + m_flow_int − m_flow_ext, m_B = rho(p_B)·V_B
         m_flow_int = rho(p̄)·G_int·(p_A − p_B)            (laminar piston-seal leakage A → B)
         m_flow_ext = rho(p_B)·G_ext·(p_B − p_D)          (laminar rod-seal leakage out of chamber B)
+        q_A = port_A.m_flow / rho(p_A),  q_B = port_B.m_flow / rho(p_B)   (port volume flows, into the chamber)
 
-    ``p_D`` is the drain port pressure (``use_drain``) or the ambient pressure ``fluid.p_ref``: without a
+    The states are the deviations ``dm_A = m_A − rho_0·V_A(x_start)`` and ``dm_B`` (likewise; ``rho_0`` the
+    density at ``fluid.p_zero``, 0 Pa for a pure liquid), with the
+    volume change written as ``A_p·(x − x_start)``, so that round-off scales with the deviation, not with the
+    stored mass (:func:`~.interfaces.chamber_equations`; ``chamber_form`` selects another formulation).
+
+    ``p_D`` is the drain port pressure (``use_drain``) or the ambient pressure ``p_amb``: without a
     drain the rod-seal leakage leaves the circuit (its mass is ``∫m_flow_ext dt``).
 
     Rod (piston + rod, mass ``m``, moving with flange_b; the housing is massless — connect a Mass or a
     body to flange_a for it)::
 
         m·der(v_rod) = F + flange_b.f,   v_rod = der(flange_b.s),   flange_a.f = F
-        F = F_hyd − F_fric + F_stop,     F_hyd = p_A·A_p − p_B·A_r − p_ref·(A_p − A_r)
+        F = F_hyd − F_fric + F_stop,     F_hyd = p_A·A_p − p_B·A_r − p_amb·(A_p − A_r)
 
-    (absolute pressures: the ambient pressure acts on the rod cross-section.) Friction, regularised
+    (absolute pressures: the ambient pressure ``p_amb`` acts on the rod cross-section ``A_p − A_r`` outside
+    the cylinder and pulls the rod in. Its default is the fluid's reference pressure ``fluid.p_ref``
+    (atmospheric for HLP46); ``p_amb = 0`` gives the gauge-pressure force balance
+    ``F_hyd = p_A·A_p − p_B·A_r`` of data sheets and Simscape's gauge-based actuators, whatever
+    ``fluid.p_ref`` is.) Friction, regularised
     Coulomb + Stribeck + viscous (no events; sticking is a slow creep below ``v_reg``)::
 
         F_fric = F_c·(1 + (stribeck − 1)·exp(−(v/v_s)²))·tanh(v/v_reg) + d·v
@@ -98,6 +108,10 @@ class DoubleActingCylinder(PositiveParameters, Component):
         Initial piston velocity [m/s] (used if ``x_fixed``).
     p_A_start, p_B_start : float
         Initial absolute chamber pressures [Pa], > 0 (used if ``p_fixed``).
+    p_amb : float
+        Ambient absolute pressure around the cylinder [Pa], >= 0: acts on the rod cross-section
+        (``−p_amb·(A_p − A_r)`` in ``F_hyd``) and receives the rod-seal leakage without a drain. Default:
+        ``fluid.p_ref``; 0 for a force balance in gauge terms.
     x_fixed : bool
         True if ``x(t0) = x_start`` and ``v(t0) = v_start`` are initial conditions (structural; set it
         False when the position follows from the rest of the model, e.g. a 3D linkage).
@@ -109,6 +123,9 @@ class DoubleActingCylinder(PositiveParameters, Component):
         leaves the circuit at ``fluid.p_ref``.
     fluid : Fluid
         Fluid property record (structural; default HLP46).
+    chamber_form : str
+        ``"mass"`` (default), ``"pressure"`` or ``"mass_total"`` (structural; see
+        :func:`~.interfaces.chamber_equations`).
 
     Connectors
     ----------
@@ -126,8 +143,15 @@ class DoubleActingCylinder(PositiveParameters, Component):
     Variables
     ---------
     x [m], v [m/s], a [m/s2]: piston position, velocity, acceleration relative to the housing;
-    p_A, p_B [Pa]; m_A, m_B [kg] (states); V_A, V_B [m3]; F, F_hyd, F_fric, F_stop [N];
+    p_A, p_B [Pa]; m_A, m_B [kg]: stored masses; dm_A, dm_B [kg]: their deviations (states); V_A, V_B
+    [m3]; q_A, q_B [m3/s]: volume flows into the chambers at the ports; F, F_hyd, F_fric, F_stop [N];
     m_flow_int, m_flow_ext [kg/s]; v_rod [m/s]: absolute rod velocity.
+
+    Nominal values (error weights, ``atol·nominal``): pressures 1e7 Pa; forces 1e4 N (1e3 N friction and
+    end-stop contact, which is zero most of the time);
+    position ``stroke`` and velocity ``stroke``/s (per instance, from the constructor's stroke); chamber
+    mass deviations ``rho_ref·V·1e7/beta`` (the mass that 100 bar adds to the chamber at mid-stroke,
+    per instance); volumes ``A_p·stroke``; port flows 1e-3 m3/s, mass flows 1 kg/s.
 
     Notes
     -----
@@ -167,6 +191,7 @@ class DoubleActingCylinder(PositiveParameters, Component):
     v_start = Parameter(0.0, unit="m/s", doc="Initial piston velocity")
     p_A_start = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Initial pressure in chamber A")
     p_B_start = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Initial pressure in chamber B")
+    p_amb = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Ambient pressure on the rod (default: fluid.p_ref)")
 
     x = Variable(unit="m", state_select="prefer", doc="Piston position relative to the housing")
     v = Variable(unit="m/s", state_select="prefer", doc="Piston velocity relative to the housing")
@@ -175,16 +200,20 @@ class DoubleActingCylinder(PositiveParameters, Component):
     a_rod = Variable(unit="m/s2", doc="Absolute acceleration of the rod (flange_b)")
     p_A = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in chamber A")
     p_B = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in chamber B")
-    m_A = Variable(unit="kg", state_select="prefer", nominal=0.1, doc="Fluid mass in chamber A")
-    m_B = Variable(unit="kg", state_select="prefer", nominal=0.1, doc="Fluid mass in chamber B")
-    V_A = Variable(unit="m3", doc="Volume of chamber A")
-    V_B = Variable(unit="m3", doc="Volume of chamber B")
+    m_A = Variable(unit="kg", nominal=0.1, doc="Fluid mass in chamber A")
+    m_B = Variable(unit="kg", nominal=0.1, doc="Fluid mass in chamber B")
+    dm_A = Variable(unit="kg", state_select="prefer", nominal=1e-3, doc="m_A - rho(p_zero)*V_A(x_start)")
+    dm_B = Variable(unit="kg", state_select="prefer", nominal=1e-3, doc="m_B - rho(p_zero)*V_B(x_start)")
+    V_A = Variable(unit="m3", nominal=1e-3, doc="Volume of chamber A")
+    V_B = Variable(unit="m3", nominal=1e-3, doc="Volume of chamber B")
+    q_A = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow into chamber A at port_A")
+    q_B = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow into chamber B at port_B")
     F = Variable(unit="N", nominal=1e4, doc="Net force of housing and fluid on the rod (extending)")
     F_hyd = Variable(unit="N", nominal=1e4, doc="Pressure force on the piston (extending)")
     F_fric = Variable(unit="N", nominal=1e3, doc="Friction force opposing v")
-    F_stop = Variable(unit="N", nominal=1e4, doc="End-stop contact force (extending)")
-    m_flow_int = Variable(unit="kg/s", doc="Internal leakage mass flow A -> B")
-    m_flow_ext = Variable(unit="kg/s", doc="External leakage mass flow out of chamber B")
+    F_stop = Variable(unit="N", nominal=1e3, doc="End-stop contact force (extending)")
+    m_flow_int = Variable(unit="kg/s", nominal=1.0, doc="Internal leakage mass flow A -> B")
+    m_flow_ext = Variable(unit="kg/s", nominal=1.0, doc="External leakage mass flow out of chamber B")
 
     port_A = Port(doc="Cap-side chamber")
     port_B = Port(doc="Rod-side chamber")
@@ -192,14 +221,31 @@ class DoubleActingCylinder(PositiveParameters, Component):
     flange_b = Flange(doc="Rod end")
 
     def __init__(self, x_fixed: bool = True, p_fixed: bool = True, use_drain: bool = False,
-                 fluid: Fluid = HLP46, **kw: Any) -> None:
+                 fluid: Fluid = HLP46, chamber_form: str = "mass", **kw: Any) -> None:
+        kw.setdefault("p_amb", fluid.p_ref if isinstance(fluid, Fluid) else HLP46.p_ref)
         super().__init__(**kw)
         store_fluid(self, fluid)
+        self.chamber_form = check_chamber_form(self, chamber_form)
+        self._physical_nominals()
         self.x_fixed = bool(x_fixed)
         self.p_fixed = bool(p_fixed)
         self.use_drain = bool(use_drain)
         if self.use_drain:
             self.port_D = Port(doc="Drain of the rod seal")
+
+    def _physical_nominals(self) -> None:
+        """Per-instance error weights from the constructor's geometry (see ``interfaces.P_NOMINAL``)."""
+        val = {n: self.parameter_value(n) for n in ("d_bore", "d_rod", "stroke", "V_dead_A", "V_dead_B")}
+        if any(v is None for v in val.values()):
+            return
+        stroke, a_p = float(val["stroke"]), math.pi / 4.0 * float(val["d_bore"]) ** 2
+        a_r = a_p - math.pi / 4.0 * float(val["d_rod"]) ** 2
+        set_nominal(self, "x", stroke)
+        set_nominal(self, "v", stroke)
+        set_nominal(self, "V_A", float(val["V_dead_A"]) + a_p * stroke)
+        set_nominal(self, "V_B", float(val["V_dead_B"]) + a_r * stroke)
+        set_nominal(self, "dm_A", chamber_mass_nominal(self.fluid, float(val["V_dead_A"]) + a_p * stroke / 2))
+        set_nominal(self, "dm_B", chamber_mass_nominal(self.fluid, float(val["V_dead_B"]) + a_r * stroke / 2))
 
     def check(self, values: dict[str, Any]) -> None:
         super().check(values)
@@ -240,7 +286,7 @@ class DoubleActingCylinder(PositiveParameters, Component):
     def equations(self) -> list:
         fa, fb, fl = self.flange_a, self.flange_b, self.fluid
         p_A, p_B = self.p_A, self.p_B
-        p_D = self.port_D.p if self.use_drain else fl.p_ref
+        p_D = self.port_D.p if self.use_drain else self.p_amb
         rho_AB = fl.density(0.5 * (p_A + p_B))
         eqs = [
             eq(self.x, fb.s - fa.s - self.L0, label="piston position"),
@@ -251,9 +297,14 @@ class DoubleActingCylinder(PositiveParameters, Component):
             eq(self.V_B, self.V_dead_B + self.A_r * (self.stroke - self.x)),
             eq(self.m_flow_int, rho_AB * self.G_int * (p_A - p_B)),
             eq(self.m_flow_ext, fl.density(p_B) * self.G_ext * (p_B - p_D)),
-            *chamber_equations(fl, self.m_A, p_A, self.V_A, self.port_A.m_flow - self.m_flow_int),
-            *chamber_equations(fl, self.m_B, p_B, self.V_B, self.port_B.m_flow + self.m_flow_int - self.m_flow_ext),
-            eq(self.F_hyd, p_A * self.A_p - p_B * self.A_r - fl.p_ref * (self.A_p - self.A_r)),
+            *chamber_equations(fl, self.m_A, p_A, self.V_A, self.port_A.m_flow - self.m_flow_int, dm=self.dm_A,
+                               V_ref=self.V_dead_A + self.A_p * self.x_start, dV=self.A_p * (self.x - self.x_start),
+                               form=self.chamber_form),
+            *chamber_equations(fl, self.m_B, p_B, self.V_B, self.port_B.m_flow + self.m_flow_int - self.m_flow_ext,
+                               dm=self.dm_B, V_ref=self.V_dead_B + self.A_r * (self.stroke - self.x_start),
+                               dV=-self.A_r * (self.x - self.x_start), form=self.chamber_form),
+            eq(self.q_A, self.port_A.m_flow / fl.density(p_A)), eq(self.q_B, self.port_B.m_flow / fl.density(p_B)),
+            eq(self.F_hyd, p_A * self.A_p - p_B * self.A_r - self.p_amb * (self.A_p - self.A_r)),
             eq(self.F_fric, self.friction_force()),
             eq(self.F_stop, self.stop_force()),
             eq(self.F, self.F_hyd - self.F_fric + self.F_stop),
@@ -262,6 +313,10 @@ class DoubleActingCylinder(PositiveParameters, Component):
         ]
         if self.use_drain:
             eqs.append(eq(self.port_D.m_flow, -self.m_flow_ext))
+        if self.chamber_form != "mass":
+            rho_0 = float(fl.density(fl.p_zero))
+            eqs += [eq(self.dm_A, self.m_A - rho_0 * (self.V_dead_A + self.A_p * self.x_start)),
+                    eq(self.dm_B, self.m_B - rho_0 * (self.V_dead_B + self.A_r * (self.stroke - self.x_start)))]
         return eqs
 
     def initial_equations(self) -> list:

@@ -31,9 +31,14 @@ class DirectionalValve43(PositiveParameters, Component):
     """Proportional 4/3 directional valve (4 ports, 3 positions): spool dynamics and four metering edges.
 
     Spool: the command ``u`` (normalised, −1…1) is clipped to [−1, 1] and drives the normalised spool
-    position ``xs`` through a second-order lag::
+    position ``xs`` through a second-order lag (default)::
 
         der(xs) = vs,   der(vs) = omega²·(clip(u) − xs) − 2·zeta·omega·vs
+
+    or, with ``ideal_spool=True``, instantaneously: ``xs = clip(u)`` (no spool states; ``vs = 0`` is not
+    computed; ``omega`` and ``zeta`` are unused). The ideal spool is the valve model of published boom and
+    crane studies that take the spool as much faster than the mechanics; it removes the spool mode
+    (30 Hz by default) and the step-size limit it sets.
 
     Edges P→A and B→T open for ``xs > 0``, P→B and A→T for ``xs < 0``. Each edge ``e`` has the normalised
     lap ``lap_e`` (> 0 overlap: the edge opens only beyond ``lap_e``; < 0 underlap: open in the centre)
@@ -83,6 +88,8 @@ class DirectionalValve43(PositiveParameters, Component):
         Critical Reynolds number of the laminar–turbulent transition [1], > 0.
     centre : str
         ``"closed"`` (default), ``"open"``, ``"float"`` or ``"tandem"`` (structural; see above).
+    ideal_spool : bool
+        True for an instantaneous spool, ``xs = clip(u)`` (structural; default False: second-order lag).
     fluid : Fluid
         Fluid property record (structural; default HLP46).
 
@@ -95,7 +102,8 @@ class DirectionalValve43(PositiveParameters, Component):
 
     Variables
     ---------
-    xs [1], vs [1/s]: spool position and velocity (states, start 0 fixed); u_sat [1]: clipped command;
+    xs [1], vs [1/s]: spool position and velocity (states, start 0 fixed; with ``ideal_spool``
+    ``xs = u_sat`` and ``vs = 0``); u_sat [1]: clipped command;
     m_PA, m_PB, m_AT, m_BT (m_PT) [kg/s]: edge mass flows; q_A, q_B [m3/s]: volume flows out of
     ports A and B.
 
@@ -135,7 +143,7 @@ class DirectionalValve43(PositiveParameters, Component):
 
     u = Input(unit="1", doc="Spool command (-1..1)")
     xs = Variable(unit="1", fixed=True, state_select="prefer", doc="Normalised spool position")
-    vs = Variable(unit="1/s", fixed=True, state_select="prefer", doc="Spool velocity")
+    vs = Variable(unit="1/s", fixed=True, state_select="prefer", nominal=100.0, doc="Spool velocity")
     u_sat = Variable(unit="1", doc="Spool command clipped to [-1, 1]")
     m_PA = Variable(unit="kg/s", doc="Mass flow through edge P->A")
     m_PB = Variable(unit="kg/s", doc="Mass flow through edge P->B")
@@ -149,7 +157,7 @@ class DirectionalValve43(PositiveParameters, Component):
     port_A = Port(doc="Consumer A")
     port_B = Port(doc="Consumer B")
 
-    def __init__(self, centre: str = "closed", fluid: Fluid = HLP46, **kw: Any) -> None:
+    def __init__(self, centre: str = "closed", fluid: Fluid = HLP46, ideal_spool: bool = False, **kw: Any) -> None:
         if centre not in CENTRES:
             raise ModelError(f"{type(self).__name__}: centre must be one of {sorted(CENTRES)}, got {centre!r}")
         for name, lap in zip(("lap_PA", "lap_PB", "lap_AT", "lap_BT"), CENTRES[centre], strict=True):
@@ -157,6 +165,10 @@ class DirectionalValve43(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.centre = centre
+        self.ideal_spool = bool(ideal_spool)
+        if self.ideal_spool:  # xs and vs follow from the command: no initial conditions of their own
+            self.set_start("xs", 0.0, fixed=False)
+            self.set_start("vs", 0.0, fixed=False)
         if centre == "tandem":
             self.m_PT = Variable(unit="kg/s", doc="Mass flow through the tandem bypass P->T")
 
@@ -187,8 +199,8 @@ class DirectionalValve43(PositiveParameters, Component):
         xs, w = self.xs, self.omega
         eqs = [
             eq(self.u_sat, no_event(self.u > 1.0, 1.0, no_event(self.u < -1.0, -1.0, self.u))),
-            eq(der(xs), self.vs),
-            eq(der(self.vs), w**2 * (self.u_sat - xs) - 2.0 * self.zeta * w * self.vs),
+            *([eq(xs, self.u_sat), eq(self.vs, 0.0)] if self.ideal_spool else
+              [eq(der(xs), self.vs), eq(der(self.vs), w**2 * (self.u_sat - xs) - 2.0 * self.zeta * w * self.vs)]),
             eq(self.m_PA, self._edge((xs - self.lap_PA) / (1.0 - self.lap_PA), self.A_max, P.p, A.p)),
             eq(self.m_BT, self._edge((xs - self.lap_BT) / (1.0 - self.lap_BT), self.A_max, B.p, T.p)),
             eq(self.m_PB, self._edge((-xs - self.lap_PB) / (1.0 - self.lap_PB), self.A_max, P.p, B.p)),

@@ -95,6 +95,34 @@ class Fluid:
         """Density of the mixture at absolute pressure ``p`` [kg/m3] (CasADi or float)."""
         return 1.0 / self.specific_volume(p)
 
+    @property
+    def p_zero(self) -> float:
+        """Reference pressure of the chambers' mass deviation [Pa]: 0 (absolute) for the pure liquid, ``p_min``
+        with entrained air (whose density vanishes at 0 Pa); see :func:`~.interfaces.chamber_equations`."""
+        return 0.0 if self.x_air == 0.0 else self.p_min
+
+    def density_deviation(self, p: Any, p0: Any = None) -> Any:
+        """``rho(p) - rho(p0)`` [kg/m3] computed without cancellation (``expm1``); ``p0`` defaults to ``p_ref``.
+
+        The difference is small (``rho·(p − p0)/beta``: 5 kg/m3 for 100 bar) and forming it as
+        ``rho(p) − rho(p0)`` would lose four to five digits; the chamber mass balance
+        (:func:`~.interfaces.chamber_equations`) is written in deviations to keep them. With the specific
+        volume ``v = 1/rho`` of the mixture (module docstring)::
+
+            rho(p) − rho(p0) = (v(p0) − v(p)) / (v(p)·v(p0)),
+            v(p0) − v(p) = −(1 − x_air)/rho_ref·e^(−u0)·expm1(−(p − p0)/beta)
+                           − x_air/rho_ref·(p_ref/p0)^(1/n)·expm1(ln(p0/p)/n),   u0 = (p0 − p_ref)/beta
+        """
+        p0 = self.p_ref if p0 is None else p0
+        dp = p - p0
+        if self.x_air == 0.0:
+            return self.rho_ref * ca.exp((p0 - self.p_ref) / self.beta) * ca.expm1(dp / self.beta)
+        p_c, p0_c = ca.fmax(p, self.p_min), ca.fmax(p0, self.p_min)
+        dv = (-(1.0 - self.x_air) * ca.exp(-(p0 - self.p_ref) / self.beta) * ca.expm1(-dp / self.beta)
+              - self.x_air * (self.p_ref / p0_c) ** (1.0 / self.n_air) * ca.expm1(ca.log(p0_c / p_c) / self.n_air)) \
+            / self.rho_ref
+        return dv / (self.specific_volume(p) * self.specific_volume(p0))
+
     def bulk_modulus(self, p: Any) -> Any:
         """Effective bulk modulus ``rho / (d rho / dp)`` at absolute pressure ``p`` [Pa]."""
         v_liq = (1.0 - self.x_air) / self.rho_ref * ca.exp(-(p - self.p_ref) / self.beta)

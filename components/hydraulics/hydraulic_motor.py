@@ -82,11 +82,11 @@ class HydraulicMotor(PositiveParameters, Component):
     port_a = Port(doc="Inlet port")
     port_b = Port(doc="Outlet port")
     flange = Flange(doc="Motor shaft")
-    w = Variable(unit="rad/s", doc="Shaft angular velocity")
+    w = Variable(unit="rad/s", nominal=100.0, doc="Shaft angular velocity")
     q = Variable(unit="m3/s", nominal=1e-3, doc="Consumed volume flow at inlet density")
     m_flow = Variable(unit="kg/s", doc="Mass flow from a to b")
     dp = Variable(unit="Pa", nominal=1e7, doc="Pressure drop p_a - p_b")
-    tau = Variable(unit="N.m", doc="Torque delivered to the shaft")
+    tau = Variable(unit="N.m", nominal=100.0, doc="Torque delivered to the shaft")
 
     def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(**kw)

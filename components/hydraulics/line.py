@@ -9,7 +9,7 @@ from flexlib import Component, Parameter, Variable, der, eq
 
 from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
 __all__ = ["Line"]
 
@@ -63,6 +63,8 @@ class Line(PositiveParameters, Component):
         and a fast mode).
     fluid : Fluid
         Fluid property record (structural; default HLP46).
+    chamber_form : str
+        ``"mass"`` (default), ``"pressure"`` or ``"mass_total"`` (structural; see :func:`chamber_equations`).
 
     Connectors
     ----------
@@ -75,6 +77,8 @@ class Line(PositiveParameters, Component):
         End pressures.
     m_a, m_b : kg
         Masses stored in the end halves.
+    dm_a, dm_b : kg
+        Their deviations from ``rho(p_zero)·V/2`` (states).
     m_flow : kg/s
         Mass flow from a to b through the friction element.
     q : m3/s
@@ -100,16 +104,25 @@ class Line(PositiveParameters, Component):
     port_b = Port(doc="End b")
     p_a = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure at end a")
     p_b = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure at end b")
-    m_a = Variable(unit="kg", doc="Mass in the half at end a")
-    m_b = Variable(unit="kg", doc="Mass in the half at end b")
-    m_flow = Variable(unit="kg/s", doc="Mass flow from a to b")
+    m_a = Variable(unit="kg", nominal=0.1, doc="Mass in the half at end a")
+    m_b = Variable(unit="kg", nominal=0.1, doc="Mass in the half at end b")
+    dm_a = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_a - rho(p_zero)*V/2")
+    dm_b = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_b - rho(p_zero)*V/2")
+    m_flow = Variable(unit="kg/s", nominal=1.0, doc="Mass flow from a to b")
     q = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow from a to b")
     dp_f = Variable(unit="Pa", nominal=1e6, doc="Friction pressure drop")
 
     def __init__(self, p_start: float | None = None, use_turbulence: bool = True, use_inertance: bool = False,
-                 fluid: Fluid = HLP46, **kw: Any) -> None:
+                 fluid: Fluid = HLP46, chamber_form: str = "mass", **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
+        self.chamber_form = check_chamber_form(self, chamber_form)
+        L, d = self.parameter_value("L"), self.parameter_value("d")
+        if L is not None and d is not None:  # per-instance error weights (interfaces.P_NOMINAL)
+            v_half = math.pi / 8.0 * float(d) ** 2 * float(L)
+            for end in ("a", "b"):
+                set_nominal(self, f"m_{end}", fluid.rho_ref * v_half)
+                set_nominal(self, f"dm_{end}", chamber_mass_nominal(fluid, v_half))
         self.use_turbulence = bool(use_turbulence)
         self.use_inertance = bool(use_inertance)
         for name in ("p_a", "p_b"):
@@ -121,6 +134,7 @@ class Line(PositiveParameters, Component):
         fl, a, b = self.fluid, self.port_a, self.port_b
         area = math.pi / 4.0 * self.d**2
         v_half = 0.5 * area * self.L
+        form = self.chamber_form
         rho = fl.density(0.5 * (self.p_a + self.p_b))
         r_lam = 128.0 * fl.nu * rho * self.L / (math.pi * self.d**4)
         friction = r_lam * self.q
@@ -129,10 +143,15 @@ class Line(PositiveParameters, Component):
             friction = friction * (1.0 + _C_BLASIUS**8 * re2**3) ** 0.125
         eqs = [eq(a.p, self.p_a), eq(b.p, self.p_b),
                *chamber_equations(fl, self.m_a, self.p_a, v_half * (1.0 + self.k_wall * (self.p_a - fl.p_ref)),
-                                  a.m_flow - self.m_flow),
+                                  a.m_flow - self.m_flow, dm=self.dm_a, V_ref=v_half,
+                                  dV=v_half * self.k_wall * (self.p_a - fl.p_ref), form=form),
                *chamber_equations(fl, self.m_b, self.p_b, v_half * (1.0 + self.k_wall * (self.p_b - fl.p_ref)),
-                                  b.m_flow + self.m_flow),
+                                  b.m_flow + self.m_flow, dm=self.dm_b, V_ref=v_half,
+                                  dV=v_half * self.k_wall * (self.p_b - fl.p_ref), form=form),
                eq(self.m_flow, rho * self.q), eq(self.dp_f, friction)]
+        if form != "mass":
+            rho_0 = float(fl.density(fl.p_zero))
+            eqs += [eq(self.dm_a, self.m_a - rho_0 * v_half), eq(self.dm_b, self.m_b - rho_0 * v_half)]
         if self.use_inertance:
             return [*eqs, eq(self.L / area * der(self.m_flow), self.p_a - self.p_b - self.dp_f)]
         return [*eqs, eq(self.p_a - self.p_b, self.dp_f)]

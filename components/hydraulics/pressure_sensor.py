@@ -26,7 +26,7 @@ class PressureSensor(Component):
     """
 
     port = Port(doc="Measured node")
-    p = Output(unit="Pa", doc="Absolute pressure at the port")
+    p = Output(unit="Pa", nominal=1e7, doc="Absolute pressure at the port")
 
     def equations(self) -> list:
         return [eq(self.port.m_flow, 0.0), eq(self.p, self.port.p)]

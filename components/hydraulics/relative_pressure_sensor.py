@@ -28,7 +28,7 @@ class RelativePressureSensor(Component):
 
     port_a = Port(doc="First measured node")
     port_b = Port(doc="Second measured node")
-    dp = Output(unit="Pa", doc="Pressure difference port_a.p - port_b.p")
+    dp = Output(unit="Pa", nominal=1e6, doc="Pressure difference port_a.p - port_b.p")
 
     def equations(self) -> list:
         return [eq(self.port_a.m_flow, 0.0), eq(self.port_b.m_flow, 0.0),

@@ -8,7 +8,7 @@ from flexlib import Component, Parameter, Variable, eq
 
 from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
 __all__ = ["Volume"]
 
@@ -16,14 +16,15 @@ __all__ = ["Volume"]
 class Volume(PositiveParameters, Component):
     """Constant lumped volume of compressible fluid (hydraulic capacitance).
 
-    Mass balance with the stored mass as state (:func:`chamber_equations`):
+    Mass balance with the stored mass as state (:func:`chamber_equations`), written as the deviation
+    ``dm`` from the mass ``rho_0·V`` the volume would hold at ``p_0 = fluid.p_zero`` (0 Pa for a pure liquid):
 
     .. math::
 
-        \\dot m = \\sum \\dot m_{in}, \\qquad m = \\rho(p)\\, V
+        \\dot{dm} = \\sum \\dot m_{in}, \\qquad dm = (\\rho(p) - \\rho_0)\\, V, \\qquad m = \\rho_0 V + dm
 
-    i.e. ``dp/dt = beta_eff(p) / V * q_in``. Any number of components can be connected to
-    the single ``port`` (a node of the circuit).
+    i.e. ``dp/dt = beta_eff(p) / V * q_in``; the circuit's mass is conserved exactly. Any number of
+    components can be connected to the single ``port`` (a node of the circuit).
 
     Parameters
     ----------
@@ -35,6 +36,10 @@ class Volume(PositiveParameters, Component):
         ``init={"p": ...}``, by ``run(steady_state=True)`` or by the circuit.
     fluid : Fluid
         Fluid property record (structural; default HLP46).
+    chamber_form : str
+        ``"mass"`` (default: mass deviation as state, exact mass balance), ``"pressure"`` (pressure as
+        state) or ``"mass_total"`` (the stored mass itself as state; kept for comparison), structural; see
+        :func:`chamber_equations`.
 
     Connectors
     ----------
@@ -46,7 +51,9 @@ class Volume(PositiveParameters, Component):
     p : Pa
         Pressure in the volume.
     m : kg
-        Stored mass (differential state).
+        Stored mass.
+    dm : kg
+        Stored mass minus ``rho(p_zero)·V`` (differential state).
 
     References
     ----------
@@ -58,16 +65,27 @@ class Volume(PositiveParameters, Component):
     _positive = ("V",)
     V = Parameter(unit="m3", min=0.0, doc="Volume")
     p = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in the volume")
-    m = Variable(unit="kg", doc="Stored mass")
+    m = Variable(unit="kg", nominal=0.1, doc="Stored mass")
+    dm = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="Stored mass minus rho(p_zero)*V")
     port = Port(doc="Node port")
 
-    def __init__(self, p_start: float | None = None, fluid: Fluid = HLP46, **kw: Any) -> None:
+    def __init__(self, p_start: float | None = None, fluid: Fluid = HLP46, chamber_form: str = "mass",
+                 **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
+        self.chamber_form = check_chamber_form(self, chamber_form)
+        V = self.parameter_value("V")
+        if V is not None:  # per-instance error weights (interfaces.P_NOMINAL)
+            set_nominal(self, "m", fluid.rho_ref * float(V))
+            set_nominal(self, "dm", chamber_mass_nominal(fluid, float(V)))
         if p_start is not None:
             self.set_start("p", p_start, fixed=True)
         else:
             self.set_start("p", fluid.p_ref, fixed=False)
 
     def equations(self) -> list:
-        return [eq(self.port.p, self.p), *chamber_equations(self.fluid, self.m, self.p, self.V, self.port.m_flow)]
+        eqs = [eq(self.port.p, self.p), *chamber_equations(self.fluid, self.m, self.p, self.V, self.port.m_flow,
+                                                           dm=self.dm, V_ref=self.V, dV=0.0, form=self.chamber_form)]
+        if self.chamber_form != "mass":
+            eqs.append(eq(self.dm, self.m - float(self.fluid.density(self.fluid.p_zero)) * self.V))
+        return eqs

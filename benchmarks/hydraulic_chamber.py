@@ -1,0 +1,192 @@
+"""Benchmark: hydraulic chamber formulations and physical error weights (issue 9, deliverables 4 and 6).
+
+Part 1 — chamber formulations. A pump–relief–valve–cylinder circuit (the circuit of
+``tests/components/hydraulics/test_cylinder_valves.py::test_mass_balance_pump_valve_cylinder``: 10 cm3/rev pump at
+1500 rpm, 150 bar relief, 0.5 L supply volume, 4/3 valve driven by a 0.7 Hz sine, 63/36 × 400 mm cylinder with
+internal leakage and a drained rod seal, 50 kg load; 3 s) is built three times, identical except for the chamber
+formulation (``chamber_form`` of the cylinder and the supply volume, see
+``flexlib.components.hydraulics.chamber_equations``):
+
+* ``mass``       — the default: state = deviation of the stored mass from rho_ref·V_ref (exact mass balance);
+* ``pressure``   — pressure as state (mass conserved only to the integration tolerance);
+* ``mass_total`` — the stored mass itself as state (the formulation before this change).
+
+For rtol 1e-6 … 1e-9 it prints IDA steps, wall time and the mass-balance error (pumped − returned − Δstored,
+relative to the pumped mass), on the default backend and on ``solver="casadi-idas"``, for two absolute-tolerance
+policies: atol = rtol and atol = 1e-4·rtol (both scaled by each variable's nominal).
+
+Part 2 — error weights. The hydraulic servo of ``benchmarks/hydraulic_servo.py`` (read, not changed) at rtol
+1e-5 … 1e-7 with the nominal values the hydraulics library declared before this change ("before": spool speed,
+relief flow, pump torque, chamber masses and volumes at nominal 1 or 0.1) and with today's physical ones
+("after"), against a reference run at rtol 1e-10: IDA steps, wall time and the largest piston-position error on a
+2001-point grid, i.e. steps at equal accuracy.
+
+Run: ``python benchmarks/hydraulic_chamber.py`` (from the repository root; ~5 min on a loaded 2-core VM);
+``--quick`` runs rtol 1e-6 and 1e-8 only. Nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
+
+import math
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import flexlib as fl
+from flexlib.components.control import Constant, Sine
+from flexlib.components.hydraulics import (
+    DirectionalValve43,
+    DoubleActingCylinder,
+    FixedDisplacementPump,
+    Port,
+    PressureReliefValve,
+    Tank,
+    Volume,
+)
+from flexlib.components.mechanics.translational import Fixed, Mass
+
+T_END = 3.0
+P_ATM = 1.01325e5
+
+
+class MassCounter(fl.Component):
+    """Ideal flow meter in series that integrates the mass passed from port_a to port_b (as in the test).
+
+    Reference: Modelica.Fluid.Sensors.MassFlowRate with an integrator; conservation of mass.
+    """
+
+    M = fl.Variable(unit="kg", start=0.0, fixed=True, doc="Mass passed from a to b since the start")
+    port_a = Port(doc="Inlet")
+    port_b = Port(doc="Outlet")
+
+    def equations(self) -> list:
+        a, b = self.port_a, self.port_b
+        return [fl.eq(a.p, b.p), fl.eq(a.m_flow + b.m_flow, 0.0), fl.eq(fl.der(self.M), a.m_flow)]
+
+
+class PumpValveCylinder(fl.Model):
+    """Pump + relief + supply volume → 4/3 valve (sine) → cylinder with leakages → load; mass counters."""
+
+    def __init__(self, chamber_form: str) -> None:
+        super().__init__()
+        self.tank = Tank()
+        self.pump = FixedDisplacementPump(D=10e-6 / (2 * math.pi), C_leak=1e-12)
+        self.speed = Constant(k=1500 * 2 * math.pi / 60)
+        self.pumped, self.returned = MassCounter(), MassCounter()
+        self.supply = Volume(V=5e-4, p_start=P_ATM, chamber_form=chamber_form)
+        self.relief = PressureReliefValve(p_crack=150e5, p_grad=5e10)
+        self.command = Sine(amplitude=0.8, f=0.7)
+        self.valve = DirectionalValve43(Q_nom=40 / 60000, dp_nom=35e5, A_leak=1e-9)
+        self.cylinder = DoubleActingCylinder(d_bore=0.063, d_rod=0.036, stroke=0.4, m=8.0, F_c=200.0, stribeck=1.5,
+                                             d=2000.0, V_dead_A=5e-5, V_dead_B=5e-5, x_start=0.2, G_int=1e-13,
+                                             G_ext=5e-14, use_drain=True, chamber_form=chamber_form)
+        self.fixed, self.load = Fixed(), Mass(m=50.0)
+        self.connect(self.speed.y, self.pump.w)
+        self.connect(self.tank.port, self.pump.port_a, self.returned.port_b)
+        self.connect(self.pump.port_b, self.pumped.port_a)
+        self.connect(self.pumped.port_b, self.supply.port, self.relief.port_a, self.valve.port_P)
+        self.connect(self.returned.port_a, self.relief.port_b, self.valve.port_T, self.cylinder.port_D)
+        self.connect(self.command.y, self.valve.u)
+        self.connect(self.valve.port_A, self.cylinder.port_A)
+        self.connect(self.valve.port_B, self.cylinder.port_B)
+        self.connect(self.fixed.flange, self.cylinder.flange_a)
+        self.connect(self.cylinder.flange_b, self.load.flange_a)
+
+
+def mass_balance_error(res: fl.Result) -> float:
+    """max |pumped − returned − Δstored| / pumped mass at the end."""
+    stored = res["cylinder.m_A"] + res["cylinder.m_B"] + res["supply.m"]
+    balance = res["pumped.M"] - res["returned.M"] - (stored - stored[0])
+    return float(np.abs(balance).max() / res["pumped.M"][-1])
+
+
+def part1(rtols: list[float]) -> None:
+    forms = ("mass", "pressure", "mass_total")
+    sims = {f: fl.Simulation(PumpValveCylinder(f), use_cache=False) for f in forms}
+    print(f"## Part 1: chamber formulations, pump–valve–cylinder circuit, {T_END:g} s, 301 output points\n")
+    for solver in ("ida", "casadi-idas"):
+        for label, afac in (("atol = rtol", 1.0), ("atol = 1e-4·rtol", 1e-4)):
+            print(f"\n### {solver}, {label} (× nominal)\n")
+            print("| rtol | " + " | ".join(f"{f}: steps / wall s / mass error" for f in forms)
+                  + " | steps mass / pressure |")
+            print("|---|" + "---|" * (len(forms) + 1))
+            for rtol in rtols:
+                cells, steps = [], {}
+                for f in forms:
+                    t0 = time.perf_counter()
+                    try:
+                        res = sims[f].run(T_END, dt_out=0.01, rtol=rtol, atol=afac * rtol, progress=False,
+                                          solver=solver, max_steps=400_000)
+                    except fl.SolverError as err:
+                        cells.append(f"failed ({str(err).splitlines()[0][:60]})")
+                        continue
+                    wall = time.perf_counter() - t0
+                    steps[f] = res.stats["steps"]
+                    cells.append(f"{steps[f]} / {wall:.2f} / {mass_balance_error(res):.1e}")
+                ratio = f"{steps['mass'] / steps['pressure']:.2f}" if {"mass", "pressure"} <= steps.keys() else "–"
+                print(f"| {rtol:g} | " + " | ".join(cells) + f" | {ratio} |", flush=True)
+
+
+#: Nominals the hydraulics library declared before the physical error weights (same variables, old values).
+LEGACY_NOMINALS = {"valve.vs": 1.0, "relief.q": 1.0, "pump.tau": 1.0, "supply.m": 1.0, "supply.dm": 1.0,
+                   "cylinder.dm_A": 0.1, "cylinder.dm_B": 0.1, "cylinder.V_A": 1.0, "cylinder.V_B": 1.0,
+                   "cylinder.x": 1.0, "cylinder.v": 1.0}
+
+
+def part2(rtols: list[float]) -> None:
+    from hydraulic_servo import HydraulicServo
+
+    sim = fl.Simulation(HydraulicServo(), use_cache=False)
+    names = sim.compiled.y_names
+    physical = np.asarray(sim.compiled.nominal, dtype=float).copy()
+    legacy = physical.copy()
+    for i, n in enumerate(names):
+        if n in LEGACY_NOMINALS:
+            legacy[i] = LEGACY_NOMINALS[n]
+    changed = [f"{n}: {legacy[i]:g} → {physical[i]:g}" for i, n in enumerate(names) if legacy[i] != physical[i]]
+    print("\n## Part 2: hydraulic servo (benchmarks/hydraulic_servo.py), 20 s, error weights before/after\n")
+    print("Nominals changed (y entries of this model): " + "; ".join(changed) + "\n")
+    grid = np.linspace(0.0, 20.0, 2001)
+
+    def run(nominal: np.ndarray, rtol: float) -> tuple[fl.Result, float]:
+        sim.compiled.nominal = nominal
+        t0 = time.perf_counter()
+        res = sim.run(20.0, dt_out=0.01, rtol=rtol, progress=False)
+        return res, time.perf_counter() - t0
+
+    try:
+        ref, _ = run(physical, 1e-10)
+        x_ref = ref.value("cylinder.x", grid)
+        print(f"Reference: rtol 1e-10, {ref.stats['steps']} steps\n")
+        print("| rtol | before: steps / wall s / max abs(x − x_ref) | after: steps / wall s / max abs(x − x_ref) |")
+        print("|---|---|---|")
+        for rtol in rtols:
+            cells = []
+            for nominal in (legacy, physical):
+                res, wall = run(nominal, rtol)
+                err = np.abs(res.value("cylinder.x", grid) - x_ref).max()
+                cells.append(f"{res.stats['steps']} / {wall:.2f} / {err:.1e} m")
+            print(f"| {rtol:g} | " + " | ".join(cells) + " |", flush=True)
+    finally:
+        sim.compiled.nominal = physical
+
+
+def main() -> None:
+    os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
+    quick = "--quick" in sys.argv
+    part1([1e-6, 1e-8] if quick else [1e-6, 1e-7, 1e-8, 1e-9])
+    part2([1e-6] if quick else [1e-5, 1e-6, 1e-7])
+
+
+if __name__ == "__main__":
+    main()
