@@ -63,6 +63,15 @@ class Trajectory:
         self.yp.append(np.array(yp, dtype=float))
         self.rel.append(np.array(rel, dtype=float))
 
+    def add_owned(self, t: float, y: np.ndarray, yp: np.ndarray, rel: np.ndarray) -> None:
+        """Append one row without copying: ``y`` and ``yp`` are fresh arrays nobody else writes to (a
+        scikit-sundae step result), ``rel`` is shared between rows until the next event changes it."""
+        self.seg.append(len(self.models) - 1)
+        self.t.append(t)
+        self.y.append(y)
+        self.yp.append(yp)
+        self.rel.append(rel)
+
 
 class _Callbacks:
     """IDA callbacks on CasADi FunctionBuffers sharing one parameter array."""
@@ -224,6 +233,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         the caller from ``err.trajectory``).
     """
     traj = Trajectory(models=[model])
+    if monitor is not None:
+        monitor.reset()
     n_par = model.n_params
     solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
     stats = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
@@ -234,6 +245,11 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
 
     def rel_values() -> np.ndarray:
         return p[n_par:].copy()
+
+    rel_now = rel_values()  # shared by the rows between events (p changes only at events and switches)
+    add_owned = traj.add_owned
+    step = solver.step
+    watching = monitor is not None and model.has_state_choice
 
     solver.init_step(t0, y0, yp0)
     traj.add(t0, y0, yp0, rel_values())
@@ -254,7 +270,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     try:
         while t < t_end:
             tstop = min(t_end, t_event)
-            r = solver.step(tstop, "onestep", tstop=tstop)
+            r = step(tstop, "onestep", tstop)
             cur = [r.nfev, r.njev]
             if r.status < 0:
                 raise SolverError(f"IDA failed at t = {r.t:.10g} s: {r.message} (status {r.status})")
@@ -266,14 +282,14 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
             if t_out is not None:
                 while out_idx < len(t_out) and t_out[out_idx] < r.t:
                     ri = _interpolate(solver, float(t_out[out_idx]))
-                    traj.add(ri.t, ri.y, ri.yp, rel_values())
+                    add_owned(ri.t, ri.y, ri.yp, rel_now)
                     out_idx += 1
                     interpolated = True
                 if out_idx < len(t_out) and t_out[out_idx] == r.t:
-                    traj.add(r.t, r.y, r.yp, rel_values())
+                    add_owned(r.t, r.y, r.yp, rel_now)
                     out_idx += 1
             elif r.t > traj.t[-1]:
-                traj.add(r.t, r.y, r.yp, rel_values())
+                add_owned(r.t, r.y, r.yp, rel_now)
             tiny = tiny + 1 if r.t - t <= 1e-14 * max(1.0, abs(r.t)) else 0
             if tiny > 200:
                 raise SolverError(f"IDA step size underflow at t = {r.t:.10g} s (the model may be stiff "
@@ -312,7 +328,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     texts = ", ".join(model.relations[k].text for k, _ in triggered)
                     traj.events.append((t, f"{event_kind} event: {texts}"))
                     solver.init_step(t, y1, yp1)
-                    traj.add(t, y1, yp1, rel_values())
+                    rel_now = rel_values()
+                    traj.add(t, y1, yp1, rel_now)
                     watch = 2 if len(state_rel) else 0
                     burst = burst + 1 if t - last_event_t <= 1e-10 * max(1.0, abs(t)) else 0
                     last_event_t = t
@@ -321,7 +338,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                             f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
                 if time_hit:
                     t_event, which = next_time_event(model, p, t, t_end)
-            if monitor is not None and model.has_state_choice and monitor.needs_switch(model, t, r.y, r.yp, p):
+            if watching and monitor.needs_switch(model, t, r.y, r.yp, p):
                 y_now, yp_now = (y1, yp1) if event_kind and changed else (r.y, r.yp)
                 switched = monitor.switch(model, t, y_now, yp_now, p)
                 if switched is not None:
@@ -331,10 +348,13 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     init = Initializer(model)
                     y1, yp1 = init.reinit(t, y1, yp1, p)
                     solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
+                    step = solver.step
+                    watching = model.has_state_choice
                     ind_fn = model.function("ind")
                     solver.init_step(t, y1, yp1)
                     traj.models.append(model)
-                    traj.add(t, y1, yp1, rel_values())
+                    rel_now = rel_values()
+                    traj.add(t, y1, yp1, rel_now)
                     stats["state_switches"] += 1
                     states = ", ".join(n for n, d in zip(model.y_names, model.differential, strict=True) if d)
                     traj.events.append((t, f"state selection: states are now {states}"))

@@ -20,6 +20,7 @@ by switching inside one residual.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
@@ -36,6 +37,17 @@ def _smallest_sv(A: np.ndarray) -> float:
 class StateSelectionMonitor:
     """Watches the conditioning of the dummy-derivative blocks and performs switches.
 
+    The full test (pivoted QR by cost class, then the smallest singular values of the selected and
+    of the best block, 0.4–0.5 ms on a 25-row block) runs only when a cheap indicator says the
+    selection may have degraded. The indicator is the largest basis-exchange ratio
+    ``max |B⁻¹ N|`` of each level (``B`` the selected columns, ``N`` the others; entry ``(i, j)`` is
+    the factor by which ``|det|`` grows when selected column ``i`` is swapped for candidate ``j``),
+    from one small LU solve. It is evaluated on a schedule, not every step: the next check is placed
+    half-way to the time where the indicator's reciprocal, extrapolated linearly from the last two
+    checks, would reach the trigger, and at least every ``every`` steps; a step-size
+    collapse (IDA's step shrinking ``collapse`` times below its running size, the sign of a
+    singular iteration matrix) forces a check at once.
+
     Parameters
     ----------
     rebuild : callable
@@ -45,45 +57,122 @@ class StateSelectionMonitor:
         Switch when the smallest singular value of the selected block drops below ``ratio``
         times that of the best block (hysteresis: a new selection is at least ``1/ratio`` better).
     every : int
-        Check every this many steps while the selection is comfortably conditioned (every step once a
-        ratio falls below twice ``ratio``).
+        Largest number of steps between two indicator checks.
+    trigger : float
+        Run the full test when the exchange ratio exceeds ``trigger / ratio`` (default 0.75: at the
+        default ``ratio`` 0.5, once some swap would grow ``|det|`` 1.5-fold). Near-ties (ratios
+        0.9–1.1, common in closed loops) stay below it.
+    collapse : float
+        A step this many times smaller than the running step size forces a check.
     """
 
-    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.5, every: int = 8) -> None:
+    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.5, every: int = 64,
+                 trigger: float = 0.75, collapse: float = 8.0) -> None:
         self.rebuild = rebuild
         self.ratio = ratio
         self.every = every
+        self.trigger = trigger
+        self.collapse = collapse
         self._variants: dict[tuple, CompiledModel] = {}
-        self._buffers: dict[int, tuple] = {}
+        self._buffers: dict[Any, tuple] = {}
         self._skip = 0
+        self._t_next = -np.inf
+        self._t_last = np.nan  # time and reciprocal indicator of the last check
+        self._g_last = np.nan
+        self._t_prev_step = np.nan
+        self._h_avg = 0.0
+        self._e_ref = trigger / ratio
+        #: counters for benchmarks: indicator checks, full tests, switches proposed
+        self.counts = {"indicator": 0, "full": 0}
+
+    def reset(self) -> None:
+        """Forget the schedule (a new run or a new selection)."""
+        self._skip = 0
+        self._t_next = -np.inf
+        self._t_last = self._g_last = self._t_prev_step = np.nan
+        self._h_avg = 0.0
+        self._e_ref = self.trigger / self.ratio
 
     def needs_switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
         """True if a clearly better-conditioned selection exists at this point.
 
-        For each level with a choice, the ratio of the smallest singular values of the selected block
-        and of the best block (pivoted QR by ``state_select`` class, as at compile time) is computed.
-        Below ``ratio``: switch. While every ratio is above twice ``ratio`` only every ``every``-th step is checked.
+        Cheap unless a check is due (see the class docstring): a due check computes the exchange
+        ratio of every level with a choice, and only above the trigger the full test, which compares
+        the smallest singular values of the selected block and of the best block (pivoted QR by
+        ``state_select`` class, as at compile time) and answers True below ``ratio``.
         """
-        if self._skip > 0:
+        h = t - self._t_prev_step
+        self._t_prev_step = t
+        if h > 0.0:
+            collapsed = self._h_avg > 0.0 and h * self.collapse < self._h_avg
+            self._h_avg = h if self._h_avg == 0.0 else 0.8 * self._h_avg + 0.2 * h
+        else:
+            collapsed = False
+        if self._skip > 0 and t < self._t_next and not collapsed:
             self._skip -= 1
             return False
+        return self._check(model, t, y, yp, p)
+
+    def _check(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
+        self.counts["indicator"] += 1
         J = self._jlev(model, t, y, yp, p)
-        worst = 1.0
-        offset = 0
-        for n_rows, n_cands, costs, selected in model.levels:
-            block = J[offset:offset + n_rows * n_cands].reshape((n_rows, n_cands), order="F")
-            offset += n_rows * n_cands
-            if n_cands == n_rows:
-                continue
-            best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
-            if best is None or sorted(best) == sorted(selected):
-                continue
-            quality = _smallest_sv(block[:, selected]) / max(_smallest_sv(block[:, best]), 1e-300)
-            if quality < self.ratio:
-                return True
-            worst = min(worst, quality)
-        self._skip = 0 if worst < min(1.0, 2 * self.ratio) else self.every - 1
+        e_trig = self.trigger / self.ratio
+        worst = 1.0  # largest exchange ratio over the levels
+        blocks = []
+        for shape, offset, costs, selected, sel, others in self._levels(model):
+            block = J[offset:offset + shape[0] * shape[1]].reshape(shape, order="F")
+            if shape[0] == 1:  # one row: the exchange ratios are quotients of entries
+                b = abs(block[0, sel[0]])
+                e = float(np.abs(block[0, others]).max()) / b if b > 0.0 else np.inf
+            else:
+                try:
+                    e = float(np.abs(np.linalg.solve(block[:, sel], block[:, others])).max())
+                except np.linalg.LinAlgError:
+                    e = np.inf
+            if not e < np.inf:  # also NaN
+                e = np.inf
+            worst = max(worst, e)
+            blocks.append((block, costs, selected))
+        if worst > self._e_ref:
+            self.counts["full"] += 1
+            for block, costs, selected in blocks:
+                n_rows, n_cands = block.shape
+                best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
+                if best is None or sorted(best) == sorted(selected):
+                    continue
+                quality = _smallest_sv(block[:, selected]) / max(_smallest_sv(block[:, best]), 1e-300)
+                if quality < self.ratio:
+                    return True
+            # no switch yet: the next full test when the indicator has grown by another quarter
+            self._e_ref = 1.25 * worst
+        elif 1.25 * worst < self._e_ref:  # improving again: lower the bar back towards the trigger
+            self._e_ref = max(e_trig, 1.25 * worst)
+        # schedule: the reciprocal g = 1/e falls to 1/e_trig near a singular selection, about linearly in time
+        g, g_trig = 1.0 / worst, 1.0 / self._e_ref
+        t_next = np.inf
+        if np.isfinite(self._t_last) and t > self._t_last:
+            rate = (self._g_last - g) / (t - self._t_last)
+            if rate > 0.0:
+                t_next = t + 0.5 * max(g - g_trig, 0.0) / rate
+        self._t_last, self._g_last = t, g
+        self._t_next = t_next
+        self._skip = self.every - 1 if g > g_trig else 0
         return False
+
+    def _levels(self, model: CompiledModel) -> list[tuple]:
+        """Per level with a choice: block shape, offset in the level Jacobians, cost classes, selected
+        columns (list and index array) and the other candidates (index array); cached per model."""
+        entry = self._buffers.get(("levels", id(model)))
+        if entry is None or entry[0] is not model:
+            levels, offset = [], 0
+            for n_rows, n_cands, costs, selected in model.levels:
+                if n_cands > n_rows:
+                    others = np.array([k for k in range(n_cands) if k not in selected], dtype=np.intp)
+                    levels.append(((n_rows, n_cands), offset, costs, selected, np.asarray(selected, dtype=np.intp),
+                                   others))
+                offset += n_rows * n_cands
+            entry = self._buffers[("levels", id(model))] = (model, levels)
+        return entry[1]
 
     def _jlev(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> np.ndarray:
         """Level Jacobians at a point, through a FunctionBuffer (no per-call conversion)."""
@@ -94,18 +183,19 @@ class StateSelectionMonitor:
             tb, out = np.zeros(1), np.zeros(fn.nnz_out(0))
             buf.set_arg(0, memoryview(tb))
             buf.set_res(0, memoryview(out))
-            entry = self._buffers[id(model)] = (model, buf, ev, tb, out)
-        _, buf, ev, tb, out = entry
+            sp = fn.sparsity_out(0)
+            scatter = None if sp.is_dense() else (np.asarray(sp.find()), np.zeros(sp.numel()))
+            entry = self._buffers[id(model)] = (model, buf, ev, tb, out, scatter)
+        _, buf, ev, tb, out, scatter = entry
         tb[0] = t
         buf.set_arg(1, memoryview(y))
         buf.set_arg(2, memoryview(yp))
         buf.set_arg(3, memoryview(p))
         ev()
-        sp = model.function("jlev").sparsity_out(0)
-        if sp.is_dense():
+        if scatter is None:
             return out
-        dense = np.zeros(sp.numel())
-        dense[np.asarray(sp.find())] = out
+        idx, dense = scatter
+        dense[idx] = out
         return dense
 
     def switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray,
@@ -124,6 +214,7 @@ class StateSelectionMonitor:
             self._variants[key] = new
         if new.y_names == model.y_names and np.array_equal(new.differential, model.differential):
             return None
+        self.reset()
         y_new = np.array([values[n] for n in new.y_names])
         yp_new = np.zeros(new.n)
         for i in np.flatnonzero(new.differential):
