@@ -23,6 +23,7 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+from scipy.linalg.lapack import dgesv as _dgesv
 
 from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.index_reduction import Structure, _pick_columns
@@ -57,7 +58,9 @@ class StateSelectionMonitor:
         Switch when the smallest singular value of the selected block drops below ``ratio``
         times that of the best block (hysteresis: a new selection is at least ``1/ratio`` better).
     every : int
-        Largest number of steps between two indicator checks.
+        Largest number of steps between two indicator checks while the indicator approaches the
+        trigger; while it stays below 1/1.2 of it and does not change at all, the cap doubles at every check
+        up to ``16 * every``.
     trigger : float
         Run the full test when the exchange ratio exceeds ``trigger / ratio`` (default 0.75: at the
         default ``ratio`` 0.5, once some swap would grow ``|det|`` 1.5-fold). Near-ties (ratios
@@ -77,11 +80,12 @@ class StateSelectionMonitor:
         self._buffers: dict[Any, tuple] = {}
         self._skip = 0
         self._t_next = -np.inf
-        self._t_last = np.nan  # time and reciprocal indicator of the last check
-        self._g_last = np.nan
+        self._t_last = np.nan  # time and reciprocal indicators (one per level) of the last check
+        self._g_last = np.zeros(0)
         self._t_prev_step = np.nan
         self._h_avg = 0.0
         self._e_ref = trigger / ratio
+        self._cap = every
         #: counters for benchmarks: indicator checks, full tests, switches proposed
         self.counts = {"indicator": 0, "full": 0}
 
@@ -89,9 +93,11 @@ class StateSelectionMonitor:
         """Forget the schedule (a new run or a new selection)."""
         self._skip = 0
         self._t_next = -np.inf
-        self._t_last = self._g_last = self._t_prev_step = np.nan
+        self._t_last = self._t_prev_step = np.nan
+        self._g_last = np.zeros(0)
         self._h_avg = 0.0
         self._e_ref = self.trigger / self.ratio
+        self._cap = self.every
 
     def needs_switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
         """True if a clearly better-conditioned selection exists at this point.
@@ -116,8 +122,8 @@ class StateSelectionMonitor:
     def _check(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
         self.counts["indicator"] += 1
         J = self._jlev(model, t, y, yp, p)
-        e_trig = self.trigger / self.ratio
-        worst = 1.0  # largest exchange ratio over the levels
+        worst = 1e-12  # largest exchange ratio over the levels
+        es = []
         blocks = []
         for shape, offset, costs, selected, sel, others in self._levels(model):
             block = J[offset:offset + shape[0] * shape[1]].reshape(shape, order="F")
@@ -125,13 +131,12 @@ class StateSelectionMonitor:
                 b = abs(block[0, sel[0]])
                 e = float(np.abs(block[0, others]).max()) / b if b > 0.0 else np.inf
             else:
-                try:
-                    e = float(np.abs(np.linalg.solve(block[:, sel], block[:, others])).max())
-                except np.linalg.LinAlgError:
-                    e = np.inf
+                _, _, x, info = _dgesv(block[:, sel], block[:, others], overwrite_a=True, overwrite_b=True)
+                e = float(np.abs(x).max()) if info == 0 else np.inf
             if not e < np.inf:  # also NaN
                 e = np.inf
             worst = max(worst, e)
+            es.append(e)
             blocks.append((block, costs, selected))
         if worst > self._e_ref:
             self.counts["full"] += 1
@@ -143,20 +148,27 @@ class StateSelectionMonitor:
                 quality = _smallest_sv(block[:, selected]) / max(_smallest_sv(block[:, best]), 1e-300)
                 if quality < self.ratio:
                     return True
-            # no switch yet: the next full test when the indicator has grown by another quarter
+            # no switch: the next full test once the indicator has grown by another quarter (the bar
+            # stays up for this selection: lower values were already judged good enough)
             self._e_ref = 1.25 * worst
-        elif 1.25 * worst < self._e_ref:  # improving again: lower the bar back towards the trigger
-            self._e_ref = max(e_trig, 1.25 * worst)
-        # schedule: the reciprocal g = 1/e falls to 1/e_trig near a singular selection, about linearly in time
-        g, g_trig = 1.0 / worst, 1.0 / self._e_ref
+        # schedule: the reciprocal g = 1/e falls towards the bar near a singular selection, about linearly in time
+        # per level: a tie that never moves must not hide a level that approaches the bar
+        g, g_trig = 1.0 / np.maximum(np.array(es), 1e-12), 1.0 / self._e_ref
         t_next = np.inf
-        if np.isfinite(self._t_last) and t > self._t_last:
+        stationary = False
+        if np.isfinite(self._t_last) and t > self._t_last and len(self._g_last) == len(g):
             rate = (self._g_last - g) / (t - self._t_last)
-            if rate > 0.0:
-                t_next = t + 0.5 * max(g - g_trig, 0.0) / rate
+            closing = rate > 0.0
+            if np.any(closing):
+                t_next = t + 0.5 * float(np.min(np.maximum(g[closing] - g_trig, 0.0) / rate[closing]))
+            stationary = bool(np.all(np.abs(g - self._g_last) <= 1e-6 * g))
         self._t_last, self._g_last = t, g
         self._t_next = t_next
-        self._skip = self.every - 1 if g > g_trig else 0
+        g = 1.0 / worst
+        # below the bar and not moving at all (e.g. a structural tie of two identical columns): the step
+        # cap between checks doubles (to 16 ``every``)
+        self._cap = min(2 * self._cap, 16 * self.every) if g > 1.2 * g_trig and stationary else self.every
+        self._skip = self._cap - 1 if g > g_trig else 0
         return False
 
     def _levels(self, model: CompiledModel) -> list[tuple]:
