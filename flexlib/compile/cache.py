@@ -170,9 +170,8 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     root : Component
         The top-level model.
     codegen : bool or "auto"
-        Generate and compile C code; ``"auto"`` does so above 300 unknowns after alias elimination
-        when the residual and Jacobian have at most ``AUTO_C_MAX_INSTRUCTIONS`` operations (see
-        :func:`flexlib.compile.codegen.compile_dae`).
+        Generate and compile C code; ``"auto"`` does so above 300 unknowns after alias elimination,
+        with gcc in the background (see :func:`flexlib.compile.codegen.compile_dae`).
     use_cache : bool
         Read and write the disk cache.
 

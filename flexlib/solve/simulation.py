@@ -62,8 +62,8 @@ class Simulation:
     model : Component
         The top-level model instance.
     codegen : bool or "auto"
-        Generate C code for the residual and Jacobian (``"auto"``: above 300 unknowns, when the
-        expressions are small enough for gcc to pay off; see ``flexlib.compile.codegen``).
+        Generate C code for the residual and Jacobian (``"auto"``: above 300 unknowns, compiled in
+        the background while runs start on the SX virtual machine; see ``flexlib.compile.codegen``).
     use_cache : bool
         Use the disk cache (``$FLEXLIB_CACHE_DIR``, default ``~/.cache/flexlib``).
 
