@@ -337,11 +337,13 @@ def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike 
         with src.open() as fh:
             lines = sum(1 for _ in fh)
         tmp_lib = work / lib.name
-        script = (f'"$1" {gcc_level(lines, background=True)} -shared -fPIC "$2" -o "$3" -lm > "$5" 2>&1 '
-                  '&& mv -f "$3" "$4" && rm -rf "$6"')
-        subprocess.Popen(["sh", "-c", script, "sh", cc, str(src), str(tmp_lib), str(lib), str(lib) + ".log",
-                          str(work)], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL, start_new_session=True)
+        # the shell starts gcc in a subshell of its own and exits at once: nothing is left for this
+        # process to wait for (the compile outlives it if need be)
+        script = (f'("$1" {gcc_level(lines, background=True)} -shared -fPIC "$2" -o "$3" -lm > "$5" 2>&1 '
+                  '&& mv -f "$3" "$4" && rm -rf "$6") < /dev/null > /dev/null 2>&1 &')
+        subprocess.run(["sh", "-c", script, "sh", cc, str(src), str(tmp_lib), str(lib), str(lib) + ".log",
+                        str(work)], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                       start_new_session=True, check=False)
         return str(lib)
     with tempfile.TemporaryDirectory(dir=build) as tmp:
         cg.generate(tmp + os.sep)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib import Variable, der, eq
+from flexlib import Variable, der, eq, if_else
 
 
 class BlowUp(fl.Model):
@@ -68,3 +68,30 @@ def test_every_step_mode_keeps_rows_before_a_nan():
     assert 0.49 <= res.t[-1] <= 0.5 + 1e-9
     np.testing.assert_allclose(res["x"], 0.5 - res.t, atol=1e-9)
     np.testing.assert_allclose(res["y"] ** 2, res["x"], atol=5e-6)
+
+
+class SwitchToBlowUp(fl.Model):
+    """x' = 1 while x < 2, then x' = x²: x = 2 at t = 1 s, then x = 1/(1/2 − (t − 1)) blows up at t = 1.5 s."""
+
+    x = Variable()
+
+    def equations(self):
+        return [eq(der(self.x), if_else(self.x < 2, 1.0, self.x**2))]
+
+
+def test_blow_up_after_a_state_event_keeps_rows():
+    """With a state relation (event at t = 1 s) the failure at t = 1.5 s still keeps every output up to one
+    interval (0.1 s) before it; the message brackets the failure time; the rows after the event follow the
+    exact solution to 2e-5·x² (the error equation e' = 2x·e, rtol 1e-6)."""
+    sim = fl.Simulation(SwitchToBlowUp(init={"x": 1.0}), use_cache=False)
+    grid = np.linspace(0.0, 3.0, 31)
+    with pytest.raises(fl.SolverError, match="CasADi IDAS failed between t = ") as exc:
+        sim.run(3.0, output_times=grid, solver="casadi-idas", progress=False)
+    res = exc.value.result
+    assert res.status == "failed" and len(res.events) == 1
+    assert 1.4 - 1e-12 <= res.t[-1] < 1.5
+    a, b = (float(v) for v in str(exc.value).split("between t = ")[1].split(" s (")[0].split(" s and t = "))
+    assert a <= 1.5 <= b
+    late = res.t > 1.0 + 1e-9
+    exact = 1.0 / (0.5 - (res.t[late] - 1.0))
+    assert np.all(np.abs(res["x"][late] - exact) <= 2e-5 * exact**2)
