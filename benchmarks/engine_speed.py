@@ -2,6 +2,8 @@
 
 Four tables, each timed in one process with ratios against a floor measured in the same run:
 
+Models whose generated C is compiled in the background (``codegen="auto"``) are timed once it is ready.
+
 1. **State-selection monitor** — four-bar 10 s, hydraulic servo 20 s (``benchmarks/hydraulic_servo.py``),
    the triple rocker of ``tests/test_state_selection_speed.py`` 5 s and the Cartesian pendulum over the
    top 10 s (rtol 1e-9). Routes, interleaved: the floor (``dynamic_states=False``, where the model
@@ -19,7 +21,8 @@ Four tables, each timed in one process with ratios against a floor measured in t
    background), then the same run once the library is ready, and the cached build.
 
 Run: ``python benchmarks/engine_speed.py`` (from the repository root; about 3–5 minutes on a loaded
-2-core machine). ``python benchmarks/engine_speed.py 1000`` adds the 1000-mass chain to table 4.
+2-core machine). ``python benchmarks/engine_speed.py 1000`` adds the 1000-mass chain to table 4;
+``--only=split,assembly`` (first argument) runs only the named tables.
 No timing is asserted.
 """
 
@@ -52,6 +55,16 @@ from flexlib.solve import state_selection as ss
 from flexlib.solve.simulation import Simulation
 
 REPEAT = 3
+
+
+def _simulation(make) -> fl.Simulation:
+    """Build and wait for the generated C (compiled in the background) so that every route is timed on it."""
+    sim = fl.Simulation(make())
+    m = sim.compiled
+    while m.library is None and m.library_pending is not None:
+        time.sleep(0.1)
+        m.function("res")
+    return sim
 
 
 class LegacyMonitor(ss.StateSelectionMonitor):
@@ -130,7 +143,7 @@ def monitor_table() -> None:
           "/ full tests / switches |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for name, make, kw, has_floor in _models():
-        sim = fl.Simulation(make())
+        sim = _simulation(make)
         rebuild = sim._monitor().rebuild
         routes = {"after": ss.StateSelectionMonitor(rebuild), "before": LegacyMonitor(rebuild)}
         times = {k: [] for k in ("floor", "before", "after")}
@@ -177,10 +190,19 @@ def _count_calls(run) -> dict[str, int]:
     calls = {"resfn": 0, "jacfn": 0, "_jacfn_dense": 0, "eventsfn": 0}
     saved = {k: getattr(ida._Callbacks, k) for k in calls}
 
-    def wrap(name, fn):
-        def counted(self, *args):
-            calls[name] += 1
-            return fn(self, *args)
+    def wrap(name, fn):  # scikit-sundae checks the callback signatures: no *args
+        if name == "eventsfn":
+            def counted(self, t, y, yp, out):
+                calls[name] += 1
+                return fn(self, t, y, yp, out)
+        elif name == "resfn":
+            def counted(self, t, y, yp, out):
+                calls[name] += 1
+                return fn(self, t, y, yp, out)
+        else:
+            def counted(self, t, y, yp, r, cj, JJ):
+                calls[name] += 1
+                return fn(self, t, y, yp, r, cj, JJ)
         return counted
 
     try:
@@ -194,9 +216,32 @@ def _count_calls(run) -> dict[str, int]:
     return calls
 
 
-def _split_one(name: str, make, kw: dict) -> None:
+#: The commit before issue 9's engine work: its ``flexlib/solve/ida.py`` is the "before" integrate loop.
+BEFORE_COMMIT = "fee99d3"
+
+
+def _ida_before():
+    """``flexlib/solve/ida.py`` as of :data:`BEFORE_COMMIT` (from git), as a module; None without git."""
+    import importlib.util
+    import subprocess
+
+    root = Path(__file__).resolve().parent.parent
+    proc = subprocess.run(["git", "-C", str(root), "show", f"{BEFORE_COMMIT}:flexlib/solve/ida.py"],
+                          capture_output=True, text=True, check=False)
+    if proc.returncode != 0:
+        return None
+    path = Path(tempfile.mkdtemp(prefix="flexlib_bench_")) / "ida_before.py"
+    path.write_text(proc.stdout)
+    spec = importlib.util.spec_from_file_location("ida_before", path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["ida_before"] = module  # dataclasses look their module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+def _split_one(name: str, make, kw: dict, ida_before) -> None:
     """One row of the split table."""
-    sim = fl.Simulation(make())
+    sim = _simulation(make)
     m = sim.compiled
     p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
     _, starts = gather_values(sim.model)
@@ -206,8 +251,12 @@ def _split_one(name: str, make, kw: dict) -> None:
     counts: dict = {}
 
     def flexlib_integrate(m=m, p=p, y0=y0, yp0=yp0, grid=grid, t_end=t_end, sim=sim, counts=counts):
-        tr = ida.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid)
+        tr = ida.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid, progress=False)
         counts.update(tr.stats)
+
+    def before_integrate(m=m, p=p, y0=y0, yp0=yp0, grid=grid, t_end=t_end, sim=sim):
+        if ida_before is not None:
+            ida_before.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid, progress=False)
 
     # the bare loop: the same IDA and callbacks, only step() calls (relation values stay frozen)
     solver, cb, _, _ = ida._make_solver(m, p.copy(), 1e-6, 1e-8, 0.0)
@@ -225,12 +274,15 @@ def _split_one(name: str, make, kw: dict) -> None:
             n += 1
         return n
 
-    times = {"integrate": [], "bare": []}
+    times = {"integrate": [], "bare": [], "before": []}
     bare_steps = 0
     for _ in range(5):
         t = time.perf_counter()
         flexlib_integrate()
         times["integrate"].append(time.perf_counter() - t)
+        t = time.perf_counter()
+        before_integrate()
+        times["before"].append(time.perf_counter() - t)
         t = time.perf_counter()
         bare_steps = bare()
         times["bare"].append(time.perf_counter() - t)
@@ -245,21 +297,24 @@ def _split_one(name: str, make, kw: dict) -> None:
     n_ev = calls["eventsfn"]
     body = calls["resfn"] * t_res + calls["jacfn"] * t_jac + n_ev * t_ev
     f_, b_ = float(np.median(times["integrate"])), float(np.median(times["bare"])) * steps / max(bare_steps, 1)
+    o_ = float(np.median(times["before"])) if ida_before is not None else np.nan
     us = lambda x: f"{1e6 * x / steps:.1f}"  # noqa: E731
     print(f"| {name} | {steps} | {calls['resfn']} / {calls['jacfn']} / {n_ev} | {us(body)} | {us(b_ - body)} | "
-          f"{us(f_ - b_)} | {us(f_)} |", flush=True)
+          f"{us(o_ - b_)} | {us(f_ - b_)} | {us(o_)} | {us(f_)} |", flush=True)
 
 
 def split_table() -> None:
     print("## 2. Split of the integration time per step (monitor off; median of 5, µs per step)\n")
     print("| model | steps | res / jac / event calls | model evaluation | IDA + SuperLU + scikit-sundae | "
-          "flexlib per-step Python | total integrate |")
-    print("|---|---|---|---|---|---|---|")
+          "flexlib per-step Python: before | after | integrate: before | after |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    ida_before = _ida_before()
     for name, make, kw, _ in _models()[:2]:
-        _split_one(name, make, kw)
+        _split_one(name, make, kw, ida_before)
     print("\n(model evaluation = calls × the cost of one callback body through its FunctionBuffer (timeit); "
           "IDA + … = a bare scikit-sundae one-step loop with the same callbacks minus the bodies; flexlib per-step "
-          "Python = ida.integrate minus the bare loop (which keeps the relation values frozen: on the servo its "
+          "Python = ida.integrate minus the bare loop; before = ida.py of commit " + BEFORE_COMMIT + " on the same "
+          "compiled model (which keeps the relation values frozen: on the servo its "
           "time is scaled to the same step count).)\n")
 
 
@@ -269,7 +324,7 @@ def assembly_table() -> None:
           "| speed-up |")
     print("|---|---|---|---|---|---|---|")
     for name, make, kw, _ in _models()[:2]:
-        sim = fl.Simulation(make())
+        sim = _simulation(make)
         m = sim.compiled
         res = sim.run(progress=False, dynamic_states=False, **{**kw, "dt_out": None})
         T = res.t
@@ -328,11 +383,19 @@ def chain_table(sizes: list[int]) -> None:
 def main(argv: list[str]) -> None:
     warnings.simplefilter("ignore", UserWarning)
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
+    tables = {"monitor", "split", "assembly", "chain"}
+    if argv and argv[0].startswith("--only="):
+        tables = set(argv[0].split("=", 1)[1].split(","))
+        argv = argv[1:]
     print(f"flexlib engine speed (issue 9); scikit-sundae {sun.__version__}, OMP_NUM_THREADS=1\n")
-    monitor_table()
-    split_table()
-    assembly_table()
-    chain_table([100] + [int(a) for a in argv])
+    if "monitor" in tables:
+        monitor_table()
+    if "split" in tables:
+        split_table()
+    if "assembly" in tables:
+        assembly_table()
+    if "chain" in tables:
+        chain_table([100] + [int(a) for a in argv])
 
 
 if __name__ == "__main__":

@@ -78,15 +78,8 @@ class _Callbacks:
 
     def __init__(self, model: CompiledModel, p: np.ndarray, state_rel: np.ndarray, dense: bool) -> None:
         self.p = p
-        res, jac = model.function("res"), model.function("jac")
-        self._fr, self._evr = res.buffer()
-        self._fj, self._evj = jac.buffer()
         self._tr, self._tj, self._cj = np.zeros(1), np.zeros(1), np.zeros(1)
-        self._fr.set_arg(0, memoryview(self._tr))
-        self._fr.set_arg(3, memoryview(p))
-        self._fj.set_arg(0, memoryview(self._tj))
-        self._fj.set_arg(3, memoryview(p))
-        self._fj.set_arg(4, memoryview(self._cj))
+        self.bind(model)
         self.pattern = sps.csc_matrix((np.ones(len(model.jac_row)), model.jac_row, model.jac_colind),
                                       shape=(model.n, model.n))
         self.pattern.indices = self.pattern.indices.astype(np.int32)
@@ -108,6 +101,18 @@ class _Callbacks:
             self._tz = np.zeros(1)
             self._fz.set_arg(0, memoryview(self._tz))
             self._fz.set_arg(3, memoryview(p))
+
+    def bind(self, model: CompiledModel) -> None:
+        """(Re)bind the residual and Jacobian buffers to ``model``'s current functions: called again when
+        C compiled in the background becomes ready, without restarting IDA (same values either way)."""
+        res, jac = model.function("res"), model.function("jac")
+        self._fr, self._evr = res.buffer()
+        self._fj, self._evj = jac.buffer()
+        self._fr.set_arg(0, memoryview(self._tr))
+        self._fr.set_arg(3, memoryview(self.p))
+        self._fj.set_arg(0, memoryview(self._tj))
+        self._fj.set_arg(3, memoryview(self.p))
+        self._fj.set_arg(4, memoryview(self._cj))
 
     def resfn(self, t: float, y: np.ndarray, yp: np.ndarray, r: np.ndarray) -> None:
         self._tr[0] = t
@@ -250,6 +255,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     add_owned = traj.add_owned
     step = solver.step
     watching = monitor is not None and model.has_state_choice
+    pending_c = model.library_pending is not None  # C being compiled in the background: switch when ready
 
     solver.init_step(t0, y0, yp0)
     traj.add(t0, y0, yp0, rel_values())
@@ -259,6 +265,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         t_out = np.asarray(t_out, dtype=float)
         while out_idx < len(t_out) and t_out[out_idx] <= t0:
             out_idx += 1
+    outs = [] if t_out is None else [float(v) for v in t_out]  # Python floats: cheaper per-step comparisons
+    n_out = len(outs)
     wall0 = _time.perf_counter()
     bar = Progress(model.name, t0, t_end, progress)
     tiny = 0
@@ -280,12 +288,12 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
             stats["steps"] += 1
             # output points passed by this step (IDA interpolation)
             if t_out is not None:
-                while out_idx < len(t_out) and t_out[out_idx] < r.t:
-                    ri = _interpolate(solver, float(t_out[out_idx]))
+                while out_idx < n_out and outs[out_idx] < r.t:
+                    ri = _interpolate(solver, outs[out_idx])
                     add_owned(ri.t, ri.y, ri.yp, rel_now)
                     out_idx += 1
                     interpolated = True
-                if out_idx < len(t_out) and t_out[out_idx] == r.t:
+                if out_idx < n_out and outs[out_idx] == r.t:
                     add_owned(r.t, r.y, r.yp, rel_now)
                     out_idx += 1
             elif r.t > traj.t[-1]:
@@ -350,6 +358,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
                     step = solver.step
                     watching = model.has_state_choice
+                    pending_c = False
                     ind_fn = model.function("ind")
                     solver.init_step(t, y1, yp1)
                     traj.models.append(model)
@@ -362,6 +371,13 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
             if stats["steps"] % 32 == 0:
                 bar.update(t)
+                if pending_c and model.c_ready():
+                    # the background gcc has finished: the callbacks evaluate the compiled residual and
+                    # Jacobian from the next step on. No IDA restart: C performs the same operations in
+                    # the same order as the SX virtual machine, so the trajectory does not change
+                    pending_c = False
+                    _cb.bind(model)
+                    stats["compiled_at"] = t
     except KeyboardInterrupt:
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
