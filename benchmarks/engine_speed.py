@@ -12,8 +12,9 @@ Models whose generated C is compiled in the background (``codegen="auto"``) are 
    :class:`~flexlib.solve.state_selection.StateSelectionMonitor`). The monitor's own time is measured
    by timing every ``needs_switch`` call.
 2. **Split of one step** (four-bar, servo; monitor off): model evaluation (callback bodies × calls),
-   IDA + SuperLU + scikit-sundae (a bare ``step(..., "onestep")`` loop with flexlib's callbacks,
-   minus the bodies) and flexlib's per-step Python (``integrate`` minus the bare loop).
+   IDA + SuperLU + scikit-sundae (time inside scikit-sundae's ``step()`` minus the bodies) and
+   flexlib's per-step Python (``integrate`` minus the time inside ``step()``), for the current
+   ``integrate`` and for ``flexlib/solve/ida.py`` before issue 9 (from git), interleaved.
 3. **Result assembly** per row: one DM call of ``out.map(rows)`` (before) against the mapped
    FunctionBuffer of ``Simulation._assemble`` (after).
 4. **Cold build + 10 s run of the 100-mass chain** with ``codegen=True`` (waits for gcc, as
@@ -249,43 +250,35 @@ def _split_one(name: str, make, kw: dict, ida_before) -> None:
     grid = np.arange(0.0, kw["t_end"] + 1e-9, kw["dt_out"])
     t_end = kw["t_end"]
     counts: dict = {}
+    inside = [0.0]
+    step = sun.ida.IDA.step
 
-    def flexlib_integrate(m=m, p=p, y0=y0, yp0=yp0, grid=grid, t_end=t_end, sim=sim, counts=counts):
-        tr = ida.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid, progress=False)
+    def timed_step(self, t, method="normal", tstop=None):  # time inside scikit-sundae's step()
+        t0 = time.perf_counter()
+        try:
+            return step(self, t, method, tstop)
+        finally:
+            inside[0] += time.perf_counter() - t0
+
+    def run(module) -> tuple[float, float]:
+        inside[0] = 0.0
+        sun.ida.IDA.step = timed_step
+        try:
+            t0 = time.perf_counter()
+            tr = module.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid, progress=False)
+            total = time.perf_counter() - t0
+        finally:
+            sun.ida.IDA.step = step
         counts.update(tr.stats)
+        return total, inside[0]
 
-    def before_integrate(m=m, p=p, y0=y0, yp0=yp0, grid=grid, t_end=t_end, sim=sim):
-        if ida_before is not None:
-            ida_before.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid, progress=False)
-
-    # the bare loop: the same IDA and callbacks, only step() calls (relation values stay frozen)
-    solver, cb, _, _ = ida._make_solver(m, p.copy(), 1e-6, 1e-8, 0.0)
-    calls = _count_calls(flexlib_integrate)
-
-    def bare(solver=solver, y0=y0, yp0=yp0, t_end=t_end):
-        solver.init_step(0.0, y0, yp0)
-        t = 0.0
-        n = 0
-        while t < t_end and n < counts.get("steps", 10**9):
-            r = solver.step(t_end, "onestep", t_end)
-            if r.status < 0:
-                break
-            t = r.t
-            n += 1
-        return n
-
-    times = {"integrate": [], "bare": [], "before": []}
-    bare_steps = 0
+    calls = _count_calls(lambda: run(ida))
+    after, before = [], []
     for _ in range(5):
-        t = time.perf_counter()
-        flexlib_integrate()
-        times["integrate"].append(time.perf_counter() - t)
-        t = time.perf_counter()
-        before_integrate()
-        times["before"].append(time.perf_counter() - t)
-        t = time.perf_counter()
-        bare_steps = bare()
-        times["bare"].append(time.perf_counter() - t)
+        after.append(run(ida))
+        if ida_before is not None:
+            before.append(run(ida_before))
+    _, cb, _, _ = ida._make_solver(m, p.copy(), 1e-6, 1e-8, 0.0)
     r = np.zeros(m.n)
     JJ = np.zeros((m.n, m.n)) if m.n <= ida.DENSE_MAX else np.zeros(len(m.jac_row))
     ev = np.zeros(cb.n_events)
@@ -294,17 +287,16 @@ def _split_one(name: str, make, kw: dict, ida_before) -> None:
     t_ev = (min(timeit.repeat(lambda: cb.eventsfn(0.1, y0, yp0, ev), number=2000, repeat=5)) / 2000
             if cb.n_events else 0.0)
     steps = counts["steps"]
-    n_ev = calls["eventsfn"]
-    body = calls["resfn"] * t_res + calls["jacfn"] * t_jac + n_ev * t_ev
-    f_, b_ = float(np.median(times["integrate"])), float(np.median(times["bare"])) * steps / max(bare_steps, 1)
-    o_ = float(np.median(times["before"])) if ida_before is not None else np.nan
+    body = calls["resfn"] * t_res + calls["jacfn"] * t_jac + calls["eventsfn"] * t_ev
+    tot_a, in_a = (float(np.median(v)) for v in zip(*after, strict=True))
+    tot_b, in_b = (float(np.median(v)) for v in zip(*before, strict=True)) if before else (np.nan, np.nan)
     us = lambda x: f"{1e6 * x / steps:.1f}"  # noqa: E731
-    print(f"| {name} | {steps} | {calls['resfn']} / {calls['jacfn']} / {n_ev} | {us(body)} | {us(b_ - body)} | "
-          f"{us(o_ - b_)} | {us(f_ - b_)} | {us(o_)} | {us(f_)} |", flush=True)
+    print(f"| {name} | {steps} | {calls['resfn']} / {calls['jacfn']} / {calls['eventsfn']} | {us(body)} | "
+          f"{us(in_a - body)} | {us(tot_b - in_b)} | {us(tot_a - in_a)} | {us(tot_b)} | {us(tot_a)} |", flush=True)
 
 
 def split_table() -> None:
-    print("## 2. Split of the integration time per step (monitor off; median of 5, µs per step)\n")
+    print("## 2. Split of the integration time per step (monitor off, generated C; median of 5, µs per step)\n")
     print("| model | steps | res / jac / event calls | model evaluation | IDA + SuperLU + scikit-sundae | "
           "flexlib per-step Python: before | after | integrate: before | after |")
     print("|---|---|---|---|---|---|---|---|---|")
@@ -312,10 +304,9 @@ def split_table() -> None:
     for name, make, kw, _ in _models()[:2]:
         _split_one(name, make, kw, ida_before)
     print("\n(model evaluation = calls × the cost of one callback body through its FunctionBuffer (timeit); "
-          "IDA + … = a bare scikit-sundae one-step loop with the same callbacks minus the bodies; flexlib per-step "
-          "Python = ida.integrate minus the bare loop; before = ida.py of commit " + BEFORE_COMMIT + " on the same "
-          "compiled model (which keeps the relation values frozen: on the servo its "
-          "time is scaled to the same step count).)\n")
+          "IDA + … = time inside scikit-sundae's step() minus the bodies; flexlib per-step Python = ida.integrate "
+          "minus the time inside step(); before = flexlib/solve/ida.py of commit " + BEFORE_COMMIT + " on the "
+          "same compiled model, interleaved.)\n")
 
 
 def assembly_table() -> None:

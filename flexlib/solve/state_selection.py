@@ -45,9 +45,9 @@ class StateSelectionMonitor:
     the factor by which ``|det|`` grows when selected column ``i`` is swapped for candidate ``j``),
     from one small LU solve. It is evaluated on a schedule, not every step: the next check is placed
     half-way to the time where the indicator's reciprocal, extrapolated linearly from the last two
-    checks, would reach the trigger, and at least every ``every`` steps; a step-size
-    collapse (IDA's step shrinking ``collapse`` times below its running size, the sign of a
-    singular iteration matrix) forces a check at once.
+    checks, would reach the trigger, and at least every ``every`` steps; a step-size collapse
+    (IDA's step ``collapse`` times below the step at the last check, the sign of a singular
+    iteration matrix) forces a check at once.
 
     Parameters
     ----------
@@ -59,14 +59,14 @@ class StateSelectionMonitor:
         times that of the best block (hysteresis: a new selection is at least ``1/ratio`` better).
     every : int
         Largest number of steps between two indicator checks while the indicator approaches the
-        trigger; while it stays below 1/1.2 of it and does not change at all, the cap doubles at every check
-        up to ``16 * every``.
+        trigger; while it stays below 1/1.2 of it and does not change at all, the cap doubles at
+        every check up to ``16 * every``.
     trigger : float
         Run the full test when the exchange ratio exceeds ``trigger / ratio`` (default 0.75: at the
         default ``ratio`` 0.5, once some swap would grow ``|det|`` 1.5-fold). Near-ties (ratios
         0.9–1.1, common in closed loops) stay below it.
     collapse : float
-        A step this many times smaller than the running step size forces a check.
+        A step this many times smaller than the step at the last check forces a check.
     """
 
     def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.5, every: int = 64,
@@ -81,9 +81,9 @@ class StateSelectionMonitor:
         self._skip = 0
         self._t_next = -np.inf
         self._t_last = np.nan  # time and reciprocal indicators (one per level) of the last check
-        self._g_last = np.zeros(0)
+        self._g_last = self._g_raw = np.zeros(0)
         self._t_prev_step = np.nan
-        self._h_avg = 0.0
+        self._h_ref = 0.0  # step size at the last check
         self._e_ref = trigger / ratio
         self._cap = every
         #: counters for benchmarks: indicator checks, full tests, switches proposed
@@ -94,8 +94,8 @@ class StateSelectionMonitor:
         self._skip = 0
         self._t_next = -np.inf
         self._t_last = self._t_prev_step = np.nan
-        self._g_last = np.zeros(0)
-        self._h_avg = 0.0
+        self._g_last = self._g_raw = np.zeros(0)
+        self._h_ref = 0.0
         self._e_ref = self.trigger / self.ratio
         self._cap = self.every
 
@@ -109,14 +109,11 @@ class StateSelectionMonitor:
         """
         h = t - self._t_prev_step
         self._t_prev_step = t
-        if h > 0.0:
-            collapsed = self._h_avg > 0.0 and h * self.collapse < self._h_avg
-            self._h_avg = h if self._h_avg == 0.0 else 0.8 * self._h_avg + 0.2 * h
-        else:
-            collapsed = False
-        if self._skip > 0 and t < self._t_next and not collapsed:
+        if self._skip > 0 and t < self._t_next and not 0.0 < h * self.collapse < self._h_ref:
             self._skip -= 1
             return False
+        if h > 0.0:
+            self._h_ref = h
         return self._check(model, t, y, yp, p)
 
     def _check(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
@@ -153,16 +150,19 @@ class StateSelectionMonitor:
             self._e_ref = 1.25 * worst
         # schedule: the reciprocal g = 1/e falls towards the bar near a singular selection, about linearly in time
         # per level: a tie that never moves must not hide a level that approaches the bar
-        g, g_trig = 1.0 / np.maximum(np.array(es), 1e-12), 1.0 / self._e_ref
+        # (clamped at 4/bar: far below the bar, changes of a small ratio do not call for checks)
+        g_trig = 1.0 / self._e_ref
+        g_raw = 1.0 / np.maximum(np.array(es), 1e-12)
+        g = np.minimum(g_raw, 4.0 * g_trig)
         t_next = np.inf
         stationary = False
-        if np.isfinite(self._t_last) and t > self._t_last and len(self._g_last) == len(g):
+        if np.isfinite(self._t_last) and t > self._t_last and len(self._g_last) == len(g) == len(self._g_raw):
             rate = (self._g_last - g) / (t - self._t_last)
             closing = rate > 0.0
             if np.any(closing):
                 t_next = t + 0.5 * float(np.min(np.maximum(g[closing] - g_trig, 0.0) / rate[closing]))
-            stationary = bool(np.all(np.abs(g - self._g_last) <= 1e-6 * g))
-        self._t_last, self._g_last = t, g
+            stationary = bool(np.all(np.abs(g_raw - self._g_raw) <= 1e-6 * g_raw))
+        self._t_last, self._g_last, self._g_raw = t, g, g_raw
         self._t_next = t_next
         g = 1.0 / worst
         # below the bar and not moving at all (e.g. a structural tie of two identical columns): the step
