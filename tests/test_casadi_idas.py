@@ -225,7 +225,8 @@ def test_failure_raises_solver_error_with_partial_result():
     result = exc.value.result
     assert result.status == "failed" and "CasADi IDAS failed" in result.message
     assert 0.0 < len(result.t) and result.t[-1] < 1.0
-    np.testing.assert_allclose(result["x"], 1.0 / (1.0 - result.t), rtol=1e-4)
+    early = result.t <= 0.8  # rows now reach t = 0.95 s, where the global error (~x²) exceeds 1e-4
+    np.testing.assert_allclose(result["x"][early], 1.0 / (1.0 - result.t[early]), rtol=1e-4)
 
 
 def test_max_steps():

@@ -491,12 +491,13 @@ def load(entry: Path) -> CompiledModel | None:
     return model
 
 
-def store(entry: Path, model: CompiledModel) -> None:
+def store(entry: Path, model: CompiledModel, *, replace: bool = False) -> None:
     """Write ``model`` as the entry ``entry`` (atomically: a temporary directory renamed into place).
 
     The compiled library (if any) is moved into ``lib/`` of the cache directory under its content-derived
     name; its SHA-256 and size come from the process that compiled it. If another process stored the same
-    entry first, that entry is kept.
+    entry first, that entry is kept, unless ``replace`` (the same model with its library compiled in the
+    background since: the old entry is swapped out).
     """
     meta, arrays = model.to_data()
     manifest: dict[str, dict[str, Any]] = {}
@@ -534,7 +535,12 @@ def store(entry: Path, model: CompiledModel) -> None:
         except OSError:
             if not entry.exists():
                 raise
-            # another process stored the entry first: keep it
+            if replace:  # swap: the old entry moves aside (a reader has it open or reads the new one whole)
+                trash = entry.with_name(f".{entry.name}.{uuid.uuid4().hex}.trash")
+                os.rename(entry, trash)
+                os.rename(tmp_dir, entry)
+                shutil.rmtree(trash, ignore_errors=True)
+            # otherwise another process stored the entry first: keep it
     finally:
         shutil.rmtree(tmp_dir, ignore_errors=True)
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from flexlib.compile import cache
-from flexlib.compile.codegen import CompiledModel, compile_dae
+from flexlib.compile.codegen import CompiledModel, compile_dae, generate_c
 from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
 from flexlib.compile.flatten import FlatSystem, check_balance, flatten
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
@@ -87,6 +87,18 @@ class Build:
         if self.compiled._structure is not None:
             return self.compiled._structure
         return self.analyse(root).dae.structure
+
+
+def _updater(entry: Any) -> Any:
+    """Store a model again once its library, compiled in the background, has been adopted."""
+
+    def update(model: CompiledModel) -> None:
+        try:
+            cache.store(entry, model, replace=True)
+        except (OSError, cache.CacheEntryError) as exc:
+            cache.warn_once(entry, f"cannot store the compiled library in the cache ({exc})")
+
+    return update
 
 
 def prepare(flat: FlatSystem, params: dict[int, float]) -> SimpleSystem:
@@ -160,6 +172,10 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
             model = None  # built under parameter assumptions this instance breaks: build it for its own values
             entry = None
         if model is not None:
+            if model.wants_c and model.library is None:  # stored before its background gcc had finished
+                model.library_pending = generate_c(model.sx_function("res"), model.sx_function("jac"),
+                                                   directory / "lib", background=True)
+                model.on_library = _updater(entry)
             timings["cached"] = True
             timings["total"] = _time.perf_counter() - t0
             return Build(compiled=model, timings=timings, cached=True, key=key)
@@ -177,5 +193,7 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
             cache.store(entry, model)
         except (OSError, cache.CacheEntryError) as exc:
             cache.warn_once(entry, f"cannot store the compiled model ({exc}); it is used without caching")
+        if model.library_pending is not None:
+            model.on_library = _updater(entry)
     timings["total"] = _time.perf_counter() - t0
     return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key)

@@ -77,8 +77,11 @@ Measured trade-offs (2-core VM shared with other jobs; ``benchmarks/README.md`` 
   ~970 steps against 372 steps).
 * Integrator construction (symbolic Jacobian): ~1 ms at 30 unknowns, ~10 ms at 300, ~80 ms at
   3000, per grid size and options, once per process.
-* A failing integrator call raises inside CasADi without partial results, so the trajectory of
-  a failed run ends at the last successful call.
+* A failing integrator call raises inside CasADi without partial results. The failing call is
+  therefore halved and retried until its first half succeeds (those rows are kept and the run
+  goes on from there) or a single output interval fails: a failed run keeps every output up to
+  within one output interval of the failure (at the cost of about ``log2(K)`` repeated
+  integrations up to the failure point, ``K`` the points of the call).
 * Every relation switch is an event, also in a sliding mode: the thermostat of
   ``tests/test_engine_events.py`` (heater off above 295 K, but cooling below it at once) stops
   with "event chattering" here, where the default backend misses the immediate re-crossing and
@@ -488,11 +491,27 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                     Y, YP = runner.run(t, y, yp, grid, budget=budget)
                     break
                 except SolverError as err:
+                    if "maximum number of steps" in str(err):
+                        raise
+                    if not len(state_rel):
+                        # keep every output up to the failure: halve the call (small step budget, so a
+                        # blow-up is not integrated to IDAS's step limit again and again) until it
+                        # succeeds (its rows are recorded and the run goes on from there) or a single
+                        # output interval fails with the full budget
+                        suspect = True
+                        if len(grid) > 1:
+                            grid = grid[: len(grid) // 2]
+                            chunk, budget = len(grid), RETRY_STEPS
+                            continue
+                        if budget is not None:
+                            budget = None
+                            continue
+                        raise
                     # past an event inside the call the frozen relation values may drive the model
                     # where the solver cannot follow (NaN, stiffness): retry shorter calls on a small
                     # step budget, which see the event before that, then bisect for the point IDAS
                     # cannot pass; a single interval gets the full budget before the run fails
-                    if not len(state_rel) or (tried_stuck and budget is None):
+                    if tried_stuck and budget is None:
                         raise first_error or err from None
                     first_error = first_error or err
                     suspect = True

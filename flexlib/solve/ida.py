@@ -63,21 +63,23 @@ class Trajectory:
         self.yp.append(np.array(yp, dtype=float))
         self.rel.append(np.array(rel, dtype=float))
 
+    def add_owned(self, t: float, y: np.ndarray, yp: np.ndarray, rel: np.ndarray) -> None:
+        """Append one row without copying: ``y`` and ``yp`` are fresh arrays nobody else writes to (a
+        scikit-sundae step result), ``rel`` is shared between rows until the next event changes it."""
+        self.seg.append(len(self.models) - 1)
+        self.t.append(t)
+        self.y.append(y)
+        self.yp.append(yp)
+        self.rel.append(rel)
+
 
 class _Callbacks:
     """IDA callbacks on CasADi FunctionBuffers sharing one parameter array."""
 
     def __init__(self, model: CompiledModel, p: np.ndarray, state_rel: np.ndarray, dense: bool) -> None:
         self.p = p
-        res, jac = model.function("res"), model.function("jac")
-        self._fr, self._evr = res.buffer()
-        self._fj, self._evj = jac.buffer()
         self._tr, self._tj, self._cj = np.zeros(1), np.zeros(1), np.zeros(1)
-        self._fr.set_arg(0, memoryview(self._tr))
-        self._fr.set_arg(3, memoryview(p))
-        self._fj.set_arg(0, memoryview(self._tj))
-        self._fj.set_arg(3, memoryview(p))
-        self._fj.set_arg(4, memoryview(self._cj))
+        self.bind(model)
         self.pattern = sps.csc_matrix((np.ones(len(model.jac_row)), model.jac_row, model.jac_colind),
                                       shape=(model.n, model.n))
         self.pattern.indices = self.pattern.indices.astype(np.int32)
@@ -100,6 +102,18 @@ class _Callbacks:
             self._tz = np.zeros(1)
             self._fz.set_arg(0, memoryview(self._tz))
             self._fz.set_arg(3, memoryview(p))
+
+    def bind(self, model: CompiledModel) -> None:
+        """(Re)bind the residual and Jacobian buffers to ``model``'s current functions: called again when
+        C compiled in the background becomes ready, without restarting IDA (same values either way)."""
+        res, jac = model.function("res"), model.function("jac")
+        self._fr, self._evr = res.buffer()
+        self._fj, self._evj = jac.buffer()
+        self._fr.set_arg(0, memoryview(self._tr))
+        self._fr.set_arg(3, memoryview(self.p))
+        self._fj.set_arg(0, memoryview(self._tj))
+        self._fj.set_arg(3, memoryview(self.p))
+        self._fj.set_arg(4, memoryview(self._cj))
 
     def resfn(self, t: float, y: np.ndarray, yp: np.ndarray, r: np.ndarray) -> None:
         self._tr[0] = t
@@ -239,6 +253,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         the caller from ``err.trajectory``).
     """
     traj = Trajectory(models=[model])
+    if monitor is not None:
+        monitor.reset()
     n_par = model.n_params
     solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
     stats = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
@@ -250,6 +266,12 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     def rel_values() -> np.ndarray:
         return p[n_par:].copy()
 
+    rel_now = rel_values()  # shared by the rows between events (p changes only at events and switches)
+    add_owned = traj.add_owned
+    step = solver.step
+    watching = monitor is not None and model.has_state_choice
+    pending_c = model.library_pending is not None  # C being compiled in the background: switch when ready
+
     solver.init_step(t0, y0, yp0)
     traj.add(t0, y0, yp0, rel_values())
     t = t0
@@ -258,6 +280,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         t_out = np.asarray(t_out, dtype=float)
         while out_idx < len(t_out) and t_out[out_idx] <= t0:
             out_idx += 1
+    outs = [] if t_out is None else [float(v) for v in t_out]  # Python floats: cheaper per-step comparisons
+    n_out = len(outs)
     wall0 = _time.perf_counter()
     bar = Progress(model.name, t0, t_end, progress)
     tiny = 0
@@ -269,7 +293,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     try:
         while t < t_end:
             tstop = min(t_end, t_event)
-            r = solver.step(tstop, "onestep", tstop=tstop)
+            r = step(tstop, "onestep", tstop)
             cur = [r.nfev, r.njev]
             if r.status < 0:
                 raise SolverError(failure_message(f"IDA failed at t = {r.t:.10g} s: {r.message} (status {r.status})",
@@ -280,16 +304,16 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
             stats["steps"] += 1
             # output points passed by this step (IDA interpolation)
             if t_out is not None:
-                while out_idx < len(t_out) and t_out[out_idx] < r.t:
-                    ri = _interpolate(solver, float(t_out[out_idx]))
-                    traj.add(ri.t, ri.y, ri.yp, rel_values())
+                while out_idx < n_out and outs[out_idx] < r.t:
+                    ri = _interpolate(solver, outs[out_idx])
+                    add_owned(ri.t, ri.y, ri.yp, rel_now)
                     out_idx += 1
                     interpolated = True
-                if out_idx < len(t_out) and t_out[out_idx] == r.t:
-                    traj.add(r.t, r.y, r.yp, rel_values())
+                if out_idx < n_out and outs[out_idx] == r.t:
+                    add_owned(r.t, r.y, r.yp, rel_now)
                     out_idx += 1
             elif r.t > traj.t[-1]:
-                traj.add(r.t, r.y, r.yp, rel_values())
+                add_owned(r.t, r.y, r.yp, rel_now)
             tiny = tiny + 1 if r.t - t <= 1e-14 * max(1.0, abs(r.t)) else 0
             if tiny > 200:
                 raise SolverError(failure_message(f"IDA step size underflow at t = {r.t:.10g} s (the model may be "
@@ -329,7 +353,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     texts = ", ".join(model.relations[k].text for k, _ in triggered)
                     traj.events.append((t, f"{event_kind} event: {texts}"))
                     solver.init_step(t, y1, yp1)
-                    traj.add(t, y1, yp1, rel_values())
+                    rel_now = rel_values()
+                    traj.add(t, y1, yp1, rel_now)
                     watch = 2 if len(state_rel) else 0
                     burst = burst + 1 if t - last_event_t <= 1e-10 * max(1.0, abs(t)) else 0
                     last_event_t = t
@@ -338,7 +363,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                             f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
                 if time_hit:
                     t_event, which = next_time_event(model, p, t, t_end)
-            if monitor is not None and model.has_state_choice and monitor.needs_switch(model, t, r.y, r.yp, p):
+            if watching and monitor.needs_switch(model, t, r.y, r.yp, p):
                 y_now, yp_now = (y1, yp1) if event_kind and changed else (r.y, r.yp)
                 switched = monitor.switch(model, t, y_now, yp_now, p)
                 if switched is not None:
@@ -348,10 +373,14 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     init = Initializer(model)
                     y1, yp1 = init.reinit(t, y1, yp1, p)
                     solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
+                    step = solver.step
+                    watching = model.has_state_choice
+                    pending_c = False
                     ind_fn = model.function("ind")
                     solver.init_step(t, y1, yp1)
                     traj.models.append(model)
-                    traj.add(t, y1, yp1, rel_values())
+                    rel_now = rel_values()
+                    traj.add(t, y1, yp1, rel_now)
                     stats["state_switches"] += 1
                     states = ", ".join(n for n, d in zip(model.y_names, model.differential, strict=True) if d)
                     traj.events.append((t, f"state selection: states are now {states}"))
@@ -359,6 +388,13 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
             if stats["steps"] % 32 == 0:
                 bar.update(t)
+                if pending_c and model.c_ready():
+                    # the background gcc has finished: the callbacks evaluate the compiled residual and
+                    # Jacobian from the next step on. No IDA restart: C performs the same operations in
+                    # the same order as the SX virtual machine, so the trajectory does not change
+                    pending_c = False
+                    _cb.bind(model)
+                    stats["compiled_at"] = t
     except KeyboardInterrupt:
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None

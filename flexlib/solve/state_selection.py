@@ -20,8 +20,10 @@ by switching inside one residual.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
+from scipy.linalg.lapack import dgesv as _dgesv
 
 from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.index_reduction import Structure, _pick_columns
@@ -36,6 +38,17 @@ def _smallest_sv(A: np.ndarray) -> float:
 class StateSelectionMonitor:
     """Watches the conditioning of the dummy-derivative blocks and performs switches.
 
+    The full test (pivoted QR by cost class, then the smallest singular values of the selected and
+    of the best block, 0.4–0.5 ms on a 25-row block) runs only when a cheap indicator says the
+    selection may have degraded. The indicator is the largest basis-exchange ratio
+    ``max |B⁻¹ N|`` of each level (``B`` the selected columns, ``N`` the others; entry ``(i, j)`` is
+    the factor by which ``|det|`` grows when selected column ``i`` is swapped for candidate ``j``),
+    from one small LU solve. It is evaluated on a schedule, not every step: the next check is placed
+    half-way to the time where the indicator's reciprocal, extrapolated linearly from the last two
+    checks, would reach the trigger, and at least every ``every`` steps; a step-size collapse
+    (IDA's step ``collapse`` times below the step at the last check, the sign of a singular
+    iteration matrix) forces a check at once.
+
     Parameters
     ----------
     rebuild : callable
@@ -45,45 +58,133 @@ class StateSelectionMonitor:
         Switch when the smallest singular value of the selected block drops below ``ratio``
         times that of the best block (hysteresis: a new selection is at least ``1/ratio`` better).
     every : int
-        Check every this many steps while the selection is comfortably conditioned (every step once a
-        ratio falls below twice ``ratio``).
+        Largest number of steps between two indicator checks while the indicator approaches the
+        trigger; while it stays below 1/1.2 of it and does not change at all, the cap doubles at
+        every check up to ``16 * every``.
+    trigger : float
+        Run the full test when the exchange ratio exceeds ``trigger / ratio`` (default 0.75: at the
+        default ``ratio`` 0.5, once some swap would grow ``|det|`` 1.5-fold). Near-ties (ratios
+        0.9–1.1, common in closed loops) stay below it.
+    collapse : float
+        A step this many times smaller than the step at the last check forces a check.
     """
 
-    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.5, every: int = 8) -> None:
+    def __init__(self, rebuild: Callable[[], Structure], ratio: float = 0.5, every: int = 64,
+                 trigger: float = 0.75, collapse: float = 8.0) -> None:
         self.rebuild = rebuild
         self.ratio = ratio
         self.every = every
+        self.trigger = trigger
+        self.collapse = collapse
         self._variants: dict[tuple, CompiledModel] = {}
-        self._buffers: dict[int, tuple] = {}
+        self._buffers: dict[Any, tuple] = {}
         self._skip = 0
+        self._t_next = -np.inf
+        self._t_last = np.nan  # time and reciprocal indicators (one per level) of the last check
+        self._g_last = self._g_raw = np.zeros(0)
+        self._t_prev_step = np.nan
+        self._h_ref = 0.0  # step size at the last check
+        self._e_ref = trigger / ratio
+        self._cap = every
+        #: counters for benchmarks: indicator checks, full tests, switches proposed
+        self.counts = {"indicator": 0, "full": 0}
+
+    def reset(self) -> None:
+        """Forget the schedule (a new run or a new selection)."""
+        self._skip = 0
+        self._t_next = -np.inf
+        self._t_last = self._t_prev_step = np.nan
+        self._g_last = self._g_raw = np.zeros(0)
+        self._h_ref = 0.0
+        self._e_ref = self.trigger / self.ratio
+        self._cap = self.every
 
     def needs_switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
         """True if a clearly better-conditioned selection exists at this point.
 
-        For each level with a choice, the ratio of the smallest singular values of the selected block
-        and of the best block (pivoted QR by ``state_select`` class, as at compile time) is computed.
-        Below ``ratio``: switch. While every ratio is above twice ``ratio`` only every ``every``-th step is checked.
+        Cheap unless a check is due (see the class docstring): a due check computes the exchange
+        ratio of every level with a choice, and only above the trigger the full test, which compares
+        the smallest singular values of the selected block and of the best block (pivoted QR by
+        ``state_select`` class, as at compile time) and answers True below ``ratio``.
         """
-        if self._skip > 0:
+        h = t - self._t_prev_step
+        self._t_prev_step = t
+        if self._skip > 0 and t < self._t_next and not 0.0 < h * self.collapse < self._h_ref:
             self._skip -= 1
             return False
+        if h > 0.0:
+            self._h_ref = h
+        return self._check(model, t, y, yp, p)
+
+    def _check(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
+        self.counts["indicator"] += 1
         J = self._jlev(model, t, y, yp, p)
-        worst = 1.0
-        offset = 0
-        for n_rows, n_cands, costs, selected in model.levels:
-            block = J[offset:offset + n_rows * n_cands].reshape((n_rows, n_cands), order="F")
-            offset += n_rows * n_cands
-            if n_cands == n_rows:
-                continue
-            best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
-            if best is None or sorted(best) == sorted(selected):
-                continue
-            quality = _smallest_sv(block[:, selected]) / max(_smallest_sv(block[:, best]), 1e-300)
-            if quality < self.ratio:
-                return True
-            worst = min(worst, quality)
-        self._skip = 0 if worst < min(1.0, 2 * self.ratio) else self.every - 1
+        worst = 1e-12  # largest exchange ratio over the levels
+        es = []
+        blocks = []
+        for shape, offset, costs, selected, sel, others in self._levels(model):
+            block = J[offset:offset + shape[0] * shape[1]].reshape(shape, order="F")
+            if shape[0] == 1:  # one row: the exchange ratios are quotients of entries
+                b = abs(block[0, sel[0]])
+                e = float(np.abs(block[0, others]).max()) / b if b > 0.0 else np.inf
+            else:
+                _, _, x, info = _dgesv(block[:, sel], block[:, others], overwrite_a=True, overwrite_b=True)
+                e = float(np.abs(x).max()) if info == 0 else np.inf
+            if not e < np.inf:  # also NaN
+                e = np.inf
+            worst = max(worst, e)
+            es.append(e)
+            blocks.append((block, costs, selected))
+        if worst > self._e_ref:
+            self.counts["full"] += 1
+            for block, costs, selected in blocks:
+                n_rows, n_cands = block.shape
+                best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
+                if best is None or sorted(best) == sorted(selected):
+                    continue
+                quality = _smallest_sv(block[:, selected]) / max(_smallest_sv(block[:, best]), 1e-300)
+                if quality < self.ratio:
+                    return True
+            # no switch: the next full test once the indicator has grown by another quarter (the bar
+            # stays up for this selection: lower values were already judged good enough)
+            self._e_ref = 1.25 * worst
+        # schedule: the reciprocal g = 1/e falls towards the bar near a singular selection, about linearly in time
+        # per level: a tie that never moves must not hide a level that approaches the bar
+        # (clamped at 4/bar: far below the bar, changes of a small ratio do not call for checks)
+        g_trig = 1.0 / self._e_ref
+        g_raw = 1.0 / np.maximum(np.array(es), 1e-12)
+        g = np.minimum(g_raw, 4.0 * g_trig)
+        t_next = np.inf
+        stationary = False
+        if np.isfinite(self._t_last) and t > self._t_last and len(self._g_last) == len(g) == len(self._g_raw):
+            rate = (self._g_last - g) / (t - self._t_last)
+            closing = rate > 0.0
+            if np.any(closing):
+                t_next = t + 0.5 * float(np.min(np.maximum(g[closing] - g_trig, 0.0) / rate[closing]))
+            stationary = bool(np.all(np.abs(g_raw - self._g_raw) <= 1e-6 * g_raw))
+        self._t_last, self._g_last, self._g_raw = t, g, g_raw
+        self._t_next = t_next
+        g = 1.0 / worst
+        # below the bar and not moving at all (e.g. a structural tie of two identical columns): the step
+        # cap between checks doubles (to 16 ``every``)
+        self._cap = min(2 * self._cap, 16 * self.every) if g > 1.2 * g_trig and stationary else self.every
+        self._skip = self._cap - 1 if g > g_trig else 0
         return False
+
+    def _levels(self, model: CompiledModel) -> list[tuple]:
+        """Per level with a choice: block shape, offset in the level Jacobians, cost classes, selected
+        columns (list and index array) and the other candidates (index array); cached per model."""
+        entry = self._buffers.get(("levels", id(model)))
+        if entry is None or entry[0] is not model:
+            levels, offset = [], 0
+            for n_rows, n_cands, costs, selected in model.levels:
+                if n_cands > n_rows:
+                    others = np.array([k for k in range(n_cands) if k not in selected], dtype=np.intp)
+                    levels.append(((n_rows, n_cands), offset, costs, selected, np.asarray(selected, dtype=np.intp),
+                                   others))
+                offset += n_rows * n_cands
+            entry = self._buffers[("levels", id(model))] = (model, levels)
+        return entry[1]
 
     def _jlev(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> np.ndarray:
         """Level Jacobians at a point, through a FunctionBuffer (no per-call conversion)."""
@@ -94,18 +195,19 @@ class StateSelectionMonitor:
             tb, out = np.zeros(1), np.zeros(fn.nnz_out(0))
             buf.set_arg(0, memoryview(tb))
             buf.set_res(0, memoryview(out))
-            entry = self._buffers[id(model)] = (model, buf, ev, tb, out)
-        _, buf, ev, tb, out = entry
+            sp = fn.sparsity_out(0)
+            scatter = None if sp.is_dense() else (np.asarray(sp.find()), np.zeros(sp.numel()))
+            entry = self._buffers[id(model)] = (model, buf, ev, tb, out, scatter)
+        _, buf, ev, tb, out, scatter = entry
         tb[0] = t
         buf.set_arg(1, memoryview(y))
         buf.set_arg(2, memoryview(yp))
         buf.set_arg(3, memoryview(p))
         ev()
-        sp = model.function("jlev").sparsity_out(0)
-        if sp.is_dense():
+        if scatter is None:
             return out
-        dense = np.zeros(sp.numel())
-        dense[np.asarray(sp.find())] = out
+        idx, dense = scatter
+        dense[idx] = out
         return dense
 
     def switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray,
@@ -124,6 +226,7 @@ class StateSelectionMonitor:
             self._variants[key] = new
         if new.y_names == model.y_names and np.array_equal(new.differential, model.differential):
             return None
+        self.reset()
         y_new = np.array([values[n] for n in new.y_names])
         yp_new = np.zeros(new.n)
         for i in np.flatnonzero(new.differential):

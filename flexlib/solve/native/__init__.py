@@ -168,8 +168,9 @@ def evaluators(model: Any, zc: ca.Function | None) -> dict[str, Evaluator]:
     if cached is not None and cached.get("zc_fn") is zc:
         return cached["ev"]
     ev: dict[str, Evaluator] = {}
+    model.function("res")  # adopts a finished background compile; drops a library that fails its manifest
     lib_path = model.library
-    if lib_path is not None and Path(lib_path).exists():
+    if lib_path is not None and model.library_problem() is None:
         clib = ctypes.CDLL(lib_path)
         for name in ("res", "jac"):
             sym = getattr(clib, f"flexlib_{name}")

@@ -1,0 +1,97 @@
+"""Faults on the ``solver="casadi-idas"`` backend: a run that fails mid-way keeps its rows.
+
+CasADi's integrator raises without partial results, so the backend halves a failing call and retries
+until one output interval fails (``flexlib/solve/casadi_idas.py``). Each test asserts the error class,
+that the message names the culprit (time of the failure and the solver), and what survives in
+``err.result``.
+"""
+
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib import Variable, der, eq, if_else
+
+
+class BlowUp(fl.Model):
+    """x' = x², x(0) = 1: x = 1/(1 − t) blows up at t = 1 s."""
+
+    x = Variable()
+
+    def equations(self):
+        return [eq(der(self.x), self.x**2)]
+
+
+class SqrtWall(fl.Model):
+    """x' = −1 from x(0) = 0.5 crosses zero at t = 0.5 s; y with y² = x (algebraic) has no real value past it."""
+
+    x = Variable()
+    y = Variable()
+
+    def equations(self):
+        return [eq(der(self.x), -1.0), eq(self.y**2, self.x)]
+
+
+@pytest.mark.parametrize("n_out", [11, 101, 1001])
+def test_blow_up_keeps_rows_up_to_one_interval_before_the_failure(n_out):
+    """x = 1/(1 − t) on [0, 2] s with n_out outputs: the rows up to within one output interval (plus
+    the solver's last accepted steps) of t = 1 s survive in ``err.result`` and follow the exact
+    solution (rtol 1e-4); today's single failing call kept only t = 0."""
+    sim = fl.Simulation(BlowUp(init={"x": 1.0}), use_cache=False)
+    grid = np.linspace(0.0, 2.0, n_out)
+    dt = grid[1] - grid[0]
+    with pytest.raises(fl.SolverError, match="CasADi IDAS failed between t = ") as exc:
+        sim.run(2.0, output_times=grid, solver="casadi-idas", progress=False)
+    res = exc.value.result
+    assert res.status == "failed" and "CasADi IDAS failed" in res.message
+    assert res.t[-1] < 1.0 and res.t[-1] >= 1.0 - 2 * dt - 1e-12
+    early = res.t <= 0.8
+    np.testing.assert_allclose(res["x"][early], 1.0 / (1.0 - res.t[early]), rtol=1e-4)
+    exact = 1.0 / (1.0 - res.t)
+    assert np.all(np.abs(res["x"] - exact) <= 2e-5 * exact**2)
+    # the message brackets the failure by one output interval
+    msg = str(exc.value)
+    a, b = (float(v) for v in msg.split("between t = ")[1].split(" s (")[0].split(" s and t = "))
+    assert a <= 1.0 + 1e-9 and b - a <= dt + 1e-12
+
+
+def test_every_step_mode_keeps_rows_before_a_nan():
+    """y = sqrt(x) with x = 0.5 − t: no real solution after t = 0.5 s. Without output times
+    (uniform grid of DENSE_POINTS intervals) the rows up to t ≥ 0.49 s survive; on them x = 0.5 − t
+    (1e-9: x' is constant) and y² = x to 5e-6 (the algebraic equation holds to the Newton tolerance,
+    about rtol·|y| in y)."""
+    sim = fl.Simulation(SqrtWall(init={"x": 0.5}, guess={"y": 0.7}), use_cache=False)
+    with pytest.raises(fl.SolverError) as exc:
+        sim.run(1.0, solver="casadi-idas", progress=False)
+    res = exc.value.result
+    assert res.status == "failed"
+    assert 0.49 <= res.t[-1] <= 0.5 + 1e-9
+    np.testing.assert_allclose(res["x"], 0.5 - res.t, atol=1e-9)
+    np.testing.assert_allclose(res["y"] ** 2, res["x"], atol=5e-6)
+
+
+class SwitchToBlowUp(fl.Model):
+    """x' = 1 while x < 2, then x' = x²: x = 2 at t = 1 s, then x = 1/(1/2 − (t − 1)) blows up at t = 1.5 s."""
+
+    x = Variable()
+
+    def equations(self):
+        return [eq(der(self.x), if_else(self.x < 2, 1.0, self.x**2))]
+
+
+def test_blow_up_after_a_state_event_keeps_rows():
+    """With a state relation (event at t = 1 s) the failure at t = 1.5 s still keeps every output up to one
+    interval (0.1 s) before it; the message brackets the failure time; the rows after the event follow the
+    exact solution to 2e-5·x² (the error equation e' = 2x·e, rtol 1e-6)."""
+    sim = fl.Simulation(SwitchToBlowUp(init={"x": 1.0}), use_cache=False)
+    grid = np.linspace(0.0, 3.0, 31)
+    with pytest.raises(fl.SolverError, match="CasADi IDAS failed between t = ") as exc:
+        sim.run(3.0, output_times=grid, solver="casadi-idas", progress=False)
+    res = exc.value.result
+    assert res.status == "failed" and len(res.events) == 1
+    assert 1.4 - 1e-12 <= res.t[-1] < 1.5
+    a, b = (float(v) for v in str(exc.value).split("between t = ")[1].split(" s (")[0].split(" s and t = "))
+    assert a <= 1.5 <= b
+    late = res.t > 1.0 + 1e-9
+    exact = 1.0 / (0.5 - (res.t[late] - 1.0))
+    assert np.all(np.abs(res["x"][late] - exact) <= 2e-5 * exact**2)
