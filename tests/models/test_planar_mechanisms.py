@@ -4,8 +4,8 @@ References (``benchmarks/minimal_dae.py``): (1) the minimal-coordinate ODE in th
 loop closure, Lagrange's equation) integrated by CVODE at rtol 1e-12; (2) the hand-written minimal
 dummy-derivative index-1 DAE in absolute link angles, IDA at rtol 1e-10. The component-built model
 (``models/planar_mechanisms.py``: World, Fixed, Revolute, FixedTranslation, Body in 3D) runs at rtol 1e-10.
-Tolerance: every absolute link angle within 1e-6 rad of the ODE over 1 s (measured 1e-8–2e-7; a wrong
-mass, inertia or pin coordinate moves the angles by more than 1e-3 rad within 1 s). Energy: the ODE
+Tolerance: every absolute link angle within 1e-6 rad of the ODE over 1 s (measured 2e-8–1.2e-7; a 1 % error
+in one coupler's mass or inertia moves the angles by 1.7e-3–1.4e-2 rad within 1 s). Energy: the ODE
 conserves ``T + V`` to 1e-8 relative.
 """
 
