@@ -29,8 +29,9 @@ chambers **start at the holding pressures**: holding chamber 200 bar, the other 
 potential energy of sections, rockers and links) and ``l_k(q_k)`` the pin-to-pin length of cylinder k,
 differentiated exactly by CasADi (:func:`statics`). Valves are sized for 3× the flow of their ramp.
 
-Control: per joint a PI controller (``LimPID``, output limited to ±1 = the valve command) on the joint
-angle measured at the joint's axis flange, with loop gain chosen for about 2 rad/s crossover.
+Control: per joint a PI controller (``LimPID``, output limited to ±1 = the valve command, Ti = 1 s) on the
+joint angle measured at the joint's axis flange; the gain ``k = 2 rad/s / K_v`` with the valve–cylinder
+velocity gain ``K_v = Q_nom/(A_p ∂l/∂q)`` gives about 2 rad/s crossover.
 
 References
 ----------
@@ -82,6 +83,7 @@ BASE_PIN, BRACKET_1 = (0.8, -1.6), (2.2, -0.5)
 #: section k's frame (link bracket C); direct drive: housing and bracket [m].
 ROCKER_PIVOT, HOUSING, LINK_BRACKET = (-0.8, -0.8), (-3.6, -0.4), (0.9, -0.8)
 DIRECT_HOUSING, DIRECT_BRACKET = (-2.6, -0.55), (0.8, -0.55)
+OMEGA_C = 1.0  # crossover of the joint loops [rad/s]
 T_OFFSET = 0.6  # rocker tip: midpoint of pivot–bracket moved this far to the lower side [m]
 
 
@@ -336,7 +338,8 @@ class BoomProxy(fl.Model):
             # valve sized for 3x the ramp flow of the moving chamber at ~35 bar per edge
             dl = abs(float(st["dl"][k]))
             q_ramp = A_p * dl * math.radians(abs(RAMP_DEG[k])) / T_RAMP
-            valve = DirectionalValve43(Q_nom=max(3 * q_ramp, 2.0 / 60000), dp_nom=35 * BAR, omega=2 * math.pi * 30,
+            Q_nom = max(3 * q_ramp, 2.0 / 60000)  # m3/s, at least 2 L/min
+            valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=35 * BAR, omega=2 * math.pi * 30,
                                        zeta=0.7, A_leak=1e-10)
             setattr(self, f"valve{n}", valve)
             tank_ports.append(valve.port_T)
@@ -345,10 +348,11 @@ class BoomProxy(fl.Model):
             a_port, b_port = (cyl.port_A, cyl.port_B) if st["dl"][k] > 0 else (cyl.port_B, cyl.port_A)
             self.connect(valve.port_A, a_port)
             self.connect(valve.port_B, b_port)
-            # PI on the joint angle: valve gain K_v [rad/s per unit command] -> crossover ~2 rad/s
-            K_v = 3 * math.radians(abs(RAMP_DEG[k])) / T_RAMP
+            # PI on the joint angle: valve gain K_v [rad/s per unit command, at dp_nom per edge] -> crossover
+            # ~2 rad/s
+            K_v = Q_nom / (A_p * dl)
             ramp = Ramp(height=math.radians(RAMP_DEG[k]), duration=T_RAMP, offset=float(q0[k]))
-            pid = LimPID(controller_type="PI", k=2.0 / K_v, Ti=1.0, y_max=1.0, y_min=-1.0)
+            pid = LimPID(controller_type="PI", k=OMEGA_C / K_v, Ti=1.0, y_max=1.0, y_min=-1.0)
             setattr(self, f"set_point{n}", ramp)
             setattr(self, f"controller{n}", pid)
             self.connect(ramp.y, pid.u_s)

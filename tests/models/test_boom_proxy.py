@@ -6,7 +6,8 @@ flexlib's multibody equations). Started at rest with the chambers at the holding
 in equilibrium: flexlib's joint accelerations at t = 0 below 1e-6 rad/s² (a moment error of 1e-6 of joint 1's
 gravity moment, 6.8e5 N.m, on the boom's ~1e6 kg.m² about joint 1 gives ~1e-6 rad/s²; measured ~1e-13), the
 cylinder forces equal ``−Q_k/(∂l_k/∂q_k)`` to 1e-6 relative and the holding chamber is at 200 bar gauge.
-(2) The PI loops follow the 0.5°/s joint ramps within 0.5° over the first second (measured ≤ 0.3°).
+(2) The PI loops follow the 0.5°/s joint ramps within 0.5° over the first 2 s (measured ≤ 0.27°), and every
+joint moves by more than half of its set-point's 1° in that time.
 """
 
 from __future__ import annotations
@@ -17,13 +18,15 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.models.boom_proxy import BAR, P_AMB, RAMP_DEG, BoomProxy, statics
+from flexlib.models.boom_proxy import BAR, P_AMB, RAMP_DEG, T_RAMP, BoomProxy, statics
+
+T_RUN = 2.0  # s
 
 
 @pytest.fixture(scope="module")
 def linked() -> tuple[BoomProxy, fl.Result]:
     model = BoomProxy(linkages=True)
-    res = fl.Simulation(model, use_cache=False).run(1.0, dt_out=0.01, rtol=1e-6, atol=1e-8, progress=False)
+    res = fl.Simulation(model, use_cache=False).run(T_RUN, dt_out=0.01, rtol=1e-6, atol=1e-8, progress=False)
     return model, res
 
 
@@ -59,5 +62,6 @@ def test_joint_ramps_are_tracked(linked):
         err = res[f"angle{n}.phi"] - res[f"set_point{n}.y"]
         assert np.abs(err).max() < math.radians(0.5), f"joint{n}: {np.degrees(np.abs(err).max()):.3f} deg"
         moved = res[f"angle{n}.phi"][-1] - res[f"angle{n}.phi"][0]
-        assert moved * np.sign(RAMP_DEG[k]) > math.radians(0.3)  # followed the 0.5 deg/s ramp, not just held
+        travel = math.radians(RAMP_DEG[k]) * T_RUN / T_RAMP
+        assert moved / travel > 0.5  # moved more than half the set-point's travel
     assert np.all(np.abs(res["valve1.u"]) < 1.0)  # not saturated: tracking by control, not by the end stops
