@@ -84,6 +84,8 @@ BASE_PIN, BRACKET_1 = (0.8, -1.6), (2.2, -0.5)
 ROCKER_PIVOT, HOUSING, LINK_BRACKET = (-0.8, -0.8), (-3.6, -0.4), (0.9, -0.8)
 DIRECT_HOUSING, DIRECT_BRACKET = (-2.6, -0.55), (0.8, -0.55)
 OMEGA_C = 1.0  # crossover of the joint loops [rad/s]
+T_I = 1.0  # integral time of the joint loops [s]
+Q_MIN = 2.0 / 60000  # smallest valve rating [m3/s]
 T_OFFSET = 0.6  # rocker tip: midpoint of pivot–bracket moved this far to the lower side [m]
 
 
@@ -338,7 +340,7 @@ class BoomProxy(fl.Model):
             # valve sized for 3x the ramp flow of the moving chamber at ~35 bar per edge
             dl = abs(float(st["dl"][k]))
             q_ramp = A_p * dl * math.radians(abs(RAMP_DEG[k])) / T_RAMP
-            Q_nom = max(3 * q_ramp, 2.0 / 60000)  # m3/s, at least 2 L/min
+            Q_nom = max(3 * q_ramp, Q_MIN)  # m3/s
             valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=35 * BAR, omega=2 * math.pi * 30,
                                        zeta=0.7, A_leak=1e-10)
             setattr(self, f"valve{n}", valve)
@@ -352,7 +354,7 @@ class BoomProxy(fl.Model):
             # ~2 rad/s
             K_v = Q_nom / (A_p * dl)
             ramp = Ramp(height=math.radians(RAMP_DEG[k]), duration=T_RAMP, offset=float(q0[k]))
-            pid = LimPID(controller_type="PI", k=OMEGA_C / K_v, Ti=1.0, y_max=1.0, y_min=-1.0)
+            pid = LimPID(controller_type="PI", k=OMEGA_C / K_v, Ti=T_I, y_max=1.0, y_min=-1.0)
             setattr(self, f"set_point{n}", ramp)
             setattr(self, f"controller{n}", pid)
             self.connect(ramp.y, pid.u_s)
