@@ -74,11 +74,6 @@ def _cm(spec: PlanarSpec, q: dict[str, ca.SX], name: str) -> ca.SX:
     return _pin(spec, q, lk.parent) + ca.mtimes(_rot(q[name]), ca.DM(lk.r_cm))
 
 
-def _buffered(f: ca.Function) -> tuple[Any, Any]:
-    buf, call = f.buffer()
-    return buf, call
-
-
 class MinimalDAE:
     """The hand-written minimal dummy-derivative DAE of a planar mechanism (see the module docstring).
 

@@ -203,7 +203,7 @@ class PlanarMechanism(fl.Model):
         super().__init__()
         self.spec = spec
         theta = assemble(spec, spec.theta0)
-        self.world = World(g=spec.g) if spec.g > 0 else World(g=0.0)
+        self.world = World(g=spec.g)
         frames = {}
         for name, (x, y) in spec.ground.items():
             if (x, y) == (0.0, 0.0):
