@@ -1,0 +1,86 @@
+"""Benchmark: the boom proxy of ``models/boom_proxy.py`` (issue 9, deliverable 1).
+
+Five sections on revolute joints, joints 2–5 driven through four-bar linkages (or, ``linkages=False``, by
+cylinders directly), one cylinder, 4/3 valve and PI loop per joint, one pump with a relief valve, joint
+ramps over 20 s. For each variant it prints the unknowns and states, the cold build (fresh cache
+directory) and the cached build (second ``Simulation`` of a new instance, same cache), and for both
+backends the wall time of one 20 s run, the real-time factor (simulated / wall time), IDA steps and
+residual / Jacobian evaluations, and the largest tracking error. Times are wall / CPU (this process and its gcc
+children); on a shared machine the CPU figures are the steadier ones.
+
+Run: ``python benchmarks/boom_proxy.py`` (repository root; ``--t-end 5`` for a shorter run, ``--direct`` or
+``--linkages`` for one variant). No timing is asserted. Timings depend on the machine's load: compare
+ratios within one run.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
+
+import argparse
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import flexlib as fl
+from flexlib.models.boom_proxy import BoomProxy
+
+
+def _cpu() -> float:
+    """CPU time of this process and its finished children (gcc of the code generation) [s]."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def main(argv: list[str]) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--t-end", type=float, default=20.0, help="simulated time [s] (default 20)")
+    ap.add_argument("--linkages", action="store_true", help="only the linkage variant")
+    ap.add_argument("--direct", action="store_true", help="only the direct-cylinder variant")
+    ap.add_argument("--solvers", default="ida,casadi-idas", help="comma-separated backends")
+    args = ap.parse_args(argv)
+    variants = [True, False]
+    if args.linkages != args.direct:
+        variants = [args.linkages]
+    exp = BoomProxy.experiment
+    print(f"Boom proxy, {args.t_end:g} s, rtol {exp.rtol:g}, atol {exp.atol:g}, output every {exp.dt_out:g} s; "
+          "OMP_NUM_THREADS=1; one run per cell (machine shared with other jobs: compare within the table)\n")
+    print("| variant | unknowns | states | build cold (s) | build cached (s) | solver | run (s) | real-time factor "
+          "| IDA steps | res evals | jac evals | max tracking error (deg) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print("(times: wall / CPU incl. gcc children; real-time factor = simulated time / run time, wall / CPU)")
+    for linkages in variants:
+        os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
+        t0, c0 = time.perf_counter(), _cpu()
+        sim = fl.Simulation(BoomProxy(linkages=linkages))
+        cold, cold_c = time.perf_counter() - t0, _cpu() - c0
+        t0, c0 = time.perf_counter(), _cpu()
+        fl.Simulation(BoomProxy(linkages=linkages))
+        cached, cached_c = time.perf_counter() - t0, _cpu() - c0
+        name = "linkages" if linkages else "direct cylinders"
+        for solver in args.solvers.split(","):
+            t0, c0 = time.perf_counter(), _cpu()
+            try:
+                res = sim.run(args.t_end, dt_out=exp.dt_out, rtol=exp.rtol, atol=exp.atol, progress=False,
+                              solver=solver)
+            except fl.SolverError as err:
+                print(f"| {name} | {sim.compiled.n} | | | | {solver} | failed: {str(err)[:120]} |")
+                continue
+            run, run_c = time.perf_counter() - t0, _cpu() - c0
+            s = res.stats
+            err = max(float(np.abs(res[f"angle{n}.phi"] - res[f"set_point{n}.y"]).max()) for n in range(1, 6))
+            print(f"| {name} | {sim.compiled.n} | {int(sim.compiled.differential.sum())} | {cold:.2f} / {cold_c:.2f} | "
+                  f"{cached:.3f} / {cached_c:.3f} | {solver} | {run:.2f} / {run_c:.2f} | {args.t_end / run:.2f} / "
+                  f"{args.t_end / run_c:.2f} | {s['steps']} | {s['nfev']} | {s['njev']} | {np.degrees(err):.3f} |",
+                  flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
