@@ -519,9 +519,10 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     for k in entries:
         if is_state[k] and cols[k].der in pos:
             res_list.append(yp[pos[k]] - y[pos[cols[k].der]])
-    col_syms = ca.vertcat(*[c.info.sym for c in cols])
-    col_vals = ca.vertcat(*[col_value[k] for k in range(len(cols))])
-    F = ca.substitute([ca.vertcat(*res_list)], [col_syms], [col_vals])[0]
+    # (SX(0, 1) first: a model whose unknowns were all eliminated has none, and an empty vertcat is a DM)
+    col_syms = ca.vertcat(ca.SX(0, 1), *[c.info.sym for c in cols])
+    col_vals = ca.vertcat(ca.SX(0, 1), *[col_value[k] for k in range(len(cols))])
+    F = ca.substitute([ca.vertcat(ca.SX(0, 1), *res_list)], [col_syms], [col_vals])[0]
     differential = np.array([is_state[k] for k in entries], dtype=bool)
     if F.numel() != n:
         raise StructuralSingularityError(f"index reduction produced {F.numel()} equations for {n} unknowns")

@@ -45,6 +45,7 @@ from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolera
 from flexlib.solve.ida import Trajectory, check_assertions, integrate
 from flexlib.solve.initialization import Initializer
 from flexlib.solve.run_options import check_run_arguments
+from flexlib.solve.static import integrate_static
 
 __all__ = ["Experiment", "Simulation"]
 
@@ -340,8 +341,12 @@ class Simulation:
                 else:
                     from flexlib.solve.casadi_idas import integrate_casadi as backend
                 check_assertions(m, p, t0)
-                traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, rtol=opts.rtol, atol=opts.atol,
-                               max_step=opts.max_step, max_steps=opts.max_steps, progress=opts.progress, **extra)
+                if m.n == 0:  # every variable is an expression of time and parameters: nothing to integrate
+                    traj = integrate_static(m, p, t0, t1, opts.grid)
+                else:
+                    traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, rtol=opts.rtol,
+                                   atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
+                                   progress=opts.progress, **extra)
             except SolverError as err:
                 stop.stopping = True
                 traj = err.result if isinstance(err.result, Trajectory) else Trajectory(status="failed",

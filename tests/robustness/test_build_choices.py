@@ -75,3 +75,41 @@ def test_override_that_keeps_the_loop_planar_runs_and_matches_closed_form():
     ref3, ref4 = ref.fourbar_angles(a2, B, C, D, res["rev1.phi"], "open")
     np.testing.assert_allclose(res["rev4.phi"], ref4, atol=1e-7)
     np.testing.assert_allclose(res["rev1.phi"] + res["rev2.phi"], ref3, atol=1e-7)
+
+
+class Constant2(fl.Model):
+    """Every variable fixed by an equation: no unknowns are left after simplification."""
+
+    k = fl.Parameter(2.0, unit="m")
+    x = fl.Variable(unit="m")
+    y = fl.Variable(unit="m")
+
+    def equations(self):
+        return [fl.eq(self.x, self.k), fl.eq(self.y, self.x * fl.time)]
+
+
+def test_model_without_unknowns_runs():
+    """No unknowns left (was a raw CasADi "'substitute' not defined for DM"): the results are the expressions
+    themselves, exactly, and follow a run-time parameter."""
+    sim = fl.Simulation(Constant2(), use_cache=False)
+    res = sim.run(1.0, dt_out=0.25)
+    np.testing.assert_allclose(res["y"], 2.0 * res.t, rtol=1e-15, atol=0)
+    res = sim.run(1.0, dt_out=0.5, params={"k": 3.0})
+    np.testing.assert_array_equal(res["x"], [3.0, 3.0, 3.0])
+
+
+def test_model_without_unknowns_switches_at_time_events():
+    """A step source feeding a gain, nothing to integrate: the output switches exactly at the step time."""
+    from flexlib.components.control import Gain, Step
+
+    class Stepped(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.step = Step(height=2.0, start_time=0.3)
+            self.gain = Gain(k=1.5)
+            self.connect(self.step.y, self.gain.u)
+
+    res = fl.Simulation(Stepped(), use_cache=False).run(1.0, dt_out=0.1)
+    assert res.stats["time_events"] == 1 and abs(res.events[0][0] - 0.3) < 1e-12
+    np.testing.assert_allclose(res.value("gain.y", 0.2), 0.0)
+    np.testing.assert_allclose(res.value("gain.y", 0.5), 3.0)
