@@ -32,6 +32,7 @@ from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
 from flexlib.errors import (
+    NativeSolverError,
     ParameterError,
     ResultFileError,
     ResultSaveWarning,
@@ -43,7 +44,9 @@ from flexlib.results.hdf5 import save_result
 from flexlib.results.result import Result
 from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
 from flexlib.solve.ida import Trajectory, check_assertions, integrate
+from flexlib.solve.ida_native import integrate_native
 from flexlib.solve.initialization import Initializer
+from flexlib.solve.native import native_available
 from flexlib.solve.run_options import check_run_arguments
 from flexlib.solve.static import integrate_static
 
@@ -332,10 +335,9 @@ class Simulation:
                     stale = True
                     raise _Rebuild
                 extra: dict[str, Any] = {}
-                if opts.solver in ("ida", "ida-native"):
-                    backend = integrate
-                    if opts.solver == "ida-native":
-                        from flexlib.solve.ida_native import integrate_native as backend
+                if opts.solver in ("ida", "ida-native", "ida-sksundae"):
+                    native = opts.solver == "ida-native" or (opts.solver == "ida" and native_available())
+                    backend = integrate_native if native else integrate
                     if m.has_state_choice and opts.dynamic_states:
                         extra["monitor"] = self._monitor()
                 else:
@@ -344,9 +346,15 @@ class Simulation:
                 if m.n == 0:  # every variable is an expression of time and parameters: nothing to integrate
                     traj = integrate_static(m, p, t0, t1, opts.grid)
                 else:
-                    traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, rtol=opts.rtol,
-                                   atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
-                                   progress=opts.progress, **extra)
+                    run_opts = dict(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
+                                    progress=opts.progress, **extra)
+                    try:
+                        traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
+                    except NativeSolverError:
+                        if opts.solver != "ida":
+                            raise
+                        # the default backend could not set up the C driver for this model: step IDA from Python
+                        traj = integrate(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
             except SolverError as err:
                 stop.stopping = True
                 traj = err.result if isinstance(err.result, Trajectory) else Trajectory(status="failed",

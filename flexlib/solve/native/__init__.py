@@ -30,7 +30,8 @@ import numpy as np
 
 from flexlib.errors import FlexlibError, NativeSolverError
 
-__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "Driver", "NativeUnavailable", "driver_library"]
+__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "Driver", "NativeUnavailable", "driver_library",
+           "native_available"]
 
 FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY = 0, 1, 2, 3, 4
 
@@ -92,6 +93,26 @@ def driver_library() -> Path:
     return target
 
 
+_AVAILABLE: list[bool] = []
+
+
+def native_available() -> bool:
+    """Whether the default ``solver="ida"`` runs on the C driver: True once the driver is compiled (or cached)
+    and loads; False without a C compiler, when the build or the load fails, or with ``FLEXLIB_NATIVE=0`` in
+    the environment (then the default backend steps scikit-sundae's IDA from Python, with no error). The
+    answer is kept for the process (the environment variable is read on every call)."""
+    if os.environ.get("FLEXLIB_NATIVE", "1") == "0":
+        return False
+    if not _AVAILABLE:
+        try:
+            _lib()
+            ok = True
+        except (FlexlibError, OSError, subprocess.SubprocessError):
+            ok = False
+        _AVAILABLE.append(ok)
+    return _AVAILABLE[0]
+
+
 def _lib() -> ctypes.CDLL:
     with _LOCK:
         if _LIB:
@@ -109,6 +130,10 @@ def _lib() -> ctypes.CDLL:
         lib.fd_set_grid.restype = None
         lib.fd_grid_pos.argtypes = [vp]
         lib.fd_grid_pos.restype = i
+        lib.fd_set_limits.argtypes = [vp, d, d]
+        lib.fd_set_limits.restype = None
+        lib.fd_last_step.argtypes = [vp]
+        lib.fd_last_step.restype = d
         lib.fd_advance.argtypes = [vp, d, L, _dp, _dp, _dp, i, ctypes.POINTER(i), ctypes.POINTER(d),
                                    ctypes.POINTER(L)]
         lib.fd_advance.restype = i
@@ -244,6 +269,15 @@ class Driver:
     def grid_pos(self) -> int:
         """Number of grid times already written."""
         return int(self._lib.fd_grid_pos(self._ptr))
+
+    def set_limits(self, t_limit: float, h_min: float) -> None:
+        """:meth:`advance` also stops (``FD_CHUNK``) after a step ending at or after ``t_limit`` [s] or shorter
+        than ``h_min`` [s] (``inf`` and 0 switch this off)."""
+        self._lib.fd_set_limits(self._ptr, t_limit, h_min)
+
+    def last_step(self) -> float:
+        """Size of the last step taken [s]."""
+        return float(self._lib.fd_last_step(self._ptr))
 
     def advance(self, t_stop: float, max_chunk: int, T: np.ndarray, Y: np.ndarray,
                 YP: np.ndarray) -> tuple[int, int, float, int]:

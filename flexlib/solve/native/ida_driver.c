@@ -115,6 +115,9 @@ typedef struct {
     int *rootsfound;
     double sec_advance;
     int nonfinite;
+    double t_limit, h_min; /* fd_advance also returns FD_CHUNK after a step ending at or after t_limit, or
+                              shorter than h_min (the state-selection monitor's schedule) */
+    double hlast;          /* size of the last step taken */
 } drv_t;
 
 static double now(void) {
@@ -275,6 +278,8 @@ drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int dense, i
     }
     d->tcur = t0;
     d->tlast_row = t0;
+    d->t_limit = INFINITY;
+    d->h_min = 0.0;
     return d;
 fail:
     fd_free(d);
@@ -319,6 +324,16 @@ void fd_set_grid(drv_t *d, const double *grid, int ngrid) {
 }
 
 int fd_grid_pos(drv_t *d) { return d->kgrid; }
+
+/* Extra stop conditions of fd_advance (FD_CHUNK): a step ending at or after t_limit, or shorter than h_min
+ * (INFINITY and 0 switch them off). */
+void fd_set_limits(drv_t *d, double t_limit, double h_min) {
+    d->t_limit = t_limit;
+    d->h_min = h_min;
+}
+
+/* Size of the last step taken [s]. */
+double fd_last_step(drv_t *d) { return d->hlast; }
 
 /* Write the rows due after the step that reached d->tcur; 0 if all written, 1 if the buffer filled. */
 static int write_rows(drv_t *d, double *T, double *Y, double *YP, int cap, int *nrows) {
@@ -381,8 +396,10 @@ int fd_advance(drv_t *d, double t_stop, long max_chunk, double *T, double *Y, do
         d->steps++;
         d->tcur = tret;
         d->tiny = (tret - tprev <= 1e-14 * fmax(1.0, fabs(tret))) ? d->tiny + 1 : 0;
+        d->hlast = tret - tprev;
+        int limit = tret >= d->t_limit || (d->hlast > 0.0 && d->hlast < d->h_min);
         int next = flag == IDA_ROOT_RETURN ? FD_ROOT : flag == IDA_TSTOP_RETURN ? FD_TSTOP
-                 : d->tiny > 200 ? FD_TINY : steps >= max_chunk ? FD_CHUNK : -1000;
+                 : d->tiny > 200 ? FD_TINY : (steps >= max_chunk || limit) ? FD_CHUNK : -1000;
         if (flag == IDA_ROOT_RETURN) IDAGetRootInfo(d->mem, d->rootsfound);
         int w = write_rows(d, T, Y, YP, cap, nrows);
         if (w < 0) { code = -27; goto done; }
