@@ -53,7 +53,8 @@ def main() -> None:
     print("| model | backend | run (s) | × vs ida-sksundae | steps | switches | monitor checks / full | "
           "model / IDA / Python (ms) | max |Δ| |")
     print("|---|---|---|---|---|---|---|---|---|")
-    for name, factory, t_end in [("four-bar 10 s", FourBarLinkage, 10.0), ("hydraulic servo 20 s", HydraulicServo, 20.0)]:
+    models = [("four-bar 10 s", FourBarLinkage, 10.0), ("hydraulic servo 20 s", HydraulicServo, 20.0)]
+    for name, factory, t_end in models:
         sim = fl.Simulation(factory())
         out = {}
         for solver in SOLVERS:

@@ -124,6 +124,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     if monitor is not None:
         monitor.reset()
     unseen = 0  # steps taken since the monitor last saw one
+    pending_c = model.library_pending is not None  # C being compiled in the background: switch when ready
 
     def flush(k: int) -> None:
         if k:
@@ -147,6 +148,13 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
             stats["steps"] += nsteps
             unseen += nsteps
             flush(k)
+            if pending_c and model.c_ready():
+                # the background gcc has finished: the residual and Jacobian are evaluated by the compiled library
+                # from the next step on, without a restart (the same operations in the same order as the SX
+                # virtual machine, so the trajectory does not change)
+                pending_c = False
+                drv.rebind(evaluators(model, _zc_function(model, p, state_rel)))
+                stats["compiled_at"] = t
             if code < 0:
                 raise SolverError(_failure_message(model, drv, code, t, p, traj, rtol, atol))
             if stats["steps"] % CHUNK_STEPS < nsteps or code == FD_CHUNK:
@@ -230,6 +238,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                         traj.events.append((t, f"state selection: states are now {states}"))
                         watch = 2 if len(state_rel) else 0
                         use_monitor = model.has_state_choice
+                        pending_c = False
                         if not use_monitor:
                             drv.set_limits(np.inf, 0.0)
             if stats["steps"] >= max_steps and t < t_end:
@@ -250,6 +259,20 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0
     return traj
+
+
+def _zc_function(model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> ca.Function | None:
+    """IDA's root functions: the indicators of the relations ``state_rel`` (cached with the evaluators)."""
+    if not len(state_rel):
+        return None
+    cached = model._functions.get("ida_native")
+    if cached is not None and cached.get("zc_fn") is not None:
+        return cached["zc_fn"]
+    ind = model.sx_function("ind")
+    t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+    pp = ca.SX.sym("p", len(p))
+    z = ind(t, y, yp, pp)
+    return ca.Function("flexlib_zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
 
 
 def _settled(model: CompiledModel, ind_fn: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
@@ -310,17 +333,7 @@ def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, 
                  y0: np.ndarray, yp0: np.ndarray) -> tuple[Driver, np.ndarray]:
     """A C driver for ``model`` (indicators of the state relations as IDA root functions)."""
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
-    zc = None
-    if len(state_rel):
-        cached = model._functions.get("ida_native")
-        zc = cached["zc_fn"] if cached is not None and cached.get("zc_fn") is not None else None
-        if zc is None:
-            ind = model.sx_function("ind")
-            t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
-            pp = ca.SX.sym("p", len(p))
-            z = ind(t, y, yp, pp)
-            zc = ca.Function("flexlib_zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
-    ev = evaluators(model, zc)
+    ev = evaluators(model, _zc_function(model, p, state_rel))
     drv = Driver(model, p, ev, len(state_rel), model.n <= DENSE_MAX, rtol, absolute_tolerances(model, atol),
                  max_step, t0, y0, yp0)
     return drv, state_rel

@@ -285,15 +285,19 @@ class Simulation:
             Progress bar (default: shown for runs longer than about 2 s).
         result_file : str or os.PathLike, optional
             Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM).
-        solver : {"ida", "casadi-idas", "ida-native"}
-            ``"ida"``: SUNDIALS IDA through scikit-sundae (default; every step, progress bar).
-            ``"casadi-idas"``: CasADi's built-in IDAS, all in C — faster for small models, same
-            results and events (see ``flexlib/solve/casadi_idas.py``).
-            ``"ida-native"``: the same SUNDIALS IDA as ``"ida"``, stepped in C with the model evaluated in C;
-            Python runs only at outputs and events (see ``flexlib/solve/ida_native.py``).
+        solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"}
+            ``"ida"`` (default): SUNDIALS IDA with its step loop in C and the model evaluated in C, Python only
+            at outputs, events and due state-selection checks (``"ida-native"``, see
+            ``flexlib/solve/ida_native.py``) when that driver is available (gcc on PATH builds it once per
+            machine); otherwise — no compiler, a failed build, ``FLEXLIB_NATIVE=0`` in the environment — the
+            same IDA stepped from Python through scikit-sundae, with no error.
+            ``"ida-native"``: the C driver; :class:`~flexlib.errors.NativeSolverError` if it is unavailable.
+            ``"ida-sksundae"``: IDA stepped from Python through scikit-sundae (``flexlib/solve/ida.py``).
+            ``"casadi-idas"``: CasADi's built-in IDAS, all in C, same results and events (see
+            ``flexlib/solve/casadi_idas.py``).
         dynamic_states : bool
             Re-select the states during the run when the selected dummy-derivative blocks become
-            ill-conditioned (``ida`` and ``ida-native``; see ``flexlib/solve/state_selection.py``).
+            ill-conditioned (the IDA backends; see ``flexlib/solve/state_selection.py``).
 
         Returns
         -------

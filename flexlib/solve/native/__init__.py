@@ -130,6 +130,8 @@ def _lib() -> ctypes.CDLL:
         lib.fd_set_grid.restype = None
         lib.fd_grid_pos.argtypes = [vp]
         lib.fd_grid_pos.restype = i
+        lib.fd_set_funs.argtypes = [vp, ctypes.POINTER(vp), vp, _ip, _ip, _lp]
+        lib.fd_set_funs.restype = i
         lib.fd_set_limits.argtypes = [vp, d, d]
         lib.fd_set_limits.restype = None
         lib.fd_last_step.argtypes = [vp]
@@ -189,11 +191,11 @@ class Evaluator:
 
 def evaluators(model: Any, zc: ca.Function | None) -> dict[str, Evaluator]:
     """Evaluators of ``res``, ``jac`` (generated C when the model has a library) and ``zc``; cached on the model."""
+    model.function("res")  # adopts a finished background compile; drops a library that fails its manifest
     cached = model._functions.get("ida_native")
-    if cached is not None and cached.get("zc_fn") is zc:
+    if cached is not None and cached.get("zc_fn") is zc and cached.get("library") == model.library:
         return cached["ev"]
     ev: dict[str, Evaluator] = {}
-    model.function("res")  # adopts a finished background compile; drops a library that fails its manifest
     lib_path = model.library
     if lib_path is not None and model.library_problem() is None:
         clib = ctypes.CDLL(lib_path)
@@ -205,7 +207,7 @@ def evaluators(model: Any, zc: ca.Function | None) -> dict[str, Evaluator]:
             ev[name] = Evaluator(model.sx_function(name))
     if zc is not None:
         ev["zc"] = Evaluator(zc)
-    model._functions["ida_native"] = {"ev": ev, "zc_fn": zc}  # type: ignore[assignment]
+    model._functions["ida_native"] = {"ev": ev, "zc_fn": zc, "library": lib_path}  # type: ignore[assignment]
     return ev
 
 
@@ -222,13 +224,7 @@ class Driver:
         self.colind = np.ascontiguousarray(model.jac_colind, dtype=np.int32)
         self.row = np.ascontiguousarray(model.jac_row, dtype=np.int32)
         names = ["res", "jac", "zc"] if n_roots else ["res", "jac"]
-        fptr = (ctypes.c_void_p * 3)(*[ev[k].symbol if k in ev else None for k in ("res", "jac", "zc")])
-        ids = np.array([ev[k].id if k in names else -1 for k in ("res", "jac", "zc")], dtype=np.int32)
-        mems = np.array([ev[k].checkout() if k in names else 0 for k in ("res", "jac", "zc")], dtype=np.int32)
-        sizes = np.array([s for k in ("res", "jac", "zc") for s in (ev[k].sizes if k in names else [0] * 4)],
-                         dtype=np.int64)
-        fid = ctypes.cast(_casadi().casadi_c_eval_id, ctypes.c_void_p).value if any(
-            ev[k].symbol is None for k in names) else None
+        fptr, fid, ids, mems, sizes = self._functions(ev, names)
         self._mems = [(ev[k].id, int(m)) for k, m in zip(("res", "jac", "zc"), mems, strict=True)
                       if k in names and ev[k].symbol is None]
         err = ctypes.create_string_buffer(128)
@@ -242,6 +238,26 @@ class Driver:
         self.n_roots = n_roots
         self._grid: np.ndarray | None = None
         self._nrows, self._tnow, self._steps = ctypes.c_int(), ctypes.c_double(), ctypes.c_long()
+
+    @staticmethod
+    def _functions(ev: dict[str, Evaluator], names: list[str]) -> tuple[Any, Any, np.ndarray, np.ndarray, np.ndarray]:
+        """Function pointers, CasADi's eval-by-id entry, ids, checked-out memory slots and work sizes (res, jac, zc)."""
+        keys = ("res", "jac", "zc")
+        fptr = (ctypes.c_void_p * 3)(*[ev[k].symbol if k in names else None for k in keys])
+        ids = np.array([ev[k].id if k in names else -1 for k in keys], dtype=np.int32)
+        mems = np.array([ev[k].checkout() if k in names else 0 for k in keys], dtype=np.int32)
+        sizes = np.array([s for k in keys for s in (ev[k].sizes if k in names else [0] * 4)], dtype=np.int64)
+        fid = ctypes.cast(_casadi().casadi_c_eval_id, ctypes.c_void_p).value if any(
+            ev[k].symbol is None for k in names) else None
+        return fptr, fid, ids, mems, sizes
+
+    def rebind(self, ev: dict[str, Evaluator]) -> None:
+        """Evaluate the residual and Jacobian with ``ev`` from the next step on (generated C that has become
+        ready during the run; no restart)."""
+        fptr, fid, ids, mems, sizes = self._functions(ev, ["res", "jac"])
+        if self._lib.fd_set_funs(self._ptr, fptr, fid, ids, mems, sizes) != 0:
+            raise NativeUnavailable("the ida-native driver could not switch to the compiled library (no memory)")
+        self._keep.append(ev)
 
     def __del__(self) -> None:
         ptr = getattr(self, "_ptr", None)

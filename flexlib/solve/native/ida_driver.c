@@ -305,6 +305,31 @@ void fd_free(drv_t *d) {
     free(d);
 }
 
+/* Replace the residual and Jacobian evaluators (index 0 res, 1 jac of fptr/ids/mems/sizes, as in fd_create):
+ * generated C compiled in the background replaces the SX virtual machine between two steps, without restarting
+ * IDA (the same operations in the same order: the trajectory does not change).  Returns 0, or -1 (no memory;
+ * the old evaluators stay). */
+int fd_set_funs(drv_t *d, void **fptr, void *fid, const int *ids, const int *mems, const long long *sizes) {
+    fun_t f[2];
+    for (int k = 0; k < 2; k++) {
+        memset(&f[k], 0, sizeof(fun_t));
+        if (fun_setup(&f[k], fptr[k], fid, ids[k], mems[k], sizes[4 * k], sizes[4 * k + 1], sizes[4 * k + 2],
+                      sizes[4 * k + 3])) {
+            fun_free(&f[0]);
+            fun_free(&f[1]);
+            return -1;
+        }
+    }
+    fun_t *old[2] = {&d->res, &d->jac};
+    for (int k = 0; k < 2; k++) {
+        f[k].seconds = old[k]->seconds;
+        f[k].calls = old[k]->calls;
+        fun_free(old[k]);
+        *old[k] = f[k];
+    }
+    return 0;
+}
+
 /* Restart at t0 from y0, yp0 (after an event). */
 int fd_reinit(drv_t *d, double t0, const double *y0, const double *yp0) {
     memcpy(N_VGetArrayPointer(d->y), y0, sizeof(double) * d->n);
