@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.errors import NativeSolverError
-from flexlib.solve import ida_native, native, simulation
+from flexlib.solve import native, simulation
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "robustness"))
@@ -44,29 +43,6 @@ def test_default_runs_on_the_c_driver(osc):
     assert res.stats["steps"] == ref.stats["steps"]
     np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-6)
     np.testing.assert_allclose(res["x"], ref["x"], atol=1e-10)
-
-
-def test_flexlib_native_0_falls_back_without_error(osc, monkeypatch):
-    monkeypatch.setenv("FLEXLIB_NATIVE", "0")
-    assert not native.native_available()
-    res = osc.run(2.0, dt_out=0.1)
-    assert res.success and "wall_model" not in res.stats
-    np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-5)
-
-
-@needs_driver
-def test_driver_that_cannot_be_set_up_falls_back_for_the_default_only(osc, monkeypatch):
-    """A model the driver cannot take (here: set-up refused) runs on the scikit-sundae route by default; asked for
-    explicitly, ``ida-native`` raises NativeSolverError naming the backend."""
-
-    def refuse(*args, **kwargs):
-        raise NativeSolverError("the ida-native driver could not set up IDA: IDAInit failed")
-
-    monkeypatch.setattr(ida_native, "_make_driver", refuse)
-    res = osc.run(2.0, dt_out=0.1)
-    assert res.success and "wall_model" not in res.stats
-    with pytest.raises(NativeSolverError, match="ida-native driver could not set up IDA"):
-        osc.run(2.0, dt_out=0.1, solver="ida-native")
 
 
 @needs_driver
