@@ -138,3 +138,27 @@ def test_limiter_restart_at_a_root_located_early():
 
 def test_solver_names_include_the_fallback():
     assert "ida-sksundae" in simulation.check_run_arguments.__globals__["SOLVERS"]
+
+
+@needs_driver
+def test_blocks_of_c_steps_are_bounded_in_wall_time(osc, monkeypatch):
+    """Ctrl-C, SIGTERM and the progress bar reach Python when a block of C steps returns: a block ends after
+    ``CHUNK_WALL`` seconds even within its 256 steps. With the bound at 1e-12 s every block is one step."""
+    from flexlib.solve import ida_native
+
+    calls = {"n": 0}
+    advance = native.Driver.advance
+
+    def counted(self, *args):
+        calls["n"] += 1
+        return advance(self, *args)
+
+    monkeypatch.setattr(native.Driver, "advance", counted)
+    free = osc.run(5.0, progress=False)
+    n_free = calls["n"]
+    monkeypatch.setattr(ida_native, "CHUNK_WALL", 1e-12)
+    calls["n"] = 0
+    bounded = osc.run(5.0, progress=False)
+    assert n_free < free.stats["steps"] / 10
+    assert calls["n"] >= bounded.stats["steps"] == free.stats["steps"]
+    np.testing.assert_array_equal(bounded.values, free.values)

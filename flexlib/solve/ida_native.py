@@ -16,7 +16,8 @@ Python is called back only
   exactly as in :mod:`flexlib.solve.ida` (:func:`~flexlib.solve.ida._event_iteration`,
   :func:`~flexlib.solve.ida.next_time_event`, the sign check of the state relations for two
   steps after a restart) followed by ``IDAReInit``;
-* every :data:`CHUNK_STEPS` steps, to show progress, enforce ``max_steps`` and let Ctrl-C/SIGTERM in;
+* every :data:`CHUNK_STEPS` steps or :data:`CHUNK_WALL` seconds, to show progress, enforce ``max_steps`` and let
+  Ctrl-C/SIGTERM in;
 * when the state-selection ``monitor`` is due: the C loop runs as many steps as the monitor's schedule
   (:meth:`~flexlib.solve.state_selection.StateSelectionMonitor.steps_allowed`) lets pass unchecked, and
   stops early after a step that reaches the scheduled time or collapses in size.
@@ -53,8 +54,10 @@ from flexlib.solve.native import FD_CHUNK, FD_FULL, FD_ROOT, FD_TINY, FD_TSTOP, 
 
 __all__ = ["CHUNK_STEPS", "integrate_native"]
 
-#: The C loop returns to Python at least every this many steps (progress bar, Ctrl-C, ``max_steps``).
+#: The C loop returns to Python at least every this many steps (progress bar, Ctrl-C, ``max_steps``)
 CHUNK_STEPS = 256
+#: ... and after this much wall time [s] (a signal that arrives during C steps takes effect when the block returns)
+CHUNK_WALL = 0.05
 #: Output rows buffered in C before Python copies them (per driver, at most ~8 MB per array).
 ROW_BUFFER_VALUES = 1_000_000
 
@@ -336,6 +339,7 @@ def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, 
     ev = evaluators(model, _zc_function(model, p, state_rel))
     drv = Driver(model, p, ev, len(state_rel), model.n <= DENSE_MAX, rtol, absolute_tolerances(model, atol),
                  max_step, t0, y0, yp0)
+    drv.set_wall_chunk(CHUNK_WALL)
     return drv, state_rel
 
 

@@ -132,6 +132,8 @@ def _lib() -> ctypes.CDLL:
         lib.fd_grid_pos.restype = i
         lib.fd_set_funs.argtypes = [vp, ctypes.POINTER(vp), vp, _ip, _ip, _lp]
         lib.fd_set_funs.restype = i
+        lib.fd_set_wall_chunk.argtypes = [vp, d]
+        lib.fd_set_wall_chunk.restype = None
         lib.fd_set_limits.argtypes = [vp, d, d]
         lib.fd_set_limits.restype = None
         lib.fd_last_step.argtypes = [vp]
@@ -290,6 +292,10 @@ class Driver:
         """:meth:`advance` also stops (``FD_CHUNK``) after a step ending at or after ``t_limit`` [s] or shorter
         than ``h_min`` [s] (``inf`` and 0 switch this off)."""
         self._lib.fd_set_limits(self._ptr, t_limit, h_min)
+
+    def set_wall_chunk(self, seconds: float) -> None:
+        """:meth:`advance` also stops (``FD_CHUNK``) after ``seconds`` of wall time (0: no limit)."""
+        self._lib.fd_set_wall_chunk(self._ptr, seconds)
 
     def last_step(self) -> float:
         """Size of the last step taken [s]."""

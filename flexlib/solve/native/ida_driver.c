@@ -118,6 +118,8 @@ typedef struct {
     double t_limit, h_min; /* fd_advance also returns FD_CHUNK after a step ending at or after t_limit, or
                               shorter than h_min (the state-selection monitor's schedule) */
     double hlast;          /* size of the last step taken */
+    double wall_chunk;     /* fd_advance returns FD_CHUNK after this many seconds of wall time (0: no limit), so
+                              that Ctrl-C/SIGTERM and the progress bar reach Python promptly on slow models */
 } drv_t;
 
 static double now(void) {
@@ -280,6 +282,7 @@ drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int dense, i
     d->tlast_row = t0;
     d->t_limit = INFINITY;
     d->h_min = 0.0;
+    d->wall_chunk = 0.0;
     return d;
 fail:
     fd_free(d);
@@ -357,6 +360,9 @@ void fd_set_limits(drv_t *d, double t_limit, double h_min) {
     d->h_min = h_min;
 }
 
+/* Wall-time bound of one fd_advance call [s] (0: none); checked after each step. */
+void fd_set_wall_chunk(drv_t *d, double seconds) { d->wall_chunk = seconds; }
+
 /* Size of the last step taken [s]. */
 double fd_last_step(drv_t *d) { return d->hlast; }
 
@@ -422,7 +428,8 @@ int fd_advance(drv_t *d, double t_stop, long max_chunk, double *T, double *Y, do
         d->tcur = tret;
         d->tiny = (tret - tprev <= 1e-14 * fmax(1.0, fabs(tret))) ? d->tiny + 1 : 0;
         d->hlast = tret - tprev;
-        int limit = tret >= d->t_limit || (d->hlast > 0.0 && d->hlast < d->h_min);
+        int limit = tret >= d->t_limit || (d->hlast > 0.0 && d->hlast < d->h_min)
+                    || (d->wall_chunk > 0.0 && now() - w0 > d->wall_chunk);
         int next = flag == IDA_ROOT_RETURN ? FD_ROOT : flag == IDA_TSTOP_RETURN ? FD_TSTOP
                  : d->tiny > 200 ? FD_TINY : (steps >= max_chunk || limit) ? FD_CHUNK : -1000;
         if (flag == IDA_ROOT_RETURN) IDAGetRootInfo(d->mem, d->rootsfound);
