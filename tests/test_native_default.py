@@ -15,7 +15,8 @@ from flexlib.solve import native, simulation
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "robustness"))
 
-needs_driver = pytest.mark.skipif(not native.native_available(), reason="no C compiler for the driver")
+needs_driver = pytest.mark.skipif(not native.native_available(),
+                                  reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
 
 
 class Osc(fl.Model):

@@ -9,7 +9,8 @@ import flexlib as fl
 from flexlib.errors import NativeSolverError
 from flexlib.solve import ida_native, native
 
-needs_driver = pytest.mark.skipif(not native.native_available(), reason="no C compiler for the driver")
+needs_driver = pytest.mark.skipif(not native.native_available(),
+                                  reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
 
 
 class Osc(fl.Model):
