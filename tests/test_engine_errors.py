@@ -205,6 +205,18 @@ def test_interrupt_keeps_results(monkeypatch, tmp_path):
         original(self, t, y, yp, r)
 
     monkeypatch.setattr(ida._Callbacks, "resfn", interrupting)
+    from flexlib.solve import native
+
+    advance = native.Driver.advance
+
+    def interrupting_blocks(self, *args):  # the C driver: Ctrl-C reaches Python when a block of steps returns
+        out = advance(self, *args)
+        calls["n"] += 150
+        if calls["n"] == 300:
+            raise KeyboardInterrupt
+        return out
+
+    monkeypatch.setattr(native.Driver, "advance", interrupting_blocks)
     path = tmp_path / "interrupted.h5"
     with pytest.raises(fl.SimulationInterrupted) as err:
         sim.run(100.0, dt_out=0.01, result_file=str(path))

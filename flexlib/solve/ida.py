@@ -1,5 +1,9 @@
 """Stage 6 — integrate with SUNDIALS IDA (scikit-sundae), with time and state events.
 
+This is ``solver="ida-sksundae"`` and the fallback of the default ``solver="ida"`` when the C driver of
+:mod:`flexlib.solve.ida_native` is unavailable (no gcc); the event handling, tolerances and diagnostics here
+are shared with that driver.
+
 The residual and the iteration matrix are CasADi functions called through
 ``Function.buffer()`` (no conversion per call), the Jacobian is passed as CSC nonzeros to
 the sparse direct solver (SuperLU_MT), as the notes recommend. IDA is driven one internal

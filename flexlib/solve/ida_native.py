@@ -16,9 +16,11 @@ Python is called back only
   exactly as in :mod:`flexlib.solve.ida` (:func:`~flexlib.solve.ida._event_iteration`,
   :func:`~flexlib.solve.ida.next_time_event`, the sign check of the state relations for two
   steps after a restart) followed by ``IDAReInit``;
-* every :data:`CHUNK_STEPS` steps, to show progress, enforce ``max_steps`` and let Ctrl-C/SIGTERM in;
-* after every step while a state-selection ``monitor`` is active (as in the default backend,
-  which costs a Python round trip per step: pass ``dynamic_states=False`` for full speed).
+* every :data:`CHUNK_STEPS` steps or :data:`CHUNK_WALL` seconds, to show progress, enforce ``max_steps`` and let
+  Ctrl-C/SIGTERM in;
+* when the state-selection ``monitor`` is due: the C loop runs as many steps as the monitor's schedule
+  (:meth:`~flexlib.solve.state_selection.StateSelectionMonitor.steps_allowed`) lets pass unchecked, and
+  stops early after a step that reaches the scheduled time or collapses in size.
 
 At a failure the rows produced so far are kept, and the message names the unknowns with the
 largest weighted local error estimates (``IDAGetEstLocalErrors`` × ``IDAGetErrWeights``), which
@@ -44,6 +46,7 @@ from flexlib.solve.ida import (
     Trajectory,
     _event_iteration,
     absolute_tolerances,
+    failure_message,
     next_time_event,
 )
 from flexlib.solve.initialization import Initializer
@@ -51,8 +54,10 @@ from flexlib.solve.native import FD_CHUNK, FD_FULL, FD_ROOT, FD_TINY, FD_TSTOP, 
 
 __all__ = ["CHUNK_STEPS", "integrate_native"]
 
-#: The C loop returns to Python at least every this many steps (progress bar, Ctrl-C, ``max_steps``).
+#: The C loop returns to Python at least every this many steps (progress bar, Ctrl-C, ``max_steps``)
 CHUNK_STEPS = 256
+#: ... and after this much wall time [s] (a signal that arrives during C steps takes effect when the block returns)
+CHUNK_WALL = 0.05
 #: Output rows buffered in C before Python copies them (per driver, at most ~8 MB per array).
 ROW_BUFFER_VALUES = 1_000_000
 
@@ -83,7 +88,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     progress : bool or None
         Show a progress bar; None shows one when the run takes longer than 2 s.
     monitor : StateSelectionMonitor, optional
-        Dynamic state selection, checked after every step (the C loop then returns every step).
+        Dynamic state selection, checked on the monitor's schedule (the C loop returns when a check is due).
 
     Returns
     -------
@@ -114,10 +119,15 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     wall0 = _time.perf_counter()
     bar = Progress(model.name, t0, t_end, progress)
     watch = 2 if len(state_rel) else 0
+    rooted: set[int] = set()
     ind_fn = model.function("ind")
     last_event_t, burst = -np.inf, 0
     t_event, which = next_time_event(model, p, t, t_end)
     use_monitor = monitor is not None and model.has_state_choice
+    if monitor is not None:
+        monitor.reset()
+    unseen = 0  # steps taken since the monitor last saw one
+    pending_c = model.library_pending is not None  # C being compiled in the background: switch when ready
 
     def flush(k: int) -> None:
         if k:
@@ -131,20 +141,35 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     try:
         while t < t_end:
             tstop = min(t_end, t_event)
-            chunk = 1 if (watch > 0 or use_monitor) else CHUNK_STEPS
+            chunk = 1 if watch > 0 else CHUNK_STEPS
+            if use_monitor:  # as many steps as the monitor's schedule lets pass unchecked
+                allowed, t_next, h_min = monitor.steps_allowed()
+                chunk = min(chunk, allowed - unseen) if allowed > unseen else 1
+                drv.set_limits(t_next, h_min)
             chunk = max(1, min(chunk, max_steps - stats["steps"]))
             code, k, t, nsteps = drv.advance(tstop, chunk, T, Y, YP)
             stats["steps"] += nsteps
+            unseen += nsteps
             flush(k)
+            if pending_c and model.c_ready():
+                # the background gcc has finished: the residual and Jacobian are evaluated by the compiled library
+                # from the next step on, without a restart (the same operations in the same order as the SX
+                # virtual machine, so the trajectory does not change)
+                pending_c = False
+                drv.rebind(evaluators(model, _zc_function(model, p, state_rel)))
+                stats["compiled_at"] = t
             if code < 0:
-                raise SolverError(_failure_message(model, drv, code, t))
+                raise SolverError(_failure_message(model, drv, code, t, p, traj, rtol, atol))
             if stats["steps"] % CHUNK_STEPS < nsteps or code == FD_CHUNK:
                 bar.update(t)
             if code == FD_FULL:
                 continue  # rows copied; the step (and any event it ended on) is reported by the next call
             if code == FD_TINY:
-                raise SolverError(f"IDA step size underflow at t = {t:.10g} s (the model may be stiff "
-                                  "beyond repair, or discontinuous without an event)" + _dominant(model, drv))
+                y_now, yp_now = drv.state()
+                raise SolverError(failure_message(
+                    f"IDA step size underflow at t = {t:.10g} s (the model may be stiff beyond repair, or "
+                    "discontinuous without an event)" + _dominant(model, drv), model, p, t, y_now, yp_now, traj,
+                    rtol, atol))
             y_now = yp_now = None
             event_kind = None
             changed: list[int] = []
@@ -160,12 +185,14 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                 event_kind = event_kind or "time"
             elif code != FD_ROOT and watch > 0:
                 # IDA ignores a root function that is zero at a restart until it leaves zero, so a relation
-                # that re-crosses at once (sliding) is caught by checking its sign (as the default backend)
+                # that re-crosses at once (sliding) is caught by checking its sign (as the scikit-sundae
+                # path) — except the relations IDA's root finding switched and that start on their new
+                # side (``_settled``): IDA watches those itself, and their sign here is Newton noise
                 watch -= 1
                 y_now, yp_now = drv.state()
                 z = np.asarray(ind_fn(t, y_now, yp_now, p)).ravel()
                 triggered = [(int(k), model.relations[k].value(z[k])) for k in state_rel
-                             if float(model.relations[k].value(z[k])) != p[n_par + k]]
+                             if k not in rooted and float(model.relations[k].value(z[k])) != p[n_par + k]]
                 event_kind = "state" if triggered else None
             if event_kind:
                 changed = [k for k, v in triggered if p[n_par + k] != float(v)]
@@ -181,6 +208,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                     drv.reinit(t, y_now, yp_now)
                     traj.add(t, y_now, yp_now, p[n_par:].copy())
                     watch = 2 if len(state_rel) else 0
+                    rooted = _settled(model, ind_fn, p, t, y_now, yp_now, triggered) if code == FD_ROOT else set()
                     burst = burst + 1 if t - last_event_t <= 1e-10 * max(1.0, abs(t)) else 0
                     last_event_t = t
                     if burst > 100:
@@ -188,10 +216,11 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                             f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
                 if time_hit:
                     t_event, which = next_time_event(model, p, t, t_end)
-            if use_monitor:
+            if use_monitor and unseen:
                 if y_now is None:
                     y_now, yp_now = drv.state()
-                if monitor.needs_switch(model, t, y_now, yp_now, p):
+                skipped, unseen = unseen - 1, 0
+                if monitor.needs_switch(model, t, y_now, yp_now, p, skipped=skipped, h=drv.last_step()):
                     switched = monitor.switch(model, t, y_now, yp_now, p)
                     if switched is not None:
                         model, y1, yp1 = switched
@@ -212,9 +241,13 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                         traj.events.append((t, f"state selection: states are now {states}"))
                         watch = 2 if len(state_rel) else 0
                         use_monitor = model.has_state_choice
+                        pending_c = False
+                        if not use_monitor:
+                            drv.set_limits(np.inf, 0.0)
             if stats["steps"] >= max_steps and t < t_end:
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
     except KeyboardInterrupt:
+        _trim(traj)  # the interrupt may have come in the middle of a block copy
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
     except SolverError as err:
@@ -229,6 +262,60 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0
     return traj
+
+
+def _zc_function(model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> ca.Function | None:
+    """IDA's root functions: the indicators of the relations ``state_rel`` (cached with the evaluators)."""
+    if not len(state_rel):
+        return None
+    cached = model._functions.get("ida_native")
+    if cached is not None and cached.get("zc_fn") is not None:
+        return cached["zc_fn"]
+    ind = model.sx_function("ind")
+    t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+    pp = ca.SX.sym("p", len(p))
+    z = ind(t, y, yp, pp)
+    return ca.Function("flexlib_zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
+
+
+def _settled(model: CompiledModel, ind_fn: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
+             triggered: list[tuple[int, bool]]) -> set[int]:
+    """The relations switched at an IDA root whose indicator at the restart point ``(t, y, yp)`` moves towards the
+    side of their new value (``dz/dt = ∂z/∂t + ∂z/∂y·y'`` has the sign of that side).
+
+    A root located by IDA lies within its interpolation error (order ``rtol``) of the true crossing: after the
+    event iteration the indicator can still be on the old side by that much, and in the first steps after the
+    restart its sign follows the Newton corrector's noise. (A limiter at rtol 1e-9: the input was 4e-11 short of
+    its limit at the restart, IDA's first step was 1e-15 s, and a re-check by sign switched the relation back,
+    after which IDA could not take a step.) Such a relation is still heading across, and IDA's root finding
+    watches it from the restart (a root function that is exactly zero there becomes active once it leaves zero).
+    A relation whose indicator turns back at once (a contact that bounces, sliding) is left to the check by sign.
+    """
+    n_par = model.n_params
+    dz = model._functions.get("ida_native_dzdt")
+    if dz is None:
+        ind = model.sx_function("ind")
+        ts, ys, yps = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+        ps = ca.SX.sym("p", n_par + model.n_relations)
+        z = ind(ts, ys, yps, ps)
+        rate = ca.jtimes(z, ca.vertcat(ts, ys), ca.vertcat(1.0, yps))
+        dz = ca.Function("flexlib_dzdt", [ts, ys, yps, ps], [rate])
+        model._functions["ida_native_dzdt"] = dz  # type: ignore[assignment]
+    with np.errstate(all="ignore"):
+        rate = np.asarray(dz(t, y, yp, p)).ravel()
+    out = set()
+    for k, _ in triggered:
+        rel = model.relations[k]
+        if np.isfinite(rate[k]) and rate[k] != 0.0 and float(rel.value(rate[k])) == p[n_par + k]:
+            out.add(k)
+    return out
+
+
+def _trim(traj: Trajectory) -> None:
+    """Cut the row lists to their common length (rows complete in every list are kept)."""
+    n = min(len(traj.t), len(traj.y), len(traj.yp), len(traj.rel), len(traj.seg))
+    for rows in (traj.t, traj.y, traj.yp, traj.rel, traj.seg):
+        del rows[n:]
 
 
 def _collect(stats: dict[str, Any], parts: list[dict[str, float]], wall: float) -> None:
@@ -249,25 +336,21 @@ def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, 
                  y0: np.ndarray, yp0: np.ndarray) -> tuple[Driver, np.ndarray]:
     """A C driver for ``model`` (indicators of the state relations as IDA root functions)."""
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
-    zc = None
-    if len(state_rel):
-        cached = model._functions.get("ida_native")
-        zc = cached["zc_fn"] if cached is not None and cached.get("zc_fn") is not None else None
-        if zc is None:
-            ind = model.sx_function("ind")
-            t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
-            pp = ca.SX.sym("p", len(p))
-            z = ind(t, y, yp, pp)
-            zc = ca.Function("flexlib_zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
-    ev = evaluators(model, zc)
+    ev = evaluators(model, _zc_function(model, p, state_rel))
     drv = Driver(model, p, ev, len(state_rel), model.n <= DENSE_MAX, rtol, absolute_tolerances(model, atol),
                  max_step, t0, y0, yp0)
+    drv.set_wall_chunk(CHUNK_WALL)
     return drv, state_rel
 
 
-def _failure_message(model: CompiledModel, drv: Driver, code: int, t: float, top: int = 3) -> str:
-    """IDA's failure, with the unknowns whose weighted local error estimates dominate."""
-    return f"IDA failed at t = {t:.10g} s: {drv.flag_name(code)} (status {code})" + _dominant(model, drv, top)
+def _failure_message(model: CompiledModel, drv: Driver, code: int, t: float, p: np.ndarray, traj: Trajectory,
+                     rtol: float, atol: float) -> str:
+    """IDA's failure, with the unknowns whose weighted local error estimates dominate (IDA's own error weights
+    and local errors), followed by what :func:`flexlib.solve.ida.failure_message` finds at the last accepted
+    point: non-finite values with their equation, a singular iteration matrix, the fastest-changing unknowns."""
+    y, yp = drv.state()
+    head = f"IDA failed at t = {t:.10g} s: {drv.flag_name(code)} (status {code})" + _dominant(model, drv)
+    return failure_message(head, model, p, t, y, yp, traj, rtol, atol)
 
 
 def _dominant(model: CompiledModel, drv: Driver, top: int = 3) -> str:

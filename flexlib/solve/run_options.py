@@ -28,7 +28,7 @@ __all__ = ["MAX_OUTPUT_POINTS", "SOLVERS", "RunOptions", "check_result_path", "c
 MAX_OUTPUT_POINTS = 10_000_000
 
 #: Integrator back ends accepted by ``run(solver=...)``.
-SOLVERS = ("ida", "casadi-idas", "ida-native")
+SOLVERS = ("ida", "casadi-idas", "ida-native", "ida-sksundae")
 
 
 @dataclass(frozen=True)

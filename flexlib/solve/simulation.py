@@ -32,6 +32,7 @@ from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
 from flexlib.errors import (
+    NativeSolverError,
     ParameterError,
     ResultFileError,
     ResultSaveWarning,
@@ -43,7 +44,9 @@ from flexlib.results.hdf5 import save_result
 from flexlib.results.result import Result
 from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
 from flexlib.solve.ida import Trajectory, check_assertions, integrate
+from flexlib.solve.ida_native import integrate_native
 from flexlib.solve.initialization import Initializer
+from flexlib.solve.native import native_available
 from flexlib.solve.run_options import check_run_arguments
 from flexlib.solve.static import integrate_static
 
@@ -282,15 +285,19 @@ class Simulation:
             Progress bar (default: shown for runs longer than about 2 s).
         result_file : str or os.PathLike, optional
             Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM).
-        solver : {"ida", "casadi-idas", "ida-native"}
-            ``"ida"``: SUNDIALS IDA through scikit-sundae (default; every step, progress bar).
-            ``"casadi-idas"``: CasADi's built-in IDAS, all in C — faster for small models, same
-            results and events (see ``flexlib/solve/casadi_idas.py``).
-            ``"ida-native"``: the same SUNDIALS IDA as ``"ida"``, stepped in C with the model evaluated in C;
-            Python runs only at outputs and events (see ``flexlib/solve/ida_native.py``).
+        solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"}
+            ``"ida"`` (default): SUNDIALS IDA with its step loop in C and the model evaluated in C, Python only
+            at outputs, events and due state-selection checks (``"ida-native"``, see
+            ``flexlib/solve/ida_native.py``) when that driver is available (gcc on PATH builds it once per
+            machine); otherwise — no compiler, a failed build, ``FLEXLIB_NATIVE=0`` in the environment — the
+            same IDA stepped from Python through scikit-sundae, with no error.
+            ``"ida-native"``: the C driver; :class:`~flexlib.errors.NativeSolverError` if it is unavailable.
+            ``"ida-sksundae"``: IDA stepped from Python through scikit-sundae (``flexlib/solve/ida.py``).
+            ``"casadi-idas"``: CasADi's built-in IDAS, all in C, same results and events (see
+            ``flexlib/solve/casadi_idas.py``).
         dynamic_states : bool
             Re-select the states during the run when the selected dummy-derivative blocks become
-            ill-conditioned (``ida`` and ``ida-native``; see ``flexlib/solve/state_selection.py``).
+            ill-conditioned (the IDA backends; see ``flexlib/solve/state_selection.py``).
 
         Returns
         -------
@@ -332,10 +339,9 @@ class Simulation:
                     stale = True
                     raise _Rebuild
                 extra: dict[str, Any] = {}
-                if opts.solver in ("ida", "ida-native"):
-                    backend = integrate
-                    if opts.solver == "ida-native":
-                        from flexlib.solve.ida_native import integrate_native as backend
+                if opts.solver in ("ida", "ida-native", "ida-sksundae"):
+                    native = opts.solver == "ida-native" or (opts.solver == "ida" and native_available())
+                    backend = integrate_native if native else integrate
                     if m.has_state_choice and opts.dynamic_states:
                         extra["monitor"] = self._monitor()
                 else:
@@ -344,9 +350,15 @@ class Simulation:
                 if m.n == 0:  # every variable is an expression of time and parameters: nothing to integrate
                     traj = integrate_static(m, p, t0, t1, opts.grid)
                 else:
-                    traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, rtol=opts.rtol,
-                                   atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
-                                   progress=opts.progress, **extra)
+                    run_opts = dict(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
+                                    progress=opts.progress, **extra)
+                    try:
+                        traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
+                    except NativeSolverError:
+                        if opts.solver != "ida":
+                            raise
+                        # the default backend could not set up the C driver for this model: step IDA from Python
+                        traj = integrate(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
             except SolverError as err:
                 stop.stopping = True
                 traj = err.result if isinstance(err.result, Trajectory) else Trajectory(status="failed",

@@ -99,15 +99,27 @@ class StateSelectionMonitor:
         self._e_ref = self.trigger / self.ratio
         self._cap = self.every
 
-    def needs_switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
+    def steps_allowed(self) -> tuple[int, float, float]:
+        """How far an integrator may run before :meth:`needs_switch` must see a step: ``(steps, t_next, h_min)``
+        — after at most ``steps`` steps, or after the first step that ends at or after ``t_next`` [s] or is
+        shorter than ``h_min`` [s] (the steps before it would be skipped: pass their number as ``skipped``)."""
+        return self._skip + 1, float(self._t_next), self._h_ref / self.collapse
+
+    def needs_switch(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray, *,
+                     skipped: int = 0, h: float | None = None) -> bool:
         """True if a clearly better-conditioned selection exists at this point.
 
         Cheap unless a check is due (see the class docstring): a due check computes the exchange
         ratio of every level with a choice, and only above the trigger the full test, which compares
         the smallest singular values of the selected block and of the best block (pivoted QR by
         ``state_select`` class, as at compile time) and answers True below ``ratio``.
+
+        Called after every step, or (``skipped`` > 0) after a run of steps bounded by :meth:`steps_allowed`
+        of which all but the last were not shown; ``h`` is then the last step's size [s].
         """
-        h = t - self._t_prev_step
+        if skipped > 0:
+            self._skip = max(self._skip - skipped, 0)
+        h = t - self._t_prev_step if h is None else h
         self._t_prev_step = t
         if self._skip > 0 and t < self._t_next and not 0.0 < h * self.collapse < self._h_ref:
             self._skip -= 1

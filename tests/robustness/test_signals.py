@@ -15,7 +15,7 @@ import pytest
 import flexlib as fl
 from flexlib import Variable, der, eq
 from flexlib.results import hdf5
-from flexlib.solve import ida, simulation
+from flexlib.solve import ida, native, simulation
 
 
 class Osc(fl.Model):
@@ -52,8 +52,10 @@ def recorder():
 
 
 def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
-    """Deliver ``signum`` to this process from inside the ``n``-th residual evaluation of IDA."""
-    calls = {"n": 0}
+    """Deliver ``signum`` to this process during the steps of the default backend: from inside the ``n``-th
+    residual evaluation of IDA stepped from Python, or, on the C driver (whose residual is not Python), when its
+    second block of steps returns (the first point where a signal that arrived during C steps reaches Python)."""
+    calls = {"n": 0, "blocks": 0}
     original = ida._Callbacks.resfn
 
     def resfn(self, t, y, yp, r):
@@ -62,7 +64,17 @@ def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
             signal.raise_signal(signum)
         original(self, t, y, yp, r)
 
+    advance = native.Driver.advance
+
+    def blocks(self, *args):
+        out = advance(self, *args)
+        calls["blocks"] += 1
+        if calls["blocks"] == 2:
+            signal.raise_signal(signum)
+        return out
+
     monkeypatch.setattr(ida._Callbacks, "resfn", resfn)
+    monkeypatch.setattr(native.Driver, "advance", blocks)
 
 
 CHILD = textwrap.dedent("""
@@ -79,13 +91,14 @@ CHILD = textwrap.dedent("""
             return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
 
     sim = fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
-    real = simulation.integrate
+    name = "integrate_native" if simulation.native_available() else "integrate"  # the default backend
+    real = getattr(simulation, name)
 
     def announce(*args, **kwargs):
         print("integrating", flush=True)
         return real(*args, **kwargs)
 
-    simulation.integrate = announce
+    setattr(simulation, name, announce)
     try:
         sim.run(1e5, dt_out=0.1, result_file=sys.argv[1], progress=False)
     except fl.SimulationInterrupted as err:
@@ -117,7 +130,8 @@ def test_sigterm_from_outside_writes_the_result(tmp_path):
     res = fl.load_result(path)
     assert res.status == "interrupted" and "interrupted by SIGTERM at t = " in res.message
     assert len(res.t) > 10 and 0 < res.t[-1] < 1e5
-    np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-3)
+    early = res.t <= 1000.0  # the phase error grows with t (rtol 1e-6): the C driver reaches t ~ 3e4 s in 0.5 s
+    np.testing.assert_allclose(res["x"][early], np.cos(res.t[early]), atol=1e-3)
     assert [p.name for p in tmp_path.iterdir() if p.suffix == ".tmp"] == []
 
 

@@ -30,7 +30,8 @@ import numpy as np
 
 from flexlib.errors import FlexlibError, NativeSolverError
 
-__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "Driver", "NativeUnavailable", "driver_library"]
+__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "Driver", "NativeUnavailable", "driver_library",
+           "native_available"]
 
 FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY = 0, 1, 2, 3, 4
 
@@ -92,6 +93,26 @@ def driver_library() -> Path:
     return target
 
 
+_AVAILABLE: list[bool] = []
+
+
+def native_available() -> bool:
+    """Whether the default ``solver="ida"`` runs on the C driver: True once the driver is compiled (or cached)
+    and loads; False without a C compiler, when the build or the load fails, or with ``FLEXLIB_NATIVE=0`` in
+    the environment (then the default backend steps scikit-sundae's IDA from Python, with no error). The
+    answer is kept for the process (the environment variable is read on every call)."""
+    if os.environ.get("FLEXLIB_NATIVE", "1") == "0":
+        return False
+    if not _AVAILABLE:
+        try:
+            _lib()
+            ok = True
+        except (FlexlibError, OSError, subprocess.SubprocessError):
+            ok = False
+        _AVAILABLE.append(ok)
+    return _AVAILABLE[0]
+
+
 def _lib() -> ctypes.CDLL:
     with _LOCK:
         if _LIB:
@@ -109,6 +130,14 @@ def _lib() -> ctypes.CDLL:
         lib.fd_set_grid.restype = None
         lib.fd_grid_pos.argtypes = [vp]
         lib.fd_grid_pos.restype = i
+        lib.fd_set_funs.argtypes = [vp, ctypes.POINTER(vp), vp, _ip, _ip, _lp]
+        lib.fd_set_funs.restype = i
+        lib.fd_set_wall_chunk.argtypes = [vp, d]
+        lib.fd_set_wall_chunk.restype = None
+        lib.fd_set_limits.argtypes = [vp, d, d]
+        lib.fd_set_limits.restype = None
+        lib.fd_last_step.argtypes = [vp]
+        lib.fd_last_step.restype = d
         lib.fd_advance.argtypes = [vp, d, L, _dp, _dp, _dp, i, ctypes.POINTER(i), ctypes.POINTER(d),
                                    ctypes.POINTER(L)]
         lib.fd_advance.restype = i
@@ -164,11 +193,11 @@ class Evaluator:
 
 def evaluators(model: Any, zc: ca.Function | None) -> dict[str, Evaluator]:
     """Evaluators of ``res``, ``jac`` (generated C when the model has a library) and ``zc``; cached on the model."""
+    model.function("res")  # adopts a finished background compile; drops a library that fails its manifest
     cached = model._functions.get("ida_native")
-    if cached is not None and cached.get("zc_fn") is zc:
+    if cached is not None and cached.get("zc_fn") is zc and cached.get("library") == model.library:
         return cached["ev"]
     ev: dict[str, Evaluator] = {}
-    model.function("res")  # adopts a finished background compile; drops a library that fails its manifest
     lib_path = model.library
     if lib_path is not None and model.library_problem() is None:
         clib = ctypes.CDLL(lib_path)
@@ -180,7 +209,7 @@ def evaluators(model: Any, zc: ca.Function | None) -> dict[str, Evaluator]:
             ev[name] = Evaluator(model.sx_function(name))
     if zc is not None:
         ev["zc"] = Evaluator(zc)
-    model._functions["ida_native"] = {"ev": ev, "zc_fn": zc}  # type: ignore[assignment]
+    model._functions["ida_native"] = {"ev": ev, "zc_fn": zc, "library": lib_path}  # type: ignore[assignment]
     return ev
 
 
@@ -197,13 +226,7 @@ class Driver:
         self.colind = np.ascontiguousarray(model.jac_colind, dtype=np.int32)
         self.row = np.ascontiguousarray(model.jac_row, dtype=np.int32)
         names = ["res", "jac", "zc"] if n_roots else ["res", "jac"]
-        fptr = (ctypes.c_void_p * 3)(*[ev[k].symbol if k in ev else None for k in ("res", "jac", "zc")])
-        ids = np.array([ev[k].id if k in names else -1 for k in ("res", "jac", "zc")], dtype=np.int32)
-        mems = np.array([ev[k].checkout() if k in names else 0 for k in ("res", "jac", "zc")], dtype=np.int32)
-        sizes = np.array([s for k in ("res", "jac", "zc") for s in (ev[k].sizes if k in names else [0] * 4)],
-                         dtype=np.int64)
-        fid = ctypes.cast(_casadi().casadi_c_eval_id, ctypes.c_void_p).value if any(
-            ev[k].symbol is None for k in names) else None
+        fptr, fid, ids, mems, sizes = self._functions(ev, names)
         self._mems = [(ev[k].id, int(m)) for k, m in zip(("res", "jac", "zc"), mems, strict=True)
                       if k in names and ev[k].symbol is None]
         err = ctypes.create_string_buffer(128)
@@ -217,6 +240,26 @@ class Driver:
         self.n_roots = n_roots
         self._grid: np.ndarray | None = None
         self._nrows, self._tnow, self._steps = ctypes.c_int(), ctypes.c_double(), ctypes.c_long()
+
+    @staticmethod
+    def _functions(ev: dict[str, Evaluator], names: list[str]) -> tuple[Any, Any, np.ndarray, np.ndarray, np.ndarray]:
+        """Function pointers, CasADi's eval-by-id entry, ids, checked-out memory slots and work sizes (res, jac, zc)."""
+        keys = ("res", "jac", "zc")
+        fptr = (ctypes.c_void_p * 3)(*[ev[k].symbol if k in names else None for k in keys])
+        ids = np.array([ev[k].id if k in names else -1 for k in keys], dtype=np.int32)
+        mems = np.array([ev[k].checkout() if k in names else 0 for k in keys], dtype=np.int32)
+        sizes = np.array([s for k in keys for s in (ev[k].sizes if k in names else [0] * 4)], dtype=np.int64)
+        fid = ctypes.cast(_casadi().casadi_c_eval_id, ctypes.c_void_p).value if any(
+            ev[k].symbol is None for k in names) else None
+        return fptr, fid, ids, mems, sizes
+
+    def rebind(self, ev: dict[str, Evaluator]) -> None:
+        """Evaluate the residual and Jacobian with ``ev`` from the next step on (generated C that has become
+        ready during the run; no restart)."""
+        fptr, fid, ids, mems, sizes = self._functions(ev, ["res", "jac"])
+        if self._lib.fd_set_funs(self._ptr, fptr, fid, ids, mems, sizes) != 0:
+            raise NativeUnavailable("the ida-native driver could not switch to the compiled library (no memory)")
+        self._keep.append(ev)
 
     def __del__(self) -> None:
         ptr = getattr(self, "_ptr", None)
@@ -244,6 +287,19 @@ class Driver:
     def grid_pos(self) -> int:
         """Number of grid times already written."""
         return int(self._lib.fd_grid_pos(self._ptr))
+
+    def set_limits(self, t_limit: float, h_min: float) -> None:
+        """:meth:`advance` also stops (``FD_CHUNK``) after a step ending at or after ``t_limit`` [s] or shorter
+        than ``h_min`` [s] (``inf`` and 0 switch this off)."""
+        self._lib.fd_set_limits(self._ptr, t_limit, h_min)
+
+    def set_wall_chunk(self, seconds: float) -> None:
+        """:meth:`advance` also stops (``FD_CHUNK``) after ``seconds`` of wall time (0: no limit)."""
+        self._lib.fd_set_wall_chunk(self._ptr, seconds)
+
+    def last_step(self) -> float:
+        """Size of the last step taken [s]."""
+        return float(self._lib.fd_last_step(self._ptr))
 
     def advance(self, t_stop: float, max_chunk: int, T: np.ndarray, Y: np.ndarray,
                 YP: np.ndarray) -> tuple[int, int, float, int]:

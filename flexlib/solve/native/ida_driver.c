@@ -115,6 +115,11 @@ typedef struct {
     int *rootsfound;
     double sec_advance;
     int nonfinite;
+    double t_limit, h_min; /* fd_advance also returns FD_CHUNK after a step ending at or after t_limit, or
+                              shorter than h_min (the state-selection monitor's schedule) */
+    double hlast;          /* size of the last step taken */
+    double wall_chunk;     /* fd_advance returns FD_CHUNK after this many seconds of wall time (0: no limit), so
+                              that Ctrl-C/SIGTERM and the progress bar reach Python promptly on slow models */
 } drv_t;
 
 static double now(void) {
@@ -275,6 +280,9 @@ drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int dense, i
     }
     d->tcur = t0;
     d->tlast_row = t0;
+    d->t_limit = INFINITY;
+    d->h_min = 0.0;
+    d->wall_chunk = 0.0;
     return d;
 fail:
     fd_free(d);
@@ -300,6 +308,31 @@ void fd_free(drv_t *d) {
     free(d);
 }
 
+/* Replace the residual and Jacobian evaluators (index 0 res, 1 jac of fptr/ids/mems/sizes, as in fd_create):
+ * generated C compiled in the background replaces the SX virtual machine between two steps, without restarting
+ * IDA (the same operations in the same order: the trajectory does not change).  Returns 0, or -1 (no memory;
+ * the old evaluators stay). */
+int fd_set_funs(drv_t *d, void **fptr, void *fid, const int *ids, const int *mems, const long long *sizes) {
+    fun_t f[2];
+    for (int k = 0; k < 2; k++) {
+        memset(&f[k], 0, sizeof(fun_t));
+        if (fun_setup(&f[k], fptr[k], fid, ids[k], mems[k], sizes[4 * k], sizes[4 * k + 1], sizes[4 * k + 2],
+                      sizes[4 * k + 3])) {
+            fun_free(&f[0]);
+            fun_free(&f[1]);
+            return -1;
+        }
+    }
+    fun_t *old[2] = {&d->res, &d->jac};
+    for (int k = 0; k < 2; k++) {
+        f[k].seconds = old[k]->seconds;
+        f[k].calls = old[k]->calls;
+        fun_free(old[k]);
+        *old[k] = f[k];
+    }
+    return 0;
+}
+
 /* Restart at t0 from y0, yp0 (after an event). */
 int fd_reinit(drv_t *d, double t0, const double *y0, const double *yp0) {
     memcpy(N_VGetArrayPointer(d->y), y0, sizeof(double) * d->n);
@@ -319,6 +352,19 @@ void fd_set_grid(drv_t *d, const double *grid, int ngrid) {
 }
 
 int fd_grid_pos(drv_t *d) { return d->kgrid; }
+
+/* Extra stop conditions of fd_advance (FD_CHUNK): a step ending at or after t_limit, or shorter than h_min
+ * (INFINITY and 0 switch them off). */
+void fd_set_limits(drv_t *d, double t_limit, double h_min) {
+    d->t_limit = t_limit;
+    d->h_min = h_min;
+}
+
+/* Wall-time bound of one fd_advance call [s] (0: none); checked after each step. */
+void fd_set_wall_chunk(drv_t *d, double seconds) { d->wall_chunk = seconds; }
+
+/* Size of the last step taken [s]. */
+double fd_last_step(drv_t *d) { return d->hlast; }
 
 /* Write the rows due after the step that reached d->tcur; 0 if all written, 1 if the buffer filled. */
 static int write_rows(drv_t *d, double *T, double *Y, double *YP, int cap, int *nrows) {
@@ -381,8 +427,11 @@ int fd_advance(drv_t *d, double t_stop, long max_chunk, double *T, double *Y, do
         d->steps++;
         d->tcur = tret;
         d->tiny = (tret - tprev <= 1e-14 * fmax(1.0, fabs(tret))) ? d->tiny + 1 : 0;
+        d->hlast = tret - tprev;
+        int limit = tret >= d->t_limit || (d->hlast > 0.0 && d->hlast < d->h_min)
+                    || (d->wall_chunk > 0.0 && now() - w0 > d->wall_chunk);
         int next = flag == IDA_ROOT_RETURN ? FD_ROOT : flag == IDA_TSTOP_RETURN ? FD_TSTOP
-                 : d->tiny > 200 ? FD_TINY : steps >= max_chunk ? FD_CHUNK : -1000;
+                 : d->tiny > 200 ? FD_TINY : (steps >= max_chunk || limit) ? FD_CHUNK : -1000;
         if (flag == IDA_ROOT_RETURN) IDAGetRootInfo(d->mem, d->rootsfound);
         int w = write_rows(d, T, Y, YP, cap, nrows);
         if (w < 0) { code = -27; goto done; }

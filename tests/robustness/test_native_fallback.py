@@ -1,0 +1,66 @@
+"""Faults around the C driver of the default backend: without it (``FLEXLIB_NATIVE=0``, no gcc, a model it cannot
+set up) the default ``solver="ida"`` steps IDA from Python with no error; ``solver="ida-native"`` asked for
+explicitly raises :class:`~flexlib.errors.NativeSolverError` naming the backend and what failed."""
+
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib.errors import NativeSolverError
+from flexlib.solve import ida_native, native
+
+needs_driver = pytest.mark.skipif(not native.native_available(),
+                                  reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
+
+
+class Osc(fl.Model):
+    """x'' = -x, x(0) = 1: x = cos t."""
+
+    x = fl.Variable()
+    v = fl.Variable()
+
+    def equations(self):
+        return [fl.eq(fl.der(self.x), self.v), fl.eq(fl.der(self.v), -self.x)]
+
+
+@pytest.fixture(scope="module")
+def osc():
+    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+
+
+def test_flexlib_native_0_falls_back_without_error(osc, monkeypatch):
+    """``FLEXLIB_NATIVE=0``: the default steps IDA from Python (no wall-time split in the stats), x = cos t to 1e-5."""
+    monkeypatch.setenv("FLEXLIB_NATIVE", "0")
+    assert not native.native_available()
+    res = osc.run(2.0, dt_out=0.1)
+    assert res.success and "wall_model" not in res.stats
+    np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-5)
+
+
+@needs_driver
+def test_driver_that_cannot_be_set_up_falls_back_for_the_default_only(osc, monkeypatch):
+    """A model the driver cannot take (here: set-up refused) runs on the scikit-sundae route by default; asked for
+    explicitly, ``ida-native`` raises NativeSolverError naming the backend."""
+
+    def refuse(*args, **kwargs):
+        raise NativeSolverError("the ida-native driver could not set up IDA: IDAInit failed")
+
+    monkeypatch.setattr(ida_native, "_make_driver", refuse)
+    res = osc.run(2.0, dt_out=0.1)
+    assert res.success and "wall_model" not in res.stats
+    with pytest.raises(NativeSolverError, match="ida-native driver could not set up IDA"):
+        osc.run(2.0, dt_out=0.1, solver="ida-native")
+
+
+def test_no_compiler_falls_back_for_the_default_and_names_gcc_for_ida_native(osc, monkeypatch, tmp_path):
+    """No gcc on PATH and no driver in the cache: the default runs (x = cos t to 1e-5); ``ida-native`` says it needs
+    a C compiler."""
+    monkeypatch.setattr(native, "_LIB", [])
+    monkeypatch.setattr(native, "_AVAILABLE", [])
+    monkeypatch.setattr(native.shutil, "which", lambda name: None)
+    monkeypatch.setenv("FLEXLIB_CACHE_DIR", str(tmp_path))  # no driver compiled there
+    res = osc.run(2.0, dt_out=0.1)
+    assert res.success and "wall_model" not in res.stats
+    np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-5)
+    with pytest.raises(NativeSolverError, match=r"solver='ida-native' needs a C compiler \(gcc\)"):
+        osc.run(2.0, dt_out=0.1, solver="ida-native")

@@ -1,0 +1,165 @@
+"""The default ``solver="ida"`` on the C driver: the choice and its fallback, the state-selection monitor's
+schedule honoured in C, the switch to C compiled in the background during a run, and the event restart that the
+scikit-sundae route got right by luck."""
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib.solve import native, simulation
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "robustness"))
+
+needs_driver = pytest.mark.skipif(not native.native_available(),
+                                  reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
+
+
+class Osc(fl.Model):
+    """x'' = -x, x(0) = 1: x = cos t."""
+
+    x = fl.Variable()
+    v = fl.Variable()
+
+    def equations(self):
+        return [fl.eq(fl.der(self.x), self.v), fl.eq(fl.der(self.v), -self.x)]
+
+
+@pytest.fixture(scope="module")
+def osc():
+    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+
+
+@needs_driver
+def test_default_runs_on_the_c_driver(osc):
+    """The C driver reports its wall-time split; the scikit-sundae route does not. Same IDA: the same steps,
+    x = cos t to 1e-6 and the two routes to 1e-10 (rtol 1e-8)."""
+    res = osc.run(5.0, dt_out=0.1, rtol=1e-8, atol=1e-10)
+    ref = osc.run(5.0, dt_out=0.1, rtol=1e-8, atol=1e-10, solver="ida-sksundae")
+    assert "wall_model" in res.stats and "wall_model" not in ref.stats
+    assert res.stats["steps"] == ref.stats["steps"]
+    np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-6)
+    np.testing.assert_allclose(res["x"], ref["x"], atol=1e-10)
+
+
+@needs_driver
+def test_monitor_schedule_runs_in_c(monkeypatch):
+    """The four-bar with the state-selection monitor: the C loop runs the steps the monitor's schedule skips, so
+    the monitor makes exactly the checks it makes when it sees every step (scikit-sundae route: same steps, same
+    indicator checks and full tests), while Python sees a small fraction of the steps."""
+    from flexlib.models.planar_mechanisms import FourBarLinkage
+
+    sim = fl.Simulation(FourBarLinkage(), use_cache=False)
+    mon = sim._monitor()
+    ref = sim.run(3.0, dt_out=0.01, solver="ida-sksundae", progress=False)
+    counts_ref = dict(mon.counts)
+    calls = {"n": 0}
+    advance = native.Driver.advance
+
+    def counted(self, *args):
+        calls["n"] += 1
+        return advance(self, *args)
+
+    monkeypatch.setattr(native.Driver, "advance", counted)
+    res = sim.run(3.0, dt_out=0.01, progress=False)
+    counts = {k: v - counts_ref[k] for k, v in mon.counts.items()}
+    assert counts == counts_ref and counts["indicator"] > 0
+    assert res.stats["steps"] == ref.stats["steps"]
+    assert calls["n"] < res.stats["steps"] / 10
+    np.testing.assert_allclose(res.values, ref.values, atol=1e-9 * max(1.0, np.abs(ref.values).max()))
+
+
+@needs_driver
+def test_monitor_still_switches_in_c():
+    """The Cartesian pendulum over the top switches its states on the C driver as on the scikit-sundae route."""
+    sys.path.insert(0, str(HERE))
+    from test_engine_index import CartesianPendulum
+
+    sim = fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False)
+    res = sim.run(3.0, rtol=1e-8, atol=1e-10, dt_out=0.01, progress=False)
+    ref = sim.run(3.0, rtol=1e-8, atol=1e-10, dt_out=0.01, progress=False, solver="ida-sksundae")
+    assert res.stats["state_switches"] >= 2 and res.stats["state_switches"] == ref.stats["state_switches"]
+    np.testing.assert_allclose(res["x"] ** 2 + res["y"] ** 2, 1.0, atol=1e-6)  # the constraint (length 1 m)
+
+
+@needs_driver
+def test_background_c_is_adopted_during_the_run(tmp_path, monkeypatch):
+    """Chain of 100 masses (301 unknowns, gcc in the background): the run starts on the SX virtual machine and
+    switches to the compiled library between two steps once gcc has finished, without a restart. Reference: the
+    same run on the library from its start (same operations, same order): equal to 1e-12 relative."""
+    from flexlib.models.n_mass_chain import NMassChain
+
+    monkeypatch.setenv("FLEXLIB_CACHE_DIR", str(tmp_path))
+    sim = fl.Simulation(NMassChain(100))
+    m = sim.compiled
+    if m.library_pending is None:
+        pytest.skip("gcc finished before the run started")
+    real = m.c_ready
+    seen = {"n": 0}
+
+    def ready_after_a_while() -> bool:  # let a few blocks run on the VM, then wait for gcc
+        seen["n"] += 1
+        if seen["n"] < 3:
+            return False
+        deadline = time.monotonic() + 600.0
+        while not real() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        return real()
+
+    monkeypatch.setattr(m, "c_ready", ready_after_a_while)
+    mixed = sim.run(10.0, dt_out=0.1, progress=False)
+    assert 0.0 < mixed.stats["compiled_at"] < 10.0
+    assert m.library is not None
+    c = sim.run(10.0, dt_out=0.1, progress=False)
+    assert "compiled_at" not in c.stats
+    np.testing.assert_allclose(mixed.values, c.values, rtol=1e-12, atol=1e-12 * np.abs(c.values).max())
+
+
+@needs_driver
+def test_limiter_restart_at_a_root_located_early():
+    """A limiter at rtol 1e-9 whose input re-enters the band: IDA locates the crossing within its interpolation
+    error, a few 1e-11 before the true one. The relation switched there must not be switched back by the sign
+    of its indicator after the restart (Newton noise): the run completes, the output stays clipped to the limits
+    to 1e-6, and the events agree with the scikit-sundae route to 1e-9 s."""
+    from test_parameters import Limited
+
+    sim = fl.Simulation(Limited(), use_cache=False)
+    kw = dict(dt_out=0.01, params={"limiter.u_max": -1.0, "limiter.u_min": -1.5}, progress=False, rtol=1e-9,
+              atol=1e-11)
+    res = sim.run(1.0, **kw)
+    ref = sim.run(1.0, solver="ida-sksundae", **kw)
+    assert res["limiter.y"].max() <= -1.0 + 1e-6 and res["limiter.y"].min() >= -1.5 - 1e-6
+    assert [e[1] for e in res.events] == [e[1] for e in ref.events]
+    np.testing.assert_allclose([e[0] for e in res.events], [e[0] for e in ref.events], atol=1e-9)
+
+
+def test_solver_names_include_the_fallback():
+    assert "ida-sksundae" in simulation.check_run_arguments.__globals__["SOLVERS"]
+
+
+@needs_driver
+def test_blocks_of_c_steps_are_bounded_in_wall_time(osc, monkeypatch):
+    """Ctrl-C, SIGTERM and the progress bar reach Python when a block of C steps returns: a block ends after
+    ``CHUNK_WALL`` seconds even within its 256 steps. With the bound at 1e-12 s every block is one step."""
+    from flexlib.solve import ida_native
+
+    calls = {"n": 0}
+    advance = native.Driver.advance
+
+    def counted(self, *args):
+        calls["n"] += 1
+        return advance(self, *args)
+
+    monkeypatch.setattr(native.Driver, "advance", counted)
+    free = osc.run(5.0, progress=False)
+    n_free = calls["n"]
+    monkeypatch.setattr(ida_native, "CHUNK_WALL", 1e-12)
+    calls["n"] = 0
+    bounded = osc.run(5.0, progress=False)
+    assert n_free < free.stats["steps"] / 10
+    assert calls["n"] >= bounded.stats["steps"] == free.stats["steps"]
+    np.testing.assert_array_equal(bounded.values, free.values)
