@@ -216,7 +216,8 @@ class CompiledModel:
 
     def c_ready(self) -> bool:
         """True if generated C compiled in the background has just become available (not yet in use)."""
-        return self.library is None and self.library_pending is not None and Path(self.library_pending).exists()
+        return self.library is None and self.library_pending is not None and (
+            self.library_pending in _ADOPTED or Path(self.library_pending).exists())
 
     def _adopt_pending(self) -> None:
         """Take over the library gcc has finished in the background: hash it (this process started that gcc,
@@ -224,14 +225,20 @@ class CompiledModel:
         the manifest, and tell the cache (``on_library``)."""
         if self.library_pending is None or self.library is not None:
             return
-        out = Path(self.library_pending)
-        if not out.exists():
-            return
-        sha, size = _sha256(out), out.stat().st_size
-        lib = out.parent.parent / f"flexlib_{sha[:32]}.so"
-        os.replace(out, lib)
-        shutil.rmtree(out.parent, ignore_errors=True)
-        self.library, self.library_sha256, self.library_size, self.library_pending = str(lib), sha, size, None
+        pending = self.library_pending
+        if pending in _ADOPTED:  # another model of this process shared this compile and adopted it first
+            lib_path, sha, size = _ADOPTED[pending]
+        else:
+            out = Path(pending)
+            if not out.exists():
+                return
+            sha, size = _sha256(out), out.stat().st_size
+            lib = out.parent.parent / f"flexlib_{sha[:32]}.so"
+            os.replace(out, lib)
+            shutil.rmtree(out.parent, ignore_errors=True)
+            lib_path = str(lib)
+            _ADOPTED[pending] = (lib_path, sha, size)
+        self.library, self.library_sha256, self.library_size, self.library_pending = lib_path, sha, size, None
         self._functions.pop("res", None)
         self._functions.pop("jac", None)
         if self.on_library is not None:
@@ -510,6 +517,11 @@ def deserialize_function(text: str, name: str) -> ca.Function:
 #: ``codegen="auto"``: C code above this many unknowns, compiled in the background (see the module
 #: docstring): the run starts at once on CasADi's SX virtual machine and switches to C at the first
 #: solver (re)start after gcc has finished (later runs and cached builds use C from the start).
+#: Background compiles adopted by this process: pending path -> (library, SHA-256, size). Models sharing one
+#: compile (``pipeline.build`` of a cached entry while this process's gcc for it still runs) find the library
+#: here after the first of them has moved it to its content-derived name.
+_ADOPTED: dict[str, tuple[str, str, int]] = {}
+
 AUTO_C_MIN_UNKNOWNS = 300
 #: ... or at least this many operations in the residual and Jacobian together, at any size: the SX
 #: VM costs ~10–30 ns per operation against well under 1 ns in C (four-bar of four Revolutes, 125
