@@ -484,10 +484,12 @@ def _sha256(path: Path) -> str:
 
 def _decode(text: str) -> bytes:
     """CasADi's serialized text (two letters a–p per byte, low nibble first) as bytes."""
-    codes = np.frombuffer(text.encode("ascii"), dtype=np.uint8).astype(np.int16) - 97
-    if len(codes) % 2 or len(codes) == 0 or codes.min() < 0 or codes.max() > 15:
+    # uint8 arithmetic throughout (no int16 copies of a multi-megabyte stream): a letter below 'a' wraps
+    # around to > 15 and is refused by the same test as one above 'p'
+    codes = np.frombuffer(text.encode("ascii"), dtype=np.uint8) - np.uint8(97)
+    if len(codes) % 2 or len(codes) == 0 or codes.max() > 15:
         raise ValueError("not a CasADi serialized stream")
-    return (codes[0::2] | (codes[1::2] << 4)).astype(np.uint8).tobytes()
+    return (codes[0::2] | (codes[1::2] << np.uint8(4))).tobytes()
 
 
 def check_serialized(text: str, name: str, full: bool = True) -> None:
@@ -514,14 +516,14 @@ def deserialize_function(text: str, name: str) -> ca.Function:
     return ca.Function.deserialize(text)
 
 
-#: ``codegen="auto"``: C code above this many unknowns, compiled in the background (see the module
-#: docstring): the run starts at once on CasADi's SX virtual machine and switches to C at the first
-#: solver (re)start after gcc has finished (later runs and cached builds use C from the start).
 #: Background compiles adopted by this process: pending path -> (library, SHA-256, size). Models sharing one
 #: compile (``pipeline.build`` of a cached entry while this process's gcc for it still runs) find the library
 #: here after the first of them has moved it to its content-derived name.
 _ADOPTED: dict[str, tuple[str, str, int]] = {}
 
+#: ``codegen="auto"``: C code above this many unknowns, compiled in the background (see the module
+#: docstring): the run starts at once on CasADi's SX virtual machine and switches to C at the first
+#: solver (re)start after gcc has finished (later runs and cached builds use C from the start).
 AUTO_C_MIN_UNKNOWNS = 300
 #: ... or at least this many operations in the residual and Jacobian together, at any size: the SX
 #: VM costs ~10–30 ns per operation against well under 1 ns in C (four-bar of four Revolutes, 125
