@@ -216,7 +216,8 @@ class CompiledModel:
 
     def c_ready(self) -> bool:
         """True if generated C compiled in the background has just become available (not yet in use)."""
-        return self.library is None and self.library_pending is not None and Path(self.library_pending).exists()
+        return self.library is None and self.library_pending is not None and (
+            self.library_pending in _ADOPTED or Path(self.library_pending).exists())
 
     def _adopt_pending(self) -> None:
         """Take over the library gcc has finished in the background: hash it (this process started that gcc,
@@ -224,14 +225,20 @@ class CompiledModel:
         the manifest, and tell the cache (``on_library``)."""
         if self.library_pending is None or self.library is not None:
             return
-        out = Path(self.library_pending)
-        if not out.exists():
-            return
-        sha, size = _sha256(out), out.stat().st_size
-        lib = out.parent.parent / f"flexlib_{sha[:32]}.so"
-        os.replace(out, lib)
-        shutil.rmtree(out.parent, ignore_errors=True)
-        self.library, self.library_sha256, self.library_size, self.library_pending = str(lib), sha, size, None
+        pending = self.library_pending
+        if pending in _ADOPTED:  # another model of this process shared this compile and adopted it first
+            lib_path, sha, size = _ADOPTED[pending]
+        else:
+            out = Path(pending)
+            if not out.exists():
+                return
+            sha, size = _sha256(out), out.stat().st_size
+            lib = out.parent.parent / f"flexlib_{sha[:32]}.so"
+            os.replace(out, lib)
+            shutil.rmtree(out.parent, ignore_errors=True)
+            lib_path = str(lib)
+            _ADOPTED[pending] = (lib_path, sha, size)
+        self.library, self.library_sha256, self.library_size, self.library_pending = lib_path, sha, size, None
         self._functions.pop("res", None)
         self._functions.pop("jac", None)
         if self.on_library is not None:
@@ -477,10 +484,12 @@ def _sha256(path: Path) -> str:
 
 def _decode(text: str) -> bytes:
     """CasADi's serialized text (two letters a–p per byte, low nibble first) as bytes."""
-    codes = np.frombuffer(text.encode("ascii"), dtype=np.uint8).astype(np.int16) - 97
-    if len(codes) % 2 or len(codes) == 0 or codes.min() < 0 or codes.max() > 15:
+    # uint8 arithmetic throughout (no int16 copies of a multi-megabyte stream): a letter below 'a' wraps
+    # around to > 15 and is refused by the same test as one above 'p'
+    codes = np.frombuffer(text.encode("ascii"), dtype=np.uint8) - np.uint8(97)
+    if len(codes) % 2 or len(codes) == 0 or codes.max() > 15:
         raise ValueError("not a CasADi serialized stream")
-    return (codes[0::2] | (codes[1::2] << 4)).astype(np.uint8).tobytes()
+    return (codes[0::2] | (codes[1::2] << np.uint8(4))).tobytes()
 
 
 def check_serialized(text: str, name: str, full: bool = True) -> None:
@@ -506,6 +515,11 @@ def deserialize_function(text: str, name: str) -> ca.Function:
     check_serialized(text, name)
     return ca.Function.deserialize(text)
 
+
+#: Background compiles adopted by this process: pending path -> (library, SHA-256, size). Models sharing one
+#: compile (``pipeline.build`` of a cached entry while this process's gcc for it still runs) find the library
+#: here after the first of them has moved it to its content-derived name.
+_ADOPTED: dict[str, tuple[str, str, int]] = {}
 
 #: ``codegen="auto"``: C code above this many unknowns, compiled in the background (see the module
 #: docstring): the run starts at once on CasADi's SX virtual machine and switches to C at the first

@@ -89,6 +89,12 @@ class Build:
         return self.analyse(root).dae.structure
 
 
+#: Background gcc runs this process started, by cache entry: a cached load of the same entry before its library
+#: is stored shares that compile (``CompiledModel.library_pending``) instead of writing the C again and starting a
+#: second gcc beside it — on the boom proxy 1.8 s of cached build and a second compiler competing for the cores.
+_COMPILING: dict[str, str] = {}
+
+
 def _updater(entry: Any) -> Any:
     """Store a model again once its library, compiled in the background, has been adopted."""
 
@@ -173,8 +179,12 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
             entry = None
         if model is not None:
             if model.wants_c and model.library is None:  # stored before its background gcc had finished
-                model.library_pending = generate_c(model.sx_function("res"), model.sx_function("jac"),
-                                                   directory / "lib", background=True)
+                pending = _COMPILING.get(str(entry))
+                if pending is None:
+                    pending = generate_c(model.sx_function("res"), model.sx_function("jac"), directory / "lib",
+                                         background=True)
+                    _COMPILING[str(entry)] = pending
+                model.library_pending = pending  # share this process's compile: no second gcc of the same C
                 model.on_library = _updater(entry)
             timings["cached"] = True
             timings["total"] = _time.perf_counter() - t0
@@ -195,5 +205,6 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
             cache.warn_once(entry, f"cannot store the compiled model ({exc}); it is used without caching")
         if model.library_pending is not None:
             model.on_library = _updater(entry)
+            _COMPILING[str(entry)] = model.library_pending
     timings["total"] = _time.perf_counter() - t0
     return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key)

@@ -14,6 +14,7 @@ variables and derivatives are recomputed.
 from __future__ import annotations
 
 import warnings
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -21,7 +22,7 @@ import scipy.optimize as so
 import scipy.sparse as sps
 import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 
-from flexlib.compile.codegen import CompiledModel
+from flexlib.compile.codegen import AUTO_C_MIN_UNKNOWNS, CompiledModel
 from flexlib.compile.structure import culprits, group_by_owner, matching
 from flexlib.errors import InitializationError, ParameterError
 from flexlib.solve.diagnose import nonfinite_lines, row_scale, singular_lines
@@ -36,7 +37,7 @@ class Initializer:
         self.model = model
         self.diff = np.flatnonzero(model.differential)
         self._init_fns: dict[tuple, tuple[ca.Function, ca.Function]] = {}
-        self._reinit_fns: tuple[ca.Function, ca.Function] | None = None
+        self._reinit_fns: tuple[Any, Any] | None = None
 
     # -- symbolic set-up ------------------------------------------------------------------------
     def _symbols(self) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX, ca.SX]:
@@ -332,20 +333,26 @@ class Initializer:
                 tol: float, diagnose: bool = True) -> tuple[np.ndarray, np.ndarray]:
         m = self.model
         if self._reinit_fns is None:
-            t_s, _, ypd, yp_s, p_s = self._symbols()
-            ystate = ca.SX.sym("ystate", len(self.diff))
             alg = np.flatnonzero(~m.differential)
-            ya = ca.SX.sym("ya", len(alg))
-            yfull = ca.SX.zeros(m.n)
-            for k, i in enumerate(self.diff):
-                yfull[i] = ystate[k]
-            for k, i in enumerate(alg):
-                yfull[i] = ya[k]
-            F = m.sx_function("res")(t_s, yfull, yp_s, p_s)
-            w = ca.vertcat(ya, ypd)
-            par = ca.vertcat(t_s, p_s, ystate)
-            self._reinit_fns = (ca.Function("g", [w, par], [F]), ca.Function("jg", [w, par], [ca.jacobian(F, w)]))
             self._alg = alg
+            if m.n > AUTO_C_MIN_UNKNOWNS:
+                # a large model: its own res/jac (C when it has it), no symbolic Jacobian (_StatesHeld)
+                held = _StatesHeld(m, alg, self.diff)
+                self._reinit_fns = (held, held.jacobian)
+            else:  # small model: the symbolic Jacobian of the held problem is cheap to build and exact
+                t_s, _, ypd, yp_s, p_s = self._symbols()
+                ystate = ca.SX.sym("ystate", len(self.diff))
+                ya = ca.SX.sym("ya", len(alg))
+                yfull = ca.SX.zeros(m.n)
+                for k, i in enumerate(self.diff):
+                    yfull[i] = ystate[k]
+                for k, i in enumerate(alg):
+                    yfull[i] = ya[k]
+                F = m.sx_function("res")(t_s, yfull, yp_s, p_s)
+                w = ca.vertcat(ya, ypd)
+                par = ca.vertcat(t_s, p_s, ystate)
+                self._reinit_fns = (ca.Function("g", [w, par], [F]),
+                                    ca.Function("jg", [w, par], [ca.jacobian(F, w)]))
         g, jg = self._reinit_fns
         w0 = np.concatenate([y[self._alg], yp[self.diff]])
         par = np.concatenate([[t], p, y[self.diff]])
@@ -481,7 +488,7 @@ class Initializer:
         kind = "over-specified" if rows and not cols else "under-specified" if cols and not rows else "inconsistent"
         raise InitializationError(f"initial conditions are {kind}: " + "\n".join(parts))
 
-    def _solve(self, g: ca.Function, jg: ca.Function, w0: np.ndarray, par: np.ndarray, tol: float,
+    def _solve(self, g: Any, jg: Any, w0: np.ndarray, par: np.ndarray, tol: float,
                labels: list[tuple[str, str]], cols: list[tuple[str, str]], nominal: np.ndarray,
                what: str = "could not find consistent initial values", diagnose: bool = True) -> np.ndarray:
         """Solve ``g(w) = 0`` from ``w0``: damped Newton (sparse LU), then trust-region least squares.
@@ -498,7 +505,8 @@ class Initializer:
             return np.asarray(g(w, par)).ravel()
 
         def jac(w: np.ndarray) -> sps.csc_matrix:
-            return sps.csc_matrix(jg(w, par).sparse())
+            J = jg(w, par)
+            return J if sps.issparse(J) else sps.csc_matrix(J.sparse())
 
         def wnorm(r: np.ndarray, s: np.ndarray) -> float:
             return float(np.max(np.abs(r) / s)) if len(r) else 0.0
@@ -582,3 +590,53 @@ class Initializer:
             err = InitializationError(msg)
         err.best = w  # the best point found, for callers that can change the problem and retry
         raise err
+
+
+class _StatesHeld:
+    """The event re-initialisation problem ``F(t, y, y') = 0`` with the states held, for :meth:`Initializer._reinit`.
+
+    Unknowns ``w = (y_alg, y'_states)``, parameters ``par = (t, p, y_states)``; the rates of the algebraic
+    unknowns are zero (they do not enter the residual). Evaluated with the model's own ``res`` and ``jac``
+    functions — generated C when the model has it — instead of a symbolic Jacobian built for it: building that
+    (``ca.jacobian`` of the whole residual) and evaluating it interpreted took 0.4 s at the one time event of
+    the 794-unknown boom proxy (``benchmarks/boom_proxy.py``), more than the 2 s integration's monitor, events
+    and result assembly together. ``jac`` is ``∂F/∂y + c·∂F/∂y'``, so the algebraic columns are those of
+    ``jac(c = 0)`` and the state columns are ``(jac(c) − jac(0))/c`` with ``c = 2**20``: the cancellation error
+    ``eps·|∂F/∂y|/c`` is far below what Newton needs, and the solve is checked on ``F`` itself. Used for models
+    with more than ``AUTO_C_MIN_UNKNOWNS`` unknowns; smaller ones keep the exact symbolic Jacobian, which takes
+    milliseconds to build there.
+    """
+
+    CJ = float(2**20)
+
+    def __init__(self, model: CompiledModel, alg: np.ndarray, diff: np.ndarray) -> None:
+        self.model, self.alg, self.diff = model, alg, diff
+        n = model.n
+        self.pattern = sps.csc_matrix((np.zeros(len(model.jac_row)), np.asarray(model.jac_row),
+                                       np.asarray(model.jac_colind)), shape=(n, n))
+
+    def _point(self, w: np.ndarray, par: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+        m, na = self.model, len(self.alg)
+        n_p = m.n_params + m.n_relations
+        y, yp = np.zeros(m.n), np.zeros(m.n)
+        y[self.alg] = w[:na]
+        y[self.diff] = par[1 + n_p:]
+        yp[self.diff] = w[na:]
+        return float(par[0]), y, yp, par[1:1 + n_p]
+
+    def __call__(self, w: np.ndarray, par: np.ndarray) -> np.ndarray:
+        """Residual ``F`` at ``w``."""
+        return np.asarray(self.model.function("res")(*self._point(w, par))).ravel()
+
+    def jacobian(self, w: np.ndarray, par: np.ndarray) -> sps.csc_matrix:
+        """``∂F/∂w`` (CSC): algebraic columns ``∂F/∂y_alg``, then state columns ``∂F/∂y'_states``."""
+        t, y, yp, p = self._point(w, par)
+        jac = self.model.function("jac")
+        j0, jc = self.pattern.copy(), self.pattern.copy()
+        j0.data = np.asarray(jac(t, y, yp, p, 0.0).nonzeros(), dtype=float)
+        jc.data = np.asarray(jac(t, y, yp, p, self.CJ).nonzeros(), dtype=float)
+        d_dyp = (jc[:, self.diff] - j0[:, self.diff]) / self.CJ
+        J = sps.hstack([j0[:, self.alg], d_dyp], format="csc")
+        J.eliminate_zeros()  # the ∂F/∂y pattern of the state columns: no entries of ∂F/∂y'
+        J.sort_indices()
+        return J
