@@ -11,6 +11,9 @@ The closed-form four-bar position analysis (Norton §4.5) is in tests/references
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -18,6 +21,9 @@ import references_multibody as ref
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "components" / "mechanics" / "multibody"))
+import test_loops
 
 
 @pytest.fixture(autouse=True)
@@ -34,33 +40,12 @@ def _link(m: float, L: float) -> Body:
     return Body(m=m, r_CM=[-L / 2, 0, 0], I=np.diag([1e-6, m * L**2 / 12, m * L**2 / 12]))
 
 
-class FourBar(fl.Model):
+class FourBar(test_loops.FourBar):
     """The four-bar of test_loops.py: crank O2–A, coupler A–B, rocker O4–B, joint axes z, loop closed at rev3."""
 
     def __init__(self, theta2: float = 0.3, w2: float = 6.0, g: float = 0.0) -> None:
-        super().__init__()
         th3, th4 = (float(x) for x in ref.fourbar_angles(A, B, C, D, theta2, "open"))
-        self.world = World(g=g)
-        self.ground4 = Fixed(r=[D, 0, 0])
-        self.rev1 = Revolute(init={"phi": theta2, "w": w2})
-        self.crank = FixedTranslation(r=[A, 0, 0])
-        self.crank_mass = _link(M_CRANK, A)
-        self.rev2 = Revolute(guess={"phi": th3 - theta2})
-        self.coupler = FixedTranslation(r=[B, 0, 0])
-        self.coupler_mass = _link(M_COUPLER, B)
-        self.rev4 = Revolute(guess={"phi": th4})
-        self.rocker = FixedTranslation(r=[C, 0, 0])
-        self.rocker_mass = _link(M_ROCKER, C)
-        self.rev3 = Revolute(guess={"phi": th4 - th3})
-        self.connect(self.world.frame_b, self.rev1.frame_a)
-        self.connect(self.rev1.frame_b, self.crank.frame_a)
-        self.connect(self.crank.frame_b, self.crank_mass.frame_a, self.rev2.frame_a)
-        self.connect(self.rev2.frame_b, self.coupler.frame_a)
-        self.connect(self.coupler.frame_b, self.coupler_mass.frame_a, self.rev3.frame_a)
-        self.connect(self.ground4.frame_b, self.rev4.frame_a)
-        self.connect(self.rev4.frame_b, self.rocker.frame_a)
-        self.connect(self.rocker.frame_b, self.rocker_mass.frame_a)
-        self.connect(self.rev3.frame_b, self.rocker.frame_b)
+        super().__init__(theta2, th3, th4, w2, g=g)
 
 
 def chain_angles(theta1: float) -> list[float]:

@@ -14,7 +14,6 @@ import pytest
 import references_multibody as ref
 
 import flexlib as fl
-from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
 
 sys.path.insert(0, str(Path(__file__).resolve().parent / "components" / "mechanics" / "multibody"))
 
@@ -25,37 +24,12 @@ from test_loops import A, B, C, D, FourBar
 TA, TB, TC, TD = 0.5, 0.4, 0.45, 0.6
 
 
-def _link(m: float, L: float) -> Body:
-    return Body(m=m, r_CM=[-L / 2, 0, 0], I=np.diag([1e-6, m * L**2 / 12, m * L**2 / 12]))
-
-
-class TripleRocker(fl.Model):
-    """Planar four-bar of four Revolutes (as ``test_loops.FourBar``) with non-Grashof lengths, no gravity."""
+class TripleRocker(FourBar):
+    """Planar four-bar of four Revolutes (``test_loops.FourBar``) with non-Grashof lengths, no gravity."""
 
     def __init__(self, theta2: float, w2: float) -> None:
-        super().__init__()
         th3, th4 = ref.fourbar_angles(TA, TB, TC, TD, theta2, "open")
-        self.world = World(g=0.0)
-        self.ground4 = Fixed(r=[TD, 0, 0])
-        self.rev1 = Revolute(init={"phi": theta2, "w": w2})
-        self.crank = FixedTranslation(r=[TA, 0, 0])
-        self.crank_mass = _link(1.0, TA)
-        self.rev2 = Revolute(guess={"phi": th3 - theta2})
-        self.coupler = FixedTranslation(r=[TB, 0, 0])
-        self.coupler_mass = _link(2.0, TB)
-        self.rev4 = Revolute(guess={"phi": th4})
-        self.rocker = FixedTranslation(r=[TC, 0, 0])
-        self.rocker_mass = _link(1.5, TC)
-        self.rev3 = Revolute(guess={"phi": th4 - th3})
-        self.connect(self.world.frame_b, self.rev1.frame_a)
-        self.connect(self.rev1.frame_b, self.crank.frame_a)
-        self.connect(self.crank.frame_b, self.crank_mass.frame_a, self.rev2.frame_a)
-        self.connect(self.rev2.frame_b, self.coupler.frame_a)
-        self.connect(self.coupler.frame_b, self.coupler_mass.frame_a, self.rev3.frame_a)
-        self.connect(self.ground4.frame_b, self.rev4.frame_a)
-        self.connect(self.rev4.frame_b, self.rocker.frame_a)
-        self.connect(self.rocker.frame_b, self.rocker_mass.frame_a)
-        self.connect(self.rev3.frame_b, self.rocker.frame_b)
+        super().__init__(theta2, th3, th4, w2, lengths=(TA, TB, TC, TD))
 
 
 def test_triple_rocker_switches_through_toggle_positions():

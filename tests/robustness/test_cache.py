@@ -534,50 +534,20 @@ def test_pipeline_stages_are_inspectable(cdir):
     assert sim.build.compiled is sim.compiled and sim.build_info is sim.build.timings
 
 
-class TripleRocker(fl.Model):
+def triple_rocker() -> fl.Model:
     """A planar four-bar of four Revolutes whose links cannot turn fully (non-Grashof: a = 0.5, b = 0.7,
     c = 0.9, d = 0.6 m, S + L = 1.4 > P + Q = 1.3): the crank swings into a toggle position where its angle
-    stops being a usable state and the states must be re-selected mid-run."""
+    stops being a usable state and the states must be re-selected mid-run (``test_loops.FourBar``)."""
 
-    def __init__(self) -> None:
-        from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
+    tests = Path(__file__).resolve().parents[1]
+    sys.path[:0] = [str(tests), str(tests / "components" / "mechanics" / "multibody")]
+    import references_multibody as ref
+    from test_loops import FourBar
 
-        super().__init__()
-        a, b, c, d = 0.5, 0.7, 0.9, 0.6
-        th2 = 1.5
-        # closed-form position (Norton §4.5, open configuration) for the start guesses
-        ax, ay = a * np.cos(th2), a * np.sin(th2)
-        dx, dy = ax - d, ay
-        e = np.hypot(dx, dy)
-        beta = np.arccos((c**2 + e**2 - b**2) / (2 * c * e))
-        th4 = np.arctan2(dy, dx) + beta
-        bx, by = d + c * np.cos(th4), c * np.sin(th4)
-        th3 = np.arctan2(by - ay, bx - ax)
-
-        def link(m: float, L: float) -> Body:
-            return Body(m=m, r_CM=[-L / 2, 0, 0], I=np.diag([1e-6, m * L**2 / 12, m * L**2 / 12]))
-
-        self.world = World(g=0.0)
-        self.ground4 = Fixed(r=[d, 0, 0])
-        self.rev1 = Revolute(init={"phi": th2, "w": -3.0})
-        self.crank = FixedTranslation(r=[a, 0, 0])
-        self.crank_mass = link(1.0, a)
-        self.rev2 = Revolute(guess={"phi": th3 - th2})
-        self.coupler = FixedTranslation(r=[b, 0, 0])
-        self.coupler_mass = link(2.0, b)
-        self.rev4 = Revolute(guess={"phi": th4})
-        self.rocker = FixedTranslation(r=[c, 0, 0])
-        self.rocker_mass = link(1.5, c)
-        self.rev3 = Revolute(guess={"phi": th4 - th3})
-        self.connect(self.world.frame_b, self.rev1.frame_a)
-        self.connect(self.rev1.frame_b, self.crank.frame_a)
-        self.connect(self.crank.frame_b, self.crank_mass.frame_a, self.rev2.frame_a)
-        self.connect(self.rev2.frame_b, self.coupler.frame_a)
-        self.connect(self.coupler.frame_b, self.coupler_mass.frame_a, self.rev3.frame_a)
-        self.connect(self.ground4.frame_b, self.rev4.frame_a)
-        self.connect(self.rev4.frame_b, self.rocker.frame_a)
-        self.connect(self.rocker.frame_b, self.rocker_mass.frame_a)
-        self.connect(self.rev3.frame_b, self.rocker.frame_b)
+    a, b, c, d = 0.5, 0.7, 0.9, 0.6
+    th2 = 1.5
+    th3, th4 = (float(x) for x in ref.fourbar_angles(a, b, c, d, th2, "open"))  # start guesses (Norton §4.5)
+    return FourBar(th2, th3, th4, -3.0, lengths=(a, b, c, d))
 
 
 def test_cached_loop_model_switches_states_mid_run(cdir):
@@ -585,8 +555,8 @@ def test_cached_loop_model_switches_states_mid_run(cdir):
     failed with StructuralSingularityError at its state switch. Now it re-runs the build's own stages: fresh
     and cached runs both switch states, agree to 1e-9 rad, keep the loop closed to 1e-8 m, and the crank
     stops at the toggle angle acos((a² + d² − (c − b)²)/(2ad)) = 0.3176 rad (to 1e-3 rad, the output grid)."""
-    fresh = fl.Simulation(TripleRocker(), codegen=False)
-    cached = fl.Simulation(TripleRocker(), codegen=False)
+    fresh = fl.Simulation(triple_rocker(), codegen=False)
+    cached = fl.Simulation(triple_rocker(), codegen=False)
     assert not fresh.build.cached and cached.build.cached and cached.compiled._structure is None
     runs = [s.run(1.0, dt_out=0.005, rtol=1e-8, atol=1e-10) for s in (fresh, cached)]
     for res in runs:

@@ -19,21 +19,25 @@ def _link(m: float, L: float) -> Body:
 
 
 class FourBar(fl.Model):
-    """Crank O2–A, coupler A–B, rocker O4–B; all joint axes along z; the loop is closed at rev3."""
+    """Crank O2–A, coupler A–B, rocker O4–B; all joint axes along z; the loop is closed at rev3.
 
-    def __init__(self, theta2: float, theta3: float, theta4: float, w2: float) -> None:
+    ``lengths`` = (crank, coupler, rocker, ground) [m]; ``g`` gravity [m/s2] (other tests reuse this model)."""
+
+    def __init__(self, theta2: float, theta3: float, theta4: float, w2: float,
+                 lengths: tuple[float, float, float, float] = (A, B, C, D), g: float = 0.0) -> None:
         super().__init__()
-        self.world = World(g=0.0)
-        self.ground4 = Fixed(r=[D, 0, 0])
+        a, b, c, d = lengths
+        self.world = World(g=g)
+        self.ground4 = Fixed(r=[d, 0, 0])
         self.rev1 = Revolute(init={"phi": theta2, "w": w2})
-        self.crank = FixedTranslation(r=[A, 0, 0])
-        self.crank_mass = _link(1.0, A)
+        self.crank = FixedTranslation(r=[a, 0, 0])
+        self.crank_mass = _link(1.0, a)
         self.rev2 = Revolute(guess={"phi": theta3 - theta2})
-        self.coupler = FixedTranslation(r=[B, 0, 0])
-        self.coupler_mass = _link(2.0, B)
+        self.coupler = FixedTranslation(r=[b, 0, 0])
+        self.coupler_mass = _link(2.0, b)
         self.rev4 = Revolute(guess={"phi": theta4})
-        self.rocker = FixedTranslation(r=[C, 0, 0])
-        self.rocker_mass = _link(1.5, C)
+        self.rocker = FixedTranslation(r=[c, 0, 0])
+        self.rocker_mass = _link(1.5, c)
         self.rev3 = Revolute(guess={"phi": theta4 - theta3})
         self.connect(self.world.frame_b, self.rev1.frame_a)
         self.connect(self.rev1.frame_b, self.crank.frame_a)
