@@ -48,7 +48,8 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib.compile.codegen import CompiledModel, deserialize_function, file_problem
+from flexlib.compile.codegen import CompiledModel
+from flexlib.compile.integrity import deserialize_function, file_problem
 from flexlib.core.component import Component, Node
 from flexlib.core.variables import Declaration, Parameter
 from flexlib.errors import CacheWarning, ModelError

@@ -22,9 +22,10 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from flexlib.compile import cache
-from flexlib.compile.codegen import CompiledModel, compile_dae, generate_c
+from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
 from flexlib.compile.flatten import FlatSystem, check_balance, flatten
+from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
 from flexlib.compile.redundancy import remove_redundant
 from flexlib.compile.simplify import SimpleSystem, simplify
