@@ -20,11 +20,11 @@ violation; :class:`flexlib.Simulation` first rebuilds a cached model at the inst
 
 from __future__ import annotations
 
-import casadi as ca
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import StructureChangedError
+from flexlib.solve.rows import RowEvaluator
 
 __all__ = ["START_TOL", "check_dropped_rows", "dropped_row_values", "run_tolerance"]
 
@@ -40,36 +40,21 @@ def run_tolerance(rtol: float, atol: float) -> float:
 
 
 def dropped_row_values(model: CompiledModel, t: np.ndarray, y: np.ndarray, yp: np.ndarray,
-                       p: np.ndarray) -> np.ndarray:
-    """Residuals of the dropped loop rows, one column per point (``y``, ``yp``, ``p`` as columns)."""
+                       p: np.ndarray, rows: RowEvaluator | None = None) -> np.ndarray:
+    """Residuals of the dropped loop rows, one column per point (``y``, ``yp``, ``p`` as columns); several
+    points are evaluated through ``rows`` (:class:`~flexlib.solve.rows.RowEvaluator`, its buffers kept)."""
     if not model.check_labels:
         return np.zeros((0, np.atleast_1d(t).size))
-    fn = model.function("chk")
     t = np.atleast_1d(np.asarray(t, dtype=float))
     if t.size == 1:
-        return np.asarray(fn(float(t[0]), y, yp, p)).reshape(-1, 1)
-    # row by row through one FunctionBuffer: ``fn.map(m)`` built a new m-fold Function and converted the
-    # whole (n × m) matrices to DM on every run — 0.3 s per call on the 794-unknown boom proxy over 2000
-    # rows (benchmarks/boom_proxy.py), against ~10 ms here
-    if not fn.sparsity_out(0).is_dense():  # the buffer writes nonzeros only: densify so each row is complete
-        args = fn.sx_in()
-        fn = ca.Function("flexlib_chk_dense", args, [ca.densify(fn(*args))])
-    T = np.ascontiguousarray(t)
-    Y, YP, P = (np.ascontiguousarray(np.asarray(a, dtype=float).T) for a in (y, yp, p))
-    out = np.zeros((t.size, fn.nnz_out(0)))
-    buf, ev = fn.buffer()
-    for i in range(t.size):
-        buf.set_arg(0, memoryview(T[i:i + 1]))
-        buf.set_arg(1, memoryview(Y[i]))
-        buf.set_arg(2, memoryview(YP[i]))
-        buf.set_arg(3, memoryview(P[i]))
-        buf.set_res(0, memoryview(out[i]))
-        ev()
-    return out.T
+        return np.asarray(model.function("chk")(float(t[0]), y, yp, p)).reshape(-1, 1)
+    rows = rows if rows is not None else RowEvaluator()
+    return rows.evaluate(model, "chk", t, *(np.asarray(a, dtype=float).T for a in (y, yp, p))).T
 
 
 def check_dropped_rows(model: CompiledModel, t: np.ndarray, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
-                       tol: float, *, where: str, overrides: dict | None = None) -> None:
+                       tol: float, *, where: str, overrides: dict | None = None,
+                       rows: RowEvaluator | None = None) -> None:
     """Raise :class:`StructureChangedError` if a loop row dropped as redundant at build time is violated.
 
     Parameters
@@ -82,8 +67,10 @@ def check_dropped_rows(model: CompiledModel, t: np.ndarray, y: np.ndarray, yp: n
         Where the check ran, for the message ("at the start", "during the run").
     overrides : dict, optional
         The run's ``params`` overrides, named in the message.
+    rows : RowEvaluator, optional
+        Keeps the evaluation buffers between runs.
     """
-    values = dropped_row_values(model, t, y, yp, p)
+    values = dropped_row_values(model, t, y, yp, p, rows)
     if values.size == 0:
         return
     worst = np.nanmax(np.abs(values), axis=1) if values.shape[1] else np.zeros(len(model.check_labels))

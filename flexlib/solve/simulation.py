@@ -10,17 +10,12 @@ import difflib
 import hashlib
 import os
 import platform
-import signal
-import threading
 import time as _time
 import warnings
-from collections.abc import Iterator
-from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import casadi as ca
 import numpy as np
 
 from flexlib.compile import cache
@@ -47,7 +42,9 @@ from flexlib.solve.ida import Trajectory, check_assertions, integrate
 from flexlib.solve.ida_native import integrate_native
 from flexlib.solve.initialization import Initializer
 from flexlib.solve.native import native_available
+from flexlib.solve.rows import RowEvaluator, segments
 from flexlib.solve.run_options import check_run_arguments
+from flexlib.solve.signals import sigterm_as_interrupt
 from flexlib.solve.static import integrate_static
 
 __all__ = ["Experiment", "Simulation"]
@@ -55,55 +52,6 @@ __all__ = ["Experiment", "Simulation"]
 
 class _Rebuild(Exception):
     """The cached build does not fit this instance: leave the guarded block and rebuild."""
-
-
-class _Terminated(KeyboardInterrupt):
-    """SIGTERM, turned into the Ctrl-C path of a run."""
-
-
-class _StopState:
-    """What the SIGTERM handler of one run has seen.
-
-    ``stopping`` is set once the run is ending (interrupted, failed or done): a SIGTERM then no longer
-    interrupts (the result is being assembled and written) but is delivered again, to the handler that was
-    there before the run, once the run has ended."""
-
-    def __init__(self) -> None:
-        self.signalled = False
-        self.stopping = False
-        self.pending = False
-
-    @property
-    def by(self) -> str:
-        return "SIGTERM" if self.signalled else "the user"
-
-    def handler(self, signum: int, frame: Any) -> None:
-        if self.stopping:
-            self.pending = True
-            return
-        self.signalled = self.stopping = True
-        raise _Terminated("SIGTERM")
-
-
-@contextmanager
-def _sigterm_as_interrupt() -> Iterator[_StopState]:
-    """During a run (main thread only), SIGTERM takes the Ctrl-C path: the run stops, keeps and writes its
-    result, and raises SimulationInterrupted. The previous handler is restored afterwards, also on error."""
-    state = _StopState()
-    previous: Any = None
-    if threading.current_thread() is threading.main_thread() and hasattr(signal, "SIGTERM"):
-        previous = signal.getsignal(signal.SIGTERM)
-        if previous is None or previous is signal.SIG_IGN:
-            previous = None  # set outside Python (cannot be restored) or ignored on purpose: leave it alone
-        else:
-            signal.signal(signal.SIGTERM, state.handler)
-    try:
-        yield state
-    finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
-            if state.pending:  # a SIGTERM that arrived while the result was written: deliver it now
-                signal.raise_signal(signal.SIGTERM)
 
 
 @dataclass(frozen=True)
@@ -170,7 +118,7 @@ class Simulation:
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self.init_cached = False
-        self._maps: dict[tuple, Any] = {}
+        self._rows = RowEvaluator()
         self._state_monitor: Any = None
 
     @property
@@ -329,7 +277,7 @@ class Simulation:
         pvec = self.parameter_vector(opts.params, values)
         p = np.concatenate([pvec, np.zeros(m.n_relations)])
         stale = False
-        with _sigterm_as_interrupt() as stop:
+        with sigterm_as_interrupt() as stop:
             wall = _time.perf_counter()
             t_init = 0.0
             try:
@@ -432,26 +380,16 @@ class Simulation:
         self.compiled, self.build_info = self.build.compiled, self.build.timings
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
-        self._maps.clear()
+        self._rows.clear()
         self._state_monitor = None
 
     def _check_trajectory(self, traj: Trajectory, pvec: np.ndarray, rtol: float, atol: float,
                           params: dict[str, Any] | None) -> None:
         """The dropped loop rows over every recorded row (a choice that held at the start by coincidence)."""
-        if not traj.t:
-            return
-        T = np.array(traj.t)
-        seg = np.array(traj.seg) if traj.seg else np.zeros(len(T), dtype=int)
-        rel = np.array(traj.rel, dtype=float).reshape(len(T), -1)
-        for k in np.unique(seg):
-            model = traj.models[k] if traj.models else self.compiled
-            if not model.check_labels:
-                continue
-            rows = np.flatnonzero(seg == k)
-            Y, YP = np.array([traj.y[i] for i in rows]).T, np.array([traj.yp[i] for i in rows]).T
-            P = np.vstack([np.repeat(pvec[:, None], len(rows), axis=1), rel[rows].T])
-            check_dropped_rows(model, T[rows], Y, YP, P, run_tolerance(rtol, atol), where="during the run",
-                               overrides=params)
+        for model, _, T, Y, YP, P in segments(traj, self.compiled, pvec):
+            if model.check_labels:
+                check_dropped_rows(model, T, Y.T, YP.T, P.T, run_tolerance(rtol, atol), where="during the run",
+                                   overrides=params, rows=self._rows)
 
     def _monitor(self) -> Any:
         from flexlib.solve.state_selection import StateSelectionMonitor
@@ -521,60 +459,10 @@ class Simulation:
         return self.initializer.consistent_start(t0, p, starts, steady)
 
     #: rows per call of the mapped output function in :meth:`_assemble`
-    _CHUNK = 256
-
     def _assemble(self, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
                   P: np.ndarray) -> np.ndarray:
-        """All variables (aliases and outputs rebuilt by the ``out`` function) for rows ``T, Y, YP, P``.
-
-        Evaluated through FunctionBuffers straight into a preallocated C-ordered buffer: ``out``
-        mapped over ``_CHUNK`` rows per call (row-major stacks of rows are exactly the column-major
-        matrices the map takes, so no copy or conversion), the remainder row by row. 18–40× cheaper
-        than one DM call of ``out.map(len(rows))`` (measured in ``benchmarks/engine_speed.py``).
-        """
-        n_rows = len(T)
-        out_fn = model.function("out")
-        if not out_fn.sparsity_out(0).is_dense():  # structural zeros: the buffer needs every entry
-            key = (id(model), "dense")
-            entry = self._maps.get(key)
-            if entry is None or entry[0] is not model:
-                args = out_fn.sx_in()
-                entry = self._maps[key] = (model, ca.Function("flexlib_out_dense", args,
-                                                              [ca.densify(out_fn(*args))]))
-            out_fn = entry[1]
-        n_out = out_fn.nnz_out(0)
-        values = np.zeros((n_rows, n_out))
-        T = np.ascontiguousarray(T, dtype=float)
-        chunk = self._CHUNK
-        full = n_rows // chunk * chunk
-        if full:
-            key = (id(model), "map", chunk)
-            entry = self._maps.get(key)
-            if entry is None or entry[0] is not model:
-                entry = self._maps[key] = (model, out_fn.map(chunk).buffer())
-            buf, ev = entry[1]
-            for a in range(0, full, chunk):
-                b = a + chunk
-                buf.set_arg(0, memoryview(T[a:b]))
-                buf.set_arg(1, memoryview(Y[a:b]))
-                buf.set_arg(2, memoryview(YP[a:b]))
-                buf.set_arg(3, memoryview(P[a:b]))
-                buf.set_res(0, memoryview(values[a:b]))
-                ev()
-        if full < n_rows:
-            key = (id(model), "row")
-            entry = self._maps.get(key)
-            if entry is None or entry[0] is not model:
-                entry = self._maps[key] = (model, out_fn.buffer())
-            buf, ev = entry[1]
-            for i in range(full, n_rows):
-                buf.set_arg(0, memoryview(T[i:i + 1]))
-                buf.set_arg(1, memoryview(Y[i]))
-                buf.set_arg(2, memoryview(YP[i]))
-                buf.set_arg(3, memoryview(P[i]))
-                buf.set_res(0, memoryview(values[i]))
-                ev()
-        return values
+        """All variables (aliases and outputs rebuilt by the ``out`` function) for rows ``T, Y, YP, P``."""
+        return self._rows.evaluate(model, "out", T, Y, YP, P)
 
     def _result(self, traj: Trajectory, pvec: np.ndarray, t_init: float, rtol: float, atol: float) -> Result:
         m = self.compiled
@@ -582,17 +470,8 @@ class Simulation:
         if traj.t:
             T = np.array(traj.t)
             values = np.zeros((len(T), len(names)))
-            seg = np.array(traj.seg) if traj.seg else np.zeros(len(T), dtype=int)
-            rel = np.array(traj.rel, dtype=float).reshape(len(T), m.n_relations)
-            for k in np.unique(seg):
-                rows = np.flatnonzero(seg == k)
-                model = traj.models[k] if traj.models else m
-                Y = np.array([traj.y[i] for i in rows], dtype=float).reshape(len(rows), model.n)
-                YP = np.array([traj.yp[i] for i in rows], dtype=float).reshape(len(rows), model.n)
-                P = np.empty((len(rows), len(pvec) + m.n_relations))
-                P[:, :len(pvec)] = pvec
-                P[:, len(pvec):] = rel[rows]
-                values[rows] = self._assemble(model, T[rows], Y, YP, P)
+            for model, rows, Ts, Y, YP, P in segments(traj, m, pvec):
+                values[rows] = self._assemble(model, Ts, Y, YP, P)
         else:
             T, values = np.zeros(0), np.zeros((0, len(names)))
         stats = dict(traj.stats)

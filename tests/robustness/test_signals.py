@@ -15,7 +15,7 @@ import pytest
 import flexlib as fl
 from flexlib import Variable, der, eq
 from flexlib.results import hdf5
-from flexlib.solve import ida, native, simulation
+from flexlib.solve import ida, native, signals
 
 
 class Osc(fl.Model):
@@ -145,7 +145,7 @@ def test_sigterm_during_the_steps(sim, monkeypatch, tmp_path, recorder):
     np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-4)
     assert fl.load_result(path).status == "interrupted"
     assert recorder == []  # the run's handler took it; the previous one is back
-    assert signal.getsignal(signal.SIGTERM) is not simulation._StopState.handler
+    assert signal.getsignal(signal.SIGTERM) is not signals._StopState.handler
 
 
 def test_sigterm_with_the_casadi_backend(sim, monkeypatch, tmp_path, recorder):
