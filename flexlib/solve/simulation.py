@@ -50,10 +50,6 @@ from flexlib.solve.static import integrate_static
 __all__ = ["Experiment", "Simulation"]
 
 
-class _Rebuild(Exception):
-    """The cached build does not fit this instance: leave the guarded block and rebuild."""
-
-
 @dataclass(frozen=True)
 class Experiment:
     """Default run settings of a model class (Modelica ``experiment`` annotation).
@@ -276,7 +272,6 @@ class Simulation:
         values, starts = gather_values(self.model)
         pvec = self.parameter_vector(opts.params, values)
         p = np.concatenate([pvec, np.zeros(m.n_relations)])
-        stale = False
         with sigterm_as_interrupt() as stop:
             wall = _time.perf_counter()
             t_init = 0.0
@@ -284,8 +279,13 @@ class Simulation:
                 y0, yp0 = self._initialize(t0, p, starts, opts.steady_state)
                 t_init = _time.perf_counter() - wall
                 if self._stale_cached_build(t0, y0, yp0, p, opts.params):
-                    stale = True
-                    raise _Rebuild
+                    # the cached entry was built at another instance's values (the key holds structure, not
+                    # values): rebuild at this instance's own values, without touching the entry, and start again
+                    self._rebuild_uncached()
+                    return self.run(t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol,
+                                    atol=atol, max_step=max_step, max_steps=max_steps, params=params,
+                                    steady_state=steady_state, progress=progress, result_file=result_file,
+                                    solver=solver, dynamic_states=dynamic_states)
                 extra: dict[str, Any] = {}
                 if opts.solver in ("ida", "ida-native", "ida-sksundae"):
                     native = opts.solver == "ida-native" or (opts.solver == "ida" and native_available())
@@ -317,8 +317,6 @@ class Simulation:
                 err.result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
                 self._keep(err.result, opts.result_file)
                 raise
-            except _Rebuild:
-                pass
             except KeyboardInterrupt:  # Ctrl-C or SIGTERM outside the backend's step loop (initialisation)
                 stop.stopping = True
                 where = "during initialisation" if not t_init else "before the first step"
@@ -327,17 +325,8 @@ class Simulation:
                 self._keep(result, opts.result_file)
                 raise SimulationInterrupted(traj.message, result) from None
             stop.stopping = True
-            if not stale:
-                result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-                self._keep(result, opts.result_file)
-        if stale:
-            # the cached entry was built at another instance's values (the key holds structure, not values):
-            # rebuild at this instance's own values, without touching the cached entry, and start again
-            self._rebuild_uncached()
-            return self.run(t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol,
-                            atol=atol, max_step=max_step, max_steps=max_steps, params=params,
-                            steady_state=steady_state, progress=progress, result_file=result_file,
-                            solver=solver, dynamic_states=dynamic_states)
+            result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+            self._keep(result, opts.result_file)
         try:
             self._check_trajectory(traj, pvec, opts.rtol, opts.atol, opts.params)
         except StructureChangedError as err:
