@@ -447,7 +447,6 @@ class Simulation:
         """Stage 4 proper: :meth:`flexlib.solve.initialization.Initializer.consistent_start`."""
         return self.initializer.consistent_start(t0, p, starts, steady)
 
-    #: rows per call of the mapped output function in :meth:`_assemble`
     def _assemble(self, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
                   P: np.ndarray) -> np.ndarray:
         """All variables (aliases and outputs rebuilt by the ``out`` function) for rows ``T, Y, YP, P``."""
