@@ -74,6 +74,7 @@ def _mechanism(label: str, model: Any, spec: Any, rtols: list[float], t_end: flo
     print(f"\n### {label}, {t_end:g} s; reference: minimal-coordinate ODE (CVODE, rtol 1e-13; vs rtol 1e-12: "
           f"{ref_err:.1e} rad)\n")
     sim = fl.Simulation(model)
+    sim.compiled.wait_for_library()  # time the compiled model, not the first runs on CasADi's VM
     dae = MinimalDAE(spec)
     rows = []
     for route in ("ida", "casadi-idas", "hand-written"):
@@ -101,6 +102,7 @@ def _mechanism(label: str, model: Any, spec: Any, rtols: list[float], t_end: flo
 def _servo(rtols: list[float], t_end: float, budget: float) -> list[dict]:
     grid = np.linspace(0.0, t_end, round(t_end / 0.01) + 1)
     sim = fl.Simulation(HydraulicServo())
+    sim.compiled.wait_for_library()
     ref = sim.run(t_end, dt_out=0.01, rtol=1e-11, atol=1e-11, progress=False, solver="casadi-idas")
     chk = sim.run(t_end, dt_out=0.01, rtol=1e-10, atol=1e-10, progress=False, solver="casadi-idas")
     x_ref = ref.value("cylinder.x", grid)

@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import shutil
+import time as _time
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -184,6 +185,24 @@ class CompiledModel:
         """True if generated C compiled in the background has just become available (not yet in use)."""
         return self.library is None and self.library_pending is not None and (
             self.library_pending in _ADOPTED or Path(self.library_pending).exists())
+
+    def wait_for_library(self, timeout: float = 600.0) -> bool:
+        """Wait until the library compiled in the background is in use (at most ``timeout`` [s]).
+
+        For benchmarks and parameter sweeps that should time the compiled model from their first run.
+        Returns True if the model now evaluates ``res`` and ``jac`` in C, False if it has no C coming
+        (``codegen=False``, a model below the size where C pays) or gcc did not finish in time (its
+        messages are in ``gcc.log`` beside ``library_pending``).
+        """
+        deadline = _time.monotonic() + timeout
+        while self.library is None and self.library_pending is not None:
+            if self.c_ready():
+                self.function("res")  # adopt it
+                break
+            if _time.monotonic() >= deadline:
+                return False
+            _time.sleep(0.05)
+        return self.library is not None
 
     def _adopt_pending(self) -> None:
         """Take over the library gcc has finished in the background: hash it (this process started that gcc,
