@@ -15,6 +15,7 @@ __all__ = [
     "EmptyResultError",
     "FlexlibError",
     "InitializationError",
+    "ModalFileError",
     "ModelError",
     "ParameterError",
     "ResultFileError",
@@ -126,3 +127,8 @@ class EmptyResultError(FlexlibError, ValueError):
 class NativeSolverError(FlexlibError, RuntimeError):
     """``solver="ida-native"`` cannot be used here: no C compiler for its driver, the SUNDIALS libraries bundled
     with scikit-sundae are missing, or the driver failed to compile or to set up IDA. The other solvers still work."""
+
+
+class ModalFileError(FlexlibError, ValueError):
+    """A modal data file (or FE matrix file) is missing, truncated, malformed or from a newer format; the message
+    names the file and the dataset."""

@@ -1,0 +1,49 @@
+"""Modal data for flexible bodies: beam FE mesher, FE matrix files, Craig–Bampton reduction, inertia
+invariants, the open HDF5 modal file, mode selection and default modal damping (SI units throughout)."""
+
+from .beam import beam_mesh, element_matrices
+from .fe_model import COMPONENTS, FEModel, MassPoints, read_fe, read_matrix_market
+from .invariants import INVARIANT_NAMES, inertia_invariants
+from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
+from .reduction import CraigBamptonResult, craig_bampton, modal_data_from_fe
+from .sections import Section, box, circle, i_section, rectangle, tube
+from .selection import (
+    ParticipationRow,
+    ParticipationTable,
+    default_damping_ratio,
+    modal_damping_matrix,
+    modal_participation,
+    nodal_generalized_forces,
+    select_modes,
+)
+
+__all__ = [
+    "COMPONENTS",
+    "FORMAT_VERSION",
+    "INVARIANT_NAMES",
+    "SI_UNITS",
+    "CraigBamptonResult",
+    "FEModel",
+    "MassPoints",
+    "ModalData",
+    "ParticipationRow",
+    "ParticipationTable",
+    "Section",
+    "beam_mesh",
+    "box",
+    "circle",
+    "craig_bampton",
+    "default_damping_ratio",
+    "element_matrices",
+    "i_section",
+    "inertia_invariants",
+    "modal_damping_matrix",
+    "modal_data_from_fe",
+    "modal_participation",
+    "nodal_generalized_forces",
+    "read_fe",
+    "read_matrix_market",
+    "rectangle",
+    "select_modes",
+    "tube",
+]

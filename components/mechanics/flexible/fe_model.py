@@ -1,0 +1,371 @@
+"""Finite-element mass and stiffness matrices with their node/DOF map, and their files (``.npz``, Matrix Market).
+
+An :class:`FEModel` is what a producer of modal data starts from: scipy.sparse mass ``M`` [kg, kg m, kg m2]
+and stiffness ``K`` [N/m, N, N m/rad] over a set of DOFs, the undeformed node coordinates [m] and a map
+``dof_map[node, component]`` from a node and one of its six components ``(ux, uy, uz, rx, ry, rz)`` (translations
+[m], small rotations [rad], in the body frame) to the row of ``M`` and ``K`` (``-1``: the node has no such DOF,
+e.g. a constrained one or a solid element's rotation). Any FE code can supply these through
+:func:`read_fe` (``.npz``) or :func:`read_matrix_market`; the built-in beam mesher
+(:func:`~flexlib.components.mechanics.flexible.beam.beam_mesh`) produces them directly.
+
+References
+----------
+- R. D. Cook, D. S. Malkus, M. E. Plesha, R. J. Witt, *Concepts and Applications of Finite Element Analysis*,
+  4th ed., Wiley 2002, §2.8 (DOF numbering, assembly) and §11.3 (consistent and lumped mass).
+- Matrix Market exchange format: R. F. Boisvert, R. Pozo, K. Remington, *The Matrix Market Exchange Formats:
+  Initial Design*, NISTIR 5935, 1996 (read with :func:`scipy.io.mmread`).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy.io
+import scipy.sparse as sp
+
+from flexlib.errors import ModalFileError
+
+__all__ = ["COMPONENTS", "FEModel", "MassPoints", "read_fe", "read_matrix_market"]
+
+#: Names of the six components of a node, in ``dof_map`` column order.
+COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+
+def skew(v: np.ndarray) -> np.ndarray:
+    """Cross-product matrices ``[v x]`` of vectors ``v`` of shape ``(..., 3)`` -> ``(..., 3, 3)``."""
+    v = np.asarray(v, dtype=float)
+    out = np.zeros((*v.shape[:-1], 3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class MassPoints:
+    """A mass description as points: the nine inertia invariants are sums over these points.
+
+    For a *lumped* description the points are the FE nodes with their nodal masses and inertias; for a
+    *consistent* one they are the Gauss points of the elements, weighted so that the sums integrate the
+    element's density exactly (see :func:`~flexlib.components.mechanics.flexible.invariants.inertia_invariants`).
+
+    Parameters
+    ----------
+    positions : ndarray, shape (P, 3)
+        Undeformed positions in the body frame [m].
+    masses : ndarray, shape (P,)
+        Point masses [kg].
+    inertias : ndarray, shape (P, 3, 3)
+        Point rotational inertia tensors in body axes [kg m2] (rotary inertia of the section or node).
+    Nt, Nr : scipy.sparse matrix, shape (3 P, n_dofs)
+        Interpolation from the FE DOFs to the translation [m] and small rotation [rad] of each point
+        (rows ``3 p .. 3 p + 2``).
+    description : str
+        ``"consistent"`` or ``"lumped"`` plus how it was made (goes to the modal file's provenance).
+    """
+
+    positions: np.ndarray
+    masses: np.ndarray
+    inertias: np.ndarray
+    Nt: sp.csr_matrix
+    Nr: sp.csr_matrix
+    description: str
+
+    def drop_dofs(self, keep: np.ndarray) -> MassPoints:
+        """The same points on a subset ``keep`` of the DOFs (the others are held at zero)."""
+        return replace(self, Nt=self.Nt[:, keep].tocsr(), Nr=self.Nr[:, keep].tocsr())
+
+
+@dataclass(frozen=True, eq=False)
+class FEModel:
+    """Sparse FE mass and stiffness matrices with node coordinates and the node/DOF map.
+
+    Parameters
+    ----------
+    M, K : scipy.sparse.csr_matrix, shape (n, n)
+        Symmetric mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices.
+    nodes : ndarray, shape (N, 3)
+        Undeformed node coordinates in the body frame [m].
+    dof_map : ndarray of int, shape (N, 6)
+        Row of ``M``/``K`` of each node's ``(ux, uy, uz, rx, ry, rz)``; ``-1`` where the node has none.
+    node_ids : ndarray of int, shape (N,)
+        User-facing node numbers (default ``0 .. N-1``).
+    elements : ndarray of int, shape (E, k)
+        Connectivity as indices into ``nodes`` (for drawing; ``(0, 2)`` if unknown).
+    mass_points : MassPoints or None
+        Mass description for the inertia invariants; ``None``: lumped from ``M`` (:meth:`lumped_mass_points`).
+    unit_loads : ndarray, shape (n, 3), optional
+        Consistent nodal loads [N, N m] of a unit uniform acceleration field along x, y, z [m/s2] (``M`` times
+        the rigid translation fields of the unconstrained model); default computed from ``M``. Kept through
+        :meth:`constrained`, where ``M`` alone would miss the mass coupled to the removed DOFs.
+    info : dict
+        Provenance (mesher settings, source file) as JSON-serialisable values.
+    """
+
+    M: sp.csr_matrix
+    K: sp.csr_matrix
+    nodes: np.ndarray
+    dof_map: np.ndarray
+    node_ids: np.ndarray
+    elements: np.ndarray = field(default_factory=lambda: np.zeros((0, 2), dtype=np.int64))
+    mass_points: MassPoints | None = None
+    info: dict[str, Any] = field(default_factory=dict)
+    unit_loads: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        n = self.M.shape[0]
+        problems = []
+        if self.M.shape != (n, n) or self.K.shape != (n, n):
+            problems.append(f"M {self.M.shape} and K {self.K.shape} must be square and of equal size")
+        if self.nodes.ndim != 2 or self.nodes.shape[1] != 3:
+            problems.append(f"nodes must have shape (N, 3), got {self.nodes.shape}")
+        if self.dof_map.shape != (self.nodes.shape[0], 6):
+            problems.append(f"dof_map must have shape (N, 6) = {(self.nodes.shape[0], 6)}, got {self.dof_map.shape}")
+        elif self.dof_map.size:
+            used = self.dof_map[self.dof_map >= 0]
+            if used.size and (used.max() >= n or len(np.unique(used)) != used.size):
+                problems.append("dof_map rows must be distinct and below the matrix size")
+        if self.node_ids.shape != (self.nodes.shape[0],) or len(np.unique(self.node_ids)) != self.node_ids.size:
+            problems.append("node_ids must be one distinct id per node")
+        if problems:
+            raise ValueError("FEModel: " + "; ".join(problems))
+
+    @property
+    def n_dofs(self) -> int:
+        """Number of DOFs (rows of ``M``)."""
+        return int(self.M.shape[0])
+
+    def node_index(self, node_ids: Sequence[int] | np.ndarray) -> np.ndarray:
+        """Indices into ``nodes`` of the given node ids; a clear error names an unknown id."""
+        lookup = {int(i): k for k, i in enumerate(self.node_ids)}
+        out = []
+        for i in np.atleast_1d(np.asarray(node_ids)).ravel():
+            if int(i) not in lookup:
+                raise KeyError(f"FEModel: no node with id {int(i)} (ids {self.node_ids.min()}..{self.node_ids.max()})")
+            out.append(lookup[int(i)])
+        return np.asarray(out, dtype=np.int64)
+
+    def dofs(self, node_ids: Sequence[int] | np.ndarray, components: Sequence[str] = COMPONENTS) -> np.ndarray:
+        """DOF rows of the given nodes (by id) and components (names from :data:`COMPONENTS`), skipping absent ones."""
+        cols = [COMPONENTS.index(c) for c in components]
+        rows = self.dof_map[self.node_index(node_ids)][:, cols].ravel()
+        return rows[rows >= 0]
+
+    def rigid_body_modes(self) -> np.ndarray:
+        """The six rigid-body displacement fields ``(n, 6)``: unit translations along x, y, z [m] and unit small
+        rotations about the body-frame x, y, z axes through the origin [rad] (``u = theta x s``)."""
+        R = np.zeros((self.n_dofs, 6))
+        for a in range(3):
+            e = np.eye(3)[a]
+            rows = self.dof_map[:, a]
+            R[rows[rows >= 0], a] = 1.0
+            u = np.cross(e, self.nodes)  # rotation about e_a
+            for b in range(3):
+                rows = self.dof_map[:, b]
+                R[rows[rows >= 0], 3 + a] = u[rows >= 0, b]
+            rows = self.dof_map[:, 3 + a]
+            R[rows[rows >= 0], 3 + a] = 1.0
+        return R
+
+    def constrained(self, node_ids: Sequence[int] | np.ndarray, components: Sequence[str] = COMPONENTS) -> FEModel:
+        """The model with the given node components held at zero (their DOFs removed), e.g. a clamped end."""
+        fixed = set(self.dofs(node_ids, components).tolist())
+        keep = np.array([i for i in range(self.n_dofs) if i not in fixed], dtype=np.int64)
+        new_index = -np.ones(self.n_dofs, dtype=np.int64)
+        new_index[keep] = np.arange(keep.size)
+        dof_map = np.where(self.dof_map >= 0, new_index[np.maximum(self.dof_map, 0)], -1)
+        info = dict(self.info)
+        info["constrained"] = [*info.get("constrained", []), {"nodes": [int(i) for i in np.atleast_1d(node_ids)],
+                                                              "components": list(components)}]
+        loads = self.gravity_loads()[keep]
+        return replace(self, M=self.M[keep][:, keep].tocsr(), K=self.K[keep][:, keep].tocsr(), dof_map=dof_map,
+                       mass_points=None if self.mass_points is None else self.mass_points.drop_dofs(keep), info=info,
+                       unit_loads=loads)
+
+    def translation_field(self, vector: Sequence[float]) -> np.ndarray:
+        """DOF vector of a uniform translation ``vector`` [m] of all nodes (rotations zero)."""
+        out = np.zeros(self.n_dofs)
+        for a in range(3):
+            rows = self.dof_map[:, a]
+            out[rows[rows >= 0]] = vector[a]
+        return out
+
+    def gravity_loads(self) -> np.ndarray:
+        """Consistent nodal loads ``(n, 3)`` [N, N m] of unit uniform accelerations along x, y, z [m/s2]."""
+        if self.unit_loads is not None:
+            return self.unit_loads
+        return np.column_stack([self.M @ self.translation_field(np.eye(3)[a]) for a in range(3)])
+
+    def gravity_load(self, g: Sequence[float]) -> np.ndarray:
+        """Consistent nodal load vector [N, N m] of the body's weight in a uniform field ``g`` [m/s2]: ``M u_g``
+        with ``u_g`` the uniform translation ``g`` of the unconstrained model (exact for shape functions that
+        reproduce rigid translation), restricted to the remaining DOFs."""
+        return self.gravity_loads() @ np.asarray(g, dtype=float)
+
+    def lumped_mass_points(self) -> MassPoints:
+        """Lumped mass description from ``M``: each node's mass is the row sum of the translational block of
+        ``M`` in each direction, averaged over x, y, z (mass-conserving); nodal inertias are the rotational
+        diagonal blocks of ``M`` (Cook et al. §11.3, row-sum lumping)."""
+        N = self.nodes.shape[0]
+        masses = np.zeros(N)
+        inertias = np.zeros((N, 3, 3))
+        M = self.M.tocsr()
+        for a in range(3):
+            rows = self.dof_map[:, a]
+            has = rows >= 0
+            trans = np.zeros(self.n_dofs)
+            trans[rows[has]] = 1.0
+            masses[has] += (M[rows[has]] @ trans) / 3.0
+        for p in range(N):
+            rows = self.dof_map[p, 3:]
+            for a in range(3):
+                for b in range(3):
+                    if rows[a] >= 0 and rows[b] >= 0:
+                        inertias[p, a, b] = M[rows[a], rows[b]]
+        return MassPoints(self.nodes.copy(), masses, inertias, self._selector(range(3)), self._selector(range(3, 6)),
+                          "lumped (translational row sums of M per node, rotational diagonal blocks)")
+
+    def _selector(self, components: range) -> sp.csr_matrix:
+        N = self.nodes.shape[0]
+        rows, cols = [], []
+        for p in range(N):
+            for k, c in enumerate(components):
+                if self.dof_map[p, c] >= 0:
+                    rows.append(3 * p + k)
+                    cols.append(self.dof_map[p, c])
+        return sp.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(3 * N, self.n_dofs))
+
+    def write_npz(self, path: str | os.PathLike[str]) -> None:
+        """Write ``M``, ``K`` (CSR parts), ``nodes``, ``dof_map``, ``node_ids`` and ``elements`` to a ``.npz``
+        readable by :func:`read_fe` (atomically: temporary file then ``os.replace``)."""
+        path = Path(path)
+        tmp = path.with_name(path.name + ".tmp.npz")
+        arrays: dict[str, np.ndarray] = {"nodes": self.nodes, "dof_map": self.dof_map, "node_ids": self.node_ids,
+                                         "elements": self.elements}
+        for name, A in (("M", self.M), ("K", self.K)):
+            A = sp.csr_matrix(A)
+            arrays.update({f"{name}_data": A.data, f"{name}_indices": A.indices, f"{name}_indptr": A.indptr,
+                           f"{name}_shape": np.asarray(A.shape)})
+        try:
+            np.savez(tmp, **arrays)
+            os.replace(tmp, path)
+        finally:
+            if tmp.exists():
+                tmp.unlink()
+
+
+def _check_matrices(path: str, M: sp.spmatrix, K: sp.spmatrix, n_nodes: int, dof_map: np.ndarray) -> None:
+    for name, A in (("M", M), ("K", K)):
+        if A.shape[0] != A.shape[1]:
+            raise ModalFileError(f"{path}: matrix {name!r} is not square: shape {A.shape}")
+        if not np.all(np.isfinite(A.data)):
+            raise ModalFileError(f"{path}: matrix {name!r} has non-finite entries (NaN or inf)")
+        asym = abs(A - A.T).max() if A.nnz else 0.0
+        scale = abs(A).max() if A.nnz else 1.0
+        if asym > 1e-9 * scale:
+            raise ModalFileError(f"{path}: matrix {name!r} is not symmetric (max |A - A^T| = {asym:.3g}, "
+                                 f"max |A| = {scale:.3g})")
+    if M.shape != K.shape:
+        raise ModalFileError(f"{path}: matrices 'M' {M.shape} and 'K' {K.shape} differ in size")
+    if dof_map.shape != (n_nodes, 6):
+        raise ModalFileError(f"{path}: 'dof_map' must have shape ({n_nodes}, 6), got {dof_map.shape}")
+    if dof_map.max(initial=-1) >= M.shape[0]:
+        raise ModalFileError(f"{path}: 'dof_map' refers to row {dof_map.max()} of a {M.shape[0]}-row matrix")
+
+
+def read_fe(path: str | os.PathLike[str]) -> FEModel:
+    """Read an FE model from a ``.npz`` with arrays ``M_data, M_indices, M_indptr, M_shape`` (and the same for
+    ``K``; CSR parts as written by :meth:`FEModel.write_npz`) or dense ``M`` and ``K``, plus ``nodes`` (N, 3) [m],
+    ``dof_map`` (N, 6) and optionally ``node_ids`` and ``elements``.
+
+    Raises
+    ------
+    ModalFileError
+        Missing, unreadable or inconsistent file; the message names the file and the array.
+    """
+    name = os.fspath(path)
+    try:
+        data = np.load(name, allow_pickle=False)
+    except (OSError, ValueError) as exc:
+        raise ModalFileError(f"{name}: cannot read FE matrices: {exc}") from None
+    with data:
+        def get(key: str) -> np.ndarray:
+            if key not in data.files:
+                raise ModalFileError(f"{name}: array {key!r} is missing (has {sorted(data.files)})")
+            value = data[key]
+            if not np.issubdtype(value.dtype, np.number):
+                raise ModalFileError(f"{name}: array {key!r} must be numeric, got dtype {value.dtype}")
+            return value
+
+        mats = {}
+        for key in ("M", "K"):
+            if key in data.files:
+                mats[key] = sp.csr_matrix(get(key).astype(float))
+            else:
+                shape = tuple(int(s) for s in get(f"{key}_shape"))
+                mats[key] = sp.csr_matrix((get(f"{key}_data").astype(float), get(f"{key}_indices"),
+                                           get(f"{key}_indptr")), shape=shape)
+        nodes = get("nodes").astype(float)
+        dof_map = get("dof_map").astype(np.int64)
+        node_ids = get("node_ids").astype(np.int64) if "node_ids" in data.files else np.arange(nodes.shape[0])
+        elements = get("elements").astype(np.int64) if "elements" in data.files else np.zeros((0, 2), np.int64)
+    if nodes.ndim != 2 or nodes.shape[1] != 3 or not np.all(np.isfinite(nodes)):
+        raise ModalFileError(f"{name}: 'nodes' must be finite with shape (N, 3), got {nodes.shape}")
+    _check_matrices(name, mats["M"], mats["K"], nodes.shape[0], dof_map)
+    try:
+        return FEModel(mats["M"], mats["K"], nodes, dof_map, node_ids, elements, info={"source": name})
+    except ValueError as exc:
+        raise ModalFileError(f"{name}: {exc}") from None
+
+
+def read_matrix_market(mass: str | os.PathLike[str], stiffness: str | os.PathLike[str],
+                       nodes: np.ndarray | str | os.PathLike[str],
+                       dof_map: np.ndarray | str | os.PathLike[str] | None = None) -> FEModel:
+    """Read ``M`` and ``K`` from Matrix Market files (any FE code can export them) with the node coordinates
+    [m] and DOF map as arrays or whitespace/comma separated text files.
+
+    Parameters
+    ----------
+    mass, stiffness : path
+        ``.mtx`` files of the mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices.
+    nodes : array (N, 3) or path
+        Undeformed node coordinates [m].
+    dof_map : array (N, 6) or path, optional
+        Matrix row of each node's ``(ux, uy, uz, rx, ry, rz)``, ``-1`` if absent; default six DOFs per node in
+        node order (``6 i + c``).
+
+    Raises
+    ------
+    ModalFileError
+        A file is missing or unreadable, or the matrices and maps do not fit together.
+    """
+    mats = []
+    for label, p in (("M", mass), ("K", stiffness)):
+        try:
+            mats.append(sp.csr_matrix(scipy.io.mmread(os.fspath(p))).astype(float))
+        except (OSError, ValueError) as exc:
+            raise ModalFileError(f"{os.fspath(p)}: cannot read matrix {label!r} as Matrix Market: {exc}") from None
+
+    def table(value: Any, label: str, dtype: type) -> np.ndarray:
+        if isinstance(value, str | os.PathLike):
+            try:
+                text = Path(value).read_text().replace(",", " ")
+                return np.atleast_2d(np.loadtxt(text.splitlines(), dtype=dtype))
+            except (OSError, ValueError) as exc:
+                raise ModalFileError(f"{os.fspath(value)}: cannot read {label!r}: {exc}") from None
+        return np.asarray(value, dtype=dtype)
+
+    xyz = table(nodes, "nodes", float)
+    dmap = (np.arange(6 * xyz.shape[0]).reshape(-1, 6) if dof_map is None else table(dof_map, "dof_map", np.int64))
+    source = os.fspath(stiffness)
+    _check_matrices(source, mats[0], mats[1], xyz.shape[0], dmap)
+    try:
+        return FEModel(mats[0], mats[1], xyz, dmap, np.arange(xyz.shape[0]),
+                       info={"source": [os.fspath(mass), os.fspath(stiffness)]})
+    except ValueError as exc:
+        raise ModalFileError(f"{source}: {exc}") from None

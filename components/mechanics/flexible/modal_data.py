@@ -1,0 +1,525 @@
+"""``ModalData``: the open HDF5 modal file of a flexible body (schema in ``docs/modal_file.md``).
+
+The file plays the role of the modal neutral file (MNF) of commercial codes, whose binary format has no public
+specification: header, body properties, nodes, interface nodes, translational and rotational mode shapes,
+generalised mass and stiffness, frequencies, the nine inertia invariants, optional damping ratios and stress
+modes, and the reduction's provenance. Everything is SI: m, kg, s, N, rad, Hz.
+
+References
+----------
+- The HDF Group, *HDF5 File Format Specification* (read and written with h5py).
+- MSC Software, *Adams/Flex*: "The Modal Neutral File (MNF)" (content, not format, of the commercial file).
+- A. A. Shabana, *Dynamics of Multibody Systems*, 3rd ed., 2005, ch. 5 (inertia invariants).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import json
+import math
+import os
+import tempfile
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from flexlib.errors import ModalFileError
+
+from .invariants import INVARIANT_NAMES, invariant_shapes
+
+__all__ = ["FORMAT", "FORMAT_VERSION", "SI_UNITS", "ModalData"]
+
+FORMAT = "flexlib-modal"
+FORMAT_VERSION = 1
+#: Units of every quantity in the file (fixed: the file is SI only).
+SI_UNITS: dict[str, str] = {"length": "m", "mass": "kg", "time": "s", "force": "N", "angle": "rad",
+                            "frequency": "Hz", "stress": "Pa"}
+
+# attribute -> (dataset path, required, integer?)
+_DATASETS: dict[str, tuple[str, bool, bool]] = {
+    "mass": ("body/mass", True, False),
+    "center_of_mass": ("body/center_of_mass", True, False),
+    "inertia": ("body/inertia", True, False),
+    "node_ids": ("nodes/ids", True, True),
+    "coordinates": ("nodes/coordinates", True, False),
+    "elements": ("nodes/elements", True, True),
+    "faces": ("nodes/faces", False, True),
+    "interface_nodes": ("interface/node_ids", True, True),
+    "translational_modes": ("modes/translational", True, False),
+    "rotational_modes": ("modes/rotational", True, False),
+    "generalized_mass": ("modes/generalized_mass", True, False),
+    "generalized_stiffness": ("modes/generalized_stiffness", True, False),
+    "frequencies": ("modes/frequencies", True, False),
+    "damping_ratio": ("modes/damping_ratio", False, False),
+    "stress_modes": ("modes/stress", False, False),
+}
+_REL = 1e-9  # relative tolerance of the symmetry and consistency checks
+
+
+class _Invalid(Exception):
+    def __init__(self, dataset: str, message: str) -> None:
+        super().__init__(message)
+        self.dataset = dataset
+
+
+def _freeze(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, copy=True)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class ModalData:
+    """Modal data of one flexible body (immutable; arrays are read-only). All quantities SI.
+
+    Parameters
+    ----------
+    title, creator, date : str
+        Header text; ``date`` ISO 8601 (default: now, UTC).
+    mass : float
+        Total mass [kg].
+    center_of_mass : ndarray (3,)
+        Centre of mass in the body frame [m].
+    inertia : ndarray (3, 3)
+        Inertia tensor about the body-frame origin, body axes [kg m2] (undeformed body).
+    node_ids : ndarray of int (N,)
+        Node numbers (as in the FE model).
+    coordinates : ndarray (N, 3)
+        Undeformed node coordinates in the body frame [m].
+    elements : ndarray of int (E, k)
+        Element connectivity as indices into ``coordinates`` (drawing; ``(0, 2)`` if none).
+    interface_nodes : ndarray of int (B,)
+        Node ids of the interface (frames of the flexible body).
+    translational_modes, rotational_modes : ndarray (M, N, 3)
+        Mode shapes per mode and node: translation [m] and small rotation [rad] per unit modal coordinate.
+    generalized_mass, generalized_stiffness : ndarray (M, M)
+        Modal mass [kg] (symmetric positive definite) and stiffness [N/m] (symmetric positive semidefinite)
+        per unit modal coordinate.
+    frequencies : ndarray (M,)
+        ``sqrt(K_jj / M_jj) / (2 pi)`` of each mode [Hz] (its natural frequency for orthogonal modes).
+    invariants : mapping of str to ndarray
+        The nine inertia invariants ``I1`` .. ``I9`` (see :mod:`.invariants`).
+    mass_description : str
+        ``"consistent"`` or ``"lumped"``: how the invariants were computed.
+    damping_ratio : ndarray (M,), optional
+        Modal damping ratios [1]; ``None``: the frequency rule of
+        :func:`~flexlib.components.mechanics.flexible.selection.default_damping_ratio`.
+    stress_modes : ndarray (M, N, 6), optional
+        Stress per unit modal coordinate at each node [Pa] (sxx, syy, szz, sxy, syz, szx).
+    faces : ndarray of int (F, k), optional
+        Surface faces for drawing, as indices into ``coordinates``.
+    provenance : dict
+        How the data were made (reduction, FE source, settings); JSON-serialisable.
+    units : dict
+        Must equal :data:`SI_UNITS`.
+    format_version : int
+        File format version (:data:`FORMAT_VERSION`).
+
+    Raises
+    ------
+    ModalFileError
+        Any inconsistency (shapes, symmetry, definiteness, finiteness, units, invariants vs body properties);
+        the message names the dataset of the file layout.
+    """
+
+    title: str
+    creator: str
+    mass: float
+    center_of_mass: np.ndarray
+    inertia: np.ndarray
+    node_ids: np.ndarray
+    coordinates: np.ndarray
+    elements: np.ndarray
+    interface_nodes: np.ndarray
+    translational_modes: np.ndarray
+    rotational_modes: np.ndarray
+    generalized_mass: np.ndarray
+    generalized_stiffness: np.ndarray
+    frequencies: np.ndarray
+    invariants: Mapping[str, np.ndarray]
+    mass_description: str = "consistent"
+    damping_ratio: np.ndarray | None = None
+    stress_modes: np.ndarray | None = None
+    faces: np.ndarray | None = None
+    provenance: Mapping[str, Any] = field(default_factory=dict)
+    date: str = field(default_factory=lambda: _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"))
+    units: Mapping[str, str] = field(default_factory=lambda: dict(SI_UNITS))
+    format_version: int = FORMAT_VERSION
+
+    def __post_init__(self) -> None:
+        self._check("ModalData")
+
+    def _check(self, source: str) -> None:
+        try:
+            values = _validate(self)
+        except _Invalid as exc:
+            raise ModalFileError(f"{source}: dataset '/{exc.dataset}': {exc}") from None
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def n_modes(self) -> int:
+        """Number of modes ``M``."""
+        return int(self.frequencies.shape[0])
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of nodes ``N``."""
+        return int(self.coordinates.shape[0])
+
+    @property
+    def inertia_cm(self) -> np.ndarray:
+        """Inertia tensor about the centre of mass [kg m2] (parallel-axis theorem)."""
+        c = self.center_of_mass
+        return self.inertia - self.mass * (float(c @ c) * np.eye(3) - np.outer(c, c))
+
+    def damping_ratios(self) -> np.ndarray:
+        """Modal damping ratios [1]: the stored ones, else the default frequency rule."""
+        from .selection import default_damping_ratio
+
+        return self.damping_ratio if self.damping_ratio is not None else default_damping_ratio(self.frequencies)
+
+    def node_index(self, node_id: int) -> int:
+        """Index into ``coordinates`` of a node id (clear error if absent)."""
+        hits = np.flatnonzero(self.node_ids == int(node_id))
+        if hits.size != 1:
+            raise KeyError(f"modal data {self.title!r}: no node with id {int(node_id)}")
+        return int(hits[0])
+
+    # ------------------------------------------------------------------ mode subsets
+    def select(self, modes: Sequence[int] | np.ndarray) -> ModalData:
+        """The same body with a subset of its modes (indices into the current modes, in the given order)."""
+        idx = np.asarray(modes, dtype=np.int64).ravel()
+        if idx.size and (idx.min() < 0 or idx.max() >= self.n_modes or len(np.unique(idx)) != idx.size):
+            raise ValueError(f"modal data {self.title!r}: mode indices must be distinct in 0..{self.n_modes - 1}, "
+                             f"got {idx.tolist()}")
+        inv = dict(self.invariants)
+        inv["I3"] = inv["I3"][:, idx]
+        inv["I4"] = inv["I4"][:, idx]
+        inv["I5"] = inv["I5"][idx][:, :, idx]
+        inv["I6"] = inv["I6"][np.ix_(idx, idx)]
+        inv["I8"] = inv["I8"][idx]
+        inv["I9"] = inv["I9"][np.ix_(idx, idx)]
+        prov = dict(self.provenance)
+        before = prov.get("selected_modes", list(range(self.n_modes)))  # indices into the producer's modes
+        prov["selected_modes"] = [int(before[i]) for i in idx]
+        return replace(
+            self, translational_modes=self.translational_modes[idx], rotational_modes=self.rotational_modes[idx],
+            generalized_mass=self.generalized_mass[np.ix_(idx, idx)],
+            generalized_stiffness=self.generalized_stiffness[np.ix_(idx, idx)], frequencies=self.frequencies[idx],
+            invariants=inv, damping_ratio=None if self.damping_ratio is None else self.damping_ratio[idx],
+            stress_modes=None if self.stress_modes is None else self.stress_modes[idx], provenance=prov)
+
+    # ------------------------------------------------------------------ hashing
+    def content_hash(self) -> str:
+        """SHA-256 (hex) of everything the equations of a flexible body depend on: every array (name, dtype,
+        shape, little-endian bytes, in a fixed order), the units, the format version and the mass
+        description. Header text (title, creator, date) and provenance are left out, so the same data
+        written again, or under another name, hashes the same: the compiled-model cache keys on content."""
+        h = hashlib.sha256()
+        h.update(json.dumps({"format": FORMAT, "format_version": int(self.format_version), "units": dict(self.units),
+                             "mass_description": self.mass_description}, sort_keys=True).encode())
+        for name, array in self._arrays():
+            h.update(name.encode() + b"\0")
+            if array is None:
+                h.update(b"none\0")
+                continue
+            a = np.array(array, order="C")
+            a = a.astype(a.dtype.newbyteorder("<"), copy=False)
+            h.update(f"{a.dtype.str}{a.shape}".encode() + b"\0")
+            h.update(a.tobytes())
+        return h.hexdigest()
+
+    def _arrays(self) -> list[tuple[str, np.ndarray | None]]:
+        out: list[tuple[str, np.ndarray | None]] = [
+            (path, np.asarray(self.mass, dtype=np.float64) if attr == "mass" else getattr(self, attr))
+            for attr, (path, _, _) in _DATASETS.items()]
+        out += [(f"invariants/{k}", self.invariants[k]) for k in INVARIANT_NAMES]
+        return out
+
+    # ------------------------------------------------------------------ files
+    def write(self, path: str | os.PathLike[str]) -> Path:
+        """Write the HDF5 modal file atomically (temporary file in the same directory, then ``os.replace``).
+
+        Returns
+        -------
+        Path
+            The written file.
+
+        Raises
+        ------
+        ModalFileError
+            The file could not be written (the previous file, if any, is left untouched).
+        """
+        path = Path(path)
+        try:
+            fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+        except OSError as exc:
+            raise ModalFileError(f"{path}: cannot write the modal file: {exc}") from None
+        os.close(fd)
+        try:
+            with h5py.File(tmp, "w") as f:
+                f.attrs["format"] = FORMAT
+                f.attrs["format_version"] = int(self.format_version)
+                header = f.create_group("header")
+                header.attrs["title"] = self.title
+                header.attrs["creator"] = self.creator
+                header.attrs["date"] = self.date
+                units = f.create_group("units")
+                for k, v in self.units.items():
+                    units.attrs[k] = v
+                for name, array in self._arrays():
+                    if array is not None:
+                        f.create_dataset(name, data=array)
+                f["invariants"].attrs["mass_description"] = self.mass_description
+                f.attrs["provenance"] = json.dumps(self.provenance, sort_keys=True, default=str)
+            os.replace(tmp, path)
+        except (OSError, TypeError, ValueError) as exc:
+            raise ModalFileError(f"{path}: cannot write the modal file: {exc}") from None
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+        return path
+
+    @classmethod
+    def read(cls, path: str | os.PathLike[str]) -> ModalData:
+        """Read and validate a modal file.
+
+        Raises
+        ------
+        ModalFileError
+            Missing or truncated file, not a flexlib modal file, a future format version, a missing dataset,
+            a wrong dtype (e.g. a string where a number belongs), shape, non-finite value, non-symmetric or
+            indefinite mass/stiffness, units other than SI, or invariants that contradict the body properties.
+            The message names the file and the dataset.
+        """
+        name = os.fspath(path)
+        if not os.path.isfile(name):
+            raise ModalFileError(f"{name}: no such modal file")
+        try:
+            f = h5py.File(name, "r")
+        except OSError as exc:
+            raise ModalFileError(f"{name}: not a readable HDF5 modal file (truncated or damaged?): {exc}") from None
+        try:
+            with f:
+                kwargs = _read_all(f, name)
+        except ModalFileError:
+            raise
+        except (OSError, KeyError, RuntimeError) as exc:  # damaged data blocks inside a readable header
+            raise ModalFileError(f"{name}: damaged modal file: {exc}") from None
+        data = cls.__new__(cls)
+        for key, value in kwargs.items():
+            object.__setattr__(data, key, value)
+        data._check(name)
+        return data
+
+
+def _read_all(f: h5py.File, name: str) -> dict[str, Any]:
+    fmt = f.attrs.get("format")
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode()
+    if fmt != FORMAT:
+        raise ModalFileError(f"{name}: dataset '/' attribute 'format' is {fmt!r}, not {FORMAT!r}: not a flexlib "
+                             "modal file")
+    version = f.attrs.get("format_version")
+    if not isinstance(version, int | np.integer):
+        raise ModalFileError(f"{name}: dataset '/' attribute 'format_version' must be an integer, got {version!r}")
+    if version > FORMAT_VERSION:
+        raise ModalFileError(f"{name}: dataset '/' attribute 'format_version' is {int(version)}, newer than the "
+                             f"supported {FORMAT_VERSION}: update flexlib to read this file")
+    if version < 1:
+        raise ModalFileError(f"{name}: dataset '/' attribute 'format_version' {int(version)} is invalid")
+
+    def text(group: str, key: str) -> str:
+        if group not in f:
+            raise ModalFileError(f"{name}: group '/{group}' is missing")
+        value = f[group].attrs.get(key)
+        if isinstance(value, bytes):
+            value = value.decode()
+        if not isinstance(value, str):
+            raise ModalFileError(f"{name}: dataset '/{group}' attribute {key!r} must be a string, got {value!r}")
+        return value
+
+    out: dict[str, Any] = {"title": text("header", "title"), "creator": text("header", "creator"),
+                           "date": text("header", "date"), "format_version": int(version)}
+    if "units" not in f:
+        raise ModalFileError(f"{name}: group '/units' is missing")
+    out["units"] = {k: text("units", k) for k in f["units"].attrs}
+
+    def array(path: str, required: bool) -> np.ndarray | None:
+        if path not in f:
+            if required:
+                raise ModalFileError(f"{name}: dataset '/{path}' is missing")
+            return None
+        node = f[path]
+        if not isinstance(node, h5py.Dataset):
+            raise ModalFileError(f"{name}: '/{path}' must be a dataset, found a group")
+        value = node[()]
+        if not isinstance(value, np.ndarray):
+            value = np.asarray(value)
+        if not np.issubdtype(value.dtype, np.number) or np.issubdtype(value.dtype, np.complexfloating):
+            raise ModalFileError(f"{name}: dataset '/{path}' must be real numbers, got dtype {value.dtype} "
+                                 f"({value.ravel()[:1]!r}...)")
+        return value
+
+    for attr, (path, required, _) in _DATASETS.items():
+        out[attr] = array(path, required)
+    out["invariants"] = {k: array(f"invariants/{k}", True) for k in INVARIANT_NAMES}
+    out["mass_description"] = text("invariants", "mass_description")
+    prov = f.attrs.get("provenance", "{}")
+    try:
+        out["provenance"] = json.loads(prov.decode() if isinstance(prov, bytes) else prov)
+    except (TypeError, ValueError) as exc:
+        raise ModalFileError(f"{name}: dataset '/' attribute 'provenance' is not JSON: {exc}") from None
+    return out
+
+
+def _numeric(dataset: str, value: Any, shape: tuple[int, ...] | None, integer: bool = False) -> np.ndarray:
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise _Invalid(dataset, f"not an array: {exc}") from None
+    if not np.issubdtype(a.dtype, np.number) or np.issubdtype(a.dtype, np.complexfloating):
+        raise _Invalid(dataset, f"must be real numbers, got dtype {a.dtype}")
+    if shape is not None and a.shape != shape:
+        raise _Invalid(dataset, f"wrong shape {a.shape}, expected {shape}")
+    if integer:
+        if not np.issubdtype(a.dtype, np.integer):
+            if not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
+                raise _Invalid(dataset, "must be integers")
+        return _freeze(a.astype(np.int64))
+    a = a.astype(np.float64)
+    bad = ~np.isfinite(a)
+    if bad.any():
+        where = tuple(int(x) for x in np.argwhere(bad)[0])
+        raise _Invalid(dataset, f"non-finite value {a[where]} at index {where}")
+    return _freeze(a)
+
+
+def _symmetric(dataset: str, A: np.ndarray, definite: bool) -> None:
+    scale = max(np.abs(A).max(initial=0.0), 1e-300)
+    asym = np.abs(A - A.T).max(initial=0.0)
+    if asym > _REL * scale:
+        raise _Invalid(dataset, f"not symmetric: max |A - A^T| = {asym:.3g} (max |A| = {scale:.3g})")
+    if A.size == 0:
+        return
+    eig = np.linalg.eigvalsh((A + A.T) / 2)
+    if definite and eig.min() <= _REL * scale:
+        raise _Invalid(dataset, f"not positive definite: smallest eigenvalue {eig.min():.3g}")
+    if not definite and eig.min() < -_REL * scale:
+        raise _Invalid(dataset, f"not positive semidefinite: smallest eigenvalue {eig.min():.3g}")
+
+
+def _close(dataset: str, a: np.ndarray, b: np.ndarray, what: str, scale: float) -> None:
+    err = np.abs(np.asarray(a) - np.asarray(b)).max(initial=0.0)
+    if err > 1e-9 * max(scale, 1e-300):
+        raise _Invalid(dataset, f"contradicts {what} (difference {err:.3g})")
+
+
+def _validate(d: ModalData) -> dict[str, Any]:
+    """Check every field; return the normalised (float64/int64, read-only) arrays. Raises ``_Invalid``."""
+    out: dict[str, Any] = {}
+    if not isinstance(d.format_version, int | np.integer) or not 1 <= d.format_version <= FORMAT_VERSION:
+        raise _Invalid("", f"attribute 'format_version' {d.format_version!r} is not supported (1..{FORMAT_VERSION})")
+    if dict(d.units) != SI_UNITS:
+        wrong = {k: v for k, v in dict(d.units).items() if SI_UNITS.get(k) != v}
+        missing = sorted(set(SI_UNITS) - set(d.units))
+        raise _Invalid("units", f"must be SI {SI_UNITS}; wrong {wrong}, missing {missing}")
+    for key in ("title", "creator", "date", "mass_description"):
+        if not isinstance(getattr(d, key), str):
+            raise _Invalid("header", f"attribute {key!r} must be a string")
+    if d.mass_description not in ("consistent", "lumped"):
+        raise _Invalid("invariants", f"attribute 'mass_description' must be 'consistent' or 'lumped', "
+                                     f"got {d.mass_description!r}")
+    p = {attr: path for attr, (path, _, _) in _DATASETS.items()}
+    mass = _numeric(p["mass"], d.mass, ())
+    if mass <= 0:
+        raise _Invalid(p["mass"], f"must be positive, got {float(mass)!r} kg")
+    out["mass"] = float(mass)
+    out["center_of_mass"] = _numeric(p["center_of_mass"], d.center_of_mass, (3,))
+    out["inertia"] = _numeric(p["inertia"], d.inertia, (3, 3))
+    _symmetric(p["inertia"], out["inertia"], definite=False)
+    coords = _numeric(p["coordinates"], d.coordinates, None)
+    if coords.ndim != 2 or coords.shape[1] != 3:
+        raise _Invalid(p["coordinates"], f"wrong shape {coords.shape}, expected (N, 3)")
+    out["coordinates"] = coords
+    N = coords.shape[0]
+    ids = _numeric(p["node_ids"], d.node_ids, (N,), integer=True)
+    if len(np.unique(ids)) != N:
+        raise _Invalid(p["node_ids"], "node ids must be distinct")
+    out["node_ids"] = ids
+    for attr in ("elements", "faces"):
+        value = getattr(d, attr)
+        if value is None:
+            if attr == "elements":
+                raise _Invalid(p[attr], "is missing")
+            out[attr] = None
+            continue
+        conn = _numeric(p[attr], value, None, integer=True)
+        if conn.ndim != 2:
+            raise _Invalid(p[attr], f"wrong shape {conn.shape}, expected (count, nodes per {attr[:-1]})")
+        if conn.size and (conn.min() < 0 or conn.max() >= N):
+            raise _Invalid(p[attr], f"node index out of range 0..{N - 1}")
+        out[attr] = conn
+    iface = _numeric(p["interface_nodes"], d.interface_nodes, None, integer=True)
+    if iface.ndim != 1:
+        raise _Invalid(p["interface_nodes"], f"wrong shape {iface.shape}, expected (B,)")
+    unknown = sorted(set(iface.tolist()) - set(ids.tolist()))
+    if unknown:
+        raise _Invalid(p["interface_nodes"], f"node ids {unknown} are not in '/nodes/ids'")
+    out["interface_nodes"] = iface
+    freq = _numeric(p["frequencies"], d.frequencies, None)
+    if freq.ndim != 1:
+        raise _Invalid(p["frequencies"], f"wrong shape {freq.shape}, expected (M,)")
+    m = freq.shape[0]
+    out["frequencies"] = freq
+    for attr in ("translational_modes", "rotational_modes"):
+        out[attr] = _numeric(p[attr], getattr(d, attr), (m, N, 3))
+    Mg = _numeric(p["generalized_mass"], d.generalized_mass, (m, m))
+    Kg = _numeric(p["generalized_stiffness"], d.generalized_stiffness, (m, m))
+    _symmetric(p["generalized_mass"], Mg, definite=True)
+    _symmetric(p["generalized_stiffness"], Kg, definite=False)
+    out["generalized_mass"], out["generalized_stiffness"] = Mg, Kg
+    if m:
+        expected = np.sqrt(np.maximum(np.diag(Kg), 0.0) / np.diag(Mg)) / (2 * math.pi)
+        err = np.abs(freq - expected)
+        if np.any(err > 1e-6 * np.maximum(expected, expected.max() * 1e-6)):
+            j = int(np.argmax(err))
+            raise _Invalid(p["frequencies"], f"mode {j}: {freq[j]:.6g} Hz contradicts sqrt(K_jj/M_jj)/(2 pi) = "
+                                             f"{expected[j]:.6g} Hz from the generalised matrices")
+    if d.damping_ratio is None:
+        out["damping_ratio"] = None
+    else:
+        zeta = _numeric(p["damping_ratio"], d.damping_ratio, (m,))
+        if np.any(zeta < 0):
+            raise _Invalid(p["damping_ratio"], f"negative damping ratio at mode {int(np.argmin(zeta))}")
+        out["damping_ratio"] = zeta
+    out["stress_modes"] = None if d.stress_modes is None else _numeric(p["stress_modes"], d.stress_modes, (m, N, 6))
+    if not isinstance(d.invariants, Mapping):
+        raise _Invalid("invariants", "must map I1..I9 to arrays")
+    inv = {}
+    for k, shape in invariant_shapes(m).items():
+        if k not in d.invariants:
+            raise _Invalid(f"invariants/{k}", "is missing")
+        inv[k] = _numeric(f"invariants/{k}", d.invariants[k], shape)
+    _symmetric("invariants/I6", inv["I6"], definite=False)
+    _symmetric("invariants/I7", inv["I7"], definite=False)
+    _close("invariants/I1", inv["I1"], out["mass"], "'/body/mass'", out["mass"])
+    _close("invariants/I2", inv["I2"], out["mass"] * out["center_of_mass"], "'/body/mass' x '/body/center_of_mass'",
+           out["mass"] * max(np.abs(out["center_of_mass"]).max(), np.abs(coords).max(initial=0.0), 1e-300))
+    _close("invariants/I7", inv["I7"], out["inertia"], "'/body/inertia'", np.abs(out["inertia"]).max())
+    out["invariants"] = inv
+    try:
+        out["provenance"] = json.loads(json.dumps(dict(d.provenance), sort_keys=True, default=str))
+    except (TypeError, ValueError) as exc:
+        raise _Invalid("", f"attribute 'provenance' is not JSON-serialisable: {exc}") from None
+    out["units"] = dict(d.units)
+    out["format_version"] = int(d.format_version)
+    return out
+
