@@ -36,16 +36,6 @@ __all__ = ["COMPONENTS", "FEModel", "MassPoints", "read_fe", "read_matrix_market
 COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 
-def skew(v: np.ndarray) -> np.ndarray:
-    """Cross-product matrices ``[v x]`` of vectors ``v`` of shape ``(..., 3)`` -> ``(..., 3, 3)``."""
-    v = np.asarray(v, dtype=float)
-    out = np.zeros((*v.shape[:-1], 3, 3))
-    out[..., 0, 1], out[..., 0, 2] = -v[..., 2], v[..., 1]
-    out[..., 1, 0], out[..., 1, 2] = v[..., 2], -v[..., 0]
-    out[..., 2, 0], out[..., 2, 1] = -v[..., 1], v[..., 0]
-    return out
-
-
 @dataclass(frozen=True, eq=False)
 class MassPoints:
     """A mass description as points: the nine inertia invariants are sums over these points.

@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fe_model import MassPoints, skew
+from .fe_model import MassPoints
 
 __all__ = ["INVARIANT_NAMES", "inertia_invariants", "invariant_shapes"]
 
@@ -70,19 +70,29 @@ def inertia_invariants(points: MassPoints, modes: np.ndarray) -> dict[str, np.nd
     Pt = (points.Nt @ modes).reshape(P, 3, M)
     Pr = (points.Nr @ modes).reshape(P, 3, M)
     J = points.inertias
-    S = skew(points.positions)  # (P, 3, 3)
-    Ph = skew(np.transpose(Pt, (0, 2, 1)))  # (P, M, 3, 3): phi~_pj
-    opt = {"optimize": True}
+    s = points.positions
+    # second moments as matrix products (no P x M x M intermediates):
+    # C[a, j, b, k] = sum m Phi[a, j] Phi[b, k],  D[x, b, k] = sum m s[x] Phi[b, k],  S[x, y] = sum m s[x] s[y]
+    flat = Pt.reshape(P, 3 * M)
+    C = ((flat * m[:, None]).T @ flat).reshape(3, M, 3, M)
+    D = ((s * m[:, None]).T @ flat).reshape(3, 3, M)
+    S = (s * m[:, None]).T @ s
+    eye = np.eye(3)
+    eps = np.zeros((3, 3, 3))  # Levi-Civita symbol
+    eps[0, 1, 2] = eps[1, 2, 0] = eps[2, 0, 1] = 1.0
+    eps[0, 2, 1] = eps[2, 1, 0] = eps[1, 0, 2] = -1.0
+    # a~^T b~ = (a . b) I - b a^T ;  (a~ b)_c = eps_cxy a_x b_y
+    dotC = np.einsum("ajak->jk", C)
     inv = {
         "I1": np.asarray(m.sum()),
-        "I2": m @ points.positions,
-        "I3": np.einsum("p,pam->am", m, Pt, **opt),
-        "I4": np.einsum("p,pab,pbm->am", m, S, Pt, **opt) + np.einsum("pab,pbm->am", J, Pr, **opt),
-        "I5": np.einsum("p,pjab,pbk->jak", m, Ph, Pt, **opt),
-        "I6": np.einsum("p,pam,pan->mn", m, Pt, Pt, **opt) + np.einsum("pam,pab,pbn->mn", Pr, J, Pr, **opt),
-        "I7": np.einsum("p,pba,pbc->ac", m, S, S, **opt) + J.sum(axis=0),
-        "I8": np.einsum("p,pba,pjbc->jac", m, S, Ph, **opt),
-        "I9": np.einsum("p,pjba,pkbc->jkac", m, Ph, Ph, **opt),
+        "I2": m @ s,
+        "I3": np.einsum("p,pam->am", m, Pt),
+        "I4": np.einsum("cxy,xyk->ck", eps, D) + np.einsum("pab,pbm->am", J, Pr),
+        "I5": np.einsum("cxy,xjyk->jck", eps, C),
+        "I6": dotC + np.einsum("pam,pab,pbn->mn", Pr, J, Pr, optimize=True),
+        "I7": np.trace(S) * eye - S.T + J.sum(axis=0),
+        "I8": np.einsum("ab,xxj->jab", eye, D) - np.einsum("abj->jba", D),
+        "I9": np.einsum("jk,ab->jkab", dotC, eye) - np.einsum("bjak->jkab", C),
     }
     for name in ("I6", "I7"):
         inv[name] = (inv[name] + inv[name].T) / 2
