@@ -73,6 +73,8 @@ CASES = {
     "unknown interface node": (modify("interface/node_ids", lambda a: a + 100), "/interface/node_ids",
                                "not in '/nodes/ids'"),
     "element index out of range": (modify("nodes/elements", lambda a: a + 50), "/nodes/elements", "out of range"),
+    "wrong shape section forces": (modify("modes/section_forces", lambda a: a[:, :-1]), "/modes/section_forces",
+                                   "wrong shape"),
     "non-SI units": (lambda f: f["units"].attrs.__setitem__("length", "mm"), "/units", "must be SI"),
     "future format version": (lambda f: f.attrs.__setitem__("format_version", 99), "format_version",
                               "newer than the supported"),

@@ -1,8 +1,8 @@
 """Modal data for flexible bodies: beam FE mesher, FE matrix files, Craig–Bampton reduction, inertia
 invariants, the open HDF5 modal file, mode selection and default modal damping (SI units throughout)."""
 
-from .beam import beam_mesh, element_matrices
-from .fe_model import COMPONENTS, FEModel, MassPoints, read_fe, read_matrix_market
+from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
+from .fe_model import COMPONENTS, BeamElements, FEModel, MassPoints, read_fe, read_matrix_market
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
 from .reduction import CraigBamptonResult, craig_bampton, modal_data_from_fe
@@ -22,6 +22,7 @@ __all__ = [
     "FORMAT_VERSION",
     "INVARIANT_NAMES",
     "SI_UNITS",
+    "BeamElements",
     "CraigBamptonResult",
     "FEModel",
     "MassPoints",
@@ -30,6 +31,7 @@ __all__ = [
     "ParticipationTable",
     "Section",
     "beam_mesh",
+    "beam_stress_modes",
     "box",
     "circle",
     "craig_bampton",
@@ -44,6 +46,7 @@ __all__ = [
     "read_fe",
     "read_matrix_market",
     "rectangle",
+    "section_force_modes",
     "select_modes",
     "tube",
 ]

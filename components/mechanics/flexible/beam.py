@@ -37,10 +37,10 @@ from typing import Literal
 import numpy as np
 import scipy.sparse as sp
 
-from .fe_model import FEModel, MassPoints
+from .fe_model import BeamElements, FEModel, MassPoints
 from .sections import Section
 
-__all__ = ["beam_mesh", "element_matrices"]
+__all__ = ["beam_mesh", "beam_stress_modes", "element_matrices", "section_force_modes"]
 
 SectionLike = Section | Callable[[float], Section]
 _GAUSS_STIFFNESS = 8  # points for the flexibility integrals (exact for compliance polynomials of degree 13)
@@ -240,6 +240,8 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     P = n_elements * _GAUSS_MASS
     positions, masses, inertias = np.zeros((P, 3)), np.zeros(P), np.zeros((P, 3, 3))
     nt_rows, nt_cols, nt_vals, nr_vals = [], [], [], []
+    k_local = np.zeros((n_elements, 12, 12))
+    ends = np.zeros((3, n_elements, 2))  # A, Iy, Iz at the two ends
     for e in range(n_elements):
         def local(xi: float, e: int = e) -> Section:
             return _section_at(section, (e + xi) / n_elements)
@@ -247,6 +249,10 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
         Ke, Me = element_matrices(L, local, E, G, rho, timoshenko=timoshenko, rotary_inertia=rotary,
                                   lumped=mass == "lumped")
         Kg, Mg = T.T @ Ke @ T, T.T @ Me @ T
+        k_local[e] = Ke
+        for end, xi in enumerate((0.0, 1.0)):
+            sec = local(xi)
+            ends[:, e, end] = sec.A, sec.Iy, sec.Iz
         idx = np.arange(6 * e, 6 * e + 12)
         rows.append(np.repeat(idx, 12))
         cols.append(np.tile(idx, 12))
@@ -287,4 +293,74 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
                             f"consistent (element Gauss points, {_GAUSS_MASS} per element)")
     else:
         points = model.lumped_mass_points()
-    return FEModel(model.M, model.K, nodes, dof_map, model.node_ids, elements, points, info)
+    beam = BeamElements(k_local, np.repeat(R[None], n_elements, axis=0),
+                        6 * np.arange(n_elements)[:, None] + np.arange(12)[None, :], *ends)
+    return FEModel(model.M, model.K, nodes, dof_map, model.node_ids, elements, points, info, beam=beam)
+
+
+def section_force_modes(fe: FEModel, modes: np.ndarray) -> np.ndarray:
+    """Section forces at both ends of every frame element for each displacement field (mode) on the FE DOFs.
+
+    Parameters
+    ----------
+    fe : FEModel
+        A model from :func:`beam_mesh` (possibly constrained).
+    modes : ndarray (n, M)
+        Displacement fields [m, rad per unit modal coordinate].
+
+    Returns
+    -------
+    ndarray (M, E, 2, 6)
+        ``(N, Vy, Vz, T, My, Mz)`` [N, N, N, N m, N m, N m] in element axes on the section's positive face at
+        the element's first and second node (static equilibrium of the element: ``k_local @ T d``; exact
+        beam-theory resultants for nodal loading).
+    """
+    if fe.beam is None:
+        raise ValueError("section_force_modes: the FE model has no frame-element data (not from beam_mesh)")
+    b = fe.beam
+    modes = np.asarray(modes, dtype=float)
+    padded = np.vstack([modes, np.zeros((1, modes.shape[1]))])  # row -1: held DOFs
+    d = padded[b.dofs]  # (E, 12, M)
+    rot = np.einsum("eab,enbm->enam", b.rotation, d.reshape(d.shape[0], 4, 3, -1)).reshape(d.shape)
+    f = np.einsum("eij,ejm->emi", b.k_local, rot)  # (E, M, 12) end forces on the element
+    out = np.stack([-f[..., :6], f[..., 6:]], axis=2)  # section forces on the positive face
+    return np.transpose(out, (1, 0, 2, 3))
+
+
+def beam_stress_modes(fe: FEModel, modes: np.ndarray, fibre: tuple[float, float]) -> np.ndarray:
+    """Normal stress at a fibre ``(y, z)`` of the section, per node and mode, as a stress tensor in body axes.
+
+    ``sigma_xx = N/A + My z/Iy - Mz y/Iz`` (Euler–Bernoulli/Timoshenko beam theory, Przemieniecki 1968 §5.6
+    sign conventions), averaged over the element ends meeting at a node, returned as the uniaxial tensor
+    ``sigma e_x e_x^T`` in body axes (its von Mises stress is ``|sigma_xx|``). Shear stresses of torsion and
+    transverse shear are not included.
+
+    Parameters
+    ----------
+    fe : FEModel
+        A model from :func:`beam_mesh`.
+    modes : ndarray (n, M)
+        Displacement fields [m, rad per unit modal coordinate].
+    fibre : (float, float)
+        Fibre position ``(y, z)`` in the section's principal axes [m], e.g. ``(h/2, b/2)`` for a corner.
+
+    Returns
+    -------
+    ndarray (M, N, 6)
+        ``(sxx, syy, szz, sxy, syz, szx)`` [Pa per unit modal coordinate] at each node.
+    """
+    y, z = (float(v) for v in fibre)
+    sf = section_force_modes(fe, modes)  # (M, E, 2, 6)
+    b = fe.beam
+    sigma = sf[..., 0] / b.A + sf[..., 4] * z / b.Iy - sf[..., 5] * y / b.Iz  # (M, E, 2)
+    ex = b.rotation[:, 0, :]  # (E, 3)
+    dyad = np.stack([ex[:, 0] ** 2, ex[:, 1] ** 2, ex[:, 2] ** 2, ex[:, 0] * ex[:, 1], ex[:, 1] * ex[:, 2],
+                     ex[:, 2] * ex[:, 0]], axis=1)  # (E, 6)
+    N = fe.nodes.shape[0]
+    total = np.zeros((sigma.shape[0], N, 6))
+    count = np.zeros(N)
+    for end in range(2):
+        nodes = fe.elements[:, end]
+        np.add.at(total, (slice(None), nodes), sigma[:, :, end, None] * dyad[None])
+        np.add.at(count, nodes, 1.0)
+    return total / np.maximum(count, 1.0)[None, :, None]

@@ -30,7 +30,7 @@ import scipy.sparse as sp
 
 from flexlib.errors import ModalFileError
 
-__all__ = ["COMPONENTS", "FEModel", "MassPoints", "read_fe", "read_matrix_market"]
+__all__ = ["COMPONENTS", "BeamElements", "FEModel", "MassPoints", "read_fe", "read_matrix_market"]
 
 #: Names of the six components of a node, in ``dof_map`` column order.
 COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -72,6 +72,35 @@ class MassPoints:
 
 
 @dataclass(frozen=True, eq=False)
+class BeamElements:
+    """Per-element data of frame elements, for recovering section forces and stresses from displacements.
+
+    Parameters
+    ----------
+    k_local : ndarray, shape (E, 12, 12)
+        Element stiffness in local axes [N/m, N, N m].
+    rotation : ndarray, shape (E, 3, 3)
+        Rows: the element's local x, y, z axes in the body frame [1].
+    dofs : ndarray of int, shape (E, 12)
+        Global DOF rows of the element's 12 DOFs (``-1``: held at zero).
+    A, Iy, Iz : ndarray, shape (E, 2)
+        Section area [m2] and second moments [m4] at the element's two ends.
+    """
+
+    k_local: np.ndarray
+    rotation: np.ndarray
+    dofs: np.ndarray
+    A: np.ndarray
+    Iy: np.ndarray
+    Iz: np.ndarray
+
+    def drop_dofs(self, new_index: np.ndarray) -> BeamElements:
+        """The same elements after a DOF renumbering (``new_index[old] = new`` or ``-1``)."""
+        dofs = np.where(self.dofs >= 0, new_index[np.maximum(self.dofs, 0)], -1)
+        return replace(self, dofs=dofs)
+
+
+@dataclass(frozen=True, eq=False)
 class FEModel:
     """Sparse FE mass and stiffness matrices with node coordinates and the node/DOF map.
 
@@ -93,6 +122,8 @@ class FEModel:
         Consistent nodal loads [N, N m] of a unit uniform acceleration field along x, y, z [m/s2] (``M`` times
         the rigid translation fields of the unconstrained model); default computed from ``M``. Kept through
         :meth:`constrained`, where ``M`` alone would miss the mass coupled to the removed DOFs.
+    beam : BeamElements, optional
+        Frame-element data (from the beam mesher) for section forces and stresses.
     info : dict
         Provenance (mesher settings, source file) as JSON-serialisable values.
     """
@@ -106,6 +137,7 @@ class FEModel:
     mass_points: MassPoints | None = None
     info: dict[str, Any] = field(default_factory=dict)
     unit_loads: np.ndarray | None = None
+    beam: BeamElements | None = None
 
     def __post_init__(self) -> None:
         n = self.M.shape[0]
@@ -175,7 +207,7 @@ class FEModel:
         loads = self.gravity_loads()[keep]
         return replace(self, M=self.M[keep][:, keep].tocsr(), K=self.K[keep][:, keep].tocsr(), dof_map=dof_map,
                        mass_points=None if self.mass_points is None else self.mass_points.drop_dofs(keep), info=info,
-                       unit_loads=loads)
+                       unit_loads=loads, beam=None if self.beam is None else self.beam.drop_dofs(new_index))
 
     def translation_field(self, vector: Sequence[float]) -> np.ndarray:
         """DOF vector of a uniform translation ``vector`` [m] of all nodes (rotations zero)."""

@@ -57,6 +57,7 @@ _DATASETS: dict[str, tuple[str, bool, bool]] = {
     "frequencies": ("modes/frequencies", True, False),
     "damping_ratio": ("modes/damping_ratio", False, False),
     "stress_modes": ("modes/stress", False, False),
+    "section_forces": ("modes/section_forces", False, False),
 }
 _REL = 1e-9  # relative tolerance of the symmetry and consistency checks
 
@@ -113,6 +114,9 @@ class ModalData:
         Stress per unit modal coordinate at each node [Pa] (sxx, syy, szz, sxy, syz, szx).
     faces : ndarray of int (F, k), optional
         Surface faces for drawing, as indices into ``coordinates``.
+    section_forces : ndarray (M, E, 2, 6), optional
+        Beam models: section forces ``(N, Vy, Vz, T, My, Mz)`` [N, N m per unit modal coordinate] in element
+        axes at both ends of each element of ``elements``.
     provenance : dict
         How the data were made (reduction, FE source, settings); JSON-serialisable.
     units : dict
@@ -146,6 +150,7 @@ class ModalData:
     damping_ratio: np.ndarray | None = None
     stress_modes: np.ndarray | None = None
     faces: np.ndarray | None = None
+    section_forces: np.ndarray | None = None
     provenance: Mapping[str, Any] = field(default_factory=dict)
     date: str = field(default_factory=lambda: _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"))
     units: Mapping[str, str] = field(default_factory=lambda: dict(SI_UNITS))
@@ -214,7 +219,8 @@ class ModalData:
             generalized_mass=self.generalized_mass[np.ix_(idx, idx)],
             generalized_stiffness=self.generalized_stiffness[np.ix_(idx, idx)], frequencies=self.frequencies[idx],
             invariants=inv, damping_ratio=None if self.damping_ratio is None else self.damping_ratio[idx],
-            stress_modes=None if self.stress_modes is None else self.stress_modes[idx], provenance=prov)
+            stress_modes=None if self.stress_modes is None else self.stress_modes[idx],
+            section_forces=None if self.section_forces is None else self.section_forces[idx], provenance=prov)
 
     # ------------------------------------------------------------------ hashing
     def content_hash(self) -> str:
@@ -501,6 +507,9 @@ def _validate(d: ModalData) -> dict[str, Any]:
             raise _Invalid(p["damping_ratio"], f"negative damping ratio at mode {int(np.argmin(zeta))}")
         out["damping_ratio"] = zeta
     out["stress_modes"] = None if d.stress_modes is None else _numeric(p["stress_modes"], d.stress_modes, (m, N, 6))
+    n_el = out["elements"].shape[0]
+    out["section_forces"] = (None if d.section_forces is None
+                             else _numeric(p["section_forces"], d.section_forces, (m, n_el, 2, 6)))
     if not isinstance(d.invariants, Mapping):
         raise _Invalid("invariants", "must map I1..I9 to arrays")
     inv = {}

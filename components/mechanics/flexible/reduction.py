@@ -190,7 +190,8 @@ def craig_bampton(M: sp.spmatrix | np.ndarray, K: sp.spmatrix | np.ndarray, inte
 
 def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int, *, free: bool = True,
                        orthogonalize: bool = True, title: str = "", creator: str = "flexlib",
-                       damping_ratio: np.ndarray | None = None) -> Any:
+                       damping_ratio: np.ndarray | None = None,
+                       stress_fibre: tuple[float, float] | None = None) -> Any:
     """Reduce an FE model by Craig–Bampton and assemble a :class:`ModalData` (modes per node, generalised
     matrices, frequencies, the nine inertia invariants, body properties and provenance).
 
@@ -211,6 +212,10 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     damping_ratio : ndarray, optional
         Modal damping ratios [1] per kept mode; default: the frequency rule of
         :func:`~flexlib.components.mechanics.flexible.selection.default_damping_ratio` when used.
+    stress_fibre : (float, float), optional
+        Beam models: section fibre ``(y, z)`` [m] at which stress modes are recovered
+        (:func:`~flexlib.components.mechanics.flexible.beam.beam_stress_modes`); beam models always get their
+        section-force modes.
 
     Returns
     -------
@@ -218,8 +223,11 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         Body properties from the mass description: mass = I1 [kg], centre of mass = I2 / I1 [m], inertia about
         the body-frame origin = I7 [kg m2].
     """
+    from .beam import beam_stress_modes, section_force_modes
     from .modal_data import ModalData
 
+    if stress_fibre is not None and fe.beam is None:
+        raise ValueError("modal_data_from_fe: stress_fibre needs a beam model (from beam_mesh)")
     interface_nodes = [int(k) for k in interface_nodes]
     dofs = fe.dofs(interface_nodes)
     cb = craig_bampton(fe.M, fe.K, dofs, n_modes, rigid_body_modes=fe.rigid_body_modes() if free else None,
@@ -245,6 +253,7 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         "n_fe_dofs": int(fe.n_dofs),
         "mass_description": points.description,
         "fe": fe.info,
+        "stress_fibre_m": None if stress_fibre is None else [float(v) for v in stress_fibre],
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
     }
     return ModalData(
@@ -253,4 +262,6 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         interface_nodes=np.asarray(interface_nodes, dtype=np.int64), translational_modes=trans,
         rotational_modes=rot, generalized_mass=cb.generalized_mass, generalized_stiffness=cb.generalized_stiffness,
         frequencies=cb.frequencies, invariants=inv, mass_description=points.description.split(" ")[0],
-        damping_ratio=damping_ratio, provenance=provenance)
+        damping_ratio=damping_ratio, provenance=provenance,
+        section_forces=None if fe.beam is None else section_force_modes(fe, cb.modes),
+        stress_modes=None if stress_fibre is None else beam_stress_modes(fe, cb.modes, stress_fibre))
