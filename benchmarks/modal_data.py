@@ -1,0 +1,124 @@
+"""Issue 10, part 1 (modal data): accuracy of the beam mesher + Craig–Bampton reduction against closed forms,
+the MPF table of the seed-001 beam beside the paper's Table 2, and the CPU cost of producing, writing, reading
+and hashing modal data for a 500-node body with 5…40 modes. Prints tables; asserts nothing.
+
+    python benchmarks/modal_data.py        # ~20 s
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import time
+from pathlib import Path
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import numpy as np
+import scipy.linalg as la
+
+from flexlib.components.mechanics.flexible import (
+    ModalData,
+    Section,
+    beam_mesh,
+    box,
+    craig_bampton,
+    modal_data_from_fe,
+    modal_participation,
+    rectangle,
+)
+
+
+def bending_y(md: ModalData) -> np.ndarray:
+    t = md.translational_modes
+    parts = np.einsum("mna,mna->ma", t, t)
+    return (parts[:, 1] > 0.9 * parts.sum(axis=1)) & (parts[:, 1] > 1e-9 * parts[:, 1].max())
+
+
+def row(label: str, errors: np.ndarray) -> None:
+    print(f"{label:<44}" + "".join(f"{x:10.4f} " for x in 100 * errors))
+
+
+def accuracy() -> None:
+    E, rho, L, sec = 2.1e11, 7850.0, 2.0, rectangle(0.02, 0.03)
+    scale = math.sqrt(E * sec.Iz / (rho * sec.A * L**4))
+    print("Mesher + improved Craig–Bampton vs Euler–Bernoulli closed form, first three x-y bending modes")
+    print(f"{'case':<44} {'err 1 [%]':>10} {'err 2 [%]':>10} {'err 3 [%]':>10}")
+    for mass, n_el in (("consistent", 32), ("lumped", 32), ("lumped", 64)):
+        fe = beam_mesh((0, 0, 0), (L, 0, 0), n_el, sec, E=E, rho=rho, mass=mass)
+        md = modal_data_from_fe(fe, [0, n_el], 12)
+        got = 2 * math.pi * md.frequencies[bending_y(md)][:3]
+        ref = np.array([4.7300, 7.8532, 10.9956]) ** 2 * scale
+        row(f"free-free, {mass}, {n_el} el., 12 modes", got / ref - 1)
+        fc = fe.constrained([0])
+        cb = craig_bampton(fc.M, fc.K, fc.dofs([n_el]), 12)
+        t = cb.modes[fc.dof_map[:, 1][fc.dof_map[:, 1] >= 0]]
+        mask = np.sum(t**2, axis=0) > 0.9 * np.sum(cb.modes[np.concatenate(
+            [fc.dof_map[:, a][fc.dof_map[:, a] >= 0] for a in range(3)])] ** 2, axis=0)
+        got = cb.omega[mask][:3]
+        ref = np.array([1.8751, 4.6941, 7.8548]) ** 2 * scale
+        row(f"clamped, {mass}, {n_el} el., 12 modes", got / ref - 1)
+    # seed 001 pinned-free through the linearised floating frame (see tests/.../test_craig_bampton.py)
+    s = Section(A=1e-4, Iy=1e-10, Iz=1e-10, J=2e-10, name="seed 001")
+    fe = beam_mesh((0, 0, 0), (1.5, 0, 0), 32, s, E=2e11, rho=8000.0)
+    md = modal_data_from_fe(fe, [0, 32], 10)
+    inv, m = md.invariants, md.n_modes
+    Mf = np.zeros((6 + m, 6 + m))
+    c = inv["I2"]
+    I2x = np.array([[0, -c[2], c[1]], [c[2], 0, -c[0]], [-c[1], c[0], 0]])
+    Mf[:3, :3], Mf[:3, 3:6], Mf[3:6, :3] = float(inv["I1"]) * np.eye(3), -I2x, I2x
+    Mf[:3, 6:], Mf[6:, :3], Mf[3:6, 3:6] = inv["I3"], inv["I3"].T, inv["I7"]
+    Mf[3:6, 6:], Mf[6:, 3:6], Mf[6:, 6:] = inv["I4"], inv["I4"].T, inv["I6"]
+    Kf = np.zeros_like(Mf)
+    Kf[6:, 6:] = md.generalized_stiffness
+    N = la.null_space(np.hstack([np.eye(3), np.zeros((3, 3)), md.translational_modes[:, 0, :].T]))
+    w = np.sqrt(np.clip(la.eigh(N.T @ Kf @ N, N.T @ Mf @ N, eigvals_only=True), 0, None))
+    got = np.unique(np.round(w[w > 1.0], 3))[:3]
+    ref = np.array([3.9266, 7.0686, 10.2102]) ** 2 * math.sqrt(2e11 * 1e-10 / (8000 * 1e-4 * 1.5**4))
+    row("seed-001 pinned-free, 32 el., 10 modes", got / ref - 1)
+
+
+def mpf_table() -> None:
+    s = Section(A=1e-4, Iy=4e-10, Iz=1e-10, J=2e-10, name="seed 001")
+    fe = beam_mesh((0, 0, 0), (1.5, 0, 0), 64, s, E=2e11, rho=8000.0)
+    b = np.concatenate([fe.dofs([0]), fe.dofs([64], ["ux", "uy", "uz"])])
+    cb = craig_bampton(fe.M, fe.K, b, 30, orthogonalize=False)
+    field = np.zeros(fe.n_dofs)
+    field[fe.dof_map[:, 1]] = fe.nodes[:, 0]
+    field[fe.dof_map[:, 5]] = 1.0
+    table = modal_participation(cb.basis[:, b.size:], cb.fixed_interface_omega**2, fe.M @ field,
+                                frequencies=cb.fixed_interface_omega / (2 * math.pi))
+    rows = [r for r in table.rows if r.share > 1e-6][:7]
+    paper = [100, 3.46, 0.77, 0.17, 0.06, 0.02, 0.01]
+    print("\nSeed-001 beam, clamped-pinned (fixed-interface) bending modes, 64 elements, load rho A alpha x")
+    print(f"{'mode':>4} {'f [Hz]':>9} {'MPF [%]':>9} {'paper Table 2':>14}")
+    for k, (r, p) in enumerate(zip(rows, paper)):
+        print(f"{k + 1:>4} {r.frequency:9.3f} {r.share:9.3f} {p:14.2f}")
+
+
+def timing() -> None:
+    print("\n500-node Timoshenko box beam (499 elements, 3000 DOFs), interface at both ends; CPU seconds")
+    print(f"{'modes':>5} {'n kept':>6} {'mesh':>7} {'reduce+inv':>10} {'write':>7} {'read':>7} {'hash':>7} {'MB':>6}")
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in (5, 10, 20, 40):
+            t0 = time.process_time()
+            fe = beam_mesh((0, 0, 0), (5.0, 0, 0), 499, box(0.2, 0.3, 0.01), E=2.1e11, rho=7850.0,
+                           theory="timoshenko")
+            t1 = time.process_time()
+            md = modal_data_from_fe(fe, [0, 499], n)
+            t2 = time.process_time()
+            path = md.write(Path(tmp) / f"m{n}.h5")
+            t3 = time.process_time()
+            back = ModalData.read(path)
+            t4 = time.process_time()
+            back.content_hash()
+            t5 = time.process_time()
+            print(f"{n:>5} {md.n_modes:>6} {t1 - t0:7.3f} {t2 - t1:10.3f} {t3 - t2:7.3f} {t4 - t3:7.3f} "
+                  f"{t5 - t4:7.4f} {path.stat().st_size / 1e6:6.2f}")
+
+
+if __name__ == "__main__":
+    accuracy()
+    mpf_table()
+    timing()
