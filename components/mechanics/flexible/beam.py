@@ -242,13 +242,17 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     nt_rows, nt_cols, nt_vals, nr_vals = [], [], [], []
     k_local = np.zeros((n_elements, 12, 12))
     ends = np.zeros((3, n_elements, 2))  # A, Iy, Iz at the two ends
+    uniform: tuple[np.ndarray, ...] | None = None
+    shapes: dict[tuple[int, float, float], tuple[np.ndarray, np.ndarray]] = {}
     for e in range(n_elements):
         def local(xi: float, e: int = e) -> Section:
             return _section_at(section, (e + xi) / n_elements)
 
-        Ke, Me = element_matrices(L, local, E, G, rho, timoshenko=timoshenko, rotary_inertia=rotary,
-                                  lumped=mass == "lumped")
-        Kg, Mg = T.T @ Ke @ T, T.T @ Me @ T
+        if uniform is None or callable(section):  # a uniform beam's elements are all the same
+            Ke, Me = element_matrices(L, local, E, G, rho, timoshenko=timoshenko, rotary_inertia=rotary,
+                                      lumped=mass == "lumped")
+            uniform = (Ke, Me, T.T @ Ke @ T, T.T @ Me @ T)
+        Ke, Me, Kg, Mg = uniform
         k_local[e] = Ke
         for end, xi in enumerate((0.0, 1.0)):
             sec = local(xi)
@@ -265,15 +269,18 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
             for g, (xi, w) in enumerate(zip(xg, wg)):
                 p = e * _GAUSS_MASS + g
                 sec = local(xi)
-                Nt, Nr = _shape(xi, L, phi_y, phi_z)
+                key = (g, phi_y, phi_z)
+                if key not in shapes:
+                    Nt, Nr = _shape(xi, L, phi_y, phi_z)
+                    shapes[key] = ((R.T @ Nt @ T).ravel(), (R.T @ Nr @ T).ravel())
                 positions[p] = p0 + (e + xi) / n_elements * axis
                 masses[p] = rho * sec.A * w * L
                 r = 1.0 if rotary else 0.0
                 inertias[p] = R.T @ (rho * w * L * np.diag([sec.Ip, r * sec.Iy, r * sec.Iz])) @ R
                 nt_rows.append(np.repeat(np.arange(3 * p, 3 * p + 3), 12))
                 nt_cols.append(np.tile(idx, 3))
-                nt_vals.append((R.T @ Nt @ T).ravel())
-                nr_vals.append((R.T @ Nr @ T).ravel())
+                nt_vals.append(shapes[key][0])
+                nr_vals.append(shapes[key][1])
     K = sp.csr_matrix((np.concatenate(kvals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
     M = sp.csr_matrix((np.concatenate(mvals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
     K, M = (K + K.T) / 2, (M + M.T) / 2
