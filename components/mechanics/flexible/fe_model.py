@@ -243,12 +243,11 @@ class FEModel:
             trans = np.zeros(self.n_dofs)
             trans[rows[has]] = 1.0
             masses[has] += (M[rows[has]] @ trans) / 3.0
-        for p in range(N):
-            rows = self.dof_map[p, 3:]
-            for a in range(3):
-                for b in range(3):
-                    if rows[a] >= 0 and rows[b] >= 0:
-                        inertias[p, a, b] = M[rows[a], rows[b]]
+        for a in range(3):
+            for b in range(3):
+                ra, rb = self.dof_map[:, 3 + a], self.dof_map[:, 3 + b]
+                both = (ra >= 0) & (rb >= 0)
+                inertias[both, a, b] = np.asarray(M[ra[both], rb[both]]).ravel()
         return MassPoints(self.nodes.copy(), masses, inertias, self._selector(range(3)), self._selector(range(3, 6)),
                           "lumped (translational row sums of M per node, rotational diagonal blocks)")
 

@@ -249,3 +249,21 @@ def test_modal_section_forces_reproduce_static_moment():
     assert np.abs(Mz - P * (L - x)).max() < 1e-9 * P * L
     sigma_root = q @ md.stress_modes[:, md.node_index(0), 0]
     assert sigma_root == pytest.approx(-P * L * (h / 2) / SEC.Iz, rel=1e-9)
+
+
+def test_external_fe_model_gets_lumped_invariants(tmp_path):
+    """An FE model read from a file (no element data) gets the lumped description from M: nodal masses are the
+    translational row sums (total mass rho A L exact, 1e-12; centre of mass L/2 exact for a uniform beam, whose
+    row sums are symmetric), and the invariants are marked "lumped"; frequencies equal those of the beam model."""
+    from flexlib.components.mechanics.flexible import read_fe
+
+    fe = beam_mesh((0, 0, 0), (L, 0, 0), 16, SEC, E=E, rho=RHO)
+    fe.write_npz(tmp_path / "beam.npz")
+    ext = read_fe(tmp_path / "beam.npz")
+    md = modal_data_from_fe(ext, [0, 16], 6)
+    ref = modal_data_from_fe(fe, [0, 16], 6)
+    assert md.mass_description == "lumped" and ref.mass_description == "consistent"
+    assert md.mass == pytest.approx(RHO * SEC.A * L, rel=1e-12)
+    assert md.center_of_mass == pytest.approx([L / 2, 0, 0], abs=1e-12 * L)
+    assert md.frequencies == pytest.approx(ref.frequencies, rel=1e-10)
+    assert md.section_forces is None and ref.section_forces is not None
