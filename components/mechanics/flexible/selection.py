@@ -214,11 +214,15 @@ def default_damping_ratio(frequencies: np.ndarray | Sequence[float],
     """
     f = np.asarray(frequencies, dtype=float)
     zeta = np.where(f < 100.0, 0.01, np.where(f <= 1000.0, 0.10, 1.0))
+    return _override(zeta, overrides, "default_damping_ratio")
+
+
+def _override(zeta: np.ndarray, overrides: Mapping[int, float] | None, caller: str) -> np.ndarray:
     for mode, value in (overrides or {}).items():
-        if not 0 <= mode < f.size:
-            raise ValueError(f"default_damping_ratio: override for mode {mode}, but there are {f.size} modes")
+        if not 0 <= mode < zeta.size:
+            raise ValueError(f"{caller}: override for mode {mode}, but there are {zeta.size} modes")
         if not math.isfinite(value) or value < 0:
-            raise ValueError(f"default_damping_ratio: damping ratio of mode {mode} must be >= 0, got {value!r}")
+            raise ValueError(f"{caller}: damping ratio of mode {mode} must be >= 0, got {value!r}")
         zeta[mode] = value
     return zeta
 
@@ -233,10 +237,6 @@ def modal_damping_matrix(data: ModalData, overrides: Mapping[int, float] | None 
     overrides : mapping of mode index to float, optional
         Damping ratios [1] replacing the stored/default ones for given modes.
     """
-    zeta = np.array(data.damping_ratios(), dtype=float)
-    if overrides:
-        zeta = default_damping_ratio(data.frequencies, overrides) if data.damping_ratio is None else zeta
-        for mode, value in overrides.items():
-            zeta[mode] = value
+    zeta = _override(np.array(data.damping_ratios(), dtype=float), overrides, "modal_damping_matrix")
     omega = 2 * math.pi * data.frequencies
     return np.diag(2.0 * zeta * omega * np.diag(data.generalized_mass))

@@ -156,6 +156,8 @@ def test_modal_damping_matrix(data):
     omega = 2 * math.pi * data.frequencies
     zeta = default_damping_ratio(data.frequencies, {0: 0.05})
     assert np.diag(D) == pytest.approx(2 * zeta * omega * np.diag(data.generalized_mass))
+    with pytest.raises(ValueError, match="modal_damping_matrix: override for mode 99"):
+        modal_damping_matrix(data, {99: 0.1})
 
 
 def test_docs_example_runs(tmp_path, monkeypatch, capsys):
