@@ -23,6 +23,7 @@ import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any
 
 import h5py
@@ -76,7 +77,7 @@ def _freeze(a: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class ModalData:
-    """Modal data of one flexible body (immutable; arrays are read-only). All quantities SI.
+    """Modal data of one flexible body (immutable: arrays read-only, mappings read-only views). All SI.
 
     Parameters
     ----------
@@ -284,7 +285,7 @@ class ModalData:
                     if array is not None:
                         f.create_dataset(name, data=array)
                 f["invariants"].attrs["mass_description"] = self.mass_description
-                f.attrs["provenance"] = json.dumps(self.provenance, sort_keys=True, default=str)
+                f.attrs["provenance"] = json.dumps(dict(self.provenance), sort_keys=True, default=str)
             os.replace(tmp, path)
         except (OSError, TypeError, ValueError) as exc:
             raise ModalFileError(f"{path}: cannot write the modal file: {exc}") from None
@@ -523,12 +524,12 @@ def _validate(d: ModalData) -> dict[str, Any]:
     _close("invariants/I2", inv["I2"], out["mass"] * out["center_of_mass"], "'/body/mass' x '/body/center_of_mass'",
            out["mass"] * max(np.abs(out["center_of_mass"]).max(), np.abs(coords).max(initial=0.0), 1e-300))
     _close("invariants/I7", inv["I7"], out["inertia"], "'/body/inertia'", np.abs(out["inertia"]).max())
-    out["invariants"] = inv
+    out["invariants"] = MappingProxyType(inv)
     try:
-        out["provenance"] = json.loads(json.dumps(dict(d.provenance), sort_keys=True, default=str))
+        out["provenance"] = MappingProxyType(json.loads(json.dumps(dict(d.provenance), sort_keys=True, default=str)))
     except (TypeError, ValueError) as exc:
         raise _Invalid("", f"attribute 'provenance' is not JSON-serialisable: {exc}") from None
-    out["units"] = dict(d.units)
+    out["units"] = MappingProxyType(dict(d.units))
     out["format_version"] = int(d.format_version)
     return out
 

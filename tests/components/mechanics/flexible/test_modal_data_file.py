@@ -85,9 +85,13 @@ def test_hash_keys_on_content_not_header(data, tmp_path):
 
 
 def test_arrays_are_read_only(data):
-    """ModalData is immutable: its arrays cannot be written in place."""
+    """ModalData is immutable: no attribute can be set, no array or invariant replaced or written in place."""
     with pytest.raises(ValueError, match="read-only"):
         data.frequencies[0] = 1.0
+    with pytest.raises(TypeError):
+        data.invariants["I1"] = np.asarray(0.0)
+    with pytest.raises(AttributeError):
+        data.mass = 2.0
 
 
 def test_write_is_atomic(data, tmp_path, monkeypatch):
@@ -170,3 +174,15 @@ def test_docs_example_runs(tmp_path, monkeypatch, capsys):
     exec(compile(code, "docs/modal_file.md", "exec"), {})
     assert ModalData.read(tmp_path / "boom.fmod.h5").n_modes == 12 + 10 - 6
     assert capsys.readouterr().out.strip()
+
+
+def test_zero_mode_body_is_valid(tmp_path):
+    """One interface node and no fixed-interface modes: the six constraint modes are the rigid motions, so no
+    elastic mode is left; the modal data (rigid-body properties only, mass rho A L) write and read back."""
+    fe = beam_mesh((0, 0, 0), (1.0, 0, 0), 4, rectangle(0.02, 0.03), E=2.1e11, rho=7850.0)
+    md = modal_data_from_fe(fe, [0], 0)
+    assert md.n_modes == 0 and md.provenance["n_rigid_modes_removed"] == 6
+    back = ModalData.read(md.write(tmp_path / "rigid.h5"))
+    assert back.n_modes == 0 and back.invariants["I9"].shape == (0, 0, 3, 3)
+    assert back.mass == pytest.approx(7850.0 * 0.02 * 0.03 * 1.0, rel=1e-12)
+    assert back.content_hash() == md.content_hash()
