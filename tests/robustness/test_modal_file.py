@@ -17,7 +17,8 @@ from flexlib.components.mechanics.flexible import ModalData, beam_mesh, modal_da
 @pytest.fixture(scope="module")
 def good(tmp_path_factory) -> Path:
     fe = beam_mesh((0, 0, 0), (1.0, 0, 0), 6, rectangle(0.02, 0.03), E=2.1e11, rho=7850.0)
-    return modal_data_from_fe(fe, [0, 6], 4, title="good").write(tmp_path_factory.mktemp("modal") / "good.h5")
+    data = modal_data_from_fe(fe, [0, 6], 4, title="good", geometric_stiffening=True)
+    return data.write(tmp_path_factory.mktemp("modal") / "good.h5")
 
 
 def damaged(good: Path, tmp_path: Path, edit) -> Path:
@@ -75,6 +76,8 @@ CASES = {
     "element index out of range": (modify("nodes/elements", lambda a: a + 50), "/nodes/elements", "out of range"),
     "wrong shape section forces": (modify("modes/section_forces", lambda a: a[:, :-1]), "/modes/section_forces",
                                    "wrong shape"),
+    "non-symmetric geometric stiffness": (modify("geometric_stiffness/omega_zz", unsymmetric),
+                                          "/geometric_stiffness/omega_zz", "not symmetric"),
     "non-SI units": (lambda f: f["units"].attrs.__setitem__("length", "mm"), "/units", "must be SI"),
     "future format version": (lambda f: f.attrs.__setitem__("format_version", 99), "format_version",
                               "newer than the supported"),

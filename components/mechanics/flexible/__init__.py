@@ -3,6 +3,12 @@ invariants, the open HDF5 modal file, mode selection and default modal damping (
 
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
 from .fe_model import COMPONENTS, BeamElements, FEModel, MassPoints, read_fe, read_matrix_market
+from .geometric import (
+    geometric_stiffness_matrix,
+    inertial_load_cases,
+    interface_load_cases,
+    modal_geometric_stiffness,
+)
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
 from .reduction import CraigBamptonResult, craig_bampton, modal_data_from_fe
@@ -37,10 +43,14 @@ __all__ = [
     "craig_bampton",
     "default_damping_ratio",
     "element_matrices",
+    "geometric_stiffness_matrix",
     "i_section",
     "inertia_invariants",
+    "inertial_load_cases",
+    "interface_load_cases",
     "modal_damping_matrix",
     "modal_data_from_fe",
+    "modal_geometric_stiffness",
     "modal_participation",
     "nodal_generalized_forces",
     "read_fe",

@@ -118,6 +118,9 @@ class ModalData:
     section_forces : ndarray (M, E, 2, 6), optional
         Beam models: section forces ``(N, Vy, Vz, T, My, Mz)`` [N, N m per unit modal coordinate] in element
         axes at both ends of each element of ``elements``.
+    geometric_stiffness : mapping of str to ndarray (M, M), optional
+        Modal geometric stiffness per unit load case [N/m per unit coordinate and unit load] (see
+        :mod:`.geometric`): ``acc_x..z``, ``alpha_x..z``, ``omega_xx..zx``, ``F{node}_{ux..rz}``.
     provenance : dict
         How the data were made (reduction, FE source, settings); JSON-serialisable.
     units : dict
@@ -152,6 +155,7 @@ class ModalData:
     stress_modes: np.ndarray | None = None
     faces: np.ndarray | None = None
     section_forces: np.ndarray | None = None
+    geometric_stiffness: Mapping[str, np.ndarray] | None = None
     provenance: Mapping[str, Any] = field(default_factory=dict)
     date: str = field(default_factory=lambda: _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"))
     units: Mapping[str, str] = field(default_factory=lambda: dict(SI_UNITS))
@@ -221,7 +225,9 @@ class ModalData:
             generalized_stiffness=self.generalized_stiffness[np.ix_(idx, idx)], frequencies=self.frequencies[idx],
             invariants=inv, damping_ratio=None if self.damping_ratio is None else self.damping_ratio[idx],
             stress_modes=None if self.stress_modes is None else self.stress_modes[idx],
-            section_forces=None if self.section_forces is None else self.section_forces[idx], provenance=prov)
+            section_forces=None if self.section_forces is None else self.section_forces[idx],
+            geometric_stiffness=None if self.geometric_stiffness is None else
+            {k: v[np.ix_(idx, idx)] for k, v in self.geometric_stiffness.items()}, provenance=prov)
 
     # ------------------------------------------------------------------ hashing
     def content_hash(self) -> str:
@@ -248,6 +254,8 @@ class ModalData:
             (path, np.asarray(self.mass, dtype=np.float64) if attr == "mass" else getattr(self, attr))
             for attr, (path, _, _) in _DATASETS.items()]
         out += [(f"invariants/{k}", self.invariants[k]) for k in INVARIANT_NAMES]
+        if self.geometric_stiffness is not None:
+            out += [(f"geometric_stiffness/{k}", v) for k, v in sorted(self.geometric_stiffness.items())]
         return out
 
     # ------------------------------------------------------------------ files
@@ -378,6 +386,13 @@ def _read_all(f: h5py.File, name: str) -> dict[str, Any]:
     for attr, (path, required, _) in _DATASETS.items():
         out[attr] = array(path, required)
     out["invariants"] = {k: array(f"invariants/{k}", True) for k in INVARIANT_NAMES}
+    if "geometric_stiffness" in f:
+        group = f["geometric_stiffness"]
+        if not isinstance(group, h5py.Group):
+            raise ModalFileError(f"{name}: '/geometric_stiffness' must be a group of datasets")
+        out["geometric_stiffness"] = {k: array(f"geometric_stiffness/{k}", True) for k in group}
+    else:
+        out["geometric_stiffness"] = None
     out["mass_description"] = text("invariants", "mass_description")
     prov = f.attrs.get("provenance", "{}")
     try:
@@ -409,12 +424,13 @@ def _numeric(dataset: str, value: Any, shape: tuple[int, ...] | None, integer: b
     return _freeze(a)
 
 
-def _symmetric(dataset: str, A: np.ndarray, definite: bool) -> None:
+def _symmetric(dataset: str, A: np.ndarray, definite: bool | None) -> None:
+    """Symmetry; with ``definite`` True/False also positive definiteness/semidefiniteness (None: symmetry only)."""
     scale = max(np.abs(A).max(initial=0.0), 1e-300)
     asym = np.abs(A - A.T).max(initial=0.0)
     if asym > _REL * scale:
         raise _Invalid(dataset, f"not symmetric: max |A - A^T| = {asym:.3g} (max |A| = {scale:.3g})")
-    if A.size == 0:
+    if A.size == 0 or definite is None:
         return
     eig = np.linalg.eigvalsh((A + A.T) / 2)
     if definite and eig.min() <= _REL * scale:
@@ -511,6 +527,17 @@ def _validate(d: ModalData) -> dict[str, Any]:
     n_el = out["elements"].shape[0]
     out["section_forces"] = (None if d.section_forces is None
                              else _numeric(p["section_forces"], d.section_forces, (m, n_el, 2, 6)))
+    if d.geometric_stiffness is None:
+        out["geometric_stiffness"] = None
+    else:
+        geo = {}
+        for k, v in dict(d.geometric_stiffness).items():
+            if not isinstance(k, str) or not k or "/" in k:
+                raise _Invalid("geometric_stiffness", f"load case names must be non-empty strings without '/', "
+                                                      f"got {k!r}")
+            geo[k] = _numeric(f"geometric_stiffness/{k}", v, (m, m))
+            _symmetric(f"geometric_stiffness/{k}", geo[k], definite=None)
+        out["geometric_stiffness"] = MappingProxyType(geo)
     if not isinstance(d.invariants, Mapping):
         raise _Invalid("invariants", "must map I1..I9 to arrays")
     inv = {}

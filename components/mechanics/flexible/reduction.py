@@ -191,7 +191,8 @@ def craig_bampton(M: sp.spmatrix | np.ndarray, K: sp.spmatrix | np.ndarray, inte
 def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int, *, free: bool = True,
                        orthogonalize: bool = True, title: str = "", creator: str = "flexlib",
                        damping_ratio: np.ndarray | None = None,
-                       stress_fibre: tuple[float, float] | None = None) -> Any:
+                       stress_fibre: tuple[float, float] | None = None,
+                       geometric_stiffening: bool = False, support_nodes: Sequence[int] | None = None) -> Any:
     """Reduce an FE model by Craig–Bampton and assemble a :class:`ModalData` (modes per node, generalised
     matrices, frequencies, the nine inertia invariants, body properties and provenance).
 
@@ -216,6 +217,11 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         Beam models: section fibre ``(y, z)`` [m] at which stress modes are recovered
         (:func:`~flexlib.components.mechanics.flexible.beam.beam_stress_modes`); beam models always get their
         section-force modes.
+    geometric_stiffening : bool
+        Beam models: add the modal geometric stiffness of the inertial and interface unit load cases
+        (:func:`~flexlib.components.mechanics.flexible.geometric.modal_geometric_stiffness`).
+    support_nodes : sequence of int, optional
+        Nodes held for those static load cases; default the first interface node.
 
     Returns
     -------
@@ -226,14 +232,23 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     from .beam import beam_stress_modes, section_force_modes
     from .modal_data import ModalData
 
-    if stress_fibre is not None and fe.beam is None:
-        raise ValueError("modal_data_from_fe: stress_fibre needs a beam model (from beam_mesh)")
+    if (stress_fibre is not None or geometric_stiffening) and fe.beam is None:
+        raise ValueError("modal_data_from_fe: stress_fibre and geometric_stiffening need a beam model (beam_mesh)")
     interface_nodes = [int(k) for k in interface_nodes]
     dofs = fe.dofs(interface_nodes)
     cb = craig_bampton(fe.M, fe.K, dofs, n_modes, rigid_body_modes=fe.rigid_body_modes() if free else None,
                        orthogonalize=orthogonalize)
     points = fe.mass_points if fe.mass_points is not None else fe.lumped_mass_points()
     inv = inertia_invariants(points, cb.modes)
+    geometric = None
+    if geometric_stiffening:
+        from .geometric import inertial_load_cases, interface_load_cases, modal_geometric_stiffness
+
+        support = list(interface_nodes[:1] if support_nodes is None else support_nodes)
+        if not support:
+            raise ValueError("modal_data_from_fe: geometric_stiffening needs a support node (no interface nodes)")
+        cases = inertial_load_cases(fe) | interface_load_cases(fe, [k for k in interface_nodes if k not in support])
+        geometric = modal_geometric_stiffness(fe, cb.modes, support, cases)
     k = cb.modes.shape[1]
     N = fe.nodes.shape[0]
     trans = np.zeros((k, N, 3))
@@ -254,6 +269,7 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         "mass_description": points.description,
         "fe": fe.info,
         "stress_fibre_m": None if stress_fibre is None else [float(v) for v in stress_fibre],
+        "geometric_stiffness_support_nodes": None if geometric is None else [int(k) for k in support],
         "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
     }
     return ModalData(
@@ -264,4 +280,5 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         frequencies=cb.frequencies, invariants=inv, mass_description=points.description.split(" ")[0],
         damping_ratio=damping_ratio, provenance=provenance,
         section_forces=None if fe.beam is None else section_force_modes(fe, cb.modes),
-        stress_modes=None if stress_fibre is None else beam_stress_modes(fe, cb.modes, stress_fibre))
+        stress_modes=None if stress_fibre is None else beam_stress_modes(fe, cb.modes, stress_fibre),
+        geometric_stiffness=geometric)
