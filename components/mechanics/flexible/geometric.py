@@ -41,19 +41,24 @@ __all__ = ["geometric_stiffness_matrix", "inertial_load_cases", "interface_load_
 _AXES = "xyz"
 
 
-def _local_kg(L: float, P: float, A: float, Ip: float) -> np.ndarray:
-    """12 x 12 local geometric stiffness [N/m, N, N m] of a frame element under axial force P [N]."""
-    k = np.zeros((12, 12))
-    b = P / (30.0 * L) * np.array([[36, 3 * L, -36, 3 * L], [3 * L, 4 * L**2, -3 * L, -L**2],
-                                   [-36, -3 * L, 36, -3 * L], [3 * L, -L**2, -3 * L, 4 * L**2]])
+def _local_kg(L: np.ndarray, P: np.ndarray, A: np.ndarray, Ip: np.ndarray) -> np.ndarray:
+    """Local geometric stiffness ``(E, 12, 12)`` [N/m, N, N m] of frame elements of lengths ``L`` [m] under axial
+    forces ``P`` [N] (tension positive), areas ``A`` [m2] and polar moments ``Ip`` [m4]."""
+    L, P = np.asarray(L, dtype=float)[:, None, None], np.asarray(P, dtype=float)[:, None, None]
+    k = np.zeros((L.shape[0], 12, 12))
+    one = np.ones_like(L)
+    b = P / (30.0 * L) * np.block([[36 * one, 3 * L, -36 * one, 3 * L], [3 * L, 4 * L**2, -3 * L, -(L**2)],
+                                   [-36 * one, -3 * L, 36 * one, -3 * L], [3 * L, -(L**2), -3 * L, 4 * L**2]])
     iy = [1, 5, 7, 11]  # (v, rz): x-y plane
-    k[np.ix_(iy, iy)] += b
+    k[:, iy[0]:iy[0] + 1, 0:0] = 0.0
+    k[np.ix_(range(L.shape[0]), iy, iy)] += b
     iz = [2, 4, 8, 10]  # (w, -ry): x-z plane
-    s = np.array([1, -1, 1, -1])
-    k[np.ix_(iz, iz)] += b * np.outer(s, s)
+    sign = np.array([1, -1, 1, -1])
+    k[np.ix_(range(L.shape[0]), iz, iz)] += b * np.outer(sign, sign)
     ax = np.array([[1.0, -1.0], [-1.0, 1.0]])
-    k[np.ix_([0, 6], [0, 6])] += P / L * ax
-    k[np.ix_([3, 9], [3, 9])] += P * Ip / (A * L) * ax
+    k[np.ix_(range(L.shape[0]), [0, 6], [0, 6])] += P / L * ax
+    ratio = (np.asarray(Ip, dtype=float) / np.asarray(A, dtype=float))[:, None, None]
+    k[np.ix_(range(L.shape[0]), [3, 9], [3, 9])] += P * ratio / L * ax
     return k
 
 
@@ -72,19 +77,14 @@ def geometric_stiffness_matrix(fe: FEModel, displacement: np.ndarray) -> sp.csr_
     b = fe.beam
     P = section_force_modes(fe, np.asarray(displacement, dtype=float)[:, None])[0, :, :, 0].mean(axis=1)
     lengths = np.linalg.norm(fe.nodes[fe.elements[:, 1]] - fe.nodes[fe.elements[:, 0]], axis=1)
-    rows, cols, vals = [], [], []
-    for e in range(b.dofs.shape[0]):
-        A = b.A[e].mean()
-        Ip = (b.Iy[e] + b.Iz[e]).mean()
-        T = np.kron(np.eye(4), b.rotation[e])
-        kg = T.T @ _local_kg(lengths[e], P[e], A, Ip) @ T
-        keep = b.dofs[e] >= 0
-        d = b.dofs[e][keep]
-        rows.append(np.repeat(d, d.size))
-        cols.append(np.tile(d, d.size))
-        vals.append(kg[np.ix_(keep, keep)].ravel())
+    kl = _local_kg(lengths, P, b.A.mean(axis=1), (b.Iy + b.Iz).mean(axis=1))
+    T = np.einsum("ij,eab->eiajb", np.eye(4), b.rotation).reshape(-1, 12, 12)  # blockdiag(R, R, R, R)
+    kg = np.einsum("eji,ejk,ekl->eil", T, kl, T)
+    rows = np.repeat(b.dofs, 12, axis=1).ravel()
+    cols = np.tile(b.dofs, (1, 12)).ravel()
+    keep = (rows >= 0) & (cols >= 0)
     n = fe.n_dofs
-    K = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+    K = sp.csr_matrix((kg.ravel()[keep], (rows[keep], cols[keep])), shape=(n, n))
     return (K + K.T) / 2
 
 
