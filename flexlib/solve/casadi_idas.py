@@ -85,10 +85,10 @@ Measured trade-offs (2-core VM shared with other jobs; ``benchmarks/README.md`` 
   25 ms vs 190 ms), whose time goes into scikit-sundae's per-step and per-callback Python
   overhead (``benchmarks/ida_overhead.py``).
 * With the compiled library and the COLAMD order (``python benchmarks/casadi_idas.py``, CPU time, same process):
-  the boom proxy with linkages (794 unknowns) went from 16.7 s (SX virtual machine, reverse Cuthill–McKee
-  order, 55 565 non-zeros in L + U) to 2.7 s, near the default backend; the four-bar (107 unknowns) from
-  0.38 s to 0.18 s. The generated C alone, in the old order, gave 6.5 s on the boom: the LU fill-in was the
-  larger cost once the model was compiled.
+  the boom proxy with linkages (794 unknowns, 20 s) went from 14.1 s (SX virtual machine, reverse
+  Cuthill–McKee order, 55 565 non-zeros in L + U) to 2.4 s, 0.89× the default backend; the four-bar (107
+  unknowns) from 0.39 s to 0.17 s. The generated C alone, in the old order, gave 6.5 s on the boom: the LU
+  fill-in was the larger cost once the model was compiled.
 * Every integrator call is a cold IDAS start (``IDAReInit`` + ``IDACalcIC``, order 1, small first
   step). A call covers the output grid up to :data:`MAX_GRID` points (without events the boom proxy's 20 s
   run takes 6 calls for 11 500 steps), so restarts cost only at events: a state event costs the call that
