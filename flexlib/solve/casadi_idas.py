@@ -80,10 +80,10 @@ by a uniform grid of :data:`DENSE_POINTS` intervals (plus the event instants).
 
 Measured trade-offs (2-core VM shared with other jobs; ``benchmarks/README.md`` has the tables)
 -------------------------------------------------------------------------------------------
-* No Python in the integration loop: on small models this backend is 4–8× faster than the
-  default one (chain of 10 masses, 31 unknowns: 12 ms vs 55 ms; index-3 pendulum at rtol 1e-8:
-  25 ms vs 190 ms), whose time goes into scikit-sundae's per-step and per-callback Python
-  overhead (``benchmarks/ida_overhead.py``).
+* No Python in the integration loop. Against the default backend, which since issue 9 steps IDA in C as
+  well (``flexlib/solve/native``), it costs 0.9–1.4× the CPU time on the chain, four-bar, servo and boom
+  proxy of ``benchmarks/casadi_idas.py``; against the scikit-sundae fallback it was 4–8× faster on small
+  models (chain of 10 masses: 12 ms vs 55 ms; index-3 pendulum at rtol 1e-8: 25 ms vs 190 ms).
 * With the compiled library and the COLAMD order (``python benchmarks/casadi_idas.py``, CPU time, same process):
   the boom proxy with linkages (794 unknowns, 20 s) went from 14.1 s (SX virtual machine, reverse
   Cuthill–McKee order, 55 565 non-zeros in L + U) to 2.4 s, 0.89× the default backend; the four-bar (107
@@ -299,14 +299,15 @@ def compiled_residual(model: CompiledModel) -> ca.Function | None:
 
     ``ca.external`` functions have derivatives (and a sparse Jacobian pattern) only if their library also
     holds ``jac_<name>``; the model's library has ``flexlib_res`` and ``flexlib_jac`` (``∂F/∂y + cj·∂F/∂y'``)
-    only. A small companion library (CasADi-generated C, compiled by gcc in ~0.2–0.4 s, once per model and
-    process, in a private temporary directory) is therefore linked against it and adds ``jac_flexlib_res``:
-    ``∂F/∂y`` is ``flexlib_jac`` at ``cj = 0``, ``∂F/∂y'`` the difference of its values at ``cj = 1`` and
-    ``cj = 0``, each on its own structural pattern (from the SX residual). The derivatives with respect to
-    ``t`` and ``p`` are structural zeros: the integrator differentiates only with respect to its states, and
-    the normalised time ``T`` is predicted exactly by IDAS (``dT/dτ`` is the constant ``u``), so its column
-    does not change the Newton iteration. ``flexlib_res`` itself is found through the companion's dependency
-    on the model's library. Returns None if the model has no compiled library in use or no C compiler.
+    only. A small companion library (CasADi-generated C, compiled by gcc in ~0.1 s CPU, once per model and
+    process, in a private temporary directory removed once the library is loaded) is therefore linked
+    against it and adds ``jac_flexlib_res``: ``∂F/∂y`` is ``flexlib_jac`` at ``cj = 0``, ``∂F/∂y'`` the
+    difference of its values at ``cj = 1`` and ``cj = 0``, each on its own structural pattern (from the SX
+    residual). The derivatives with respect to ``t`` and ``p`` are structural zeros: the integrator
+    differentiates only with respect to its states, and the normalised time ``T`` is predicted exactly by
+    IDAS (``dT/dτ`` is the constant ``u``), so its column does not change the Newton iteration.
+    ``flexlib_res`` itself is found through the companion's dependency on the model's library. Returns None
+    if the model has no compiled library in use or no C compiler.
     """
     if model.library is None and getattr(model, "library_pending", None) is not None:
         model.function("res")  # adopts a library gcc has finished in the background
@@ -336,11 +337,14 @@ def compiled_residual(model: CompiledModel) -> ca.Function | None:
     done = subprocess.run([cc, "-O1", "-shared", "-fPIC", str(work / "jac_flexlib_res.c"), "-o", str(shim),
                            f"-L{lib.parent}", f"-l:{lib.name}", f"-Wl,-rpath,{lib.parent}"],
                           capture_output=True, text=True, check=False)
-    if done.returncode != 0:
-        warnings.warn(f"casadi-idas: the Jacobian companion of {model.library} did not compile "
-                      f"({done.stderr.strip()[:200]}); using the symbolic residual", CacheWarning, stacklevel=3)
-        return None
-    return ca.external("flexlib_res", str(shim))
+    try:
+        if done.returncode != 0:
+            warnings.warn(f"casadi-idas: the Jacobian companion of {model.library} did not compile "
+                          f"({done.stderr.strip()[:200]}); using the symbolic residual", CacheWarning, stacklevel=3)
+            return None
+        return ca.external("flexlib_res", str(shim))  # loaded now: the files can go
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
 
 
 def _build_backend(model: CompiledModel) -> _Backend:
@@ -380,8 +384,9 @@ _COUNTERS = ("n_call_daeF", "n_call_jacF")
 
 def _evaluate(f: ca.Function, args: list[np.ndarray]) -> tuple[list[np.ndarray], dict[str, Any]]:
     """``f(*args)`` through a FunctionBuffer kept per function: dense inputs and outputs are read and written
-    straight from and into numpy arrays (converting a 60 × 1024 ``DM`` to numpy costs 2–3 ms; on the servo the
-    conversions were 13 % of the run). Raises ``RuntimeError`` as the ordinary call does.
+    straight from and into numpy arrays (converting a 60 × 1024 ``DM`` to numpy costs 2–3 ms; on the servo these
+    conversions, mostly of the mapped indicators, were 60 % of the run's CPU time). Raises ``RuntimeError`` as the
+    ordinary call does.
 
     Returns the outputs (2-D arrays, rows × columns) and the statistics of this call (the buffer's call
     counters ``n_call_*`` accumulate over its lifetime: the differences are returned).
