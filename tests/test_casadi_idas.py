@@ -233,3 +233,115 @@ def test_max_steps():
     sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     with pytest.raises(fl.SolverError, match="maximum number of steps"):
         _run(sim, "casadi", 10.0, np.linspace(0.0, 10.0, 11), max_steps=20)
+
+
+# -- (f) compiled model evaluation, mechanisms and the hydraulic servo against the default backend -----------------
+def test_compiled_residual_jacobian_matches_symbolic():
+    """With generated C the backend evaluates the library: the Jacobian CasADi's IDAS uses (``jac_flexlib_res``
+    of the companion library, from ``flexlib_jac`` at cj = 0 and 1) equals the SX Jacobian to 1e-12 relative,
+    and a run at rtol 1e-8 gives the SX route's link angles to 1e-5 rad (measured 1.4e-6 rad over 1 s, the
+    crank turning by 10 rad: the Newton iterations differ in round-off and in the ∂F/∂t column, which the C
+    Jacobian leaves out, so the step sequences differ within the tolerance)."""
+    from flexlib.models.planar_mechanisms import FourBarLinkage
+
+    sim = fl.Simulation(FourBarLinkage(), use_cache=False, codegen=True)
+    m = sim.compiled
+    assert m.library is not None
+    res_c = casadi_idas.compiled_residual(m)
+    assert res_c is not None
+    rng = np.random.default_rng(1)
+    p = np.concatenate([m.param_defaults, np.zeros(m.n_relations)])
+    args = [0.3, rng.standard_normal(m.n), rng.standard_normal(m.n), p, np.zeros(m.n)]
+    jc, js = res_c.jacobian()(*args), m.sx_function("res").jacobian()(*args)
+    for k in (1, 2):  # d/dy, d/dy'
+        a, b = np.array(ca.DM(jc[k])), np.array(ca.DM(js[k]))
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.abs(b).max())
+    np.testing.assert_allclose(np.array(res_c(*args[:4])), np.array(m.sx_function("res")(*args[:4])), rtol=1e-14,
+                               atol=1e-12)
+    runs = {}
+    for use in (True, False):
+        casadi_idas.USE_LIBRARY = use
+        try:
+            runs[use] = sim.run(1.0, dt_out=0.01, rtol=1e-8, atol=1e-10, solver="casadi-idas", progress=False)
+            assert sim.compiled._functions["casadi_idas"].compiled is use
+        finally:
+            casadi_idas.USE_LIBRARY = True
+    for name in ("rev_crank.phi", "rev_coupler.phi", "rev_rocker.phi"):
+        np.testing.assert_allclose(runs[True][name], runs[False][name], atol=1e-5, err_msg=name)
+
+
+def test_four_bar_matches_default_backend():
+    """Crank-rocker four-bar (3 loops closed by a cut revolute), 10 s at rtol 1e-9: absolute link angles of the
+    two backends agree to 5e-5 rad (measured 1.5e-5; each is this close to the minimal-coordinate reference at
+    this tolerance, see benchmarks/README.md, work–precision)."""
+    from flexlib.models.planar_mechanisms import FourBarLinkage
+
+    sim = fl.Simulation(FourBarLinkage(), use_cache=False, codegen=True)
+    out = {s: sim.model.absolute_angles(sim.run(10.0, dt_out=0.01, rtol=1e-9, atol=1e-11, solver=s, progress=False))
+           for s in ("ida", "casadi-idas")}
+    assert sim.compiled._functions["casadi_idas"].compiled  # the library was evaluated
+    for name, angle in out["ida"].items():
+        np.testing.assert_allclose(out["casadi-idas"][name], angle, atol=5e-5, err_msg=name)
+
+
+def _on_grid(r: fl.Result, name: str, dt: float) -> np.ndarray:
+    """Values at the output grid (event rows, which repeat their time, dropped)."""
+    keep = np.abs(r.t / dt - np.round(r.t / dt)) < 1e-7
+    _, first = np.unique(r.t[keep], return_index=True)
+    return r[name][keep][first]
+
+
+def test_hydraulic_servo_through_end_stops_matches_default_backend():
+    """benchmarks/hydraulic_servo.py (pump, relief valve, 4/3 valve, cylinder into both end stops twice, PID)
+    over 20 s at rtol 1e-6, atol 1e-8: casadi-idas runs through the end-stop contacts (it failed at 5.79 s with
+    IDA_ERR_FAIL before the start fall-backs) and its piston position agrees with the default backend's to
+    2e-5 m on the 10 ms grid (measured 6.7e-6 m; 0.005 % of the stroke), the end-stop penetrations to 1e-9 m."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+    from hydraulic_servo import STROKE, HydraulicServo
+
+    sim = fl.Simulation(HydraulicServo(), use_cache=False)
+    r = {s: sim.run(20.0, dt_out=0.01, rtol=1e-6, atol=1e-8, solver=s, progress=False)
+         for s in ("ida", "casadi-idas")}
+    x = {s: _on_grid(rr, "cylinder.x", 0.01) for s, rr in r.items()}
+    assert len(x["ida"]) == len(x["casadi-idas"]) == 2001
+    np.testing.assert_allclose(x["casadi-idas"], x["ida"], atol=2e-5)
+    assert x["ida"].max() > STROKE and x["ida"].min() < 0.0  # both stops reached
+    assert abs(x["casadi-idas"].max() - x["ida"].max()) < 1e-9
+    assert abs(x["casadi-idas"].min() - x["ida"].min()) < 1e-9
+    assert r["casadi-idas"].stats["state_events"] >= 8  # contact and release at both stops, twice each
+
+
+class ThrustBall(FallingBall):
+    """The falling ball of :class:`FallingBall`, with an upward thrust of ``a_up`` [m/s²] from ``t_on`` on."""
+
+    t_on = Parameter(0.62, unit="s")
+    a_up = Parameter(25.0, unit="m/s2")
+    a = Variable(unit="m/s2")
+
+    def equations(self):
+        return [
+            eq(der(self.h), self.v),
+            eq(der(self.v), -self.g + self.fc + self.a),
+            eq(self.fc, if_else(self.h < 0, -self.k * self.h - self.d * self.v, 0.0)),
+            eq(self.a, if_else(time >= self.t_on, self.a_up, 0.0)),
+        ]
+
+
+def test_time_and_state_events_match_default_backend():
+    """Contact (state event, t = 0.4515 s), lift-off (state event, 0.4836 s), thrust switched on in flight
+    (time event, 0.62 s; the ball rises to 7.9 m by 1.5 s): the same events in the same order as the default
+    backend, times to 1e-9 s (measured 4e-12 s), and h on the 10 ms grid to 1e-7 m at rtol 1e-9 (measured
+    1.5e-8 m)."""
+    sim = fl.Simulation(ThrustBall(init={"h": 1.0, "v": 0.0}), use_cache=False)
+    grid = np.linspace(0.0, 1.5, 151)
+    res = {b: _run(sim, b, 1.5, grid, rtol=1e-9, atol=1e-11) for b in BACKENDS}
+    kinds = {b: [e[1].split(":")[0] for e in r.events] for b, r in res.items()}
+    assert kinds["casadi"] == kinds["ida"]
+    assert "time event" in kinds["ida"] and kinds["ida"].count("state event") >= 2
+    np.testing.assert_allclose([e[0] for e in res["casadi"].events], [e[0] for e in res["ida"].events], atol=1e-9)
+    h = {b: _on_grid(r, "h", 0.01) for b, r in res.items()}
+    assert len(h["ida"]) == len(h["casadi"]) == len(grid)
+    np.testing.assert_allclose(h["casadi"], h["ida"], atol=1e-7)

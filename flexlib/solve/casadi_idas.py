@@ -24,11 +24,27 @@ history no longer fits: a uniform grid costs nothing, every change of spacing a 
 steps (round-off differences of ``np.diff(grid)`` are removed first). Grids are therefore never
 padded to a common size: padding with ``u = 0`` cost 450 ms at 3000 unknowns (38 extra
 factorisations), far more than building an integrator for the exact size (~80 ms, once).
-Linear solver: ``csparse`` (sparse LU, *natural* ordering), so the columns of ``z`` and the
-rows of ``F`` are permuted once (maximum transversal, then reverse Cuthill–McKee) to keep the
-fill-in low. Error control: ``w`` (the derivatives added by the implicit trick) is excluded
-from IDA's local error test (absolute tolerance 1e10), so the test covers ``y`` exactly as in
-the default backend; ``atol`` is scaled by each variable's ``nominal``.
+*Model evaluation*: where the model has a compiled library (generated C, ``CompiledModel.library``), the
+residual is the library's ``flexlib_res`` and its Jacobian comes from ``flexlib_jac`` through a small
+companion library (:func:`compiled_residual`); otherwise CasADi's SX virtual machine evaluates the symbolic
+residual. A backend built on the SX residual while gcc still compiles in the background is rebuilt on C at
+the next run once the library is there.
+
+Linear solver: ``csparse`` (sparse LU with partial pivoting, no fill-reducing ordering of its own), so the
+entries of ``x`` and ``z`` and the rows of ``F`` are ordered once by COLAMD on the structure of the iteration
+matrix (:func:`_fill_reducing_order`; ``w`` and the algebraic entries interleave in ``z``). CasADi's ``qr``
+plugin was measured as well: faster on the boom proxy with linkages (2.4 s against 6.5 s in the old order),
+but round-off of QR leaves ~1e-35 where LU gives exact zeros (a contact force at rest in
+``tests/test_casadi_idas.py``) and the hydraulic servo needs 4× the Jacobians with it. Error control: ``w``
+(the derivatives added by the implicit trick) is excluded from IDA's local error test (absolute tolerance
+1e10), so the test covers ``y`` exactly as in the default backend; ``atol`` is scaled by each variable's
+``nominal``.
+
+*Start of a call*: every integrator call is a fresh IDAS start (``IDAReInit`` + ``IDACalcIC``); a call that
+fails is repeated with the fall-backs of :data:`START_VARIANTS` (without ``IDACalcIC``, then with ``w`` in the
+error test) before it counts as failed. Without ``IDACalcIC`` CasADi starts from ``dx/dτ = 0`` (its
+``init_xdot``), so that variant is a fall-back only: as the default it failed the servo at its 3.5 s time
+event.
 
 *Time events* are hit exactly: the run is cut into segments ending at
 :func:`~flexlib.solve.ida.next_time_event`; each segment is one or more integrator calls
@@ -64,17 +80,21 @@ by a uniform grid of :data:`DENSE_POINTS` intervals (plus the event instants).
 
 Measured trade-offs (2-core VM shared with other jobs; ``benchmarks/README.md`` has the tables)
 -------------------------------------------------------------------------------------------
-* No Python in the integration loop: on small models this backend is 4–8× faster than the
-  default one (chain of 10 masses, 31 unknowns: 12 ms vs 55 ms; index-3 pendulum at rtol 1e-8:
-  25 ms vs 190 ms), whose time goes into scikit-sundae's per-step and per-callback Python
-  overhead (``benchmarks/ida_overhead.py``).
-* On large models it is *slower*: CasADi evaluates the residual with its SX virtual machine,
-  not with flexlib's generated C code (~100 µs per call at 3001 unknowns), and the implicit trick
-  enlarges the sparse LU (csparse, no fill-reducing ordering of its own). Chain of 1000 masses
-  (3001 unknowns): 364 ms vs 210 ms for the default backend (CasADi's plain IDAS route: 366 ms).
+* No Python in the integration loop. Against the default backend, which since issue 9 steps IDA in C as
+  well (``flexlib/solve/native``), it costs 0.9–1.4× the CPU time on the chain, four-bar, servo and boom
+  proxy of ``benchmarks/casadi_idas.py``; against the scikit-sundae fallback it was 4–8× faster on small
+  models (chain of 10 masses: 12 ms vs 55 ms; index-3 pendulum at rtol 1e-8: 25 ms vs 190 ms).
+* With the compiled library and the COLAMD order (``python benchmarks/casadi_idas.py``, CPU time, same process):
+  the boom proxy with linkages (794 unknowns, 20 s) went from 14.1 s (SX virtual machine, reverse
+  Cuthill–McKee order, 55 565 non-zeros in L + U) to 2.4 s, 0.89× the default backend; the four-bar (107
+  unknowns) from 0.39 s to 0.17 s. The generated C alone, in the old order, gave 6.5 s on the boom: the LU
+  fill-in was the larger cost once the model was compiled.
 * Every integrator call is a cold IDAS start (``IDAReInit`` + ``IDACalcIC``, order 1, small first
-  step): events cost more than in the default backend (bouncing ball at rtol 1e-10: ~17 calls,
-  ~970 steps against 372 steps).
+  step). A call covers the output grid up to :data:`MAX_GRID` points (without events the boom proxy's 20 s
+  run takes 6 calls for 11 500 steps), so restarts cost only at events: a state event costs the call that
+  passes it plus 3–4 locating calls (the servo: 123 calls for 31 events, against 31 restarts of the default
+  backend). CasADi's ``Function`` interface keeps no IDAS memory between calls, so a restart after an event
+  cannot be avoided here; the default backend restarts there too.
 * Integrator construction (symbolic Jacobian): ~1 ms at 30 unknowns, ~10 ms at 300, ~80 ms at
   3000, per grid size and options, once per process.
 * A failing integrator call raises inside CasADi without partial results. The failing call is
@@ -96,23 +116,27 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import math
 import re
+import shutil
+import subprocess
+import tempfile
 import time as _time
+import warnings
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import casadi as ca
 import numpy as np
 import scipy.sparse as sps
-from scipy.sparse.csgraph import reverse_cuthill_mckee
+from scipy.sparse.linalg import splu
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.compile.structure import matching
-from flexlib.errors import SimulationInterrupted, SolverError
+from flexlib.errors import CacheWarning, SimulationInterrupted, SolverError
 from flexlib.solve.ida import Progress, Trajectory, _event_iteration, absolute_tolerances, next_time_event
 from flexlib.solve.initialization import Initializer
 
-__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "RETRY_STEPS", "STUCK_TOL", "SUB_GRID",
-           "integrate_casadi"]
+__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "LINEAR_SOLVER", "RETRY_STEPS",
+           "START_VARIANTS", "STUCK_TOL", "SUB_GRID", "USE_LIBRARY", "compiled_residual", "integrate_casadi"]
 
 #: Number of output intervals used when ``t_out`` is None (CasADi does not expose single steps).
 DENSE_POINTS = 1000
@@ -132,40 +156,61 @@ MAX_FLOATS = 4_000_000
 RETRY_STEPS = 500
 #: An indicator within this (relative) distance of zero where IDAS cannot proceed is taken as an event.
 STUCK_TOL = 1e-6
+#: Start variants tried in turn when an integrator call fails (:meth:`_Backend.integrator`): the same call is
+#: repeated without ``IDACalcIC``, then with the derivatives ``w`` in the error test. Measured on the hydraulic
+#: servo: refining the end-stop contact at 5.79 s, a call over 1e-5 s in 1024 sub-intervals failed its first step
+#: (``IDA_ERR_FAIL``, error test failing down to h = 7e-9 in normalised time) after ``IDACalcIC`` while the
+#: same call with 32 sub-intervals, without ``IDACalcIC`` or with ``w`` in the error test passed (20–870 steps).
+START_VARIANTS = (0, 1, 2)
 #: Integrators kept per model (one per grid size and options).
 MAX_INTEGRATORS = 64
 _CACHE_KEY = "casadi_idas"
+#: Evaluate the model's compiled library (generated C) where it has one; False: CasADi's SX virtual machine
+#: (for benchmarks comparing the two; the choice is made when a model's integrators are first built).
+USE_LIBRARY = True
+#: CasADi linear solver plugin of the integrators (see the measurements in the module docstring).
+LINEAR_SOLVER = "csparse"
 
 
 @dataclass
 class _Backend:
     """Per-model CasADi objects: the normalised-time DAE and the integrators built from it."""
 
-    dae: dict[str, ca.SX]
+    dae: dict[str, Any]
     x_idx: np.ndarray  # y entries that are x (after T), in x order
-    a_idx: np.ndarray  # y entries that are algebraic z (after w), in z order
+    z_idx: np.ndarray  # y entries of z, in z order: y' of a differential entry (w) or y of an algebraic one
+    z_w: np.ndarray  # True where the z entry is a derivative w (of a differential y entry)
     model: CompiledModel
     integrators: dict[tuple, ca.Function] = field(default_factory=dict)
     ind_maps: dict[int, ca.Function] = field(default_factory=dict)
     build_time: float = 0.0
+    compiled: bool = False  # the residual is the compiled library's (else CasADi's SX virtual machine)
+    want_c: bool = False  # C was available when this backend was built (rebuilt when that changes)
 
     @property
     def nd(self) -> int:
         return len(self.x_idx)
 
-    def integrator(self, K: int, rtol: float, atol: float, capped: bool, max_num_steps: int) -> ca.Function:
-        """Integrator over the normalised grid ``τ = 1..K`` (built once per options and ``K``)."""
-        key = (K, float(rtol), float(atol), bool(capped), int(max_num_steps))
+    def integrator(self, K: int, rtol: float, atol: float, capped: bool, max_num_steps: int,
+                   variant: int = 0) -> ca.Function:
+        """Integrator over the normalised grid ``τ = 1..K`` (built once per options and ``K``).
+
+        ``variant`` 0 is the ordinary start (``IDACalcIC`` for consistent ``z`` and ``dx/dτ``, ``w`` outside
+        the error test); the fall-backs for a call that fails (see :data:`START_VARIANTS`) are 1: no
+        ``IDACalcIC`` (the given ``y, y'`` are consistent already), 2: ``w`` in the error test with
+        ``atol·nominal`` per second.
+        """
+        key = (K, float(rtol), float(atol), bool(capped), int(max_num_steps), int(variant))
         F = self.integrators.get(key)
         if F is None:
             wall = _time.perf_counter()
-            nd = self.nd
             tol = absolute_tolerances(self.model, atol)
-            abstolv = np.concatenate([[atol], tol[self.x_idx], np.full(nd, 1e10), tol[self.a_idx]])
+            w_tol = tol[self.z_idx] if variant == 2 else np.full(len(self.z_idx), 1e10)
+            abstolv = np.concatenate([[atol], tol[self.x_idx], np.where(self.z_w, w_tol, tol[self.z_idx])])
             opts: dict[str, Any] = {
-                "linear_solver": "csparse", "reltol": float(rtol), "abstol": float(atol),
+                "linear_solver": LINEAR_SOLVER, "reltol": float(rtol), "abstol": float(atol),
                 "abstolv": abstolv.tolist(), "max_num_steps": int(max_num_steps),
-                "disable_internal_warnings": True, "show_eval_warnings": False,
+                "disable_internal_warnings": True, "show_eval_warnings": False, "calc_ic": variant != 1,
             }
             if capped:
                 opts["max_step_size"] = 1.0  # one grid interval; the grid is refined to max_step
@@ -179,53 +224,199 @@ class _Backend:
 
 def _backend(model: CompiledModel) -> _Backend:
     be = model._functions.get(_CACHE_KEY)
+    want_c = USE_LIBRARY and (model.library is not None or bool(getattr(model, "c_ready", lambda: False)()))
+    if be is not None and be.want_c != want_c:
+        be = None  # C has become available (gcc finished in the background), or the choice was switched
     if be is None:
         be = _build_backend(model)
+        be.want_c = want_c
         model._functions[_CACHE_KEY] = be  # type: ignore[assignment]
     return be
 
 
-def _fill_reducing_order(model: CompiledModel) -> tuple[np.ndarray, np.ndarray]:
-    """Column order (entries of ``y``) and row order (equations) for csparse's natural-order LU."""
+def _fill_reducing_order(model: CompiledModel, sx: ca.Function) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                                          np.ndarray]:
+    """Orders of ``x``, ``z`` and the residual rows that keep the fill-in of the integrator's LU low.
+
+    The integrator factorises the Jacobian of ``[dx/dτ − ode; alg]`` with respect to ``[x; z]``. Its
+    structure is built here from the residual's patterns (``∂F/∂y``, ``∂F/∂y'``) and ordered by COLAMD
+    (SuperLU's, through ``scipy.sparse.linalg.splu`` on random values); the differential entries of ``x`` and
+    the entries of ``z`` (derivatives ``w`` and algebraic ``y``, interleaved) keep the order COLAMD gives their
+    columns, the residual rows the order of SuperLU's row pivots. Measured on the boom proxy with linkages
+    (831 × 831, 4570 non-zeros): 55 565 non-zeros in L + U in the natural order of ``[T; y_d; w; y_a]``,
+    16 316 in this order (COLAMD with free column order: 14 811).
+
+    Returns
+    -------
+    x_idx, z_idx, z_w, rows
+        ``y`` entries of ``x`` (after ``T``); ``y`` entries of ``z`` with ``z_w`` True where the entry is the
+        derivative of that ``y`` entry; residual rows in ``alg`` order.
+    """
     n = model.n
-    J = sps.csc_matrix((np.ones(len(model.jac_row)), model.jac_row, model.jac_colind), shape=(n, n)).tocsr()
-    match, _ = matching(J)  # match[row] = column
-    if n == 0 or np.any(match < 0):
-        return np.arange(n), np.arange(n)
-    row_of = np.empty(n, dtype=int)
-    row_of[match] = np.arange(n)  # row_of[column] = matched row
-    A = J[row_of, :]  # structurally non-zero diagonal
-    S = (abs(A) + abs(A.T)).tocsr()
-    perm = reverse_cuthill_mckee(S, symmetric_mode=True)
-    return np.asarray(perm, dtype=int), row_of[perm]
+    diff = np.asarray(model.differential, dtype=bool)
+    d_idx, a_idx = np.flatnonzero(diff), np.flatnonzero(~diff)
+    nd = len(d_idx)
+    if n == 0:
+        return d_idx, a_idx, np.zeros(0, dtype=bool), np.arange(0)
+    # columns: x entries 0..nd-1, then z entries: w (nd of them), then the algebraic y (na)
+    col_x = np.full(n, -1)
+    col_x[d_idx] = np.arange(nd)
+    col_z = np.full(n, -1)
+    col_z[d_idx] = nd + np.arange(nd)
+    col_z[a_idx] = 2 * nd + np.arange(len(a_idx))
+    rows_, cols_ = [np.arange(nd), np.arange(nd)], [np.arange(nd), nd + np.arange(nd)]  # dx/dτ = u·w rows
+    cy, ry = sx.jac_sparsity(0, 1).get_ccs()
+    cyp, ryp = sx.jac_sparsity(0, 2).get_ccs()
+    for colind, row, target in ((cy, ry, None), (cyp, ryp, col_z)):
+        row = np.asarray(row, dtype=int)
+        col = np.repeat(np.arange(n), np.diff(np.asarray(colind)))
+        if target is None:  # ∂F/∂y: x columns for differential, z columns for algebraic entries
+            c = np.where(diff[col], col_x[col], col_z[col])
+        else:  # ∂F/∂y': the w columns (algebraic entries have no y' in this form)
+            keep = diff[col]
+            row, c = row[keep], col_z[col[keep]]
+        rows_.append(nd + row)
+        cols_.append(c)
+    r, c = np.concatenate(rows_), np.concatenate(cols_)
+    N = nd + n
+    A = sps.csc_matrix((np.random.default_rng(0).uniform(1.0, 2.0, len(r)), (r, c)), shape=(N, N))
+    try:
+        lu = splu(A, permc_spec="COLAMD")
+    except RuntimeError:  # structurally singular: keep the natural order
+        return d_idx, np.concatenate([d_idx, a_idx]), np.arange(n) < nd, np.arange(n)
+    rank_c, rank_r = np.asarray(lu.perm_c), np.asarray(lu.perm_r)
+    x_idx = d_idx[np.argsort(rank_c[:nd], kind="stable")]
+    zc = np.argsort(rank_c[nd:], kind="stable")  # z columns (0..n-1: w first, then algebraic) in order
+    z_w = zc < nd
+    z_idx = np.where(z_w, d_idx[np.minimum(zc, max(nd - 1, 0))] if nd else 0, a_idx[np.maximum(zc - nd, 0)]
+                     if len(a_idx) else 0)
+    rows = np.argsort(rank_r[nd:], kind="stable")
+    return x_idx, z_idx.astype(int), z_w, rows
+
+
+def compiled_residual(model: CompiledModel) -> ca.Function | None:
+    """The residual ``F(t, y, y', p)`` evaluated by the model's compiled library, with its Jacobian in C.
+
+    ``ca.external`` functions have derivatives (and a sparse Jacobian pattern) only if their library also
+    holds ``jac_<name>``; the model's library has ``flexlib_res`` and ``flexlib_jac`` (``∂F/∂y + cj·∂F/∂y'``)
+    only. A small companion library (CasADi-generated C, compiled by gcc in ~0.1 s CPU, once per model and
+    process, in a private temporary directory removed once the library is loaded) is therefore linked
+    against it and adds ``jac_flexlib_res``: ``∂F/∂y`` is ``flexlib_jac`` at ``cj = 0``, ``∂F/∂y'`` the
+    difference of its values at ``cj = 1`` and ``cj = 0``, each on its own structural pattern (from the SX
+    residual). The derivatives with respect to ``t`` and ``p`` are structural zeros: the integrator
+    differentiates only with respect to its states, and the normalised time ``T`` is predicted exactly by
+    IDAS (``dT/dτ`` is the constant ``u``), so its column does not change the Newton iteration.
+    ``flexlib_res`` itself is found through the companion's dependency on the model's library. Returns None
+    if the model has no compiled library in use or no C compiler.
+    """
+    if model.library is None and getattr(model, "library_pending", None) is not None:
+        model.function("res")  # adopts a library gcc has finished in the background
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if model.library is None or cc is None:
+        return None
+    model.function("res")  # checks the library against its manifest (drops it, with a warning, if damaged)
+    if model.library is None:
+        return None
+    n, npar = model.n, model.n_params + model.n_relations
+    jac_e = model.function("jac")
+    sx = model.sx_function("res")
+    t, y, yp, p = ca.MX.sym("t"), ca.MX.sym("y", n), ca.MX.sym("yp", n), ca.MX.sym("p", npar)
+    out = ca.MX.sym("out_res", ca.Sparsity(n, 1))
+    J0 = jac_e(t, y, yp, p, 0.0)
+    J1 = jac_e(t, y, yp, p, 1.0)
+    jy = ca.project(J0, sx.jac_sparsity(0, 1))
+    jyp = ca.project(J1 - J0, sx.jac_sparsity(0, 2))
+    jac = ca.Function("jac_flexlib_res", [t, y, yp, p, out], [ca.MX(n, 1), jy, jyp, ca.MX(n, npar)],
+                      ["t", "y", "yp", "p", "out_res"], ["jac_res_t", "jac_res_y", "jac_res_yp", "jac_res_p"])
+    work = Path(tempfile.mkdtemp(prefix="flexlib-casadi-idas-"))
+    cg = ca.CodeGenerator("jac_flexlib_res.c")
+    cg.add(jac)
+    cg.generate(str(work) + os.sep)
+    lib = Path(model.library)
+    shim = work / "jac_flexlib_res.so"
+    done = subprocess.run([cc, "-O1", "-shared", "-fPIC", str(work / "jac_flexlib_res.c"), "-o", str(shim),
+                           f"-L{lib.parent}", f"-l:{lib.name}", f"-Wl,-rpath,{lib.parent}"],
+                          capture_output=True, text=True, check=False)
+    try:
+        if done.returncode != 0:
+            warnings.warn(f"casadi-idas: the Jacobian companion of {model.library} did not compile "
+                          f"({done.stderr.strip()[:200]}); using the symbolic residual", CacheWarning, stacklevel=3)
+            return None
+        return ca.external("flexlib_res", str(shim))  # loaded now: the files can go
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
 
 
 def _build_backend(model: CompiledModel) -> _Backend:
     wall = _time.perf_counter()
-    res = model.sx_function("res") if hasattr(model, "sx_function") else model.function("res")
-    cols, rows = _fill_reducing_order(model)
-    diff = model.differential
-    x_idx = np.array([i for i in cols if diff[i]], dtype=int)
-    a_idx = np.array([i for i in cols if not diff[i]], dtype=int)
-    nd, na = len(x_idx), len(a_idx)
-    T, tau, u = ca.SX.sym("T"), ca.SX.sym("tau"), ca.SX.sym("u")
-    xd, w, ya = ca.SX.sym("x", nd), ca.SX.sym("w", nd), ca.SX.sym("ya", na)
-    p = ca.SX.sym("p", model.n_params + model.n_relations)
-    y_parts: list[Any] = [None] * model.n
-    yp_parts: list[Any] = [ca.SX(0.0)] * model.n
-    for k, i in enumerate(x_idx):
-        y_parts[i], yp_parts[i] = xd[k], w[k]
-    for k, i in enumerate(a_idx):
-        y_parts[i] = ya[k]
-    y = ca.vertcat(*y_parts) if model.n else ca.SX(0, 1)
-    yp = ca.vertcat(*yp_parts) if model.n else ca.SX(0, 1)
+    res = compiled_residual(model) if USE_LIBRARY else None
+    sym: Any = ca.SX if res is None else ca.MX
+    if res is None:
+        res = model.sx_function("res") if hasattr(model, "sx_function") else model.function("res")
+    sx = model.sx_function("res") if hasattr(model, "sx_function") else model.function("res")
+    x_idx, z_idx, z_w, rows = _fill_reducing_order(model, sx)
+    nd, nz = len(x_idx), len(z_idx)
+    T, tau, u = sym.sym("T"), sym.sym("tau"), sym.sym("u")
+    xd, z = sym.sym("x", nd), sym.sym("z", nz)
+    p = sym.sym("p", model.n_params + model.n_relations)
+    # y and y' assembled from x and z (permutations; y' is zero in the algebraic entries)
+    pos_x, pos_zw, pos_za = np.full(model.n, -1), np.full(model.n, -1), np.full(model.n, -1)
+    pos_x[x_idx] = np.arange(nd)
+    pos_zw[z_idx[z_w]] = np.flatnonzero(z_w)
+    pos_za[z_idx[~z_w]] = np.flatnonzero(~z_w)
+    xz = ca.vertcat(xd, z)
+    y_sel = [int(k) for k in np.where(pos_x >= 0, pos_x, nd + pos_za)]
+    y = xz[y_sel] if model.n else sym(0, 1)
+    w = z[[int(k) for k in pos_zw[x_idx]]] if nd else sym(0, 1)  # dx_d/dt, in x order
+    zw = ca.vertcat(z, sym(1, 1))  # index nz: a structural zero for the algebraic entries' y'
+    yp = zw[[int(k) if k >= 0 else nz for k in pos_zw]] if model.n else sym(0, 1)
     F = res(T, y, yp, p)
     F = F[[int(r) for r in rows]] if model.n else F
-    dae = {"t": tau, "x": ca.vertcat(T, xd), "z": ca.vertcat(w, ya), "p": p, "u": u,
-           "ode": ca.vertcat(u, u * w), "alg": F}
-    be = _Backend(dae=dae, x_idx=x_idx, a_idx=a_idx, model=model)
+    dae = {"t": tau, "x": ca.vertcat(T, xd), "z": z, "p": p, "u": u, "ode": ca.vertcat(u, u * w), "alg": F}
+    be = _Backend(dae=dae, x_idx=x_idx, z_idx=z_idx, z_w=z_w, model=model, compiled=sym is ca.MX)
     be.build_time = _time.perf_counter() - wall
     return be
+
+
+_BUFFERS: dict[int, tuple[Any, Any, ca.Function, dict[str, float]]] = {}
+_COUNTERS = ("n_call_daeF", "n_call_jacF")
+
+
+def _evaluate(f: ca.Function, args: list[np.ndarray]) -> tuple[list[np.ndarray], dict[str, Any]]:
+    """``f(*args)`` through a FunctionBuffer kept per function: dense inputs and outputs are read and written
+    straight from and into numpy arrays (converting a 60 × 1024 ``DM`` to numpy costs 2–3 ms; on the servo these
+    conversions, mostly of the mapped indicators, were 60 % of the run's CPU time). Raises ``RuntimeError`` as the
+    ordinary call does.
+
+    Returns the outputs (2-D arrays, rows × columns) and the statistics of this call (the buffer's call
+    counters ``n_call_*`` accumulate over its lifetime: the differences are returned).
+    """
+    entry = _BUFFERS.get(id(f))
+    if entry is None or entry[2] is not f:
+        buf, ev = f.buffer()
+        entry = _BUFFERS[id(f)] = (buf, ev, f, {})
+        if len(_BUFFERS) > 4 * MAX_INTEGRATORS:
+            _BUFFERS.pop(next(iter(_BUFFERS)))
+    buf, ev, _, last = entry
+    keep = []
+    for i, a in enumerate(args):
+        col_major = np.ascontiguousarray(np.asarray(a, dtype=float).reshape(f.size_in(i), order="F").T)
+        keep.append(col_major)
+        buf.set_arg(i, memoryview(col_major.ravel()))
+    outs = []
+    for i in range(f.n_out()):
+        r, c = f.size_out(i)
+        o = np.empty((c, r))
+        buf.set_res(i, memoryview(o.ravel()))
+        outs.append(o)
+    ev()
+    st = dict(buf.stats())
+    for k in _COUNTERS:
+        if k in st:
+            total = st[k]
+            st[k] = total - last.get(k, 0)
+            last[k] = total
+    return [o.T for o in outs], st
 
 
 def _snap(u: np.ndarray, t: float) -> np.ndarray:
@@ -270,43 +461,53 @@ class _Runner:
         """
         be = self.be
         mns = self.mns if budget is None else min(self.mns, budget)
-        F = be.integrator(len(grid), self.rtol, self.atol, self.capped, mns)
         u = (_snap(np.diff(np.concatenate([[t], grid])), t) if steps is None else steps)[None, :]
         x0 = np.concatenate([[t], y[be.x_idx]])
-        z0 = np.concatenate([yp[be.x_idx], y[be.a_idx]])
-        try:
-            out = F(x0=x0, z0=z0, p=self.p, u=u)
-            st = F.stats()  # (a failed call's statistics are not available: its work is not counted)
+        z0 = np.where(be.z_w, yp[be.z_idx], y[be.z_idx])
+        first: RuntimeError | None = None
+        for variant in START_VARIANTS:
+            F = be.integrator(len(grid), self.rtol, self.atol, self.capped, mns, variant)
+            self.stats["integrator_calls"] += 1
+            try:
+                (X, Z, *_), st = _evaluate(F, [x0, z0, self.p, u])
+            except RuntimeError as err:
+                if "IDA_TOO_MUCH_WORK" in str(err):
+                    first = err
+                    break
+                first = first or err
+                continue
+            # (a failed call's statistics are not available: its work is not counted)
             self.stats["steps"] += int(st.get("nsteps", 0))
             self.stats["nfev"] += int(st.get("n_call_daeF", 0))
             self.stats["njev"] += int(st.get("n_call_jacF", 0))
-        except RuntimeError as err:
-            text = str(err)
+            if variant:
+                self.stats["fallback_calls"] = self.stats.get("fallback_calls", 0) + 1
+            first = None
+            break
+        if first is not None:
+            text = str(first)
             if "IDA_TOO_MUCH_WORK" in text and mns >= self.max_steps:
                 raise SolverError(f"maximum number of steps ({self.max_steps}) reached between t = {t:.10g} s "
-                                  f"and t = {grid[-1]:.10g} s") from err
+                                  f"and t = {grid[-1]:.10g} s") from first
             flag = re.search(r"IDA_[A-Z_]+", text)
             short = flag.group(0) if flag else text.strip().splitlines()[-1] if text.strip() else "error"
-            raise SolverError(f"CasADi IDAS failed between t = {t:.10g} s and t = {grid[-1]:.10g} s ({short})") from err
-        finally:
-            self.stats["integrator_calls"] += 1
-        X = np.asarray(out["xf"]).reshape(-1, len(grid))
-        Z = np.asarray(out["zf"]).reshape(-1, len(grid))
-        n, nd, K = self.model.n, be.nd, len(grid)
+            raise SolverError(f"CasADi IDAS failed between t = {t:.10g} s and t = {grid[-1]:.10g} s "
+                              f"({short})") from first
+        n, K = self.model.n, len(grid)
         Y, YP = np.empty((n, K)), np.zeros((n, K))
         Y[be.x_idx] = X[1:]
-        Y[be.a_idx] = Z[nd:]
-        YP[be.x_idx] = Z[:nd]
+        Y[be.z_idx[~be.z_w]] = Z[~be.z_w]
+        YP[be.z_idx[be.z_w]] = Z[be.z_w]
         return Y, YP
 
     def indicators(self, grid: np.ndarray, Y: np.ndarray, YP: np.ndarray) -> np.ndarray:
         """Indicators of the state relations at the grid columns (relations × columns)."""
         K = len(grid)
         f = self.be.ind_maps.get(K)
-        if f is None:
-            f = self.be.ind_maps[K] = self.ind.map(K)
-        P = np.repeat(self.p[:, None], K, axis=1)
-        return np.asarray(f(np.asarray(grid)[None, :], Y, YP, P)).reshape(-1, K)[self.state_rel]
+        if f is None:  # the parameters are shared by the K columns (reduce_in)
+            f = self.be.ind_maps[K] = self.ind.map(f"ind_{K}", "serial", K, [3], [])
+        (Zi,), _ = _evaluate(f, [np.asarray(grid)[None, :], Y, YP, self.p])
+        return Zi.reshape(-1, K)[self.state_rel]
 
     def first_switch(self, Zi: np.ndarray) -> tuple[int, list[tuple[int, bool]]]:
         """First column of ``Zi`` where a state relation changes value, and the relations switching there."""

@@ -95,3 +95,26 @@ def test_blow_up_after_a_state_event_keeps_rows():
     late = res.t > 1.0 + 1e-9
     exact = 1.0 / (0.5 - (res.t[late] - 1.0))
     assert np.all(np.abs(res["x"][late] - exact) <= 2e-5 * exact**2)
+
+
+def test_jacobian_companion_that_does_not_compile_falls_back_to_the_symbolic_residual(monkeypatch):
+    """The companion library (``jac_flexlib_res``) is compiled by gcc at the first casadi-idas run of a model
+    with generated C; if gcc fails there, a ``CacheWarning`` names the model's library and gcc's message, and
+    the run goes on with CasADi's symbolic residual (x = 1/(1 − t) to 1e-6 relative up to 0.9 s)."""
+    import subprocess
+
+    from flexlib.solve import casadi_idas
+
+    sim = fl.Simulation(BlowUp(init={"x": 1.0}), use_cache=False, codegen=True)
+    lib = sim.compiled.library
+    assert lib is not None
+
+    def failing_gcc(cmd, **kw):
+        return subprocess.CompletedProcess(cmd, 1, "", "cc1: fatal error: no space left on device")
+
+    monkeypatch.setattr(casadi_idas.subprocess, "run", failing_gcc)
+    with pytest.warns(fl.CacheWarning, match="no space left on device") as rec:
+        res = sim.run(0.9, dt_out=0.1, rtol=1e-9, atol=1e-11, solver="casadi-idas", progress=False)
+    assert any(lib in str(w.message) for w in rec)
+    assert not sim.compiled._functions["casadi_idas"].compiled
+    np.testing.assert_allclose(res["x"], 1.0 / (1.0 - res.t), rtol=1e-6)
