@@ -59,6 +59,7 @@ from flexlib.solve.native import (
     FD_TSTOP,
     LINEAR_SOLVERS,
     Driver,
+    cpu_clock,
     evaluators,
     klu_available,
 )
@@ -131,7 +132,8 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         cap = max(1, min(cap, len(grid)))
     T, Y, YP = np.empty(cap), np.empty((cap, model.n)), np.empty((cap, model.n))
     t = t0
-    wall0 = _time.perf_counter()
+    clock = _time.thread_time if cpu_clock() else _time.perf_counter  # the clock the driver times with
+    wall0 = clock()
     bar = Progress(model.name, t0, t_end, progress)
     watch = 2 if len(state_rel) else 0
     rooted: set[int] = set()
@@ -273,9 +275,9 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
         raise SolverError(traj.message, traj) from err
     finally:
-        _collect(stats, [*retired, drv.stats()], _time.perf_counter() - wall0)
+        _collect(stats, [*retired, drv.stats()], clock() - wall0)
         bar.close()
-    stats["wall_integrate"] = _time.perf_counter() - wall0
+    stats["wall_integrate"] = clock() - wall0
     return traj
 
 
@@ -355,9 +357,10 @@ def linear_solver(model: CompiledModel) -> str:
     """The driver's linear solver for ``model``: ``"klu"``, ``"dense"`` or ``"superlumt"``.
 
     Rule (measured per factorisation and solve on the models' own iteration matrices, ``benchmarks/linear_solvers.py``):
-    KLU (BTF + AMD ordering once, refactorisation with the same pivots afterwards) when the model has more than
-    :data:`KLU_MIN` unknowns and kvxopt's KLU is installed; dense LU at or below :data:`KLU_MIN` (and up to
-    :data:`~flexlib.solve.ida.DENSE_MAX` without KLU); SuperLU_MT (SUNDIALS' sparse solver) otherwise.
+    KLU (BTF + AMD ordering once per driver, then one numeric factorisation with threshold partial pivoting per IDA
+    setup) when the model has more than :data:`KLU_MIN` unknowns and kvxopt's KLU is installed; dense LU at or below
+    :data:`KLU_MIN` (and up to :data:`~flexlib.solve.ida.DENSE_MAX` without KLU); SuperLU_MT (SUNDIALS' sparse
+    solver) otherwise.
     ``FLEXLIB_LINSOL=dense|klu|superlumt`` in the environment overrides the rule (for comparisons).
     """
     forced = os.environ.get("FLEXLIB_LINSOL", "")

@@ -37,7 +37,7 @@ import numpy as np
 from flexlib.errors import FlexlibError, NativeSolverError
 
 __all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "LINEAR_SOLVERS", "Driver", "NativeUnavailable",
-           "driver_library", "klu_available", "native_available", "use_cpu_clock"]
+           "cpu_clock", "driver_library", "klu_available", "native_available", "use_cpu_clock"]
 
 FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY = 0, 1, 2, 3, 4
 #: Linear solvers of the driver and their codes in ``ida_driver.c`` (``LS_DENSE``, ``LS_SUPERLUMT``, ``LS_KLU``)
@@ -210,11 +210,20 @@ def klu_available() -> bool:
         return _KLU[0] is not None
 
 
+_CPU_CLOCK = [False]
+
+
 def use_cpu_clock(on: bool) -> None:
-    """Report the driver's time split (``wall_model``, ``wall_ida``, ``wall_lsetup``, … in a run's stats) in thread
-    CPU time instead of wall time, for benchmarks on a loaded machine (each reading is then a system call, ~0.3 µs).
-    Process-wide; off by default."""
+    """Report the integration's time split (``wall_model``, ``wall_ida``, ``wall_python``, ``wall_lsetup``, …
+    in a run's stats) in the thread's CPU time instead of wall time, for benchmarks on a loaded machine (each reading
+    in C is then a system call, ~0.3 µs). Process-wide; off by default."""
     _lib().fd_use_cpu_clock(int(on))
+    _CPU_CLOCK[0] = bool(on)
+
+
+def cpu_clock() -> bool:
+    """Whether :func:`use_cpu_clock` is on."""
+    return _CPU_CLOCK[0]
 
 
 def _casadi() -> ctypes.CDLL:
