@@ -87,3 +87,20 @@ def test_klu_requested_without_klu_names_the_package(osc, monkeypatch):
     monkeypatch.delenv("FLEXLIB_LINSOL")
     res = osc.run(1.0, dt_out=0.1)
     assert res.success and res.stats["linear_solver"] == "dense"
+
+
+@needs_driver
+@pytest.mark.parametrize("library", ["missing", "not_klu"])
+def test_no_usable_klu_library_falls_back_to_superlumt(library, monkeypatch, tmp_path):
+    """kvxopt not installed (no KLU library found) or a library without KLU's entry points in its place: KLU is
+    reported unavailable (no error) and a model above ``KLU_MIN`` unknowns runs on SuperLU_MT."""
+    path = None if library == "missing" else native.driver_library()  # a shared library without klu_* symbols
+    monkeypatch.setattr(native, "_KLU", [])
+    monkeypatch.setattr(native, "_klu_library", lambda: path)
+    assert not native.klu_available()
+
+    class Big:
+        n = ida_native.KLU_MIN + 1
+
+    monkeypatch.delenv("FLEXLIB_LINSOL", raising=False)
+    assert ida_native.linear_solver(Big()) == "superlumt"

@@ -179,7 +179,10 @@ def _klu_library() -> Path | None:
     """
     import importlib.util
 
-    spec = importlib.util.find_spec("kvxopt")
+    try:
+        spec = importlib.util.find_spec("kvxopt")
+    except (ImportError, ValueError):  # e.g. a module entry set to None
+        return None
     if spec is None or not spec.submodule_search_locations:
         return None
     for loc in spec.submodule_search_locations:
