@@ -3,7 +3,8 @@
 Five sections on revolute joints, joints 2–5 driven through four-bar linkages (or, ``linkages=False``, by
 cylinders directly), one cylinder, 4/3 valve and PI loop per joint, one pump with a relief valve, joint ramps
 over 20 s. For each variant it prints the unknowns and states, the cold build (fresh cache directory) and the
-cached build (second ``Simulation`` of a new instance, same cache), and for both backends the wall time of one
+cached build (best of three ``Simulation`` of a new instance, same cache, once the background gcc has stored the
+compiled library in the entry, as a later session finds it), and for both backends the wall time of one
 20 s run (on the default backend twice: first while gcc compiles the model's C in the background — interpreted
 until it is ready — then, "C ready", once the library is in use), the real-time factor (simulated / wall time),
 IDA steps and residual / Jacobian evaluations, and the largest tracking error. Times are wall / CPU (this
@@ -62,11 +63,9 @@ def main(argv: list[str]) -> None:
         t0, c0 = time.perf_counter(), _cpu()
         sim = fl.Simulation(BoomProxy(linkages=linkages))
         cold, cold_c = time.perf_counter() - t0, _cpu() - c0
-        t0, c0 = time.perf_counter(), _cpu()
-        fl.Simulation(BoomProxy(linkages=linkages))
-        cached, cached_c = time.perf_counter() - t0, _cpu() - c0
         name = "linkages" if linkages else "direct cylinders"
         runs = args.solvers.split(",")
+        rows = []
         if "ida" in runs:  # the default backend again once the background gcc has finished (C from the start)
             runs.insert(runs.index("ida") + 1, "ida (C ready)")
         for label in runs:
@@ -91,6 +90,14 @@ def main(argv: list[str]) -> None:
                 continue
             run, run_c = time.perf_counter() - t0, _cpu() - c0
             s = res.stats
+            rows.append((label, run, run_c, s, res))
+        sim.compiled.wait_for_library(1200.0)  # the entry as a later session finds it: with its compiled library
+        cached, cached_c = np.inf, np.inf
+        for _ in range(3):  # best of 3 (a new model instance each time, same cache)
+            t0, c0 = time.perf_counter(), _cpu()
+            fl.Simulation(BoomProxy(linkages=linkages))
+            cached, cached_c = min(cached, time.perf_counter() - t0), min(cached_c, _cpu() - c0)
+        for label, run, run_c, s, res in rows:
             err = max(float(np.abs(res[f"angle{n}.phi"] - res[f"set_point{n}.y"]).max()) for n in range(1, 6))
             print(f"| {name} | {sim.compiled.n} | {int(sim.compiled.differential.sum())} | {cold:.2f} / {cold_c:.2f} | "
                   f"{cached:.3f} / {cached_c:.3f} | {label} | {run:.2f} / {run_c:.2f} | {args.t_end / run:.2f} / "

@@ -6,15 +6,21 @@ this process. Each backend runs the same compiled model, best of ``REPEAT`` runs
 ratios, not the absolute times):
 
 * ``ida-sksundae``: the default before (and its fallback without gcc): scikit-sundae's IDA stepped from Python;
-* ``ida``: the default now: the C driver, Python only at outputs, events and due monitor checks;
+* ``ida (SuperLU_MT)``: the C driver as it was before KLU (``FLEXLIB_LINSOL=superlumt``: SUNDIALS' SuperLU_MT above
+  40 unknowns, dense LU below);
+* ``ida``: the default now: the C driver with its linear-solver rule (dense LU up to 40 unknowns, KLU above),
+  Python only at outputs, events and due monitor checks;
 * ``casadi-idas``: for reference.
 
-Columns: run time (whole ``Simulation.run``), IDA steps, switches, monitor indicator checks / full tests, the
-integration's split into model / IDA / Python (C driver only: measured around each call in C), and the largest
-deviation from ``ida-sksundae`` on the grid relative to each variable's range.
+Columns: run time (whole ``Simulation.run``, CPU time of this process and wall time; best of ``REPEAT`` by CPU),
+IDA steps, switches, monitor indicator checks / full tests, linear-solver setups (factorisations) with their CPU time
+per setup and per solve, the integration's split into model / IDA (incl. linear algebra) / Python in CPU time (C
+driver only: thread CPU time measured around each call in C), and the largest deviation from the first row of the
+model on the grid relative to each variable's range.
 
-``--boom`` adds the boom proxy without linkages (``models/boom_proxy.py``, 434 unknowns, 20 s), run once gcc has
-finished its generated C (waited for), so that both routes evaluate the same library.
+``--boom`` adds the boom proxy (``models/boom_proxy.py``, 20 s) without (434 unknowns) and with (794 unknowns) its
+four-bar linkages, run once gcc has finished its generated C (waited for), so that every route evaluates the same
+library; on these only the two C-driver routes run (the Python-stepped and casadi-idas routes take minutes).
 
 Run: ``python benchmarks/native_default.py [--boom]`` from the repository root. No timing is asserted.
 """
@@ -39,7 +45,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 import flexlib as fl  # noqa: E402
 
 REPEAT = 3
-SOLVERS = ("ida-sksundae", "ida", "casadi-idas")
+SOLVERS = ("ida-sksundae", "ida (SuperLU_MT)", "ida", "casadi-idas")
 
 
 def main() -> None:
@@ -47,21 +53,24 @@ def main() -> None:
     from hydraulic_servo import HydraulicServo
 
     from flexlib.models.planar_mechanisms import FourBarLinkage
-    from flexlib.solve.native import native_available
+    from flexlib.solve.native import klu_available, native_available, use_cpu_clock
 
     t = time.perf_counter()
     ok = native_available()
-    print(f"C driver available: {ok} ({time.perf_counter() - t:.2f} s to compile or load)\n")
-    print(f"best of {REPEAT}; rtol 1e-6, atol 1e-8, dt_out 0.01 s\n")
-    print("| model | backend | run (s) | × vs ida-sksundae | steps | switches | monitor checks / full | "
-          "model / IDA / Python (ms) | max |Δ| |")
-    print("|---|---|---|---|---|---|---|---|---|")
-    models = [("four-bar 10 s", FourBarLinkage, 10.0), ("hydraulic servo 20 s", HydraulicServo, 20.0)]
+    print(f"C driver available: {ok} ({time.perf_counter() - t:.2f} s to compile or load); KLU: {klu_available()}\n")
+    use_cpu_clock(True)
+    print(f"best of {REPEAT} by CPU time; rtol 1e-6, atol 1e-8, dt_out 0.01 s\n")
+    print("| model | backend | run CPU / wall (s) | × real time (CPU) | steps | switches | monitor checks / full | "
+          "setups: µs each / µs per solve | model / IDA / Python CPU (ms) | max |Δ| |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    models = [("four-bar 10 s", FourBarLinkage, 10.0, SOLVERS), ("hydraulic servo 20 s", HydraulicServo, 20.0, SOLVERS)]
     if "--boom" in sys.argv[1:]:
         from models.boom_proxy import BoomProxy
 
-        models.append(("boom proxy, direct cylinders, 20 s", lambda: BoomProxy(linkages=False), 20.0))
-    for name, factory, t_end in models:
+        c_only = ("ida (SuperLU_MT)", "ida")
+        models.append(("boom proxy, direct cylinders, 20 s", lambda: BoomProxy(linkages=False), 20.0, c_only))
+        models.append(("boom proxy, linkages, 20 s", lambda: BoomProxy(linkages=True), 20.0, c_only))
+    for name, factory, t_end, solvers in models:
         sim = fl.Simulation(factory())
         deadline = time.monotonic() + 600.0
         while sim.compiled.library_pending is not None and sim.compiled.library is None:  # wait for gcc
@@ -71,32 +80,41 @@ def main() -> None:
             time.sleep(0.1)
             sim.compiled.function("res")
         out = {}
-        for solver in SOLVERS:
-            best, res, counts = np.inf, None, None
+        for label in solvers:
+            solver = label.split(" ")[0]
+            if "SuperLU_MT" in label:
+                os.environ["FLEXLIB_LINSOL"] = "superlumt"
+            best, res, counts = (np.inf, np.inf), None, None
             for _ in range(REPEAT):
                 mon = sim._monitor() if sim.compiled.has_state_choice else None
                 before = dict(mon.counts) if mon is not None else {}
-                w = time.perf_counter()
+                w, c = time.perf_counter(), time.process_time()
                 try:
                     r = sim.run(t_end, dt_out=0.01, rtol=1e-6, atol=1e-8, progress=False, solver=solver)
                 except fl.SolverError as err:  # reported in the table
                     r = err.result
-                w = time.perf_counter() - w
-                if w < best:
-                    best, res = w, r
+                w, c = time.perf_counter() - w, time.process_time() - c
+                if c < best[0]:
+                    best, res = (c, w), r
                     counts = {k: v - before.get(k, 0) for k, v in mon.counts.items()} if mon is not None else None
-            out[solver] = (best, res, counts)
-        ref = out["ida-sksundae"][1]
-        for solver in SOLVERS:
-            best, res, counts = out[solver]
+            os.environ.pop("FLEXLIB_LINSOL", None)
+            out[label] = (best, res, counts)
+        ref = out[solvers[0]][1]
+        for label in solvers:
+            (cpu, wall), res, counts = out[label]
             st = res.stats
-            split = ("–" if "wall_model" not in st else
-                     f"{1e3 * st['wall_model']:.0f} / {1e3 * st['wall_ida']:.0f} / {1e3 * st['wall_python']:.0f}")
+            if "wall_model" in st:
+                python = cpu - st["wall_model"] - st["wall_ida"]  # the run's CPU time outside the C step loop
+                split = f"{1e3 * st['wall_model']:.0f} / {1e3 * st['wall_ida']:.0f} / {1e3 * python:.0f}"
+                la = (f"{st['n_lsetup']}: {1e6 * st['wall_lsetup'] / max(st['n_lsetup'], 1):.0f} / "
+                      f"{1e6 * st['wall_lsolve'] / max(st['n_lsolve'], 1):.1f} ({st['linear_solver']})")
+            else:
+                split = la = "–"
             mon = "–" if counts is None else f"{counts['indicator']} / {counts['full']}"
             if not res.success:
-                solver = f"{solver} (failed at t = {res.t[-1]:.3g} s)"
-            print(f"| {name} | {solver} | {best:.3f} | {out['ida-sksundae'][0] / best:.1f} | {st['steps']} | "
-                  f"{st.get('state_switches', 0)} | {mon} | {split} | {deviation(res, ref):.1e} |", flush=True)
+                label = f"{label} (failed at t = {res.t[-1]:.3g} s)"
+            print(f"| {name} | {label} | {cpu:.3f} / {wall:.3f} | {t_end / cpu:.1f} | {st['steps']} | "
+                  f"{st.get('state_switches', 0)} | {mon} | {la} | {split} | {deviation(res, ref):.1e} |", flush=True)
 
 
 def deviation(r: fl.Result, ref: fl.Result) -> float:

@@ -53,6 +53,7 @@ def test_monitor_schedule_runs_in_c(monkeypatch):
     indicator checks and full tests), while Python sees a small fraction of the steps."""
     from flexlib.models.planar_mechanisms import FourBarLinkage
 
+    monkeypatch.setenv("FLEXLIB_LINSOL", "superlumt")  # the scikit-sundae route's linear solver: the same IDA
     sim = fl.Simulation(FourBarLinkage(), use_cache=False)
     mon = sim._monitor()
     ref = sim.run(3.0, dt_out=0.01, solver="ida-sksundae", progress=False)

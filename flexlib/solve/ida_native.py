@@ -4,7 +4,7 @@
 :func:`flexlib.solve.ida.integrate` (same :class:`~flexlib.solve.ida.Trajectory`, stats keys,
 errors, events), but the step loop runs in C (``flexlib/solve/native/ida_driver.c``): the same
 SUNDIALS 7.9 IDA that scikit-sundae bundles, with the residual, the iteration matrix (CSC
-nonzeros, SuperLU_MT above :data:`~flexlib.solve.ida.DENSE_MAX` unknowns, dense LU below) and
+nonzeros; the linear solver by :func:`linear_solver`: dense LU up to :data:`KLU_MIN` unknowns, KLU above) and
 the event indicators evaluated in C — the model's generated library when it has one, CasADi's
 SX virtual machine through its C API otherwise. No Python runs per residual, Jacobian or step.
 
@@ -32,6 +32,7 @@ step loop: IDA, linear algebra, interpolation) and ``wall_python``.
 
 from __future__ import annotations
 
+import os
 import time as _time
 from typing import Any
 
@@ -39,7 +40,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.errors import SimulationInterrupted, SolverError
+from flexlib.errors import RunArgumentError, SimulationInterrupted, SolverError
 from flexlib.solve.ida import (
     DENSE_MAX,
     Progress,
@@ -50,9 +51,23 @@ from flexlib.solve.ida import (
     next_time_event,
 )
 from flexlib.solve.initialization import Initializer
-from flexlib.solve.native import FD_CHUNK, FD_FULL, FD_ROOT, FD_TINY, FD_TSTOP, Driver, evaluators
+from flexlib.solve.native import (
+    FD_CHUNK,
+    FD_FULL,
+    FD_ROOT,
+    FD_TINY,
+    FD_TSTOP,
+    LINEAR_SOLVERS,
+    Driver,
+    cpu_clock,
+    evaluators,
+    klu_available,
+)
 
-__all__ = ["CHUNK_STEPS", "integrate_native"]
+__all__ = ["CHUNK_STEPS", "KLU_MIN", "integrate_native", "linear_solver"]
+
+#: Up to this many unknowns the driver factorises dense (SUNDIALS dense LU); above, KLU when installed
+KLU_MIN = 40
 
 #: The C loop returns to Python at least every this many steps (progress bar, Ctrl-C, ``max_steps``)
 CHUNK_STEPS = 256
@@ -108,6 +123,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         grid = np.asarray(t_out, dtype=float)
         grid = np.ascontiguousarray(grid[grid > t0])
     drv, state_rel = _make_driver(model, p, rtol, atol, max_step, t0, y0, yp0)
+    stats["linear_solver"] = drv.linsol
     drv.set_grid(grid)
     retired: list[dict[str, float]] = []  # counters of drivers replaced at state switches
     traj.add(t0, y0, yp0, p[n_par:].copy())
@@ -116,7 +132,8 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         cap = max(1, min(cap, len(grid)))
     T, Y, YP = np.empty(cap), np.empty((cap, model.n)), np.empty((cap, model.n))
     t = t0
-    wall0 = _time.perf_counter()
+    clock = _time.thread_time if cpu_clock() else _time.perf_counter  # the clock the driver times with
+    wall0 = clock()
     bar = Progress(model.name, t0, t_end, progress)
     watch = 2 if len(state_rel) else 0
     rooted: set[int] = set()
@@ -258,9 +275,9 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
         raise SolverError(traj.message, traj) from err
     finally:
-        _collect(stats, [*retired, drv.stats()], _time.perf_counter() - wall0)
+        _collect(stats, [*retired, drv.stats()], clock() - wall0)
         bar.close()
-    stats["wall_integrate"] = _time.perf_counter() - wall0
+    stats["wall_integrate"] = clock() - wall0
     return traj
 
 
@@ -330,6 +347,32 @@ def _collect(stats: dict[str, Any], parts: list[dict[str, float]], wall: float) 
     stats["wall_root"] = sum(s["t_root"] for s in parts)
     stats["wall_ida"] = max(advance_s - model_s, 0.0)
     stats["wall_python"] = max(wall - advance_s, 0.0)
+    for key in ("n_lsetup", "n_lsolve", "n_factor_full", "n_newton", "n_newton_fail", "n_err_fail"):
+        stats[key] = sum(int(s[key]) for s in parts)
+    stats["wall_lsetup"] = sum(s["t_lsetup"] for s in parts)
+    stats["wall_lsolve"] = sum(s["t_lsolve"] for s in parts)
+
+
+def linear_solver(model: CompiledModel) -> str:
+    """The driver's linear solver for ``model``: ``"klu"``, ``"dense"`` or ``"superlumt"``.
+
+    Rule (measured per factorisation and solve on the models' own iteration matrices, ``benchmarks/linear_solvers.py``):
+    KLU (BTF + AMD ordering once per driver, then one numeric factorisation with threshold partial pivoting per IDA
+    setup) when the model has more than :data:`KLU_MIN` unknowns and kvxopt's KLU is installed; dense LU at or below
+    :data:`KLU_MIN` (and up to :data:`~flexlib.solve.ida.DENSE_MAX` without KLU); SuperLU_MT (SUNDIALS' sparse
+    solver) otherwise.
+    ``FLEXLIB_LINSOL=dense|klu|superlumt`` in the environment overrides the rule (for comparisons).
+    """
+    forced = os.environ.get("FLEXLIB_LINSOL", "")
+    if forced:
+        if forced not in LINEAR_SOLVERS:
+            raise RunArgumentError(f"FLEXLIB_LINSOL={forced!r}: expected one of {', '.join(LINEAR_SOLVERS)}")
+        return forced
+    if model.n <= KLU_MIN:
+        return "dense"
+    if klu_available():
+        return "klu"
+    return "dense" if model.n <= DENSE_MAX else "superlumt"
 
 
 def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, max_step: float, t0: float,
@@ -337,7 +380,7 @@ def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, 
     """A C driver for ``model`` (indicators of the state relations as IDA root functions)."""
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
     ev = evaluators(model, _zc_function(model, p, state_rel))
-    drv = Driver(model, p, ev, len(state_rel), model.n <= DENSE_MAX, rtol, absolute_tolerances(model, atol),
+    drv = Driver(model, p, ev, len(state_rel), linear_solver(model), rtol, absolute_tolerances(model, atol),
                  max_step, t0, y0, yp0)
     drv.set_wall_chunk(CHUNK_WALL)
     return drv, state_rel

@@ -64,3 +64,43 @@ def test_no_compiler_falls_back_for_the_default_and_names_gcc_for_ida_native(osc
     np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-5)
     with pytest.raises(NativeSolverError, match=r"solver='ida-native' needs a C compiler \(gcc\)"):
         osc.run(2.0, dt_out=0.1, solver="ida-native")
+
+
+@needs_driver
+def test_unknown_linear_solver_in_environment_names_the_variable(osc, monkeypatch):
+    """``FLEXLIB_LINSOL`` with a name the driver does not know: RunArgumentError naming the variable, the value and
+    the choices (no silent fallback to another solver)."""
+    monkeypatch.setenv("FLEXLIB_LINSOL", "umfpack")
+    with pytest.raises(fl.RunArgumentError, match=r"FLEXLIB_LINSOL='umfpack'.*dense, superlumt, klu"):
+        osc.run(1.0, dt_out=0.1)
+
+
+@needs_driver
+def test_klu_requested_without_klu_names_the_package(osc, monkeypatch):
+    """``FLEXLIB_LINSOL=klu`` where KLU cannot be loaded: NativeSolverError naming the linear solver and kvxopt; the
+    default route (no override) still runs, on the other solvers."""
+    monkeypatch.setattr(native, "klu_available", lambda: False)
+    monkeypatch.setattr(ida_native, "klu_available", lambda: False)
+    monkeypatch.setenv("FLEXLIB_LINSOL", "klu")
+    with pytest.raises(NativeSolverError, match=r"linear solver 'klu'.*kvxopt"):
+        osc.run(1.0, dt_out=0.1, solver="ida-native")
+    monkeypatch.delenv("FLEXLIB_LINSOL")
+    res = osc.run(1.0, dt_out=0.1)
+    assert res.success and res.stats["linear_solver"] == "dense"
+
+
+@needs_driver
+@pytest.mark.parametrize("library", ["missing", "not_klu"])
+def test_no_usable_klu_library_falls_back_to_superlumt(library, monkeypatch, tmp_path):
+    """kvxopt not installed (no KLU library found) or a library without KLU's entry points in its place: KLU is
+    reported unavailable (no error) and a model above ``KLU_MIN`` unknowns runs on SuperLU_MT."""
+    path = None if library == "missing" else native.driver_library()  # a shared library without klu_* symbols
+    monkeypatch.setattr(native, "_KLU", [])
+    monkeypatch.setattr(native, "_klu_library", lambda: path)
+    assert not native.klu_available()
+
+    class Big:
+        n = ida_native.KLU_MIN + 1
+
+    monkeypatch.delenv("FLEXLIB_LINSOL", raising=False)
+    assert ida_native.linear_solver(Big()) == "superlumt"

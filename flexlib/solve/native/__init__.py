@@ -11,6 +11,12 @@ Model functions are evaluated from C as well: the generated library's ``flexlib_
 ``flexlib_jac`` symbols when the model has one (``model.library``), otherwise CasADi's SX
 virtual machine through the C API of ``libcasadi.so`` (``casadi_c_push_file`` /
 ``casadi_c_eval_id``), which works for every model without gcc per model.
+
+Linear solvers (``LINEAR_SOLVERS``; chosen by :func:`flexlib.solve.ida_native.linear_solver`): SUNDIALS' dense LU,
+SUNDIALS' SuperLU_MT, and KLU (SuiteSparse), which the bundled SUNDIALS lacks: the driver wraps them in a
+``SUNLinearSolver`` of its own (setup and solve timed in C) and calls KLU through entry points handed over from
+Python (:func:`klu_available`: the shared library of the ``kvxopt`` wheel, its ``klu_common`` layout checked against
+``klu_defaults``), so the driver builds and runs without KLU too.
 """
 
 from __future__ import annotations
@@ -30,16 +36,20 @@ import numpy as np
 
 from flexlib.errors import FlexlibError, NativeSolverError
 
-__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "Driver", "NativeUnavailable", "driver_library",
-           "native_available"]
+__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "LINEAR_SOLVERS", "Driver", "NativeUnavailable",
+           "cpu_clock", "driver_library", "klu_available", "native_available", "use_cpu_clock"]
 
 FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY = 0, 1, 2, 3, 4
+#: Linear solvers of the driver and their codes in ``ida_driver.c`` (``LS_DENSE``, ``LS_SUPERLUMT``, ``LS_KLU``)
+LINEAR_SOLVERS = {"dense": 0, "superlumt": 1, "klu": 2}
+_KLU_FUNCTIONS = ("defaults", "analyze", "factor", "solve", "free_symbolic", "free_numeric")
 
 _SOURCE = Path(__file__).with_name("ida_driver.c")
 _SUNDIALS = ("core", "nvecserial", "sunmatrixdense", "sunmatrixsparse", "sunlinsoldense", "sunlinsolsuperlumt", "ida")
 _LOCK = threading.Lock()
 _LIB: list[ctypes.CDLL] = []
 _CASADI: list[ctypes.CDLL] = []
+_KLU: list[ctypes.CDLL | None] = []
 
 _dp = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
 _ip = np.ctypeslib.ndpointer(dtype=np.int32, flags="C_CONTIGUOUS")
@@ -151,8 +161,72 @@ def _lib() -> ctypes.CDLL:
         lib.fd_stats.restype = None
         lib.fd_flag_name.argtypes = [L, ctypes.c_char_p, i]
         lib.fd_flag_name.restype = None
+        lib.fd_set_klu.argtypes = [ctypes.POINTER(vp)]
+        lib.fd_set_klu.restype = i
+        lib.fd_use_cpu_clock.argtypes = [i]
+        lib.fd_use_cpu_clock.restype = None
+        lib.fd_set_newton.argtypes = [vp, d, i, d]
+        lib.fd_set_newton.restype = i
         _LIB.append(lib)
         return lib
+
+
+def _klu_library() -> Path | None:
+    """KLU (SuiteSparse) as shipped in the kvxopt wheel (``kvxopt.libs/libklu-*.so*``), or None.
+
+    The SUNDIALS that scikit-sundae bundles has no KLU; kvxopt's wheel carries SuiteSparse's shared libraries
+    (KLU with BTF, AMD, COLAMD). Only the library file is used: kvxopt's Python modules are not imported.
+    """
+    import importlib.util
+
+    try:
+        spec = importlib.util.find_spec("kvxopt")
+    except (ImportError, ValueError):  # e.g. a module entry set to None
+        return None
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    for loc in spec.submodule_search_locations:
+        found = sorted((Path(loc).parent / "kvxopt.libs").glob("libklu-*.so*"))
+        if found:
+            return found[0]
+    return None
+
+
+def klu_available() -> bool:
+    """Whether the driver can factorise with KLU: kvxopt's KLU library is installed, loads, and its
+    ``klu_common`` layout is the one the driver expects (checked against ``klu_defaults``). Kept per process."""
+    lib = _lib()
+    with _LOCK:
+        if not _KLU:
+            klu = None
+            path = _klu_library()
+            if path is not None:
+                try:
+                    cand = ctypes.CDLL(str(path))
+                    fns = (ctypes.c_void_p * len(_KLU_FUNCTIONS))(
+                        *[ctypes.cast(getattr(cand, f"klu_{f}"), ctypes.c_void_p).value for f in _KLU_FUNCTIONS])
+                    if lib.fd_set_klu(fns) == 0:
+                        klu = cand
+                except (OSError, AttributeError):
+                    klu = None
+            _KLU.append(klu)
+        return _KLU[0] is not None
+
+
+_CPU_CLOCK = [False]
+
+
+def use_cpu_clock(on: bool) -> None:
+    """Report the integration's time split (``wall_model``, ``wall_ida``, ``wall_python``, ``wall_lsetup``, …
+    in a run's stats) in the thread's CPU time instead of wall time, for benchmarks on a loaded machine (each reading
+    in C is then a system call, ~0.3 µs). Process-wide; off by default."""
+    _lib().fd_use_cpu_clock(int(on))
+    _CPU_CLOCK[0] = bool(on)
+
+
+def cpu_clock() -> bool:
+    """Whether :func:`use_cpu_clock` is on."""
+    return _CPU_CLOCK[0]
 
 
 def _casadi() -> ctypes.CDLL:
@@ -216,9 +290,12 @@ def evaluators(model: Any, zc: ca.Function | None) -> dict[str, Evaluator]:
 class Driver:
     """An IDA instance held in C for one model (see ``ida_driver.c``)."""
 
-    def __init__(self, model: Any, p: np.ndarray, ev: dict[str, Evaluator], n_roots: int, dense: bool, rtol: float,
+    def __init__(self, model: Any, p: np.ndarray, ev: dict[str, Evaluator], n_roots: int, linsol: str, rtol: float,
                  atol: np.ndarray, max_step: float, t0: float, y0: np.ndarray, yp0: np.ndarray) -> None:
         lib = _lib()
+        if linsol == "klu" and not klu_available():
+            raise NativeUnavailable("linear solver 'klu' requested, but KLU is not available (pip install kvxopt)")
+        self.linsol = linsol
         self._lib = lib
         self.n = model.n
         self.p = p  # the C side reads p's memory: parameters and relation values updated in place at events
@@ -231,7 +308,7 @@ class Driver:
                       if k in names and ev[k].symbol is None]
         err = ctypes.create_string_buffer(128)
         diff = np.asarray(model.differential, dtype=float)
-        self._ptr = lib.fd_create(model.n, len(self.row), self.colind, self.row, int(dense), n_roots,
+        self._ptr = lib.fd_create(model.n, len(self.row), self.colind, self.row, LINEAR_SOLVERS[linsol], n_roots,
                                   p.ctypes.data, fptr, fid, ids, mems, sizes, rtol,
                                   np.ascontiguousarray(atol, dtype=float), np.ascontiguousarray(diff), max_step, t0,
                                   np.ascontiguousarray(y0, dtype=float), np.ascontiguousarray(yp0, dtype=float), err)
@@ -326,12 +403,22 @@ class Driver:
         self._lib.fd_diagnostics(self._ptr, ewt, ele)
         return ewt, ele
 
+    def set_newton(self, dcj: float = 0.0, max_iters: int = 0, conv_coef: float = 0.0) -> None:
+        """IDA's Newton knobs (measurements; 0 keeps IDA's default): relative change of ``cj`` that triggers a new
+        iteration matrix (``IDASetDeltaCjLSetup``, default 0.25), Newton iterations per step
+        (``IDASetMaxNonlinIters``, 4), convergence coefficient (``IDASetNonlinConvCoef``, 0.33)."""
+        if self._lib.fd_set_newton(self._ptr, dcj, max_iters, conv_coef) != 0:
+            raise FlexlibError(f"invalid IDA Newton options dcj={dcj}, max_iters={max_iters}, conv_coef={conv_coef}")
+
     def stats(self) -> dict[str, float]:
-        """Evaluation counts and seconds spent in C."""
-        c, s = np.zeros(5, dtype=np.int64), np.zeros(4)
+        """Evaluation counts, linear-solver counts and seconds spent in C."""
+        c, s = np.zeros(11, dtype=np.int64), np.zeros(6)
         self._lib.fd_stats(self._ptr, c, s)
         return {"nfev": int(c[0]), "njev": int(c[1]), "nroot": int(c[2]), "steps": int(c[3]), "nonfinite": int(c[4]),
-                "t_res": float(s[0]), "t_jac": float(s[1]), "t_root": float(s[2]), "t_advance": float(s[3])}
+                "n_lsetup": int(c[5]), "n_lsolve": int(c[6]), "n_factor_full": int(c[7]), "n_newton": int(c[8]),
+                "n_newton_fail": int(c[9]), "n_err_fail": int(c[10]),
+                "t_res": float(s[0]), "t_jac": float(s[1]), "t_root": float(s[2]), "t_advance": float(s[3]),
+                "t_lsetup": float(s[4]), "t_lsolve": float(s[5])}
 
     def flag_name(self, flag: int) -> str:
         """IDA's name of a return flag."""

@@ -41,6 +41,11 @@ void SUNMatDestroy(SUNMatrix A);
 SUNLinearSolver SUNLinSol_Dense(N_Vector y, SUNMatrix A, SUNContext ctx);
 SUNLinearSolver SUNLinSol_SuperLUMT(N_Vector y, SUNMatrix A, int nthreads, SUNContext ctx);
 int SUNLinSolFree(SUNLinearSolver LS);
+SUNLinearSolver SUNLinSolNewEmpty(SUNContext ctx);
+void SUNLinSolFreeEmpty(SUNLinearSolver S);
+int SUNLinSolInitialize(SUNLinearSolver S);
+int SUNLinSolSetup(SUNLinearSolver S, SUNMatrix A);
+int SUNLinSolSolve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, sunrealtype tol);
 void *IDACreate(SUNContext ctx);
 int IDAInit(void *mem, IDAResFn res, sunrealtype t0, N_Vector y0, N_Vector yp0);
 int IDAReInit(void *mem, sunrealtype t0, N_Vector y0, N_Vector yp0);
@@ -62,6 +67,13 @@ int IDAGetCurrentStep(void *mem, sunrealtype *hcur);
 char *IDAGetReturnFlagName(long int flag);
 int IDASetLinearSolver(void *mem, SUNLinearSolver LS, SUNMatrix A);
 int IDASetJacFn(void *mem, IDALsJacFn jac);
+int IDASetDeltaCjLSetup(void *mem, sunrealtype dcj);
+int IDASetMaxNonlinIters(void *mem, int maxcor);
+int IDASetNonlinConvCoef(void *mem, sunrealtype epcon);
+int IDAGetNumLinSolvSetups(void *mem, long int *nlinsetups);
+int IDAGetNumNonlinSolvIters(void *mem, long int *nniters);
+int IDAGetNumNonlinSolvConvFails(void *mem, long int *nncfails);
+int IDAGetNumErrTestFails(void *mem, long int *netfails);
 void IDAFree(void **mem);
 
 #define IDA_NORMAL 1
@@ -76,6 +88,52 @@ void IDAFree(void **mem);
 #define FD_ROOT 2    /* a root of an event indicator */
 #define FD_CHUNK 3   /* max_chunk steps done (Python polls Ctrl-C, progress, step limits) */
 #define FD_TINY 4    /* more than 200 consecutive steps shorter than 1e-14 * max(1, |t|) */
+
+/* The generic SUNLinearSolver of SUNDIALS 7.9 (sundials_linearsolver.h; the bundled build has one more pointer
+ * between content and ops, checked in ls_create), so that the driver can wrap the bundled solvers (timing) and
+ * add KLU (SuiteSparse), which the bundled SUNDIALS lacks. */
+typedef int (*ls_fn_t)(void);
+struct ls_ops {
+    int (*gettype)(SUNLinearSolver);
+    int (*getid)(SUNLinearSolver);
+    ls_fn_t setatimes, setpreconditioner, setscalingvectors, setoptions, setzeroguess;
+    int (*initialize)(SUNLinearSolver);
+    int (*setup)(SUNLinearSolver, SUNMatrix);
+    int (*solve)(SUNLinearSolver, SUNMatrix, N_Vector, N_Vector, sunrealtype);
+    ls_fn_t numiters, resnorm;
+    sunindextype (*lastflag)(SUNLinearSolver);
+    ls_fn_t space, resid;
+    int (*free)(SUNLinearSolver);
+};
+struct _SUNLinearSolver {
+    void *content;
+    void *python;
+    struct ls_ops *ops;
+    SUNContext sunctx;
+};
+#define SUNLINEARSOLVER_DIRECT 0
+#define SUNLINEARSOLVER_CUSTOM 17
+#define SUNLS_PACKAGE_FAIL_REC 806
+
+/* KLU (SuiteSparse) as found at run time (a shared library located by Python; NULL entries: not available).
+ * klu_common of KLU 1.x/2.x (int version): the fields the driver reads are checked against klu_defaults. */
+typedef struct {
+    double tol, memgrow, initmem_amd, initmem, maxwork;
+    int btf, ordering, scale;
+    void *user_order, *user_data;
+    int halt_if_singular, status, nrealloc, structural_rank, numerical_rank, singular_col, noffdiag;
+    double flops, rcond, condest, rgrowth, work;
+    size_t memusage, mempeak;
+    char reserve[256]; /* room for fields of newer versions */
+} klu_common_t;
+static struct {
+    int (*defaults)(klu_common_t *);
+    void *(*analyze)(int, int *, int *, klu_common_t *);
+    void *(*factor)(int *, int *, double *, void *, klu_common_t *);
+    int (*solve)(void *, void *, int, int, double *, klu_common_t *);
+    int (*free_symbolic)(void **, klu_common_t *);
+    int (*free_numeric)(void **, klu_common_t *);
+} KLU;
 
 typedef int (*cfun_t)(const double **, double **, long long *, double *, int);
 typedef int (*cidfun_t)(int, const double **, double **, long long *, double *, int);
@@ -120,11 +178,31 @@ typedef struct {
     double hlast;          /* size of the last step taken */
     double wall_chunk;     /* fd_advance returns FD_CHUNK after this many seconds of wall time (0: no limit), so
                               that Ctrl-C/SIGTERM and the progress bar reach Python promptly on slow models */
+    /* linear solver: LS is the wrapper IDA sees (ls_*), inner the bundled solver it times (dense, SuperLU_MT) */
+    int linsol;            /* LS_DENSE, LS_SUPERLUMT or LS_KLU */
+    SUNLinearSolver inner;
+    klu_common_t klu;
+    void *klu_sym, *klu_num;
+    long ls_setups, ls_solves, ls_full; /* setups, solves, KLU numeric factorisations */
+    double sec_setup, sec_solve;
+    int ls_flag;
+    long nni_before, ncf_before, netf_before; /* IDA's Newton iterations, convergence and error test failures before
+                                                  the last IDAReInit (which resets IDA's counters) */
 } drv_t;
+
+#define LS_DENSE 0
+#define LS_SUPERLUMT 1
+#define LS_KLU 2
+
+static clockid_t CLOCK = CLOCK_MONOTONIC;
+
+/* Time the driver's parts (fd_stats seconds) in thread CPU time instead of wall time (benchmarks on a shared
+ * machine; a system call per reading, about 0.3 us, instead of the vDSO's 20 ns). Process-wide. */
+void fd_use_cpu_clock(int on) { CLOCK = on ? CLOCK_THREAD_CPUTIME_ID : CLOCK_MONOTONIC; }
 
 static double now(void) {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(CLOCK, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
@@ -216,11 +294,127 @@ static int rootfn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *
     return fcall(&d->zc) ? -1 : 0;
 }
 
+/* ---- linear solver wrapper: times the bundled solvers, or factorises with KLU ---- */
+
+/* KLU with its defaults: the pattern is IDA's (constant); the first setup analyses it once (BTF, then AMD on each
+ * block: klu_analyze), and every setup factorises with threshold partial pivoting (klu_factor, tol 0.001). COLAMD
+ * instead of AMD halves the factorisation on the boom proxy (190 instead of 420 us) but, with tol 0.001, ran a stiff
+ * bushing four-bar into 20000 steps at t = 0.017 s; with tol 1.0 it runs, but puts an rtol-1e-10 test (a force
+ * computed two ways, 1e-8 N allowed) 2.8e-8 N off. Refactorising with the previous pivots (klu_refactor: 112 instead
+ * of 327 us per setup on the boom proxy) put that test 2e-8 N off even with a pivot-growth check. Neither is used. */
+static int klu_full(drv_t *d, int *Ap, int *Ai, double *Ax) {
+    if (d->klu_num) KLU.free_numeric(&d->klu_num, &d->klu);
+    d->klu_num = KLU.factor(Ap, Ai, Ax, d->klu_sym, &d->klu);
+    d->ls_full++;
+    if (!d->klu_num) return d->klu.status == 1 ? SUNLS_PACKAGE_FAIL_REC : -1; /* KLU_SINGULAR: recoverable */
+    return 0;
+}
+
+static int ls_setup(SUNLinearSolver S, SUNMatrix A) {
+    drv_t *d = (drv_t *)S->content;
+    double t0 = now();
+    int flag;
+    if (d->linsol != LS_KLU) {
+        flag = SUNLinSolSetup(d->inner, A);
+    } else {
+        int *Ap = SUNSparseMatrix_IndexPointers(A), *Ai = SUNSparseMatrix_IndexValues(A);
+        double *Ax = SUNSparseMatrix_Data(A);
+        if (!d->klu_sym) {
+            d->klu_sym = KLU.analyze(d->n, Ap, Ai, &d->klu);
+            if (!d->klu_sym) { flag = -1; goto done; }
+        }
+        flag = klu_full(d, Ap, Ai, Ax);
+    }
+done:
+    d->ls_setups++;
+    d->sec_setup += now() - t0;
+    d->ls_flag = flag;
+    return flag;
+}
+
+static int ls_solve(SUNLinearSolver S, SUNMatrix A, N_Vector x, N_Vector b, sunrealtype tol) {
+    drv_t *d = (drv_t *)S->content;
+    double t0 = now();
+    int flag;
+    if (d->linsol != LS_KLU) {
+        flag = SUNLinSolSolve(d->inner, A, x, b, tol);
+    } else {
+        double *xd = N_VGetArrayPointer(x);
+        memcpy(xd, N_VGetArrayPointer(b), sizeof(double) * d->n);
+        flag = KLU.solve(d->klu_sym, d->klu_num, d->n, 1, xd, &d->klu) ? 0 : -1;
+    }
+    d->ls_solves++;
+    d->sec_solve += now() - t0;
+    d->ls_flag = flag;
+    return flag;
+}
+
+static int ls_gettype(SUNLinearSolver S) { (void)S; return SUNLINEARSOLVER_DIRECT; }
+static int ls_getid(SUNLinearSolver S) { (void)S; return SUNLINEARSOLVER_CUSTOM; }
+static int ls_initialize(SUNLinearSolver S) {
+    drv_t *d = (drv_t *)S->content;
+    return d->linsol == LS_KLU ? 0 : SUNLinSolInitialize(d->inner);
+}
+static sunindextype ls_lastflag(SUNLinearSolver S) { return ((drv_t *)S->content)->ls_flag; }
+static int ls_free(SUNLinearSolver S) { /* the driver frees its parts in fd_free */
+    S->content = NULL;
+    SUNLinSolFreeEmpty(S);
+    return 0;
+}
+
+/* Hand the KLU entry points to the driver (once per process; Python locates the library). fns: defaults, analyze,
+ * factor, solve, free_symbolic, free_numeric. Returns 0, or -1 when klu_defaults does not
+ * fill klu_common as the layout above expects (another KLU version: KLU stays off). */
+int fd_set_klu(void **fns) {
+    klu_common_t c;
+    memset(&c, 0, sizeof c);
+    int (*defaults)(klu_common_t *) = (int (*)(klu_common_t *))fns[0];
+    if (!defaults(&c) || c.tol != 0.001 || c.memgrow != 1.2 || c.btf != 1 || c.ordering != 0 || c.scale != 2
+        || c.halt_if_singular != 1 || c.status != 0) return -1;
+    KLU.defaults = defaults;
+    KLU.analyze = (void *(*)(int, int *, int *, klu_common_t *))fns[1];
+    KLU.factor = (void *(*)(int *, int *, double *, void *, klu_common_t *))fns[2];
+    KLU.solve = (int (*)(void *, void *, int, int, double *, klu_common_t *))fns[3];
+    KLU.free_symbolic = (int (*)(void **, klu_common_t *))fns[4];
+    KLU.free_numeric = (int (*)(void **, klu_common_t *))fns[5];
+    return 0;
+}
+
+static SUNLinearSolver ls_create(drv_t *d) {
+    if (d->linsol == LS_DENSE) {
+        d->A = SUNDenseMatrix(d->n, d->n, d->ctx);
+        d->inner = d->A ? SUNLinSol_Dense(d->y, d->A, d->ctx) : NULL;
+    } else {
+        d->A = SUNSparseMatrix(d->n, d->n, d->nnz ? d->nnz : 1, CSC_MAT, d->ctx);
+        if (d->linsol == LS_SUPERLUMT) {
+            d->inner = d->A ? SUNLinSol_SuperLUMT(d->y, d->A, 1, d->ctx) : NULL;
+        } else {
+            if (!KLU.defaults || KLU.defaults(&d->klu) != 1) return NULL;
+        }
+    }
+    if (!d->A || (d->linsol != LS_KLU && !d->inner)) return NULL;
+    SUNLinearSolver S = SUNLinSolNewEmpty(d->ctx);
+    if (!S) return NULL;
+    if (!S->ops || S->sunctx != d->ctx || S->ops->gettype || S->ops->setup) { /* not the layout declared above */
+        SUNLinSolFreeEmpty(S);
+        return NULL;
+    }
+    S->content = d;
+    S->ops->gettype = ls_gettype;
+    S->ops->getid = ls_getid;
+    S->ops->initialize = ls_initialize;
+    S->ops->setup = ls_setup;
+    S->ops->solve = ls_solve;
+    S->ops->lastflag = ls_lastflag;
+    S->ops->free = ls_free;
+    return S;
+}
+
 void fd_free(drv_t *d);
 
-/* Create a driver. fun pointers/ids/work sizes: index 0 res, 1 jac, 2 zc (zc unused when nroot == 0).
+/* Create a driver (linsol: LS_DENSE, LS_SUPERLUMT or LS_KLU, the last after fd_set_klu). fun pointers/ids/work sizes: index 0 res, 1 jac, 2 zc (zc unused when nroot == 0).
  * Returns NULL on failure (err gets a short reason). */
-drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int dense, int nroot, double *p,
+drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int linsol, int nroot, double *p,
                  void **fptr, void *fid, const int *ids, const int *mems, const long long *sizes, double rtol,
                  const double *atol, const double *differential, double max_step, double t0, const double *y0,
                  const double *yp0, char *err) {
@@ -228,7 +422,8 @@ drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int dense, i
     if (!d) return NULL;
     d->n = n;
     d->nnz = nnz;
-    d->dense = dense;
+    d->dense = linsol == LS_DENSE;
+    d->linsol = linsol;
     d->nroot = nroot;
     d->p = p;
     d->colind = malloc(sizeof(int) * (n + 1));
@@ -264,14 +459,8 @@ drv_t *fd_create(int n, int nnz, const int *colind, const int *row, int dense, i
     IDASetId(d->mem, d->idv);
     IDASetMaxNumSteps(d->mem, 100000);
     if (max_step > 0) IDASetMaxStep(d->mem, max_step);
-    if (dense) {
-        d->A = SUNDenseMatrix(n, n, d->ctx);
-        d->LS = d->A ? SUNLinSol_Dense(d->y, d->A, d->ctx) : NULL;
-    } else {
-        d->A = SUNSparseMatrix(n, n, nnz ? nnz : 1, CSC_MAT, d->ctx);
-        d->LS = d->A ? SUNLinSol_SuperLUMT(d->y, d->A, 1, d->ctx) : NULL;
-    }
-    if (!d->A || !d->LS) { strcpy(err, "matrix or linear solver"); goto fail; }
+    d->LS = ls_create(d);
+    if (!d->LS) { strcpy(err, "matrix or linear solver"); goto fail; }
     if (IDASetLinearSolver(d->mem, d->LS, d->A)) { strcpy(err, "IDASetLinearSolver"); goto fail; }
     if (IDASetJacFn(d->mem, jacfn)) { strcpy(err, "IDASetJacFn"); goto fail; }
     if (nroot) {
@@ -293,6 +482,9 @@ void fd_free(drv_t *d) {
     if (!d) return;
     if (d->mem) IDAFree(&d->mem);
     if (d->LS) SUNLinSolFree(d->LS);
+    if (d->inner) SUNLinSolFree(d->inner);
+    if (d->klu_num) KLU.free_numeric(&d->klu_num, &d->klu);
+    if (d->klu_sym) KLU.free_symbolic(&d->klu_sym, &d->klu);
     if (d->A) SUNMatDestroy(d->A);
     N_Vector vs[5] = {d->y, d->yp, d->idv, d->atol, d->tmp};
     for (int i = 0; i < 5; i++)
@@ -333,8 +525,16 @@ int fd_set_funs(drv_t *d, void **fptr, void *fid, const int *ids, const int *mem
     return 0;
 }
 
+static long ida_count(drv_t *d, int (*get)(void *, long int *)) {
+    long v = 0;
+    return get(d->mem, &v) ? 0 : v;
+}
+
 /* Restart at t0 from y0, yp0 (after an event). */
 int fd_reinit(drv_t *d, double t0, const double *y0, const double *yp0) {
+    d->nni_before += ida_count(d, IDAGetNumNonlinSolvIters);
+    d->ncf_before += ida_count(d, IDAGetNumNonlinSolvConvFails);
+    d->netf_before += ida_count(d, IDAGetNumErrTestFails);
     memcpy(N_VGetArrayPointer(d->y), y0, sizeof(double) * d->n);
     memcpy(N_VGetArrayPointer(d->yp), yp0, sizeof(double) * d->n);
     d->tcur = t0;
@@ -362,6 +562,16 @@ void fd_set_limits(drv_t *d, double t_limit, double h_min) {
 
 /* Wall-time bound of one fd_advance call [s] (0: none); checked after each step. */
 void fd_set_wall_chunk(drv_t *d, double seconds) { d->wall_chunk = seconds; }
+
+/* IDA's Newton/linear-solver knobs (for measurements; values <= 0 keep IDA's defaults): the relative change of cj
+ * that triggers a new setup (default 0.25), Newton iterations per step (4), Newton convergence coefficient (0.33). */
+int fd_set_newton(drv_t *d, double dcj, int maxcor, double epcon) {
+    int f = 0;
+    if (dcj > 0) f |= IDASetDeltaCjLSetup(d->mem, dcj);
+    if (maxcor > 0) f |= IDASetMaxNonlinIters(d->mem, maxcor);
+    if (epcon > 0) f |= IDASetNonlinConvCoef(d->mem, epcon);
+    return f;
+}
 
 /* Size of the last step taken [s]. */
 double fd_last_step(drv_t *d) { return d->hlast; }
@@ -468,8 +678,18 @@ int fd_diagnostics(drv_t *d, double *ewt, double *ele) {
     return f1 ? f1 : f2;
 }
 
-/* counters: [res calls, jac calls, root calls, steps]; seconds: [res, jac, root, advance] */
+/* counters: [res calls, jac calls, root calls, steps, non-finite residuals, linear solver setups, solves, full KLU
+ * factorisations, Newton iterations, Newton convergence failures, error test failures];
+ * seconds: [res, jac, root, advance, linear solver setups, solves] */
 void fd_stats(drv_t *d, long *counts, double *seconds) {
+    counts[5] = d->ls_setups;
+    counts[6] = d->ls_solves;
+    counts[7] = d->ls_full;
+    counts[8] = d->nni_before + ida_count(d, IDAGetNumNonlinSolvIters);
+    counts[9] = d->ncf_before + ida_count(d, IDAGetNumNonlinSolvConvFails);
+    counts[10] = d->netf_before + ida_count(d, IDAGetNumErrTestFails);
+    seconds[4] = d->sec_setup;
+    seconds[5] = d->sec_solve;
     counts[0] = d->res.calls;
     counts[1] = d->jac.calls;
     counts[2] = d->nroot ? d->zc.calls : 0;
