@@ -23,8 +23,8 @@ relief flow, pump torque, chamber masses and volumes at nominal 1 or 0.1) and wi
 2001-point grid, i.e. steps at equal accuracy.
 
 Run: ``python benchmarks/hydraulic_chamber.py`` (from the repository root; ~5 min on a loaded 2-core VM);
-``--quick`` runs rtol 1e-6 and 1e-8 only, ``--ida-only`` skips casadi-idas, ``--no-servo`` skips part 2. Nothing
-is asserted.
+``--quick`` runs rtol 1e-6 and 1e-8 only, ``--ida-only`` skips casadi-idas, ``--no-servo`` skips part 2,
+``--no-chambers`` part 1. Nothing is asserted.
 """
 
 from __future__ import annotations
@@ -193,7 +193,8 @@ def main() -> None:
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
     quick = "--quick" in sys.argv
     solvers = ("ida",) if "--ida-only" in sys.argv else ("ida", "casadi-idas")
-    part1([1e-6, 1e-8] if quick else [1e-6, 1e-7, 1e-8, 1e-9], solvers)
+    if "--no-chambers" not in sys.argv:
+        part1([1e-6, 1e-8] if quick else [1e-6, 1e-7, 1e-8, 1e-9], solvers)
     if "--no-servo" not in sys.argv:
         part2([1e-6] if quick else [1e-5, 1e-6, 1e-7])
 
