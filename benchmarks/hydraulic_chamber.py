@@ -11,9 +11,13 @@ formulation (``chamber_form`` of the cylinder and the supply volume, see
 * ``pressure``   — pressure as state (mass conserved only to the integration tolerance);
 * ``mass_total`` — the stored mass itself as state (the formulation before this change).
 
-For rtol 1e-6 … 1e-9 it prints IDA steps, wall time and the mass-balance error (pumped − returned − Δstored,
-relative to the pumped mass), on the default backend and on ``solver="casadi-idas"``, for two absolute-tolerance
-policies: atol = rtol and atol = 1e-4·rtol (both scaled by each variable's nominal).
+For rtol 1e-6 … 1e-9 it prints IDA steps, process CPU time, the largest errors of the piston position and of the
+cap-side pressure against a reference run (rtol 1e-11, atol 1e-13) and the mass-balance error (pumped − returned −
+Δstored, relative to the pumped mass), on the default backend and on ``solver="casadi-idas"``, for two
+absolute-tolerance policies: atol = rtol and atol = 1e-4·rtol (both scaled by each variable's nominal).
+
+Part 1b — the same comparison (default backend, 4 s) on variants of the circuit set through run-time parameters:
+slow large travel, a start near the cap-end stop, a 2000 kg load.
 
 Part 2 — error weights. The hydraulic servo of ``benchmarks/hydraulic_servo.py`` (read, not changed) at rtol
 1e-5 … 1e-7 with the nominal values the hydraulics library declared before this change ("before": spool speed,
@@ -22,7 +26,8 @@ relief flow, pump torque, chamber masses and volumes at nominal 1 or 0.1) and wi
 2001-point grid, i.e. steps at equal accuracy.
 
 Run: ``python benchmarks/hydraulic_chamber.py`` (from the repository root; ~5 min on a loaded 2-core VM);
-``--quick`` runs rtol 1e-6 and 1e-8 only. Nothing is asserted.
+``--quick`` runs rtol 1e-6 and 1e-8 only, ``--ida-only`` skips casadi-idas, ``--no-servo`` skips part 2,
+``--no-chambers`` part 1. Nothing is asserted.
 """
 
 from __future__ import annotations
@@ -110,31 +115,71 @@ def mass_balance_error(res: fl.Result) -> float:
     return float(np.abs(balance).max() / res["pumped.M"][-1])
 
 
-def part1(rtols: list[float]) -> None:
+def part1(rtols: list[float], solvers: tuple[str, ...]) -> None:
     forms = ("mass", "pressure", "mass_total")
     sims = {f: fl.Simulation(PumpValveCylinder(f), use_cache=False) for f in forms}
+    t0 = time.process_time()
+    ref = sims["mass"].run(T_END, dt_out=0.01, rtol=1e-11, atol=1e-13, progress=False, max_steps=2_000_000)
     print(f"## Part 1: chamber formulations, pump–valve–cylinder circuit, {T_END:g} s, 301 output points\n")
-    for solver in ("ida", "casadi-idas"):
+    print(f"Reference: chamber_form='mass', rtol 1e-11, atol 1e-13, {ref.stats['steps']} steps "
+          f"({time.process_time() - t0:.1f} s CPU). Cells: steps / CPU s / max|x − x_ref| [m] / "
+          "max|p_A − p_A,ref| [Pa] / mass-balance error")
+    for solver in solvers:
         for label, afac in (("atol = rtol", 1.0), ("atol = 1e-4·rtol", 1e-4)):
             print(f"\n### {solver}, {label} (× nominal)\n")
-            print("| rtol | " + " | ".join(f"{f}: steps / wall s / mass error" for f in forms)
-                  + " | steps mass / pressure |")
+            print("| rtol | " + " | ".join(forms) + " | steps mass / pressure |")
             print("|---|" + "---|" * (len(forms) + 1))
             for rtol in rtols:
                 cells, steps = [], {}
                 for f in forms:
-                    t0 = time.perf_counter()
+                    t0 = time.process_time()
                     try:
                         res = sims[f].run(T_END, dt_out=0.01, rtol=rtol, atol=afac * rtol, progress=False,
                                           solver=solver, max_steps=400_000)
                     except fl.SolverError as err:
                         cells.append(f"failed ({str(err).splitlines()[0][:60]})")
                         continue
-                    wall = time.perf_counter() - t0
+                    cpu = time.process_time() - t0
                     steps[f] = res.stats["steps"]
-                    cells.append(f"{steps[f]} / {wall:.2f} / {mass_balance_error(res):.1e}")
+                    ex = np.abs(res["cylinder.x"] - ref["cylinder.x"]).max()
+                    ep = np.abs(res["cylinder.p_A"] - ref["cylinder.p_A"]).max()
+                    cells.append(f"{steps[f]} / {cpu:.2f} / {ex:.1e} / {ep:.1e} / {mass_balance_error(res):.0e}")
                 ratio = f"{steps['mass'] / steps['pressure']:.2f}" if {"mass", "pressure"} <= steps.keys() else "–"
                 print(f"| {rtol:g} | " + " | ".join(cells) + f" | {ratio} |", flush=True)
+
+
+#: Variants of the circuit through run-time parameters (circuits the formulation was not tuned on).
+VARIANTS = {"slow, large travel": {"command.f": 0.25, "command.amplitude": 1.0},
+            "start near the cap-end stop": {"cylinder.x_start": 0.02, "command.f": 0.4},
+            "2000 kg load": {"load.m": 2000.0}}
+
+
+def variants() -> None:
+    """The circuit's variants (``VARIANTS``), 4 s, default backend: steps of the mass and pressure forms."""
+    sims = {f: fl.Simulation(PumpValveCylinder(f), use_cache=False) for f in ("mass", "pressure")}
+    print("\n## Part 1b: variants of the circuit, 4 s, default backend\n")
+    print("Cells: steps mass / steps pressure (ratio), max|x_mass − x_pressure| [m]\n")
+    cases = ((1e-6, 1.0), (1e-8, 1e-4), (1e-9, 1e-4))
+    print("| variant | " + " | ".join(f"rtol {r:g}, atol {a * r:g}" for r, a in cases) + " |")
+    print("|---|" + "---|" * len(cases))
+    for name, params in VARIANTS.items():
+        cells = []
+        for rtol, afac in cases:
+            out: dict[str, fl.Result | str] = {}
+            for f, sim in sims.items():
+                try:
+                    out[f] = sim.run(4.0, dt_out=0.01, rtol=rtol, atol=afac * rtol, progress=False, params=params,
+                                     max_steps=500_000)
+                except fl.SolverError as err:
+                    out[f] = f"{f} failed: {str(err).splitlines()[0][:50]}"
+            m, p = out["mass"], out["pressure"]
+            if isinstance(m, fl.Result) and isinstance(p, fl.Result):
+                dx = np.abs(m["cylinder.x"] - p["cylinder.x"]).max()
+                cells.append(f"{m.stats['steps']} / {p.stats['steps']} ({m.stats['steps'] / p.stats['steps']:.2f}), "
+                             f"{dx:.1e}")
+            else:
+                cells.append("; ".join(v if isinstance(v, str) else f"{k} {v.stats['steps']}" for k, v in out.items()))
+        print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
 
 
 #: Nominals the hydraulics library declared before the physical error weights (same variables, old values).
@@ -184,8 +229,12 @@ def part2(rtols: list[float]) -> None:
 def main() -> None:
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
     quick = "--quick" in sys.argv
-    part1([1e-6, 1e-8] if quick else [1e-6, 1e-7, 1e-8, 1e-9])
-    part2([1e-6] if quick else [1e-5, 1e-6, 1e-7])
+    solvers = ("ida",) if "--ida-only" in sys.argv else ("ida", "casadi-idas")
+    if "--no-chambers" not in sys.argv:
+        part1([1e-6, 1e-8] if quick else [1e-6, 1e-7, 1e-8, 1e-9], solvers)
+        variants()
+    if "--no-servo" not in sys.argv:
+        part2([1e-6] if quick else [1e-5, 1e-6, 1e-7])
 
 
 if __name__ == "__main__":
