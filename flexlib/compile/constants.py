@@ -105,7 +105,8 @@ class _Solver:
         return None
 
 
-def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float]) -> SimpleSystem:
+def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float], *,
+                        assume_zero_geometry: bool | None = None) -> SimpleSystem:
     """Eliminate the unknowns that the equations fix to constants or parameter expressions.
 
     Parameters
@@ -115,6 +116,9 @@ def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float]) ->
     param_values : dict
         Parameter values by symbol hash (the build's values; used to find the zero-valued parameters
         and to check that a parameter coefficient is not zero).
+    assume_zero_geometry : bool or None
+        Assume the zero-valued frame parameters zero (see the module doc); None: :func:`zero_geometry`
+        (True unless ``FLEXLIB_ZERO_GEOMETRY=0``).
 
     Returns
     -------
@@ -124,7 +128,9 @@ def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float]) ->
     """
     if not simple.equations:
         return simple
-    for use_zeros in ((True, False) if zero_geometry() else (False,)):
+    if assume_zero_geometry is None:
+        assume_zero_geometry = zero_geometry()
+    for use_zeros in ((True, False) if assume_zero_geometry else (False,)):
         found = _propagate(simple, param_values, use_zeros)
         if found is None:
             continue
@@ -217,8 +223,8 @@ def _propagate(simple: SimpleSystem, param_values: dict[int, float],
 
 
 def zero_geometry() -> bool:
-    """True if ``FLEXLIB_ZERO_GEOMETRY=1``: zero-valued frame parameters may be assumed (see the module doc)."""
-    return os.environ.get("FLEXLIB_ZERO_GEOMETRY", "") == "1"
+    """The default of ``assume_zero_geometry``: True unless ``FLEXLIB_ZERO_GEOMETRY=0`` (see the module doc)."""
+    return os.environ.get("FLEXLIB_ZERO_GEOMETRY", "1").strip() != "0"
 
 
 def _frame_parameters(simple: SimpleSystem) -> set[int]:
@@ -450,4 +456,5 @@ def check_assumed(assumed: dict[str, str], names: list[str], vec: np.ndarray, mo
         raise StructureChangedError(
             f"model {model}: {what}: the build eliminated unknowns that this parameter fixes (e.g. the "
             "out-of-plane motion of a planar mechanism), so a run cannot change it; set the value on the "
-            "model and create a new Simulation")
+            "model and create a new Simulation, or build with Simulation(model, assume_zero_geometry=False) "
+            "to vary it in runs")

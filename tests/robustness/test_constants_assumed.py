@@ -1,6 +1,6 @@
 """Faults: a run that violates a parameter condition the planar reduction relied on (flexlib/compile/constants.py).
 
-A planar four-bar built with ``FLEXLIB_ZERO_GEOMETRY=1`` eliminates its out-of-plane unknowns assuming the
+A planar four-bar built by default (``assume_zero_geometry``) eliminates its out-of-plane unknowns assuming the
 in-plane axis components (and other zero frame parameters) stay zero and the axis keeps its sign. A run that
 changes one must fail with StructureChangedError naming the parameter and the assumption, never run silently
 wrong (issue 8: a tilted rocker axis gave a 0.25 m gap in the loop).
@@ -15,7 +15,7 @@ import flexlib as fl
 
 @pytest.fixture()
 def sim(monkeypatch):
-    monkeypatch.setenv("FLEXLIB_ZERO_GEOMETRY", "1")
+    monkeypatch.delenv("FLEXLIB_ZERO_GEOMETRY", raising=False)  # the default
     return fl.Simulation(FourBar(), use_cache=False)
 
 
