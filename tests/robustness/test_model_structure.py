@@ -295,7 +295,8 @@ def test_state_select_per_instance_changes_states_and_agrees():
     """Forcing the crank joint's angle and speed to ``always`` makes them the states (the default picks the coupler
     joint, rev2); both runs follow the closed-form position analysis over a full crank turn to 1e-6 rad and agree
     with each other to 1e-6 rad (run at rtol 1e-10: at 1e-9 the forced run's own error is 5e-7 rad on the opt-out
-    build and 9e-7 rad with planar geometry assumed). The per-instance choice is part of the cache key."""
+    build, which tested the joint speeds twice, and 9e-7 rad with planar geometry assumed, where the frames'
+    angular velocities are aliases of them; docs/engine.md). The per-instance choice is part of the cache key."""
     th2 = 0.3
     th3, th4 = ref.fourbar_angles(A, B, C, D, th2, "open")
     default = fl.Simulation(FourBar(th2, th3, th4, w2=6.0))
