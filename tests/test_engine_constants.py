@@ -28,8 +28,9 @@ import test_loops
 
 @pytest.fixture(autouse=True)
 def _zero_geometry(monkeypatch):
-    """The planar reduction relies on zero frame parameters; it is opt-in (``FLEXLIB_ZERO_GEOMETRY=1``)."""
-    monkeypatch.setenv("FLEXLIB_ZERO_GEOMETRY", "1")
+    """The planar reduction relies on zero frame parameters; it is the default (opt-out:
+    ``FLEXLIB_ZERO_GEOMETRY=0`` or ``assume_zero_geometry=False``): test the default."""
+    monkeypatch.delenv("FLEXLIB_ZERO_GEOMETRY", raising=False)
 
 A, B, C, D = 0.2, 0.7, 0.9, 0.6          # m: crank, coupler, rocker, ground
 M_CRANK, M_COUPLER, M_ROCKER = 1.0, 2.0, 1.5  # kg
@@ -283,14 +284,13 @@ class HeldArm(fl.Model):
         self.connect(self.housing.flange, self.hinge.support)
 
 
-def test_parameter_expression_follows_run_params(monkeypatch):
-    """Default build (no zero-geometry option): the held joint angle is the parameter expression
-    ``lock.phi0 − housing.phi0``, its rate and acceleration are 0 — all three leave the DAE and are reported
-    exactly; ``run(params={"lock.phi0": 0.9})`` moves the arm, and the holding torque on the lock follows
-    statics, |τ| = m g L cos φ0 (1e-9 relative)."""
-    monkeypatch.delenv("FLEXLIB_ZERO_GEOMETRY", raising=False)
+def test_parameter_expression_follows_run_params():
+    """Build without the zero-geometry assumption (``assume_zero_geometry=False``): the held joint angle is the
+    parameter expression ``lock.phi0 − housing.phi0``, its rate and acceleration are 0 — all three leave the DAE
+    and are reported exactly; ``run(params={"lock.phi0": 0.9})`` moves the arm, and the holding torque on the lock
+    follows statics, |τ| = m g L cos φ0 (1e-9 relative)."""
     m, L, g = 2.0, 0.8, 9.81
-    sim = fl.Simulation(HeldArm(0.5, m, L), use_cache=False)
+    sim = fl.Simulation(HeldArm(0.5, m, L), use_cache=False, assume_zero_geometry=False)
     assert sim.compiled.assumed == {}
     assert not {"hinge.phi", "hinge.w", "hinge.a"} & set(sim.compiled.y_names)
     for phi0 in (0.5, 0.9):
@@ -299,7 +299,7 @@ def test_parameter_expression_follows_run_params(monkeypatch):
         np.testing.assert_allclose(np.abs(res["lock.flange.tau"]), m * g * L * np.cos(phi0), rtol=1e-9)
 
 
-# The size table of docs/engine.md: [FLEXLIB_ZERO_GEOMETRY=1] python tests/test_engine_constants.py
+# The size table of docs/engine.md: [FLEXLIB_ZERO_GEOMETRY=0] python tests/test_engine_constants.py
 if __name__ == "__main__":
     for label, make, loops in [("four-bar", FourBar, 1), ("7-body 3-loop chain", PlanarChain, 3)]:
         n, n_states, n_res, n_jac = _counts(fl.Simulation(make(), use_cache=False))

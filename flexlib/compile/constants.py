@@ -15,18 +15,23 @@ A row with one unknown must determine that unknown in any matching, so the remai
 one with a triangular block removed; a maximum matching checks that it is still structurally regular
 (otherwise nothing is eliminated). Eliminated variables stay in results by name (their value expression).
 
-**Planar mechanisms (opt-in, ``FLEXLIB_ZERO_GEOMETRY=1``).** A planar mechanism built from 3D components is
-planar only because some parameters are zero (in-plane components of joint axes, out-of-plane components of
-rod vectors and centres of mass, products of inertia, out-of-plane gravity), so its out-of-plane forces,
-torques, velocities and accelerations are zero numerically, not structurally. With the option, when no row
-can be solved with the parameters symbolic, rows that become solvable with the zero-valued parameters of
-frame components set to 0 are used, as few of those parameters as each row needs are *assumed* zero
-(Modelica's ``Evaluate=true``) and substituted everywhere, and an axis ``n = (0, 0, n_z)`` normalised as
-``n_z/|n_z|`` is made exact by assuming the sign of ``n_z``. The conditions are recorded
+**Planar mechanisms (default; opt out with ``assume_zero_geometry=False`` or ``FLEXLIB_ZERO_GEOMETRY=0``).**
+A planar mechanism built from 3D components is planar only because some parameters are zero (in-plane
+components of joint axes, out-of-plane components of rod vectors and centres of mass, products of inertia,
+out-of-plane gravity), so its out-of-plane forces, torques, velocities and accelerations are zero numerically,
+not structurally. When no row can be solved with the parameters symbolic, rows that become solvable with the
+zero-valued parameters of frame components set to 0 are used, as few of those parameters as each row needs
+are *assumed* zero (Modelica's ``Evaluate=true``) and substituted everywhere, and an axis ``n = (0, 0, n_z)``
+normalised as ``n_z/|n_z|`` is made exact by assuming the sign of ``n_z``. The conditions are recorded
 (``SimpleSystem.assumed``, ``CompiledModel.assumed``): a run whose parameters violate one fails with
-:class:`~flexlib.errors.StructureChangedError` naming the parameter (:func:`check_assumed`), and a cached build
-made under other values is rebuilt (:func:`assumptions_hold`). Not the default yet: two existing tests (a
-static slider-crank at rtol 1e-10, a line force compared to 1e-8) lose their tolerance with it.
+:class:`~flexlib.errors.StructureChangedError` naming the parameter (:func:`check_assumed`; a ``params``
+override never recompiles silently), and a cached build made under other values is rebuilt
+(:func:`assumptions_hold`). Four-bar 107 → 43 unknowns, 7-body 3-loop chain 269 → 115 (``docs/engine.md``,
+"Constant unknowns", also for the tests that moved when this became the default and why).
+
+Cost: one vectorised substitution and one sparsity pass screen the rows; a parameter is tried for release
+symbolically only when a numeric sample does not already show that releasing it brings another unknown into
+the row (N-link pendulum: ``benchmarks/README.md``).
 """
 
 from __future__ import annotations
@@ -81,6 +86,15 @@ class _Solver:
         self.psyms = [s for s in syms if s is not None]
         self.pvals = np.array([param_values[s.element_hash()] for s in self.psyms])
         self.pvec = ca.vertcat(*self.psyms) if self.psyms else ca.SX(0, 1)
+        self.xvec = ca.vertcat(*[v.sym for v in simple.variables])
+
+    def single_unknown(self, exprs: list[ca.SX]) -> np.ndarray:
+        """Mask of the rows that depend structurally on exactly one unknown: one sparsity pass over all of
+        them instead of a ``symvar`` per row (a row :meth:`solve` can use is among them)."""
+        if not exprs:
+            return np.zeros(0, dtype=bool)
+        rows, _ = ca.jacobian_sparsity(ca.vertcat(*exprs), self.xvec).get_triplet()
+        return np.bincount(np.asarray(rows, dtype=int), minlength=len(exprs)) == 1
 
     def value_at(self, e: ca.SX) -> float:
         """Numeric value of a parameter expression at the build's parameter values."""
@@ -105,7 +119,8 @@ class _Solver:
         return None
 
 
-def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float]) -> SimpleSystem:
+def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float], *,
+                        assume_zero_geometry: bool | None = None) -> SimpleSystem:
     """Eliminate the unknowns that the equations fix to constants or parameter expressions.
 
     Parameters
@@ -115,6 +130,9 @@ def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float]) ->
     param_values : dict
         Parameter values by symbol hash (the build's values; used to find the zero-valued parameters
         and to check that a parameter coefficient is not zero).
+    assume_zero_geometry : bool or None
+        Assume the zero-valued frame parameters zero (see the module doc); None: :func:`zero_geometry`
+        (True unless ``FLEXLIB_ZERO_GEOMETRY=0``).
 
     Returns
     -------
@@ -124,7 +142,9 @@ def eliminate_constants(simple: SimpleSystem, param_values: dict[int, float]) ->
     """
     if not simple.equations:
         return simple
-    for use_zeros in ((True, False) if zero_geometry() else (False,)):
+    if assume_zero_geometry is None:
+        assume_zero_geometry = zero_geometry()
+    for use_zeros in ((True, False) if assume_zero_geometry else (False,)):
         found = _propagate(simple, param_values, use_zeros)
         if found is None:
             continue
@@ -153,26 +173,27 @@ def _propagate(simple: SimpleSystem, param_values: dict[int, float],
     cand: dict[int, tuple[int, ca.SX] | None] = {}
     zero_cand: dict[int, tuple[int, ca.SX, list[int]] | None] = {}
     dirty = set(alive)
+    users = _row_users(solver, eqs)
     new_old: list[ca.SX] = []
     new_val: list[ca.SX] = []
     values = dict(zip([q.element_hash() for q in solver.psyms], solver.pvals.tolist(), strict=True))
     while True:
         if new_old:
-            _substitute_rows(eqs, alive, new_old, new_val, dirty)
+            _substitute_rows(eqs, alive, new_old, new_val, dirty, users)
             if any(h in assumed for h in (x.element_hash() for x in new_old)):
                 sign_old, sign_new = _sign_rewrites(eqs, alive, geometric, values, signs)
                 if sign_old:
                     _substitute_rows(eqs, alive, sign_old, sign_new, dirty)
             new_old, new_val = [], []
-        for r in dirty:
-            cand[r] = solver.solve(eqs[r])
+        rows = sorted(dirty)
+        for r, one in zip(rows, solver.single_unknown([eqs[r] for r in rows]), strict=True):
+            cand[r] = solver.solve(eqs[r]) if one else None
             zero_cand.pop(r, None)
         dirty = set()
         chosen = [(r, cand[r][0], cand[r][1], []) for r in alive if cand[r] is not None]
         if not chosen and use_zeros and zero_syms:
-            for r in alive:
-                if r not in zero_cand:
-                    zero_cand[r] = _zero_solve(solver, eqs[r], zero_syms, scalar)
+            rows = [r for r in alive if r not in zero_cand]
+            zero_cand.update(zip(rows, _zero_solve(solver, [eqs[r] for r in rows], zero_syms, scalar), strict=True))
             chosen = [(r, *zero_cand[r]) for r in alive if zero_cand[r] is not None]
         if not chosen:
             break
@@ -217,8 +238,8 @@ def _propagate(simple: SimpleSystem, param_values: dict[int, float],
 
 
 def zero_geometry() -> bool:
-    """True if ``FLEXLIB_ZERO_GEOMETRY=1``: zero-valued frame parameters may be assumed (see the module doc)."""
-    return os.environ.get("FLEXLIB_ZERO_GEOMETRY", "") == "1"
+    """The default of ``assume_zero_geometry``: True unless ``FLEXLIB_ZERO_GEOMETRY=0`` (see the module doc)."""
+    return os.environ.get("FLEXLIB_ZERO_GEOMETRY", "1").strip() != "0"
 
 
 def _frame_parameters(simple: SimpleSystem) -> set[int]:
@@ -273,43 +294,118 @@ def _sign_rewrites(eqs: list[ca.SX], alive: list[int], geometric: set[int], valu
     return old, new
 
 
-def _zero_solve(solver: _Solver, e: ca.SX, zero_syms: dict[int, ca.SX],
-                scalar: set[int]) -> tuple[int, ca.SX, list[int]] | None:
-    """Solve row ``e`` with zero-valued frame parameters set to 0, assuming as few of them as needed
-    (scalar parameters such as gravity or a mass are released first, then vector and tensor entries)."""
-    present = [s for s in ca.symvar(e) if s.element_hash() in zero_syms]
-    if not present:
-        return None
+def _zero_solve(solver: _Solver, rows: list[ca.SX], zero_syms: dict[int, ca.SX],
+                scalar: set[int]) -> list[tuple[int, ca.SX, list[int]] | None]:
+    """Solve each row with the zero-valued frame parameters set to 0, assuming as few of them as needed
+    (scalar parameters such as gravity or a mass are released first, then vector and tensor entries).
 
-    def attempt(zs: list[ca.SX]) -> tuple[int, ca.SX] | None:
-        return solver.solve(ca.substitute(e, ca.vertcat(*zs), ca.SX.zeros(len(zs)))) if zs else None
+    All rows are substituted in one call and screened by one sparsity pass; only the rows that become
+    solvable are examined one by one. There, releasing a parameter that brings another unknown into the row
+    is recognised numerically (the row's derivative with respect to that unknown is non-zero at a sample
+    point: the trial would fail), so the symbolic trial runs only for the parameters that may be released —
+    on a 50-link pendulum most of them are needed, and one symbolic trial per parameter took 12 of 18 s."""
+    if not rows:
+        return []
+    zs = list(zero_syms.values())
+    sub = ca.substitute([ca.vertcat(*rows)], [ca.vertcat(*zs)], [ca.SX.zeros(len(zs))])[0]
+    subs = [sub[k] for k in range(len(rows))]
+    out: list[tuple[int, ca.SX, list[int]] | None] = [None] * len(rows)
+    rng = np.random.default_rng(0)
+    for j in np.flatnonzero(solver.single_unknown(subs)):
+        res = solver.solve(subs[j])
+        if res is None:
+            continue
+        e = rows[j]
+        syms = ca.symvar(e)
+        hashes = [s.element_hash() for s in syms]
+        present = [s for s, h in zip(syms, hashes, strict=True) if h in zero_syms]
+        if not present:
+            continue
 
-    res = attempt(present)
-    if res is None:
-        return None
-    need = sorted(present, key=lambda z: z.element_hash() not in scalar)
-    for z in list(need):
-        rest = [w for w in need if w.element_hash() != z.element_hash()]
-        trial = attempt(rest)
-        if trial is not None and trial[0] == res[0]:
-            need, res = rest, trial
-    return res[0], res[1], [s.element_hash() for s in need]
+        def attempt(zs: list[ca.SX], e: ca.SX = e) -> tuple[int, ca.SX] | None:
+            return solver.solve(ca.substitute(e, ca.vertcat(*zs), ca.SX.zeros(len(zs)))) if zs else None
+
+        res = attempt(present)  # the row's own zeros only: the same value as ``subs[j]``, built from ``e``
+        if res is None:
+            continue
+        position = {h: i for i, h in enumerate(h for h in hashes if h in zero_syms)}  # index in ``present``
+        need = sorted(position, key=lambda h: h not in scalar)  # hashes
+        brings = _other_unknown_test(solver, e, syms, hashes, present, res[0], rng)
+        for h in list(need):
+            rest = [w for w in need if w != h]
+            if not rest or brings([position[w] for w in rest]):
+                continue
+            trial = attempt([zero_syms[w] for w in rest])
+            if trial is not None and trial[0] == res[0]:
+                need, res = rest, trial
+        out[j] = (res[0], res[1], need)
+    return out
 
 
-def _substitute_rows(eqs: list[ca.SX], alive: list[int], old: list[ca.SX], new: list[ca.SX], dirty: set[int]) -> None:
-    """Substitute ``old → new`` in the alive rows that depend on ``old``; mark them dirty."""
+def _other_unknown_test(solver: _Solver, e: ca.SX, syms: list[ca.SX], hashes: list[int], present: list[ca.SX],
+                        k: int, rng: np.random.Generator):
+    """``brings(zeros)``: True if row ``e`` with only the ``present`` zero parameters at positions ``zeros`` set to
+    0 (the others at sample values) certainly depends on an unknown other than ``k`` — its derivative with respect to
+    one is finite and non-zero at a sample point (parameters at their values, other symbols random)."""
+    other = [s for s, h in zip(syms, hashes, strict=True) if h in solver.var_of and solver.var_of[h] != k]
+    if not other:
+        return lambda zeros: False
+    index = {z.element_hash(): i for i, z in enumerate(present)}
+    rest = [s for s, h in zip(syms, hashes, strict=True) if h not in index]
+    values = dict(zip([q.element_hash() for q in solver.psyms], solver.pvals.tolist(), strict=True))
+    rest_val = np.array([values.get(s.element_hash(), rng.uniform(0.5, 1.5)) for s in rest])
+    pres_val = rng.uniform(0.5, 1.5, len(present))
+    jac = ca.Function("d", [ca.vertcat(*present), ca.vertcat(*rest)], [ca.jacobian(e, ca.vertcat(*other))])
+
+    def brings(zeros: list[int]) -> bool:
+        p = pres_val.copy()
+        p[zeros] = 0.0
+        d = np.asarray(jac(p, rest_val), dtype=float)
+        return bool(np.any(np.isfinite(d) & (d != 0.0)))
+
+    return brings
+
+
+def _row_users(solver: _Solver, eqs: list[ca.SX]) -> dict[int, set[int]]:
+    """Rows that depend on each unknown and derivative (by symbol hash), from one sparsity pass. Substituted
+    values hold parameters only, so a row's set of unknowns can only shrink: the map stays a superset."""
+    syms = [v.sym for v in solver.simple.variables] + [v.info._der.sym for v in solver.simple.variables
+                                                       if v.info._der is not None]
+    users: dict[int, set[int]] = {s.element_hash(): set() for s in syms}
+    if eqs and syms:
+        rows, cols = ca.jacobian_sparsity(ca.vertcat(*eqs), ca.vertcat(*syms)).get_triplet()
+        for r, c in zip(rows, cols, strict=True):
+            users[syms[c].element_hash()].add(r)
+    return users
+
+
+def _substitute_rows(eqs: list[ca.SX], alive: list[int], old: list[ca.SX], new: list[ca.SX], dirty: set[int],
+                     users: dict[int, set[int]] | None = None) -> None:
+    """Substitute ``old → new`` in the alive rows that depend on ``old``; mark them dirty. Rows that use an
+    unknown or derivative in ``old`` are looked up in ``users`` (:func:`_row_users`), the others (parameters)
+    found by a sparsity pass over the alive rows."""
     if not alive:
         return
-    vec = ca.vertcat(*[eqs[r] for r in alive])
-    osym = ca.vertcat(*old)
-    spj = ca.jacobian_sparsity(vec, osym)
-    touched = sorted(set(spj.get_triplet()[0]))
+    users = users or {}
+    live = set(alive)
+    touched_rows: set[int] = set()
+    params = []
+    for x in old:
+        h = x.element_hash()
+        if h in users:
+            touched_rows |= users[h] & live
+        else:
+            params.append(x)
+    if params:
+        spj = ca.jacobian_sparsity(ca.vertcat(*[eqs[r] for r in alive]), ca.vertcat(*params))
+        touched_rows |= {alive[j] for j in spj.get_triplet()[0]}
+    touched = sorted(touched_rows)
     if not touched:
         return
-    sub = ca.substitute([ca.vertcat(*[eqs[alive[j]] for j in touched])], [osym], [ca.vertcat(*new)])[0]
-    for i, j in enumerate(touched):
-        eqs[alive[j]] = sub[i]
-        dirty.add(alive[j])
+    sub = ca.substitute([ca.vertcat(*[eqs[r] for r in touched])], [ca.vertcat(*old)], [ca.vertcat(*new)])[0]
+    for i, r in enumerate(touched):
+        eqs[r] = sub[i]
+        dirty.add(r)
 
 
 def _regular(simple: SimpleSystem, rows: list[ca.SX], known: dict[int, ca.SX]) -> bool:
@@ -450,4 +546,5 @@ def check_assumed(assumed: dict[str, str], names: list[str], vec: np.ndarray, mo
         raise StructureChangedError(
             f"model {model}: {what}: the build eliminated unknowns that this parameter fixes (e.g. the "
             "out-of-plane motion of a planar mechanism), so a run cannot change it; set the value on the "
-            "model and create a new Simulation")
+            "model and create a new Simulation, or build with Simulation(model, assume_zero_geometry=False) "
+            "to vary it in runs")

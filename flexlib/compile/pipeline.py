@@ -52,6 +52,9 @@ class Build:
         True if ``compiled`` was loaded from the disk cache.
     key : str or None
         The cache key (None without the cache or for a model the key cannot represent).
+    assume_zero_geometry : bool
+        Whether stage 2 assumed the zero-valued frame parameters zero (:mod:`flexlib.compile.constants`);
+        :meth:`analyse` repeats the build's choice.
 
     Notes
     -----
@@ -66,6 +69,7 @@ class Build:
     timings: dict[str, Any] = field(default_factory=dict)
     cached: bool = False
     key: str | None = None
+    assume_zero_geometry: bool = True
 
     def __iter__(self) -> Any:
         return iter((self.compiled, self.timings))
@@ -79,7 +83,7 @@ class Build:
     def analyse(self, root: Component) -> Build:
         """Run stages 1–3 for ``root`` if they are not in memory (a cached build) and return self."""
         if self.dae is None:
-            self.flat, self.simple, self.dae, times = analyse(root)
+            self.flat, self.simple, self.dae, times = analyse(root, assume_zero_geometry=self.assume_zero_geometry)
             self.timings.update({f"{k}_analyse": v for k, v in times.items()})
         return self
 
@@ -108,16 +112,20 @@ def _updater(entry: Any) -> Any:
     return update
 
 
-def prepare(flat: FlatSystem, params: dict[int, float]) -> SimpleSystem:
-    """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics, constant unknowns."""
-    return eliminate_constants(eliminate_frame_kinematics(remove_redundant(simplify(flat), params)), params)
+def prepare(flat: FlatSystem, params: dict[int, float], *, assume_zero_geometry: bool | None = None) -> SimpleSystem:
+    """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics, constant unknowns
+    (``assume_zero_geometry``: see :func:`build`)."""
+    torn = eliminate_frame_kinematics(remove_redundant(simplify(flat), params))
+    return eliminate_constants(torn, params, assume_zero_geometry=assume_zero_geometry)
 
 
-def analyse(root: Component) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, float]]:
+def analyse(root: Component, *,
+            assume_zero_geometry: bool | None = None) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, float]]:
     """Stages 1–3: flatten, simplify, reduce the index (with the balance check where it belongs).
 
     A model with closed kinematic loops is balance-checked after the redundant loop rows are removed
     (stage 2), every other model right after flattening, so the diagnostics name the user's equations.
+    ``assume_zero_geometry``: see :func:`build`.
     """
     times: dict[str, float] = {}
     t = _time.perf_counter()
@@ -128,7 +136,7 @@ def analyse(root: Component) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, f
     times["flatten"] = _time.perf_counter() - t
     t = _time.perf_counter()
     params = {q.sym.element_hash(): q.value for q in flat.parameters}
-    simple = prepare(flat, params)
+    simple = prepare(flat, params, assume_zero_geometry=assume_zero_geometry)
     if has_loops:
         check_balance(flat.name, simple.variables, simple.equations)
     times["simplify"] = _time.perf_counter() - t
@@ -138,7 +146,8 @@ def analyse(root: Component) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, f
     return flat, simple, dae, times
 
 
-def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True) -> Build:
+def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
+          assume_zero_geometry: bool | None = None) -> Build:
     """Run stages 1–5, or load their product from the disk cache.
 
     Parameters
@@ -152,6 +161,16 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         Read and write the disk cache (``$FLEXLIB_CACHE_DIR``, default ``~/.cache/flexlib``). A cache
         directory that cannot be used gives one :class:`~flexlib.errors.CacheWarning` and a build without
         the cache; a damaged entry gives one ``CacheWarning`` naming the file and is rebuilt.
+    assume_zero_geometry : bool or None
+        Treat the zero-valued geometry parameters of frame components (in-plane components of joint axes,
+        out-of-plane components of rod vectors and centres of mass, products of inertia, out-of-plane gravity)
+        as the constant 0 (Modelica's ``Evaluate=true``), so a planar mechanism built from 3D components loses
+        its out-of-plane unknowns (:mod:`flexlib.compile.constants`). The assumptions are recorded in
+        ``CompiledModel.assumed``: a run whose ``params`` break one raises
+        :class:`~flexlib.errors.StructureChangedError` naming the parameter, and a cached build is rebuilt for
+        an instance whose values break one. ``False`` keeps every such parameter a run-time parameter (for
+        sweeping an out-of-plane offset or axis tilt with ``run(params=...)``). None (default): True unless
+        ``FLEXLIB_ZERO_GEOMETRY=0`` is set. Part of the cache key.
 
     Returns
     -------
@@ -161,7 +180,10 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     timings: dict[str, Any] = {"cached": False}
     t0 = _time.perf_counter()
     directory = cache.usable_cache_dir() if use_cache else None
-    key = (cache.model_key(root, {"codegen": codegen, "zero_geometry": zero_geometry()})
+    if assume_zero_geometry is None:
+        assume_zero_geometry = zero_geometry()
+    assume_zero_geometry = bool(assume_zero_geometry)
+    key = (cache.model_key(root, {"codegen": codegen, "zero_geometry": assume_zero_geometry})
            if directory is not None else None)
     timings["key"] = _time.perf_counter() - t0
     timings["model_key"] = key
@@ -189,8 +211,9 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
                 model.on_library = _updater(entry)
             timings["cached"] = True
             timings["total"] = _time.perf_counter() - t0
-            return Build(compiled=model, timings=timings, cached=True, key=key)
-    flat, simple, dae, times = analyse(root)
+            return Build(compiled=model, timings=timings, cached=True, key=key,
+                         assume_zero_geometry=assume_zero_geometry)
+    flat, simple, dae, times = analyse(root, assume_zero_geometry=assume_zero_geometry)
     timings.update(times)
     t = _time.perf_counter()
     use_c: bool | str = "auto" if codegen == "auto" else bool(codegen)
@@ -208,4 +231,5 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
             model.on_library = _updater(entry)
             _COMPILING[str(entry)] = model.library_pending
     timings["total"] = _time.perf_counter() - t0
-    return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key)
+    return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key,
+                 assume_zero_geometry=assume_zero_geometry)

@@ -85,6 +85,11 @@ class Simulation:
         the background while runs start on the SX virtual machine; see ``flexlib.compile.codegen``).
     use_cache : bool
         Use the disk cache (``$FLEXLIB_CACHE_DIR``, default ``~/.cache/flexlib``).
+    assume_zero_geometry : bool or None
+        Treat zero-valued geometry parameters of frame components as the constant 0, which removes the
+        out-of-plane unknowns of planar mechanisms (default: yes unless ``FLEXLIB_ZERO_GEOMETRY=0``). A run
+        whose ``params`` make one of them non-zero raises :class:`~flexlib.errors.StructureChangedError`
+        naming it; pass ``False`` to sweep such a parameter. See :func:`flexlib.build`.
 
     Attributes
     ----------
@@ -103,12 +108,15 @@ class Simulation:
     >>> res2 = sim.run(2.0, params={"mass.m": 2.0})  # no recompile   # doctest: +SKIP
     """
 
-    def __init__(self, model: Component, *, codegen: bool | str = "auto", use_cache: bool = True) -> None:
+    def __init__(self, model: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
+                 assume_zero_geometry: bool | None = None) -> None:
         if not isinstance(model, Component):
             raise TypeError(f"Simulation expects a flexlib Component, got {type(model).__name__}")
         self.model = model
         self._codegen = codegen
-        self.build: Build = build(model, codegen=codegen, use_cache=use_cache)
+        self.build: Build = build(model, codegen=codegen, use_cache=use_cache,
+                                  assume_zero_geometry=assume_zero_geometry)
+        self._zero_geometry = self.build.assume_zero_geometry
         self.compiled: CompiledModel = self.build.compiled
         self.build_info: dict[str, Any] = self.build.timings
         self.initializer = Initializer(self.compiled)
@@ -365,7 +373,7 @@ class Simulation:
 
     def _rebuild_uncached(self) -> None:
         """Build again from this instance's own values (no cache read or write)."""
-        self.build = build(self.model, codegen=self._codegen, use_cache=False)
+        self.build = build(self.model, codegen=self._codegen, use_cache=False, assume_zero_geometry=self._zero_geometry)
         self.compiled, self.build_info = self.build.compiled, self.build.timings
         self.initializer = Initializer(self.compiled)
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}

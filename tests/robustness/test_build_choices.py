@@ -33,7 +33,9 @@ class AxisFourBar(FourBar):
 
 
 def test_params_override_that_makes_the_loop_spatial_is_refused():
-    sim = fl.Simulation(AxisFourBar(), use_cache=False)
+    """Without the zero-geometry assumption the axis is a run-time parameter: the dropped-row check refuses it
+    (with the default assumption the parameter check refuses it first, tests/robustness/test_constants_assumed.py)."""
+    sim = fl.Simulation(AxisFourBar(), use_cache=False, assume_zero_geometry=False)
     with pytest.raises(fl.StructureChangedError) as info:
         sim.run(0.1, dt_out=0.01, params={"rev4.n": [0.0, 0.3, 1.0]})
     msg = str(info.value)
@@ -121,7 +123,7 @@ def test_dropped_rows_over_many_rows_match_pointwise_evaluation():
     nonzero. Agreement to 1e-12 relative (same operations; only the evaluation path differs)."""
     from flexlib.solve.build_checks import dropped_row_values
 
-    sim = fl.Simulation(AxisFourBar(), use_cache=False)
+    sim = fl.Simulation(AxisFourBar(), use_cache=False, assume_zero_geometry=False)  # the axis stays a parameter
     m = sim.compiled
     assert m.check_labels
     rng = np.random.default_rng(1)

@@ -294,7 +294,9 @@ def test_state_select_must_be_a_dict():
 def test_state_select_per_instance_changes_states_and_agrees():
     """Forcing the crank joint's angle and speed to ``always`` makes them the states (the default picks the coupler
     joint, rev2); both runs follow the closed-form position analysis over a full crank turn to 1e-6 rad and agree
-    with each other to 1e-6 rad. The per-instance choice is part of the cache key (no false cache hit)."""
+    with each other to 1e-6 rad (run at rtol 1e-10: at 1e-9 the forced run's own error is 5e-7 rad on the opt-out
+    build, which tested the joint speeds twice, and 9e-7 rad with planar geometry assumed, where the frames'
+    angular velocities are aliases of them; docs/engine.md). The per-instance choice is part of the cache key."""
     th2 = 0.3
     th3, th4 = ref.fourbar_angles(A, B, C, D, th2, "open")
     default = fl.Simulation(FourBar(th2, th3, th4, w2=6.0))
@@ -307,7 +309,7 @@ def test_state_select_per_instance_changes_states_and_agrees():
     assert not forced.build_info.get("cached")
     assert "rev1.phi" in str(forced.report)
     wrap = lambda x: (x + np.pi) % (2 * np.pi) - np.pi  # noqa: E731
-    runs = [s.run(1.2, dt_out=0.01, rtol=1e-9, atol=1e-11, progress=False) for s in (default, forced)]
+    runs = [s.run(1.2, dt_out=0.01, rtol=1e-10, atol=1e-12, progress=False) for s in (default, forced)]
     for res in runs:
         theta2 = res["rev1.phi"]
         assert theta2[-1] - theta2[0] > 2 * np.pi
