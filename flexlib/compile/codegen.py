@@ -512,7 +512,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         check_labels=[k[len(CHECK_PREFIX):] for k in check_names],
         levels=[(len(lev.rows), len(lev.cands), lev.costs, [lev.cands.index(c) for c in lev.selected])
                 for lev in dae.levels],
-        cond_depends=np.array([bool(ca.depends_on(c.expr, ca.vertcat(y, yp))) for c in dae.conditions], dtype=bool),
+        cond_depends=_depends_on_y(dae.conditions, y, yp),
         assumed=dict(simple.assumed),
     )
     model._structure = dae.structure
@@ -532,6 +532,12 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         model._functions.pop("res")
         model._functions.pop("jac")
     return model
+
+
+def _depends_on_y(conditions: list, y: ca.SX, yp: ca.SX) -> np.ndarray:
+    """Which conditions depend on ``y`` or ``yp`` (one symvar each, not ``depends_on`` against all 2n symbols)."""
+    hashes = {y[i].element_hash() for i in range(y.numel())} | {yp[i].element_hash() for i in range(yp.numel())}
+    return np.array([any(s.element_hash() in hashes for s in ca.symvar(c.expr)) for c in conditions], dtype=bool)
 
 
 def _start_sources(simple: SimpleSystem, dae: DAE) -> list[list[tuple[str, float]]]:

@@ -20,7 +20,7 @@ from flexlib.compile.overdetermined import OrientationTree, orientation_tree
 from flexlib.compile.structure import culprits, group_by_owner, incidence, matching
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
-from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render
+from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render, render_many
 from flexlib.errors import BalanceError, FlexlibError, ModelError, StructuralSingularityError
 
 __all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
@@ -75,6 +75,15 @@ class FlatEquation:
         if self.label:
             return self.label
         return f"{render(self.expr, 110)} = 0"
+
+
+def describe_all(equations: list[FlatEquation]) -> list[str]:
+    """``[e.describe() for e in equations]``, with the symbols of all unlabelled rows named in one pass."""
+    unlabelled = [k for k, e in enumerate(equations) if not e.label]
+    texts = [e.label for e in equations]
+    for k, text in zip(unlabelled, render_many([equations[k].expr for k in unlabelled], 110), strict=True):
+        texts[k] = f"{text} = 0"
+    return texts
 
 
 @dataclass(eq=False)
