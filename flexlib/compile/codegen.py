@@ -309,10 +309,8 @@ class CompiledModel:
             value = getattr(self, f.name)
             if f.name in _ARRAYS:
                 arrays[f.name] = np.asarray(value)
-            elif f.name == "variables":
-                meta[f.name] = [dataclasses.asdict(v) for v in value]
-            elif f.name == "relations":
-                meta[f.name] = [dataclasses.asdict(r) for r in value]
+            elif f.name in ("variables", "relations"):  # flat records of str/bool: vars() is asdict without the
+                meta[f.name] = [dict(vars(v)) for v in value]  # deep copy (0.15 s of a 100-mass chain's cold build)
             elif f.name == "report":
                 meta[f.name] = dataclasses.asdict(value)
             else:
