@@ -309,10 +309,8 @@ class CompiledModel:
             value = getattr(self, f.name)
             if f.name in _ARRAYS:
                 arrays[f.name] = np.asarray(value)
-            elif f.name == "variables":
-                meta[f.name] = [dataclasses.asdict(v) for v in value]
-            elif f.name == "relations":
-                meta[f.name] = [dataclasses.asdict(r) for r in value]
+            elif f.name in ("variables", "relations"):  # flat records of str/bool: vars() is asdict without the
+                meta[f.name] = [dict(vars(v)) for v in value]  # deep copy (0.15 s of a 100-mass chain's cold build)
             elif f.name == "report":
                 meta[f.name] = dataclasses.asdict(value)
             else:
@@ -512,7 +510,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         check_labels=[k[len(CHECK_PREFIX):] for k in check_names],
         levels=[(len(lev.rows), len(lev.cands), lev.costs, [lev.cands.index(c) for c in lev.selected])
                 for lev in dae.levels],
-        cond_depends=np.array([bool(ca.depends_on(c.expr, ca.vertcat(y, yp))) for c in dae.conditions], dtype=bool),
+        cond_depends=_depends_on_y(dae.conditions, y, yp),
         assumed=dict(simple.assumed),
     )
     model._structure = dae.structure
@@ -532,6 +530,12 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         model._functions.pop("res")
         model._functions.pop("jac")
     return model
+
+
+def _depends_on_y(conditions: list, y: ca.SX, yp: ca.SX) -> np.ndarray:
+    """Which conditions depend on ``y`` or ``yp`` (one symvar each, not ``depends_on`` against all 2n symbols)."""
+    hashes = {y[i].element_hash() for i in range(y.numel())} | {yp[i].element_hash() for i in range(yp.numel())}
+    return np.array([any(s.element_hash() in hashes for s in ca.symvar(c.expr)) for c in conditions], dtype=bool)
 
 
 def _start_sources(simple: SimpleSystem, dae: DAE) -> list[list[tuple[str, float]]]:

@@ -20,7 +20,7 @@ from flexlib.compile.overdetermined import OrientationTree, orientation_tree
 from flexlib.compile.structure import culprits, group_by_owner, incidence, matching
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
-from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render
+from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render, render_many
 from flexlib.errors import BalanceError, FlexlibError, ModelError, StructuralSingularityError
 
 __all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
@@ -75,6 +75,15 @@ class FlatEquation:
         if self.label:
             return self.label
         return f"{render(self.expr, 110)} = 0"
+
+
+def describe_all(equations: list[FlatEquation]) -> list[str]:
+    """``[e.describe() for e in equations]``, with the symbols of all unlabelled rows named in one pass."""
+    unlabelled = [k for k, e in enumerate(equations) if not e.label]
+    texts = [e.label for e in equations]
+    for k, text in zip(unlabelled, render_many([equations[k].expr for k in unlabelled], 110), strict=True):
+        texts[k] = f"{text} = 0"
+    return texts
 
 
 @dataclass(eq=False)
@@ -317,6 +326,9 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
     sets: dict[tuple[int, str], list[tuple[Connector, str]]] = {}
     for key in parent:
         sets.setdefault(find(key), []).append(members[key])
+    edges_of: dict[tuple[int, str], list] = {}  # each set's edges in connection order (one pass, not one per set)
+    for e in edges:
+        edges_of.setdefault(find(e[0]), []).append(e)
     for root_key, elems in sets.items():
         owner = where.get(root_key, "")
         conns = [c for c, _ in elems]
@@ -341,7 +353,7 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
             elif getattr(decl, "overdetermined", False):
                 continue  # equated along the spanning tree (_overdetermined_equations)
             else:  # equal along the set's connections; a broken (loop-closing) one gives loop-closure rows
-                set_edges = [e for e in edges if find(e[0]) == root_key]
+                set_edges = list(edges_of.get(root_key, ()))
                 set_edges.sort(key=lambda e: frozenset((id(e[1]), id(e[2]))) in (broken or set()))
                 group = {id(c): id(c) for c in conns}
 
@@ -471,7 +483,7 @@ def check_balance(name: str, variables: list[FlatVariable], equations: list[Flat
     if with_der:
         dinc = incidence(exprs, ca.vertcat(*[variables[k].info._der.sym for k in with_der])).tocoo()
         inc = inc + sp.csr_matrix((dinc.data, (dinc.row, np.asarray(with_der)[dinc.col])), shape=inc.shape)
-    row_match, col_match = matching(inc)
+    row_match, col_match = matching(inc, fast=True)
     if n_eq == n_var and np.all(row_match >= 0):
         return
     rows, cols = culprits(inc, row_match, col_match)

@@ -28,7 +28,7 @@ import casadi as ca
 import numpy as np
 import scipy.linalg as sla
 
-from flexlib.compile.flatten import FlatEquation, FlatVariable
+from flexlib.compile.flatten import FlatEquation, FlatVariable, describe_all
 from flexlib.compile.post_simplify import post_simplify as _post_simplify
 from flexlib.compile.simplify import Condition, SimpleSystem
 from flexlib.core.functions import Relation
@@ -133,6 +133,8 @@ class Level:
     cands: list[int]
     costs: list[int]
     selected: list[int]
+    jacobian: ca.SX | None = field(default=None, repr=False)
+    """d(rows)/d(cands), symbolic, as the selection built it (assembly reuses it instead of a second jacobian)."""
 
 
 @dataclass(eq=False)
@@ -433,7 +435,7 @@ def _select_dummies(rows: list[_Row], cols: list[_Col], variables: list[FlatVari
                         "(level %d); using a structural selection", level)
             selected = _structural_pick(J != 0, cand, need, jexpr)
         dummies.update(selected)
-        levels.append(Level(list(g_diff), list(cand), costs, list(selected)))
+        levels.append(Level(list(g_diff), list(cand), costs, list(selected), jexpr))
         always = [cols[anti[c]] for c in selected if cols[anti[c]].order == 0
                   and variables[cols[anti[c]].var].state_select is StateSelect.always]
         for col in always:
@@ -527,9 +529,11 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     if F.numel() != n:
         raise StructuralSingularityError(f"index reduction produced {F.numel()} equations for {n} unknowns")
     labels = []
+    sources = sorted({r.source for r in rows})
+    described = dict(zip(sources, describe_all([simple.equations[k] for k in sources]), strict=True))
     for r in rows:
         e = simple.equations[r.source]
-        text = f"{e.owner or '(model)'}: {e.describe()}"
+        text = f"{e.owner or '(model)'}: {described[r.source]}"
         labels.append(text if r.order == 0 else f"{text}  [differentiated ×{r.order}]")
     labels += [f"der({_col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
     F, keep, subs_syms, subs_vals, kept_rows = _post_simplify(F, y, yp, differential)
@@ -560,8 +564,10 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     col_exprs = final([c.info.sym for c in cols])
     level_jacs = []
     for lev in levels:
-        jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
-                          ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
+        jac = lev.jacobian
+        if jac is None:
+            jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
+                              ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
         level_jacs.append(final_matrix(jac))
     cond_exprs = final([c.expr for c in simple.conditions])
     rel_exprs = final([i for _, i in simple.relations])
@@ -570,7 +576,7 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     nominal = np.array([variables[cols[entries[i]].var].nominal for i in keep])
     start = np.array([variables[cols[entries[i]].var].start if cols[entries[i]].order == 0 else 0.0 for i in keep])
     diff_keep = differential[keep]
-    report = _report(simple, rows, cols, dummies, is_state, variables)
+    report = _report(simple, rows, cols, dummies, is_state, variables, described)
     return DAE(
         y=y_new, yp=yp_new, residual=F, differential=diff_keep, names=names, nominal=nominal, start=start,
         outputs=dict(zip(out_names, out_exprs, strict=True)),
@@ -583,12 +589,12 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
 
 
 def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],
-            is_state: list[bool], variables: list[FlatVariable]) -> IndexReport:
+            is_state: list[bool], variables: list[FlatVariable], described: dict[int, str]) -> IndexReport:
     times: dict[int, int] = {}
     for r in rows:
         times[r.source] = max(times.get(r.source, 0), r.order)
     eqs: list[FlatEquation] = simple.equations
-    differentiated = [(eqs[k].owner, eqs[k].describe(), n) for k, n in times.items() if n > 0]
+    differentiated = [(eqs[k].owner, described[k], n) for k, n in times.items() if n > 0]
     has_alg = any(c.der < 0 and c.order == 0 for c in cols)
     max_diff = max(times.values(), default=0)
     index = max_diff + 1 if (max_diff > 0 or has_alg) else 0

@@ -61,16 +61,17 @@ def explicit_definitions(simple: SimpleSystem, var_ids: list[int],
     eqs = simple.equations
     entries, coefs = [], {}
     syms = {k: simple.variables[k].sym for k in var_ids}
+    position = {syms[k].element_hash(): j for j, k in enumerate(var_ids)}
     for r, e in enumerate(eqs):
         if e.origin == "loop closure":
             continue
         symbols = ca.symvar(e.expr)
-        present = {s.element_hash() for s in symbols}
         if require_algebraic and any(_is_derivative(s) for s in symbols):
             continue  # a row with derivatives (a dynamic equation) stays: it defines a derivative
-        for j, k in enumerate(var_ids):
-            sym = syms[k]
-            if sym.element_hash() not in present or not ca.is_linear(e.expr, sym):
+        # the candidates this row contains, in the order of var_ids (a lookup per symbol, not a scan of var_ids)
+        for j in sorted(j for j in (position.get(s.element_hash()) for s in symbols) if j is not None):
+            sym = syms[var_ids[j]]
+            if not ca.is_linear(e.expr, sym):
                 continue
             c = ca.jacobian(e.expr, sym)
             if c.is_constant() and abs(float(ca.evalf(c))) == 1.0:

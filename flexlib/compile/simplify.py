@@ -243,12 +243,12 @@ def _conditions(flat: FlatSystem, value_of: dict[int, ca.SX]) -> list[Condition]
     """Initial conditions from fixed start values, with duplicates on one alias class merged."""
     seen: dict[int, tuple[str, float]] = {}
     out: list[Condition] = []
-    all_vars = ca.vertcat(*[w.sym for w in flat.variables]) if flat.variables else ca.SX(0, 1)
+    var_hashes = {w.sym.element_hash() for w in flat.variables}  # a set lookup per symbol, not depends_on on all
     for i, v in enumerate(flat.variables):
         if not v.fixed:
             continue
         expr = value_of[i]
-        if not ca.depends_on(expr, all_vars):
+        if not any(s.element_hash() in var_hashes for s in ca.symvar(expr)):
             # bound to a constant/parameter: the condition is checked at initialisation time
             out.append(Condition(v.name, expr, v.start))
             continue
