@@ -111,7 +111,7 @@ class Simulation:
         self.build: Build = build(model, codegen=codegen, use_cache=use_cache)
         self.compiled: CompiledModel = self.build.compiled
         self.build_info: dict[str, Any] = self.build.timings
-        self.initializer = Initializer(self.compiled)
+        self.initializer = Initializer(self.compiled, lambda: self.build.structure(self.model))
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self.init_cached = False
         self._rows = RowEvaluator()
@@ -367,7 +367,7 @@ class Simulation:
         """Build again from this instance's own values (no cache read or write)."""
         self.build = build(self.model, codegen=self._codegen, use_cache=False)
         self.compiled, self.build_info = self.build.compiled, self.build.timings
-        self.initializer = Initializer(self.compiled)
+        self.initializer = Initializer(self.compiled, lambda: self.build.structure(self.model))
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self._rows.clear()
         self._state_monitor = None
