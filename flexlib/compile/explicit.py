@@ -35,8 +35,10 @@ cycle), which also guarantees that ``c`` is the row's own coefficient of ``v``.
 
 **Kept as they are:** states and every unknown whose derivative appears, dummy-derivative candidates
 of every selection level (the state-selection monitor re-selects among them and reads them by name),
-and alias eliminations already made. ``derivative_level`` (IDA's error-test mask) is computed on the
-reduced DAE by :func:`flexlib.compile.codegen.compile_dae`.
+alias eliminations already made, and (unless ``FLEXLIB_EXPLICIT=all``) every unknown inside IDA's error
+test, so the test checks exactly what it checked before (``post_simplify`` passes that mask);
+``derivative_level`` (IDA's error-test mask) is computed again on the reduced DAE by
+:func:`flexlib.compile.codegen.compile_dae`.
 
 **Opt-in** (``FLEXLIB_EXPLICIT=1``; ``FLEXLIB_EXPLICIT=all`` also eliminates unknowns inside IDA's error
 test, for measurements; part of the cache key). With it on, the existing suite passes except
