@@ -58,7 +58,7 @@ __all__ = ["CacheEntryError", "cache_dir", "code_digest", "gather_values", "load
            "usable_cache_dir"]
 
 #: version of the on-disk format (part of every entry's metadata)
-FORMAT = 1
+FORMAT = 2  # 2: IndexReport.explicit (explicit algebraics eliminated, compile/explicit.py)
 _FILE_HASHES: dict[str, str] = {}
 _ENGINE_HASH: list[str] = []
 _CLASS_HASHES: dict[type, str | None] = {}

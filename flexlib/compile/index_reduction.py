@@ -57,6 +57,9 @@ class IndexReport:
         Derivatives made algebraic (their variables are not states).
     redundant : list of str
         Redundant loop-closure constraints that were dropped, with the reaction set to zero.
+    explicit : list of str
+        Algebraic unknowns eliminated after index reduction because one row gives them explicitly
+        (:mod:`flexlib.compile.explicit`); results report them through their expressions.
     """
 
     index: int
@@ -64,6 +67,7 @@ class IndexReport:
     states: list[str] = field(default_factory=list)
     dummy_derivatives: list[str] = field(default_factory=list)
     redundant: list[str] = field(default_factory=list)
+    explicit: list[str] = field(default_factory=list)
 
     def __str__(self) -> str:
         lines = [f"DAE index {self.index}; {len(self.states)} states"]
@@ -76,6 +80,8 @@ class IndexReport:
         if self.redundant:
             lines.append("Redundant constraints removed:")
             lines += [f"  {text}" for text in self.redundant]
+        if self.explicit:
+            lines.append(f"Explicit algebraics eliminated ({len(self.explicit)}): " + ", ".join(self.explicit))
         return "\n".join(lines)
 
 
@@ -150,9 +156,10 @@ class Structure:
         """Dummy derivatives chosen at ``point`` (symbols, values); the start values if None."""
         return _select_dummies(self.rows, self.cols, self.simple.variables, self.simple, self.param_values, point)
 
-    def assemble(self, dummies: set[int], levels: list[Level]) -> DAE:
-        """The index-1 DAE for a dummy-derivative selection."""
-        return _assemble(self.simple, self.rows, self.cols, dummies, levels, self)
+    def assemble(self, dummies: set[int], levels: list[Level], explicit: bool = True) -> DAE:
+        """The index-1 DAE for a dummy-derivative selection (``explicit=False``: no explicit algebraics
+        eliminated, the form in which initialisation failures are diagnosed)."""
+        return _assemble(self.simple, self.rows, self.cols, dummies, levels, self, explicit)
 
     def point(self, col_values: np.ndarray, t: float, p: np.ndarray) -> tuple[ca.SX, np.ndarray]:
         """A numeric point for :meth:`select` from all column values, time and the parameter vector."""
@@ -495,7 +502,7 @@ def _col_name(col: _Col, variables: list[FlatVariable]) -> str:
 
 
 def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],
-              levels: list[Level], structure: Structure) -> DAE:
+              levels: list[Level], structure: Structure, explicit: bool = True) -> DAE:
     variables = simple.variables
     anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
     is_state = [c.der >= 0 and c.der not in dummies for c in cols]
@@ -536,7 +543,9 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
         text = f"{e.owner or '(model)'}: {described[r.source]}"
         labels.append(text if r.order == 0 else f"{text}  [differentiated ×{r.order}]")
     labels += [f"der({_col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
-    F, keep, subs_syms, subs_vals, kept_rows = _post_simplify(F, y, yp, differential)
+    cand_cols = {c for lev in levels for c in lev.cands}
+    protected = np.array([k in cand_cols for k in entries], dtype=bool)
+    F, keep, subs_syms, subs_vals, kept_rows, explicit = _post_simplify(F, y, yp, differential, protected, explicit)
     labels = [labels[k] for k in kept_rows]
     # rebuild y without eliminated entries
     y_keep = ca.vertcat(*[y[i] for i in keep])
@@ -577,6 +586,7 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     start = np.array([variables[cols[entries[i]].var].start if cols[entries[i]].order == 0 else 0.0 for i in keep])
     diff_keep = differential[keep]
     report = _report(simple, rows, cols, dummies, is_state, variables, described)
+    report.explicit = [_col_name(cols[entries[i]], variables) for i in explicit]
     return DAE(
         y=y_new, yp=yp_new, residual=F, differential=diff_keep, names=names, nominal=nominal, start=start,
         outputs=dict(zip(out_names, out_exprs, strict=True)),

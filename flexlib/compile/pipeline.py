@@ -24,6 +24,7 @@ from typing import Any
 from flexlib.compile import cache
 from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
+from flexlib.compile.explicit import explicit_mode
 from flexlib.compile.flatten import FlatSystem, check_balance, flatten
 from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
@@ -183,7 +184,8 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     if assume_zero_geometry is None:
         assume_zero_geometry = zero_geometry()
     assume_zero_geometry = bool(assume_zero_geometry)
-    key = (cache.model_key(root, {"codegen": codegen, "zero_geometry": assume_zero_geometry})
+    key = (cache.model_key(root, {"codegen": codegen, "zero_geometry": assume_zero_geometry,
+                                  "explicit": explicit_mode()})
            if directory is not None else None)
     timings["key"] = _time.perf_counter() - t0
     timings["model_key"] = key

@@ -2,13 +2,18 @@
 
 Known state derivatives are substituted (where ``c·yp_s + f(y) = 0`` defines ``yp_s`` explicitly, it
 replaces ``yp_s`` in the other rows: the notes measured 1.6–8× fewer steps), and trivial algebraic
-aliases left by the differentiation (``der(y) = v``) are eliminated.
+aliases left by the differentiation (``der(y) = v``) are eliminated. Then algebraic unknowns that
+one row gives explicitly with a constant coefficient are eliminated where that does not make the
+Jacobian denser (:mod:`flexlib.compile.explicit`).
 """
 
 from __future__ import annotations
 
 import casadi as ca
 import numpy as np
+
+from flexlib.compile.explicit import eliminate_explicit_algebraics, explicit_enabled, explicit_scope
+from flexlib.compile.structure import derivative_level
 
 __all__ = ["post_simplify"]
 
@@ -17,11 +22,14 @@ def _linear_single(e: ca.SX, sym: ca.SX) -> bool:
     return bool(ca.is_linear(e, sym)) and ca.jacobian(e, sym).is_constant()
 
 
-def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray):
-    """Substitute known state derivatives and eliminate trivial algebraic aliases.
+def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
+                  protected: np.ndarray | None = None, explicit_stage: bool = True):
+    """Substitute known state derivatives, eliminate trivial algebraic aliases and explicit algebraics.
 
-    Returns the new residual, the kept entry indices, and the substitution (symbols → values)
-    that expresses eliminated entries in kept ones.
+    ``protected`` marks entries that must stay unknowns (dummy-derivative candidates); ``explicit_stage=False``
+    skips the explicit algebraics (as ``FLEXLIB_EXPLICIT=0`` does). Returns the new
+    residual, the kept entry indices, the substitution (symbols → values) that expresses eliminated
+    entries in kept ones, the kept row indices, and the entries eliminated as explicit algebraics.
     """
     n = F.numel()
     rows = [F[k] for k in range(n)]
@@ -99,7 +107,34 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray):
         subs_syms, subs_vals = ca.SX(0, 1), ca.SX(0, 1)
         kept_rows = list(range(n))
     keep = [i for i in range(n) if i not in alias]
-    return ca.vertcat(*rows), keep, subs_syms, subs_vals, kept_rows
+    # (c) explicit algebraics: row = c*v + f(others), c a nonzero constant (sparsity-guarded, see explicit.py)
+    explicit: list[int] = []
+    if explicit_stage and explicit_enabled() and rows:
+        fixed = np.zeros(n, dtype=bool) if protected is None else np.array(protected, dtype=bool)
+        fixed[list(alias)] = True
+        if explicit_scope() == "error-test":
+            # only unknowns already outside IDA's error test (derivative level): the test keeps what it checked
+            fixed |= ~derivative_level(ca.vertcat(*rows), y, yp, differential)
+        kept2, explicit, values, new = eliminate_explicit_algebraics(rows, y, yp, differential, fixed)
+        if explicit and _states_kept(new, yp, differential, set(explicit) | set(alias)):
+            esyms = ca.vertcat(*[y[i] for i in explicit])
+            if subs_syms.numel():
+                subs_vals = ca.substitute([subs_vals], [esyms], [values])[0]
+            subs_syms, subs_vals = ca.vertcat(subs_syms, esyms), ca.vertcat(subs_vals, values)
+            rows = [new[j] for j in range(new.numel())]
+            kept_rows = [kept_rows[k] for k in kept2]
+            gone = set(explicit)
+            keep = [i for i in keep if i not in gone]
+        else:
+            explicit = []
+    return ca.vertcat(*rows), keep, subs_syms, subs_vals, kept_rows, explicit
+
+
+def _states_kept(F: ca.SX, yp: ca.SX, differential: np.ndarray, gone: set[int]) -> bool:
+    """True if the derivative of every remaining state still appears in ``F`` (no state lost by cancellation)."""
+    colind, _ = ca.jacobian_sparsity(F, yp).get_ccs()
+    has = np.diff(np.asarray(colind)) > 0
+    return all(has[i] for i in np.flatnonzero(differential) if i not in gone)
 
 
 def _incidence_lists(F: ca.SX, v: ca.SX) -> list[list[int]]:

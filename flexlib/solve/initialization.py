@@ -22,7 +22,7 @@ import scipy.optimize as so
 import scipy.sparse as sps
 import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 
-from flexlib.compile.codegen import AUTO_C_MIN_UNKNOWNS, CompiledModel
+from flexlib.compile.codegen import AUTO_C_MIN_UNKNOWNS, CompiledModel, compile_dae
 from flexlib.compile.structure import culprits, group_by_owner, matching
 from flexlib.errors import InitializationError, ParameterError
 from flexlib.solve.diagnose import nonfinite_lines, row_scale, singular_lines
@@ -33,8 +33,11 @@ __all__ = ["Initializer"]
 class Initializer:
     """Consistent initial values for one compiled model (functions built lazily, reused)."""
 
-    def __init__(self, model: CompiledModel) -> None:
+    def __init__(self, model: CompiledModel, structure: Any = None) -> None:
         self.model = model
+        #: callable giving the model's index-reduction structure (``Build.structure``): a failure of a model with
+        #: explicit algebraics eliminated is diagnosed on the DAE that keeps them (see :meth:`initial`)
+        self._structure = structure
         self.diff = np.flatnonzero(model.differential)
         self._init_fns: dict[tuple, tuple[ca.Function, ca.Function]] = {}
         self._reinit_fns: tuple[Any, Any] | None = None
@@ -93,7 +96,32 @@ class Initializer:
             ``{name: (start, fixed)}`` for every scalar variable (from the model instance).
         steady_state : bool
             Add ``der(x) = 0`` for every state that has no initial condition of its own.
+
+        A failure of a model whose explicit algebraics were eliminated (``report.explicit``) is diagnosed
+        again on the DAE that keeps them, so the message names the equations and variables as written
+        (``x + y = 1`` and ``2x + 2y = 3`` both, not their combination).
         """
+        try:
+            return self._initial(t0, p, starts, steady_state, tol, diagnose)
+        except InitializationError:
+            full = self._full_model() if diagnose else None
+            if full is None:
+                raise
+            Initializer(full).initial(t0, p, starts, steady_state, tol, diagnose)
+            raise  # the full DAE initialises: the reduced model's own message stands
+
+    def _full_model(self) -> CompiledModel | None:
+        """The model compiled without the explicit-algebraics stage (None if it has none or no structure)."""
+        if not self.model.report.explicit or self._structure is None:
+            return None
+        structure = self._structure()
+        dummies, levels = structure.select()
+        dae = structure.assemble(dummies, levels, explicit=False)
+        return compile_dae(structure.simple.flat, structure.simple, dae, codegen=False)
+
+    def _initial(self, t0: float, p: np.ndarray, starts: dict[str, tuple[float, bool]],
+                 steady_state: bool = False, tol: float = 1e-10, diagnose: bool = True
+                 ) -> tuple[np.ndarray, np.ndarray]:
         m = self.model
         self._check_finite(p, starts)
         cond_vals = np.array([starts.get(name, (val, True))[0] for name, val in m.conditions])
@@ -520,7 +548,18 @@ class Initializer:
             for _ in range(50):
                 norm = np.linalg.norm(r, np.inf)
                 if norm <= tol:
-                    return w
+                    if not diagnose:
+                        return w
+                    # consistent, but the integrator also needs a finite iteration matrix there: a law whose
+                    # derivative is not finite at the start (sign(dp)·sqrt(|dp|) at dp = 0) is named now, not
+                    # as an integrator failure at t0 (with explicit unknowns eliminated, compile/explicit.py,
+                    # a start is often consistent without a Newton step)
+                    nf = nonfinite_lines(r, jac(w), labels, cols, w, "at the consistent start")
+                    if not nf:
+                        return w
+                    err = InitializationError(f"{what}: non-finite values:\n" + "\n".join(nf))
+                    err.best = w
+                    raise err
                 J = jac(w)
                 with warnings.catch_warnings():
                     warnings.simplefilter("error", sps.linalg.MatrixRankWarning)

@@ -119,7 +119,7 @@ class Simulation:
         self._zero_geometry = self.build.assume_zero_geometry
         self.compiled: CompiledModel = self.build.compiled
         self.build_info: dict[str, Any] = self.build.timings
-        self.initializer = Initializer(self.compiled)
+        self.initializer = Initializer(self.compiled, lambda: self.build.structure(self.model))
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self.init_cached = False
         self._rows = RowEvaluator()
@@ -375,7 +375,7 @@ class Simulation:
         """Build again from this instance's own values (no cache read or write)."""
         self.build = build(self.model, codegen=self._codegen, use_cache=False, assume_zero_geometry=self._zero_geometry)
         self.compiled, self.build_info = self.build.compiled, self.build.timings
-        self.initializer = Initializer(self.compiled)
+        self.initializer = Initializer(self.compiled, lambda: self.build.structure(self.model))
         self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
         self._rows.clear()
         self._state_monitor = None
