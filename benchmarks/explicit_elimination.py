@@ -1,7 +1,7 @@
 """Explicit algebraics eliminated after index reduction (``flexlib/compile/explicit.py``): before / after.
 
-Every system is built three times in this one process, with the stage off (the default), ``FLEXLIB_EXPLICIT=1``
-(only unknowns outside IDA's error test eliminated) and ``FLEXLIB_EXPLICIT=all``, without the disk cache,
+Every system is built three times in this one process, with the stage off (``FLEXLIB_EXPLICIT=0``), on (``1``, the
+default: only unknowns outside IDA's error test eliminated) and ``FLEXLIB_EXPLICIT=all``, without the disk cache,
 and run once on the default backend after its generated C (if any) is in use. Reported per build: unknowns,
 states, residual / Jacobian operations (``Function.n_instructions()`` of the compiled functions, which merge
 common subexpressions; in brackets without that merge), structural nonzeros of the Jacobian,
@@ -98,7 +98,7 @@ def main(argv: list[str]) -> None:
     args = ap.parse_args(argv)
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
     systems = _systems()
-    print(f"Explicit algebraics eliminated: off (default), 1 (FLEXLIB_EXPLICIT=1: unknowns outside IDA's error "
+    print(f"Explicit algebraics eliminated: off (FLEXLIB_EXPLICIT=0), 1 (the default: unknowns outside IDA's error "
           f"test), all (FLEXLIB_EXPLICIT=all); FLEXLIB_ZERO_GEOMETRY={os.environ.get('FLEXLIB_ZERO_GEOMETRY', '0')}; "
           "CPU = process time; one run per cell\n")
     print("| system | stage | unknowns | states | residual ops (unmerged) | Jacobian ops (unmerged) | Jacobian nnz | "

@@ -11,6 +11,7 @@ import pytest
 
 import flexlib as fl
 from flexlib.solve import native, simulation
+from flexlib.solve.ida import DENSE_MAX
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "robustness"))
@@ -53,8 +54,9 @@ def test_monitor_schedule_runs_in_c(monkeypatch):
     indicator checks and full tests), while Python sees a small fraction of the steps."""
     from flexlib.models.planar_mechanisms import FourBarLinkage
 
-    monkeypatch.setenv("FLEXLIB_LINSOL", "superlumt")  # the scikit-sundae route's linear solver: the same IDA
     sim = fl.Simulation(FourBarLinkage(), use_cache=False)
+    # the scikit-sundae route's linear solver (dense LU up to DENSE_MAX unknowns, SuperLU_MT above): the same IDA
+    monkeypatch.setenv("FLEXLIB_LINSOL", "dense" if sim.compiled.n <= DENSE_MAX else "superlumt")
     mon = sim._monitor()
     ref = sim.run(3.0, dt_out=0.01, solver="ida-sksundae", progress=False)
     counts_ref = dict(mon.counts)
