@@ -158,6 +158,10 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                 value = node.parameter_value(name)
                 if value is None:
                     raise ModelError(f"parameter {node._label(name)} [{decl.unit}] has no value and no default")
+                if not decl.shape:  # a scalar: its symbol is its only element
+                    parameters.append(FlatParameter(node._label(name), node._symbol(name), float(value), decl.unit,
+                                                    decl.doc, node.path, decl, node, name, ()))
+                    continue
                 flat_vals = np.asarray(value, dtype=float).flatten(order="F")
                 for k, (label, index) in enumerate(decl.element_names(node._label(name))):
                     parameters.append(FlatParameter(label, node._symbol(name).nz[k], float(flat_vals[k]), decl.unit,
