@@ -363,7 +363,8 @@ def model_key(root: Component, options: dict[str, Any]) -> str | None:
         for name, decl in node._decls.items():
             item = (name, decl.kind.value, decl.shape, decl.unit)
             if not isinstance(decl, Parameter):
-                item += (node.start_of(name)[1], decl.nominal, int(node.state_select_of(name)))
+                given = node._starts.get(name)  # only whether the start is fixed enters the key
+                item += (decl.fixed if given is None else given[1], decl.nominal, int(node.state_select_of(name)))
             h.update(repr(item).encode())
         for name, value in sorted(node.__dict__.items()):
             if name.startswith("_") or isinstance(value, Node):
@@ -389,6 +390,15 @@ def gather_values(root: Component) -> tuple[dict[str, float], dict[str, tuple[fl
     starts: dict[str, tuple[float, bool]] = {}
     for node in root.walk():
         for name, decl in node._decls.items():
+            if not decl.shape:  # a scalar (the usual case): one label, one float
+                if isinstance(decl, Parameter):
+                    value = node.parameter_value(name)
+                    if value is not None:
+                        params[node._label(name)] = float(value)
+                else:
+                    value, fixed = node.start_of(name)
+                    starts[node._label(name)] = (float(value), fixed)
+                continue
             labels = decl.element_names(node._label(name))
             if isinstance(decl, Parameter):
                 value = node.parameter_value(name)

@@ -108,7 +108,16 @@ class FlatSystem:
 def _scalars(node: Node, name: str) -> list[tuple[str, ca.SX]]:
     decl = node._decls[name]
     sym = node._symbol(name)
+    if not decl.shape:  # a scalar declaration: its symbol is its only element
+        return [(node._label(name), sym)]
     return [(label, sym.nz[k]) for k, (label, _) in enumerate(decl.element_names(node._label(name)))]
+
+
+def _elements(expr: ca.SX) -> list[ca.SX]:
+    """The scalar elements ``expr.nz[k]`` of a dense column (``[expr]`` itself for a dense scalar)."""
+    if expr.is_scalar() and expr.is_dense():
+        return [expr]
+    return [expr.nz[k] for k in range(expr.numel())]
 
 
 def flatten(root: Component, check: bool = True) -> FlatSystem:
@@ -149,6 +158,10 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                 value = node.parameter_value(name)
                 if value is None:
                     raise ModelError(f"parameter {node._label(name)} [{decl.unit}] has no value and no default")
+                if not decl.shape:  # a scalar: its symbol is its only element
+                    parameters.append(FlatParameter(node._label(name), node._symbol(name), float(value), decl.unit,
+                                                    decl.doc, node.path, decl, node, name, ()))
+                    continue
                 flat_vals = np.asarray(value, dtype=float).flatten(order="F")
                 for k, (label, index) in enumerate(decl.element_names(node._label(name))):
                     parameters.append(FlatParameter(label, node._symbol(name).nz[k], float(flat_vals[k]), decl.unit,
@@ -173,6 +186,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
     for node in nodes:
         if not isinstance(node, Component):
             continue
+        path = node.path
         sink: list[Relation] = []
         token = CURRENT_RELATIONS.set(sink)
         try:
@@ -191,8 +205,11 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             if not hasattr(equ, "residual"):
                 raise ModelError(f"{node.path or type(node).__name__}.equations() returned {equ!r}; use eq(lhs, rhs)")
             res = equ.residual
+            if res.is_scalar() and res.is_dense():
+                equations.append(FlatEquation(res, path, equ.label, "equation"))
+                continue
             for k in range(res.numel()):
-                equations.append(FlatEquation(res[k], node.path, equ.label, "equation"))
+                equations.append(FlatEquation(res[k], path, equ.label, "equation"))
 
     _check_finite(nodes, equations, initial)
     _connection_equations(nodes, equations, {frozenset((id(a), id(b))) for a, b, _ in tree.broken_edges})
@@ -255,7 +272,7 @@ def _nonfinite_constant(expr: ca.SX) -> float | None:
         vals = np.asarray(ca.DM(expr)).ravel()
         bad = vals[~np.isfinite(vals)]
         return float(bad[0]) if bad.size else None
-    f = ca.Function("f", syms, [expr])
+    f = ca.Function("f", [ca.vertcat(*syms)], [expr])  # one input: no max_io warning for large models
     for k in range(f.n_instructions()):
         if f.instruction_id(k) == ca.OP_CONST:
             c = float(f.instruction_constant(k))
@@ -332,7 +349,6 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
     for root_key, elems in sets.items():
         owner = where.get(root_key, "")
         conns = [c for c, _ in elems]
-        names = ", ".join(c.path for c in conns)
         first = conns[0]
         for name, decl in first._decls.items():
             if decl.kind is Kind.flow:
@@ -345,11 +361,12 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
                     total = total + t
                 origin = "connect" if len(elems) > 1 else "unconnected flow"
                 if len(elems) > 1:
-                    label = f"sum of {name} over ({names}) = 0"
+                    label = f"sum of {name} over ({', '.join(c.path for c in conns)}) = 0"
                 else:
                     label = f"{first._label(name)} = 0 (unconnected)"
-                for k in range(total.numel()):
-                    equations.append(FlatEquation(total.nz[k], owner or first.path.rpartition(".")[0], label, origin))
+                row_owner = owner or first.path.rpartition(".")[0]
+                for expr in _elements(total):
+                    equations.append(FlatEquation(expr, row_owner, label, origin))
             elif getattr(decl, "overdetermined", False):
                 continue  # equated along the spanning tree (_overdetermined_equations)
             else:  # equal along the set's connections; a broken (loop-closing) one gives loop-closure rows
@@ -370,9 +387,9 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
                     diff = ca_._symbol(name) - cb_._symbol(name)
                     is_loop = frozenset((id(ca_), id(cb_))) in (broken or set())
                     label = f"{ca_._label(name)} = {cb_._label(name)}"
-                    for k in range(diff.numel()):
+                    for k, expr in enumerate(_elements(diff)):
                         meta = ("position", ca_, cb_, k) if is_loop else None
-                        equations.append(FlatEquation(diff.nz[k], edge_owner or owner, label,
+                        equations.append(FlatEquation(expr, edge_owner or owner, label,
                                                       "loop closure" if is_loop else "connect", meta))
                 for conn in conns[1:]:  # members not joined by edges (should not happen): chain equality
                     if gfind(id(conn)) != gfind(id(first)):

@@ -108,7 +108,7 @@ def _classify(flat: FlatSystem, e: ca.SX) -> tuple | None:
         if b is not None:
             return (a, b, -s)
     if a is not None and known(d1):
-        return (a, s * d1)
+        return (a, d1 if s == 1.0 else -d1)
     if b is not None and known(d0):
         return (b, s * d0) if op == ca.OP_SUB else (b, -d0)
     return None
@@ -175,8 +175,14 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
     value_of: dict[int, ca.SX] = {}
     for root, members in classes.items():
         if root in binding:
+            bound = binding[root]
+            negated = None
             for i, s in members:
-                value_of[i] = s * binding[root]
+                if s == 1.0:
+                    value_of[i] = bound
+                else:
+                    negated = -bound if negated is None else negated  # one node per class and sign
+                    value_of[i] = negated
             continue
         rep, s_rep = max(members, key=lambda m: _priority(flat.variables[m[0]], m[0]))
         rv = flat.variables[rep]
@@ -191,8 +197,13 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
                     merged.start = s * s_rep * flat.variables[i].start
                     break
         kept_vars.append(merged)
+        negated = None
         for i, s in members:
-            value_of[i] = s * s_rep * rv.sym
+            if s * s_rep == 1.0:
+                value_of[i] = rv.sym
+            else:
+                negated = -rv.sym if negated is None else negated  # one node per class and sign
+                value_of[i] = negated
     for i, v in enumerate(flat.variables):
         val = value_of[i]
         if val.is_symbolic() and val.element_hash() == v.sym.element_hash():
@@ -203,7 +214,9 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
             from flexlib.core.variables import der
 
             old_syms.append(v.info._der.sym)
-            new_exprs.append(der(val))
+            negated_var = (val.is_op(ca.OP_NEG) and val.dep(0).is_symbolic()
+                           and val.dep(0).element_hash() in flat.by_hash)
+            new_exprs.append(-der(val.dep(0)) if negated_var else der(val))  # der(-x) = -der(x)
 
     def subst(exprs: list[ca.SX]) -> list[ca.SX]:
         if not exprs or not old_syms:

@@ -33,6 +33,35 @@ from flexlib.errors import ConnectError, ModelError, ParameterError
 __all__ = ["Component", "Connector", "Model", "Node"]
 
 
+#: Per class: its declarations and its sub-component templates in MRO order (one walk of the MRO per class,
+#: not per instance; a model of N components builds N instances of a handful of classes), with the sizes of
+#: the class dictionaries it was read from (an attribute added to a class later invalidates the entry).
+_CLASS_MEMBERS: dict[type, tuple[tuple[int, ...], dict[str, Declaration], list[tuple[str, Node]]]] = {}
+
+#: Bumped whenever a node is attached to a parent: a path cached under an older generation is recomputed.
+_TREE_GENERATION = [0]
+
+
+def _class_members(cls: type) -> tuple[dict[str, Declaration], list[tuple[str, Node]]]:
+    """``({name: declaration}, [(name, template)])`` of class ``cls`` and its bases, bases first."""
+    sizes = tuple(len(vars(klass)) for klass in cls.__mro__)
+    found = _CLASS_MEMBERS.get(cls)
+    if found is None or found[0] != sizes:
+        decls: dict[str, Declaration] = {}
+        templates: list[tuple[str, Node]] = []
+        for klass in reversed(cls.__mro__):
+            for name, value in vars(klass).items():
+                if isinstance(value, Declaration):
+                    decls[name] = value
+        for klass in reversed(cls.__mro__):
+            for name, value in vars(klass).items():
+                if isinstance(value, Node):
+                    templates.append((name, value))
+        found = (sizes, decls, templates)
+        _CLASS_MEMBERS[cls] = found
+    return found[1], found[2]
+
+
 class _NodeMeta(type):
     """Runs a node's parameter checks once its constructor (the outermost ``__init__``) has finished,
     so cross-parameter rules see every value and every structural option."""
@@ -68,14 +97,11 @@ class Node(metaclass=_NodeMeta):
         d["_starts"] = {}
         d["_state_select"] = {}
         d["_connections"] = []
-        for klass in reversed(type(self).__mro__):
-            for name, value in vars(klass).items():
-                if isinstance(value, Declaration):
-                    self._decls[name] = value
-        for klass in reversed(type(self).__mro__):
-            for name, value in vars(klass).items():
-                if isinstance(value, Node) and name not in self._children:
-                    self._add_child(name, value._clone())
+        decls, templates = _class_members(type(self))
+        d["_decls"] = dict(decls)
+        for name, value in templates:
+            if name not in self._children:
+                self._add_child(name, value._clone())
         for name, value in params.items():
             self._assign(name, value)
         for name, value in (init or {}).items():
@@ -101,6 +127,7 @@ class Node(metaclass=_NodeMeta):
             raise ModelError(f"{self._label(name)}: component is already part of {node.path or node._name!r}")
         node.__dict__["_parent"] = self
         node.__dict__["_name"] = name
+        _TREE_GENERATION[0] += 1  # paths cached before this attachment may have changed
         self._children[name] = node
         object.__setattr__(self, name, node)
 
@@ -141,12 +168,18 @@ class Node(metaclass=_NodeMeta):
     @property
     def path(self) -> str:
         """Hierarchical name relative to the root model (``"boom.cyl1.port_a"``)."""
+        d = self.__dict__
+        cached = d.get("_path_cache")
+        if cached is not None and cached[0] == _TREE_GENERATION[0]:
+            return cached[1]
         parts = []
         node: Node | None = self
         while node is not None and node._parent is not None:
             parts.append(node._name)
             node = node._parent
-        return ".".join(reversed(parts))
+        path = ".".join(reversed(parts))
+        d["_path_cache"] = (_TREE_GENERATION[0], path)
+        return path
 
     def _label(self, name: str) -> str:
         p = self.path
@@ -167,8 +200,11 @@ class Node(metaclass=_NodeMeta):
             decl = self._decls[name]
             sym = decl.new_symbol(name)
             kind = "parameter" if isinstance(decl, Parameter) else "variable"
-            for k, (_, index) in enumerate(decl.element_names(name)):
-                self._infos.append(SymInfo(sym.nz[k], kind, node=self, name=name, index=index))
+            if not decl.shape:  # a scalar: the symbol is its own only element
+                self._infos.append(SymInfo(sym, kind, node=self, name=name, index=()))
+            else:
+                for k, (_, index) in enumerate(decl.element_names(name)):
+                    self._infos.append(SymInfo(sym.nz[k], kind, node=self, name=name, index=index))
             self._syms[name] = sym
         return sym
 

@@ -15,6 +15,7 @@ variables, and how the compiler names every equation and variable.
 from __future__ import annotations
 
 import enum
+import math
 import weakref
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -292,6 +293,11 @@ class Parameter(Declaration):
         """Return ``value`` as a float array of the declared shape, or raise naming ``path``."""
         from flexlib.errors import ParameterError
 
+        if not self.shape and type(value) in (float, int):  # the usual scalar: plain float comparisons
+            v = float(value)
+            if (math.isfinite(v) and (self.min is None or v >= self.min) and (self.max is None or v <= self.max)
+                    and (self.gt is None or v > self.gt) and (self.lt is None or v < self.lt)):
+                return np.array(v)
         try:
             arr = np.array(value, dtype=float)
         except (TypeError, ValueError) as exc:
@@ -427,6 +433,10 @@ def der(expr: Any) -> ca.SX:
         ``der(x)`` symbols for variables; ``dexpr/dt`` by forward differentiation otherwise.
     """
     e = _as_sx(expr)
+    if e.is_scalar() and e.is_symbolic():  # one scalar symbol (the usual case): its der symbol
+        info = lookup(e)
+        if info is not None and info.kind not in ("time", "parameter", "relation"):
+            return info.der_info.sym
     if e.is_valid_input():  # a (matrix of) plain symbols
         out = []
         for k in range(e.nnz()):
@@ -456,6 +466,8 @@ def der(expr: Any) -> ca.SX:
         d.append(ca.SX(1.0) if info.kind == "time" else info.der_info.sym)
     if not v:
         return ca.SX.zeros(*e.shape)
+    if e.is_scalar():  # no reshaping around the directional derivative
+        return ca.jtimes(e, ca.vertcat(*v), ca.vertcat(*d))
     flat = ca.vec(e)
     dflat = ca.jtimes(flat, ca.vertcat(*v), ca.vertcat(*d))
     return ca.reshape(dflat, e.shape[0], e.shape[1])
@@ -491,6 +503,8 @@ def eq(lhs: Any, rhs: Any = 0.0, label: str = "") -> Equation:
         Optional short description used in diagnostics.
     """
     a, b = _as_sx(lhs), _as_sx(rhs)
+    if a.is_scalar() and b.is_scalar():  # the usual scalar equation: a - b is already a column
+        return Equation(a - b, label=label)
     if a.shape != b.shape:
         if b.is_scalar():
             b = ca.repmat(b, a.shape[0], a.shape[1])
