@@ -91,7 +91,7 @@ def tear_or_keep_frames(simple: SimpleSystem, params: dict[int, float], mode: st
     if not keep:
         return dataclasses.replace(_eliminate(simple, ids, found=found), tree_frames=f"torn ({why})")
     variables = _start_values(simple, vs, defs, params)
-    kept = {vs[k].element_hash() for k in range(vs.numel())}
+    kept = {s.element_hash() for s in ca.vertsplit(vs)}
     guesses = {v.name: v.start for v in variables if v.sym.element_hash() in kept and v.start != 0.0}
     return dataclasses.replace(simple, variables=variables, start_guesses={**simple.start_guesses, **guesses},
                                tree_frames=f"kept: {vs.numel()} frame unknowns T, r_0 ({why})")
@@ -129,11 +129,12 @@ def _start_values(simple: SimpleSystem, vs: ca.SX, defs: ca.SX, params: dict[int
     tree exactly); parameters take their values, derivatives, event relations and time 0. Fixed starts stay.
     """
     start = {v.sym.element_hash(): v.start for v in simple.variables}
-    others = [s for s in ca.symvar(defs) if s.element_hash() not in {vs[k].element_hash() for k in range(vs.numel())}]
+    own = {s.element_hash() for s in ca.vertsplit(vs)}
+    others = [s for s in ca.symvar(defs) if s.element_hash() not in own]
     other_vals = [start.get(h, params.get(h, 0.0)) for h in (s.element_hash() for s in others)]
     f = ca.Function("frames", [vs, ca.vertcat(*others) if others else ca.SX(0, 1)], [defs])
-    index = {vs[k].element_hash(): k for k in range(vs.numel())}
-    x = np.array([start[vs[k].element_hash()] for k in range(vs.numel())], dtype=float)
+    index = {s.element_hash(): k for k, s in enumerate(ca.vertsplit(vs))}
+    x = np.array([start[h] for h in index], dtype=float)
     p = np.asarray(other_vals, dtype=float)
     for _ in range(vs.numel() + 1):
         new = np.asarray(f(x, p), dtype=float).ravel()
