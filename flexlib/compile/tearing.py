@@ -34,6 +34,7 @@ import numpy as np
 from flexlib.compile.redundancy import explicit_definitions, frame_variables
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.core.variables import der
+from flexlib.errors import RunArgumentError
 
 __all__ = ["KEEP_DEPTH", "eliminate_explicit", "eliminate_frame_kinematics", "tear_or_keep_frames",
            "tree_frames_mode"]
@@ -46,8 +47,11 @@ KEEP_DEPTH = 12
 
 def tree_frames_mode() -> str:
     """``"auto"`` (default), ``"tear"`` or ``"keep"``, from ``FLEXLIB_TREE_FRAMES``."""
-    mode = os.environ.get("FLEXLIB_TREE_FRAMES", "auto").strip().lower() or "auto"
-    return mode if mode in ("tear", "keep") else "auto"
+    raw = os.environ.get("FLEXLIB_TREE_FRAMES", "auto")
+    mode = raw.strip().lower() or "auto"
+    if mode not in ("auto", "tear", "keep"):
+        raise RunArgumentError(f"environment variable FLEXLIB_TREE_FRAMES = {raw!r}: expected 'auto', 'tear' or 'keep'")
+    return mode
 
 
 def _frame_ids(simple: SimpleSystem) -> list[int]:
