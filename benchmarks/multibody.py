@@ -9,10 +9,13 @@ Run: ``python benchmarks/multibody.py`` (from the repository root; ``python benc
 for chosen chain sizes). No timing is asserted. Times are wall (best of 2 for runs) and process CPU; on a shared
 machine compare the CPU columns.
 
-``--keep-tree-frames`` (experiment, issue 9): models without kinematic loops keep frame orientations ``T`` and
-origins ``r_0`` as unknowns instead of substituting the tree's forward kinematics (``compile/tearing.py``). The
-residual stays local (O(N) Jacobian) but several multibody tests fail with it (free bodies on bushings start from
-``T = 0``), so it is not the default; see "Build time at scale" in ``benchmarks/README.md``.
+``--tree-frames=tear|keep|auto`` (issue 9): sets ``FLEXLIB_TREE_FRAMES`` — tear the tree's frame kinematics
+(substituted forward kinematics, the behaviour before the rule), keep frame orientations ``T`` and origins ``r_0``
+as unknowns in models without loops, or let the rule of ``compile/tearing.py`` choose by depth (default).
+``--keep-tree-frames`` is the old spelling of ``--tree-frames=keep``.
+
+``--crossover N...``: for each N, build + 10 s run of the chain torn and kept, process CPU, alternating — the
+measurement behind ``tearing.KEEP_DEPTH``. See "Build time at scale" in ``benchmarks/README.md``.
 """
 
 from __future__ import annotations
@@ -57,23 +60,38 @@ def _run(model: fl.Model, t_end: float = 10.0, rtol: float = 1e-6) -> tuple[fl.S
 CPU: dict[str, float] = {}
 
 
-def keep_tree_frames() -> None:
-    """The experiment: skip the frame-kinematics tearing for models without loop-closure rows."""
-    from flexlib.compile import pipeline, tearing
-
-    def eliminate(simple):
-        if any(e.origin == "loop closure" for e in simple.equations):
-            return tearing.eliminate_frame_kinematics(simple)
-        return simple
-
-    pipeline.eliminate_frame_kinematics = eliminate
+def crossover(sizes: list[int], repeats: int = 2) -> None:
+    """Build + 10 s run CPU of the chain with the tree frames torn and kept (alternating, best of ``repeats``)."""
+    print("| N | torn: unknowns / build / run / total CPU (s) | kept: unknowns / build / run / total CPU (s) | "
+          "kept / torn |")
+    print("|---|---|---|---|")
+    for n in sizes:
+        best: dict[str, tuple] = {}
+        for _ in range(repeats):
+            for mode in ("tear", "keep"):
+                os.environ["FLEXLIB_TREE_FRAMES"] = mode
+                CPU.clear()
+                sim, _, _, _ = _run(NLinkPendulum(n))
+                total = CPU["build"] + CPU["run"]
+                if mode not in best or total < best[mode][3]:
+                    best[mode] = (sim.compiled.n, CPU["build"], CPU["run"], total)
+        t, k = best["tear"], best["keep"]
+        print(f"| {n} | {t[0]} / {t[1]:.2f} / {t[2]:.2f} / {t[3]:.2f} | {k[0]} / {k[1]:.2f} / {k[2]:.2f} / {k[3]:.2f} "
+              f"| {k[3] / t[3]:.2f} |", flush=True)
+    os.environ.pop("FLEXLIB_TREE_FRAMES", None)
 
 
 def main(argv: list[str]) -> None:
     if "--keep-tree-frames" in argv:
-        argv = [a for a in argv if a != "--keep-tree-frames"]
-        keep_tree_frames()
-        print("EXPERIMENT: frame kinematics kept as unknowns in models without loops\n")
+        argv = ["--tree-frames=keep" if a == "--keep-tree-frames" else a for a in argv]
+    for a in [a for a in argv if a.startswith("--tree-frames=")]:
+        argv.remove(a)
+        os.environ["FLEXLIB_TREE_FRAMES"] = a.split("=", 1)[1]
+        print(f"FLEXLIB_TREE_FRAMES={os.environ['FLEXLIB_TREE_FRAMES']}\n")
+    if "--crossover" in argv:
+        os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
+        crossover([int(a) for a in argv if a != "--crossover"] or [2, 5, 8, 10, 12, 15, 20])
+        return
     sizes = [int(a) for a in argv] or [2, 5, 10, 20, 50]
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
     print("N-link pendulum chain, 10 s, rtol 1e-6, 1001 output points (times: run best of 2)\n")
@@ -86,6 +104,7 @@ def main(argv: list[str]) -> None:
         sim, build, res, run = _run(NLinkPendulum(n))
         s = res.stats
         rows.append((n, CPU["build"], CPU["run"]))
+        print(f"<!-- N = {n}: {sim.report.tree_frames} -->", flush=True)
         print(f"| {n} | {sim.compiled.n} | {int(sim.compiled.differential.sum())} | {len(sim.compiled.jac_row)} | "
               f"{build:.2f} | {CPU['build']:.2f} | {run:.2f} | {CPU['run']:.2f} | "
               f"{s['steps']} | {s['nfev']} | {s['njev']} | {s['state_switches']} |", flush=True)

@@ -101,6 +101,10 @@ class CompiledModel:
     col_names: list[str] = field(default_factory=list)
     check_labels: list[str] = field(default_factory=list)
     """Loop-closure rows dropped as redundant at build time (``chk`` evaluates them; they must stay 0)."""
+    start_guesses: dict[str, float] = field(default_factory=dict)
+    """Start guesses of unknowns without a start value of their own, computed at build time (frames kept as
+    unknowns: their tree definitions at the start values, ``tearing.tear_or_keep_frames``); used where the
+    instance gives the entry no non-zero start."""
     levels: list[tuple[int, int, list[int], list[int]]] = field(default_factory=list)
     """Per selection level: (rows, candidates, costs, selected positions) for the state-selection monitor."""
     _structure: Any = field(default=None, repr=False)
@@ -425,6 +429,8 @@ _FIELD_CHECKS: dict[str, Any] = {
     "check_labels": _str_list,
     "assumed": lambda v, w: {_expect(k, str, w): _expect(s, str, w) for k, s in _expect(v, dict, w).items()},
     "levels": _levels,
+    "start_guesses": lambda v, w: {_expect(k, str, w): float(_expect(x, (int, float), w))
+                                   for k, x in _expect(v, dict, w).items()},
     "stats": _plain_dict,
     "serialized": lambda v, w: {_expect(k, str, w): _expect(s, str, w) for k, s in _expect(v, dict, w).items()},
     "library": lambda v, w: v if v is None else _expect(v, str, w),
@@ -506,6 +512,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     model = CompiledModel(
         name=flat.name, n=y.numel(), y_names=dae.names, y_owners=dae.owners, differential=dae.differential,
         nominal=dae.nominal, start_sources=start_sources,
+        start_guesses={k: x for k, x in simple.start_guesses.items() if k in set(dae.names)},
         param_names=[q.name for q in flat.parameters], param_units=[q.unit for q in flat.parameters],
         param_defaults=np.array([q.value for q in flat.parameters]), variables=variables, relations=relations,
         conditions=[(c.name, c.value) for c in dae.conditions], report=dae.report,

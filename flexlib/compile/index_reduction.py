@@ -68,6 +68,8 @@ class IndexReport:
     dummy_derivatives: list[str] = field(default_factory=list)
     redundant: list[str] = field(default_factory=list)
     explicit: list[str] = field(default_factory=list)
+    tree_frames: str = ""
+    """Frame kinematics of the kinematic tree torn or kept as unknowns, and why (``compile/tearing.py``)."""
 
     def __str__(self) -> str:
         lines = [f"DAE index {self.index}; {len(self.states)} states"]
@@ -82,6 +84,8 @@ class IndexReport:
             lines += [f"  {text}" for text in self.redundant]
         if self.explicit:
             lines.append(f"Explicit algebraics eliminated ({len(self.explicit)}): " + ", ".join(self.explicit))
+        if self.tree_frames:
+            lines.append(f"Tree frame kinematics: {self.tree_frames}")
         return "\n".join(lines)
 
 
@@ -610,4 +614,5 @@ def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: s
     index = max_diff + 1 if (max_diff > 0 or has_alg) else 0
     states = [_col_name(c, variables) for k, c in enumerate(cols) if is_state[k]]
     dummy_names = [_col_name(cols[k], variables) for k in sorted(dummies)]
-    return IndexReport(index, differentiated, states, dummy_names, list(simple.redundant))
+    return IndexReport(index, differentiated, states, dummy_names, list(simple.redundant),
+                       tree_frames=simple.tree_frames)

@@ -30,7 +30,7 @@ from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
 from flexlib.compile.redundancy import remove_redundant
 from flexlib.compile.simplify import SimpleSystem, simplify
-from flexlib.compile.tearing import eliminate_frame_kinematics
+from flexlib.compile.tearing import tear_or_keep_frames, tree_frames_mode
 from flexlib.core.component import Component
 
 __all__ = ["Build", "analyse", "build", "prepare"]
@@ -116,7 +116,7 @@ def _updater(entry: Any) -> Any:
 def prepare(flat: FlatSystem, params: dict[int, float], *, assume_zero_geometry: bool | None = None) -> SimpleSystem:
     """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics, constant unknowns
     (``assume_zero_geometry``: see :func:`build`)."""
-    torn = eliminate_frame_kinematics(remove_redundant(simplify(flat), params))
+    torn = tear_or_keep_frames(remove_redundant(simplify(flat), params), params)
     return eliminate_constants(torn, params, assume_zero_geometry=assume_zero_geometry)
 
 
@@ -185,7 +185,8 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         assume_zero_geometry = zero_geometry()
     assume_zero_geometry = bool(assume_zero_geometry)
     key = (cache.model_key(root, {"codegen": codegen, "zero_geometry": assume_zero_geometry,
-                                  "explicit": explicit_mode()})
+                                  "explicit": explicit_mode(),
+                                  "tree_frames": tree_frames_mode()})
            if directory is not None else None)
     timings["key"] = _time.perf_counter() - t0
     timings["model_key"] = key

@@ -69,6 +69,10 @@ class SimpleSystem:
     relies on (``constants.py``); a run violating one is refused."""
     n_constants: int = 0
     """Number of unknowns found constant (``constants.eliminate_constants``)."""
+    tree_frames: str = ""
+    start_guesses: dict[str, float] = dataclasses.field(default_factory=dict)
+    """Build-time start guesses of unknowns that have no start of their own (kept tree frames), by name."""
+    """Whether the tree's frame kinematics were torn or kept as unknowns, and why (``tearing.tear_or_keep_frames``)."""
 
 
 def _classify(flat: FlatSystem, e: ca.SX) -> tuple | None:

@@ -10,25 +10,149 @@ still report every eliminated variable through its expression.
 
 Angular velocities stay unknowns (they are integrated quantities of bodies); their tree
 equations remain and are differentiated where needed.
+
+**Deep open trees keep their frames** (:func:`tear_or_keep_frames`, issue 9). Substituted along a
+tree, link k's rows involve all k joint coordinates above it: the residual and its Jacobian grow as
+N² along a chain of N joints, and CasADi's symbolic AD as ~N^2.5 (N-link chain, N = 50: 45 s of
+build). A model without loop-closure rows whose deepest chain of frame definitions exceeds
+:data:`KEEP_DEPTH` therefore keeps ``T`` and ``r_0`` as unknowns (Pantelides differentiates the tree
+equations instead; every row stays local, the Jacobian O(N)). Their start values are the torn
+definitions evaluated at the start values of the remaining unknowns, so ``T`` starts as the rotation of
+the start angles. Models with loops are always torn (the loop rows must be in joint coordinates).
+``FLEXLIB_TREE_FRAMES=tear`` / ``keep`` forces either choice; the choice is recorded in
+``SimpleSystem.tree_frames`` and shown in ``Simulation.report``.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import os
 
 import casadi as ca
+import numpy as np
 
 from flexlib.compile.redundancy import explicit_definitions, frame_variables
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.core.variables import der
+from flexlib.errors import RunArgumentError
 
-__all__ = ["eliminate_explicit", "eliminate_frame_kinematics"]
+__all__ = ["KEEP_DEPTH", "eliminate_explicit", "eliminate_frame_kinematics", "tear_or_keep_frames",
+           "tree_frames_mode"]
+
+#: Depth (longest chain of frame definitions ``T``/``r_0`` that depend on each other) above which a model
+#: without loops keeps its tree frames as unknowns. Measured on N-link chains (``benchmarks/multibody.py
+#: --tree-frames-crossover``, see "Build time at scale" in ``benchmarks/README.md``).
+KEEP_DEPTH = 12
+
+
+def tree_frames_mode() -> str:
+    """``"auto"`` (default), ``"tear"`` or ``"keep"``, from ``FLEXLIB_TREE_FRAMES``."""
+    raw = os.environ.get("FLEXLIB_TREE_FRAMES", "auto")
+    mode = raw.strip().lower() or "auto"
+    if mode not in ("auto", "tear", "keep"):
+        raise RunArgumentError(f"environment variable FLEXLIB_TREE_FRAMES = {raw!r}: expected 'auto', 'tear' or 'keep'")
+    return mode
+
+
+def _frame_ids(simple: SimpleSystem) -> list[int]:
+    return [k for k in frame_variables(simple) if simple.variables[k].info.name in ("T", "r_0")]
 
 
 def eliminate_frame_kinematics(simple: SimpleSystem) -> SimpleSystem:
     """Substitute the explicit definitions of frame orientations ``T`` and origins ``r_0``."""
-    ids = [k for k in frame_variables(simple) if simple.variables[k].info.name in ("T", "r_0")]
+    ids = _frame_ids(simple)
     return _eliminate(simple, ids) if ids else simple
+
+
+def tear_or_keep_frames(simple: SimpleSystem, params: dict[int, float], mode: str | None = None) -> SimpleSystem:
+    """Tear the frame kinematics (:func:`eliminate_frame_kinematics`) or keep them, by the rule in the module doc.
+
+    Parameters
+    ----------
+    simple : SimpleSystem
+        After alias elimination and redundant loop rows.
+    params : dict of int to float
+        Parameter values by symbol hash (for the start values of kept frames).
+    mode : {"auto", "tear", "keep"} or None
+        None: :func:`tree_frames_mode`. ``"keep"`` still tears a model with loop-closure rows.
+
+    Returns
+    -------
+    SimpleSystem
+        With ``tree_frames`` saying what was chosen and why.
+    """
+    mode = tree_frames_mode() if mode is None else mode
+    ids = _frame_ids(simple)
+    if not ids:
+        return simple
+    loops = any(e.origin == "loop closure" for e in simple.equations)
+    found = explicit_definitions(simple, ids)
+    vs, defs, _ = found
+    depth = _depth(vs, defs) if vs.numel() else 0
+    keep = not loops and (mode == "keep" or (mode == "auto" and depth > KEEP_DEPTH))
+    why = (f"frame-definition depth {depth}" + ("; kinematic loops" if loops else "")
+           + f"; rule: keep if no loops and depth > {KEEP_DEPTH}" + ("" if mode == "auto" else f" (forced: {mode})"))
+    if not keep:
+        return dataclasses.replace(_eliminate(simple, ids, found=found), tree_frames=f"torn ({why})")
+    variables = _start_values(simple, vs, defs, params)
+    kept = {s.element_hash() for s in ca.vertsplit(vs)}
+    guesses = {v.name: v.start for v in variables if v.sym.element_hash() in kept and v.start != 0.0}
+    return dataclasses.replace(simple, variables=variables, start_guesses={**simple.start_guesses, **guesses},
+                               tree_frames=f"kept: {vs.numel()} frame unknowns T, r_0 ({why})")
+
+
+def _depth(vs: ca.SX, defs: ca.SX) -> int:
+    """Longest chain of definitions depending on each other (0 if none depends on another)."""
+    n = vs.numel()
+    colind, row = ca.jacobian_sparsity(defs, vs).get_ccs()
+    deps: list[list[int]] = [[] for _ in range(n)]
+    for j in range(n):
+        for k in range(colind[j], colind[j + 1]):
+            deps[row[k]].append(j)  # definition row[k] uses variable j
+    level = [-1] * n
+    for start in range(n):
+        stack = [start]
+        while stack:  # iterative depth-first evaluation of level[v] = 1 + max(level of its dependencies)
+            v = stack[-1]
+            if level[v] >= 0:
+                stack.pop()
+                continue
+            todo = [d for d in deps[v] if level[d] < 0 and d != v]
+            if todo and len(stack) <= n:
+                stack.extend(todo)
+                continue
+            level[v] = 1 + max((level[d] for d in deps[v] if d != v), default=-1)
+            stack.pop()
+    return max(level, default=0)
+
+
+def _start_values(simple: SimpleSystem, vs: ca.SX, defs: ca.SX, params: dict[int, float]) -> list:
+    """Variables with the kept frames' start values set from their definitions at the start point.
+
+    The definitions are iterated numerically from the declared starts (``depth + 1`` sweeps resolve an acyclic
+    tree exactly); parameters take their values, derivatives, event relations and time 0. Fixed starts stay.
+    """
+    start = {v.sym.element_hash(): v.start for v in simple.variables}
+    own = {s.element_hash() for s in ca.vertsplit(vs)}
+    others = [s for s in ca.symvar(defs) if s.element_hash() not in own]
+    other_vals = [start.get(h, params.get(h, 0.0)) for h in (s.element_hash() for s in others)]
+    f = ca.Function("frames", [vs, ca.vertcat(*others) if others else ca.SX(0, 1)], [defs])
+    index = {s.element_hash(): k for k, s in enumerate(ca.vertsplit(vs))}
+    x = np.array([start[h] for h in index], dtype=float)
+    p = np.asarray(other_vals, dtype=float)
+    for _ in range(vs.numel() + 1):
+        new = np.asarray(f(x, p), dtype=float).ravel()
+        if np.array_equal(new, x):
+            break
+        x = new
+    out = []
+    for v in simple.variables:
+        k = index.get(v.sym.element_hash())
+        if k is None or v.fixed or not np.isfinite(x[k]):
+            out.append(v)
+        else:
+            out.append(dataclasses.replace(v, start=float(x[k])))
+    return out
 
 
 def eliminate_explicit(simple: SimpleSystem) -> SimpleSystem:
@@ -73,8 +197,9 @@ def _acyclic(vs: ca.SX, defs: ca.SX) -> list[int]:
     return [k for k in range(n) if sizes[labels[k]] == 1 and not self_loop[k]]
 
 
-def _eliminate(simple: SimpleSystem, ids: list[int], require_algebraic: bool = False) -> SimpleSystem:
-    vs, defs, rows = explicit_definitions(simple, ids, require_algebraic)
+def _eliminate(simple: SimpleSystem, ids: list[int], require_algebraic: bool = False,
+               found: tuple[ca.SX, ca.SX, list[int]] | None = None) -> SimpleSystem:
+    vs, defs, rows = found if found is not None else explicit_definitions(simple, ids, require_algebraic)
     if vs.numel() == 0:
         return simple
     keep = _acyclic(vs, defs)

@@ -324,12 +324,16 @@ class Initializer:
     def guess(self, starts: dict[str, tuple[float, bool]]) -> np.ndarray:
         """Start guesses for ``y`` from the model's start values."""
         y = np.zeros(self.model.n)
+        guesses = self.model.start_guesses  # build-time guesses (kept tree frames) where no start is given
         for i, sources in enumerate(self.model.start_sources):
             for name, sign in sources:
                 val = starts.get(name, (0.0, False))[0]
                 if val != 0.0:
                     y[i] = sign * val
                     break
+            else:
+                if guesses:
+                    y[i] = guesses.get(self.model.y_names[i], 0.0)
         return y
 
     def reinit(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,

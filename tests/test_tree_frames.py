@@ -1,0 +1,124 @@
+"""Tree frame kinematics torn or kept as unknowns (``flexlib/compile/tearing.py::tear_or_keep_frames``, issue 9).
+
+A model without kinematic loops whose deepest chain of frame definitions exceeds ``tearing.KEEP_DEPTH`` keeps the
+frame orientations ``T`` and origins ``r_0`` as unknowns (O(N) Jacobian along a chain of N joints) instead of
+substituting the forward kinematics. Reference for every comparison: the same model with the frames torn
+(``FLEXLIB_TREE_FRAMES=tear``, the DAE used before the rule), run at the same tolerances; agreement is required to
+the integration tolerance stated at each test.
+"""
+
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib.compile import tearing
+from flexlib.components.mechanics.multibody import Body, Bushing, World
+from flexlib.models.n_link_pendulum import NLinkPendulum
+from flexlib.models.planar_mechanisms import FourBarLinkage
+
+G = 9.81
+
+
+def _sim(model: fl.Model, mode: str, monkeypatch: pytest.MonkeyPatch) -> fl.Simulation:
+    monkeypatch.setenv("FLEXLIB_TREE_FRAMES", mode)
+    return fl.Simulation(model, use_cache=False)
+
+
+def test_rule_decision_is_reported(monkeypatch):
+    """Auto: a chain one joint deeper than KEEP_DEPTH keeps its frames, a 3-link chain is torn; a model with a
+    kinematic loop is torn even when keeping is forced. The decision and its reason are in ``Simulation.report``."""
+    monkeypatch.delenv("FLEXLIB_TREE_FRAMES", raising=False)
+    deep = fl.build(NLinkPendulum(tearing.KEEP_DEPTH + 1), use_cache=False)
+    assert deep.simple.tree_frames.startswith("kept")
+    assert f"depth {tearing.KEEP_DEPTH + 1}" in deep.compiled.report.tree_frames
+    assert "Tree frame kinematics: kept" in str(deep.compiled.report)
+    shallow = fl.build(NLinkPendulum(3), use_cache=False)
+    assert shallow.compiled.report.tree_frames.startswith("torn (frame-definition depth 3")
+
+    sim = _sim(FourBarLinkage(), "keep", monkeypatch)
+    assert sim.report.tree_frames.startswith("torn") and "kinematic loops" in sim.report.tree_frames
+
+
+def test_kept_frames_start_at_the_start_rotation(monkeypatch):
+    """Kept ``T`` start as the rotation of the start angles (never 0): every link of a chain released with joint 1
+    at φ0 and the others at 0 is rotated by φ0 about z, so each kept T has T[0,0] = T[1,1] = cos φ0,
+    |T[0,1]| = |T[1,0]| = |sin φ0|, T[2,2] = 1 (exact to 1e-15)."""
+    monkeypatch.setenv("FLEXLIB_TREE_FRAMES", "keep")
+    phi0 = -0.8
+    b = fl.build(NLinkPendulum(4, phi0=phi0), use_cache=False)
+    T = {}
+    for v in b.simple.variables:
+        if v.info.name == "T":
+            T.setdefault(v.name.rsplit("[", 1)[0], {})[v.name.rsplit("[", 1)[1].rstrip("]")] = v.start
+    assert len(T) >= 4
+    for frame, m in T.items():
+        assert m.get("0,0", np.cos(phi0)) == pytest.approx(np.cos(phi0), abs=1e-15), frame
+        assert m.get("1,1", np.cos(phi0)) == pytest.approx(np.cos(phi0), abs=1e-15), frame
+        assert abs(m.get("0,1", np.sin(phi0))) == pytest.approx(abs(np.sin(phi0)), abs=1e-15), frame
+        assert m.get("2,2", 1.0) == pytest.approx(1.0, abs=1e-15), frame
+
+
+def test_long_chain_kept_agrees_with_torn(monkeypatch):
+    """12-link chain, 1 s at rtol 1e-9: joint angles with the frames kept agree with the torn build to 1e-6 rad
+    (the chain is chaotic, so the bound is a few hundred times the tolerance); link 12's body position to 1e-6 m."""
+    model = NLinkPendulum(12)
+    runs = {}
+    for mode in ("tear", "keep"):
+        sim = _sim(model, mode, monkeypatch)
+        assert sim.report.tree_frames.startswith("torn" if mode == "tear" else "kept")
+        runs[mode] = sim.run(1.0, dt_out=0.1, rtol=1e-9, atol=1e-11, progress=False)
+    for k in (1, 6, 12):
+        np.testing.assert_allclose(runs["keep"][f"joint{k}.phi"], runs["tear"][f"joint{k}.phi"], atol=1e-6)
+    np.testing.assert_allclose(runs["keep"]["body12.r_0"], runs["tear"]["body12.r_0"], atol=1e-6)
+
+
+class DeepBushing(fl.Model):
+    """A chain of ``n`` links with a body hanging from its tip on an undamped bushing (gravity −y), released with
+    the bushing deflected 1 cm and twisted 0.2 rad."""
+
+    def __init__(self, n: int) -> None:
+        super().__init__()
+        self.chain = NLinkPendulum(n, phi0=-1.2)
+        init = {"r_rel": [0.0, -0.01, 0.0], "v_rel": [0.0, 0.0, 0.0], "phi_rel": [0.0, 0.0, 0.2],
+                "phi_d": [0.0, 0.0, 0.0]}
+        self.bushing = Bushing(c_trans=[4e3, 5e3, 6e3], c_rot=[30.0, 40.0, 50.0], init=init)
+        self.body = Body(m=2.0, I=np.diag([0.1, 0.2, 0.3]))
+        self.connect(getattr(self.chain, f"rod{n}").frame_b, self.bushing.frame_a)
+        self.connect(self.bushing.frame_b, self.body.frame_a)
+
+
+def test_deep_chain_with_bushing_initialises_and_agrees(monkeypatch):
+    """A free body on a bushing at the tip of a chain deeper than KEEP_DEPTH (frames kept by the default rule: its
+    ``T`` starts at the tip's rotation, not 0) initialises and, over 0.5 s at rtol 1e-9, agrees with the torn build:
+    bushing deflection to 1e-8 m, Cardan angles to 1e-7 rad, last joint angle to 1e-7 rad."""
+    monkeypatch.delenv("FLEXLIB_TREE_FRAMES", raising=False)
+    n = tearing.KEEP_DEPTH + 1
+    kept = fl.Simulation(DeepBushing(n), use_cache=False)
+    assert kept.report.tree_frames.startswith("kept")
+    torn = _sim(DeepBushing(n), "tear", monkeypatch)
+    a = kept.run(0.5, dt_out=0.05, rtol=1e-9, atol=1e-11, progress=False)
+    b = torn.run(0.5, dt_out=0.05, rtol=1e-9, atol=1e-11, progress=False)
+    assert np.ptp(b["bushing.r_rel"][:, 1]) > 1e-4  # the bushing really deflects
+    np.testing.assert_allclose(a["bushing.r_rel"], b["bushing.r_rel"], atol=1e-8)
+    np.testing.assert_allclose(a["bushing.phi_rel"], b["bushing.phi_rel"], atol=1e-7)
+    np.testing.assert_allclose(a[f"chain.joint{n}.phi"], b[f"chain.joint{n}.phi"], atol=1e-7)
+
+
+def test_free_body_on_bushing_with_frames_kept(monkeypatch):
+    """The case that failed when frames were kept without start values (``T = 0``: Cardan angles of a zero matrix):
+    a body hanging on a bushing, frames forced kept, settles at the static sag −m g / c_y (1e-8 relative)."""
+    m, c = 2.0, (4e3, 5e3, 6e3)
+
+    class Hanging(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.world = World(g=G)
+            self.bushing = Bushing(c_trans=list(c), c_rot=[30.0, 40.0, 50.0])
+            self.body = Body(m=m, I=np.diag([0.1, 0.2, 0.3]))
+            self.connect(self.world.frame_b, self.bushing.frame_a)
+            self.connect(self.bushing.frame_b, self.body.frame_a)
+
+    sim = _sim(Hanging(), "keep", monkeypatch)
+    assert sim.report.tree_frames.startswith("kept")
+    res = sim.run(0.1, dt_out=0.05, steady_state=True, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(res["bushing.r_rel"][-1], [0.0, -m * G / c[1], 0.0], rtol=1e-8, atol=1e-14)
