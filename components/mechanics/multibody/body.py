@@ -12,47 +12,10 @@ from flexlib.errors import ParameterError
 
 from .frames import equality_constraint, resolve2
 from .interfaces import Frame
+from .quaternions import floating_frame_equations, quaternion_to_T
 from .world import gravity_of
 
-__all__ = ["Body", "quaternion_from_T", "quaternion_to_T", "quaternion_w"]
-
-
-def quaternion_from_T(T: np.ndarray) -> np.ndarray:
-    """Unit quaternion ``(e·sin(φ/2), cos(φ/2))`` of a numeric transformation matrix (MSL ``from_T``)."""
-    T = np.asarray(T, dtype=float)
-    c1, c2, c3, c4 = 1 + T[0, 0] - T[1, 1] - T[2, 2], 1 + T[1, 1] - T[0, 0] - T[2, 2], \
-        1 + T[2, 2] - T[0, 0] - T[1, 1], 1 + T[0, 0] + T[1, 1] + T[2, 2]
-    k = int(np.argmax([c1, c2, c3, c4]))
-    if k == 3:
-        q4 = np.sqrt(c4) / 2
-        q = [(T[1, 2] - T[2, 1]) / (4 * q4), (T[2, 0] - T[0, 2]) / (4 * q4), (T[0, 1] - T[1, 0]) / (4 * q4), q4]
-    elif k == 0:
-        q1 = np.sqrt(c1) / 2
-        q = [q1, (T[0, 1] + T[1, 0]) / (4 * q1), (T[0, 2] + T[2, 0]) / (4 * q1), (T[1, 2] - T[2, 1]) / (4 * q1)]
-    elif k == 1:
-        q2 = np.sqrt(c2) / 2
-        q = [(T[0, 1] + T[1, 0]) / (4 * q2), q2, (T[1, 2] + T[2, 1]) / (4 * q2), (T[2, 0] - T[0, 2]) / (4 * q2)]
-    else:
-        q3 = np.sqrt(c3) / 2
-        q = [(T[0, 2] + T[2, 0]) / (4 * q3), (T[1, 2] + T[2, 1]) / (4 * q3), q3, (T[0, 1] - T[1, 0]) / (4 * q3)]
-    return np.array(q)
-
-
-def quaternion_to_T(Q: Any) -> ca.SX:
-    """Transformation matrix world → frame of the unit quaternion ``Q = (e·sin(φ/2), cos(φ/2))``."""
-    q1, q2, q3, q4 = Q[0], Q[1], Q[2], Q[3]
-    return ca.vertcat(
-        ca.horzcat(2 * (q1**2 + q4**2) - 1, 2 * (q1 * q2 + q3 * q4), 2 * (q1 * q3 - q2 * q4)),
-        ca.horzcat(2 * (q2 * q1 - q3 * q4), 2 * (q2**2 + q4**2) - 1, 2 * (q2 * q3 + q1 * q4)),
-        ca.horzcat(2 * (q3 * q1 + q2 * q4), 2 * (q3 * q2 - q1 * q4), 2 * (q3**2 + q4**2) - 1),
-    )
-
-
-def quaternion_w(Q: Any, dQ: Any) -> ca.SX:
-    """Angular velocity resolved in the frame from a quaternion and its derivative (MSL angularVelocity2)."""
-    q1, q2, q3, q4 = Q[0], Q[1], Q[2], Q[3]
-    M = ca.vertcat(ca.horzcat(q4, q3, -q2, -q1), ca.horzcat(-q3, q4, q1, -q2), ca.horzcat(q2, -q1, q4, -q3))
-    return 2 * ca.mtimes(M, dQ)
+__all__ = ["Body"]
 
 
 class Body(Component):
@@ -161,9 +124,7 @@ class Body(Component):
             eq(fa.t, ca.mtimes(self.I, z) + ca.cross(w, ca.mtimes(self.I, w)) + ca.cross(r_cm, fa.f)),
         ]
         if self.is_root(fa):
-            Q = self.Q
-            eqs += [eq(fa.T, quaternion_to_T(Q)), eq(fa.w, quaternion_w(Q, der(Q))),
-                    eq(ca.dot(Q, Q), 1.0, label="quaternion norm"), eq(self.w_a, fa.w)]
+            eqs += [*floating_frame_equations(fa, self.Q), eq(self.w_a, fa.w)]
         else:  # orientation comes through the tree; Q is unused (eliminated as a constant)
             eqs += [eq(self.w_a, fa.w), eq(self.Q, [0.0, 0.0, 0.0, 1.0])]
         return eqs

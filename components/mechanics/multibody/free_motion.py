@@ -10,9 +10,9 @@ import numpy as np
 from flexlib import Parameter, Variable, der, eq
 from flexlib.errors import ParameterError
 
-from .body import quaternion_to_T, quaternion_w
 from .frames import absolute_rotation, equality_constraint, resolve1
 from .interfaces import PartialTwoFrames
+from .quaternions import quaternion_to_T, quaternion_w
 
 __all__ = ["FreeMotion"]
 

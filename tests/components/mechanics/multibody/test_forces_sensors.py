@@ -14,11 +14,11 @@ from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation
 from flexlib.components.mechanics.multibody.absolute_angular_velocity import AbsoluteAngularVelocity
 from flexlib.components.mechanics.multibody.absolute_position import AbsolutePosition
 from flexlib.components.mechanics.multibody.absolute_velocity import AbsoluteVelocity
-from flexlib.components.mechanics.multibody.body import quaternion_from_T
 from flexlib.components.mechanics.multibody.cut_force import CutForce
 from flexlib.components.mechanics.multibody.cut_torque import CutTorque
 from flexlib.components.mechanics.multibody.distance import Distance
 from flexlib.components.mechanics.multibody.line_force import LineForce
+from flexlib.components.mechanics.multibody.quaternions import quaternion_from_T
 from flexlib.components.mechanics.multibody.relative_position import RelativePosition
 from flexlib.components.mechanics.multibody.relative_velocity import RelativeVelocity
 from flexlib.components.mechanics.multibody.spring_damper_line import SpringDamperLine

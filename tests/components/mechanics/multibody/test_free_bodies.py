@@ -5,7 +5,7 @@ import references_multibody as ref
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Spherical, World
-from flexlib.components.mechanics.multibody.body import quaternion_from_T
+from flexlib.components.mechanics.multibody.quaternions import quaternion_from_T
 
 G = 9.81
 

@@ -12,7 +12,6 @@ from scipy.spatial.transform import Rotation
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
-from flexlib.components.mechanics.multibody.body import quaternion_from_T
 from flexlib.components.mechanics.multibody.body_box import BodyBox
 from flexlib.components.mechanics.multibody.body_cylinder import BodyCylinder
 from flexlib.components.mechanics.multibody.body_shape import BodyShape
@@ -20,6 +19,7 @@ from flexlib.components.mechanics.multibody.cylindrical import Cylindrical
 from flexlib.components.mechanics.multibody.fixed_rotation import FixedRotation
 from flexlib.components.mechanics.multibody.free_motion import FreeMotion
 from flexlib.components.mechanics.multibody.interfaces import Frame
+from flexlib.components.mechanics.multibody.quaternions import quaternion_from_T
 from flexlib.components.mechanics.multibody.universal import Universal
 
 G = 9.81
