@@ -42,6 +42,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
+from native_ida import deviation  # noqa: E402  (largest difference relative to each variable's range)
+
 import flexlib as fl  # noqa: E402
 
 REPEAT = 3
@@ -115,16 +117,6 @@ def main() -> None:
                 label = f"{label} (failed at t = {res.t[-1]:.3g} s)"
             print(f"| {name} | {label} | {cpu:.3f} / {wall:.3f} | {t_end / cpu:.1f} | {st['steps']} | "
                   f"{st.get('state_switches', 0)} | {mon} | {la} | {split} | {deviation(res, ref):.1e} |", flush=True)
-
-
-def deviation(r: fl.Result, ref: fl.Result) -> float:
-    """Largest difference on the common output times, relative to each variable's range (at least 1e-6)."""
-    common, ia, ib = np.intersect1d(r.t, ref.t, return_indices=True)
-    if not len(common):
-        return float("nan")
-    a, b = r.values[ia], ref.values[ib]
-    scale = np.maximum(np.abs(b).max(axis=0), 1e-6)
-    return float(np.max(np.abs(a - b) / scale))
 
 
 if __name__ == "__main__":

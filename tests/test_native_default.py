@@ -16,18 +16,7 @@ from flexlib.solve.ida import DENSE_MAX
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "robustness"))
 
-needs_driver = pytest.mark.skipif(not native.native_available(),
-                                  reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
-
-
-class Osc(fl.Model):
-    """x'' = -x, x(0) = 1: x = cos t."""
-
-    x = fl.Variable()
-    v = fl.Variable()
-
-    def equations(self):
-        return [fl.eq(fl.der(self.x), self.v), fl.eq(fl.der(self.v), -self.x)]
+from test_native_fallback import Osc, needs_driver  # noqa: E402  (the oscillator x = cos t, the driver check)
 
 
 @pytest.fixture(scope="module")

@@ -103,7 +103,7 @@ def test_jacobian_companion_that_does_not_compile_falls_back_to_the_symbolic_res
     the run goes on with CasADi's symbolic residual (x = 1/(1 − t) to 1e-6 relative up to 0.9 s)."""
     import subprocess
 
-    from flexlib.solve import casadi_idas
+    from flexlib.solve import casadi_dae
 
     sim = fl.Simulation(BlowUp(init={"x": 1.0}), use_cache=False, codegen=True)
     lib = sim.compiled.library
@@ -112,7 +112,7 @@ def test_jacobian_companion_that_does_not_compile_falls_back_to_the_symbolic_res
     def failing_gcc(cmd, **kw):
         return subprocess.CompletedProcess(cmd, 1, "", "cc1: fatal error: no space left on device")
 
-    monkeypatch.setattr(casadi_idas.subprocess, "run", failing_gcc)
+    monkeypatch.setattr(casadi_dae.subprocess, "run", failing_gcc)  # the companion is compiled there
     with pytest.warns(fl.CacheWarning, match="no space left on device") as rec:
         res = sim.run(0.9, dt_out=0.1, rtol=1e-9, atol=1e-11, solver="casadi-idas", progress=False)
     assert any(lib in str(w.message) for w in rec)
