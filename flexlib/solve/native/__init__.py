@@ -148,7 +148,8 @@ def _lib() -> ctypes.CDLL:
         lib.fd_set_limits.restype = None
         lib.fd_last_step.argtypes = [vp]
         lib.fd_last_step.restype = d
-        lib.fd_advance.argtypes = [vp, d, L, _dp, _dp, _dp, i, ctypes.POINTER(i), ctypes.POINTER(d),
+        # the output buffers go in as raw addresses (Driver.advance): see there why not as ndpointers
+        lib.fd_advance.argtypes = [vp, d, L, vp, vp, vp, i, ctypes.POINTER(i), ctypes.POINTER(d),
                                    ctypes.POINTER(L)]
         lib.fd_advance.restype = i
         lib.fd_state.argtypes = [vp, _dp, _dp]
@@ -380,9 +381,18 @@ class Driver:
 
     def advance(self, t_stop: float, max_chunk: int, T: np.ndarray, Y: np.ndarray,
                 YP: np.ndarray) -> tuple[int, int, float, int]:
-        """Step towards ``t_stop``; returns (code, rows written, solver time, steps taken)."""
-        code = self._lib.fd_advance(self._ptr, t_stop, max_chunk, T, Y, YP, len(T), ctypes.byref(self._nrows),
-                                    ctypes.byref(self._tnow), ctypes.byref(self._steps))
+        """Step towards ``t_stop``; returns (code, rows written, solver time, steps taken).
+
+        ``T``, ``Y``, ``YP`` (C-contiguous float64, checked here) are passed as raw addresses. As numpy
+        ``ndpointer`` arguments they were converted by Python code inside the foreign call, and a SIGTERM or
+        Ctrl-C arriving there surfaced as ``ctypes.ArgumentError`` (a failed run) instead of the run's interrupt.
+        """
+        for a in (T, Y, YP):
+            if a.dtype != np.float64 or not a.flags.c_contiguous:
+                raise TypeError(f"ida-native output buffers must be C-contiguous float64, got {a.dtype}")
+        code = self._lib.fd_advance(self._ptr, t_stop, max_chunk, T.ctypes.data, Y.ctypes.data, YP.ctypes.data,
+                                    len(T), ctypes.byref(self._nrows), ctypes.byref(self._tnow),
+                                    ctypes.byref(self._steps))
         return code, self._nrows.value, self._tnow.value, self._steps.value
 
     def state(self) -> tuple[np.ndarray, np.ndarray]:
