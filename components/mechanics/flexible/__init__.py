@@ -2,6 +2,7 @@
 invariants, the open HDF5 modal file, mode selection and default modal damping (SI units throughout)."""
 
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
+from .body import FlexibleBody, frame_names
 from .fe_model import COMPONENTS, BeamElements, FEModel, MassPoints, read_fe, read_matrix_market
 from .geometric import (
     geometric_stiffness_matrix,
@@ -31,6 +32,7 @@ __all__ = [
     "BeamElements",
     "CraigBamptonResult",
     "FEModel",
+    "FlexibleBody",
     "MassPoints",
     "ModalData",
     "ParticipationRow",
@@ -43,6 +45,7 @@ __all__ = [
     "craig_bampton",
     "default_damping_ratio",
     "element_matrices",
+    "frame_names",
     "geometric_stiffness_matrix",
     "i_section",
     "inertia_invariants",

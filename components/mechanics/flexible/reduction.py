@@ -192,7 +192,8 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
                        orthogonalize: bool = True, title: str = "", creator: str = "flexlib",
                        damping_ratio: np.ndarray | None = None,
                        stress_fibre: tuple[float, float] | None = None,
-                       geometric_stiffening: bool = False, support_nodes: Sequence[int] | None = None) -> Any:
+                       geometric_stiffening: bool = False, support_nodes: Sequence[int] | None = None,
+                       reference_node: int | None = None) -> Any:
     """Reduce an FE model by Craig–Bampton and assemble a :class:`ModalData` (modes per node, generalised
     matrices, frequencies, the nine inertia invariants, body properties and provenance).
 
@@ -221,7 +222,13 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         Beam models: add the modal geometric stiffness of the inertial and interface unit load cases
         (:func:`~flexlib.components.mechanics.flexible.geometric.modal_geometric_stiffness`).
     support_nodes : sequence of int, optional
-        Nodes held for those static load cases; default the first interface node.
+        Nodes held for those static load cases; default the first interface node (the reference node if given).
+    reference_node : int, optional
+        Attach the body's reference frame to this node (the "tangent frame" of seed 001, attached modes): the
+        reduction runs on the model clamped there, so every mode has zero translation and rotation at that node
+        and a frame at it moves rigidly with the reference frame. The node becomes the first interface node;
+        ``free`` does not apply (the clamped model has no rigid-body modes). The other interface nodes give the
+        constraint (static) modes, as in Craig–Bampton. Default: a floating reference frame (``free``).
 
     Returns
     -------
@@ -235,6 +242,12 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     if (stress_fibre is not None or geometric_stiffening) and fe.beam is None:
         raise ValueError("modal_data_from_fe: stress_fibre and geometric_stiffening need a beam model (beam_mesh)")
     interface_nodes = [int(k) for k in interface_nodes]
+    if reference_node is not None:
+        reference_node = int(reference_node)
+        fe.node_index([reference_node])  # a clear error for an unknown node
+        fe = fe.constrained([reference_node])
+        interface_nodes = [reference_node] + [k for k in interface_nodes if k != reference_node]
+        free = False
     dofs = fe.dofs(interface_nodes)
     cb = craig_bampton(fe.M, fe.K, dofs, n_modes, rigid_body_modes=fe.rigid_body_modes() if free else None,
                        orthogonalize=orthogonalize)
@@ -265,6 +278,7 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         "n_fixed_interface_modes": int(n_modes),
         "fixed_interface_frequencies_Hz": [float(x) for x in cb.fixed_interface_omega / (2 * math.pi)],
         "n_rigid_modes_removed": int(cb.n_rigid_removed),
+        "reference_node": reference_node,
         "n_fe_dofs": int(fe.n_dofs),
         "mass_description": points.description,
         "fe": fe.info,
