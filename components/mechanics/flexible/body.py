@@ -20,7 +20,11 @@ with the centrifugal modal forces ``h_ω,j = −wᵀ (I8_jᵀ + B_j) w``, the Co
 ``h_c,j = 2 wᵀ (Σ_k q̇_k I5_k)[:, j]``, the modal damping ``D = diag(2 ζ_j ω_j I6_jj)`` and, with
 ``geometric_stiffening=True``, the geometric stiffness ``K_G = Σ_c λ_c G_c`` of the file's unit load cases
 (:mod:`.geometric`) weighted by the current loads ``λ``: ``α`` (cases ``acc_*``), ``ż`` (``alpha_*``), the
-products ``w_a w_b`` (``omega_*``) and the frame loads ``F_k, M_k`` (``F<node>_*``). ``F_k``, ``M_k`` are the cut
+products ``w_a w_b`` (``omega_*``) and the frame loads ``F_k, M_k`` (``F<node>_*``). The centrifugal cases are
+kept energy-consistent: their stiffening is the ``q``-derivative of the kinetic-energy term ``−½ wᵀ S(q) w``
+(the foreshortening of the bent body, ``S_aa = qᵀ G_ωaa q``, ``S_ab = ½ qᵀ G_ωab q``), so the rotation equation
+gets its counterpart ``−(S ż + Ṡ w + w × S w)``; without it a body whose reference frame spins up and down
+gains energy from the stiffening term. ``F_k``, ``M_k`` are the cut
 force and torque of frame ``k`` resolved in body axes and ``x_k = s_k + Φ_k q`` the deformed position of its node.
 
 Each frame sits at a node: ``r_0,k = r_0 + Tᵀ x_k`` and ``T_k = T_rel(θ_k) T`` with ``θ_k = Φ*_k q`` its small
@@ -199,7 +203,9 @@ class FlexibleBody(Component):
         elif damping:
             raise ModelError(f"{type(self).__name__}: damping given, but no modes are kept")
         if "zeta" in deferred:
-            self._assign("zeta", deferred.pop("zeta"))
+            zeta_given = deferred.pop("zeta")
+            if m or np.size(zeta_given):  # an empty zeta fits a body without modes
+                self._assign("zeta", zeta_given)
         for name, value in (deferred.get("init") or {}).items():
             self.set_start(name, value, fixed=True)
         for name, value in (deferred.get("guess") or {}).items():
@@ -331,7 +337,11 @@ class FlexibleBody(Component):
             D = 2 * self.zeta * ca.DM(omega * np.diag(d.generalized_mass))
             Kq = ca.mtimes(ca.DM(d.generalized_stiffness), q)
             if self.geometric_stiffening:
-                Kq += self._geometric_stiffness_force(q, alpha, z, w, loads)
+                KGq, S = self._geometric_stiffness(q, alpha, z, w, loads)
+                Kq += KGq
+                # the centrifugal part as kinetic energy -1/2 w^T S(q) w (foreshortening): its rotational terms
+                Sd = ca.reshape(ca.jtimes(ca.vec(S), q, qd), 3, 3)
+                cor_rot -= ca.mtimes(S, z) + ca.mtimes(Sd, w) + ca.cross(w, ca.mtimes(S, w))
             eqs += [
                 eq(mass * alpha + ca.cross(z, c) + ca.cross(w, ca.cross(w, c)) + 2 * ca.cross(w, lin(I3, qd))
                    + lin(I3, qdd), F, label="translation"),
@@ -348,8 +358,9 @@ class FlexibleBody(Component):
             ]
         return eqs
 
-    def _geometric_stiffness_force(self, q: Any, alpha: Any, z: Any, w: Any, loads: list) -> Any:
-        """``K_G q`` with ``K_G = Σ_c λ_c G_c`` over the file's unit load cases (module docstring)."""
+    def _geometric_stiffness(self, q: Any, alpha: Any, z: Any, w: Any, loads: list) -> tuple[Any, Any]:
+        """``K_G q`` with ``K_G = Σ_c λ_c G_c`` over the file's unit load cases, and the centrifugal inertia
+        ``S(q)`` (3×3) with ``S_aa = qᵀ G_ωaa q``, ``S_ab = ½ qᵀ G_ωab q`` (module docstring)."""
         G = self._data.geometric_stiffness
         axes = "xyz"
         weights: dict[str, Any] = {}
@@ -363,13 +374,20 @@ class FlexibleBody(Component):
             for i, comp in enumerate(_COMPONENTS):
                 weights[f"F{node}_{comp}"] = Fk[i] if i < 3 else Mk[i - 3]
         out = ca.SX.zeros(q.shape[0], 1)
+        S = ca.SX.zeros(3, 3)
         for name, Gc in sorted(G.items()):
             lam = weights.get(name)
-            if lam is None:  # a load case of a node without a frame: that node carries no load here
+            if lam is None or not np.any(Gc):  # a node without a frame carries no load here
                 continue
-            if np.any(Gc):
-                out += lam * ca.mtimes(ca.DM(Gc), q)
-        return out
+            Gq = ca.mtimes(ca.DM(Gc), q)
+            out += lam * Gq
+            if name.startswith("omega_"):
+                a, b = axes.index(name[-2]), axes.index(name[-1])
+                if a == b:
+                    S[a, a] = ca.dot(q, Gq)
+                else:
+                    S[a, b] = S[b, a] = 0.5 * ca.dot(q, Gq)
+        return out, S
 
 
 def _choose_modes(data: ModalData, modes: int | Sequence[int] | None, max_frequency: float | None) -> ModalData:
