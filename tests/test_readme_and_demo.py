@@ -28,6 +28,8 @@ def test_readme_examples_run(tmp_path, monkeypatch):
     lift = namespace["res"]  # the hydraulic example: the piston extends at Q / A_piston (0.5 %)
     area = 3.141592653589793 / 4 * 0.063**2
     assert abs(lift["cylinder.v"][-1] - lift["flow.q"][-1] / area) <= 5e-3 * lift["cylinder.v"][-1]
+    arm = namespace["arm_res"]  # the flexible arm released horizontally has swung down and deflected
+    assert arm["arm.frame_b.r_0"][-1, 1] < -0.5 and abs(arm["arm.q"][-1]).max() > 1e-6
 
 
 def test_demo_runs(tmp_path, capsys):
