@@ -233,6 +233,39 @@ class FlexibleBody(Component):
             raise ModelError(f"{self.where}: node {node} has no frame (frames at nodes {list(self.frame_nodes)})")
         return self._frames[self.frame_nodes.index(int(node))]
 
+    def motion(self, result: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The body's motion in a simulation result, for :mod:`.output` (deformation, stress, VTK, animation).
+
+        Parameters
+        ----------
+        result : Result
+            A result of a model containing this body.
+
+        Returns
+        -------
+        t : ndarray (nt,)
+            Times [s].
+        q : ndarray (nt, M)
+            Modal coordinates [1].
+        r_0 : ndarray (nt, 3)
+            Reference-frame origin in the world [m].
+        T : ndarray (nt, 3, 3)
+            Reference-frame orientation, world → body [1] (from ``frame_a`` and its elastic rotation).
+        """
+        t = np.asarray(result.t, dtype=float)
+        nt = t.size
+        q = np.asarray(result[f"{self.path}.q"], dtype=float).reshape(nt, -1) if self.n_modes else np.zeros((nt, 0))
+        T_a = np.asarray(result[f"{self.path}.frame_a.T"], dtype=float).reshape(nt, 3, 3, order="F")
+        Psi = self._node_shapes(self.frame_nodes[0])[2]
+        a = q @ Psi.T / 2 if self.n_modes else np.zeros((nt, 3))
+        A = np.zeros((nt, 3, 3))
+        A[:, 0, 1], A[:, 0, 2], A[:, 1, 2] = -a[:, 2], a[:, 1], -a[:, 0]
+        A -= A.transpose(0, 2, 1)
+        k = (2 / (1 + np.einsum("ka,ka->k", a, a)))[:, None, None]
+        T_rel = np.eye(3) + k * (A @ A - A)
+        T = np.einsum("kji,kjl->kil", T_rel, T_a)  # T_rel^T T_a
+        return t, q, np.asarray(result[f"{self.path}.r_0"], dtype=float).reshape(nt, 3), T
+
     def structure_key(self) -> Any:
         """The modal data's content hash: a changed file rebuilds the compiled model, a moved one does not."""
         return self._data.content_hash()

@@ -107,7 +107,9 @@ def test_free_body_conserves_energy_and_angular_momentum():
                                      w_start=[3.0, -5.0, 20.0],
                                      init={"q": q0, "qd": qd0, "r_0": [0, 0, 0], "v_0": [0.1, 0, 0]})
 
-    res = fl.Simulation(Free(), use_cache=False).run(0.1, dt_out=0.002, rtol=1e-10, atol=1e-12, **QUIET)
+    model = Free()
+    res = fl.Simulation(model, use_cache=False).run(0.1, dt_out=0.002, rtol=1e-10, atol=1e-12, **QUIET)
+    _t, _q, _r, T_ref = model.beam.motion(res)  # reference orientation recovered from frame_a (checked below)
     pts = fe.mass_points
     modes = _dof_modes(fe, data)
     Pt = (pts.Nt @ modes).reshape(-1, 3, m)
@@ -118,6 +120,7 @@ def test_free_body_conserves_energy_and_angular_momentum():
         q, qd, w = res["beam.q"][k], res["beam.qd"][k], res["beam.w"][k]
         T_rel = np.array(ca.DM(_cayley(ca.DM(Psi0 @ q), ca.DM(Psi0 @ qd))[0]))
         T = T_rel.T @ res["beam.frame_a.T"][k].reshape(3, 3, order="F")  # world -> body
+        np.testing.assert_allclose(T_ref[k], T, atol=1e-14)
         x = pts.positions + Pt @ q
         v = T @ res["beam.v_0"][k] + np.cross(w, x) + Pt @ qd       # body axes
         om = w + Pr @ qd
