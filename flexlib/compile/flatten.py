@@ -168,7 +168,8 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                                                     decl.doc, node.path, decl, node, name, index))
                 continue
             start, fixed = node.start_of(name)
-            starts = np.asarray(start, dtype=float).flatten(order="F")
+            fixed = fixed is True  # a "default" start is no initial condition of the structure (the initialiser
+            starts = np.asarray(start, dtype=float).flatten(order="F")  # adds it where one is missing)
             kind = decl.kind
             rule = None
             if getattr(decl, "derivative", None) is not None:

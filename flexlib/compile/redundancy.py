@@ -8,9 +8,11 @@ are statically indeterminate.
 
 Before index reduction, each loop's rows are written in joint coordinates (the frame
 positions and orientations are replaced by their explicit tree equations — symbolic forward
-kinematics), and the rank of their Jacobian is found by QR with column pivoting — at the start
-configuration or at a slightly perturbed one, whichever has the higher (generic) rank, so that a
-singular start (a fully stretched linkage) does not hide a real constraint. Each dependent row
+kinematics), and the rank of their Jacobian (columns scaled by each coordinate's nominal value) is found by QR
+with column pivoting — at the start configuration or at a slightly perturbed one, whichever has the higher
+(generic) rank, so that a singular start (a fully stretched linkage) does not hide a real constraint. The
+perturbation moves large-motion coordinates only; small-motion ones (nominal below ``SMALL_MOTION_NOMINAL``,
+e.g. a flexible body's modal coordinates) stay at their start values. Each dependent row
 is dropped and replaced by "the dual reaction component at the cut is zero": the
 world-resolved force component for a position row, the frame-resolved
 torque component for an orientation row. Reactions in the remaining (determinate) directions
@@ -42,6 +44,10 @@ _AXES = "xyz"
 #: function: every run checks, at its own parameter and start values, that the rows dropped as redundant
 #: at build time still hold (a parameter change can make a planar loop spatial; see ``docs/engine.md``).
 CHECK_PREFIX = "#dropped:"
+
+#: Coordinates with a smaller nominal value are small-motion ones (elastic deformation): the generic-rank test
+#: does not perturb them (see :func:`remove_redundant`).
+SMALL_MOTION_NOMINAL = 0.01
 
 
 def frame_variables(simple: SimpleSystem) -> list[int]:
@@ -118,13 +124,14 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         if vs.numel() == 0 or not ca.depends_on(L, vs):
             break
         L = ca.substitute([L], [vs], [defs])[0]
-    qs, qv = [], []
+    qs, qv, qn = [], [], []
     var_by_hash = {v.sym.element_hash(): v for v in simple.variables}
     for s in ca.symvar(L):
         v = var_by_hash.get(s.element_hash())
         if v is not None:
             qs.append(s)
             qv.append(v.start)
+            qn.append(v.nominal)
     if not qs:
         G = np.zeros((len(loop), 0))
     else:
@@ -140,12 +147,19 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         gfun = ca.Function("G", [point_syms], [jac])
         # generic rank: the start configuration may be singular (a stretched linkage); perturbed joint
         # coordinates keep a planar mechanism planar, so structural redundancy persists there
+        # The rank is taken in coordinates scaled by their nominal values. Only large-motion coordinates
+        # (nominal >= SMALL_MOTION_NOMINAL: joint angles, positions) are perturbed: a small-motion one (a flexible
+        # body's modal coordinate, nominal ~1e-3 of the body) stays at its start, because a loop row that a
+        # deformation affects only at second order (a link bent in two planes at once) is redundant for the
+        # small deformations the coordinate stands for, not an independent constraint.
+        nom = np.asarray(qn, dtype=float)
+        moves = np.where(nom >= SMALL_MOTION_NOMINAL, 1.0, 0.0)
         rng = np.random.default_rng(12345)
-        candidates = [np.asarray(gfun(point_vals))]
+        candidates = [np.asarray(gfun(point_vals)) * nom]
         for _ in range(2):
             pert = point_vals.copy()
-            pert[:len(qv)] += 0.05 * rng.standard_normal(len(qv)) * (1.0 + np.abs(pert[:len(qv)]))
-            candidates.append(np.asarray(gfun(pert)))
+            pert[:len(qv)] += 0.05 * rng.standard_normal(len(qv)) * (nom + np.abs(pert[:len(qv)])) * moves
+            candidates.append(np.asarray(gfun(pert)) * nom)
         G = max(candidates, key=_rank)
     if G.shape[1]:
         scale = max(1.0, float(np.abs(G).max()))

@@ -36,6 +36,9 @@ __all__ = ["Component", "Connector", "Model", "Node"]
 #: Per class: its declarations and its sub-component templates in MRO order (one walk of the MRO per class,
 #: not per instance; a model of N components builds N instances of a handful of classes), with the sizes of
 #: the class dictionaries it was read from (an attribute added to a class later invalidates the entry).
+#: ``fixed`` value of a start that is an initial condition only where the initial system needs one.
+DEFAULT_START = "default"
+
 _CLASS_MEMBERS: dict[type, tuple[tuple[int, ...], dict[str, Declaration], list[tuple[str, Node]]]] = {}
 
 #: Bumped whenever a node is attached to a parent: a path cached under an older generation is recomputed.
@@ -273,15 +276,24 @@ class Node(metaclass=_NodeMeta):
         where = self.path or ("(model)" if self._connections else "(unnamed)")
         return f"{type(self).__name__} {where}: unknown {what} {name!r}{hint}"
 
-    def set_start(self, name: str, value: Any, fixed: bool = True) -> None:
-        """Set the start value of variable ``name`` (an initial condition if ``fixed``)."""
+    def set_start(self, name: str, value: Any, fixed: bool | str = True) -> None:
+        """Set the start value of variable ``name``.
+
+        ``fixed=True``: an initial condition; ``False``: a guess; ``"default"``: an initial condition where the
+        initial system needs one and a guess where the equations already determine the variable (a flexible
+        body starts undeformed unless a joint locks a mode: no over-specified start then). The default
+        conditions are taken in the model's order, each only if it determines an unknown nothing else does.
+        """
         decl = self._decls.get(name)
         if not isinstance(decl, Variable):
             raise ModelError(self._unknown(name, "variable"))
+        if isinstance(fixed, str) and fixed != DEFAULT_START:
+            raise ModelError(f"{self._label(name)}: fixed must be True, False or {DEFAULT_START!r}, got {fixed!r}")
         arr = np.array(value, dtype=float)
         if arr.size != decl.size:
             raise ModelError(f"{self._label(name)}: start value has {arr.size} elements, variable has {decl.size}")
-        self._starts[name] = (arr.reshape(decl.shape) if decl.shape else arr.reshape(()), bool(fixed))
+        self._starts[name] = (arr.reshape(decl.shape) if decl.shape else arr.reshape(()),
+                              DEFAULT_START if fixed == DEFAULT_START else bool(fixed))
 
     def set_state_select(self, name: str, value: Any) -> None:
         """Override the state preference of variable ``name`` on this instance (Modelica's ``stateSelect``
@@ -313,8 +325,9 @@ class Node(metaclass=_NodeMeta):
             return None
         return decl.check(self.param_label(name), decl.default)
 
-    def start_of(self, name: str) -> tuple[np.ndarray, bool]:
-        """``(start, fixed)`` of variable ``name`` after instance overrides."""
+    def start_of(self, name: str) -> tuple[np.ndarray, bool | str]:
+        """``(start, fixed)`` of variable ``name`` after instance overrides (``fixed`` may be ``"default"``, see
+        :meth:`set_start`)."""
         if name in self._starts:
             return self._starts[name]
         decl = self._decls[name]

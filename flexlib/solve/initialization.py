@@ -18,12 +18,14 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
+import scipy.linalg as sla
 import scipy.optimize as so
 import scipy.sparse as sps
 import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 
 from flexlib.compile.codegen import AUTO_C_MIN_UNKNOWNS, CompiledModel, compile_dae
 from flexlib.compile.structure import culprits, group_by_owner, matching
+from flexlib.core.component import DEFAULT_START
 from flexlib.errors import InitializationError, ParameterError
 from flexlib.solve.diagnose import nonfinite_lines, row_scale, singular_lines
 
@@ -54,19 +56,22 @@ class Initializer:
         p = ca.SX.sym("p", m.n_params + m.n_relations)
         return t, y, ypd, yp, p
 
-    def _init_functions(self, active: tuple[int, ...], steady: tuple[int, ...]) -> tuple[ca.Function, ca.Function]:
-        key = (active, steady)
+    def _init_functions(self, active: tuple[int, ...], steady: tuple[int, ...],
+                        defaults: tuple[int, ...] = ()) -> tuple[ca.Function, ca.Function]:
+        key = (active, steady, defaults)
         if key not in self._init_fns:
             m = self.model
             t, y, ypd, yp, p = self._symbols()
-            vals = ca.SX.sym("vals", len(active))
+            vals = ca.SX.sym("vals", len(active) + len(defaults))
             F = m.sx_function("res")(t, y, yp, p)
             C = m.sx_function("cond")(t, y, yp, p)
             rows = [F]
             if active:
-                rows.append(ca.vertcat(*[C[k] for k in active]) - vals)
+                rows.append(ca.vertcat(*[C[k] for k in active]) - vals[:len(active)])
             if steady:
                 rows.append(ca.vertcat(*[ypd[k] for k in steady]))
+            if defaults:
+                rows.append(ca.vertcat(*[y[k] for k in defaults]) - vals[len(active):])
             G = ca.vertcat(*rows)
             w = ca.vertcat(y, ypd)
             g = ca.Function("g", [w, ca.vertcat(t, p, vals)], [G])
@@ -74,12 +79,65 @@ class Initializer:
             self._init_fns[key] = (g, jg)
         return self._init_fns[key]
 
-    def _labels(self, active: tuple[int, ...], steady: tuple[int, ...]) -> list[tuple[str, str]]:
+    def _labels(self, active: tuple[int, ...], steady: tuple[int, ...],
+                defaults: tuple[int, ...] = ()) -> list[tuple[str, str]]:
         m = self.model
         labels = [(lab.split(":")[0], lab) for lab in m.row_labels]
         labels += [("initial conditions", f"{m.conditions[k][0]} = start value") for k in active]
         labels += [("steady state", f"der({m.y_names[self.diff[k]]}) = 0") for k in steady]
+        labels += [("initial conditions", f"{m.y_names[k]} = default start value") for k in defaults]
         return labels
+
+    def _default_starts(self, starts: dict[str, tuple[float, Any]], active: tuple[int, ...],
+                        steady: tuple[int, ...], w0: np.ndarray, par: np.ndarray,
+                        tol: float) -> tuple[tuple[int, ...], np.ndarray]:
+        """The unknowns whose ``"default"`` start values the initial system needs (``Component.set_start``), and
+        the point to start the square solve from.
+
+        If the equations, initial conditions and steady-state rows leave unknowns undetermined, the system with
+        *every* default row ``y_k = start`` is solved first in the least-squares sense (consistent unless a
+        default conflicts with the model); at that point, in the model's order, each default row independent of
+        the others' and of the Jacobian's rows is taken: ``e_k`` with a component in the null space not spanned
+        by the rows taken before. Numeric, at a consistent point, not structural: a modal coordinate that a
+        joint locks appears in the loop rows, and its default row is not taken."""
+        m = self.model
+        cands = tuple(k for k, name in enumerate(m.y_names) if starts.get(name, (0.0, False))[1] == DEFAULT_START)
+        if not cands:
+            return (), w0
+        jg = self._init_functions(active, steady)[1]
+        spj = jg.sparsity_out(0)
+        colind, row = spj.get_ccs()
+        inc = sps.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
+        if int(np.sum(matching(inc)[0] >= 0)) == spj.shape[1]:
+            return (), w0  # the conditions given already determine every unknown
+        g_all, jg_all = self._init_functions(active, steady, cands)
+        par_all = np.concatenate([par, w0[list(cands)]])
+        try:
+            point = self._solve(g_all, jg_all, w0, par_all, tol, self._labels(active, steady, cands),
+                                self._unknown_names(), self._nominal_w(), diagnose=False)
+        except InitializationError as err:
+            best = getattr(err, "best", None)
+            point = w0 if best is None else best
+        with np.errstate(all="ignore"):
+            J = np.asarray(ca.DM(jg(point, par)).full())
+        J = np.nan_to_num(J, nan=0.0, posinf=0.0, neginf=0.0)
+        col_scale = np.maximum(np.abs(J).max(axis=0), 1e-300)
+        N = sla.null_space(J / col_scale, rcond=1e-10)  # null space in scaled unknowns
+        chosen: list[int] = []
+        basis = np.zeros((0, N.shape[1]))
+        for k in cands:
+            if len(chosen) == N.shape[1]:
+                break
+            v = N[k].copy()
+            if basis.shape[0]:
+                v -= basis.T @ (basis @ v)
+            norm = float(np.linalg.norm(v))
+            if norm > 1e-5:  # the null space's rows are O(1) where free, round-off (1e-8 and below) where not
+                basis = np.vstack([basis, v / norm])
+                chosen.append(k)
+        point = point.copy()
+        point[list(chosen)] = w0[list(chosen)]  # the default rows hold exactly at the start of the square solve
+        return tuple(chosen), point
 
     # -- public ---------------------------------------------------------------------------------
     def initial(self, t0: float, p: np.ndarray, starts: dict[str, tuple[float, bool]],
@@ -150,10 +208,13 @@ class Initializer:
             steady = self._complementary_steady(tuple(active), tuple(cand), w0, par, len(held))
             held = by_start
         active_t, steady_t = tuple(active), tuple(steady)
-        g, jg = self._init_functions(active_t, steady_t)
-        self._check_structure(jg, w0, par, active_t, steady_t)
+        defaults, w0 = self._default_starts(starts, active_t, steady_t, w0, par, tol)
+        if defaults:
+            par = np.concatenate([par, y_guess[list(defaults)]])
+        g, jg = self._init_functions(active_t, steady_t, defaults)
+        self._check_structure(jg, w0, par, active_t, steady_t, defaults)
         try:
-            w = self._solve(g, jg, w0, par, tol, self._labels(active_t, steady_t), self._unknown_names(),
+            w = self._solve(g, jg, w0, par, tol, self._labels(active_t, steady_t, defaults), self._unknown_names(),
                             self._nominal_w(), diagnose=diagnose)
         except InitializationError as err:
             best = getattr(err, "best", None)
@@ -495,7 +556,7 @@ class Initializer:
         return names
 
     def _check_structure(self, jg: ca.Function, w0: np.ndarray, par: np.ndarray,
-                         active: tuple[int, ...], steady: tuple[int, ...]) -> None:
+                         active: tuple[int, ...], steady: tuple[int, ...], defaults: tuple[int, ...] = ()) -> None:
         spj = jg.sparsity_out(0)
         colind, row = spj.get_ccs()
         inc = sps.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
@@ -504,9 +565,9 @@ class Initializer:
         if n_eq == n_unk and np.all(row_match >= 0):
             return
         rows, cols = culprits(inc, row_match, col_match)
-        labels = self._labels(active, steady)
+        labels = self._labels(active, steady, defaults)
         unknowns = self._unknown_names()
-        n_cond = len(active) + len(steady)
+        n_cond = len(active) + len(steady) + len(defaults)
         n_states = len(self.diff)
         states = ", ".join(self.model.y_names[i] for i in self.diff)
         parts = [f"the model has {n_states} states ({states}) and {n_cond} initial conditions"]

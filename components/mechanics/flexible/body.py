@@ -71,6 +71,8 @@ from .selection import default_damping_ratio, select_modes
 __all__ = ["FlexibleBody", "frame_names"]
 
 _LETTERS = "abcdefghijklmnopqrstuvwxyz"
+#: Mode-shape entries at a frame below this fraction of the mode's largest entry are round-off (set to zero).
+SHAPE_ZERO = 1e-9
 _COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 
@@ -112,10 +114,12 @@ class FlexibleBody(Component):
     geometric_stiffening : bool
         Add the geometric stiffness of the file's unit load cases (needs ``/geometric_stiffness`` in the
         file: ``modal_data_from_fe(..., geometric_stiffening=True)``).
-    q_fixed : bool
-        The start values of ``q`` and ``qd`` (zero: undeformed and at rest, unless ``init``/``guess`` give
-        others) are initial conditions. ``False`` leaves them to the initialisation, e.g. the static
-        equilibrium of ``run(steady_state=True)``.
+    q_fixed : bool, optional
+        How the start values of ``q`` and ``qd`` (zero: undeformed and at rest, unless ``init``/``guess`` give
+        others) enter the initialisation. Default (``None``): as initial conditions where the model needs them
+        — a mode that joints lock, or that ``run(steady_state=True)`` determines, takes its value from the
+        equations (``Component.set_start(fixed="default")``). ``True``: always initial conditions; ``False``:
+        guesses only.
     orientation_fixed, w_fixed : bool
         A free body (nothing orients it): its start orientation ``Q_start`` / angular velocity ``w_start`` are
         initial conditions (as :class:`~..multibody.body.Body`).
@@ -149,7 +153,7 @@ class FlexibleBody(Component):
     def __init__(self, modal_data: ModalData | str | os.PathLike[str], *, modes: int | Sequence[int] | None = None,
                  max_frequency: float | None = None, frames: Sequence[int] | None = None,
                  damping: Mapping[int, float] | None = None, geometric_stiffening: bool = False,
-                 q_fixed: bool = True, orientation_fixed: bool = False, w_fixed: bool = False,
+                 q_fixed: bool | None = None, orientation_fixed: bool = False, w_fixed: bool = False,
                  **kwargs: Any) -> None:
         data = modal_data if isinstance(modal_data, ModalData) else ModalData.read(modal_data)
         data = _choose_modes(data, modes, max_frequency)
@@ -194,12 +198,15 @@ class FlexibleBody(Component):
                     raise ModelError(f"{type(self).__name__}: damping given for mode {mode}, but {m} modes are kept")
                 zeta[int(mode)] = float(value)
             self.zeta = Parameter(zeta, unit="1", shape=m, min=0.0, doc="Modal damping ratios")
-            self.q = Variable(unit="1", shape=m, start=np.zeros(m), state_select="prefer", doc="Modal coordinates")
-            self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer",
+            q_nom, qd_nom = _modal_nominals(data)
+            self.q = Variable(unit="1", shape=m, start=np.zeros(m), state_select="prefer", nominal=q_nom,
+                              doc="Modal coordinates")
+            self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer", nominal=qd_nom,
                                doc="Modal velocities der(q)")
             self.qdd = Variable(unit="1/s2", shape=m, doc="Modal accelerations der(qd)")
-            self.set_start("q", np.zeros(m), fixed=q_fixed)
-            self.set_start("qd", np.zeros(m), fixed=q_fixed)
+            fixed = "default" if q_fixed is None else bool(q_fixed)
+            self.set_start("q", np.zeros(m), fixed=fixed)
+            self.set_start("qd", np.zeros(m), fixed=fixed)
         elif damping:
             raise ModelError(f"{type(self).__name__}: damping given, but no modes are kept")
         if "zeta" in deferred:
@@ -282,9 +289,20 @@ class FlexibleBody(Component):
         return out
 
     def _node_shapes(self, node: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Undeformed position [m], translational (3, M) [m] and rotational (3, M) [rad] mode shapes at ``node``.
+
+        Entries below ``SHAPE_ZERO`` times the mode's largest translation (rotation) over all nodes are round-off
+        of the reduction (a planar mode's out-of-plane components at 1e-13): they are set to exact zeros, so the
+        structure of the frame equations is the physics' (a planar loop keeps its redundant rows redundant)."""
         d = self._data
         i = d.node_index(node)
-        return d.coordinates[i], d.translational_modes[:, i, :].T, d.rotational_modes[:, i, :].T
+        out = []
+        for shapes in (d.translational_modes, d.rotational_modes):
+            scale = np.abs(shapes).max(axis=(1, 2)) if d.n_modes else np.zeros(0)
+            at = shapes[:, i, :].T.copy()
+            at[np.abs(at) <= SHAPE_ZERO * scale[None, :]] = 0.0
+            out.append(at)
+        return d.coordinates[i], out[0], out[1]
 
     def equations(self):
         d, inv = self._data, self._data.invariants
@@ -325,7 +343,9 @@ class FlexibleBody(Component):
         for k, f in enumerate(frames):
             if k != entry:
                 x, Tr, wr = kin[k][:3]
-                eqs += [eq(f.r_0, self.r_0 + ca.mtimes(T.T, x)), eq(f.T, ca.mtimes(Tr, T)),
+                # written from the entry frame (not from r_0): the frame chain stays explicit in frame
+                # variables, as the loop-redundancy analysis needs (flexlib.compile.redundancy)
+                eqs += [eq(f.r_0, e.r_0 + ca.mtimes(T.T, x - x_e)), eq(f.T, ca.mtimes(Tr, T)),
                         eq(f.w, ca.mtimes(Tr, w) + wr)]
         if m:
             eqs += [eq(der(q), qd), eq(der(qd), qdd)]
@@ -421,6 +441,19 @@ class FlexibleBody(Component):
                 else:
                     S[a, b] = S[b, a] = 0.5 * ca.dot(q, Gq)
         return out, S
+
+
+def _modal_nominals(data: ModalData) -> tuple[float, float]:
+    """Nominal sizes of the modal coordinates [1] and rates [1/s]: the ``q`` that deflects the body by 1e-3 of its
+    size (small elastic deformation), and that ``q`` oscillating at the lowest modal frequency. They scale the
+    integrator's absolute tolerance and the loop-redundancy rank test (``flexlib.compile.redundancy``)."""
+    size = float(np.linalg.norm(np.ptp(data.coordinates, axis=0))) or 1.0
+    shape = float(np.abs(data.translational_modes).max())
+    if not shape > 0:  # rotation-only modes
+        shape = float(np.abs(data.rotational_modes).max()) * size
+    q_nom = 1e-3 * size / shape if shape > 0 else 1.0
+    f = data.frequencies[data.frequencies > 0]
+    return q_nom, q_nom * 2 * np.pi * (float(f.min()) if f.size else 1.0)
 
 
 def _choose_modes(data: ModalData, modes: int | Sequence[int] | None, max_frequency: float | None) -> ModalData:
