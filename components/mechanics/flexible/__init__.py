@@ -12,6 +12,16 @@ from .geometric import (
 )
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
+from .output import (
+    animate,
+    deformed_positions,
+    nodal_stress,
+    node_displacements,
+    node_rotations,
+    plot_frame,
+    von_mises,
+    write_vtk_series,
+)
 from .reduction import CraigBamptonResult, craig_bampton, modal_data_from_fe
 from .sections import Section, box, circle, i_section, rectangle, tube
 from .selection import (
@@ -38,12 +48,14 @@ __all__ = [
     "ParticipationRow",
     "ParticipationTable",
     "Section",
+    "animate",
     "beam_mesh",
     "beam_stress_modes",
     "box",
     "circle",
     "craig_bampton",
     "default_damping_ratio",
+    "deformed_positions",
     "element_matrices",
     "frame_names",
     "geometric_stiffness_matrix",
@@ -56,10 +68,16 @@ __all__ = [
     "modal_geometric_stiffness",
     "modal_participation",
     "nodal_generalized_forces",
+    "nodal_stress",
+    "node_displacements",
+    "node_rotations",
+    "plot_frame",
     "read_fe",
     "read_matrix_market",
     "rectangle",
     "section_force_modes",
     "select_modes",
     "tube",
+    "von_mises",
+    "write_vtk_series",
 ]
