@@ -9,6 +9,7 @@ from .geometric import (
     interface_load_cases,
     modal_geometric_stiffness,
 )
+from .importers import read_ansys_full, read_nastran_dmig, read_nastran_op4  # optional extras: ansys, nastran
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
 from .reduction import CraigBamptonResult, craig_bampton, modal_data_from_fe
@@ -53,8 +54,11 @@ __all__ = [
     "modal_geometric_stiffness",
     "modal_participation",
     "nodal_generalized_forces",
+    "read_ansys_full",
     "read_fe",
     "read_matrix_market",
+    "read_nastran_dmig",
+    "read_nastran_op4",
     "rectangle",
     "section_force_modes",
     "select_modes",
