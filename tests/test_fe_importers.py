@@ -4,7 +4,8 @@ References and tolerances
 -------------------------
 - Nastran: a free-free 3D beam from flexlib's mesher (8 elements, skewed axis, 6 DOFs per node) is written by
   pyNastran itself (``OP4.write_op4``, ``BDF.add_grid``/``add_dmig``/``write_bdf``) and read back through the
-  importer. OP4 text files keep full double precision: matrices round-trip to 1e-12 relative and the free-free
+  importer (binary OP4, which pyNastran cannot write, is written by the test per the OUTPUT4 description).
+  OP4 files keep full double precision: matrices round-trip to 1e-12 relative and the free-free
   frequencies of ``modal_data_from_fe`` on the imported model match those on the beam built directly to 1e-9.
   A DMIG term sits in a 16-character large field (about 10 significant digits), so the round-trip is checked
   to 1e-12 on matrices rounded to 9 significant digits (exactly representable there) and, for the unrounded
@@ -20,6 +21,7 @@ References and tolerances
 
 from __future__ import annotations
 
+import struct
 from dataclasses import replace
 from pathlib import Path
 
@@ -103,6 +105,39 @@ def test_op4_named_matrices_dof_map_and_ids_from_text_files(pynastran, beam, tmp
     assert list(fe.node_ids) == list(range(GRID0, GRID0 + 9))
     back = sp.csr_matrix((np.ones(beam.n_dofs), (inverse, np.arange(beam.n_dofs))))  # beam DOF <- file row
     assert rel(back.T @ fe.K @ back, beam.K) <= 1e-12 and rel(back.T @ fe.M @ back, beam.M) <= 1e-12
+    assert np.allclose(free_free_frequencies(fe), free_free_frequencies(beam), rtol=1e-9, atol=0)
+
+
+def write_binary_op4(path: Path, matrices: dict) -> Path:
+    """A binary OP4 per the OUTPUT4 description (MSC Nastran DMAP Programmer's Guide, OUTPUT4, non-sparse):
+    little-endian Fortran unformatted records (byte count before and after): a header (NCOL, NROW, form 6
+    symmetric, type 2 real double, 8-character name), one record per nonzero column (ICOL, first nonzero IROW,
+    number of words, the values from IROW to the last nonzero), and a closing record with ICOL = NCOL + 1.
+    pyNastran cannot write one (its binary writer fails in 1.3.4 and 1.4.1), so the test writes it."""
+    def record(payload: bytes) -> bytes:
+        n = struct.pack("<i", len(payload))
+        return n + payload + n
+
+    with open(path, "wb") as f:
+        for name, A in matrices.items():
+            A = sp.csc_matrix(A).toarray()
+            nrow, ncol = A.shape
+            f.write(record(struct.pack("<4i8s", ncol, nrow, 6, 2, name.ljust(8).encode())))
+            for j in range(ncol):
+                nz = np.flatnonzero(A[:, j])
+                if nz.size:
+                    values = A[nz[0]:nz[-1] + 1, j].astype("<f8")
+                    f.write(record(struct.pack("<3i", j + 1, nz[0] + 1, 2 * values.size) + values.tobytes()))
+            f.write(record(struct.pack("<3id", ncol + 1, 1, 2, 1.0)))
+    return path
+
+
+def test_binary_op4(pynastran, beam, tmp_path):
+    """Binary OP4 (read by pyNastran's binary reader behind the importer): M and K round-trip to 1e-12 and the
+    free-free frequencies equal the directly built beam's to 1e-9."""
+    path = write_binary_op4(tmp_path / "beam.op4", {"KAA": beam.K, "MAA": beam.M})
+    fe = read_nastran_op4(path, nodes=beam.nodes)
+    assert rel(fe.M, beam.M) <= 1e-12 and rel(fe.K, beam.K) <= 1e-12
     assert np.allclose(free_free_frequencies(fe), free_free_frequencies(beam), rtol=1e-9, atol=0)
 
 
@@ -271,3 +306,22 @@ def test_dmig_in_a_full_input_deck_with_grids_in_a_shifted_cp(pynastran, beam, t
     fe = read_nastran_dmig(path, "MAAX", "KAAX")
     assert np.abs(fe.nodes - beam.nodes).max() <= 1e-12
     assert rel(fe.M, beam.M) <= 2e-10 and rel(fe.K, beam.K) <= 2e-10
+
+
+def test_ansys_solid_model_to_modal_data(ansys_example):
+    """modal_data_from_fe on the imported 20-node-hexahedron model: row-sum lumping gives negative corner masses
+    there, so the lumped mass points fall back to HRZ (diagonal scaled to the same total): all masses >= 0, the
+    total equal to the row-sum total t^T M t (1e-12), the centre of mass on the square section's axis
+    x = y = 0.5 (1e-12), and the frequencies those of craig_bampton on the same matrices (1e-12)."""
+    _, examples = ansys_example
+    fe = read_ansys_full(examples.fullfile)
+    points = fe.lumped_mass_points()
+    assert points.description.startswith("lumped (HRZ") and points.masses.min() >= 0.0
+    t = fe.translation_field([1.0, 0.0, 0.0])
+    assert abs(points.masses.sum() / (t @ fe.M @ t) - 1) <= 1e-12
+    tip = int(fe.node_ids[np.argmax(fe.nodes[:, 2])])
+    data = modal_data_from_fe(fe, [tip], 12, free=False, title="ANSYS example")
+    assert abs(data.mass / points.masses.sum() - 1) <= 1e-12
+    assert np.allclose(data.center_of_mass[:2], 0.5, rtol=0, atol=1e-12)
+    cb = craig_bampton(fe.M, fe.K, fe.dofs([tip]), 12)
+    assert np.allclose(data.frequencies, cb.frequencies, rtol=1e-12, atol=0)

@@ -212,10 +212,13 @@ def test_ansys_garbage_file(ansys, tmp_path):
     assert str(path) in str(info.value)
 
 
-def test_ansys_truncated_full_file(ansys, tmp_path):
+@pytest.mark.parametrize("length", [200_000, 600_000, 801_000])
+def test_ansys_truncated_full_file(ansys, tmp_path, length):
+    """Cut inside the matrices (the file's records end at byte 801 596): refused before the reader's compiled
+    parser runs past the end of the data (which can abort the process)."""
     path = tmp_path / "job.full"
-    path.write_bytes(Path(ansys.fullfile).read_bytes()[:200_000])
-    with pytest.raises(ModalFileError) as info:
+    path.write_bytes(Path(ansys.fullfile).read_bytes()[:length])
+    with pytest.raises(ModalFileError, match="truncated or damaged full file") as info:
         read_ansys_full(path, nodes=np.zeros((321, 3)))
     assert str(path) in str(info.value)
 

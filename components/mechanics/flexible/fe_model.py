@@ -232,9 +232,13 @@ class FEModel:
     def lumped_mass_points(self) -> MassPoints:
         """Lumped mass description from ``M``: each node's mass is the row sum of the translational block of
         ``M`` in each direction, averaged over x, y, z (mass-conserving); nodal inertias are the rotational
-        diagonal blocks of ``M`` (Cook et al. §11.3, row-sum lumping)."""
+        diagonal blocks of ``M`` (Cook et al. §11.3, row-sum lumping). Where row sums give a negative nodal mass
+        (corner nodes of quadratic solid elements, e.g. 20-node hexahedra), the translational diagonal of ``M``
+        scaled to the same total mass per direction is used instead (HRZ lumping: E. Hinton, T. Rock,
+        O. C. Zienkiewicz, *Earthquake Eng. Struct. Dyn.* 4 (1976) 245-249; Cook et al. §11.3)."""
         N = self.nodes.shape[0]
         masses = np.zeros(N)
+        diagonal = np.zeros(N)
         inertias = np.zeros((N, 3, 3))
         M = self.M.tocsr()
         for a in range(3):
@@ -242,14 +246,21 @@ class FEModel:
             has = rows >= 0
             trans = np.zeros(self.n_dofs)
             trans[rows[has]] = 1.0
-            masses[has] += (M[rows[has]] @ trans) / 3.0
+            row_sums = M[rows[has]] @ trans
+            masses[has] += row_sums / 3.0
+            d = np.asarray(M.diagonal())[rows[has]]
+            if d.sum() > 0:
+                diagonal[has] += d * (row_sums.sum() / d.sum()) / 3.0
+        rule = "translational row sums of M per node"
+        if np.any(masses < 0):
+            masses, rule = diagonal, "HRZ: translational diagonal of M scaled to the row-sum total (row sums < 0)"
         for a in range(3):
             for b in range(3):
                 ra, rb = self.dof_map[:, 3 + a], self.dof_map[:, 3 + b]
                 both = (ra >= 0) & (rb >= 0)
                 inertias[both, a, b] = np.asarray(M[ra[both], rb[both]]).ravel()
         return MassPoints(self.nodes.copy(), masses, inertias, self._selector(range(3)), self._selector(range(3, 6)),
-                          "lumped (translational row sums of M per node, rotational diagonal blocks)")
+                          f"lumped ({rule}, rotational diagonal blocks)")
 
     def _selector(self, components: range) -> sp.csr_matrix:
         N = self.nodes.shape[0]

@@ -150,8 +150,17 @@ def read_ansys_full(path: str | os.PathLike[str], *,
         raise ModalFileError(f"{name}: not readable as an ANSYS binary file: {exc}") from None
     if type(full).__name__ != "FullFile":
         raise ModalFileError(f"{name}: an ANSYS {type(full).__name__}, not a full file (.full)")
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # the reader warns on a missing matrix: make it an error here
+    # the reader's compiled record parser reads past the end of a truncated file (it can abort the process):
+    # check the header's record pointers (in 4-byte words) against the file's size first
+    header = getattr(full, "_header", {})
+    pointers = {key: int(header[key]) for key in ("ptrSTF", "ptrMAS", "ptrDOF", "ptrEND") if key in header}
+    size = Path(name).stat().st_size
+    if len(pointers) < 4 or any(not 0 < v <= pointers["ptrEND"] for v in pointers.values()) \
+            or 4 * pointers["ptrEND"] > size:
+        raise ModalFileError(f"{name}: truncated or damaged full file: record pointers {pointers} (4-byte words) "
+                             f"do not fit its {size} bytes")
+    with warnings.catch_warnings():  # the reader only warns when a matrix is missing: make that an error here
+        warnings.filterwarnings("error", message="Missing (stiffness|mass) matrix")
         try:
             dof_ref, k, m = full.load_km(sort=True)
             constrained = np.asarray(full.const)
@@ -162,15 +171,12 @@ def read_ansys_full(path: str | os.PathLike[str], *,
         except Exception as exc:
             raise ModalFileError(f"{name}: cannot read the stiffness and mass matrices: {exc}") from None
     dof_ref = np.asarray(dof_ref, dtype=np.int64)
-    if dof_ref.size and dof_ref[:, 1].max() >= labels.size:
-        raise ModalFileError(f"{name}: nodes carry different DOF sets (DOF index {dof_ref[:, 1].max()} beyond the "
-                             f"model's {labels.size} labels): export M and K with their DOF map to Matrix Market "
-                             "(HBMAT/*SMAT with its mapping) and use read_matrix_market")
     per_node = np.bincount(np.unique(dof_ref[:, 0], return_inverse=True)[1])
-    if np.any(per_node != labels.size):
+    if np.any(per_node != labels.size) or dof_ref[:, 1].max(initial=0) >= labels.size:
         raise ModalFileError(f"{name}: nodes carry different DOF sets ({sorted(set(per_node.tolist()))} DOFs per "
                              f"node, model DOF set {[ANSYS_DOF_LABELS.get(int(v), v) for v in labels]}): export M "
-                             "and K with their DOF map to Matrix Market and use read_matrix_market")
+                             "and K with their DOF map to Matrix Market (HBMAT with its mapping file) and use "
+                             "read_matrix_market")
     bad = [int(v) for v in labels if not 1 <= v <= 6]
     if bad:
         raise ModalFileError(f"{name}: DOF labels {[ANSYS_DOF_LABELS.get(v, v) for v in bad]} are not structural "
@@ -263,7 +269,7 @@ def read_nastran_op4(path: str | os.PathLike[str], *, mass: str = "MAA", stiffne
         if key not in matrices:
             raise ModalFileError(f"{name}: no {label} matrix {key!r} (the file has {sorted(matrices)})")
         entry = matrices[key]
-        data = entry.data if hasattr(entry, "data") and not isinstance(entry, tuple) else entry[1]
+        data = entry[1] if isinstance(entry, tuple) else entry.data  # (form, matrix) in 1.3, Matrix in 1.4
         if isinstance(data, list):
             raise ModalFileError(f"{name}: matrix {key!r} appears more than once")
         A = sp.csr_matrix(data)
