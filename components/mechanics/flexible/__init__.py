@@ -1,5 +1,7 @@
-"""Modal data for flexible bodies: beam FE mesher, FE matrix files, Craig–Bampton reduction, inertia
-invariants, the open HDF5 modal file, mode selection and default modal damping (SI units throughout)."""
+"""Flexible bodies: the ``FlexibleBody`` component and its modal data — beam FE mesher, FE matrix files (Matrix
+Market, ``.npz``, ANSYS and Nastran importers), Craig–Bampton reduction, inertia invariants, the open HDF5 modal
+file, mode selection, default modal damping, geometric stiffening data, and deformation/stress output and drawing
+(SI units throughout)."""
 
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
 from .body import FlexibleBody, frame_names
@@ -10,6 +12,7 @@ from .geometric import (
     interface_load_cases,
     modal_geometric_stiffness,
 )
+from .importers import read_ansys_full, read_nastran_dmig, read_nastran_op4  # optional extras: ansys, nastran
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
 from .output import (
@@ -72,8 +75,11 @@ __all__ = [
     "node_displacements",
     "node_rotations",
     "plot_frame",
+    "read_ansys_full",
     "read_fe",
     "read_matrix_market",
+    "read_nastran_dmig",
+    "read_nastran_op4",
     "rectangle",
     "section_force_modes",
     "select_modes",

@@ -232,9 +232,13 @@ class FEModel:
     def lumped_mass_points(self) -> MassPoints:
         """Lumped mass description from ``M``: each node's mass is the row sum of the translational block of
         ``M`` in each direction, averaged over x, y, z (mass-conserving); nodal inertias are the rotational
-        diagonal blocks of ``M`` (Cook et al. §11.3, row-sum lumping)."""
+        diagonal blocks of ``M`` (Cook et al. §11.3, row-sum lumping). Where row sums give a negative nodal mass
+        (corner nodes of quadratic solid elements, e.g. 20-node hexahedra), the translational diagonal of ``M``
+        scaled to the same total mass per direction is used instead (HRZ lumping: E. Hinton, T. Rock,
+        O. C. Zienkiewicz, *Earthquake Eng. Struct. Dyn.* 4 (1976) 245-249; Cook et al. §11.3)."""
         N = self.nodes.shape[0]
         masses = np.zeros(N)
+        diagonal = np.zeros(N)
         inertias = np.zeros((N, 3, 3))
         M = self.M.tocsr()
         for a in range(3):
@@ -242,14 +246,21 @@ class FEModel:
             has = rows >= 0
             trans = np.zeros(self.n_dofs)
             trans[rows[has]] = 1.0
-            masses[has] += (M[rows[has]] @ trans) / 3.0
+            row_sums = M[rows[has]] @ trans
+            masses[has] += row_sums / 3.0
+            d = np.asarray(M.diagonal())[rows[has]]
+            if d.sum() > 0:
+                diagonal[has] += d * (row_sums.sum() / d.sum()) / 3.0
+        rule = "translational row sums of M per node"
+        if np.any(masses < 0):
+            masses, rule = diagonal, "HRZ: translational diagonal of M scaled to the row-sum total (row sums < 0)"
         for a in range(3):
             for b in range(3):
                 ra, rb = self.dof_map[:, 3 + a], self.dof_map[:, 3 + b]
                 both = (ra >= 0) & (rb >= 0)
                 inertias[both, a, b] = np.asarray(M[ra[both], rb[both]]).ravel()
         return MassPoints(self.nodes.copy(), masses, inertias, self._selector(range(3)), self._selector(range(3, 6)),
-                          "lumped (translational row sums of M per node, rotational diagonal blocks)")
+                          f"lumped ({rule}, rotational diagonal blocks)")
 
     def _selector(self, components: range) -> sp.csr_matrix:
         N = self.nodes.shape[0]
@@ -280,8 +291,9 @@ class FEModel:
                 tmp.unlink()
 
 
-def _check_matrices(path: str, M: sp.spmatrix, K: sp.spmatrix, n_nodes: int, dof_map: np.ndarray) -> None:
-    for name, A in (("M", M), ("K", K)):
+def _check_matrices(path: str, M: sp.spmatrix, K: sp.spmatrix, n_nodes: int, dof_map: np.ndarray,
+                    names: tuple[str, str] = ("M", "K")) -> None:
+    for name, A in zip(names, (M, K)):
         if A.shape[0] != A.shape[1]:
             raise ModalFileError(f"{path}: matrix {name!r} is not square: shape {A.shape}")
         if not np.all(np.isfinite(A.data)):
@@ -292,11 +304,22 @@ def _check_matrices(path: str, M: sp.spmatrix, K: sp.spmatrix, n_nodes: int, dof
             raise ModalFileError(f"{path}: matrix {name!r} is not symmetric (max |A - A^T| = {asym:.3g}, "
                                  f"max |A| = {scale:.3g})")
     if M.shape != K.shape:
-        raise ModalFileError(f"{path}: matrices 'M' {M.shape} and 'K' {K.shape} differ in size")
+        raise ModalFileError(f"{path}: matrices {names[0]!r} {M.shape} and {names[1]!r} {K.shape} differ in size")
     if dof_map.shape != (n_nodes, 6):
         raise ModalFileError(f"{path}: 'dof_map' must have shape ({n_nodes}, 6), got {dof_map.shape}")
     if dof_map.max(initial=-1) >= M.shape[0]:
         raise ModalFileError(f"{path}: 'dof_map' refers to row {dof_map.max()} of a {M.shape[0]}-row matrix")
+
+
+def read_table(value: Any, label: str, dtype: type) -> np.ndarray:
+    """An array given directly, or read from a whitespace/comma separated text file (``label`` names it in errors)."""
+    if isinstance(value, str | os.PathLike):
+        try:
+            text = Path(value).read_text().replace(",", " ")
+            return np.atleast_2d(np.loadtxt(text.splitlines(), dtype=dtype))
+        except (OSError, ValueError) as exc:
+            raise ModalFileError(f"{os.fspath(value)}: cannot read {label!r}: {exc}") from None
+    return np.asarray(value, dtype=dtype)
 
 
 def read_fe(path: str | os.PathLike[str]) -> FEModel:
@@ -372,17 +395,8 @@ def read_matrix_market(mass: str | os.PathLike[str], stiffness: str | os.PathLik
         except (OSError, ValueError) as exc:
             raise ModalFileError(f"{os.fspath(p)}: cannot read matrix {label!r} as Matrix Market: {exc}") from None
 
-    def table(value: Any, label: str, dtype: type) -> np.ndarray:
-        if isinstance(value, str | os.PathLike):
-            try:
-                text = Path(value).read_text().replace(",", " ")
-                return np.atleast_2d(np.loadtxt(text.splitlines(), dtype=dtype))
-            except (OSError, ValueError) as exc:
-                raise ModalFileError(f"{os.fspath(value)}: cannot read {label!r}: {exc}") from None
-        return np.asarray(value, dtype=dtype)
-
-    xyz = table(nodes, "nodes", float)
-    dmap = (np.arange(6 * xyz.shape[0]).reshape(-1, 6) if dof_map is None else table(dof_map, "dof_map", np.int64))
+    xyz = read_table(nodes, "nodes", float)
+    dmap = (np.arange(6 * xyz.shape[0]).reshape(-1, 6) if dof_map is None else read_table(dof_map, "dof_map", np.int64))
     source = os.fspath(stiffness)
     _check_matrices(source, mats[0], mats[1], xyz.shape[0], dmap)
     try:
