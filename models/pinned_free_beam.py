@@ -3,14 +3,15 @@
 Density 8000 kg/m³, Young's modulus 2e11 Pa, length 1.5 m, area 1e-4 m², second moment 1e-10 m⁴ (in-plane
 bending), no gravity; the pin is fixed in the world and turns about the world z axis; the beam starts at rest along
 world x; the torque is +1.4 N·m for 0 ≤ t < 1 s and −1.4 N·m for 1 ≤ t ≤ 2 s. The beam is a
-:class:`~flexlib.components.mechanics.flexible.FlexibleBody` whose reference frame is attached at the pin node
-(attached modes, the seed's "tangent frame"): modes from the built-in beam mesher and Craig–Bampton with the tip as
-interface node (its constraint modes are the seed's static mode), geometric stiffening from the centrifugal and
-Euler (angular-acceleration) load cases.
+:class:`~flexlib.components.mechanics.flexible.FlexibleBody` built from the beam mesher and Craig–Bampton with
+*pinned* attachment at the pin node: its modes are the hinged beam's own (first 5.45 Hz), mass-orthogonal to the
+rotation about the pin, so the reference frame turns with the beam's mean rotation and the pin node turns
+elastically (``modal_data_from_fe(..., reference_node=0, attachment="pinned")``); the tip is an interface node.
+Geometric stiffening (centrifugal, energy-consistent) is on by default.
 
 Outputs sampled as in the seed (201 samples, every 10 ms): the tip's world y coordinate, the tip deflection from
-the pin tangent (the tip's y in the reference frame) and the mid-span bending moment (modal section forces),
-plus its average over ±5 ms.
+the pin tangent (the tip's y in the pin node's frame, from the frames' exact positions and orientations) and the
+mid-span bending moment (modal section forces), plus its average over ±5 ms.
 
 References
 ----------
@@ -41,8 +42,8 @@ from flexlib.components.mechanics.flexible import (
 from flexlib.components.mechanics.multibody import Revolute, World
 from flexlib.components.mechanics.rotational import Torque
 
-__all__ = ["DENSITY", "LENGTH", "TORQUE", "PinnedFreeBeam", "beam_fe", "beam_modal_data", "bending_modes",
-           "participation_table", "seed_error", "simulate"]
+__all__ = ["DENSITY", "LENGTH", "TORQUE", "BeamRun", "PinnedFreeBeam", "beam_fe", "beam_modal_data",
+           "bending_modes", "participation_table", "seed_error", "simulate", "simulate_modes"]
 
 DENSITY = 8000.0      #: [kg/m3]
 YOUNG = 2e11          #: [Pa]
@@ -66,11 +67,14 @@ def beam_fe(n_elements: int = 32):
     return beam_mesh((0.0, 0.0, 0.0), (LENGTH, 0.0, 0.0), n_elements, section(), E=YOUNG, rho=DENSITY)
 
 
-def beam_modal_data(n_elements: int = 32, n_fixed_modes: int = 8, geometric_stiffening: bool = True) -> ModalData:
-    """Attached modes (reference frame at the pin node), tip as interface node, with section-force modes and,
-    by default, the geometric stiffness of the unit load cases (held at the pin)."""
+def beam_modal_data(n_elements: int = 32, n_fixed_modes: int = 16, geometric_stiffening: bool = True,
+                    attachment: str = "pinned") -> ModalData:
+    """Modal data of the beam: reference frame attached at the pin node (``"pinned"``: hinged-beam modes;
+    ``"clamped"``: the seed's tangent frame with cantilever modes), tip as interface node, with section-force
+    modes and, by default, the geometric stiffness of the unit load cases (held at the pin)."""
     return modal_data_from_fe(beam_fe(n_elements), [n_elements], n_fixed_modes, reference_node=0,
-                              geometric_stiffening=geometric_stiffening, title="seed-001 pinned-free beam")
+                              attachment=attachment, geometric_stiffening=geometric_stiffening,
+                              title="seed-001 pinned-free beam")
 
 
 def bending_modes(data: ModalData) -> list[int]:
@@ -98,13 +102,14 @@ class PinnedFreeBeam(fl.Model):
         Include the geometric stiffness terms.
     """
 
-    def __init__(self, data: ModalData, modes: list[int], geometric_stiffening: bool = True) -> None:
+    def __init__(self, data: ModalData, modes: list[int], geometric_stiffening: bool = True,
+                 frames: list[int] | None = None) -> None:
         super().__init__()
         self.world = World(g=0.0)
         self.pin = Revolute(n=[0, 0, 1], use_axis_flange=True, init={"phi": 0.0, "w": 0.0})
         self.torque = Torque()
         self.profile = Step(offset=TORQUE, height=-2 * TORQUE, start_time=1.0)
-        self.beam = FlexibleBody(data, modes=modes, zeta=np.zeros(len(modes)),
+        self.beam = FlexibleBody(data, modes=modes, zeta=np.zeros(len(modes)), frames=frames,
                                  geometric_stiffening=geometric_stiffening)
         self.connect(self.world.frame_b, self.pin.frame_a)
         self.connect(self.pin.frame_b, self.beam.frame_a)
@@ -160,27 +165,36 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
     modes = bending_modes(data)[:n_modes]
     if len(modes) < n_modes:
         raise ValueError(f"simulate: the modal data has only {len(modes)} in-plane bending modes")
+    return simulate_modes(modes, data=data, geometric_stiffening=geometric_stiffening, rtol=rtol, atol=atol,
+                          dt_fine=dt_fine)
+
+
+def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: bool = True, rtol: float = 1e-7,
+                   atol: float = 1e-9, dt_fine: float = 2.5e-4) -> BeamRun:
+    """Run the beam with the given modes (indices into ``data``); arguments as :func:`simulate`."""
+    tip = int(data.node_ids[np.argmax(data.coordinates[:, 0])])
+    pin = int(data.node_ids[np.argmin(data.coordinates[:, 0])])
     c0 = time.process_time()
-    sim = fl.Simulation(PinnedFreeBeam(data, modes, geometric_stiffening))
+    sim = fl.Simulation(PinnedFreeBeam(data, modes, geometric_stiffening, frames=[pin, tip]))
     c1 = time.process_time()
     res = sim.run(T_END, dt_out=dt_fine, rtol=rtol, atol=atol, progress=False)
     c2 = time.process_time()
     t = res.t
     tip_y = np.interp(SAMPLES, t, res["beam.frame_b.r_0"][:, 1])
-    tip = data.node_index(int(data.node_ids[np.argmax(data.coordinates[:, 0])]))
+    T_pin = res["beam.frame_a.T"].reshape(len(t), 3, 3, order="F")
+    local = np.einsum("kij,kj->ki", T_pin, res["beam.frame_b.r_0"] - res["beam.frame_a.r_0"])
     if modes:
         sel = data.select(modes)
         q = res["beam.q"].reshape(len(t), -1)
-        deflection = q @ sel.translational_modes[:, tip, 1]
         n_el = sel.section_forces.shape[1]
         mz = 0.5 * (sel.section_forces[:, n_el // 2 - 1, 1, 5] + sel.section_forces[:, n_el // 2, 0, 5])
         moment = q @ mz
     else:
-        deflection = moment = np.zeros_like(t)
-    return BeamRun(t=SAMPLES.copy(), tip_y=tip_y, tip_deflection=np.interp(SAMPLES, t, deflection),
+        moment = np.zeros_like(t)
+    return BeamRun(t=SAMPLES.copy(), tip_y=tip_y, tip_deflection=np.interp(SAMPLES, t, local[:, 1]),
                    moment_mid=np.interp(SAMPLES, t, moment),
                    moment_mid_avg=_window_average(t, moment, SAMPLES, 5e-3),
-                   build_time=c1 - c0, run_time=c2 - c1, n_modes=n_modes)
+                   build_time=c1 - c0, run_time=c2 - c1, n_modes=len(modes))
 
 
 def seed_error(z: np.ndarray, z_ref: np.ndarray) -> float:
@@ -192,8 +206,9 @@ def seed_error(z: np.ndarray, z_ref: np.ndarray) -> float:
 def participation_table(data: ModalData | None = None, n_elements: int = 32, threshold: float = 0.01,
                         ) -> tuple[ParticipationTable, float]:
     """The MPF method of seed 001 on the in-plane bending modes: a rigid-body run (analytic here: the pinned rigid
-    beam, ``α = ±τ/J``, ``J = ρAL³/3``), its most critical instant (largest inertial load, t = 1 s where the
-    angular velocity peaks), the d'Alembert loads there on the FE DOFs, their static modal amplitudes and shares.
+    beam, ``α = ±τ/J``, ``J = ρAL³/3``), its most critical instant (largest load, t = 1 s where the angular
+    velocity peaks), the loads there on the FE DOFs — the d'Alembert forces of the rigid motion and the pin torque,
+    in equilibrium — their static modal amplitudes and shares.
 
     Returns
     -------
@@ -201,13 +216,18 @@ def participation_table(data: ModalData | None = None, n_elements: int = 32, thr
         The table (rows in :func:`bending_modes` order) and the critical instant [s].
     """
     data = beam_modal_data(n_elements) if data is None else data
-    fe = beam_fe(n_elements).constrained([0])
+    attachment = data.provenance.get("attachment") or "clamped"
+    held = ("ux", "uy", "uz") if attachment == "pinned" else ("ux", "uy", "uz", "rx", "ry", "rz")
+    fe = beam_fe(n_elements).constrained([0], held)
     J = DENSITY * AREA * LENGTH**3 / 3
     t = np.linspace(0.0, T_END, 2001)
-    alpha = np.where(t < 1.0, TORQUE / J, -TORQUE / J)
+    tau = np.where(t < 1.0, TORQUE, -TORQUE)
     omega = np.where(t < 1.0, TORQUE / J * t, TORQUE / J * (2.0 - t))
     cases = inertial_load_cases(fe)
-    loads = np.outer(cases["alpha_z"], alpha) + np.outer(cases["omega_zz"], omega**2)
+    loads = np.outer(cases["alpha_z"], tau / J) + np.outer(cases["omega_zz"], omega**2)
+    pin_rz = fe.dofs([0], ["rz"])
+    if pin_rz.size:
+        loads[pin_rz] += tau
     critical = int(np.argmax(np.linalg.norm(loads, axis=0)))
     modes = bending_modes(data)
     shapes = np.zeros((fe.n_dofs, len(modes)))

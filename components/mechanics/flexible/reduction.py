@@ -27,7 +27,7 @@ import datetime as _dt
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import scipy.linalg as la
@@ -193,7 +193,8 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
                        damping_ratio: np.ndarray | None = None,
                        stress_fibre: tuple[float, float] | None = None,
                        geometric_stiffening: bool = False, support_nodes: Sequence[int] | None = None,
-                       reference_node: int | None = None) -> Any:
+                       reference_node: int | None = None,
+                       attachment: Literal["clamped", "pinned"] = "clamped") -> Any:
     """Reduce an FE model by Craig–Bampton and assemble a :class:`ModalData` (modes per node, generalised
     matrices, frequencies, the nine inertia invariants, body properties and provenance).
 
@@ -224,11 +225,18 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     support_nodes : sequence of int, optional
         Nodes held for those static load cases; default the first interface node (the reference node if given).
     reference_node : int, optional
-        Attach the body's reference frame to this node (the "tangent frame" of seed 001, attached modes): the
-        reduction runs on the model clamped there, so every mode has zero translation and rotation at that node
-        and a frame at it moves rigidly with the reference frame. The node becomes the first interface node;
-        ``free`` does not apply (the clamped model has no rigid-body modes). The other interface nodes give the
-        constraint (static) modes, as in Craig–Bampton. Default: a floating reference frame (``free``).
+        Attach the body's reference frame to this node (attached modes). The node becomes the first interface
+        node and ``free`` does not apply; the other interface nodes give the constraint (static) modes, as in
+        Craig–Bampton. Default: a floating reference frame (``free``).
+    attachment : {"clamped", "pinned"}
+        With ``reference_node``: ``"clamped"`` — the reduction runs on the model clamped there, every mode has
+        zero translation and rotation at the node, and the reference frame *is* the node's frame (the "tangent
+        frame" of seed 001); ``"pinned"`` — only the node's translations are held, the three rigid rotations
+        about it are removed (the modes are mass-orthogonal to them: the reference frame turns with the body's
+        mean rotation about the node, its mean axes), and the node turns elastically. For a body on a hinge,
+        pinned modes are the hinged body's own modes: the modal equations decouple from the rotation, fewer
+        modes converge, and the reference frame's angular velocity is the body's gross rotation (what the
+        centrifugal geometric stiffening needs).
 
     Returns
     -------
@@ -242,14 +250,22 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     if (stress_fibre is not None or geometric_stiffening) and fe.beam is None:
         raise ValueError("modal_data_from_fe: stress_fibre and geometric_stiffening need a beam model (beam_mesh)")
     interface_nodes = [int(k) for k in interface_nodes]
+    rigid = fe.rigid_body_modes() if free else None
+    if attachment not in ("clamped", "pinned"):
+        raise ValueError(f"modal_data_from_fe: attachment must be 'clamped' or 'pinned', got {attachment!r}")
     if reference_node is not None:
         reference_node = int(reference_node)
-        fe.node_index([reference_node])  # a clear error for an unknown node
-        fe = fe.constrained([reference_node])
+        centre = fe.nodes[fe.node_index([reference_node])[0]]
+        if attachment == "clamped":
+            fe = fe.constrained([reference_node])
+            rigid = None
+        else:
+            fe = fe.constrained([reference_node], ("ux", "uy", "uz"))
+            rigid = _rotations_about(fe, centre)
         interface_nodes = [reference_node] + [k for k in interface_nodes if k != reference_node]
         free = False
     dofs = fe.dofs(interface_nodes)
-    cb = craig_bampton(fe.M, fe.K, dofs, n_modes, rigid_body_modes=fe.rigid_body_modes() if free else None,
+    cb = craig_bampton(fe.M, fe.K, dofs, n_modes, rigid_body_modes=rigid,
                        orthogonalize=orthogonalize)
     points = fe.mass_points if fe.mass_points is not None else fe.lumped_mass_points()
     inv = inertia_invariants(points, cb.modes)
@@ -279,6 +295,7 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         "fixed_interface_frequencies_Hz": [float(x) for x in cb.fixed_interface_omega / (2 * math.pi)],
         "n_rigid_modes_removed": int(cb.n_rigid_removed),
         "reference_node": reference_node,
+        "attachment": None if reference_node is None else attachment,
         "n_fe_dofs": int(fe.n_dofs),
         "mass_description": points.description,
         "fe": fe.info,
@@ -296,3 +313,17 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         section_forces=None if fe.beam is None else section_force_modes(fe, cb.modes),
         stress_modes=None if stress_fibre is None else beam_stress_modes(fe, cb.modes, stress_fibre),
         geometric_stiffness=geometric)
+
+
+def _rotations_about(fe: FEModel, centre: np.ndarray) -> np.ndarray:
+    """The three rigid rotation fields ``(n, 3)`` about ``centre`` [m] (unit small rotations about x, y, z)."""
+    R = np.zeros((fe.n_dofs, 3))
+    arm = fe.nodes - centre
+    for a in range(3):
+        u = np.cross(np.eye(3)[a], arm)
+        for b in range(3):
+            rows = fe.dof_map[:, b]
+            R[rows[rows >= 0], a] = u[rows >= 0, b]
+        rows = fe.dof_map[:, 3 + a]
+        R[rows[rows >= 0], a] = 1.0
+    return R
