@@ -124,7 +124,7 @@ class BeamRun:
     Attributes
     ----------
     t : ndarray [s]; tip_y : ndarray [m]; tip_deflection : ndarray [m]; moment_mid, moment_mid_avg : ndarray [N m]
-    build_time, run_time : float [s] (process CPU time); n_modes : int
+    build_time, run_time : float [s] (process CPU time); n_modes : int; run_wall : float [s] (wall time of the run)
     """
 
     t: np.ndarray
@@ -135,6 +135,7 @@ class BeamRun:
     build_time: float
     run_time: float
     n_modes: int
+    run_wall: float = 0.0
 
 
 def _window_average(t: np.ndarray, x: np.ndarray, at: np.ndarray, half: float) -> np.ndarray:
@@ -145,7 +146,7 @@ def _window_average(t: np.ndarray, x: np.ndarray, at: np.ndarray, half: float) -
 
 
 def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffening: bool = True,
-             rtol: float = 1e-7, atol: float = 1e-9, dt_fine: float = 2.5e-4) -> BeamRun:
+             rtol: float = 1e-7, atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False) -> BeamRun:
     """Run the beam with the ``n_modes`` lowest in-plane bending modes (0: rigid).
 
     Parameters
@@ -166,19 +167,24 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
     if len(modes) < n_modes:
         raise ValueError(f"simulate: the modal data has only {len(modes)} in-plane bending modes")
     return simulate_modes(modes, data=data, geometric_stiffening=geometric_stiffening, rtol=rtol, atol=atol,
-                          dt_fine=dt_fine)
+                          dt_fine=dt_fine, compiled=compiled)
 
 
 def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: bool = True, rtol: float = 1e-7,
-                   atol: float = 1e-9, dt_fine: float = 2.5e-4) -> BeamRun:
-    """Run the beam with the given modes (indices into ``data``); arguments as :func:`simulate`."""
+                   atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False) -> BeamRun:
+    """Run the beam with the given modes (indices into ``data``); arguments as :func:`simulate`; ``compiled``:
+    wait for the generated C code before the run (timings of the compiled model, as after a first run)."""
     tip = int(data.node_ids[np.argmax(data.coordinates[:, 0])])
     pin = int(data.node_ids[np.argmin(data.coordinates[:, 0])])
     c0 = time.process_time()
     sim = fl.Simulation(PinnedFreeBeam(data, modes, geometric_stiffening, frames=[pin, tip]))
     c1 = time.process_time()
+    if compiled:
+        sim.compiled.wait_for_library(120.0)
+        c1 = time.process_time()
+    w1 = time.perf_counter()
     res = sim.run(T_END, dt_out=dt_fine, rtol=rtol, atol=atol, progress=False)
-    c2 = time.process_time()
+    c2, w2 = time.process_time(), time.perf_counter()
     t = res.t
     tip_y = np.interp(SAMPLES, t, res["beam.frame_b.r_0"][:, 1])
     T_pin = res["beam.frame_a.T"].reshape(len(t), 3, 3, order="F")
@@ -194,7 +200,7 @@ def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: b
     return BeamRun(t=SAMPLES.copy(), tip_y=tip_y, tip_deflection=np.interp(SAMPLES, t, local[:, 1]),
                    moment_mid=np.interp(SAMPLES, t, moment),
                    moment_mid_avg=_window_average(t, moment, SAMPLES, 5e-3),
-                   build_time=c1 - c0, run_time=c2 - c1, n_modes=len(modes))
+                   build_time=c1 - c0, run_time=c2 - c1, n_modes=len(modes), run_wall=w2 - w1)
 
 
 def seed_error(z: np.ndarray, z_ref: np.ndarray) -> float:
