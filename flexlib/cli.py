@@ -15,6 +15,7 @@ option, file), with exit code 1 (2 for a malformed option, as click reports it);
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import importlib
 import json
@@ -118,6 +119,20 @@ def _parse_params(items: tuple[str, ...]) -> dict[str, float]:
     return out
 
 
+def _parse_options(items: tuple[str, ...]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise click.ClickException(f"--option {item!r}: expected NAME=VALUE (for example n=4 or flexible=true)")
+        try:
+            out[name] = json.loads(value)
+        except ValueError:
+            out[name] = value.strip()
+    return out
+
+
 @cli.command("run")
 @click.argument("model", required=False)
 @click.option("-s", "--scenario", help="Scenario name, or a JSON file with a scenario (default: the model's).")
@@ -131,11 +146,14 @@ def _parse_params(items: tuple[str, ...]) -> dict[str, float]:
 @click.option("--solver", type=click.Choice(SOLVERS), help="Solver backend.")
 @click.option("--from", "from_file", type=click.Path(dir_okay=False),
               help="Repeat the run recorded in this result file (other options apply on top).")
+@click.option("-O", "--option", "model_options", multiple=True, metavar="NAME=VALUE",
+              help="Model option on top of the scenario's (VALUE read as JSON, else text; repeatable).")
+@click.option("--flexible/--rigid", default=None, help="Shorthand for --option flexible=true / false.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @_friendly
 def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tuple[str, ...], t_end: float | None,
             rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, from_file: str | None,
-            no_progress: bool) -> None:
+            model_options: tuple[str, ...], flexible: bool | None, no_progress: bool) -> None:
     """Run MODEL in a scenario, then print a summary (times, steps, peaks of the model's signals)."""
     from flexlib import registry
     from flexlib.registry import Scenario
@@ -162,6 +180,12 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
         given = {**{k: v for k, v in record.run.items() if k != "t_end"}, **given}
     if model is None:
         raise click.ClickException("give a MODEL (see 'flexlib list') or --from FILE")
+    extra_options = _parse_options(model_options)
+    if flexible is not None:
+        extra_options["flexible"] = flexible
+    if extra_options:  # recorded as part of the scenario, so that --from repeats them
+        base = scen if isinstance(scen, Scenario) else registry.get_scenario(model, scen)
+        scen = dataclasses.replace(base, options={**base.options, **extra_options})
     if out is not None:
         from flexlib.solve.run_options import check_result_path
 

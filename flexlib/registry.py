@@ -169,6 +169,15 @@ class ModelEntry:
     scenarios: dict[str, Scenario]
     summary_signals: SummarySignals = ()
     default_scenario: str = ""
+    options: tuple[str, ...] = ()
+
+    def check_options(self, scenario: Scenario) -> None:
+        """:class:`RunArgumentError` naming a model option of ``scenario`` the factory does not read."""
+        for key in scenario.options:
+            if key not in self.options:
+                allowed = ", ".join(self.options) if self.options else "none"
+                raise RunArgumentError(f"model {self.name!r}, scenario {scenario.name!r}: unknown model option "
+                                       f"{key!r} (options of {self.name}: {allowed})")
 
     def scenario(self, name: str | None = None) -> Scenario:
         """The scenario ``name`` (default: the model's default scenario)."""
@@ -195,7 +204,8 @@ def _unknown(what: str, name: str, known: Mapping[str, Any] | Sequence[str]) -> 
 
 
 def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, scenarios: Sequence[Scenario],
-                   summary_signals: SummarySignals = (), default_scenario: str | None = None) -> ModelEntry:
+                   summary_signals: SummarySignals = (), default_scenario: str | None = None,
+                   options: Sequence[str] = ()) -> ModelEntry:
     """Register a runnable model.
 
     Parameters
@@ -213,6 +223,9 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
         Variables whose peaks ``flexlib run`` prints (or ``f(model) -> names``).
     default_scenario : str, optional
         Name of the default scenario.
+    options : sequence of str
+        Names of the model options the factory reads (``flexible``, ``n``); a scenario with another one is an
+        error naming it.
 
     Returns
     -------
@@ -245,7 +258,9 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     if default not in scen:
         raise RegistryError(f"register_model({name!r}): " + _unknown("default scenario " + repr(default), default,
                                                                         scen))
-    entry = ModelEntry(name, factory, doc, scen, summary_signals, default)
+    entry = ModelEntry(name, factory, doc, scen, summary_signals, default, tuple(options))
+    for s in scen.values():
+        entry.check_options(s)
     _MODELS[name] = entry
     return entry
 
@@ -254,14 +269,15 @@ def register_scenario(model: str, scenario: Scenario) -> None:
     """Add a scenario to a registered model (a user's own); a name already in use is replaced."""
     if not isinstance(scenario, Scenario):
         raise RegistryError(f"register_scenario({model!r}): expected a Scenario, got {scenario!r}")
-    get_model(model).scenarios[scenario.name] = scenario
+    entry = get_model(model)
+    entry.check_options(scenario)
+    entry.scenarios[scenario.name] = scenario
 
 
 def _load() -> None:
     global _loaded
     if _loaded:
         return
-    _loaded = True
     extra = [m.strip() for m in os.environ.get(MODULES_ENV, "").split(",") if m.strip()]
     for module in (*BUILTIN_MODULES, *extra):
         try:
@@ -271,6 +287,7 @@ def _load() -> None:
                 raise RegistryError(f"cannot import the model module {module!r} named in ${MODULES_ENV}: "
                                     f"{err}") from None
             raise
+    _loaded = True  # only once every module imported: a failed import is retried (and reported) next time
 
 
 def models() -> dict[str, ModelEntry]:
@@ -393,6 +410,7 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
 
     entry = get_model(model)
     scen = scenario if isinstance(scenario, Scenario) else entry.scenario(scenario)
+    entry.check_options(scen)
     unknown = [k for k in run if k not in RUN_OPTIONS]
     if unknown:
         raise RunArgumentError(f"run_scenario: unknown run option {unknown[0]!r} (allowed: {', '.join(RUN_OPTIONS)})")

@@ -30,4 +30,5 @@ register_model(
     ],
     summary_signals=[f"cylinder{n}.cylinder.{v}" for n in range(1, 6) for v in ("p_A", "p_B", "q_A")]
     + [f"joint{n}.phi" for n in range(1, 6)],
+    options=["linkages"],
 )

@@ -147,4 +147,5 @@ register_model(
         Scenario("short", "3 masses, 1 s (a quick check)", t_end=1.0, options={"n": 3}, run={"dt_out": 0.05}),
     ],
     summary_signals=lambda model: [f"mass{model.n - 1}.s", f"mass{model.n - 1}.v", "spring0.f"],
+    options=["n"],
 )

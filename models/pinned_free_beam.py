@@ -252,12 +252,8 @@ def participation_table(data: ModalData | None = None, n_elements: int = 32, thr
 # -- registration (flexlib list / flexlib run) ------------------------------------------------------------------
 def _beam_factory(scenario: Scenario) -> PinnedFreeBeam:
     """``options``: ``n_modes`` (lowest in-plane bending modes kept), ``geometric_stiffening``."""
-    opts = dict(scenario.options)
-    n_modes = int(opts.pop("n_modes", 4))
-    stiffening = bool(opts.pop("geometric_stiffening", True))
-    if opts:
-        raise ValueError(f"pinned-free-beam: unknown model option {next(iter(opts))!r} "
-                         "(options: n_modes, geometric_stiffening)")
+    n_modes = int(scenario.options.get("n_modes", 4))
+    stiffening = bool(scenario.options.get("geometric_stiffening", True))
     data = beam_modal_data(geometric_stiffening=stiffening)
     return PinnedFreeBeam(data, bending_modes(data)[:n_modes], geometric_stiffening=stiffening)
 
@@ -272,4 +268,5 @@ register_model(
                  run={"dt_out": 0.01, "rtol": 1e-7, "atol": 1e-9}),
     ],
     summary_signals=["pin.phi", "pin.w", "torque.tau"],
+    options=["n_modes", "geometric_stiffening"],
 )

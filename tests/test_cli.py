@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import subprocess
 import sys
 
@@ -169,13 +170,16 @@ def test_fourbar_summary_signals(tmp_path):
 
 def test_python_m_flexlib_and_script_entry_point():
     proc = subprocess.run([sys.executable, "-m", "flexlib", "list"], capture_output=True, text=True, timeout=120,
-                          env={**__import__("os").environ, **ENV})
+                          env={**os.environ, **ENV})
     assert proc.returncode == 0, proc.stderr
     assert "n-mass-chain" in proc.stdout and "boom-proxy" in proc.stdout
-    from importlib.metadata import entry_points
+    import tomllib
+    from pathlib import Path
 
-    (ep,) = [e for e in entry_points(group="console_scripts") if e.name == "flexlib"]
-    assert ep.value == "flexlib.cli:main"
+    project = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())["project"]
+    assert project["scripts"] == {"flexlib": "flexlib.cli:main"}
+    assert any(d.startswith("click") for d in project["dependencies"])
+    assert any(d.startswith("rich") for d in project["dependencies"])
 
 
 def test_registry_api_user_model_and_scenario(monkeypatch):
@@ -186,7 +190,7 @@ def test_registry_api_user_model_and_scenario(monkeypatch):
         return NMassChain(n=scenario.options.get("n", 2))
 
     entry = registry.register_model("my-chain", factory, doc="mine", scenarios=[Scenario("a", t_end=0.2)],
-                                    summary_signals=["mass1.s"])
+                                    summary_signals=["mass1.s"], options=["n"])
     assert registry.get_model("my-chain") is entry and registry.get_scenario("my-chain").name == "a"
     registry.register_scenario("my-chain", Scenario("b", "four masses", t_end=0.1, options={"n": 4}))
     done = registry.run_scenario("my-chain", "b", progress=False, rtol=1e-7)
@@ -199,3 +203,16 @@ def test_registry_api_user_model_and_scenario(monkeypatch):
     with pytest.raises(TypeError):
         scen.options["n"] = 5  # type: ignore[index]
     assert Scenario.from_dict(scen.to_dict()) == scen
+
+
+def test_model_option_on_the_command_line_is_recorded(tmp_path):
+    out = tmp_path / "two.h5"
+    res = invoke("run", "n-mass-chain", "-s", "short", "--option", "n=2", "-o", str(out), "--no-progress")
+    assert res.exit_code == 0, res.output
+    r = fl.load_result(out)
+    assert "mass1.s" in r.names and "mass2.s" not in r.names  # the scenario's n = 3 overridden
+    rec = registry.run_settings(r)
+    assert rec.scenario["name"] == "short" and rec.scenario["options"] == {"n": 2}
+    again = tmp_path / "again.h5"
+    assert invoke("run", "--from", str(out), "-o", str(again), "--no-progress").exit_code == 0
+    assert fl.load_result(again).names == r.names

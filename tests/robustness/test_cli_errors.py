@@ -90,6 +90,18 @@ def test_unwritable_out_names_it_before_the_build(tmp_path):
     assert str(tmp_path) in line
 
 
+def test_model_option_the_model_does_not_have_names_it():
+    line = fails("run", "n-mass-chain", "-s", "short", "--flexible", "--no-progress", code=1)
+    assert "'flexible'" in line and "'n-mass-chain'" in line and "options of n-mass-chain: n" in line
+    line = fails("run", "fourbar", "-s", "short", "--option", "n=3", "--no-progress", code=1)
+    assert "'fourbar'" in line and "'n'" in line
+
+
+def test_malformed_model_option_names_it():
+    line = fails("run", "n-mass-chain", "-s", "short", "--option", "n", "--no-progress", code=1)
+    assert "--option 'n'" in line and "NAME=VALUE" in line
+
+
 def test_run_without_model_or_from():
     line = fails("run", "--no-progress", code=1)
     assert "MODEL" in line and "--from" in line
@@ -113,14 +125,14 @@ def test_failed_run_is_one_line_and_keeps_the_partial_result(tmp_path):
     (json.dumps({"name": "x", "t_end": -2}), "t_end"),
     (json.dumps({"name": "x", "params": {"mass0.m": "heavy"}}), "'mass0.m'"),
     (json.dumps({"doc": "no name"}), "'name'"),
-    (json.dumps({"name": "x", "options": {"n_masses": 3}}), "n_masses"),
+    (json.dumps({"name": "x", "options": {"n_masses": 3}}), "unknown model option 'n_masses'"),
 ])
 def test_bad_scenario_file_names_file_and_field(tmp_path, content, culprit):
     path = tmp_path / "mine.json"
     path.write_text(content)
     line = fails("run", "n-mass-chain", "-s", str(path), "--no-progress", code=1)
     assert culprit in line
-    if culprit != "n_masses":  # that one is found by the model, which names the scenario
+    if "n_masses" not in culprit:  # found by the model entry, which names the scenario
         assert str(path) in line
 
 
