@@ -27,6 +27,7 @@ import time as _time
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
@@ -39,9 +40,10 @@ __all__ = ["RUN_OPTIONS", "ModelEntry", "RunRecord", "Scenario", "ScenarioRun", 
 RUN_OPTIONS = ("t_start", "dt_out", "rtol", "atol", "max_step", "max_steps", "solver", "steady_state",
                "dynamic_states")
 
-#: Modules whose import registers the built-in models (``flexlib.models.*``).
-BUILTIN_MODULES = ("flexlib.models.n_mass_chain", "flexlib.models.planar_mechanisms",
-                   "flexlib.models.pinned_free_beam", "flexlib.models.boom_proxy_scenarios")
+#: Package searched for built-in registrations: each of its modules (subpackages included) whose source calls
+#: ``register_model(`` is imported on the first lookup, so a new model (``models/pump_truck/``) only registers
+#: itself beside its definition.
+BUILTIN_PACKAGE = "flexlib.models"
 
 #: Environment variable: further modules (comma-separated) imported before a lookup, so that a user's own
 #: models and scenarios appear in ``flexlib list`` and can be run.
@@ -274,12 +276,32 @@ def register_scenario(model: str, scenario: Scenario) -> None:
     entry.scenarios[scenario.name] = scenario
 
 
+def builtin_modules() -> list[str]:
+    """Modules of :data:`BUILTIN_PACKAGE` whose source calls ``register_model(`` (sorted), found by reading the
+    files, so that modules without registrations (examples, scripts) are not imported."""
+    package = importlib.import_module(BUILTIN_PACKAGE)
+    found = []
+    for root in map(Path, package.__path__):
+        for path in sorted(root.rglob("*.py")):
+            rel = path.relative_to(root).with_suffix("")
+            if any(part.startswith(".") for part in rel.parts):
+                continue
+            try:
+                if "register_model(" not in path.read_text(encoding="utf-8"):
+                    continue
+            except (OSError, UnicodeDecodeError):
+                continue
+            parts = rel.parts[:-1] if rel.name == "__init__" else rel.parts
+            found.append(".".join((BUILTIN_PACKAGE, *parts)))
+    return sorted(set(found))
+
+
 def _load() -> None:
     global _loaded
     if _loaded:
         return
     extra = [m.strip() for m in os.environ.get(MODULES_ENV, "").split(",") if m.strip()]
-    for module in (*BUILTIN_MODULES, *extra):
+    for module in (*builtin_modules(), *extra):
         try:
             importlib.import_module(module)
         except ImportError as err:
