@@ -132,3 +132,8 @@ class NativeSolverError(FlexlibError, RuntimeError):
 class ModalFileError(FlexlibError, ValueError):
     """A modal data file (or FE matrix file) is missing, truncated, malformed or from a newer format; the message
     names the file and the dataset."""
+
+
+class RegistryError(FlexlibError, LookupError):
+    """An unknown registered model or scenario (the message names it, the known ones and the closest match), or
+    a bad registration (``flexlib.registry``)."""

@@ -23,6 +23,7 @@ from __future__ import annotations
 import casadi as ca
 
 import flexlib as fl
+from flexlib.registry import Scenario, register_model
 
 __all__ = ["ChainFixed", "ChainForce", "ChainMass", "ChainSpring", "Flange", "NMassChain"]
 
@@ -129,3 +130,22 @@ class NMassChain(fl.Model):
             if i + 1 < self.n:
                 self.connect(masses[i].flange_b, springs[i + 1].flange_a)
         self.connect(masses[-1].flange_b, self.force.flange)
+
+
+# -- registration (flexlib list / flexlib run) ------------------------------------------------------------------
+def _chain_factory(scenario: Scenario) -> NMassChain:
+    """``options``: ``n`` (number of masses)."""
+    return NMassChain(**scenario.options)
+
+
+register_model(
+    "n-mass-chain", _chain_factory,
+    doc="n masses and cubic spring-dampers between a wall and a sine force (benchmark model)",
+    scenarios=[
+        Scenario("sine", "10 masses, 10 s of the sine force F0 = 10 N at 3 rad/s", t_end=10.0,
+                 options={"n": 10}, run={"dt_out": 0.1}),
+        Scenario("short", "3 masses, 1 s (a quick check)", t_end=1.0, options={"n": 3}, run={"dt_out": 0.05}),
+    ],
+    summary_signals=lambda model: [f"mass{model.n - 1}.s", f"mass{model.n - 1}.v", "spring0.f"],
+    options=["n"],
+)

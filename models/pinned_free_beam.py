@@ -41,6 +41,7 @@ from flexlib.components.mechanics.flexible import (
 )
 from flexlib.components.mechanics.multibody import Revolute, World
 from flexlib.components.mechanics.rotational import Torque
+from flexlib.registry import Scenario, register_model
 
 __all__ = ["DENSITY", "LENGTH", "TORQUE", "BeamRun", "PinnedFreeBeam", "beam_fe", "beam_modal_data",
            "bending_modes", "participation_table", "seed_error", "simulate", "simulate_modes"]
@@ -246,3 +247,26 @@ def participation_table(data: ModalData | None = None, n_elements: int = 32, thr
     table = modal_participation(shapes, K, loads[:, critical], frequencies=data.frequencies[modes],
                                 threshold=threshold)
     return table, float(t[critical])
+
+
+# -- registration (flexlib list / flexlib run) ------------------------------------------------------------------
+def _beam_factory(scenario: Scenario) -> PinnedFreeBeam:
+    """``options``: ``n_modes`` (lowest in-plane bending modes kept), ``geometric_stiffening``."""
+    n_modes = int(scenario.options.get("n_modes", 4))
+    stiffening = bool(scenario.options.get("geometric_stiffening", True))
+    data = beam_modal_data(geometric_stiffening=stiffening)
+    return PinnedFreeBeam(data, bending_modes(data)[:n_modes], geometric_stiffening=stiffening)
+
+
+register_model(
+    "pinned-free-beam", _beam_factory,
+    doc="seed-001 flexible beam (1.5 m steel, FlexibleBody) on a pin, bang-bang torque 1.4 N m",
+    scenarios=[
+        Scenario("seed", "the seed's 2 s run with 4 bending modes", t_end=T_END, options={"n_modes": 4},
+                 run={"dt_out": 0.01, "rtol": 1e-7, "atol": 1e-9}),
+        Scenario("rigid", "the same with no elastic mode (rigid beam)", t_end=T_END, options={"n_modes": 0},
+                 run={"dt_out": 0.01, "rtol": 1e-7, "atol": 1e-9}),
+    ],
+    summary_signals=["pin.phi", "pin.w", "torque.tau"],
+    options=["n_modes", "geometric_stiffening"],
+)

@@ -38,6 +38,7 @@ import numpy as np
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
+from flexlib.registry import Scenario, register_model
 
 __all__ = ["FourBarLinkage", "Link", "PlanarMechanism", "PlanarSpec", "ThreeLoopLinkage", "assemble",
            "fourbar_spec", "three_loop_spec"]
@@ -259,3 +260,19 @@ class ThreeLoopLinkage(PlanarMechanism):
 
     def __init__(self) -> None:
         super().__init__(three_loop_spec())
+
+
+# -- registration (flexlib list / flexlib run) ------------------------------------------------------------------
+register_model(
+    "fourbar", lambda scenario: FourBarLinkage(),
+    doc="crank-rocker four-bar (crank 0.2 m, coupler 0.7 m, rocker 0.9 m), one closed loop, no gravity",
+    scenarios=[Scenario("spin", "free motion from 6 rad/s at the crank for 10 s", t_end=10.0, run={"dt_out": 0.01}),
+               Scenario("short", "the same for 0.5 s (a quick check)", t_end=0.5, run={"dt_out": 0.01})],
+    summary_signals=["rev_crank.phi", "rev_crank.w", "cut1.frame_a.f[0]", "cut1.frame_a.f[1]"],
+)
+register_model(
+    "three-loop", lambda scenario: ThreeLoopLinkage(),
+    doc="7-body, 3-loop, 1-DOF planar chain of three four-bars under gravity",
+    scenarios=[Scenario("swing", "released under gravity for 10 s", t_end=10.0, run={"dt_out": 0.01})],
+    summary_signals=["rev_crank.phi", "rev_crank.w"],
+)

@@ -1,0 +1,5 @@
+"""``python -m flexlib``: the command line (:mod:`flexlib.cli`)."""
+
+from flexlib.cli import main
+
+main()

@@ -1,0 +1,218 @@
+"""The ``flexlib`` command line and the model/scenario registry (issue 11: list, run, compare, show, --from).
+
+Fast: the 3-mass chain (1 s) and the four-bar (0.5 s). References: the result files themselves (the printed
+summary must equal the peaks recomputed from the saved result, to the 6 digits printed; a repeated run must
+reproduce its file to 1e-12 relative); ``compare`` against differences computed directly on the common grid.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import flexlib as fl
+from flexlib import registry
+from flexlib.cli import cli, compare_results
+from flexlib.registry import Scenario
+
+ENV = {"COLUMNS": "200"}  # rich tables wide enough that no cell is folded
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(cli, list(args), env=ENV, catch_exceptions=False)
+
+
+@pytest.fixture(scope="module")
+def chain_file(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cli") / "chain.h5"
+    res = invoke("run", "n-mass-chain", "--scenario", "short", "--out", str(out), "--param", "mass0.m=1.5",
+                 "--no-progress")
+    assert res.exit_code == 0, res.output
+    return out, res.output
+
+
+def test_list_shows_every_registered_model_and_scenario():
+    res = invoke("list")
+    assert res.exit_code == 0, res.output
+    for name, entry in registry.models().items():
+        assert name in res.output
+        for sname, scen in entry.scenarios.items():
+            assert sname in res.output and scen.doc in res.output
+    assert {"n-mass-chain", "fourbar", "three-loop", "pinned-free-beam", "boom-proxy"} <= set(registry.models())
+
+
+def test_run_saves_result_with_run_settings_and_prints_summary(chain_file):
+    out, output = chain_file
+    res = fl.load_result(out)
+    assert res.status == "success" and res.t[-1] == pytest.approx(1.0, abs=0.0)
+    assert res.parameters["mass0.m"][0] == 1.5  # the override reached the run
+    assert "mass3.s" not in res.names and "mass2.s" in res.names  # the scenario's option n = 3
+    rec = registry.run_settings(res)
+    assert rec.model == "n-mass-chain" and rec.scenario["name"] == "short" and rec.params == {"mass0.m": 1.5}
+    for label in ("simulated time [s]", "CPU time, run [s]", "real-time factor", "steps"):
+        assert label in output
+    assert str(res.stats["steps"]) in output
+    # the summary signals' peaks, printed to 6 digits, are those of the saved result
+    for name in ("mass2.s", "mass2.v", "spring0.f"):
+        x = res[name]
+        assert f"{x.max():.6g}" in output and f"{x.min():.6g}" in output and f"{np.abs(x).max():.6g}" in output
+
+
+def test_run_from_file_repeats_the_run(chain_file, tmp_path):
+    out, _ = chain_file
+    again = tmp_path / "again.h5"
+    res = invoke("run", "--from", str(out), "--out", str(again), "--no-progress")
+    assert res.exit_code == 0, res.output
+    a, b = fl.load_result(out), fl.load_result(again)
+    assert a.names == b.names
+    np.testing.assert_allclose(b.t, a.t, rtol=0, atol=0)
+    np.testing.assert_allclose(b.values, a.values, rtol=1e-12, atol=1e-14)
+    assert registry.run_settings(b) == registry.run_settings(a)
+    # options given with --from apply on top of the recorded ones
+    shorter = tmp_path / "shorter.h5"
+    res = invoke("run", "--from", str(out), "--t-end", "0.5", "--param", "mass1.m=2", "--out", str(shorter),
+                 "--no-progress")
+    assert res.exit_code == 0, res.output
+    c = fl.load_result(shorter)
+    assert c.t[-1] == 0.5 and c.parameters["mass0.m"][0] == 1.5 and c.parameters["mass1.m"][0] == 2.0
+    assert registry.run_settings(c).run == {"t_end": 0.5}
+
+
+def test_user_scenario_from_json_file_runs_and_is_recorded(tmp_path):
+    scen = {"name": "two-masses", "doc": "mine", "t_end": 0.3, "options": {"n": 2}, "params": {"force.F0": 20.0},
+            "run": {"dt_out": 0.01, "rtol": 1e-8}}
+    path = tmp_path / "mine.json"
+    path.write_text(json.dumps(scen))
+    out = tmp_path / "mine.h5"
+    res = invoke("run", "n-mass-chain", "--scenario", str(path), "--out", str(out), "--no-progress")
+    assert res.exit_code == 0, res.output
+    r = fl.load_result(out)
+    assert "mass1.s" in r.names and "mass2.s" not in r.names
+    assert r.parameters["force.F0"][0] == 20.0 and r.stats["rtol"] == 1e-8
+    np.testing.assert_allclose(np.diff(r.t), 0.01, rtol=1e-9)
+    assert registry.run_settings(r).scenario == Scenario.from_dict(scen).to_dict()
+    # the file repeats the user's scenario without the JSON file
+    path.unlink()
+    again = tmp_path / "again.h5"
+    assert invoke("run", "--from", str(out), "--out", str(again), "--no-progress").exit_code == 0
+    np.testing.assert_allclose(fl.load_result(again).values, r.values, rtol=1e-12, atol=1e-14)
+
+
+def test_compare_reports_the_largest_differences(chain_file, tmp_path):
+    out, _ = chain_file
+    other = tmp_path / "heavier.h5"
+    assert invoke("run", "--from", str(out), "--param", "mass0.m=1.8", "--out", str(other),
+                  "--no-progress").exit_code == 0
+    a, b = fl.load_result(out), fl.load_result(other)
+    rows = compare_results(a, b)
+    assert len(rows) == len(a.names)
+    # same output grid, no events: the differences are those of the stored columns (exactly)
+    np.testing.assert_array_equal(a.t, b.t)
+    for r in rows[:5] + rows[-3:]:
+        d = np.abs(a[r["name"]] - b[r["name"]])
+        scale = max(np.abs(a[r["name"]]).max(), np.abs(b[r["name"]]).max())
+        assert r["abs"] == d.max() and r["rel"] == (d.max() / scale if scale else 0.0)
+        assert r["t"] == a.t[np.argmax(d)]
+    assert [r["rel"] for r in rows] == sorted((r["rel"] for r in rows), reverse=True)
+    assert rows[0]["rel"] > 1e-3  # a 20 % heavier first mass changes the motion
+    png = tmp_path / "overlay.png"
+    res = invoke("compare", str(out), str(other), "--top", "3", "--plot", str(png))
+    assert res.exit_code == 0, res.output
+    assert rows[0]["name"] in res.output and f"{rows[0]['abs']:.6g}" in res.output
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    res = invoke("compare", str(out), str(other), "--fail-above", "1e-3")
+    assert res.exit_code == 1 and rows[0]["name"] in res.output and "exceeds --fail-above" in res.output
+    # a file compared with itself: no difference, --fail-above 0 passes
+    res = invoke("compare", str(out), str(out), "--fail-above", "0", "--signals", "mass0.s,mass2.v")
+    assert res.exit_code == 0, res.output
+    assert [r["abs"] for r in compare_results(a, a, ["mass0.s", "mass2.v"])] == [0.0, 0.0]
+
+
+def test_compare_on_different_grids_interpolates(tmp_path):
+    a_file, b_file = tmp_path / "a.h5", tmp_path / "b.h5"
+    assert invoke("run", "n-mass-chain", "-s", "short", "-o", str(a_file), "--no-progress").exit_code == 0
+    assert invoke("run", "n-mass-chain", "-s", "short", "--dt-out", "0.02", "--t-end", "0.6", "-o", str(b_file),
+                  "--no-progress").exit_code == 0
+    a, b = fl.load_result(a_file), fl.load_result(b_file)
+    rows = {r["name"]: r for r in compare_results(a, b, ["mass2.s"])}
+    # the same trajectory sampled twice: differences are interpolation and tolerance effects only (rtol 1e-6,
+    # sampled every 0.02 / 0.05 s), far below the 0.45 m swing of mass2.s
+    grid = np.union1d(a.t, b.t)
+    grid = grid[grid <= 0.6]
+    ref = np.abs(np.interp(grid, a.t, a["mass2.s"]) - np.interp(grid, b.t, b["mass2.s"])).max()
+    assert rows["mass2.s"]["abs"] == pytest.approx(ref, rel=1e-12)
+    assert rows["mass2.s"]["abs"] < 0.02
+
+
+def test_show_prints_the_recorded_settings(chain_file):
+    out, _ = chain_file
+    res = invoke("show", str(out))
+    assert res.exit_code == 0, res.output
+    for text in ("n-mass-chain", "short", '"mass0.m": 1.5', '{"n": 3}', f"flexlib run --from {out}", "NMassChain"):
+        assert text in res.output
+
+
+def test_fourbar_summary_signals(tmp_path):
+    res = invoke("run", "fourbar", "--scenario", "short", "--no-progress", "-o", str(tmp_path / "fb.h5"))
+    assert res.exit_code == 0, res.output
+    r = fl.load_result(tmp_path / "fb.h5")
+    for name in registry.get_model("fourbar").signals(None):
+        values, _unit = r.display(name)  # display units: rad/s shown in rpm
+        assert name in res.output and f"{np.abs(values).max():.6g}" in res.output
+
+
+def test_python_m_flexlib_and_script_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "flexlib", "list"], capture_output=True, text=True, timeout=120,
+                          env={**os.environ, **ENV})
+    assert proc.returncode == 0, proc.stderr
+    assert "n-mass-chain" in proc.stdout and "boom-proxy" in proc.stdout
+    import tomllib
+    from pathlib import Path
+
+    project = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())["project"]
+    assert project["scripts"] == {"flexlib": "flexlib.cli:main"}
+    assert any(d.startswith("click") for d in project["dependencies"])
+    assert any(d.startswith("rich") for d in project["dependencies"])
+
+
+def test_registry_api_user_model_and_scenario(monkeypatch):
+    monkeypatch.setattr(registry, "_MODELS", dict(registry.models()))
+    from models.n_mass_chain import NMassChain
+
+    def factory(scenario):
+        return NMassChain(n=scenario.options.get("n", 2))
+
+    entry = registry.register_model("my-chain", factory, doc="mine", scenarios=[Scenario("a", t_end=0.2)],
+                                    summary_signals=["mass1.s"], options=["n"])
+    assert registry.get_model("my-chain") is entry and registry.get_scenario("my-chain").name == "a"
+    registry.register_scenario("my-chain", Scenario("b", "four masses", t_end=0.1, options={"n": 4}))
+    done = registry.run_scenario("my-chain", "b", progress=False, rtol=1e-7)
+    assert "mass3.s" in done.result.names and done.result.t[-1] == 0.1 and done.result.stats["rtol"] == 1e-7
+    assert registry.run_settings(done.result).run == {"rtol": 1e-7}
+    assert done.cpu_run > 0
+    scen = registry.get_scenario("my-chain", "b")
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        scen.t_end = 1.0  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        scen.options["n"] = 5  # type: ignore[index]
+    assert Scenario.from_dict(scen.to_dict()) == scen
+
+
+def test_model_option_on_the_command_line_is_recorded(tmp_path):
+    out = tmp_path / "two.h5"
+    res = invoke("run", "n-mass-chain", "-s", "short", "--option", "n=2", "-o", str(out), "--no-progress")
+    assert res.exit_code == 0, res.output
+    r = fl.load_result(out)
+    assert "mass1.s" in r.names and "mass2.s" not in r.names  # the scenario's n = 3 overridden
+    rec = registry.run_settings(r)
+    assert rec.scenario["name"] == "short" and rec.scenario["options"] == {"n": 2}
+    again = tmp_path / "again.h5"
+    assert invoke("run", "--from", str(out), "-o", str(again), "--no-progress").exit_code == 0
+    assert fl.load_result(again).names == r.names
