@@ -1,0 +1,291 @@
+"""Parameter record of the 42 m-class concrete-pump truck boom (issue 11): every number, its unit, its source.
+
+The record is a frozen dataclass: copy it with :func:`dataclasses.replace` and change any number, e.g.
+``replace(PumpTruckParameters(), pipe=replace(PIPE, filled=False))``. Construction checks every field and the
+linkages (each must close and keep its transmission angles over its range); a bad record raises
+:class:`flexlib.errors.ParameterError` naming the field.
+
+Conventions: planar boom in the vertical ``x``–``y`` plane (``y`` up), joint 1 at the origin on top of the
+turret, relative joint angles ``q`` [rad] (``q = 0``: all sections in line; ``q1 = 0``: horizontal). Joint
+geometry is given in each joint's frame (see :mod:`models.pump_truck.kinematics`).
+
+``python -m models.pump_truck.parameters`` prints the mass properties and the cylinder sizing table.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from flexlib.errors import ParameterError
+
+from .kinematics import direct_state, fourbar_state
+
+__all__ = ["CYLINDER_BORES", "CYLINDER_RODS", "DirectDrive", "EndHose", "FourBar", "Pipe", "PumpTruckParameters",
+           "SectionSpec", "Steel", "Turret", "box_wall_thickness"]
+
+#: ISO 3320 cylinder bores [m] (R10 series, 25–400 mm).
+CYLINDER_BORES = tuple(d / 1000 for d in (25, 32, 40, 50, 63, 80, 100, 125, 140, 160, 180, 200, 220, 250, 280,
+                                          320, 360, 400))
+#: ISO 3320 piston-rod diameters [m] (12–360 mm).
+CYLINDER_RODS = tuple(d / 1000 for d in (12, 14, 16, 18, 20, 22, 25, 28, 32, 36, 40, 45, 50, 56, 63, 70, 80, 90,
+                                         100, 110, 125, 140, 160, 180, 200, 220, 250, 280, 320, 360))
+
+
+def _check(owner: str, **values: float) -> None:
+    for name, value in values.items():
+        if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
+            raise ParameterError(f"pump-truck record: {owner}.{name} must be a positive finite number, got {value!r}")
+
+
+def box_wall_thickness(mass: float, length: float, b: float, h: float, rho: float) -> float:
+    """Wall thickness [m] of a uniform steel box ``b × h`` [m] of ``length`` [m] that weighs ``mass`` [kg].
+
+    Solves ``rho L (2 t (b + h) − 4 t²) = m`` for the thin root ``t``.
+    """
+    A = mass / (rho * length)
+    disc = (b + h) ** 2 - 4.0 * A
+    if disc < 0:
+        raise ParameterError(f"box {b} x {h} m cannot reach area {A:.5f} m2 ({mass} kg over {length} m)")
+    return ((b + h) - math.sqrt(disc)) / 4.0
+
+
+@dataclass(frozen=True)
+class Steel:
+    """Structural steel (S690-class boom steel): Young's modulus ``E`` [Pa], density ``rho`` [kg/m3]."""
+
+    E: float = 210e9
+    rho: float = 7850.0
+    source: str = "EN 10025-6 S690QL handbook values"
+
+    def __post_init__(self) -> None:
+        _check("steel", E=self.E, rho=self.rho)
+
+
+@dataclass(frozen=True)
+class SectionSpec:
+    """One boom section as a uniform steel box: length [m], target mass [kg], outer width ``b`` and height ``h`` [m].
+
+    The wall thickness :meth:`t` follows from the mass (:func:`box_wall_thickness`).
+    """
+
+    length: float
+    mass: float
+    b: float
+    h: float
+    source: str = ("length and mass: Putzmeister M42 / Schwing S 42 SX data sheets, order of magnitude; b, h: "
+                   "chosen here (taper root to tip); t: sized here so the box weighs the target mass")
+
+    def t(self, rho: float) -> float:
+        """Wall thickness [m] for steel density ``rho`` [kg/m3]."""
+        return box_wall_thickness(self.mass, self.length, self.b, self.h, rho)
+
+
+@dataclass(frozen=True)
+class Pipe:
+    """Concrete delivery pipe (DN125) clamped on top of each section.
+
+    ``empty_mass_per_m`` [kg/m] (steel pipe, couplings, clamps), ``inner_diameter`` [m], ``concrete_density``
+    [kg/m3], ``offset`` [m] of the pipe axis above the section's top face, ``filled`` (bool).
+    """
+
+    empty_mass_per_m: float = 10.5
+    inner_diameter: float = 0.125
+    concrete_density: float = 2400.0
+    offset: float = 0.15
+    filled: bool = True
+    source: str = ("DN125 twin-wall boom pipe 10.5 kg/m empty (Esser / Putzmeister pipe catalogues, order of "
+                   "magnitude); concrete 2400 kg/m3 (EN 206); filled 10.5 + 29.5 = 40 kg/m as in issue 11")
+
+    def __post_init__(self) -> None:
+        _check("pipe", empty_mass_per_m=self.empty_mass_per_m, inner_diameter=self.inner_diameter,
+               concrete_density=self.concrete_density, offset=self.offset)
+
+    @property
+    def mass_per_m(self) -> float:
+        """Pipe mass per metre in its current state (filled or empty) [kg/m]."""
+        fill = self.concrete_density * math.pi / 4.0 * self.inner_diameter**2 if self.filled else 0.0
+        return self.empty_mass_per_m + fill
+
+
+@dataclass(frozen=True)
+class EndHose:
+    """End hose hanging from the tip: ``length`` [m], ``mass`` [kg] (filled; its weight acts at the tip pin)."""
+
+    length: float = 4.0
+    mass: float = 150.0
+    source: str = "4 m DN125 end hose, about 150 kg filled (issue 11; pump-maker end-hose data)"
+
+    def __post_init__(self) -> None:
+        _check("hose", length=self.length, mass=self.mass)
+
+
+@dataclass(frozen=True)
+class Turret:
+    """Slewing turret: ``mass`` [kg], slewing inertia ``J_slew`` about the vertical axis [kg.m2], height of joint
+    1 above the slewing bearing ``height`` [m]."""
+
+    mass: float = 2500.0
+    J_slew: float = 3500.0
+    height: float = 1.2
+    source: str = ("order of magnitude for a 42 m pump turret (cast slewing housing ~2.5 t, radius of gyration "
+                   "~1.2 m: J = 2500 * 1.18^2)")
+
+    def __post_init__(self) -> None:
+        _check("turret", mass=self.mass, J_slew=self.J_slew, height=self.height)
+
+
+@dataclass(frozen=True)
+class DirectDrive:
+    """Joint 1: cylinder from ``H`` (turret) to ``c`` (on section 1) [m], joint range ``q_min``–``q_max`` [rad]."""
+
+    H: tuple[float, float] = (0.45, -2.0)
+    c: tuple[float, float] = (1.8, -0.55)
+    q_min: float = math.radians(-5.0)
+    q_max: float = math.radians(80.0)
+    source: str = "sized here: joint-1 mount points (lever arm ~1.2 m, stroke ~1.7 m)"
+
+    def state(self, q: float):
+        """Drive state at ``q`` [rad] (:func:`models.pump_truck.kinematics.direct_state`)."""
+        return direct_state(q, np.array(self.H), np.array(self.c))
+
+
+#: Lever-and-link base design (folds upwards, positive q, 0–178 deg), from a differential-evolution search that
+#: maximises the smallest transmission angle with cylinder length ratio <= 1.7; scaled per joint.
+_BASE = {"P": (-0.2, 0.29), "H": (-1.65, 0.5), "c": (-0.3, 0.0), "r": 0.48, "s": 0.43, "sigma": -1}
+
+
+@dataclass(frozen=True)
+class FourBar:
+    """Lever-and-link drive of one joint (2–5), in the joint frame [m]: lever pivot ``P`` and cylinder housing
+    ``H`` on section k−1, link bracket ``c`` on section k, lever length ``r``, link length ``s``, assembly
+    branch ``sigma`` (±1), range ``q_min``–``q_max`` [rad]."""
+
+    P: tuple[float, float]
+    H: tuple[float, float]
+    c: tuple[float, float]
+    r: float
+    s: float
+    sigma: int
+    q_min: float
+    q_max: float
+    source: str = "sized here: base lever-and-link design scaled per joint (see _BASE)"
+
+    @classmethod
+    def scaled(cls, scale: float, fold: int) -> FourBar:
+        """The base design scaled by ``scale`` and folding upwards (``fold = +1``) or downwards (``-1``, mirrored)."""
+        m = np.array([1.0, float(fold)])
+        P, H, c = (tuple(float(v) for v in scale * m * np.array(_BASE[k])) for k in ("P", "H", "c"))
+        lo, hi = math.radians(-2.0), math.radians(178.0)
+        q_min, q_max = (lo, hi) if fold > 0 else (-hi, -lo)
+        return cls(P, H, c, scale * _BASE["r"], scale * _BASE["s"], _BASE["sigma"] * fold, q_min, q_max)
+
+    def state(self, q: float):
+        """Drive state at ``q`` [rad] (:func:`models.pump_truck.kinematics.fourbar_state`)."""
+        return fourbar_state(q, np.array(self.P), np.array(self.H), np.array(self.c), self.r, self.s, self.sigma)
+
+
+_SECTIONS = (SectionSpec(9.0, 2200.0, 0.45, 0.70), SectionSpec(7.7, 1500.0, 0.40, 0.60),
+             SectionSpec(7.6, 1100.0, 0.35, 0.50), SectionSpec(7.4, 700.0, 0.30, 0.40),
+             SectionSpec(5.9, 350.0, 0.25, 0.30))
+_LINKAGES = (FourBar.scaled(3.0, +1), FourBar.scaled(2.6, -1), FourBar.scaled(2.0, +1), FourBar.scaled(1.5, -1))
+
+
+@dataclass(frozen=True)
+class PumpTruckParameters:
+    """The machine's design record (see the module docstring).
+
+    Attributes
+    ----------
+    sections : tuple of SectionSpec
+        Five boom sections, root to tip.
+    steel, pipe, hose, turret : Steel, Pipe, EndHose, Turret
+        Material, delivery pipe, end hose, turret.
+    joint1 : DirectDrive
+        Joint 1 cylinder.
+    linkages : tuple of FourBar
+        Joints 2–5 lever-and-link drives.
+    g : float
+        Gravity [m/s2].
+    p_system : float
+        System pressure [Pa]; ``p_hold_fraction`` the allowed share of it for holding [1].
+    min_transmission_deg : float
+        Smallest allowed transmission angle over every joint's range [deg].
+    """
+
+    sections: tuple[SectionSpec, ...] = _SECTIONS
+    steel: Steel = field(default_factory=Steel)
+    pipe: Pipe = field(default_factory=Pipe)
+    hose: EndHose = field(default_factory=EndHose)
+    turret: Turret = field(default_factory=Turret)
+    joint1: DirectDrive = field(default_factory=DirectDrive)
+    linkages: tuple[FourBar, ...] = _LINKAGES
+    g: float = 9.81
+    p_system: float = 35e6
+    p_hold_fraction: float = 0.8
+    min_transmission_deg: float = 20.0
+    source: str = "issue 11 (42 m class, five sections); system pressure 350 bar as on Putzmeister/Schwing booms"
+
+    def __post_init__(self) -> None:
+        if len(self.sections) != 5 or len(self.linkages) != 4:
+            raise ParameterError("pump-truck record: sections needs 5 entries and linkages 4 (joints 2-5)")
+        for i, sec in enumerate(self.sections):
+            _check(f"sections[{i}]", length=sec.length, mass=sec.mass, b=sec.b, h=sec.h)
+            try:
+                t = sec.t(self.steel.rho)
+            except ParameterError as err:
+                raise ParameterError(f"pump-truck record: sections[{i}].mass: {err}") from None
+            if 2 * t >= min(sec.b, sec.h):
+                raise ParameterError(f"pump-truck record: sections[{i}].mass {sec.mass} kg needs a solid box")
+        _check("record", g=self.g, p_system=self.p_system, p_hold_fraction=self.p_hold_fraction,
+               min_transmission_deg=self.min_transmission_deg)
+        for j, drive in enumerate((self.joint1, *self.linkages)):
+            name = "joint1" if j == 0 else f"linkages[{j - 1}] (joint {j + 1})"
+            if not drive.q_min < drive.q_max:
+                raise ParameterError(f"pump-truck record: {name}: q_min must be below q_max")
+            for q in np.linspace(drive.q_min, drive.q_max, 91):
+                try:
+                    st = drive.state(float(q))
+                except ValueError as err:
+                    raise ParameterError(f"pump-truck record: {name} cannot reach its range: {err}") from None
+                worst = min(st.transmission.values())
+                if worst < self.min_transmission_deg:
+                    raise ParameterError(
+                        f"pump-truck record: {name} cannot reach its range: transmission angle {worst:.1f} deg "
+                        f"< min_transmission_deg {self.min_transmission_deg} at q = {math.degrees(q):.1f} deg")
+
+    def drive(self, k: int):
+        """Drive of joint ``k`` (1–5)."""
+        return self.joint1 if k == 1 else self.linkages[k - 2]
+
+
+def _describe(record: PumpTruckParameters) -> str:
+    from .statics import mass_properties, sizing
+
+    lines = ["section  L [m]  m [kg]  b x h x t [mm]        mesher m [kg]  com x,y [m]      Izz(com) [kg.m2]"]
+    for k, sec in enumerate(record.sections):
+        mp = mass_properties(record, k, pipe=False)
+        t = sec.t(record.steel.rho)
+        lines.append(f"{k + 1:7d}  {sec.length:5.2f}  {sec.mass:6.0f}  {sec.b * 1e3:4.0f} x {sec.h * 1e3:4.0f} x "
+                     f"{t * 1e3:5.2f}  {mp['m']:13.2f}  {mp['com'][0]:6.3f},{mp['com'][1]:6.3f}  "
+                     f"{mp['I'][2, 2]:12.1f}")
+    lines.append(f"pipe {record.pipe.mass_per_m:.2f} kg/m ({'filled' if record.pipe.filled else 'empty'}), "
+                 f"hose {record.hose.mass:.0f} kg at the tip")
+    lines.append("")
+    lines.append("joint  bore/rod [mm]  stroke [m]  l_min [m]  min transm. [deg]  lever arm ext. [m]  "
+                 "F ext. [kN]  p ext. [MPa]  worst p [MPa] at q [deg]")
+    for row in sizing(record):
+        lines.append(f"{row['joint']:5d}  {row['bore'] * 1e3:4.0f}/{row['rod'] * 1e3:4.0f}    {row['stroke']:9.3f}  "
+                     f"{row['l_min']:9.3f}  {row['min_transmission_deg']:17.1f}  {row['lever_arm']:18.3f}  "
+                     f"{row['F'] / 1e3:11.1f}  {row['p'] / 1e6:12.2f}  {row['p_worst'] / 1e6:13.2f} at "
+                     f"{math.degrees(row['q_worst']):6.1f}")
+    lines.append(f"limit {record.p_hold_fraction * record.p_system / 1e6:.1f} MPa "
+                 f"({record.p_hold_fraction:.0%} of {record.p_system / 1e6:.0f} MPa); 'ext.' = fully extended, "
+                 "horizontal, filled; worst = joint swept over its range, the others extended")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    print(_describe(PumpTruckParameters()))
