@@ -43,47 +43,28 @@ from typing import Any
 os.environ.setdefault("OMP_NUM_THREADS", "1")  # before numpy: one thread, as the other benchmarks
 import numpy as np
 import scipy.sparse as sp
-from scipy.integrate import cumulative_trapezoid
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from components.mechanics.flexible import FEModel, Section, beam_mesh, craig_bampton, section_force_modes  # noqa: E402
 
-try:  # the reference's constants and metrics (another engineer's module, benchmarks/references/)
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from references.pinned_free_beam import (  # type: ignore[import-not-found]
-        AREA,
-        AVERAGE_HALF_WIDTH,
-        DENSITY,
-        LENGTH,
-        REFERENCE_FILE,
-        SAMPLE_DT,
-        SECOND_MOMENT,
-        T_END,
-        T_SWITCH,
-        TORQUE,
-        YOUNG,
-        seed_error,
-        window_average,
-    )
-except ImportError:  # until it lands: the same seed data and formulas
-    DENSITY, YOUNG, LENGTH, AREA, SECOND_MOMENT = 8000.0, 2e11, 1.5, 1e-4, 1e-10  # kg/m³, Pa, m, m², m⁴
-    TORQUE, T_SWITCH, T_END, SAMPLE_DT, AVERAGE_HALF_WIDTH = 1.4, 1.0, 2.0, 0.01, 5e-3  # N·m, s, s, s, s
-    REFERENCE_FILE = ROOT / "tests" / "data" / "pinned_free_beam_reference.npz"
-
-    def seed_error(z: np.ndarray, z_ref: np.ndarray) -> float:
-        """Seed 001, eq. (2): ``100 · mean|z − z*| / max|z*|`` [%]."""
-        return float(100.0 * np.mean(np.abs(np.asarray(z) - z_ref)) / np.max(np.abs(z_ref)))
-
-    def window_average(t: np.ndarray, z: np.ndarray, at: np.ndarray,
-                       half_width: float = AVERAGE_HALF_WIDTH) -> np.ndarray:
-        """Mean of the piecewise-linear ``z(t)`` over ``[s − half_width, s + half_width] ∩ [t0, t_end]``."""
-        lo, hi = (np.clip(at + sign * half_width, t[0], t[-1]) for sign in (-1, 1))
-        x = np.union1d(t, np.concatenate([lo, hi]))  # window edges as knots: the trapezoid rule is exact
-        area = cumulative_trapezoid(np.interp(x, t, z), x, initial=0.0)
-        return (np.interp(hi, x, area) - np.interp(lo, x, area)) / (hi - lo)
-
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from references.pinned_free_beam import (  # noqa: E402  (the reference's constants and metrics)
+    AREA,
+    AVERAGE_HALF_WIDTH,
+    DENSITY,
+    LENGTH,
+    REFERENCE_FILE,
+    SAMPLE_DT,
+    SECOND_MOMENT,
+    T_END,
+    T_SWITCH,
+    TORQUE,
+    YOUNG,
+    seed_error,
+    window_average,
+)
 
 #: Output series of every runner (201 samples each), compared with the reference.
 SERIES = ("tip_y", "tip_deflection", "moment_mid_avg")
@@ -146,15 +127,6 @@ def beam_modes(n_modes: int, n_elements: int = 32) -> tuple[FEModel, np.ndarray,
     fe = fe.constrained(fe.node_ids, ("uz", "rx", "ry")).constrained([0])
     cb = craig_bampton(fe.M, fe.K, [], n_modes)
     return fe, cb.modes, cb.omega
-
-
-def _node_translations(fe: FEModel, modes: np.ndarray) -> np.ndarray:
-    """Translations of every FE node per mode, ``(3 N, n_modes)`` [m] (zero where a DOF is held)."""
-    out = np.zeros((fe.nodes.shape[0], 3, modes.shape[1]))
-    for c in range(3):
-        rows = fe.dof_map[:, c]
-        out[rows >= 0, c] = modes[rows[rows >= 0]]
-    return out.reshape(-1, modes.shape[1])
 
 
 def mid_moment_modes(fe: FEModel, modes: np.ndarray) -> np.ndarray:
@@ -220,7 +192,8 @@ def run_exudyn(n_modes: int, *, n_elements: int = 32, dt: float = 1e-3, solver: 
     lumped = np.concatenate([np.zeros(3 * n_fe), np.repeat(points.masses, 3)])
     fem.massMatrix = sp.diags(lumped).tocsr()
     fem.stiffnessMatrix = sp.csr_matrix((lumped.size, lumped.size))  # replaced by the frame elements' Φᵀ K Φ below
-    fem.modeBasis = {"matrix": np.vstack([_node_translations(fe, modes), at_points]), "type": "NormalModes"}
+    node_shapes = fe.nodal_fields(modes)[0].transpose(1, 2, 0).reshape(-1, modes.shape[1])  # (3 N, n_modes)
+    fem.modeBasis = {"matrix": np.vstack([node_shapes, at_points]), "type": "NormalModes"}
     cms = ObjectFFRFreducedOrderInterface(fem)
     generalized_mass = modes.T @ (fe.M @ modes)
     if not np.allclose(cms.massMatrixReduced, generalized_mass, rtol=0, atol=1e-9):
@@ -267,7 +240,7 @@ def run_exudyn(n_modes: int, *, n_elements: int = 32, dt: float = 1e-3, solver: 
     q = mbs.GetSensorStoredData(s_modal)[:, 1:]
     t = rot[:, 0]
     R = rot[:, 1:].reshape(-1, 3, 3)
-    tip = _node_translations(fe, modes)[3 * (n_fe - 1):3 * n_fe] @ q.T  # (3, steps) in the body frame
+    tip = fe.nodal_fields(modes)[0][:, n_fe - 1, :].T @ q.T  # (3, steps) in the body frame
     local = fe.nodes[-1][:, None] + tip
     tip_y = np.einsum("sj,js->s", R[:, 1, :], local)
     moment = q @ mid_moment_modes(fe, modes)

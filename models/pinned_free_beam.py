@@ -237,12 +237,7 @@ def participation_table(data: ModalData | None = None, n_elements: int = 32, thr
         loads[pin_rz] += tau
     critical = int(np.argmax(np.linalg.norm(loads, axis=0)))
     modes = bending_modes(data)
-    shapes = np.zeros((fe.n_dofs, len(modes)))
-    for c in range(6):
-        rows = fe.dof_map[:, c]
-        has = rows >= 0
-        src = data.translational_modes if c < 3 else data.rotational_modes
-        shapes[rows[has], :] = src[modes][:, has, c % 3].T
+    shapes = fe.dof_fields(data.translational_modes[modes], data.rotational_modes[modes])
     K = np.diag(data.generalized_stiffness)[modes]
     table = modal_participation(shapes, K, loads[:, critical], frequencies=data.frequencies[modes],
                                 threshold=threshold)

@@ -105,10 +105,8 @@ class Initializer:
         if not cands:
             return (), w0
         jg = self._init_functions(active, steady)[1]
-        spj = jg.sparsity_out(0)
-        colind, row = spj.get_ccs()
-        inc = sps.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
-        if int(np.sum(matching(inc)[0] >= 0)) == spj.shape[1]:
+        inc = _pattern(jg)
+        if int(np.sum(matching(inc)[0] >= 0)) == inc.shape[1]:
             return (), w0  # the conditions given already determine every unknown
         g_all, jg_all = self._init_functions(active, steady, cands)
         par_all = np.concatenate([par, w0[list(cands)]])
@@ -297,9 +295,7 @@ class Initializer:
         # which fixed conditions stand in the way: give the der(x) = 0 row priority over them and see which
         # conditions the (in-order) matching then leaves unmatched
         _, jg = self._init_functions(active, tuple(list(steady) + moving))
-        spj = jg.sparsity_out(0)
-        colind, row = spj.get_ccs()
-        inc = sps.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
+        inc = _pattern(jg)
         n, na, ns = m.n, len(active), len(steady)
         culprit_names: list[str] = []
         lines = []
@@ -341,9 +337,7 @@ class Initializer:
         that holds the boom, not the supply behind the valve.
         """
         _, jg = self._init_functions(active, steady)
-        pattern = jg.sparsity_out(0)
-        colind, row = pattern.get_ccs()
-        inc = sps.csc_matrix((np.ones(len(row)), row, colind), shape=pattern.shape).tocsr()
+        inc = _pattern(jg)
         first = self.model.n + len(active)
         order = list(range(len(steady)))
         if n_held and len(steady) > n_held:
@@ -557,10 +551,8 @@ class Initializer:
 
     def _check_structure(self, jg: ca.Function, w0: np.ndarray, par: np.ndarray,
                          active: tuple[int, ...], steady: tuple[int, ...], defaults: tuple[int, ...] = ()) -> None:
-        spj = jg.sparsity_out(0)
-        colind, row = spj.get_ccs()
-        inc = sps.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
-        n_eq, n_unk = spj.shape
+        inc = _pattern(jg)
+        n_eq, n_unk = inc.shape
         row_match, col_match = matching(inc)
         if n_eq == n_unk and np.all(row_match >= 0):
             return
@@ -744,3 +736,10 @@ class _StatesHeld:
         J.eliminate_zeros()  # the ∂F/∂y pattern of the state columns: no entries of ∂F/∂y'
         J.sort_indices()
         return J
+
+
+def _pattern(jg: ca.Function) -> sps.csr_matrix:
+    """The sparsity pattern of a Jacobian function's output as a 0/1 matrix (rows: equations, columns: unknowns)."""
+    spj = jg.sparsity_out(0)
+    colind, row = spj.get_ccs()
+    return sps.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()

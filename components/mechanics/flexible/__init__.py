@@ -5,6 +5,7 @@ file, mode selection, default modal damping, geometric stiffening data, and defo
 
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
 from .body import FlexibleBody, frame_names
+from .drawing import animate, plot_frame, write_vtk_series
 from .fe_model import COMPONENTS, BeamElements, FEModel, MassPoints, read_fe, read_matrix_market
 from .geometric import (
     geometric_stiffness_matrix,
@@ -15,16 +16,7 @@ from .geometric import (
 from .importers import read_ansys_full, read_nastran_dmig, read_nastran_op4  # optional extras: ansys, nastran
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
-from .output import (
-    animate,
-    deformed_positions,
-    nodal_stress,
-    node_displacements,
-    node_rotations,
-    plot_frame,
-    von_mises,
-    write_vtk_series,
-)
+from .output import deformed_positions, nodal_stress, node_displacements, node_rotations, von_mises
 from .reduction import CraigBamptonResult, craig_bampton, modal_data_from_fe
 from .sections import Section, box, circle, i_section, rectangle, tube
 from .selection import (

@@ -178,6 +178,28 @@ class FEModel:
         rows = self.dof_map[self.node_index(node_ids)][:, cols].ravel()
         return rows[rows >= 0]
 
+    def nodal_fields(self, fields: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Displacement fields ``(n_dofs, k)`` on the DOFs as nodal translations and rotations ``(k, N, 3)`` each
+        [m, rad] (zero where a DOF is absent or held)."""
+        fields = np.asarray(fields, dtype=float)
+        trans = np.zeros((fields.shape[1], self.nodes.shape[0], 3))
+        rot = np.zeros_like(trans)
+        for c in range(6):
+            rows = self.dof_map[:, c]
+            has = rows >= 0
+            (trans if c < 3 else rot)[:, has, c % 3] = fields[rows[has]].T
+        return trans, rot
+
+    def dof_fields(self, translations: np.ndarray, rotations: np.ndarray) -> np.ndarray:
+        """The inverse of :meth:`nodal_fields`: nodal translations and rotations ``(k, N, 3)`` [m, rad] as fields
+        ``(n_dofs, k)`` on this model's DOFs (values at held DOFs are dropped)."""
+        out = np.zeros((self.n_dofs, np.shape(translations)[0]))
+        for c in range(6):
+            rows = self.dof_map[:, c]
+            has = rows >= 0
+            out[rows[has], :] = np.asarray(translations if c < 3 else rotations)[:, has, c % 3].T
+        return out
+
     def rigid_body_modes(self) -> np.ndarray:
         """The six rigid-body displacement fields ``(n, 6)``: unit translations along x, y, z [m] and unit small
         rotations about the body-frame x, y, z axes through the origin [rad] (``u = theta x s``)."""

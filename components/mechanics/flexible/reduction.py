@@ -278,15 +278,7 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
             raise ValueError("modal_data_from_fe: geometric_stiffening needs a support node (no interface nodes)")
         cases = inertial_load_cases(fe) | interface_load_cases(fe, [k for k in interface_nodes if k not in support])
         geometric = modal_geometric_stiffness(fe, cb.modes, support, cases)
-    k = cb.modes.shape[1]
-    N = fe.nodes.shape[0]
-    trans = np.zeros((k, N, 3))
-    rot = np.zeros((k, N, 3))
-    for c in range(6):
-        rows = fe.dof_map[:, c]
-        has = rows >= 0
-        target = trans if c < 3 else rot
-        target[:, has, c % 3] = cb.modes[rows[has]].T
+    trans, rot = fe.nodal_fields(cb.modes)
     provenance = {
         "method": "improved Craig-Bampton (orthonormalised)" if orthogonalize else "Craig-Bampton",
         "interface_nodes": interface_nodes,

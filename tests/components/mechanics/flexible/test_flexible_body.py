@@ -77,17 +77,6 @@ def test_cantilever_under_gravity_and_tip_load(cantilever_data):
     assert tip[1] == pytest.approx(0.0, abs=1e-12)
 
 
-def _dof_modes(fe, data):
-    """Mode shapes of ``data`` on the FE DOFs (rebuilt from the nodal shapes of the file)."""
-    modes = np.zeros((fe.n_dofs, data.n_modes))
-    for c in range(6):
-        rows = fe.dof_map[:, c]
-        has = rows >= 0
-        src = data.translational_modes if c < 3 else data.rotational_modes
-        modes[rows[has], :] = src[:, has, c % 3].T
-    return modes
-
-
 def test_free_body_conserves_energy_and_angular_momentum():
     """A free, undamped, spinning and vibrating Timoshenko beam (rotary inertia on) without gravity: kinetic plus
     strain energy and the angular momentum about the world origin, both computed from the FE mass points (not the
@@ -110,7 +99,7 @@ def test_free_body_conserves_energy_and_angular_momentum():
     res = fl.Simulation(model, use_cache=False).run(0.1, dt_out=0.002, rtol=1e-10, atol=1e-12, **QUIET)
     _t, _q, _r, T_ref = model.beam.motion(res)  # reference orientation recovered from frame_a (checked below)
     pts = fe.mass_points
-    modes = _dof_modes(fe, data)
+    modes = fe.dof_fields(data.translational_modes, data.rotational_modes)
     Pt = (pts.Nt @ modes).reshape(-1, 3, m)
     Pr = (pts.Nr @ modes).reshape(-1, 3, m)
     Psi0 = data.rotational_modes[:, data.node_index(0), :].T
@@ -291,7 +280,7 @@ def test_geometric_stiffening_keeps_energy(spinning_data):
     sel = data.select(lag)
     fe = beam_mesh((0, 0, 0), (2.0, 0, 0), 24, rectangle(0.02, 0.03), E=2.1e11, rho=7850.0).constrained([0])
     pts = fe.mass_points
-    shapes = _dof_modes(fe, sel)
+    shapes = fe.dof_fields(sel.translational_modes, sel.rotational_modes)
     Pt, Pr = (pts.Nt @ shapes).reshape(-1, 3, 3), (pts.Nr @ shapes).reshape(-1, 3, 3)
     G_zz = sel.geometric_stiffness["omega_zz"]
     energy = []
