@@ -10,8 +10,12 @@ elastically (``modal_data_from_fe(..., reference_node=0, attachment="pinned")``)
 Geometric stiffening (centrifugal, energy-consistent) is on by default.
 
 Outputs sampled as in the seed (201 samples, every 10 ms): the tip's world y coordinate, the tip deflection from
-the pin tangent (the tip's y in the pin node's frame, from the frames' exact positions and orientations) and the
-mid-span bending moment (modal section forces), plus its average over ±5 ms.
+the pin tangent (the tip's y in the pin node's frame, with the node's exact elastic rotation) and the mid-span
+bending moment (modal section forces), plus its average over ±5 ms. The deflection and the moment come twice from
+the same run: by plain modal superposition, and by the mode-acceleration method, which adds the left-out modes'
+static response to the run's loads (here the pin torque). The pin tangent is the slope where the torque acts, and
+in plain superposition each left-out mode ``k`` still contributes about ``1/k²`` of it (12.6 → 8.7 → 5.05 % error
+for 1, 2, 4 modes); the recovery restores that static part (4.9, 2.9, 1.6 %).
 
 References
 ----------
@@ -35,9 +39,13 @@ from flexlib.components.mechanics.flexible import (
     ParticipationTable,
     Section,
     beam_mesh,
+    cayley_rotation,
     inertial_load_cases,
     modal_data_from_fe,
     modal_participation,
+    node_displacements,
+    node_rotations,
+    section_forces,
 )
 from flexlib.components.mechanics.multibody import Revolute, World
 from flexlib.components.mechanics.rotational import Torque
@@ -126,6 +134,10 @@ class BeamRun:
     ----------
     t : ndarray [s]; tip_y : ndarray [m]; tip_deflection : ndarray [m]; moment_mid, moment_mid_avg : ndarray [N m]
     build_time, run_time : float [s] (process CPU time); n_modes : int; run_wall : float [s] (wall time of the run)
+    tip_deflection_ma : ndarray [m]; moment_mid_ma, moment_mid_avg_ma : ndarray [N m]
+        The same outputs recovered by the mode-acceleration method (the left-out modes' static response to the
+        run's loads added to the modal superposition: :mod:`flexlib.components.mechanics.flexible.output`) from
+        the same run; ``None`` if the modal data hold no static load responses.
     """
 
     t: np.ndarray
@@ -137,6 +149,9 @@ class BeamRun:
     run_time: float
     n_modes: int
     run_wall: float = 0.0
+    tip_deflection_ma: np.ndarray | None = None
+    moment_mid_ma: np.ndarray | None = None
+    moment_mid_avg_ma: np.ndarray | None = None
 
 
 def _window_average(t: np.ndarray, x: np.ndarray, at: np.ndarray, half: float) -> np.ndarray:
@@ -162,6 +177,8 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
         Integrator tolerances [1], [units of each unknown].
     dt_fine : float
         Output step [s] of the fine series the ±5 ms moment average is taken over.
+    compiled : bool
+        Wait for the generated C code before the run (timings of the compiled model, as after a first run).
     """
     data = beam_modal_data() if data is None else data
     modes = bending_modes(data)[:n_modes]
@@ -173,12 +190,12 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
 
 def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: bool = True, rtol: float = 1e-7,
                    atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False) -> BeamRun:
-    """Run the beam with the given modes (indices into ``data``); arguments as :func:`simulate`; ``compiled``:
-    wait for the generated C code before the run (timings of the compiled model, as after a first run)."""
+    """Run the beam with the given modes (indices into ``data``); arguments as :func:`simulate`."""
     tip = int(data.node_ids[np.argmax(data.coordinates[:, 0])])
     pin = int(data.node_ids[np.argmin(data.coordinates[:, 0])])
     c0 = time.process_time()
-    sim = fl.Simulation(PinnedFreeBeam(data, modes, geometric_stiffening, frames=[pin, tip]))
+    model = PinnedFreeBeam(data, modes, geometric_stiffening, frames=[pin, tip])
+    sim = fl.Simulation(model)
     c1 = time.process_time()
     if compiled:
         sim.compiled.wait_for_library(120.0)
@@ -187,21 +204,31 @@ def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: b
     res = sim.run(T_END, dt_out=dt_fine, rtol=rtol, atol=atol, progress=False)
     c2, w2 = time.process_time(), time.perf_counter()
     t = res.t
-    tip_y = np.interp(SAMPLES, t, res["beam.frame_b.r_0"][:, 1])
-    T_pin = res["beam.frame_a.T"].reshape(len(t), 3, 3, order="F")
-    local = np.einsum("kij,kj->ki", T_pin, res["beam.frame_b.r_0"] - res["beam.frame_a.r_0"])
-    if modes:
-        sel = data.select(modes)
-        q = res["beam.q"].reshape(len(t), -1)
-        n_el = sel.section_forces.shape[1]
-        mz = 0.5 * (sel.section_forces[:, n_el // 2 - 1, 1, 5] + sel.section_forces[:, n_el // 2, 0, 5])
-        moment = q @ mz
-    else:
-        moment = np.zeros_like(t)
-    return BeamRun(t=SAMPLES.copy(), tip_y=tip_y, tip_deflection=np.interp(SAMPLES, t, local[:, 1]),
-                   moment_mid=np.interp(SAMPLES, t, moment),
+    sel = model.beam.modal_data
+    q = res["beam.q"].reshape(len(t), -1) if modes else np.zeros((len(t), 0))
+
+    def deflection_and_moment(loads: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        # the tip in the pin node's frame: x_tip - x_pin (body axes) turned by the pin node's exact elastic rotation
+        x = sel.coordinates[[sel.node_index(pin), sel.node_index(tip)]] + node_displacements(
+            sel, q, [pin, tip], loads=loads)
+        local = np.einsum("kij,kj->ki", cayley_rotation(node_rotations(sel, q, [pin], loads=loads)[:, 0]),
+                          x[:, 1] - x[:, 0])
+        n_el = sel.elements.shape[0]
+        forces = section_forces(sel, q, loads=loads)
+        return local[:, 1], 0.5 * (forces[:, n_el // 2 - 1, 1, 5] + forces[:, n_el // 2, 0, 5])
+
+    deflection, moment = deflection_and_moment(None)
+    recovered = None
+    if sel.load_cases is not None:
+        d_ma, m_ma = deflection_and_moment(model.beam.load_amplitudes(res))
+        recovered = (np.interp(SAMPLES, t, d_ma), np.interp(SAMPLES, t, m_ma), _window_average(t, m_ma, SAMPLES, 5e-3))
+    return BeamRun(t=SAMPLES.copy(), tip_y=np.interp(SAMPLES, t, res["beam.frame_b.r_0"][:, 1]),
+                   tip_deflection=np.interp(SAMPLES, t, deflection), moment_mid=np.interp(SAMPLES, t, moment),
                    moment_mid_avg=_window_average(t, moment, SAMPLES, 5e-3),
-                   build_time=c1 - c0, run_time=c2 - c1, n_modes=len(modes), run_wall=w2 - w1)
+                   build_time=c1 - c0, run_time=c2 - c1, n_modes=len(modes), run_wall=w2 - w1,
+                   tip_deflection_ma=None if recovered is None else recovered[0],
+                   moment_mid_ma=None if recovered is None else recovered[1],
+                   moment_mid_avg_ma=None if recovered is None else recovered[2])
 
 
 def seed_error(z: np.ndarray, z_ref: np.ndarray) -> float:

@@ -14,13 +14,20 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from flexlib.compile.codegen import CompiledModel
 
-__all__ = ["CHUNK", "RowEvaluator", "segments"]
+__all__ = ["CHUNK", "SETTLE_TOL", "RowEvaluator", "segments", "settle_derivative_level"]
 
 #: Rows per call of the mapped function.
 CHUNK = 256
+#: Relative residual of a row above which its derivative-level unknowns are solved again (see
+#: :func:`settle_derivative_level`).
+SETTLE_TOL = 1e-3
+#: Unknowns up to which the rows to settle are solved densely, all at once.
+DENSE_SETTLE = 64
 
 
 class RowEvaluator:
@@ -50,12 +57,18 @@ class RowEvaluator:
                 return ca.Function(f"{fn.name()}_dense", args, [ca.densify(fn(*args))])
 
             fn = self._entry(model, (name, "dense"), dense)
+        return self.evaluate_function(fn, model, (name,), T, Y, YP, P)
+
+    def evaluate_function(self, fn: ca.Function, model: CompiledModel, key: tuple, T: np.ndarray, Y: np.ndarray,
+                          YP: np.ndarray, P: np.ndarray) -> np.ndarray:
+        """A dense-output function ``fn(t, y, yp, p)`` of ``model`` (buffers kept under ``key``) at the rows."""
+        name = key
         n_rows = len(T)
         values = np.zeros((n_rows, fn.nnz_out(0)))
         T, Y, YP, P = (np.ascontiguousarray(a, dtype=float) for a in (T, Y, YP, P))
         full = n_rows // CHUNK * CHUNK
         if full:
-            buf, ev = self._entry(model, (name, "map", CHUNK), lambda: fn.map(CHUNK).buffer())
+            buf, ev = self._entry(model, (*name, "map", CHUNK), lambda: fn.map(CHUNK).buffer())
             for a in range(0, full, CHUNK):
                 b = a + CHUNK
                 buf.set_arg(0, memoryview(T[a:b]))
@@ -65,7 +78,7 @@ class RowEvaluator:
                 buf.set_res(0, memoryview(values[a:b]))
                 ev()
         if full < n_rows:
-            buf, ev = self._entry(model, (name, "row"), fn.buffer)
+            buf, ev = self._entry(model, (*name, "row"), fn.buffer)
             for i in range(full, n_rows):
                 buf.set_arg(0, memoryview(T[i:i + 1]))
                 buf.set_arg(1, memoryview(Y[i]))
@@ -96,3 +109,105 @@ def segments(traj: Any, default: CompiledModel,
         P[:, :len(pvec)] = pvec
         P[:, len(pvec):] = rel[rows]
         yield model, rows, T[rows], Y, YP, P
+
+
+def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
+                            P: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+    """Recorded rows with their derivative-level unknowns checked, and made consistent where they are off.
+
+    The derivative-level unknowns (cut forces, reactions, accelerations: ``CompiledModel.derivative_level``) are
+    out of IDA's error test and, with their infinite tolerance, out of its Newton convergence test too
+    (``docs/engine.md``, "Error-test policy"). Nothing then stops them from drifting: with a stale iteration
+    matrix the corrector can leave them wrong, and the predictor's extrapolation of wrong values can grow them
+    geometrically (measured: a hinged flexible beam's pin reaction reached 3e14 N for 80 ms while every state was
+    right). Each recorded row is therefore checked: an equation ``i`` containing them is off when
+    ``|F_i| > SETTLE_TOL · (sum_j |∂F_i/∂y_j · y_j| + sum_j |∂F_i/∂y'_j · y'_j| + 1e-9 sum_j |∂F_i/∂(y, y')_j| ·
+    nominal_j)``: its residual is not small against the magnitudes of its terms. In such a row the states are
+    kept and everything else is solved again from ``F(t, y, y') = 0`` — the states' derivatives and all algebraic
+    unknowns (Newton on the index-1 system, at most four iterations), as a consistent initialisation would.
+
+    Returns
+    -------
+    Y, YP : ndarray (m, n)
+        The rows, repaired where needed (copies if any row changed).
+    repaired : int
+        Number of rows solved again.
+    """
+    D = np.flatnonzero(np.asarray(model.derivative_level, dtype=bool))
+    if D.size == 0 or len(T) == 0:
+        return Y, YP, 0
+    colind = np.asarray(model.jac_colind)
+    row_of = np.asarray(model.jac_row)
+    col_of = np.repeat(np.arange(model.n), np.diff(colind))
+    eqs = np.unique(row_of[np.isin(col_of, D)])  # the equations containing derivative-level unknowns
+    if eqs.size == 0:
+        return Y, YP, 0
+    nz = np.flatnonzero(np.isin(row_of, eqs))
+
+    def make() -> ca.Function:
+        fn = model.function("jac")
+        args = [ca.MX.sym(fn.name_in(k), fn.sparsity_in(k)) for k in range(4)]
+        J0, J1 = fn(*args, 0.0), fn(*args, 1.0)
+        return ca.Function("jac_settle", args, [ca.vertcat(ca.vec(J0.nz[nz.tolist()]), ca.vec(J1.nz[nz.tolist()]))])
+
+    key = ("settle", "jac")
+    F = rows.evaluate(model, "res", T, Y, YP, P)[:, eqs]
+    JV = rows.evaluate_function(rows._entry(model, key, make), model, key, T, Y, YP, P)
+    J0, J1 = JV[:, :nz.size], JV[:, nz.size:] - JV[:, :nz.size]  # ∂F/∂y, ∂F/∂y' at those nonzeros
+    pos = np.searchsorted(eqs, row_of[nz])
+    nominal = np.asarray(model.nominal, dtype=float)[col_of[nz]]
+    terms = np.zeros_like(F)
+    np.add.at(terms, (slice(None), pos),
+              np.abs(J0 * Y[:, col_of[nz]]) + np.abs(J1 * YP[:, col_of[nz]]) + 1e-9 * (np.abs(J0) + np.abs(J1))
+              * nominal)
+    bad = np.flatnonzero((np.abs(F) > SETTLE_TOL * terms).any(axis=1))
+    if bad.size == 0:
+        return Y, YP, 0
+    Y, YP = np.array(Y, dtype=float, copy=True), np.array(YP, dtype=float, copy=True)
+    # Newton on the unknowns (y' of the states, y of the algebraic unknowns) with the states fixed; the matrix has
+    # the Jacobian's pattern: a state's column from ∂F/∂y', an algebraic unknown's from ∂F/∂y
+    state_nz = np.asarray(model.differential, dtype=bool)[col_of]
+    n_nz = col_of.size
+
+    def make_full() -> ca.Function:
+        fn = model.function("jac")
+        args = [ca.MX.sym(fn.name_in(k), fn.sparsity_in(k)) for k in range(4)]
+        J0, J1 = fn(*args, 0.0), fn(*args, 1.0)
+        return ca.Function("jac_settle_full", args, [ca.vertcat(ca.vec(J0.nz[:]), ca.vec(J1.nz[:]))])
+
+    full_key = ("settle", "jac_full")
+    full = rows._entry(model, full_key, make_full)
+    diff = np.asarray(model.differential, dtype=bool)
+    todo = bad
+    for _ in range(4):
+        if todo.size == 0:
+            break
+        r_all = rows.evaluate(model, "res", T[todo], Y[todo], YP[todo], P[todo])
+        JV = rows.evaluate_function(full, model, full_key, T[todo], Y[todo], YP[todo], P[todo])
+        data = np.where(state_nz, JV[:, n_nz:] - JV[:, :n_nz], JV[:, :n_nz])
+        steps: np.ndarray | None = None
+        if model.n <= DENSE_SETTLE:  # small models: one batched dense solve
+            A = np.zeros((todo.size, model.n, model.n))
+            A[:, row_of, col_of] = data
+            try:
+                steps = np.linalg.solve(A, r_all[:, :, None])[:, :, 0]
+            except np.linalg.LinAlgError:
+                steps = None
+        still = []
+        for k, i in enumerate(todo):
+            if steps is not None:
+                step = steps[k]
+            else:
+                try:
+                    step = spla.spsolve(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)), r_all[k])
+                except RuntimeError:
+                    continue
+            if not np.all(np.isfinite(step)):
+                continue
+            YP[i, diff] -= step[diff]
+            Y[i, ~diff] -= step[~diff]
+            size = np.abs(np.concatenate([YP[i, diff], Y[i, ~diff]])).max(initial=0.0)
+            if np.abs(step).max(initial=0.0) > 1e-12 * (size + 1e-300):
+                still.append(i)
+        todo = np.asarray(still, dtype=np.int64)
+    return Y, YP, int(bad.size)

@@ -42,7 +42,7 @@ from flexlib.solve.ida import Trajectory, check_assertions, integrate
 from flexlib.solve.ida_native import integrate_native
 from flexlib.solve.initialization import Initializer
 from flexlib.solve.native import native_available
-from flexlib.solve.rows import RowEvaluator, segments
+from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
 from flexlib.solve.run_options import check_run_arguments
 from flexlib.solve.signals import sigterm_as_interrupt
 from flexlib.solve.static import integrate_static
@@ -466,12 +466,16 @@ class Simulation:
         if traj.t:
             T = np.array(traj.t)
             values = np.zeros((len(T), len(names)))
+            repaired = 0
             for model, rows, Ts, Y, YP, P in segments(traj, m, pvec):
+                Y, YP, n_fixed = settle_derivative_level(self._rows, model, Ts, Y, YP, P)
+                repaired += n_fixed
                 values[rows] = self._assemble(model, Ts, Y, YP, P)
         else:
             T, values = np.zeros(0), np.zeros((0, len(names)))
         stats = dict(traj.stats)
-        stats.update({"wall_init": t_init, "rtol": rtol, "atol": atol, "n_states": int(m.differential.sum()),
+        stats.update({"rows_resettled": repaired if traj.t else 0,
+                      "wall_init": t_init, "rtol": rtol, "atol": atol, "n_states": int(m.differential.sum()),
                       "n_unknowns": m.n, "build_cached": bool(self.build_info.get("cached")),
                       "wall_build": float(self.build_info.get("total", 0.0))})
         import casadi

@@ -5,8 +5,10 @@ elements and step; ``benchmarks/references/pinned_free_beam.py``, stored in
 averaged moment). Error: the seed's eq. 2 (mean |z − z*| over 201 samples / max |z*| × 100).
 
 Issue 10's targets with at most four modes: tip y ≤ 0.1 %, tip deflection ≤ 5 %, averaged moment ≤ 10 %.
-Measured with hinged-beam modes: four modes give 0.024 %, 5.05 % and 2.4 % (the deflection at the target, within
-the reference's own 0.7 %); the MPF method keeps five modes at its 1 % threshold, which give 0.023 %, 4.0 %, 3.4 %.
+Measured with hinged-beam modes and the mode-acceleration recovery of deflection and moment: four modes give
+0.024 %, 1.56 % and 1.11 %; plain modal superposition converges slowly in the deflection (12.6, 8.7, 5.05 % for
+1, 2, 4 modes; 1.6 % recovered at 4), because the pin tangent is the slope where the torque acts. The MPF method
+keeps five modes at its 1 % threshold.
 """
 
 from __future__ import annotations
@@ -38,17 +40,21 @@ def data():
     return beam_modal_data()
 
 
-def errors(run, reference) -> tuple[float, float, float]:
-    return tuple(seed_error(getattr(run, k), reference[k]) for k in ("tip_y", "tip_deflection", "moment_mid_avg"))
+def errors(run, reference, recovered: bool = True) -> tuple[float, float, float]:
+    """Seed errors of tip y, tip deflection and averaged moment (mode-acceleration recovery or plain)."""
+    series = (run.tip_y, run.tip_deflection_ma, run.moment_mid_avg_ma) if recovered else (
+        run.tip_y, run.tip_deflection, run.moment_mid_avg)
+    return tuple(seed_error(z, reference[k]) for z, k in zip(series, ("tip_y", "tip_deflection", "moment_mid_avg"),
+                                                            strict=True))
 
 
-def test_four_modes_meet_tip_and_moment_targets(data, reference):
-    """Four hinged-beam modes with geometric stiffening: tip y ≤ 0.1 %, averaged moment ≤ 10 %, tip deflection
-    ≤ 5.2 % (5.05 % measured: the 5 % target within the reference's 0.7 % convergence band)."""
+def test_four_modes_meet_all_targets(data, reference):
+    """Four hinged-beam modes with geometric stiffening, deflection and moment by mode-acceleration recovery: tip y
+    ≤ 0.1 %, tip deflection ≤ 5 %, averaged moment ≤ 10 % (measured 0.024, 1.56, 1.11 %)."""
     e = errors(simulate(4, data=data), reference)
     assert e[0] <= 0.1
+    assert e[1] <= 5.0
     assert e[2] <= 10.0
-    assert e[1] <= 5.2
 
 
 def test_mpf_selection_meets_all_targets(data, reference):
@@ -66,9 +72,14 @@ def test_mpf_selection_meets_all_targets(data, reference):
 
 
 def test_errors_fall_with_modes_and_the_rigid_body_fails(data, reference):
-    """The rigid body (no modes) misses the deflection entirely (error > 30 %); one, two and four modes bring the
-    tip deflection error down monotonically (12.6 → 8.7 → 5.05 %)."""
-    rigid = errors(simulate(0, data=data), reference)
+    """The rigid body (no modes) misses the deflection entirely (error > 30 %, plain); one, two and four modes bring
+    the tip deflection error down monotonically, plain (12.6 → 8.7 → 5.05 %) and recovered (4.9 → 2.9 → 1.6 %),
+    and the recovery beats plain superposition at every count."""
+    rigid = errors(simulate(0, data=data), reference, recovered=False)
     assert rigid[1] > 30.0
-    defl = [errors(simulate(n, data=data), reference)[1] for n in (1, 2, 4)]
-    assert defl[0] > defl[1] > defl[2]
+    runs = [simulate(n, data=data) for n in (1, 2, 4)]
+    plain = [errors(r, reference, recovered=False)[1] for r in runs]
+    recovered = [errors(r, reference)[1] for r in runs]
+    assert plain[0] > plain[1] > plain[2]
+    assert recovered[0] > recovered[1] > recovered[2]
+    assert all(r < p for r, p in zip(recovered, plain, strict=True))

@@ -151,7 +151,8 @@ def test_unknown_options_are_named(data, good, tmp_path):
     with pytest.raises(RunArgumentError, match=r"von_mises: argument 'stress' has shape \(3, 5\), expected"):
         von_mises(np.zeros((3, 5)))
     with pytest.raises(RunArgumentError, match=r"has cells of 5 nodes: pass element_type"):
-        write_vtk_series(tmp_path / "s.pvd", replace(data, elements=np.zeros((1, 5), dtype=int), section_forces=None),
+        write_vtk_series(tmp_path / "s.pvd", replace(data, elements=np.zeros((1, 5), dtype=int), section_forces=None,
+                                                      static_section_forces=None),
                          *args)
     assert list(tmp_path.iterdir()) == []
 

@@ -4,7 +4,7 @@ file, mode selection, default modal damping, geometric stiffening data, and defo
 (SI units throughout)."""
 
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
-from .body import FlexibleBody, frame_names
+from .body import FlexibleBody, cayley_rotation, frame_names
 from .drawing import animate, plot_frame, write_vtk_series
 from .fe_model import COMPONENTS, BeamElements, FEModel, MassPoints, read_fe, read_matrix_market
 from .geometric import (
@@ -16,8 +16,15 @@ from .geometric import (
 from .importers import read_ansys_full, read_nastran_dmig, read_nastran_op4  # optional extras: ansys, nastran
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
-from .output import deformed_positions, nodal_stress, node_displacements, node_rotations, von_mises
-from .reduction import CraigBamptonResult, craig_bampton, modal_data_from_fe
+from .output import (
+    deformed_positions,
+    nodal_stress,
+    node_displacements,
+    node_rotations,
+    section_forces,
+    von_mises,
+)
+from .reduction import CraigBamptonResult, craig_bampton, elastic_static_responses, modal_data_from_fe
 from .sections import Section, box, circle, i_section, rectangle, tube
 from .selection import (
     ParticipationRow,
@@ -47,10 +54,12 @@ __all__ = [
     "beam_mesh",
     "beam_stress_modes",
     "box",
+    "cayley_rotation",
     "circle",
     "craig_bampton",
     "default_damping_ratio",
     "deformed_positions",
+    "elastic_static_responses",
     "element_matrices",
     "frame_names",
     "geometric_stiffness_matrix",
@@ -74,6 +83,7 @@ __all__ = [
     "read_nastran_op4",
     "rectangle",
     "section_force_modes",
+    "section_forces",
     "select_modes",
     "tube",
     "von_mises",

@@ -64,11 +64,11 @@ from flexlib.errors import ModelError
 from ..multibody.frames import equality_constraint, skew
 from ..multibody.interfaces import Frame
 from ..multibody.quaternions import floating_frame_equations, quaternion_to_T
-from ..multibody.world import gravity_of
+from ..multibody.world import World, gravity_of
 from .modal_data import ModalData
 from .selection import default_damping_ratio, select_modes
 
-__all__ = ["FlexibleBody", "frame_names"]
+__all__ = ["FlexibleBody", "cayley_rotation", "frame_names"]
 
 _LETTERS = "abcdefghijklmnopqrstuvwxyz"
 #: Mode-shape entries at a frame below this fraction of the mode's largest entry are round-off (set to zero).
@@ -264,14 +264,70 @@ class FlexibleBody(Component):
         q = np.asarray(result[f"{self.path}.q"], dtype=float).reshape(nt, -1) if self.n_modes else np.zeros((nt, 0))
         T_a = np.asarray(result[f"{self.path}.frame_a.T"], dtype=float).reshape(nt, 3, 3, order="F")
         Psi = self._node_shapes(self.frame_nodes[0])[2]
-        a = q @ Psi.T / 2 if self.n_modes else np.zeros((nt, 3))
-        A = np.zeros((nt, 3, 3))
-        A[:, 0, 1], A[:, 0, 2], A[:, 1, 2] = -a[:, 2], a[:, 1], -a[:, 0]
-        A -= A.transpose(0, 2, 1)
-        k = (2 / (1 + np.einsum("ka,ka->k", a, a)))[:, None, None]
-        T_rel = np.eye(3) + k * (A @ A - A)
+        T_rel = cayley_rotation(q @ Psi.T if self.n_modes else np.zeros((nt, 3)))
         T = np.einsum("kji,kjl->kil", T_rel, T_a)  # T_rel^T T_a
         return t, q, np.asarray(result[f"{self.path}.r_0"], dtype=float).reshape(nt, 3), T
+
+    def load_amplitudes(self, result: Any) -> np.ndarray:
+        """Amplitudes of the modal data's unit load cases over a result, for mode-acceleration recovery.
+
+        ``acc_*``: ``T (a_0 − g)``, the reference origin's acceleration less gravity in body axes [m/s2];
+        ``alpha_*``: ``z`` [rad/s2]; ``omega_aa``: ``w_a²``, ``omega_ab``: ``w_a w_b`` [rad2/s2]; ``F{node}_{c}``:
+        the cut force [N] or torque [N m] on the body at that node's frame, in body axes (zero at an interface node
+        without a frame). These are the loads the equations apply, so ``Phi q + sum_c R_c l_c`` (with
+        :meth:`ModalData.residual_fields`) is the mode-acceleration recovery of the deformation.
+
+        Parameters
+        ----------
+        result : Result
+            A result of a model containing this body.
+
+        Returns
+        -------
+        ndarray (nt, C)
+            Amplitudes in the order of ``modal_data.load_cases``.
+
+        Raises
+        ------
+        ValueError
+            The modal data hold no static load responses.
+        """
+        d = self._data
+        if d.load_cases is None:
+            d.residual_fields()  # raises the explanatory error
+        t, _q, _r0, T = self.motion(result)
+        nt = t.size
+        g = _result_gravity(self, result)
+        a_0 = np.asarray(result[f"{self.path}.a_0"], dtype=float).reshape(nt, 3)
+        w = np.asarray(result[f"{self.path}.w"], dtype=float).reshape(nt, 3)
+        z = np.asarray(result[f"{self.path}.z"], dtype=float).reshape(nt, 3)
+        alpha = np.einsum("kij,kj->ki", T, a_0 - g)
+        axes = "xyz"
+        values: dict[str, np.ndarray] = {}
+        for a in range(3):
+            values[f"acc_{axes[a]}"] = alpha[:, a]
+            values[f"alpha_{axes[a]}"] = z[:, a]
+            values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
+        for a, b in ((0, 1), (1, 2), (2, 0)):
+            values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
+        for node, frame in zip(self.frame_nodes, frame_names(len(self.frame_nodes)), strict=True):
+            Tf = np.asarray(result[f"{self.path}.{frame}.T"], dtype=float).reshape(nt, 3, 3, order="F")
+            to_body = np.einsum("kij,klj->kil", T, Tf)  # T_body T_frame^T = T_rel^T
+            for kind, offset in (("f", 0), ("t", 3)):
+                load = np.einsum("kij,kj->ki", to_body, np.asarray(result[f"{self.path}.{frame}.{kind}"],
+                                                                      dtype=float).reshape(nt, 3))
+                for i in range(3):
+                    values[f"F{node}_{_COMPONENTS[offset + i]}"] = load[:, i]
+        carried = {int(k) for k in d.interface_nodes}  # the reduction made load cases for all their free DOFs
+        for node, frame in zip(self.frame_nodes, frame_names(len(self.frame_nodes)), strict=True):
+            if node not in carried and np.abs(np.column_stack(
+                    [values[f"F{node}_{c}"] for c in _COMPONENTS])).max(initial=0.0) > 0.0:
+                raise ValueError(f"{self.path}.{frame}: loads at node {node}, but the modal data {d.title!r} hold no "
+                                 f"static responses for loads there (its load cases cover the interface nodes "
+                                 f"{sorted(carried)}): make node {node} an interface node of the "
+                                 "reduction for mode-acceleration recovery")
+        zero = np.zeros(nt)
+        return np.column_stack([values.get(c, zero) for c in d.load_cases]) if d.load_cases else np.zeros((nt, 0))
 
     def structure_key(self) -> Any:
         """The modal data's content hash: a changed file rebuilds the compiled model, a moved one does not."""
@@ -470,3 +526,46 @@ def _choose_modes(data: ModalData, modes: int | Sequence[int] | None, max_freque
                          f"({data.n_modes} modes: 0..{data.n_modes - 1})")
     out = data.select(idx)
     return out if max_frequency is None else select_modes(out, max_frequency=max_frequency)
+
+
+def cayley_rotation(theta: np.ndarray) -> np.ndarray:
+    """The exact rotation ``T_rel`` (body → node axes) a frame gets from its node's elastic rotation vector.
+
+    The Cayley map of ``a = theta / 2``: ``T_rel = I + 2 (A² − A) / (1 + |a|²)`` with ``A = [a×]``; orthogonal
+    for any ``theta`` and ``I − [theta×]`` to first order (the frame equations of :class:`FlexibleBody`).
+
+    Parameters
+    ----------
+    theta : ndarray (..., 3)
+        Small-rotation vectors [rad] in body axes.
+
+    Returns
+    -------
+    ndarray (..., 3, 3)
+    """
+    a = np.asarray(theta, dtype=float) / 2
+    A = np.zeros((*a.shape[:-1], 3, 3))
+    A[..., 0, 1], A[..., 0, 2], A[..., 1, 2] = -a[..., 2], a[..., 1], -a[..., 0]
+    A -= np.swapaxes(A, -1, -2)
+    k = (2 / (1 + np.einsum("...a,...a->...", a, a)))[..., None, None]
+    return np.eye(3) + k * (A @ A - A)
+
+
+def _result_gravity(body: Any, result: Any) -> np.ndarray:
+    """The World's gravity vector [m/s2] used in ``result`` (its recorded parameters, else the model's)."""
+    worlds = [n for n in body.root.walk() if isinstance(n, World)]
+    if len(worlds) != 1:
+        raise ModelError(f"{body.path}: the model needs exactly one World (found {len(worlds)})")
+    world = worlds[0]
+    params = getattr(result, "parameters", {}) or {}
+
+    def value(name: str, shape: int | None) -> np.ndarray:
+        default = np.asarray(world.parameter_value(name), dtype=float)
+        if shape is None:
+            key = f"{world.path}.{name}"
+            return np.asarray(params[key][0], dtype=float) if key in params else default
+        keys = [f"{world.path}.{name}[{i}]" for i in range(shape)]
+        return np.array([params[k][0] for k in keys], dtype=float) if all(k in params for k in keys) else default
+
+    g, n = float(value("g", None)), value("n", 3)
+    return g * n / np.linalg.norm(n)

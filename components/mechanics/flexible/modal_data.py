@@ -59,7 +59,13 @@ _DATASETS: dict[str, tuple[str, bool, bool]] = {
     "damping_ratio": ("modes/damping_ratio", False, False),
     "stress_modes": ("modes/stress", False, False),
     "section_forces": ("modes/section_forces", False, False),
+    "static_translations": ("static_loads/translations", False, False),
+    "static_rotations": ("static_loads/rotations", False, False),
+    "static_modal_loads": ("static_loads/modal_loads", False, False),
+    "static_section_forces": ("static_loads/section_forces", False, False),
+    "static_stress": ("static_loads/stress", False, False),
 }
+_STATIC = ("static_translations", "static_rotations", "static_modal_loads", "static_section_forces", "static_stress")
 _REL = 1e-9  # relative tolerance of the symmetry and consistency checks
 
 
@@ -121,6 +127,16 @@ class ModalData:
     geometric_stiffness : mapping of str to ndarray (M, M), optional
         Modal geometric stiffness per unit load case [N/m per unit coordinate and unit load] (see
         :mod:`.geometric`): ``acc_x..z``, ``alpha_x..z``, ``omega_xx..zx``, ``F{node}_{ux..rz}``.
+    load_cases : tuple of str, optional
+        Names of the unit load cases of the static responses (as for ``geometric_stiffness``); stored as the JSON
+        attribute ``cases`` of the group ``/static_loads``.
+    static_translations, static_rotations : ndarray (C, N, 3), optional
+        The body's exact elastic static response to each unit load case (all FE modes, with inertia relief for
+        the rigid-body modes the reference frame carries) [m, rad per unit load].
+    static_modal_loads : ndarray (C, M), optional
+        Modal loads ``Phi^T f`` of each unit load case [N per unit load].
+    static_section_forces : ndarray (C, E, 2, 6), optional; static_stress : ndarray (C, N, 6), optional
+        Section forces and stresses of the static responses (as ``section_forces`` and ``stress_modes``).
     provenance : dict
         How the data were made (reduction, FE source, settings); JSON-serialisable.
     units : dict
@@ -156,6 +172,12 @@ class ModalData:
     faces: np.ndarray | None = None
     section_forces: np.ndarray | None = None
     geometric_stiffness: Mapping[str, np.ndarray] | None = None
+    load_cases: tuple[str, ...] | None = None
+    static_translations: np.ndarray | None = None
+    static_rotations: np.ndarray | None = None
+    static_modal_loads: np.ndarray | None = None
+    static_section_forces: np.ndarray | None = None
+    static_stress: np.ndarray | None = None
     provenance: Mapping[str, Any] = field(default_factory=dict)
     date: str = field(default_factory=lambda: _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"))
     units: Mapping[str, str] = field(default_factory=lambda: dict(SI_UNITS))
@@ -227,7 +249,50 @@ class ModalData:
             stress_modes=None if self.stress_modes is None else self.stress_modes[idx],
             section_forces=None if self.section_forces is None else self.section_forces[idx],
             geometric_stiffness=None if self.geometric_stiffness is None else
-            {k: v[np.ix_(idx, idx)] for k, v in self.geometric_stiffness.items()}, provenance=prov)
+            {k: v[np.ix_(idx, idx)] for k, v in self.geometric_stiffness.items()},
+            static_modal_loads=None if self.static_modal_loads is None else self.static_modal_loads[:, idx],
+            provenance=prov)
+
+    # ------------------------------------------------------------------ mode-acceleration recovery
+    def residual_fields(self) -> dict[str, np.ndarray]:
+        """Residual (truncated-mode) static responses of the unit load cases for the current modes.
+
+        ``R_c = u_c - Phi K^-1 Phi^T f_c``: the part of the exact static response ``u_c`` to load case ``c``
+        that the kept modes ``Phi`` (generalised stiffness ``K``) leave out. An output recovered as
+        ``Phi q + sum_c R_c l_c(t)`` with the load amplitudes ``l_c(t)`` is the mode-acceleration method
+        (Craig & Kurdila 2006, §10.4): the truncated modes respond quasi-statically.
+
+        Returns
+        -------
+        dict
+            ``cases`` (tuple of str) and, per stored field, ``translations``, ``rotations`` (C, N, 3) [m, rad per
+            unit load], ``section_forces`` (C, E, 2, 6) and ``stress`` (C, N, 6) when present.
+
+        Raises
+        ------
+        ValueError
+            The data hold no static load responses (made with ``static_loads=False`` or by another producer).
+        """
+        if self.load_cases is None:
+            raise ValueError(f"modal data {self.title!r}: no static load responses (dataset '/static_loads'); make "
+                             "the data with modal_data_from_fe(..., static_loads=True)")
+        K = self.generalized_stiffness
+        if self.n_modes:
+            coef = np.linalg.lstsq(K, self.static_modal_loads.T, rcond=None)[0]  # (M, C)
+        else:
+            coef = np.zeros((0, len(self.load_cases)))
+        out: dict[str, Any] = {"cases": self.load_cases}
+        pairs = (("translations", "static_translations", self.translational_modes),
+                 ("rotations", "static_rotations", self.rotational_modes),
+                 ("section_forces", "static_section_forces", self.section_forces),
+                 ("stress", "static_stress", self.stress_modes))
+        for key, attr, modes in pairs:
+            full = getattr(self, attr)
+            if full is None or (modes is None and self.n_modes):
+                continue
+            kept = np.zeros_like(full) if modes is None else np.tensordot(coef.T, modes, axes=(1, 0))
+            out[key] = full - kept
+        return out
 
     # ------------------------------------------------------------------ hashing
     def content_hash(self) -> str:
@@ -237,7 +302,9 @@ class ModalData:
         written again, or under another name, hashes the same: the compiled-model cache keys on content."""
         h = hashlib.sha256()
         h.update(json.dumps({"format": FORMAT, "format_version": int(self.format_version), "units": dict(self.units),
-                             "mass_description": self.mass_description}, sort_keys=True).encode())
+                             "mass_description": self.mass_description,
+                             "load_cases": None if self.load_cases is None else list(self.load_cases)},
+                            sort_keys=True).encode())
         for name, array in self._arrays():
             h.update(name.encode() + b"\0")
             if array is None:
@@ -293,6 +360,8 @@ class ModalData:
                     if array is not None:
                         f.create_dataset(name, data=array)
                 f["invariants"].attrs["mass_description"] = self.mass_description
+                if self.load_cases is not None:
+                    f["static_loads"].attrs["cases"] = json.dumps(list(self.load_cases))
                 f.attrs["provenance"] = json.dumps(dict(self.provenance), sort_keys=True, default=str)
             os.replace(tmp, path)
         except (OSError, TypeError, ValueError) as exc:
@@ -394,6 +463,12 @@ def _read_all(f: h5py.File, name: str) -> dict[str, Any]:
     else:
         out["geometric_stiffness"] = None
     out["mass_description"] = text("invariants", "mass_description")
+    out["load_cases"] = None
+    if "static_loads" in f:
+        try:
+            out["load_cases"] = json.loads(text("static_loads", "cases"))
+        except ValueError as exc:
+            raise ModalFileError(f"{name}: dataset '/static_loads' attribute 'cases' is not JSON: {exc}") from None
     prov = f.attrs.get("provenance", "{}")
     try:
         out["provenance"] = json.loads(prov.decode() if isinstance(prov, bytes) else prov)
@@ -538,6 +613,7 @@ def _validate(d: ModalData) -> dict[str, Any]:
             geo[k] = _numeric(f"geometric_stiffness/{k}", v, (m, m))
             _symmetric(f"geometric_stiffness/{k}", geo[k], definite=None)
         out["geometric_stiffness"] = MappingProxyType(geo)
+    out.update(_validate_static(d, p, m, N, n_el))
     if not isinstance(d.invariants, Mapping):
         raise _Invalid("invariants", "must map I1..I9 to arrays")
     inv = {}
@@ -560,3 +636,34 @@ def _validate(d: ModalData) -> dict[str, Any]:
     out["format_version"] = int(d.format_version)
     return out
 
+
+
+def _validate_static(d: ModalData, p: dict[str, str], m: int, N: int, n_el: int) -> dict[str, Any]:
+    """The static load responses: all or none, names unique, shapes consistent with the cases and modes."""
+    out: dict[str, Any] = {attr: None for attr in _STATIC}
+    cases = d.load_cases
+    if cases is None:
+        present = [p[a] for a in _STATIC if getattr(d, a) is not None]
+        if present:
+            raise _Invalid(present[0], "is given without the load case names (attribute 'cases' of "
+                                       "'/static_loads')")
+        out["load_cases"] = None
+        return out
+    if (isinstance(cases, str) or not isinstance(cases, Sequence)
+            or not all(isinstance(c, str) and c and "/" not in c for c in cases)):
+        raise _Invalid("static_loads", f"attribute 'cases' must be a list of non-empty names without '/', "
+                                       f"got {cases!r}")
+    if len(set(cases)) != len(cases):
+        raise _Invalid("static_loads", "attribute 'cases' names a load case twice")
+    C = len(cases)
+    out["load_cases"] = tuple(cases)
+    shapes = {"static_translations": (C, N, 3), "static_rotations": (C, N, 3), "static_modal_loads": (C, m),
+              "static_section_forces": (C, n_el, 2, 6), "static_stress": (C, N, 6)}
+    for attr, shape in shapes.items():
+        value = getattr(d, attr)
+        if value is None:
+            if attr in ("static_translations", "static_rotations", "static_modal_loads"):
+                raise _Invalid(p[attr], "is missing (the file has '/static_loads' cases)")
+            continue
+        out[attr] = _numeric(p[attr], value, shape)
+    return out

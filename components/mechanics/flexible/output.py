@@ -10,6 +10,12 @@ module recovers, at any node ``p`` with undeformed position ``s_p`` and mode sha
 - world position ``r_p = r_0 + T^T (s_p + u_p)`` [m] (floating frame of reference, Shabana ch. 5);
 - stress ``sigma_p = S_p q`` [Pa] (modal stress recovery: superposition of the stress modes) and its von Mises
   equivalent stress;
+- optionally, by the *mode-acceleration method*, the quasi-static response of the modes the body left out:
+  ``u_p = Phi_p q + sum_c R_cp l_c(t)`` with the residual static responses ``R_c`` of the unit load cases
+  (:meth:`ModalData.residual_fields`) and their amplitudes ``l_c(t)`` in the run
+  (:meth:`FlexibleBody.load_amplitudes`); pass ``loads=``. Loads applied at a point excite many modes a little
+  each, and quantities near the load (the slope at a driven pin, the stress at a joint) converge slowly with
+  the number of modes in plain modal superposition; the residual term restores their static part exactly;
 
 and gives the drawing functions of :mod:`.drawing` (VTK series for ParaView, matplotlib stills and animations)
 their fields.
@@ -18,6 +24,9 @@ References
 ----------
 - A. A. Shabana, *Dynamics of Multibody Systems*, 3rd ed., 2005, ch. 5 (floating frame of reference, modal
   superposition of deformation and stress).
+- R. R. Craig, A. J. Kurdila, *Fundamentals of Structural Dynamics*, 2nd ed., Wiley 2006, §10.4 (the
+  mode-acceleration method); O. Dickens, J. M. Nakagawa, M. J. Wittbrodt, "A critique of mode acceleration and
+  modal truncation augmentation methods for modal response analysis", *Comput. Struct.* 62 (1997) 985–998.
 - R. von Mises, "Mechanik der festen Körper im plastisch-deformablen Zustand", *Göttinger Nachrichten* (1913);
   the equivalent stress ``sqrt(((sxx-syy)^2 + (syy-szz)^2 + (szz-sxx)^2) / 2 + 3 (sxy^2 + syz^2 + szx^2))``.
 """
@@ -33,7 +42,8 @@ from flexlib.errors import ModalFileError, RunArgumentError
 
 from .modal_data import ModalData
 
-__all__ = ["deformed_positions", "nodal_stress", "node_displacements", "node_rotations", "von_mises"]
+__all__ = ["deformed_positions", "nodal_stress", "node_displacements", "node_rotations", "section_forces",
+           "von_mises"]
 
 FIELDS = ("displacement", "rotation", "von_mises", "stress")
 _ORTHO_TOL = 1e-6  # |T T^T - I| above which an orientation is refused
@@ -140,16 +150,47 @@ def _stress_modes(data: ModalData, func: str) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------- nodal quantities
-def _superpose(func: str, data: Any, q: Any, nodes: Sequence[int] | np.ndarray | None, kind: str) -> np.ndarray:
-    """``sum_j q_j X_j`` at the nodes for the mode arrays ``X`` of one kind (arguments checked first)."""
+_RESIDUAL = {"translational": "translations", "rotational": "rotations", "stress": "stress",
+             "section_forces": "section_forces"}
+
+
+def _residual(func: str, data: ModalData, kind: str, loads: Any, nt: int,
+              single: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The residual static responses of ``kind`` (C, n, ...) and the load amplitudes ``loads`` as (nt, C)."""
+    try:
+        fields = data.residual_fields()
+    except ValueError as exc:
+        raise ModalFileError(f"{func}: {exc}") from None
+    key = _RESIDUAL[kind]
+    if key not in fields:
+        raise ModalFileError(f"{func}: {_name(data)} has no static load responses for {key} "
+                             f"(dataset '/static_loads/{key}')")
+    C = len(fields["cases"])
+    a = _array(func, "loads", loads)
+    if single and a.ndim == 1:
+        a = a[None, :]
+    if a.ndim != 2 or a.shape != (nt, C):
+        raise RunArgumentError(f"{func}: argument 'loads' has shape {a.shape}, expected ({nt}, {C}): one amplitude "
+                               f"per load case {list(fields['cases'][:4])}... of {_name(data)} and instant")
+    return fields[key], a
+
+
+def _superpose(func: str, data: Any, q: Any, nodes: Sequence[int] | np.ndarray | None, kind: str,
+               loads: Any = None) -> np.ndarray:
+    """``sum_j q_j X_j`` (+ ``sum_c l_c R_c``) at the nodes for the fields ``X`` of one kind (arguments checked)."""
     data = _check_data(data, func)
     modes = _stress_modes(data, func) if kind == "stress" else getattr(data, f"{kind}_modes")
     q2, single = _modal_coordinates(data, q, func)
-    out = np.einsum("tm,mnk->tnk", q2, modes[:, _node_indices(data, nodes, func), :])
+    idx = _node_indices(data, nodes, func)
+    out = np.einsum("tm,mnk->tnk", q2, modes[:, idx, :])
+    if loads is not None:
+        R, amp = _residual(func, data, kind, loads, q2.shape[0], single)
+        out = out + np.einsum("tc,cnk->tnk", amp, R[:, idx, :])
     return out[0] if single else out
 
 
-def node_displacements(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | None = None) -> np.ndarray:
+def node_displacements(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | None = None, *,
+                       loads: Any = None) -> np.ndarray:
     """Elastic displacement ``u_p = Phi_p q`` of nodes relative to the floating frame, in body axes.
 
     Parameters
@@ -160,6 +201,9 @@ def node_displacements(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarra
         Modal coordinates over time (or at one instant) [1].
     nodes : sequence of int, optional
         Node ids (as in ``data.node_ids``); default all nodes in file order.
+    loads : array_like (nt, C) or (C,), optional
+        Amplitudes of the data's unit load cases (:meth:`FlexibleBody.load_amplitudes`): adds the left-out
+        modes' static response (mode-acceleration method, module docstring).
 
     Returns
     -------
@@ -171,10 +215,11 @@ def node_displacements(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarra
     RunArgumentError
         ``q`` of the wrong shape (naming the number of modes) or non-finite; an unknown node id.
     """
-    return _superpose("node_displacements", data, q, nodes, "translational")
+    return _superpose("node_displacements", data, q, nodes, "translational", loads)
 
 
-def node_rotations(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | None = None) -> np.ndarray:
+def node_rotations(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | None = None, *,
+                   loads: Any = None) -> np.ndarray:
     """Small elastic rotation ``theta_p = Phi*_p q`` of nodes relative to the floating frame, in body axes.
 
     Parameters
@@ -185,6 +230,9 @@ def node_rotations(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | 
         Modal coordinates [1].
     nodes : sequence of int, optional
         Node ids; default all nodes.
+    loads : array_like (nt, C) or (C,), optional
+        Amplitudes of the data's unit load cases (:meth:`FlexibleBody.load_amplitudes`): adds the left-out
+        modes' static response (mode-acceleration method, module docstring).
 
     Returns
     -------
@@ -196,7 +244,7 @@ def node_rotations(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | 
     RunArgumentError
         As :func:`node_displacements`.
     """
-    return _superpose("node_rotations", data, q, nodes, "rotational")
+    return _superpose("node_rotations", data, q, nodes, "rotational", loads)
 
 
 def deformed_positions(data: ModalData, q: Any, r_0: Any, T: Any, nodes: Sequence[int] | np.ndarray | None = None,
@@ -241,7 +289,8 @@ def deformed_positions(data: ModalData, q: Any, r_0: Any, T: Any, nodes: Sequenc
     return out[0] if single else out
 
 
-def nodal_stress(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | None = None) -> np.ndarray:
+def nodal_stress(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | None = None, *,
+                 loads: Any = None) -> np.ndarray:
     """Stress ``sigma_p = sum_j q_j S_jp`` at nodes from the stress modes, body axes.
 
     Parameters
@@ -252,6 +301,9 @@ def nodal_stress(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | No
         Modal coordinates [1].
     nodes : sequence of int, optional
         Node ids; default all nodes.
+    loads : array_like (nt, C) or (C,), optional
+        Amplitudes of the data's unit load cases (:meth:`FlexibleBody.load_amplitudes`): adds the left-out
+        modes' static response (mode-acceleration method, module docstring).
 
     Returns
     -------
@@ -265,7 +317,44 @@ def nodal_stress(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | No
     RunArgumentError
         As :func:`node_displacements`.
     """
-    return _superpose("nodal_stress", data, q, nodes, "stress")
+    return _superpose("nodal_stress", data, q, nodes, "stress", loads)
+
+
+def section_forces(data: ModalData, q: Any, *, loads: Any = None) -> np.ndarray:
+    """Beam section forces ``(N, Vy, Vz, T, My, Mz)`` at both ends of every element, element axes.
+
+    Parameters
+    ----------
+    data : ModalData
+        Modal data of a beam model (``/modes/section_forces``).
+    q : array_like (nt, M) or (M,)
+        Modal coordinates [1].
+    loads : array_like (nt, C) or (C,), optional
+        Load-case amplitudes for mode-acceleration recovery (as :func:`node_displacements`).
+
+    Returns
+    -------
+    ndarray (nt, E, 2, 6) or (E, 2, 6)
+        Forces [N] and moments [N m].
+
+    Raises
+    ------
+    ModalFileError
+        The data has no section forces (not a beam model) or, with ``loads``, no static load responses.
+    RunArgumentError
+        ``q`` or ``loads`` of the wrong shape.
+    """
+    func = "section_forces"
+    data = _check_data(data, func)
+    if data.section_forces is None:
+        raise ModalFileError(f"{func}: {_name(data)} has no section forces (dataset '/modes/section_forces'): "
+                             "only beam models made by beam_mesh have them")
+    q2, single = _modal_coordinates(data, q, func)
+    out = np.einsum("tm,mekl->tekl", q2, data.section_forces)
+    if loads is not None:
+        R, amp = _residual(func, data, "section_forces", loads, q2.shape[0], single)
+        out = out + np.einsum("tc,cekl->tekl", amp, R)
+    return out[0] if single else out
 
 
 def von_mises(stress: Any) -> np.ndarray:

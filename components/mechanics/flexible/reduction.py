@@ -37,7 +37,7 @@ import scipy.sparse.linalg as sla
 from .fe_model import FEModel
 from .invariants import inertia_invariants
 
-__all__ = ["CraigBamptonResult", "craig_bampton", "modal_data_from_fe"]
+__all__ = ["CraigBamptonResult", "craig_bampton", "elastic_static_responses", "modal_data_from_fe"]
 
 _DENSE_LIMIT = 400  # interior DOFs up to which the fixed-interface eigenproblem is solved densely
 
@@ -194,7 +194,7 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
                        stress_fibre: tuple[float, float] | None = None,
                        geometric_stiffening: bool = False, support_nodes: Sequence[int] | None = None,
                        reference_node: int | None = None,
-                       attachment: Literal["clamped", "pinned"] = "clamped") -> Any:
+                       attachment: Literal["clamped", "pinned"] = "clamped", static_loads: bool = True) -> Any:
     """Reduce an FE model by Craig–Bampton and assemble a :class:`ModalData` (modes per node, generalised
     matrices, frequencies, the nine inertia invariants, body properties and provenance).
 
@@ -237,6 +237,10 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         pinned modes are the hinged body's own modes: the modal equations decouple from the rotation, fewer
         modes converge, and the reference frame's angular velocity is the body's gross rotation (what the
         centrifugal geometric stiffening needs).
+    static_loads : bool
+        Store the body's exact elastic static response to the unit load cases (inertial: ``acc_*``,
+        ``alpha_*``, ``omega_**``; interface: ``F{node}_{ux..rz}``) with their modal loads, so that outputs can be
+        recovered by the mode-acceleration method (:meth:`ModalData.residual_fields`).
 
     Returns
     -------
@@ -279,6 +283,19 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         cases = inertial_load_cases(fe) | interface_load_cases(fe, [k for k in interface_nodes if k not in support])
         geometric = modal_geometric_stiffness(fe, cb.modes, support, cases)
     trans, rot = fe.nodal_fields(cb.modes)
+    static: dict[str, Any] = {}
+    if static_loads:
+        from .geometric import inertial_load_cases, interface_load_cases
+
+        cases = inertial_load_cases(fe) | interface_load_cases(fe, interface_nodes)
+        names = list(cases)
+        loads = np.column_stack([cases[k] for k in names])
+        u = elastic_static_responses(fe, loads, rigid)
+        s_trans, s_rot = fe.nodal_fields(u)
+        static = {"load_cases": tuple(names), "static_translations": s_trans, "static_rotations": s_rot,
+                  "static_modal_loads": loads.T @ cb.modes,
+                  "static_section_forces": None if fe.beam is None else section_force_modes(fe, u),
+                  "static_stress": None if stress_fibre is None else beam_stress_modes(fe, u, stress_fibre)}
     provenance = {
         "method": "improved Craig-Bampton (orthonormalised)" if orthogonalize else "Craig-Bampton",
         "interface_nodes": interface_nodes,
@@ -304,7 +321,49 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         damping_ratio=damping_ratio, provenance=provenance,
         section_forces=None if fe.beam is None else section_force_modes(fe, cb.modes),
         stress_modes=None if stress_fibre is None else beam_stress_modes(fe, cb.modes, stress_fibre),
-        geometric_stiffness=geometric)
+        geometric_stiffness=geometric, **static)
+
+
+def elastic_static_responses(fe: FEModel, loads: np.ndarray, rigid: np.ndarray | None = None) -> np.ndarray:
+    """Exact elastic static responses ``u = G f`` of a body to load vectors, with inertia relief if it has
+    rigid-body modes.
+
+    ``G = sum_k phi_k phi_k^T / omega_k^2`` over *all* elastic eigenmodes of ``(K, M)`` mass-orthogonal to the
+    rigid-body modes ``R``, computed without eigenmodes from the sparse saddle-point system
+    ``[[K, M R], [R^T M, 0]] [u; lam] = [f; 0]``: the load is balanced by the rigid-body d'Alembert forces
+    ``-M R lam`` (inertia relief) and ``u`` is mass-orthogonal to ``R``. Subtracting the kept modes' share gives
+    the residual flexibility of the mode-acceleration method (Craig & Kurdila 2006, §10.4 and §14.6).
+
+    Parameters
+    ----------
+    fe : FEModel
+        The model the modes were computed on (after any attachment constraints).
+    loads : ndarray (n, C)
+        Load vectors on the FE DOFs [N, N m].
+    rigid : ndarray (n, r), optional
+        Rigid-body modes of ``fe`` (its stiffness null space); ``None`` if ``K`` is nonsingular.
+
+    Returns
+    -------
+    ndarray (n, C)
+        Displacement fields [m, rad].
+    """
+    loads = np.asarray(loads, dtype=float).reshape(fe.n_dofs, -1)
+    K = sp.csc_matrix(fe.K)
+    if rigid is None or rigid.shape[1] == 0:
+        A, rhs = K, loads
+    else:
+        MR = sp.csc_matrix(fe.M @ rigid)
+        A = sp.bmat([[K, MR], [MR.T, None]], format="csc")
+        rhs = np.vstack([loads, np.zeros((rigid.shape[1], loads.shape[1]))])
+    try:
+        u = np.asarray(sla.splu(A).solve(rhs))[: fe.n_dofs]
+    except RuntimeError as exc:
+        raise ValueError(f"elastic_static_responses: the FE model ({fe.n_dofs} DOFs) has rigid-body motion that "
+                         f"is neither held nor given as rigid-body modes (stiffness singular: {exc})") from None
+    if not np.all(np.isfinite(u)):
+        raise ValueError("elastic_static_responses: non-finite static response (singular stiffness)")
+    return u
 
 
 def _rotations_about(fe: FEModel, centre: np.ndarray) -> np.ndarray:
