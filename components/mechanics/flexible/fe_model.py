@@ -231,6 +231,100 @@ class FEModel:
                        mass_points=None if self.mass_points is None else self.mass_points.drop_dofs(keep), info=info,
                        unit_loads=loads, beam=None if self.beam is None else self.beam.drop_dofs(new_index))
 
+    def with_point_masses(self, node_ids: Sequence[int] | np.ndarray, masses: Sequence[float] | np.ndarray,
+                          offsets: Sequence[Sequence[float]] | np.ndarray | None = None,
+                          inertias: Sequence[Any] | np.ndarray | None = None) -> FEModel:
+        """The model with rigid point masses attached to nodes (non-structural mass: a pipe, a hose, a bracket).
+
+        Each mass ``m`` sits at ``offset`` ``d`` from its node and moves rigidly with it: its displacement is
+        ``u + theta x d = [I, -[d x]] (u, theta)``, so it adds ``N^T m N + [0, I]^T J [0, I]`` to the node's
+        6 x 6 block of ``M`` (Nastran's ``CONM2`` with an offset) and joins the mass points the inertia
+        invariants sum over.
+
+        Parameters
+        ----------
+        node_ids : sequence of int
+            Node (ids) each mass is attached to (a node may carry several).
+        masses : sequence of float
+            Masses [kg], >= 0.
+        offsets : array_like (k, 3), optional
+            Position of each mass relative to its node, body axes [m]; default 0. A nonzero offset needs the
+            node's three rotations.
+        inertias : array_like (k, 3, 3), optional
+            Rotational inertia of each mass about its own centre, body axes [kg m2] (symmetric, positive
+            semidefinite); default 0.
+
+        Returns
+        -------
+        FEModel
+
+        Raises
+        ------
+        ValueError
+            Unknown node, negative or non-finite mass, wrong shapes, an offset on a node without rotations.
+        """
+        idx = self.node_index(node_ids)
+        k = idx.size
+        m = np.asarray(masses, dtype=float).reshape(-1)
+        d = np.zeros((k, 3)) if offsets is None else np.asarray(offsets, dtype=float).reshape(k, 3)
+        J = np.zeros((k, 3, 3)) if inertias is None else np.asarray(inertias, dtype=float).reshape(k, 3, 3)
+        if m.shape != (k,):
+            raise ValueError(f"FEModel.with_point_masses: {k} nodes but {m.size} masses")
+        for name, a in (("masses", m), ("offsets", d), ("inertias", J)):
+            if not np.all(np.isfinite(a)):
+                raise ValueError(f"FEModel.with_point_masses: argument {name!r} has non-finite values")
+        if np.any(m < 0):
+            raise ValueError(f"FEModel.with_point_masses: negative mass {float(m[m < 0][0])!r} kg at node "
+                             f"{int(self.node_ids[idx[np.argmax(m < 0)]])}")
+        if np.abs(J - J.transpose(0, 2, 1)).max(initial=0.0) > 1e-12 * max(np.abs(J).max(initial=0.0), 1.0) or \
+                np.any(np.linalg.eigvalsh((J + J.transpose(0, 2, 1)) / 2) < -1e-12 * max(np.abs(J).max(initial=0.0),
+                                                                                         1.0)):
+            raise ValueError("FEModel.with_point_masses: inertias must be symmetric positive semidefinite")
+        rows_t, rows_r, cols_t, cols_r, vals_t = [], [], [], [], []
+        add = sp.lil_matrix((self.n_dofs, self.n_dofs))
+        loads = np.zeros((self.n_dofs, 3))
+        base = 0 if self.mass_points is None else self.mass_points.masses.size
+        for j in range(k):
+            dof = self.dof_map[idx[j]]
+            if np.any(dof[:3] < 0) or ((np.any(d[j]) or np.any(J[j])) and np.any(dof[3:] < 0)):
+                raise ValueError(f"FEModel.with_point_masses: node {int(self.node_ids[idx[j]])} lacks the DOFs the "
+                                 "mass needs (translations; rotations for an offset or inertia): attach it before "
+                                 "constraining the node")
+            N = np.zeros((3, 6))
+            N[:, :3] = np.eye(3)
+            dx = np.array([[0.0, -d[j, 2], d[j, 1]], [d[j, 2], 0.0, -d[j, 0]], [-d[j, 1], d[j, 0], 0.0]])
+            N[:, 3:] = -dx
+            block = m[j] * N.T @ N
+            block[3:, 3:] += J[j]
+            live = np.flatnonzero(dof >= 0)
+            add[np.ix_(dof[live], dof[live])] += block[np.ix_(live, live)]
+            loads[dof[live]] += (m[j] * N.T)[live]
+            for a in range(3):
+                for c in live:
+                    if N[a, c] != 0.0:
+                        rows_t.append(3 * (base + j) + a)
+                        cols_t.append(dof[c])
+                        vals_t.append(N[a, c])
+                if dof[3 + a] >= 0:
+                    rows_r.append(3 * (base + j) + a)
+                    cols_r.append(dof[3 + a])
+        M = (self.M + add.tocsr()).tocsr()
+        points = self.mass_points
+        if points is not None:
+            shape = (3 * (base + k), self.n_dofs)
+            Nt = sp.vstack([points.Nt, sp.csr_matrix((3 * k, self.n_dofs))]).tocsr() + sp.csr_matrix(
+                (vals_t, (rows_t, cols_t)), shape=shape)
+            Nr = sp.vstack([points.Nr, sp.csr_matrix((3 * k, self.n_dofs))]).tocsr() + sp.csr_matrix(
+                (np.ones(len(rows_r)), (rows_r, cols_r)), shape=shape)
+            points = MassPoints(np.vstack([points.positions, self.nodes[idx] + d]),
+                                np.concatenate([points.masses, m]), np.concatenate([points.inertias, J]),
+                                Nt.tocsr(), Nr.tocsr(), points.description + f" + {k} point masses")
+        info = dict(self.info)
+        info["point_masses"] = [*info.get("point_masses", []),
+                                {"count": k, "total_kg": float(m.sum())}]
+        unit_loads = None if self.unit_loads is None else self.unit_loads + loads
+        return replace(self, M=M, mass_points=points, info=info, unit_loads=unit_loads)
+
     def translation_field(self, vector: Sequence[float]) -> np.ndarray:
         """DOF vector of a uniform translation ``vector`` [m] of all nodes (rotations zero)."""
         out = np.zeros(self.n_dofs)
