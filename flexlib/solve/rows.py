@@ -164,8 +164,12 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
     n_nz = col_of.size
 
     def make_full() -> ca.Function:
-        fn = model.function("jac")
-        args = [ca.MX.sym(fn.name_in(k), fn.sparsity_in(k)) for k in range(4)]
+        if model.n <= DENSE_SETTLE:  # small: the SX Jacobian expanded (the VM beats an MX call per row)
+            fn = model.sx_function("jac")
+            args = fn.sx_in()[:4]
+        else:
+            fn = model.function("jac")
+            args = [ca.MX.sym(fn.name_in(k), fn.sparsity_in(k)) for k in range(4)]
         J0, J1 = fn(*args, 0.0), fn(*args, 1.0)
         return ca.Function("jac_settle_full", args, [ca.vertcat(ca.vec(J0.nz[:]), ca.vec(J1.nz[:]))])
 
@@ -179,29 +183,24 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
         r_all = rows.evaluate(model, "res", T[todo], Y[todo], YP[todo], P[todo])
         JV = rows.evaluate_function(full, model, full_key, T[todo], Y[todo], YP[todo], P[todo])
         data = np.where(state_nz, JV[:, n_nz:] - JV[:, :n_nz], JV[:, :n_nz])
-        steps: np.ndarray | None = None
+        steps = np.full((todo.size, model.n), np.nan)
         if model.n <= DENSE_SETTLE:  # small models: one batched dense solve
             A = np.zeros((todo.size, model.n, model.n))
             A[:, row_of, col_of] = data
             try:
                 steps = np.linalg.solve(A, r_all[:, :, None])[:, :, 0]
-            except np.linalg.LinAlgError:
-                steps = None
-        still = []
-        for k, i in enumerate(todo):
-            if steps is not None:
-                step = steps[k]
-            else:
-                try:
-                    step = spla.spsolve(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)), r_all[k])
-                except RuntimeError:
-                    continue
-            if not np.all(np.isfinite(step)):
-                continue
-            YP[i, diff] -= step[diff]
-            Y[i, ~diff] -= step[~diff]
-            size = np.abs(np.concatenate([YP[i, diff], Y[i, ~diff]])).max(initial=0.0)
-            if np.abs(step).max(initial=0.0) > 1e-12 * (size + 1e-300):
-                still.append(i)
-        todo = np.asarray(still, dtype=np.int64)
+            except np.linalg.LinAlgError:  # a singular row: solve them one by one below
+                steps[:] = np.nan
+        for k in np.flatnonzero(~np.isfinite(steps).all(axis=1)):
+            try:
+                steps[k] = spla.spsolve(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)), r_all[k])
+            except RuntimeError:
+                steps[k] = np.nan
+        ok = np.isfinite(steps).all(axis=1)
+        rows_ok, steps = todo[ok], steps[ok]
+        YP[np.ix_(rows_ok, diff)] -= steps[:, diff]
+        Y[np.ix_(rows_ok, ~diff)] -= steps[:, ~diff]
+        size = np.maximum(np.abs(YP[np.ix_(rows_ok, diff)]).max(axis=1, initial=0.0),
+                          np.abs(Y[np.ix_(rows_ok, ~diff)]).max(axis=1, initial=0.0))
+        todo = rows_ok[np.abs(steps).max(axis=1, initial=0.0) > 1e-12 * (size + 1e-300)]
     return Y, YP, int(bad.size)
