@@ -161,11 +161,34 @@ def _frame(axis: np.ndarray, y_axis: Sequence[float] | None) -> np.ndarray:
     return np.vstack([ex, np.cross(ez, ex), ez])
 
 
+def _stations(length: float, n_elements: int, nodes_at: Sequence[float]) -> np.ndarray:
+    """Node positions as fractions of ``length``: equal elements, or split at ``nodes_at`` [m] with the elements
+    shared out by part length (largest remainders; at least one per part)."""
+    at = np.asarray(list(nodes_at), dtype=float).ravel()
+    if at.size and (not np.all(np.isfinite(at)) or at.min() < 0 or at.max() > length * (1 + 1e-12)):
+        raise ValueError(f"beam_mesh: nodes_at must lie on the axis, 0 .. {length:g} m, got {at.tolist()}")
+    cuts = np.unique(np.concatenate([[0.0, 1.0], np.clip(at / length, 0.0, 1.0)]))
+    cuts = cuts[np.concatenate([[True], np.diff(cuts) > 1e-9])]
+    cuts[-1] = 1.0
+    parts = np.diff(cuts)
+    if parts.size > n_elements:
+        raise ValueError(f"beam_mesh: {parts.size} parts between the nodes_at positions need at least as many "
+                         f"elements, got n_elements={n_elements}")
+    share = parts * n_elements
+    count = np.maximum(np.floor(share).astype(int), 1)
+    while count.sum() < n_elements:
+        count[np.argmax(share - count)] += 1
+    while count.sum() > n_elements:
+        count[np.argmax(np.where(count > 1, count - share, -np.inf))] -= 1
+    return np.concatenate([np.linspace(a, b, c, endpoint=False) for a, b, c in zip(cuts[:-1], cuts[1:], count,
+                                                                                    strict=True)] + [[1.0]])
+
+
 def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, section: SectionLike, *,
               E: float, rho: float, G: float | None = None, nu: float = 0.3,
               theory: Literal["euler-bernoulli", "timoshenko"] = "euler-bernoulli",
               mass: Literal["consistent", "lumped"] = "consistent", rotary_inertia: bool | None = None,
-              y_axis: Sequence[float] | None = None) -> FEModel:
+              y_axis: Sequence[float] | None = None, nodes_at: Sequence[float] = ()) -> FEModel:
     """Mesh a straight (optionally tapered) beam from ``start`` to ``end`` into equal 3D frame elements.
 
     Parameters
@@ -197,6 +220,10 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     y_axis : sequence of 3 floats, optional
         Direction in the local ``x``-``y`` plane (section axis ``y``) [1]; default the body y axis (z for a
         beam along y).
+    nodes_at : sequence of float
+        Distances from ``start`` along the axis [m] where a node must lie (joint pins, brackets: the frames of a
+        flexible body). The beam is split there and each part gets equal elements, ``n_elements`` in all
+        (distributed by length, at least one per part).
 
     Returns
     -------
@@ -229,10 +256,11 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
         raise ValueError("beam_mesh: start and end coincide")
     R = _frame(axis, y_axis)
     T = np.kron(np.eye(4), R)
+    fractions = _stations(length, int(n_elements), nodes_at)
+    n_elements = fractions.size - 1
     n_nodes = n_elements + 1
-    nodes = p0 + np.linspace(0, 1, n_nodes)[:, None] * axis
+    nodes = p0 + fractions[:, None] * axis
     dof_map = np.arange(6 * n_nodes).reshape(n_nodes, 6)
-    L = length / n_elements
     n = 6 * n_nodes
     rows, cols, kvals, mvals = [], [], [], []
     xg, wg = np.polynomial.legendre.leggauss(_GAUSS_MASS)
@@ -242,17 +270,20 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     nt_rows, nt_cols, nt_vals, nr_vals = [], [], [], []
     k_local = np.zeros((n_elements, 12, 12))
     ends = np.zeros((3, n_elements, 2))  # A, Iy, Iz at the two ends
-    uniform: tuple[np.ndarray, ...] | None = None
+    uniform: tuple | None = None
     shapes: dict[tuple[int, float, float], tuple[np.ndarray, np.ndarray]] = {}
     for e in range(n_elements):
-        def local(xi: float, e: int = e) -> Section:
-            return _section_at(section, (e + xi) / n_elements)
+        s0, s1 = float(fractions[e]), float(fractions[e + 1])
+        L = length * (s1 - s0) if len(nodes_at) else length / n_elements
 
-        if uniform is None or callable(section):  # a uniform beam's elements are all the same
+        def local(xi: float, s0: float = s0, s1: float = s1) -> Section:
+            return _section_at(section, s0 + xi * (s1 - s0))
+
+        if uniform is None or callable(section) or abs(uniform[0] - L) > 1e-12 * L:  # equal elements: the same
             Ke, Me = element_matrices(L, local, E, G, rho, timoshenko=timoshenko, rotary_inertia=rotary,
                                       lumped=mass == "lumped")
-            uniform = (Ke, Me, T.T @ Ke @ T, T.T @ Me @ T)
-        Ke, Me, Kg, Mg = uniform
+            uniform = (L, Ke, Me, T.T @ Ke @ T, T.T @ Me @ T)
+        Ke, Me, Kg, Mg = uniform[1:]
         k_local[e] = Ke
         for end, xi in enumerate((0.0, 1.0)):
             sec = local(xi)
@@ -273,7 +304,7 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
                 if key not in shapes:
                     Nt, Nr = _shape(xi, L, phi_y, phi_z)
                     shapes[key] = ((R.T @ Nt @ T).ravel(), (R.T @ Nr @ T).ravel())
-                positions[p] = p0 + (e + xi) / n_elements * axis
+                positions[p] = p0 + (s0 + xi * (s1 - s0)) * axis
                 masses[p] = rho * sec.A * w * L
                 r = 1.0 if rotary else 0.0
                 inertias[p] = R.T @ (rho * w * L * np.diag([sec.Ip, r * sec.Iy, r * sec.Iz])) @ R
