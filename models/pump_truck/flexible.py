@@ -1,0 +1,147 @@
+"""Flexible boom sections: each section's beam mesh, its Craig–Bampton modal data, and modal files cached by content.
+
+A section ``j`` (1–5) is a uniform steel box (the record's ``b``, ``h`` and wall thickness) meshed along its
+axis by :func:`~flexlib.components.mechanics.flexible.beam_mesh` from its root pin (x = 0) to the next pin
+(x = length), with nodes at every station where something attaches (:func:`attachment_points`). The delivery
+pipe rides on top as non-structural mass: point masses on the nodes (each node's share of ``mass_per_m`` times its
+tributary length), offset ``h/2 + pipe.offset`` above the axis
+(:meth:`~flexlib.components.mechanics.flexible.FEModel.with_point_masses`; Nastran's ``CONM2``); its mass, centre
+of mass and inertia are those of :func:`models.pump_truck.statics.mass_properties` (the pipe lumped at the nodes).
+The end hose is not part of the section: the model hangs it from the tip pin in both variants.
+The reduction is Craig–Bampton with the attachment nodes as interface
+(their static constraint modes) plus fixed-interface normal modes, orthonormalised, with the reference frame
+pinned at the root (the hinged section's own modes: the frame carries the rotation about the root pin), and the
+static load responses for mode-acceleration recovery.
+
+Attachment points (section frame: origin at the root pin, ``x`` to the next pin, ``y`` up when horizontal) come
+from the record: the drive bracket ``c`` of the section's own joint (joint 1: direct cylinder; 2–5: the link's
+bracket), and on sections 1–4 the next joint's lever pivot ``P`` and cylinder housing ``H`` (given in that
+joint's frame, whose origin is this section's tip). Points off the axis — or beyond its ends, like a link bracket
+on a horn behind the root pin — are reached from the nearest axis node (the station, clamped to the section) by a
+rigid offset in the model (``FixedTranslation``), as a stiff bracket would carry them.
+
+References
+----------
+R. R. Craig, M. C. C. Bampton, *AIAA J.* 6 (1968) 1313–1319; seed 000 of issue 10 (the boom's flexible sections
+as Craig–Bampton bodies); MSC Nastran Quick Reference Guide, ``CONM2`` (offset concentrated mass).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+from flexlib.components.mechanics.flexible import FEModel, ModalData, beam_mesh, box, modal_data_from_fe
+
+from .parameters import PumpTruckParameters
+
+__all__ = ["attachment_points", "section_fe", "section_modal_data"]
+
+#: Default number of beam elements per section.
+N_ELEMENTS = 48
+#: Fixed-interface normal modes of the reduction (the kept modes are chosen from the reduced set).
+N_FIXED_MODES = 12
+
+
+def attachment_points(record: PumpTruckParameters, j: int) -> dict[str, tuple[float, float]]:
+    """Where section ``j`` (1–5) carries pins, in its section frame [m].
+
+    Returns
+    -------
+    dict
+        ``root`` (its own joint's pin, the origin), ``bracket`` (its own drive's bracket ``c``), ``tip`` (the next
+        joint's pin, or the hose hanger on section 5) and, on sections 1–4, ``lever_pivot`` and ``housing`` of the
+        next joint's lever-and-link drive.
+    """
+    if not 1 <= j <= 5:
+        raise ValueError(f"attachment_points: section number must be 1..5, got {j!r}")
+    L = record.sections[j - 1].length
+    points = {"root": (0.0, 0.0), "bracket": tuple(float(v) for v in record.drive(j).c), "tip": (L, 0.0)}
+    if j < 5:
+        nxt = record.drive(j + 1)
+        points["lever_pivot"] = (L + float(nxt.P[0]), float(nxt.P[1]))
+        points["housing"] = (L + float(nxt.H[0]), float(nxt.H[1]))
+    return points
+
+
+def section_fe(record: PumpTruckParameters, j: int, n_elements: int = N_ELEMENTS) -> tuple[FEModel, dict[str, int]]:
+    """Beam FE model of section ``j`` (1–5) with its pipe as offset point masses.
+
+    Returns
+    -------
+    fe : FEModel
+        Nodes along body ``x`` from the root pin; node ids ``0 .. n``.
+    nodes : dict of str to int
+        The node id at each attachment point's station (:func:`attachment_points`).
+    """
+    sec = record.sections[j - 1]
+    L = sec.length
+    points = attachment_points(record, j)
+    fe = beam_mesh((0.0, 0.0, 0.0), (L, 0.0, 0.0), n_elements, box(sec.b, sec.h, sec.t(record.steel.rho)),
+                   E=record.steel.E, rho=record.steel.rho, rotary_inertia=True,
+                   nodes_at=sorted({min(max(x, 0.0), L) for x, _ in points.values()}))
+    x = fe.nodes[:, 0]
+    tributary = np.zeros(x.size)
+    dx = np.diff(x)
+    tributary[:-1] += dx / 2
+    tributary[1:] += dx / 2
+    mu = record.pipe.mass_per_m
+    offset = [0.0, sec.h / 2 + record.pipe.offset, 0.0]
+    fe = fe.with_point_masses(fe.node_ids, mu * tributary, offsets=np.tile(offset, (x.size, 1)))
+    nodes = {name: int(fe.node_ids[np.argmin(np.abs(x - px))]) for name, (px, _py) in points.items()}
+    return fe, nodes
+
+
+def section_modal_data(record: PumpTruckParameters, j: int, *, n_elements: int = N_ELEMENTS,
+                       n_fixed_modes: int = N_FIXED_MODES, cache: bool = True) -> tuple[ModalData, dict[str, int]]:
+    """Craig–Bampton modal data of section ``j`` (module docstring), read from the cache when the record's data for
+    this section, the mesh and the reduction settings are unchanged.
+
+    Parameters
+    ----------
+    record : PumpTruckParameters
+        The machine's design record.
+    j : int
+        Section number 1–5.
+    n_elements : int
+        Beam elements.
+    n_fixed_modes : int
+        Fixed-interface normal modes of the reduction.
+    cache : bool
+        Read and write the modal file under ``$FLEXLIB_CACHE_DIR/pump_truck`` (default cache directory of
+        flexlib), named by the SHA-256 of everything it depends on.
+
+    Returns
+    -------
+    data : ModalData
+        All modes of the reduction (select with ``FlexibleBody(modes=...)``).
+    nodes : dict of str to int
+        Interface node id of each attachment point.
+    """
+    key = json.dumps({"section": asdict(record.sections[j - 1]), "steel": asdict(record.steel),
+                      "pipe": asdict(record.pipe),
+                      "points": attachment_points(record, j), "n_elements": n_elements,
+                      "n_fixed_modes": n_fixed_modes, "version": 1}, sort_keys=True, default=str)
+    digest = hashlib.sha256(key.encode()).hexdigest()[:24]
+    path = _cache_dir() / f"section{j}-{digest}.h5"
+    fe, nodes = section_fe(record, j, n_elements)
+    if cache and path.exists():
+        return ModalData.read(path), nodes
+    interface = sorted(set(nodes.values()))
+    data = modal_data_from_fe(fe, interface, n_fixed_modes, reference_node=nodes["root"], attachment="pinned",
+                              title=f"pump-truck boom section {j}", creator="models.pump_truck.flexible")
+    if cache:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        data.write(path)
+    return data, nodes
+
+
+def _cache_dir() -> Path:
+    from flexlib.compile.cache import cache_dir
+
+    return Path(os.environ.get("FLEXLIB_CACHE_DIR") or cache_dir()) / "pump_truck"
