@@ -7,7 +7,7 @@ pipe rides on top as non-structural mass: point masses on the nodes (each node's
 tributary length), offset ``h/2 + pipe.offset`` above the axis
 (:meth:`~flexlib.components.mechanics.flexible.FEModel.with_point_masses`; Nastran's ``CONM2``); its mass, centre
 of mass and inertia are those of :func:`models.pump_truck.statics.mass_properties` (the pipe lumped at the nodes).
-The end hose is not part of the section: the model hangs it from the tip pin in both variants.
+The end hose is a point mass at section 5's tip pin, as in the rigid model.
 The reduction is Craig–Bampton with the attachment nodes as interface
 (their static constraint modes) plus fixed-interface normal modes, orthonormalised, with the reference frame
 pinned at the root (the hinged section's own modes: the frame carries the rotation about the root pin), and the
@@ -70,7 +70,8 @@ def attachment_points(record: PumpTruckParameters, j: int) -> dict[str, tuple[fl
 
 
 def section_fe(record: PumpTruckParameters, j: int, n_elements: int = N_ELEMENTS) -> tuple[FEModel, dict[str, int]]:
-    """Beam FE model of section ``j`` (1–5) with its pipe as offset point masses.
+    """Beam FE model of section ``j`` (1–5) with its pipe as offset point masses (section 5: and the end hose at
+    its tip).
 
     Returns
     -------
@@ -93,6 +94,8 @@ def section_fe(record: PumpTruckParameters, j: int, n_elements: int = N_ELEMENTS
     mu = record.pipe.mass_per_m
     offset = [0.0, sec.h / 2 + record.pipe.offset, 0.0]
     fe = fe.with_point_masses(fe.node_ids, mu * tributary, offsets=np.tile(offset, (x.size, 1)))
+    if j == 5:
+        fe = fe.with_point_masses([int(fe.node_ids[-1])], [record.hose.mass])
     nodes = {name: int(fe.node_ids[np.argmin(np.abs(x - px))]) for name, (px, _py) in points.items()}
     return fe, nodes
 
@@ -124,7 +127,7 @@ def section_modal_data(record: PumpTruckParameters, j: int, *, n_elements: int =
         Interface node id of each attachment point.
     """
     key = json.dumps({"section": asdict(record.sections[j - 1]), "steel": asdict(record.steel),
-                      "pipe": asdict(record.pipe),
+                      "pipe": asdict(record.pipe), "hose": asdict(record.hose) if j == 5 else None,
                       "points": attachment_points(record, j), "n_elements": n_elements,
                       "n_fixed_modes": n_fixed_modes, "version": 1}, sort_keys=True, default=str)
     digest = hashlib.sha256(key.encode()).hexdigest()[:24]
