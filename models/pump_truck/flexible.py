@@ -31,8 +31,10 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -40,7 +42,7 @@ from flexlib.components.mechanics.flexible import FEModel, ModalData, beam_mesh,
 
 from .parameters import PumpTruckParameters
 
-__all__ = ["attachment_points", "section_fe", "section_modal_data"]
+__all__ = ["attachment_points", "flexible_section", "section_fe", "section_modal_data"]
 
 #: Default number of beam elements per section.
 N_ELEMENTS = 48
@@ -148,3 +150,63 @@ def _cache_dir() -> Path:
     from flexlib.compile.cache import cache_dir
 
     return Path(os.environ.get("FLEXLIB_CACHE_DIR") or cache_dir()) / "pump_truck"
+
+
+def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[float]],
+                     record: PumpTruckParameters, modes: int | Sequence[int] = 8) -> dict[str, Any]:
+    """Section ``j`` (1–5) as a :class:`~flexlib.components.mechanics.flexible.FlexibleBody` on the frame ``root``,
+    with a frame at each named pin — the same frames a rigid section gives.
+
+    Parameters
+    ----------
+    owner : flexlib.Model
+        The model the components are added to (``section{j}`` and ``section{j}_{pin}`` offsets).
+    j : int
+        Section number 1–5.
+    root : Frame
+        The root joint's frame (the section's root pin).
+    pins : mapping of str to 3 floats
+        Points fixed on the section, in its frame [m]; each gets a frame: the FlexibleBody's frame at the node of
+        its station, plus a rigid offset to the point where it lies off the axis.
+    record : PumpTruckParameters
+        The design record.
+    modes : int or sequence of int
+        Modes kept: the lowest ``modes`` by frequency, or their indices into the section's modal data.
+
+    Returns
+    -------
+    dict of str to Frame
+        ``root``, ``tip`` and one frame per pin.
+    """
+    from flexlib.components.mechanics.flexible import FlexibleBody
+    from flexlib.components.mechanics.multibody import FixedTranslation
+
+    data, nodes = section_modal_data(record, j)
+    L = record.sections[j - 1].length
+    x = data.coordinates[:, 0]
+
+    def station(point: Sequence[float]) -> int:
+        return int(data.node_ids[np.argmin(np.abs(x - min(max(float(point[0]), 0.0), L)))])
+
+    at = {name: station(p) for name, p in pins.items()}
+    frame_nodes = list(dict.fromkeys([nodes["root"], nodes["tip"], *at.values()]))
+    missing = sorted(set(frame_nodes) - set(data.interface_nodes.tolist()))
+    if missing:
+        raise ValueError(f"flexible_section: section {j} pins {sorted(k for k, n in at.items() if n in missing)} "
+                         "are not at attachment stations of the record (attachment_points)")
+    kept = list(np.argsort(data.frequencies)[:modes]) if isinstance(modes, int) else list(modes)
+    body = FlexibleBody(data, modes=kept, frames=frame_nodes)
+    setattr(owner, f"section{j}", body)
+    owner.connect(root, body.frame_at(nodes["root"]))
+    frames: dict[str, Any] = {"root": root, "tip": body.frame_at(nodes["tip"])}
+    for name, point in pins.items():
+        node = at[name]
+        offset = np.asarray(point, dtype=float) - data.coordinates[data.node_index(node)]
+        if np.abs(offset).max() < 1e-12:
+            frames[name] = body.frame_at(node)
+            continue
+        arm = FixedTranslation(r=[float(v) for v in offset])
+        setattr(owner, f"section{j}_{name}", arm)
+        owner.connect(body.frame_at(node), arm.frame_a)
+        frames[name] = arm.frame_b
+    return frames
