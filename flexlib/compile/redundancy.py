@@ -110,64 +110,59 @@ def _reaction(simple: SimpleSystem, meta: tuple) -> tuple[ca.SX, str]:
         f = [out[f"{a._label('f')}[{i}]"] for i in range(3)]
         expr = sum(T[j][k] * f[j] for j in range(3))  # (Tᵀ f)_k: cut force along world axis k
         return expr, f"force along world {_AXES[k]} at {a.path}"
+    if kind == "frame position":
+        return out[f"{a._label('f')}[{k}]"], f"force along {a.path} axis {_AXES[k]}"
     return out[f"{a._label('t')}[{k}]"], f"torque about {a.path} axis {_AXES[k]}"
 
 
+def _frame_resolved(simple: SimpleSystem) -> list[FlatEquation]:
+    """The equations with each loop's three world-resolved position rows ``r_a − r_b`` replaced by the same
+    difference resolved in the cut frame ``a``, ``T_a (r_a − r_b)`` (equivalent: ``T_a`` is orthogonal).
+
+    A loop that is planar in a plane that turns — a four-bar on a slewing turret — has its redundant position
+    row along the plane's normal, which is fixed in the cut frame but not in the world: a world-resolved row
+    chosen for dropping at one slew angle is an independent constraint at another (and a random perturbation of
+    the slew angle off the closure makes the world row look independent at the start). Resolved in the cut frame
+    the redundancy is the same at every configuration, as the orientation rows' already is."""
+    equations = list(simple.equations)
+    triples: dict[tuple[int, int], list[int]] = {}
+    for r, e in enumerate(equations):
+        if e.origin == "loop closure" and e.meta is not None and e.meta[0] == "position":
+            triples.setdefault((id(e.meta[1]), id(e.meta[2])), []).append(r)
+    for rows in triples.values():
+        if len(rows) != 3:
+            continue
+        first = equations[rows[0]]
+        a, b = first.meta[1], first.meta[2]
+        try:
+            T = [[simple.outputs[f"{a._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
+        except KeyError:
+            continue
+        world = [equations[r].expr for r in sorted(rows, key=lambda r: equations[r].meta[3])]
+        for k in range(3):
+            old = equations[rows[k]]
+            expr = T[k][0] * world[0] + T[k][1] * world[1] + T[k][2] * world[2]
+            label = f"loop closure {a.path} ~ {b.path} position along {a.path} axis {_AXES[k]}"
+            equations[rows[k]] = FlatEquation(expr, old.owner, label, "loop closure", ("frame position", a, b, k))
+    return equations
+
+
 def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> SimpleSystem:
-    """Drop numerically redundant loop-closure rows (replaced by zero indeterminate reactions)."""
+    """Drop numerically redundant loop-closure rows (replaced by zero indeterminate reactions).
+
+    The rank test runs on the rows as built (world-resolved positions) and on the same rows with positions resolved
+    in the cut frame (:func:`_frame_resolved`). Where the frame-resolved rows show more redundancy — a loop planar
+    in a plane that turns relative to the world, e.g. on a slewing turret — they replace the world rows; otherwise
+    the rows stay as built."""
     loop = [r for r, e in enumerate(simple.equations) if e.origin == "loop closure"]
     if not loop:
         return simple
-    vs, defs, _ = explicit_definitions(simple, frame_variables(simple))
-    L = ca.vertcat(*[simple.equations[r].expr for r in loop])
-    for _ in range(len(simple.variables) + 1):
-        if vs.numel() == 0 or not ca.depends_on(L, vs):
-            break
-        L = ca.substitute([L], [vs], [defs])[0]
-    qs, qv, qn = [], [], []
-    var_by_hash = {v.sym.element_hash(): v for v in simple.variables}
-    for s in ca.symvar(L):
-        v = var_by_hash.get(s.element_hash())
-        if v is not None:
-            qs.append(s)
-            qv.append(v.start)
-            qn.append(v.nominal)
-    if not qs:
-        G = np.zeros((len(loop), 0))
-    else:
-        q = ca.vertcat(*qs)
-        psyms = [lookup_sym(h) for h in param_values]
-        point_syms = ca.vertcat(q, *[p for p in psyms if p is not None])
-        point_vals = np.concatenate([qv, [param_values[h] for h, p in zip(param_values, psyms, strict=True)
-                                          if p is not None]])
-        rel_syms = [rel.info.sym for rel, _ in simple.relations]
-        jac = ca.jacobian(L, q)
-        if rel_syms:
-            jac = ca.substitute(jac, ca.vertcat(*rel_syms), ca.SX.zeros(len(rel_syms)))
-        gfun = ca.Function("G", [point_syms], [jac])
-        # generic rank: the start configuration may be singular (a stretched linkage); perturbed joint
-        # coordinates keep a planar mechanism planar, so structural redundancy persists there
-        # The rank is taken in coordinates scaled by their nominal values. Only large-motion coordinates
-        # (nominal >= SMALL_MOTION_NOMINAL: joint angles, positions) are perturbed: a small-motion one (a flexible
-        # body's modal coordinate, nominal ~1e-3 of the body) stays at its start, because a loop row that a
-        # deformation affects only at second order (a link bent in two planes at once) is redundant for the
-        # small deformations the coordinate stands for, not an independent constraint.
-        nom = np.asarray(qn, dtype=float)
-        moves = np.where(nom >= SMALL_MOTION_NOMINAL, 1.0, 0.0)
-        rng = np.random.default_rng(12345)
-        candidates = [np.asarray(gfun(point_vals)) * nom]
-        for _ in range(2):
-            pert = point_vals.copy()
-            pert[:len(qv)] += 0.05 * rng.standard_normal(len(qv)) * (nom + np.abs(pert[:len(qv)])) * moves
-            candidates.append(np.asarray(gfun(pert)) * nom)
-        G = max(candidates, key=_rank)
-    if G.shape[1]:
-        scale = max(1.0, float(np.abs(G).max()))
-        _, R, piv = sla.qr(G.T, mode="economic", pivoting=True)
-        diag = np.abs(np.diag(R))
-        rank = int(np.sum(diag > 1e-9 * scale))
-    else:
-        piv, rank = np.arange(len(loop)), 0
+    rank, piv = _loop_rank(simple, loop, param_values)
+    framed = dataclasses.replace(simple, equations=_frame_resolved(simple))
+    if any(e is not f for e, f in zip(simple.equations, framed.equations, strict=True)):
+        rank_f, piv_f = _loop_rank(framed, loop, param_values)
+        if rank_f < rank:
+            simple, rank, piv = framed, rank_f, piv_f
     dropped = sorted(int(piv[k]) for k in range(rank, len(loop)))
     if not dropped:
         return simple
@@ -183,6 +178,56 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         report.append(f"{old.owner or '(model)'}: dropped redundant constraint '{old.label}'; {what} is "
                       "statically indeterminate and set to 0")
     return dataclasses.replace(simple, equations=equations, outputs=outputs, redundant=report)
+
+
+def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, float]) -> tuple[int, np.ndarray]:
+    """Generic rank of the loop rows' Jacobian in joint coordinates and the QR column pivots (rows first)."""
+    vs, defs, _ = explicit_definitions(simple, frame_variables(simple))
+    L = ca.vertcat(*[simple.equations[r].expr for r in loop])
+    for _ in range(len(simple.variables) + 1):
+        if vs.numel() == 0 or not ca.depends_on(L, vs):
+            break
+        L = ca.substitute([L], [vs], [defs])[0]
+    qs, qv, qn = [], [], []
+    var_by_hash = {v.sym.element_hash(): v for v in simple.variables}
+    for s in ca.symvar(L):
+        v = var_by_hash.get(s.element_hash())
+        if v is not None:
+            qs.append(s)
+            qv.append(v.start)
+            qn.append(v.nominal)
+    if not qs:
+        return 0, np.arange(len(loop))
+    q = ca.vertcat(*qs)
+    psyms = [lookup_sym(h) for h in param_values]
+    point_syms = ca.vertcat(q, *[p for p in psyms if p is not None])
+    point_vals = np.concatenate([qv, [param_values[h] for h, p in zip(param_values, psyms, strict=True)
+                                      if p is not None]])
+    rel_syms = [rel.info.sym for rel, _ in simple.relations]
+    jac = ca.jacobian(L, q)
+    if rel_syms:
+        jac = ca.substitute(jac, ca.vertcat(*rel_syms), ca.SX.zeros(len(rel_syms)))
+    gfun = ca.Function("G", [point_syms], [jac])
+    # generic rank: the start configuration may be singular (a stretched linkage); perturbed joint
+    # coordinates keep a planar mechanism planar, so structural redundancy persists there
+    # The rank is taken in coordinates scaled by their nominal values. Only large-motion coordinates
+    # (nominal >= SMALL_MOTION_NOMINAL: joint angles, positions) are perturbed: a small-motion one (a flexible
+    # body's modal coordinate, nominal ~1e-3 of the body) stays at its start, because a loop row that a
+    # deformation affects only at second order (a link bent in two planes at once) is redundant for the
+    # small deformations the coordinate stands for, not an independent constraint.
+    nom = np.asarray(qn, dtype=float)
+    moves = np.where(nom >= SMALL_MOTION_NOMINAL, 1.0, 0.0)
+    rng = np.random.default_rng(12345)
+    candidates = [np.asarray(gfun(point_vals)) * nom]
+    for _ in range(2):
+        pert = point_vals.copy()
+        pert[:len(qv)] += 0.05 * rng.standard_normal(len(qv)) * (nom + np.abs(pert[:len(qv)])) * moves
+        candidates.append(np.asarray(gfun(pert)) * nom)
+    G = max(candidates, key=_rank)
+    scale = max(1.0, float(np.abs(G).max()))
+    _, R, piv = sla.qr(G.T, mode="economic", pivoting=True)
+    diag = np.abs(np.diag(R))
+    return int(np.sum(diag > 1e-9 * scale)), piv
 
 
 def _is_derivative(sym: ca.SX) -> bool:
