@@ -33,6 +33,7 @@ from .selection import (
     modal_damping_matrix,
     modal_participation,
     nodal_generalized_forces,
+    participation_from_load_cases,
     select_modes,
 )
 
@@ -75,6 +76,7 @@ __all__ = [
     "nodal_stress",
     "node_displacements",
     "node_rotations",
+    "participation_from_load_cases",
     "plot_frame",
     "read_ansys_full",
     "read_fe",

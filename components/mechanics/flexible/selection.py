@@ -33,6 +33,7 @@ __all__ = [
     "modal_damping_matrix",
     "modal_participation",
     "nodal_generalized_forces",
+    "participation_from_load_cases",
     "select_modes",
 ]
 
@@ -167,6 +168,42 @@ def _table(Q: np.ndarray, stiffness: np.ndarray, frequencies: np.ndarray | None,
     rows = tuple(ParticipationRow(i, float(f[i]), float(q[i].max()), float(share[i]),
                                   bool(share[i] >= 100.0 * threshold)) for i in range(k.size))
     return ParticipationTable(rows, float(threshold))
+
+
+def participation_from_load_cases(data: ModalData, amplitudes: np.ndarray, *,
+                                  threshold: float = 0.01) -> ParticipationTable:
+    """Modal participation factors (MPF method) from the amplitudes of the data's unit load cases.
+
+    The modal load of each instant is ``sum_c a_c Phi^T f_c`` from the stored ``/static_loads/modal_loads``, so the
+    loads of a rigid-body run (its frames' cut loads and its reference frame's accelerations, as
+    :meth:`FlexibleBody.load_amplitudes` gives them for a flexible one) select the modes without the FE model.
+
+    Parameters
+    ----------
+    data : ModalData
+        Modal data with static load responses (``modal_data_from_fe(..., static_loads=True)``).
+    amplitudes : ndarray (C,) or (k, C)
+        Load-case amplitudes at one or ``k`` instants, in the order of ``data.load_cases``.
+    threshold : float
+        Keep modes whose share reaches this fraction of the largest amplitude at some instant [1].
+
+    Returns
+    -------
+    ParticipationTable
+
+    Raises
+    ------
+    ValueError
+        The data hold no static load responses, or the amplitudes have the wrong shape.
+    """
+    if data.load_cases is None:
+        raise ValueError(f"participation_from_load_cases: modal data {data.title!r} has no static load responses "
+                         "(make it with modal_data_from_fe(..., static_loads=True))")
+    A = np.atleast_2d(np.asarray(amplitudes, dtype=float))
+    if A.ndim != 2 or A.shape[1] != len(data.load_cases) or not np.all(np.isfinite(A)):
+        raise ValueError(f"participation_from_load_cases: amplitudes must be finite, shape (k, "
+                         f"{len(data.load_cases)}) (one per load case), got {np.shape(amplitudes)}")
+    return _table(data.static_modal_loads.T @ A.T, data.generalized_stiffness, data.frequencies, threshold)
 
 
 def select_modes(data: ModalData, *, count: int | None = None, max_frequency: float | None = None,
