@@ -150,10 +150,13 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, Any]:
               help="Model option on top of the scenario's (VALUE read as JSON, else text; repeatable).")
 @click.option("--flexible/--rigid", default=None, help="Shorthand for --option flexible=true / false.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
+@click.option("--plots", "plots_dir", type=click.Path(file_okay=False),
+              help="Write the model's figures (PNG) of the run into this directory.")
 @_friendly
 def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tuple[str, ...], t_end: float | None,
             rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, from_file: str | None,
-            model_options: tuple[str, ...], flexible: bool | None, no_progress: bool) -> None:
+            model_options: tuple[str, ...], flexible: bool | None, no_progress: bool,
+            plots_dir: str | None) -> None:
     """Run MODEL in a scenario, then print a summary (times, steps, peaks of the model's signals)."""
     from flexlib import registry
     from flexlib.registry import Scenario
@@ -197,6 +200,21 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
         where = f"; the result up to the failure is in {out}" if out and err.result is not None else ""
         raise click.ClickException(f"{model}: the run failed: {_one_line(err)}{where}") from None
     _print_summary(done, out)
+    if plots_dir is not None:
+        _write_plots(done, plots_dir)
+
+
+def _write_plots(done: Any, directory: str) -> None:
+    """The model's figures of the run, through its registered ``plots`` hook."""
+    if done.entry.plots is None:
+        raise click.ClickException(f"model {done.entry.name!r} has no figures (--plots needs a plots hook)")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    path = Path(directory)
+    path.mkdir(parents=True, exist_ok=True)
+    written = done.entry.plots(done.model, done.result, path)
+    _console().print(f"figures: {len(written)} in {path}" + "".join(f"\n  {p}" for p in written))
 
 
 def _print_summary(done: Any, out: str | None) -> None:

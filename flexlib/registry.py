@@ -172,6 +172,7 @@ class ModelEntry:
     summary_signals: SummarySignals = ()
     default_scenario: str = ""
     options: tuple[str, ...] = ()
+    plots: Callable[[Any, Any, Path], list[Path]] | None = None
 
     def check_options(self, scenario: Scenario) -> None:
         """:class:`RunArgumentError` naming a model option of ``scenario`` the factory does not read."""
@@ -207,7 +208,8 @@ def _unknown(what: str, name: str, known: Mapping[str, Any] | Sequence[str]) -> 
 
 def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, scenarios: Sequence[Scenario],
                    summary_signals: SummarySignals = (), default_scenario: str | None = None,
-                   options: Sequence[str] = ()) -> ModelEntry:
+                   options: Sequence[str] = (),
+                   plots: Callable[[Any, Any, Path], list[Path]] | None = None) -> ModelEntry:
     """Register a runnable model.
 
     Parameters
@@ -228,6 +230,9 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     options : sequence of str
         Names of the model options the factory reads (``flexible``, ``n``); a scenario with another one is an
         error naming it.
+    plots : callable, optional
+        ``plots(model, result, directory) -> [paths]``: writes the model's figures (PNG) of a run into
+        ``directory``; ``flexlib run --plots DIR`` calls it.
 
     Returns
     -------
@@ -260,7 +265,9 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     if default not in scen:
         raise RegistryError(f"register_model({name!r}): " + _unknown("default scenario " + repr(default), default,
                                                                         scen))
-    entry = ModelEntry(name, factory, doc, scen, summary_signals, default, tuple(options))
+    if plots is not None and not callable(plots):
+        raise RegistryError(f"register_model({name!r}): plots must be callable, got {type(plots).__name__}")
+    entry = ModelEntry(name, factory, doc, scen, summary_signals, default, tuple(options), plots)
     for s in scen.values():
         entry.check_options(s)
     _MODELS[name] = entry

@@ -216,3 +216,35 @@ def test_model_option_on_the_command_line_is_recorded(tmp_path):
     again = tmp_path / "again.h5"
     assert invoke("run", "--from", str(out), "-o", str(again), "--no-progress").exit_code == 0
     assert fl.load_result(again).names == r.names
+
+
+def test_run_writes_the_models_figures(monkeypatch, tmp_path):
+    """``--plots DIR`` calls the model's registered plots hook with the model and the run's result; the figures
+    land in DIR (PNG files a reader opens); a model without the hook is a clear error naming it."""
+    import matplotlib.image as mpimg
+
+    monkeypatch.setattr(registry, "_MODELS", dict(registry.models()))
+    from models.n_mass_chain import NMassChain
+
+    def plots(model, result, directory):
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots()
+        result.plot("mass1.s", ax=ax)
+        path = directory / "positions.png"
+        fig.savefig(path)
+        plt.close(fig)
+        return [path]
+
+    registry.register_model("plotted-chain", lambda s: NMassChain(n=2), doc="with figures",
+                            scenarios=[Scenario("a", t_end=0.2)], plots=plots)
+    res = invoke("run", "plotted-chain", "--plots", str(tmp_path / "figs"), "--no-progress")
+    assert res.exit_code == 0, res.output
+    image = mpimg.imread(tmp_path / "figs" / "positions.png")
+    assert image.ndim == 3 and image.shape[0] > 100
+    res = CliRunner().invoke(cli, ["run", "n-mass-chain", "-s", "short", "--plots", str(tmp_path / "none"),
+                                   "--no-progress"], env=ENV)
+    assert res.exit_code != 0 and "model 'n-mass-chain' has no figures" in res.output
+    with pytest.raises(fl.FlexlibError, match="plots must be callable"):
+        registry.register_model("bad-plots", lambda s: NMassChain(n=2), doc="x", scenarios=[Scenario("a")],
+                                plots="figures.png")
