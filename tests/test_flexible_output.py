@@ -310,3 +310,45 @@ def test_faces_are_written_as_surface_cells_and_drawn(data, motion, tmp_path):
     np.testing.assert_array_equal(frame["cell_connectivity"][2 * N_EL:], faces.ravel())
     fig = plot_frame(body, motion["t"], motion["q"], motion["r_0"], motion["T"], figsize=(3.0, 2.5))
     assert sum(isinstance(c, Poly3DCollection) for c in fig.axes[0].collections) == 1
+
+
+def test_model_vtk_series_draws_flexible_meshes_and_rigid_sticks(tmp_path):
+    """A flexible arm (16 elements, 4 modes) on a hinge with a rigid offset arm: write_model_vtk writes one frame
+    per output instant whose points, read back by the independent reader, are the arm's deformed_positions
+    followed by the stick figure's frame origins from the result (1e-15 m), with part ids 0 / 1, the arm's line
+    cells and one line per stick segment, and the arm's elastic displacement magnitude as point data."""
+    import flexlib as fl
+    from flexlib.components.mechanics.flexible import FlexibleBody, write_model_vtk
+    from flexlib.components.mechanics.multibody import FixedTranslation, Revolute, World
+
+    fe = beam_mesh((0, 0, 0), (1.0, 0, 0), 16, rectangle(0.02, 0.01), E=2.1e11, rho=7850.0)
+    arm_data = modal_data_from_fe(fe, [16], 4, reference_node=0)
+
+    class Arm(fl.Model):
+        def __init__(self):
+            super().__init__()
+            self.world = World()
+            self.hinge = Revolute(n=[0, 0, 1], init={"phi": 0.0, "w": 0.0})
+            self.arm = FlexibleBody(arm_data, modes=4)
+            self.lever = FixedTranslation(r=[0.0, 0.3, 0.0])
+            self.connect(self.world.frame_b, self.hinge.frame_a)
+            self.connect(self.hinge.frame_b, self.arm.frame_a, self.lever.frame_a)
+
+    model = Arm()
+    res = fl.Simulation(model, use_cache=False).run(0.2, dt_out=0.05, progress=False)
+    path = write_model_vtk(tmp_path / "arm.pvd", model, res, lines={"lever": ["hinge.frame_b", "lever.frame_b"]})
+    sets = ET.parse(path).getroot().findall("Collection/DataSet")
+    assert len(sets) == len(res.t)
+    _t, q, r_0, T = model.arm.motion(res)
+    P = deformed_positions(model.arm.modal_data, q, r_0, T)
+    for k in (0, len(sets) - 1):
+        frame = read_vtu(path.parent / sets[k].get("file"))
+        sticks = np.vstack([res["hinge.frame_b.r_0"][k], res["lever.frame_b.r_0"][k]])
+        np.testing.assert_allclose(frame["points"], np.vstack([P[k], sticks]), rtol=0, atol=1e-15)
+        np.testing.assert_array_equal(frame["point_part"], [0] * 17 + [1, 1])
+        assert frame["cell_types"].size == 16 + 1
+        np.testing.assert_allclose(frame["point_displacement_magnitude"][:17],
+                                   np.linalg.norm(node_displacements(model.arm.modal_data, q[k]), axis=-1),
+                                   rtol=0, atol=1e-15)
+    with pytest.raises(Exception, match="line 'bad'"):
+        write_model_vtk(tmp_path / "bad.pvd", model, res, lines={"bad": ["hinge.frame_b", "nowhere.frame_b"]})

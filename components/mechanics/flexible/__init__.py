@@ -5,7 +5,7 @@ file, mode selection, default modal damping, geometric stiffening data, and defo
 
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
 from .body import FlexibleBody, cayley_rotation, frame_names
-from .drawing import animate, plot_frame, write_vtk_series
+from .drawing import animate, plot_frame, write_model_vtk, write_vtk_series
 from .fe_model import COMPONENTS, BeamElements, FEModel, MassPoints, read_fe, read_matrix_market
 from .geometric import (
     geometric_stiffness_matrix,
@@ -89,5 +89,6 @@ __all__ = [
     "select_modes",
     "tube",
     "von_mises",
+    "write_model_vtk",
     "write_vtk_series",
 ]

@@ -30,7 +30,7 @@ from flexlib.errors import ResultFileError, RunArgumentError
 from .modal_data import ModalData
 from .output import _field_values, _name, _series
 
-__all__ = ["animate", "plot_frame", "write_vtk_series"]
+__all__ = ["animate", "plot_frame", "write_model_vtk", "write_series", "write_vtk_series"]
 
 _ELEMENT_CELLS = {2: "line", 3: "line3", 4: "tetra", 8: "hexahedron", 10: "tetra10", 20: "hexahedron20"}
 _FACE_CELLS = {3: "triangle", 4: "quad", 6: "triangle6", 8: "quad8"}
@@ -116,7 +116,7 @@ def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, 
 
     func = "write_vtk_series"
     path = Path(path)
-    kind = _collection_kind(path)
+    _collection_kind(path)  # checks the suffix before any work
     s = _series(func, data, times, q, r_0, T, scale)
     data = s["data"]
     if fields is None:
@@ -134,9 +134,42 @@ def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, 
             if name == "displacement":
                 point_fields["displacement_magnitude"] = np.linalg.norm(values, axis=-1)
     cells = _cells(data, element_type, face_type, func)
+    node_id = np.asarray(data.node_ids, dtype=np.int64)
+
+    def mesh(k: int) -> Any:
+        point_data = {"node_id": node_id} | {f: np.ascontiguousarray(v[k]) for f, v in point_fields.items()}
+        return meshio.Mesh(np.ascontiguousarray(s["points"][k]), cells, point_data=point_data)
+
+    return write_series(path, s["t"], mesh, func)
+
+
+def write_series(path: str | os.PathLike[str], times: np.ndarray, mesh: Any, func: str = "write_series") -> Path:
+    """Write one meshio mesh per instant (``mesh(k)`` for ``k`` in ``range(len(times))``) as ``.vtu`` files and a
+    ParaView collection (``*.pvd`` or ``*.vtu.series``), atomically (see :func:`write_vtk_series`).
+
+    Parameters
+    ----------
+    path : str or PathLike
+        Collection file.
+    times : ndarray (nt,)
+        Time of each instant [s].
+    mesh : callable
+        ``mesh(k) -> meshio.Mesh`` of instant ``k``.
+    func : str
+        Name for error messages.
+
+    Returns
+    -------
+    Path
+        The collection file.
+    """
+    import meshio
+
+    path = Path(path)
+    kind = _collection_kind(path)
     stem = path.name[: -len(".vtu.series")] if kind == "series" else path.stem
     frames_dir = path.name + ".d"
-    names = [f"{frames_dir}/{stem}_{k:06d}.vtu" for k in range(len(s["t"]))]
+    names = [f"{frames_dir}/{stem}_{k:06d}.vtu" for k in range(len(times))]
     parent = path.parent
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent))
@@ -147,17 +180,14 @@ def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, 
     swapped = False
     try:
         (tmp / frames_dir).mkdir()
-        node_id = np.asarray(data.node_ids, dtype=np.int64)
         for k, name in enumerate(names):
-            point_data = {"node_id": node_id} | {f: np.ascontiguousarray(v[k]) for f, v in point_fields.items()}
-            mesh = meshio.Mesh(np.ascontiguousarray(s["points"][k]), cells, point_data=point_data)
-            meshio.write(tmp / name, mesh, file_format="vtu")
+            meshio.write(tmp / name, mesh(k), file_format="vtu")
         collection = tmp / path.name
         if kind == "pvd":
-            _write_pvd(collection, names, s["t"])
+            _write_pvd(collection, names, times)
         else:
             collection.write_text(json.dumps({"file-series-version": "1.0", "files": [
-                {"name": n, "time": float(t)} for n, t in zip(names, s["t"])]}, indent=1))
+                {"name": n, "time": float(t)} for n, t in zip(names, times)]}, indent=1))
         if final_dir.exists() or final_dir.is_symlink():  # keep the old series readable until the swap
             old = parent / f".{frames_dir}.{uuid.uuid4().hex[:8]}.old"
             os.replace(final_dir, old)
@@ -444,3 +474,80 @@ def animate(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, path: str 
                 writer.grab_frame()
 
     return _save_atomic(out, func, save)
+
+
+def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
+                    lines: dict[str, Sequence[str]] | None = None, scale: float = 1.0) -> Path:
+    """Write a whole machine over time as one VTK series: every FlexibleBody's deformed mesh and stick figures of
+    the rigid parts, for ParaView.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        Collection file (``*.pvd`` or ``*.vtu.series``).
+    model : flexlib.Model
+        The model the result belongs to (its FlexibleBody components are found by walking it).
+    result : Result
+        The run.
+    lines : mapping of str to sequence of str, optional
+        Stick figures of rigid parts: a name and the frame paths (``"joint1.frame_b"``) a polyline joins through
+        their origins ``r_0``.
+    scale : float
+        Magnification of the elastic displacements (drawing only).
+
+    Returns
+    -------
+    Path
+        The collection file. Point data: ``part`` (0, 1, … in the order: flexible bodies by path, then
+        ``lines``), ``displacement_magnitude`` [m] (elastic, zero on rigid parts).
+
+    Raises
+    ------
+    RunArgumentError
+        No flexible body and no lines, an unknown frame path, a bad suffix.
+    ResultFileError
+        The files cannot be written (nothing is left behind).
+    """
+    import meshio
+
+    from .body import FlexibleBody
+    from .output import deformed_positions, node_displacements
+
+    func = "write_model_vtk"
+    path = Path(path)
+    _collection_kind(path)
+    scale = float(scale)
+    t = np.asarray(result.t, dtype=float)
+    nt = t.size
+    parts: list[tuple[np.ndarray, np.ndarray, list[tuple[str, np.ndarray]]]] = []  # points, |u|, cells
+    bodies = sorted((c for c in model.walk() if isinstance(c, FlexibleBody)), key=lambda c: c.path)
+    for body in bodies:
+        _t, q, r_0, T = body.motion(result)
+        data = body.modal_data
+        pts = deformed_positions(data, q, r_0, T, scale=scale)
+        u = np.linalg.norm(node_displacements(data, q), axis=-1) if data.n_modes else np.zeros(pts.shape[:2])
+        parts.append((pts, u, _cells(data, None, None, func)))
+    for name, frames in (lines or {}).items():
+        try:
+            pts = np.stack([np.asarray(result[f"{frame}.r_0"], dtype=float).reshape(nt, 3) for frame in frames], 1)
+        except Exception as exc:  # ResultKeyError: say which line and frame
+            raise RunArgumentError(f"{func}: line {name!r}: {exc}") from None
+        n = len(frames)
+        parts.append((pts, np.zeros((nt, n)), [("line", np.column_stack([np.arange(n - 1), np.arange(1, n)]))]))
+    if not parts:
+        raise RunArgumentError(f"{func}: nothing to draw: the model has no FlexibleBody and no lines were given")
+
+    def mesh(k: int) -> Any:
+        points, mags, ids, cells, offset = [], [], [], {}, 0
+        for i, (pts, u, part_cells) in enumerate(parts):
+            points.append(pts[k])
+            mags.append(u[k])
+            ids.append(np.full(pts.shape[1], i, dtype=np.int64))
+            for kind, conn in part_cells:
+                cells.setdefault(kind, []).append(conn + offset)
+            offset += pts.shape[1]
+        return meshio.Mesh(np.ascontiguousarray(np.vstack(points)),
+                           [(kind, np.vstack(c)) for kind, c in cells.items()],
+                           point_data={"part": np.concatenate(ids), "displacement_magnitude": np.concatenate(mags)})
+
+    return write_series(path, t, mesh, func)
