@@ -1,0 +1,138 @@
+"""Figures of a pump-truck run, in the spirit of seed 000's boom study (PNG, matplotlib).
+
+- ``flows.png``: volume flow into each cylinder's cap-side port A [L/min] (the seed's Fig. 14);
+- ``pressures.png``: both chamber pressures of each cylinder [bar];
+- ``hinge_forces.png``: magnitude of the force each boom joint transmits [kN] (Fig. 15), and its components in
+  the joint frame;
+- ``section_lengths.png``: each section's pin-to-pin length minus its nominal length [mm] (Figs. 16–17: constant
+  for a rigid boom, fluctuating for a flexible one);
+- ``modal_coordinates.png``: each flexible section's modal coordinates (Fig. 11), flexible runs only;
+- ``tip_path.png``: the tip's path in the boom plane and the joint angles over time.
+
+Rigid and flexible runs overlaid (Fig. 13): ``flexlib compare rigid.h5 flexible.h5 --plot both.png``.
+
+References
+----------
+Seed 000 of issue 11 (MWorks boom library: Figs. 11, 13–17).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["figures"]
+
+_JOINTS = range(1, 6)
+
+
+def _save(fig: Any, path: Path) -> Path:
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def _has(result: Any, name: str) -> bool:
+    return any(n == name or n.startswith(name + "[") for n in result.names)
+
+
+def figures(model: Any, result: Any, directory: Path) -> list[Path]:
+    """Write the figures listed in the module docstring into ``directory``; returns their paths.
+
+    Parameters
+    ----------
+    model : PumpTruck
+        The model of the run (its record gives the nominal section lengths).
+    result : Result
+        The run.
+    directory : Path
+        Existing directory.
+    """
+    import matplotlib.pyplot as plt
+
+    directory = Path(directory)
+    t = np.asarray(result.t, dtype=float)
+    out: list[Path] = []
+
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    for n in _JOINTS:
+        q, unit = result.display(f"cylinder{n}.cylinder.q_A")
+        ax.plot(t, q, label=f"cylinder {n}")
+    ax.set(xlabel="time [s]", ylabel=f"flow into port A [{unit}]", title="Cylinder port A flows")
+    ax.grid(True, alpha=0.3)
+    ax.legend(ncol=5, fontsize=8)
+    out.append(_save(fig, directory / "flows.png"))
+
+    fig, axes = plt.subplots(5, 1, figsize=(9, 9), sharex=True)
+    for n, ax in zip(_JOINTS, axes, strict=True):
+        for side in ("A", "B"):
+            p, unit = result.display(f"cylinder{n}.cylinder.p_{side}")
+            ax.plot(t, p, label=f"p_{side}")
+        ax.set_ylabel(f"cyl. {n} [{unit}]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle("Chamber pressures")
+    out.append(_save(fig, directory / "pressures.png"))
+
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for n in _JOINTS:
+        f = np.asarray(result[f"joint{n}.frame_b.f"], dtype=float).reshape(len(t), 3)
+        ax.plot(t, np.linalg.norm(f, axis=1) / 1e3, label=f"joint {n}")
+        ax2.plot(t, f[:, 0] / 1e3, label=f"joint {n} x")
+        ax2.plot(t, f[:, 1] / 1e3, "--", label=f"joint {n} y")
+    ax.set(ylabel="|force| [kN]", title="Hinge forces")
+    ax2.set(xlabel="time [s]", ylabel="component in the joint frame [kN]")
+    for a in (ax, ax2):
+        a.grid(True, alpha=0.3)
+        a.legend(ncol=5, fontsize=7)
+    out.append(_save(fig, directory / "hinge_forces.png"))
+
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    record = model.record
+    for n in _JOINTS:
+        root = np.asarray(result[f"joint{n}.frame_b.r_0"], dtype=float).reshape(len(t), 3)
+        tip_name = f"joint{n + 1}.frame_a.r_0" if n < 5 else "section5_tip.frame_b.r_0"
+        if not _has(result, tip_name):
+            continue
+        tip = np.asarray(result[tip_name], dtype=float).reshape(len(t), 3)
+        length = np.linalg.norm(tip - root, axis=1)
+        ax.plot(t, (length - record.sections[n - 1].length) * 1e3, label=f"section {n}")
+    ax.set(xlabel="time [s]", ylabel="pin-to-pin length − nominal [mm]", title="Section lengths")
+    ax.grid(True, alpha=0.3)
+    ax.legend(ncol=5, fontsize=8)
+    out.append(_save(fig, directory / "section_lengths.png"))
+
+    flexible = [n for n in _JOINTS if _has(result, f"section{n}.q")]
+    if flexible:
+        fig, axes = plt.subplots(len(flexible), 1, figsize=(9, 2 + 1.6 * len(flexible)), sharex=True, squeeze=False)
+        for n, ax in zip(flexible, axes[:, 0], strict=True):
+            q = np.asarray(result[f"section{n}.q"], dtype=float).reshape(len(t), -1)
+            for j in range(q.shape[1]):
+                ax.plot(t, q[:, j], lw=0.8, label=f"q{j}")
+            ax.set_ylabel(f"section {n}")
+            ax.grid(True, alpha=0.3)
+        axes[-1, 0].set_xlabel("time [s]")
+        fig.suptitle("Modal coordinates")
+        out.append(_save(fig, directory / "modal_coordinates.png"))
+
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    tip = np.asarray(result["section5_tip.frame_b.r_0"], dtype=float).reshape(len(t), 3)
+    ax.plot(tip[:, 0], tip[:, 1])
+    ax.plot(tip[0, 0], tip[0, 1], "o", label="start")
+    ax.plot(tip[-1, 0], tip[-1, 1], "s", label="end")
+    ax.set(xlabel="x [m]", ylabel="y [m]", title="Tip path", aspect="equal")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    for n in _JOINTS:
+        ax2.plot(t, np.degrees(result[f"joint{n}.phi"]), label=f"q{n}")
+    ax2.set(xlabel="time [s]", ylabel="joint angle [deg]", title="Joint angles")
+    ax2.grid(True, alpha=0.3)
+    ax2.legend(fontsize=8)
+    out.append(_save(fig, directory / "tip_path.png"))
+    return out
