@@ -42,7 +42,8 @@ from flexlib.components.mechanics.flexible import FEModel, ModalData, beam_mesh,
 
 from .parameters import PumpTruckParameters
 
-__all__ = ["attachment_points", "flexible_section", "section_fe", "section_modal_data"]
+__all__ = ["PIN_POINTS", "attachment_points", "flexible_section", "rigid_section_loads", "section_fe",
+           "section_modal_data"]
 
 #: Default number of beam elements per section.
 N_ELEMENTS = 48
@@ -210,3 +211,82 @@ def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[
         owner.connect(body.frame_at(node), arm.frame_a)
         frames[name] = arm.frame_b
     return frames
+
+
+#: The rigid model's pin names (``PumpTruck._section``) and the attachment points they are.
+PIN_POINTS = {"C": "bracket", "P_next": "lever_pivot", "H_next": "housing"}
+
+
+def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
+                        data: ModalData | None = None) -> np.ndarray:
+    """Amplitudes of section ``j``'s unit load cases in a run of the *rigid* boom, for the MPF method.
+
+    The section's frame is its root joint's ``frame_b``; its loads are those a FlexibleBody in its place would get
+    (:meth:`~flexlib.components.mechanics.flexible.FlexibleBody.load_amplitudes`): ``acc_*`` = ``T (a_0 − g)``
+    of the section body, ``alpha_*`` / ``omega_**`` from its angular acceleration and velocity, and at each pin the
+    force its rigid offset carries (``section{j}_{pin}.frame_b``), moved to the pin's axis node (moment plus
+    offset × force), the tip's (``section{j}_tip.frame_b``) and the root joint's reaction on the section.
+
+    Parameters
+    ----------
+    result : Result
+        A run of :class:`~models.pump_truck.model.PumpTruck` (rigid).
+    record : PumpTruckParameters
+        Its design record.
+    j : int
+        Section number 1–5.
+    data : ModalData, optional
+        The section's modal data (default :func:`section_modal_data`).
+
+    Returns
+    -------
+    ndarray (nt, C)
+        Amplitudes in the order of ``data.load_cases``.
+    """
+    if data is None:
+        data, _ = section_modal_data(record, j)
+    nt = len(result.t)
+    x = data.coordinates[:, 0]
+    L = record.sections[j - 1].length
+    T = np.asarray(result[f"joint{j}.frame_b.T"], dtype=float).reshape(nt, 3, 3, order="F")
+    g = np.array([0.0, -record.g, 0.0])
+    a_0 = np.asarray(result[f"section{j}.a_0"], dtype=float).reshape(nt, 3)
+    w = np.asarray(result[f"section{j}.w_a"], dtype=float).reshape(nt, 3)
+    z = np.asarray(result[f"section{j}.z_a"], dtype=float).reshape(nt, 3)
+    alpha = np.einsum("kij,kj->ki", T, a_0 - g)
+    values: dict[str, np.ndarray] = {}
+    axes = "xyz"
+    for a in range(3):
+        values[f"acc_{axes[a]}"] = alpha[:, a]
+        values[f"alpha_{axes[a]}"] = z[:, a]
+        values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
+    points = attachment_points(record, j)
+
+    def add(node: int, F: np.ndarray, M: np.ndarray) -> None:
+        for i, comp in enumerate(("ux", "uy", "uz")):
+            key = f"F{node}_{comp}"
+            values[key] = values.get(key, 0.0) + F[:, i]
+        for i, comp in enumerate(("rx", "ry", "rz")):
+            key = f"F{node}_{comp}"
+            values[key] = values.get(key, 0.0) + M[:, i]
+
+    def station(px: float) -> int:
+        return int(data.node_ids[np.argmin(np.abs(x - min(max(px, 0.0), L)))])
+
+    frames = [(f"section{j}_tip", (L, 0.0))] + [(f"section{j}_{pin}", points[name]) for pin, name in PIN_POINTS.items()
+                                                 if name in points]
+    for path, (px, py) in frames:
+        if f"{path}.frame_b.f[0]" not in result.names:
+            continue
+        F = np.asarray(result[f"{path}.frame_b.f"], dtype=float).reshape(nt, 3)
+        M = np.asarray(result[f"{path}.frame_b.t"], dtype=float).reshape(nt, 3)
+        node = station(px)
+        offset = np.array([px, py, 0.0]) - data.coordinates[data.node_index(node)]
+        add(node, F, M + np.cross(offset, F))
+    root = station(0.0)
+    add(root, -np.asarray(result[f"joint{j}.frame_b.f"], dtype=float).reshape(nt, 3),
+        -np.asarray(result[f"joint{j}.frame_b.t"], dtype=float).reshape(nt, 3))
+    zero = np.zeros(nt)
+    return np.column_stack([np.broadcast_to(values.get(c, zero), (nt,)) for c in data.load_cases])
