@@ -111,6 +111,9 @@ VALVE_DP = 35e5  # nominal pressure drop per edge [Pa]
 VALVE_HZ = 20.0  # spool bandwidth [Hz]
 PILOT_RATIO = 3.0  # counterbalance pilot ratio (Sun standard 3:1)
 CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
+CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
+CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
+D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
 OMEGA_C = 1.0  # crossover of the joint loops [rad/s]
 T_I = 2.0  # integral time [s]
 T_D = 0.05  # derivative time [s]
@@ -397,7 +400,7 @@ class PumpTruck(fl.Model):
             # F = (p_A − p_amb) A_p − (p_B − p_amb) A_r with the free chamber at tank (= ambient) pressure
             p_A, p_B = (P_TANK + F / A_p, P_TANK) if F >= 0 else (P_TANK, P_TANK - F / A_r)
             m_rod = record.steel.rho * math.pi / 4 * rod**2 * (row["l_max"] - row["l_min"])
-            cyl = LineCylinder(d_bore=bore, d_rod=rod, stroke=stroke, L0=L0, m=m_rod, d=5e4,
+            cyl = LineCylinder(d_bore=bore, d_rod=rod, stroke=stroke, L0=L0, m=m_rod, d=D_CYL,
                                V_dead_A=0.1 * A_p * stroke + 1e-4, V_dead_B=0.1 * A_r * stroke + 1e-4,
                                p_A_start=p_A, p_B_start=p_B)
             setattr(self, f"cylinder{n}", cyl)
@@ -417,7 +420,8 @@ class PumpTruck(fl.Model):
             setattr(self, f"valve{n}", valve)
             tank_ports.append(valve.port_T)
             supply_ports.append(valve.port_P)
-            cbv = CounterbalanceValve(p_crack=1.3 * row["p_worst"], pilot_ratio=PILOT_RATIO, dp_open=30e5,
+            cbv = CounterbalanceValve(p_crack=1.3 * row["p_worst"], pilot_ratio=PILOT_RATIO, dp_open=CBV_DP_OPEN,
+                                      dp_check=CBV_DP_CHECK,
                                       Q_nom=2 * Q_nom, Q_nom_check=2 * Q_nom, dp_nom=VALVE_DP, use_dynamics=True,
                                       T=CBV_T, A_leak=1e-11)
             hose = Volume(V=V_HOSE, p_start=P_TANK)
