@@ -35,9 +35,11 @@ holding pressure of the record, poppet lag ``CBV_T`` = the pilot damping orifice
 hose volume between it and the directional valve. The turret is slewed by a ``HydraulicMotor`` through an
 ``IdealGear`` (``SLEW_RATIO``) with its own valve and hose volumes.
 
-Control: per joint (``slew``, ``joint1`` … ``joint5``) a ``LimPID`` (PID, output limited to ±1 = the valve
-command) on the joint angle measured at the joint's axis flange following a ``TimeTable`` reference; or, for a
-joint given in ``commands``, the valve command straight from a ``TimeTable`` (the operator's joystick).
+Control: per joint (``slew``, ``joint1`` … ``joint5``) a ``LimPID`` (PI by default, ``T_D > 0`` adds the D part;
+output limited to ±1 = the valve command; crossover ``OMEGA_C`` = 0.3 rad/s, well below the lightly damped
+hydraulic modes of the boom: at 1 rad/s with D the loops ran into a limit cycle) on the joint angle measured at
+the joint's axis flange following a ``TimeTable`` reference; or, for a joint given in ``commands``, the valve
+command straight from a ``TimeTable`` (the operator's joystick).
 
 Static-equilibrium start in any pose: the joints start at rest at ``pose``; the holding chamber of each cylinder
 starts at ``p_tank + |F|/A`` with ``F`` the holding force by virtual work on this model's own geometry
@@ -114,9 +116,9 @@ CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
 CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
 CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
 D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
-OMEGA_C = 1.0  # crossover of the joint loops [rad/s]
+OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
 T_I = 2.0  # integral time [s]
-T_D = 0.05  # derivative time [s]
+T_D = 0.0  # derivative time [s]; 0: PI (a D part at Td = 0.05 s excites the boom's hydraulic modes: 10x steps)
 SLEW_D = 50e-6 / (2 * math.pi)  # slewing motor 50 cm3/rev [m3/rad]
 SLEW_RATIO = 300.0  # motor / turret speed (planetary gearbox and slewing ring)
 SLEW_Q = 25.0 / 60000  # slew valve rating [m3/s]
@@ -380,8 +382,9 @@ class PumpTruck(fl.Model):
             sensor = rotational.AngleSensor()
             setattr(self, f"angle_{name}", sensor)
             self.connect(self.slew.flange_b if name == "slew" else getattr(self, name).axis, sensor.flange)
-            pid = LimPID(controller_type="PID", init_type="initial_output", y_start=0.0, k=sign * OMEGA_C / K_v, Ti=T_I,
-                         Td=T_D, y_max=1.0, y_min=-1.0)
+            kind = {"controller_type": "PID", "Td": T_D} if T_D > 0 else {"controller_type": "PI"}
+            pid = LimPID(init_type="initial_output", y_start=0.0, k=sign * OMEGA_C / K_v, Ti=T_I, y_max=1.0,
+                         y_min=-1.0, **kind)
             setattr(self, f"pid_{name}", pid)
             self.connect(sources(name, k, "ref"), pid.u_s)
             self.connect(sensor.phi, pid.u_m)
