@@ -1,0 +1,65 @@
+"""Benchmark: the rigid pump-truck boom (``models/pump_truck/model.py``, issue 11) in a registered scenario.
+
+Prints the unknowns and states, the cold build (fresh cache directory) and the cached build (a new instance, same
+cache) in CPU time (this process and its gcc children), then one run of the scenario (default ``expand-fold``,
+optionally cut at ``--t-end``): CPU time, real-time factor (simulated time / CPU time of the run), IDA steps,
+residual evaluations and events. Targets of issue 11 on this machine: rigid ≥ 20× real time, cold build ≤ 10 s,
+cached ≤ 1 s. No timing is asserted; on a shared machine compare CPU times and step counts.
+
+Run: ``python benchmarks/pump_truck.py [--scenario expand-fold] [--t-end 20]`` (repository root).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+
+def _cpu() -> float:
+    """CPU time of this process and its finished children (gcc of the code generation) [s]."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenario", default="expand-fold")
+    parser.add_argument("--t-end", type=float, default=None, help="cut the scenario at this time [s]")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as cache:
+        os.environ["FLEXLIB_CACHE_DIR"] = cache
+        import flexlib as fl
+        from flexlib.registry import get_model
+
+        entry = get_model("pump-truck")
+        scenario = entry.scenario(args.scenario)
+        t_end = args.t_end if args.t_end is not None else scenario.t_end
+        c0 = _cpu()
+        model = entry.factory(scenario)
+        sim = fl.Simulation(model)
+        cold = _cpu() - c0
+        c0 = _cpu()
+        fl.Simulation(entry.factory(scenario))
+        cached = _cpu() - c0
+        run = dict(scenario.run)
+        c0 = _cpu()
+        res = sim.run(t_end, progress=False, **run)
+        cpu = _cpu() - c0
+    t_sim = float(res.t[-1] - res.t[0])
+    print(f"pump-truck / {scenario.name}: {res.stats.get('n_unknowns')} unknowns, {res.stats.get('n_states')} states")
+    print(f"build: cold {cold:.2f} s CPU, cached {cached:.2f} s CPU")
+    print(f"run: {t_sim:g} s simulated in {cpu:.2f} s CPU, real-time factor {t_sim / cpu:.2f}, "
+          f"{res.stats.get('steps')} steps, {res.stats.get('nfev')} residual evaluations, {len(res.events)} events, "
+          f"status {res.status}")
+
+
+if __name__ == "__main__":
+    main()

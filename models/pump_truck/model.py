@@ -1,0 +1,538 @@
+"""Rigid simulation model of the 42 m pump-truck boom (issue 11), built on the design record.
+
+Built from library components only (3D multibody, hydraulics, control), with the numbers of
+:class:`~models.pump_truck.parameters.PumpTruckParameters`:
+
+Mechanics (world ``y`` up, gravity ``9.81 m/s²`` along ``−y``):
+
+* The boom moves in the vertical ``x``–``y`` plane; joint 1 sits ``turret.height`` above the slewing bearing;
+  joints 1–5 turn about ``z``; relative joint angles ``q`` as in the record (``q = 0``: all sections in line,
+  ``q1 = 0``: horizontal). **Slewing** is a 1D rotation about the vertical axis: the slewing motor turns the
+  inertia of turret and boom about that axis (``rotational.Inertia``, :meth:`PumpTruck.slew_inertia` at the start
+  pose), decoupled from the boom's planar motion (no centrifugal or gyroscopic coupling: at 0.1 rad/s the
+  centrifugal acceleration of the tip is 3 % of g). A 3D slewing ``Revolute`` under the boom's four-bar loops
+  does not build yet: the engine's redundant-loop analysis mis-selects states when the loops' plane turns
+  about a joint (``InitializationError`` at the start; to be fixed in the engine).
+* Five sections as rigid ``Body`` with the record's mass properties: steel box + delivery pipe (filled or
+  empty) from :func:`~models.pump_truck.statics.mass_properties`; the end hose a point mass at the tip pin
+  (as in the hand statics), lumped into section 5's body. The section bodies are made by one function,
+  :meth:`PumpTruck._section`, which returns the section's named frames (root, tip, pins), so a FlexibleBody
+  can be swapped in with the same frames.
+* Joint 1 driven by its direct cylinder (record ``joint1``: housing ``H`` on the turret, bracket ``c`` on
+  section 1); joints 2–5 through the record's lever-and-link four-bars: lever (rocker) pivoted at ``P`` on
+  section k−1, link from the lever tip ``T`` to the bracket ``c`` on section k, cylinder from ``H`` on section
+  k−1 to ``T``. Each loop is closed by revolute joints and bodies (the engine removes the redundant planar loop
+  constraints). Levers and links are steel bars (two plates of ``LINK_PLATE`` at the scale of the joint),
+  light beside the sections (≤ 0.5 % of a joint's holding torque).
+* Cylinders (``LineCylinder``) with the record's ISO 3320 bore, rod and stroke (:func:`sizing`) plus
+  ``STOP_MARGIN`` at each end, so the transport fold sits just clear of the end stops.
+
+Hydraulics (HLP46): a pressure-compensated pump (``PUMP_D`` at ``PUMP_SPEED``, compensator ``P_COMP``) into a
+supply volume, a relief valve at the system pressure, a tank; per cylinder a closed-centre proportional
+``DirectionalValve43`` (spool 20 Hz) and a ``CounterbalanceValve`` in the line of the chamber that holds the
+extended boom (pilot from the other line, pilot ratio ``PILOT_RATIO`` = 3:1, setting 1.3 × the joint's worst
+holding pressure of the record, poppet lag ``CBV_T`` = the pilot damping orifice real valves carry) with a
+hose volume between it and the directional valve. The turret is slewed by a ``HydraulicMotor`` through an
+``IdealGear`` (``SLEW_RATIO``) with its own valve and hose volumes.
+
+Control: per joint (``slew``, ``joint1`` … ``joint5``) a ``LimPID`` (PI by default, ``T_D > 0`` adds the D part;
+output limited to ±1 = the valve command; crossover ``OMEGA_C`` = 0.3 rad/s, well below the lightly damped
+hydraulic modes of the boom: at 1 rad/s with D the loops ran into a limit cycle) on the joint angle measured at
+the joint's axis flange following a ``TimeTable`` reference; or, for a joint given in ``commands``, the valve
+command straight from a ``TimeTable`` (the operator's joystick).
+
+Static-equilibrium start in any pose: the joints start at rest at ``pose``; the holding chamber of each cylinder
+starts at ``p_tank + |F|/A`` with ``F`` the holding force by virtual work on this model's own geometry
+(:func:`holding_forces`: sections, pipe, hose, levers and links), the other chamber and all lines at tank
+pressure, valves and counterbalance valves closed, controller outputs zero.
+
+References
+----------
+Schwing / Putzmeister 42 m booms (five sections, lever-and-link joints 2–5, counterbalance valves 3:1 on the
+boom cylinders). H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967 (valve–cylinder sizing).
+Sun Hydraulics, *Counterbalance valves* (setting 1.3 × load, pilot ratio). Modelica Standard Library 4.0,
+``Blocks.Continuous.LimPID``. J. L. Meriam, L. G. Kraige, *Engineering Mechanics: Statics*, ch. 7 (virtual work).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+import flexlib as fl
+from flexlib.components.control import Constant, LimPID, TimeTable
+from flexlib.components.hydraulics import (
+    CounterbalanceValve,
+    DirectionalValve43,
+    HydraulicMotor,
+    LineCylinder,
+    PressureCompensatedPump,
+    PressureReliefValve,
+    Tank,
+    Volume,
+)
+from flexlib.components.hydraulics.fluid import HLP46
+from flexlib.components.mechanics import rotational
+from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
+from flexlib.errors import ParameterError
+from flexlib.models.boom_proxy import _link_body
+
+from .kinematics import rot
+from .parameters import PumpTruckParameters
+from .statics import mass_properties as _mass_properties
+from .statics import sizing as _sizing
+
+__all__ = ["JOINTS", "TRANSPORT_POSE_DEG", "WORKING_POSE_DEG", "PumpTruck", "holding_forces", "linkage_masses",
+           "section_mass_properties"]
+
+#: Joint names: the slewing joint and the five boom joints.
+JOINTS = ("slew", "joint1", "joint2", "joint3", "joint4", "joint5")
+#: Transport fold [deg] (slew, q1 … q5): boom resting on the truck, joints 2–5 folded to 2° before their ends.
+TRANSPORT_POSE_DEG = (0.0, 0.0, 176.0, -176.0, 176.0, -176.0)
+#: A working pose [deg]: boom raised 50°, sections opening downwards towards the pour.
+WORKING_POSE_DEG = (0.0, 50.0, 10.0, -30.0, 20.0, -40.0)
+#: Fully extended, horizontal [deg].
+EXTENDED_POSE_DEG = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+P_TANK = HLP46.p_ref  # tank pressure [Pa] (atmospheric)
+LINK_PLATE = 2 * 0.025 * 0.12  # lever/link cross-section at joint scale 3.0: two 25 x 120 mm plates [m2]
+STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
+PUMP_D = 140e-6 / (2 * math.pi)  # 140 cm3/rev [m3/rad]: 210 L/min at 1500 rpm
+PUMP_SPEED = 1500 * 2 * math.pi / 60  # [rad/s]
+P_COMP = 32e6  # compensator setting [Pa]; the pump de-strokes over DP_REG above it
+DP_REG = 1e6
+V_SUPPLY = 5e-3  # supply line and accumulator-free manifold [m3]
+V_HOSE = 1.0e-3  # hose volume between directional and counterbalance valve, and each slew line [m3]
+W_MAX = 0.03  # joint speed at full valve command, 35 bar per edge, largest lever arm [rad/s] (valve sizing)
+VALVE_DP = 35e5  # nominal pressure drop per edge [Pa]
+VALVE_HZ = 20.0  # spool bandwidth [Hz]
+PILOT_RATIO = 3.0  # counterbalance pilot ratio (Sun standard 3:1)
+CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
+CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
+CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
+D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
+OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
+T_I = 2.0  # integral time [s]
+T_D = 0.0  # derivative time [s]; 0: PI (a D part at Td = 0.05 s excites the boom's hydraulic modes: 10x steps)
+SLEW_D = 50e-6 / (2 * math.pi)  # slewing motor 50 cm3/rev [m3/rad]
+SLEW_RATIO = 300.0  # motor / turret speed (planetary gearbox and slewing ring)
+SLEW_Q = 25.0 / 60000  # slew valve rating [m3/s]
+SLEW_ROTOR_J = 0.02  # motor rotor and gearbox input inertia [kg.m2]
+
+
+@lru_cache(maxsize=64)
+def mass_properties(record: PumpTruckParameters, k: int) -> dict:
+    """:func:`models.pump_truck.statics.mass_properties` of section ``k`` with pipe, memoised per record (the beam
+    mesh behind it costs ~50 ms; the records are frozen)."""
+    return _mass_properties(record, k)
+
+
+@lru_cache(maxsize=16)
+def sizing(record: PumpTruckParameters) -> list[dict]:
+    """:func:`models.pump_truck.statics.sizing`, memoised per record."""
+    return _sizing(record)
+
+
+def linkage_masses(record: PumpTruckParameters, k: int, link_plate: float = LINK_PLATE) -> tuple[float, float]:
+    """Masses [kg] of lever and link of joint ``k`` (2–5): steel bars of cross-section ``link_plate`` [m2] at joint
+    scale 3, scaled by (scale/3)²."""
+    fb = record.drive(k)
+    scale = fb.r / 0.48
+    area = link_plate * (scale / 3.0) ** 2
+    return record.steel.rho * area * fb.r, record.steel.rho * area * fb.s
+
+
+def _pose(record: PumpTruckParameters, q: np.ndarray, link_plate: float = LINK_PLATE) -> dict[str, Any]:
+    """Planar pose (turret frame, joint 1 at the origin) of every pin and mass of the boom at joint angles ``q``."""
+    J, th = [np.zeros(2)], [0.0]
+    pins: dict[str, np.ndarray] = {}
+    masses: list[tuple[float, np.ndarray]] = []
+    for k, sec in enumerate(record.sections):
+        n = k + 1
+        theta = th[-1] + q[k]
+        R_prev, R = rot(th[-1]), rot(theta)
+        mp = mass_properties(record, k)
+        masses.append((mp["m"], J[-1] + R @ mp["com"][:2]))
+        drive = record.drive(n)
+        st = drive.state(float(q[k]))
+        pins[f"H{n}"] = J[-1] + R_prev @ np.array(drive.H)
+        pins[f"C{n}"] = J[-1] + R_prev @ st.C
+        pins[f"T{n}"] = J[-1] + R_prev @ st.T
+        if n > 1:
+            pins[f"P{n}"] = J[-1] + R_prev @ np.array(drive.P)
+            m_lever, m_link = linkage_masses(record, n, link_plate)
+            masses.append((m_lever, 0.5 * (pins[f"P{n}"] + pins[f"T{n}"])))
+            masses.append((m_link, 0.5 * (pins[f"T{n}"] + pins[f"C{n}"])))
+        J.append(J[-1] + R @ np.array([sec.length, 0.0]))
+        th.append(theta)
+    masses.append((record.hose.mass, J[-1]))
+    return {"J": J, "theta": th[1:], "pins": pins, "masses": masses}
+
+
+def holding_forces(record: PumpTruckParameters, q: Sequence[float],
+                   link_plate: float = LINK_PLATE) -> tuple[np.ndarray, np.ndarray]:
+    """Cylinder forces [N] (positive pushes) holding the boom at rest at ``q`` [rad], and lengths [m].
+
+    Virtual work on this model's geometry, ``F_k ∂l_k/∂q_k = ∂V/∂q_k`` (``V`` the potential energy of sections,
+    pipe, hose, levers and links; cylinder ``k`` spans joint ``k`` only), by central differences (step 1e-6 rad,
+    relative error ~1e-9).
+    """
+    q = np.asarray(q, dtype=float)
+
+    def V(qq: np.ndarray) -> float:
+        return record.g * sum(m * x[1] for m, x in _pose(record, qq, link_plate)["masses"])
+
+    F, lengths = np.zeros(5), np.zeros(5)
+    h = 1e-6
+    for k in range(5):
+        dq = np.zeros(5)
+        dq[k] = h
+        dV = (V(q + dq) - V(q - dq)) / (2 * h)
+        st = record.drive(k + 1).state(float(q[k]))
+        F[k] = dV / st.lever_arm
+        lengths[k] = st.length
+    return F, lengths
+
+
+def section_mass_properties(record: PumpTruckParameters, k: int) -> dict:
+    """Mass [kg], centre of mass [m] (section frame) and inertia at it [kg.m2] of section ``k`` (0-based) as built:
+    box and pipe (:func:`~models.pump_truck.statics.mass_properties`), plus the end hose as a point mass at the tip
+    pin for the last section."""
+    mp = mass_properties(record, k)
+    if k < len(record.sections) - 1:
+        return mp
+    m_h, x_h = record.hose.mass, np.array([record.sections[k].length, 0.0, 0.0])
+    m = mp["m"] + m_h
+    com = (mp["m"] * mp["com"] + m_h * x_h) / m
+    inertia = mp["I"].copy()
+    for mi, ci in ((mp["m"], mp["com"]), (m_h, x_h)):
+        d = ci - com
+        inertia += mi * (d @ d * np.eye(3) - np.outer(d, d))
+    return {"m": m, "com": com, "I": inertia}
+
+
+def _local(point: np.ndarray, origin: np.ndarray, theta: float) -> list[float]:
+    """A planar point in the frame of a section rooted at ``origin`` with absolute angle ``theta``."""
+    d = rot(-theta) @ (np.asarray(point) - origin)
+    return [float(d[0]), float(d[1]), 0.0]
+
+
+def _table(owner: str, spec: Any, n_values: int | None = None) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Check a time table ``{"t": [...], "<joint>": [...], ...}`` and return ``t`` and the columns."""
+    if not isinstance(spec, Mapping) or "t" not in spec:
+        raise ParameterError(f"PumpTruck: {owner} must be a mapping with a time column 't' and one column per joint")
+    t = np.asarray(spec["t"], dtype=float)
+    if t.ndim != 1 or t.size < 1 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+        raise ParameterError(f"PumpTruck: {owner}['t'] must be finite, strictly increasing times [s]")
+    cols = {}
+    for name, col in spec.items():
+        if name == "t":
+            continue
+        if name not in JOINTS:
+            raise ParameterError(f"PumpTruck: {owner} has unknown joint {name!r}; joints are {', '.join(JOINTS)}")
+        y = np.asarray(col, dtype=float)
+        if y.shape != t.shape or not np.all(np.isfinite(y)):
+            raise ParameterError(f"PumpTruck: {owner}[{name!r}] needs {t.size} finite values (one per time point)")
+        cols[name] = y
+    return t, cols
+
+
+class PumpTruck(fl.Model):
+    """The pump-truck boom, rigid variant (see the module docstring).
+
+    Parameters
+    ----------
+    record : PumpTruckParameters, optional
+        Design record (default ``PumpTruckParameters()``).
+    pose : sequence of 6 float, optional
+        Start angles [deg]: slew, then q1 … q5 (default :data:`TRANSPORT_POSE_DEG`). The boom starts at rest in
+        static equilibrium there.
+    targets : mapping, optional
+        Joint reference trajectories as a time table in degrees: ``{"t": [s...], "joint2": [deg...], ...}``
+        (linear between points, ends held). Joints not given hold their start angle.
+    commands : mapping, optional
+        Open-loop valve commands (−1…1) as a time table ``{"t": [...], "joint1": [...]}``; a joint given here has
+        no controller.
+    filled : bool, optional
+        Delivery pipe filled with concrete (default: the record's ``pipe.filled``).
+    flexible : bool
+        ``True`` asks for FlexibleBody sections (not built yet: ``NotImplementedError``).
+    slewing : bool
+        ``True`` (default): the slewing drive (motor, gear, valve, control) turns the turret-and-boom inertia about
+        the vertical axis (:meth:`slew_inertia` at the start pose); ``False``: no slewing drive.
+    link_plate : float
+        Cross-section of levers and links at joint scale 3 [m2] (default :data:`LINK_PLATE`).
+
+    Attributes
+    ----------
+    record : PumpTruckParameters
+        The record used (with ``filled`` applied).
+    q0 : ndarray
+        Start angles [rad] (slew, q1 … q5).
+    F_hold : ndarray
+        Holding forces of the five cylinders at the start [N] (positive pushes).
+    cylinders : list of dict
+        Per cylinder: ``bore``, ``rod``, ``stroke``, ``L0`` [m], ``hold`` (``"A"`` or ``"B"``: the chamber whose
+        line carries the counterbalance valve), ``Q_nom`` [m3/s] of its valve.
+    """
+
+    experiment = fl.Experiment(t_end=10.0, dt_out=0.05, rtol=1e-6, atol=1e-8)
+
+    def __init__(self, record: PumpTruckParameters | None = None, pose: Sequence[float] | None = None,
+                 targets: Mapping[str, Any] | None = None, commands: Mapping[str, Any] | None = None,
+                 filled: bool | None = None, flexible: bool = False, slewing: bool = True,
+                 link_plate: float = LINK_PLATE) -> None:
+        if flexible:
+            raise NotImplementedError("PumpTruck(flexible=True): the FlexibleBody sections are not built yet; "
+                                      "only the rigid variant (flexible=False) exists")
+        super().__init__()
+        record = PumpTruckParameters() if record is None else record
+        if not isinstance(record, PumpTruckParameters):
+            raise ParameterError(f"PumpTruck: record must be a PumpTruckParameters, got {type(record).__name__}")
+        if filled is not None:
+            record = replace(record, pipe=replace(record.pipe, filled=bool(filled)))
+        self.record = record
+        pose = TRANSPORT_POSE_DEG if pose is None else pose
+        q0 = np.radians(np.asarray(pose, dtype=float))
+        if q0.shape != (6,) or not np.all(np.isfinite(q0)):
+            raise ParameterError(f"PumpTruck: pose needs 6 finite angles [deg] (slew, q1 ... q5), got {pose!r}")
+        for k in range(5):
+            drive = record.drive(k + 1)
+            if not drive.q_min - 1e-9 <= q0[k + 1] <= drive.q_max + 1e-9:
+                raise ParameterError(
+                    f"PumpTruck: pose joint{k + 1} = {math.degrees(q0[k + 1]):.2f} deg is outside its range "
+                    f"{math.degrees(drive.q_min):.1f} ... {math.degrees(drive.q_max):.1f} deg")
+        self.q0 = q0
+        t_ref, ref_cols = _table("targets", targets) if targets is not None else (np.zeros(1), {})
+        t_cmd, cmd_cols = _table("commands", commands) if commands is not None else (np.zeros(1), {})
+        for name, col in cmd_cols.items():
+            if np.any(np.abs(col) > 1.0):
+                raise ParameterError(f"PumpTruck: commands[{name!r}] must stay within -1 ... 1 (valve command)")
+        for name, col in ref_cols.items():
+            k = JOINTS.index(name)
+            if k > 0:
+                drive = record.drive(k)
+                lo, hi = math.degrees(drive.q_min), math.degrees(drive.q_max)
+                if np.any(col < lo - 1e-9) or np.any(col > hi + 1e-9):
+                    raise ParameterError(f"PumpTruck: targets[{name!r}] leaves the joint's range {lo:.1f} ... "
+                                         f"{hi:.1f} deg")
+        if not (isinstance(link_plate, int | float) and math.isfinite(link_plate) and link_plate > 0):
+            raise ParameterError(f"PumpTruck: link_plate must be a positive area [m2], got {link_plate!r}")
+        self.link_plate = float(link_plate)
+        q = q0[1:]
+        geo = _pose(record, q, self.link_plate)
+        F_hold, _ = holding_forces(record, q, self.link_plate)
+        self.F_hold = F_hold
+        rows = sizing(record)
+
+        # ---- mechanics -------------------------------------------------------------------------------------
+        self.world = World()
+        tr = record.turret
+        self.slewing = bool(slewing)
+        self.turret_top = FixedTranslation(r=[0.0, tr.height, 0.0])
+        self.connect(self.world.frame_b, self.turret_top.frame_a)
+        parent = self.turret_top.frame_b  # joint 1 frame: x horizontal, y up, z the boom-joint axis
+        self.joint1_housing = FixedTranslation(r=[*record.joint1.H, 0.0])
+        self.connect(parent, self.joint1_housing.frame_a)
+
+        frames: list[dict[str, Any]] = []
+        for k in range(5):
+            n = k + 1
+            joint = Revolute(use_axis_flange=True, init={"phi": float(q[k]), "w": 0.0})
+            setattr(self, f"joint{n}", joint)
+            self.connect(parent, joint.frame_a)
+            pins = {"C": geo["pins"][f"C{n}"]}
+            if n < 5:
+                pins.update({"P_next": geo["pins"][f"P{n + 1}"], "H_next": geo["pins"][f"H{n + 1}"]})
+            fr = self._section(k, joint.frame_b, geo["J"][k], geo["theta"][k], pins)
+            frames.append(fr)
+            parent = fr["tip"]
+
+        # ---- hydraulic supply ------------------------------------------------------------------------------
+        self.tank = Tank()
+        self.pump = PressureCompensatedPump(D_max=PUMP_D, p_set=P_COMP, dp_reg=DP_REG)
+        self.pump_speed = Constant(k=PUMP_SPEED)
+        self.supply = Volume(V=V_SUPPLY, p_start=P_TANK + P_COMP + DP_REG)
+        self.relief = PressureReliefValve(p_crack=record.p_system, p_grad=1e10)
+        self.connect(self.pump_speed.y, self.pump.w)
+        tank_ports = [self.tank.port, self.pump.port_a, self.relief.port_b]
+        supply_ports = [self.pump.port_b, self.supply.port, self.relief.port_a]
+
+        def sources(name: str, k: int, kind: str) -> Any:
+            """Reference (``kind="ref"``, rad) or valve command (``"cmd"``) of joint ``name`` as a TimeTable."""
+            if kind == "cmd":
+                table = TimeTable(t=t_cmd, y=cmd_cols[name])
+            elif name in ref_cols:
+                table = TimeTable(t=t_ref, y=np.radians(ref_cols[name]))
+            else:
+                table = TimeTable(t=[0.0], y=[float(q0[k])])
+            setattr(self, f"{kind}_{name}", table)
+            return table.y
+
+        def control(name: str, k: int, valve: DirectionalValve43, K_v: float, sign: float) -> None:
+            """Valve command of joint ``name``: open loop, or a PID on its angle (``sign``: +1 if u > 0 raises q)."""
+            if name in cmd_cols:
+                self.connect(sources(name, k, "cmd"), valve.u)
+                return
+            sensor = rotational.AngleSensor()
+            setattr(self, f"angle_{name}", sensor)
+            self.connect(self.slew.flange_b if name == "slew" else getattr(self, name).axis, sensor.flange)
+            kind = {"controller_type": "PID", "Td": T_D} if T_D > 0 else {"controller_type": "PI"}
+            pid = LimPID(init_type="initial_output", y_start=0.0, k=sign * OMEGA_C / K_v, Ti=T_I, y_max=1.0,
+                         y_min=-1.0, **kind)
+            setattr(self, f"pid_{name}", pid)
+            self.connect(sources(name, k, "ref"), pid.u_s)
+            self.connect(sensor.phi, pid.u_m)
+            self.connect(pid.y, valve.u)
+
+        # ---- boom cylinders --------------------------------------------------------------------------------
+        self.cylinders: list[dict[str, Any]] = []
+        for k in range(5):
+            n = k + 1
+            row = rows[k]
+            bore, rod = row["bore"], row["rod"]
+            A_p, A_r = math.pi / 4 * bore**2, math.pi / 4 * (bore**2 - rod**2)
+            stroke = row["stroke"] + 2 * STOP_MARGIN
+            L0 = row["l_min"] - STOP_MARGIN
+            F = float(F_hold[k])
+            # F = (p_A − p_amb) A_p − (p_B − p_amb) A_r with the free chamber at tank (= ambient) pressure
+            p_A, p_B = (P_TANK + F / A_p, P_TANK) if F >= 0 else (P_TANK, P_TANK - F / A_r)
+            m_rod = record.steel.rho * math.pi / 4 * rod**2 * (row["l_max"] - row["l_min"])
+            cyl = LineCylinder(d_bore=bore, d_rod=rod, stroke=stroke, L0=L0, m=m_rod, d=D_CYL,
+                               V_dead_A=0.1 * A_p * stroke + 1e-4, V_dead_B=0.1 * A_r * stroke + 1e-4,
+                               p_A_start=p_A, p_B_start=p_B)
+            setattr(self, f"cylinder{n}", cyl)
+            if n == 1:
+                self.connect(self.joint1_housing.frame_b, cyl.frame_a)
+                self.connect(frames[0]["C"], cyl.frame_b)
+            else:
+                self._fourbar(n, frames[k - 1], frames[k], geo, cyl)
+            # the chamber holding the extended boom carries the counterbalance valve
+            hold = "A" if row["F"] >= 0 else "B"
+            arms = [record.drive(n).state(float(qq)).lever_arm
+                    for qq in np.linspace(record.drive(n).q_min, record.drive(n).q_max, 37)]
+            arm = max(abs(a) for a in arms)
+            Q_nom = A_p * arm * W_MAX
+            valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=VALVE_DP, omega=2 * math.pi * VALVE_HZ, zeta=0.7,
+                                       A_leak=1e-10)
+            setattr(self, f"valve{n}", valve)
+            tank_ports.append(valve.port_T)
+            supply_ports.append(valve.port_P)
+            cbv = CounterbalanceValve(p_crack=1.3 * row["p_worst"], pilot_ratio=PILOT_RATIO, dp_open=CBV_DP_OPEN,
+                                      dp_check=CBV_DP_CHECK,
+                                      Q_nom=2 * Q_nom, Q_nom_check=2 * Q_nom, dp_nom=VALVE_DP, use_dynamics=True,
+                                      T=CBV_T, A_leak=1e-11)
+            hose = Volume(V=V_HOSE, p_start=P_TANK)
+            setattr(self, f"cbv{n}", cbv)
+            setattr(self, f"hose{n}", hose)
+            hold_port, free_port = (cyl.port_A, cyl.port_B) if hold == "A" else (cyl.port_B, cyl.port_A)
+            # valve port A feeds the cap side: u > 0 extends the cylinder
+            v_hold, v_free = (valve.port_A, valve.port_B) if hold == "A" else (valve.port_B, valve.port_A)
+            self.connect(v_hold, hose.port, cbv.port_valve)
+            self.connect(cbv.port_load, hold_port)
+            self.connect(v_free, free_port, cbv.port_pilot)
+            sign = 1.0 if arms[len(arms) // 2] > 0 else -1.0
+            control(f"joint{n}", n, valve, Q_nom / (A_p * arm), sign)
+            self.cylinders.append({"bore": bore, "rod": rod, "stroke": stroke, "L0": L0, "hold": hold,
+                                   "Q_nom": Q_nom})
+
+        if self.slewing:
+            self._slew_drive(tank_ports, supply_ports, control, self.slew_inertia(q))
+        self.connect(*tank_ports)
+        self.connect(*supply_ports)
+
+    # ---- building blocks ------------------------------------------------------------------------------------
+    def slew_inertia(self, q: np.ndarray) -> float:
+        """Moment of inertia [kg.m2] of turret and boom about the slewing axis (world ``y``) at joint angles ``q``."""
+        geo = _pose(self.record, q, self.link_plate)
+        J = self.record.turret.J_slew
+        for k in range(5):
+            mp = section_mass_properties(self.record, k)
+            th = geo["theta"][k]
+            n = np.array([math.sin(th), math.cos(th), 0.0])  # world y in the section frame
+            x = geo["J"][k][0] + (rot(th) @ mp["com"][:2])[0]
+            J += float(n @ mp["I"] @ n) + mp["m"] * (x**2 + float(mp["com"][2]) ** 2)
+        for n in range(2, 6):
+            m_lever, m_link = linkage_masses(self.record, n, self.link_plate)
+            pins = geo["pins"]
+            J += m_lever * (0.5 * (pins[f"P{n}"] + pins[f"T{n}"]))[0] ** 2
+            J += m_link * (0.5 * (pins[f"T{n}"] + pins[f"C{n}"]))[0] ** 2
+        return J
+
+    def _slew_drive(self, tank_ports: list, supply_ports: list, control: Any, J_slew: float) -> None:
+        """Slewing motor, gear, valve and hose volumes driving the turret-and-boom inertia ``J_slew`` [kg.m2];
+        the slew angle under ``control``."""
+        self.slew = rotational.Inertia(J=J_slew, init={"phi": float(self.q0[0]), "w": 0.0})
+        self.slew_motor = HydraulicMotor(D=SLEW_D)
+        self.slew_rotor = rotational.Inertia(J=SLEW_ROTOR_J)
+        self.slew_gear = rotational.IdealGear(ratio=SLEW_RATIO)
+        self.slew_valve = DirectionalValve43(Q_nom=SLEW_Q, dp_nom=VALVE_DP, omega=2 * math.pi * VALVE_HZ, zeta=0.7,
+                                             A_leak=1e-10)
+        self.slew_line_a = Volume(V=V_HOSE, p_start=P_TANK)
+        self.slew_line_b = Volume(V=V_HOSE, p_start=P_TANK)
+        self.connect(self.slew_motor.flange, self.slew_rotor.flange_a)
+        self.connect(self.slew_rotor.flange_b, self.slew_gear.flange_a)
+        self.connect(self.slew_gear.flange_b, self.slew.flange_a)
+        self.connect(self.slew_valve.port_A, self.slew_line_a.port, self.slew_motor.port_a)
+        self.connect(self.slew_valve.port_B, self.slew_line_b.port, self.slew_motor.port_b)
+        tank_ports.append(self.slew_valve.port_T)
+        supply_ports.append(self.slew_valve.port_P)
+        control("slew", 0, self.slew_valve, SLEW_Q / SLEW_D / SLEW_RATIO, 1.0)
+
+    def _section(self, k: int, root: Any, origin: np.ndarray, theta: float, pins: dict[str, np.ndarray]) -> dict:
+        """Section ``k`` (0-based) as a rigid Body on the frame ``root``; returns its frames.
+
+        ``pins`` are planar turret-frame points (start pose) fixed on the section; each gets a frame. Returned:
+        ``root``, ``tip`` and one frame per pin name. A flexible variant returns the same frames from a
+        FlexibleBody's interface nodes.
+        """
+        n = k + 1
+        sec = self.record.sections[k]
+        mp = section_mass_properties(self.record, k)
+        body = Body(m=mp["m"], r_CM=[float(v) for v in mp["com"]], I=mp["I"])
+        setattr(self, f"section{n}", body)
+        self.connect(root, body.frame_a)
+        frames = {"root": root}
+        tip = FixedTranslation(r=[sec.length, 0.0, 0.0])
+        setattr(self, f"section{n}_tip", tip)
+        self.connect(root, tip.frame_a)
+        frames["tip"] = tip.frame_b
+        for name, point in pins.items():
+            pin = FixedTranslation(r=_local(point, origin, theta))
+            setattr(self, f"section{n}_{name}", pin)
+            self.connect(root, pin.frame_a)
+            frames[name] = pin.frame_b
+        return frames
+
+    def _fourbar(self, n: int, prev: dict, sec: dict, geo: dict, cyl: LineCylinder) -> None:
+        """Lever and link of joint ``n`` (2–5) between section n−1 (``prev``) and n (``sec``); cylinder to T."""
+        P, T, C = geo["pins"][f"P{n}"], geo["pins"][f"T{n}"], geo["pins"][f"C{n}"]
+        th_prev, th_sec = geo["theta"][n - 2], geo["theta"][n - 1]
+        th_lever = math.atan2(T[1] - P[1], T[0] - P[0])
+        th_link = math.atan2(C[1] - T[1], C[0] - T[0])
+        m_lever, m_link = linkage_masses(self.record, n, self.link_plate)
+        r, s = self.record.drive(n).r, self.record.drive(n).s
+        lever_joint = Revolute(guess={"phi": th_lever - th_prev})
+        lever = _link_body(m_lever, r)
+        lever_tip = FixedTranslation(r=[r, 0.0, 0.0])
+        link_joint = Revolute(guess={"phi": th_link - th_lever})
+        link = _link_body(m_link, s)
+        link_tip = FixedTranslation(r=[s, 0.0, 0.0])
+        link_pin = Revolute(guess={"phi": th_sec - th_link})
+        for name, comp in (("lever_joint", lever_joint), ("lever", lever), ("lever_tip", lever_tip),
+                           ("link_joint", link_joint), ("link", link), ("link_tip", link_tip),
+                           ("link_pin", link_pin)):
+            setattr(self, f"{name}{n}", comp)
+        self.connect(prev["P_next"], lever_joint.frame_a)
+        self.connect(lever_joint.frame_b, lever.frame_a, lever_tip.frame_a)
+        self.connect(lever_tip.frame_b, link_joint.frame_a, cyl.frame_b)
+        self.connect(link_joint.frame_b, link.frame_a, link_tip.frame_a)
+        self.connect(link_tip.frame_b, link_pin.frame_a)
+        self.connect(link_pin.frame_b, sec["C"])
+        self.connect(prev["H_next"], cyl.frame_a)
+
