@@ -19,6 +19,7 @@ from flexlib.errors import ParameterError
 from flexlib.registry import Scenario, register_model
 
 from .model import EXTENDED_POSE_DEG, JOINTS, TRANSPORT_POSE_DEG, WORKING_POSE_DEG, PumpTruck
+from .plots import figures
 
 __all__ = ["SCENARIOS", "W_REF", "expand_targets", "summary_signals"]
 
@@ -118,5 +119,5 @@ register_model(
     "pump-truck", _factory,
     doc="42 m five-section boom, lever-and-link joints, counterbalance valves, PID joint control (issue 11)",
     scenarios=list(SCENARIOS), summary_signals=summary_signals,
-    options=["filled", "flexible", "slewing", "link_plate"],
+    options=["filled", "flexible", "slewing", "link_plate"], plots=figures,
 )

@@ -136,3 +136,35 @@ def test_flexible_section_on_a_clamp_sags_as_the_fe_model():
         data, q[:1], [nodes["root"], nodes["tip"]], loads=loads)[0]
     local = cayley_rotation(node_rotations(data, q[:1], [nodes["root"]], loads=loads)[0, 0]) @ (x[1] - x[0])
     assert local[1] == pytest.approx(sag_fe, rel=5e-5)
+
+
+def test_rigid_section_loads_balance_and_select_in_plane_modes():
+    """The loads a rigid run puts on each section, as load-case amplitudes (rigid_section_loads), are in moment
+    equilibrium about the root pin with the section's d'Alembert load (gravity in the static working pose):
+    sum of the node forces' and moments' moment plus -m c x (a - g) within 1e-4 of the moment; the MPF method fed
+    with them keeps only in-plane modes (no out-of-plane translation) and the lowest in-plane mode at 100 %."""
+    import flexlib as fl
+    from flexlib.components.mechanics.flexible import participation_from_load_cases
+    from models.pump_truck.flexible import rigid_section_loads
+    from models.pump_truck.model import WORKING_POSE_DEG, PumpTruck
+
+    model = PumpTruck(pose=WORKING_POSE_DEG, slewing=False)
+    res = fl.Simulation(model).run(0.2, dt_out=0.1, progress=False)
+    for j in (1, 3, 5):
+        data, _ = section_modal_data(RECORD, j)
+        A = rigid_section_loads(res, RECORD, j, data)[-1]
+        cases = list(data.load_cases)
+        moment = 0.0
+        for c, a in zip(cases, A, strict=True):
+            if c.startswith("F"):
+                node, comp = int(c[1:].split("_")[0]), c.split("_")[1]
+                x = data.coordinates[data.node_index(node)]
+                moment += {"ux": -x[1] * a, "uy": x[0] * a, "rz": a}.get(comp, 0.0)
+        acc = np.array([A[cases.index("acc_x")], A[cases.index("acc_y")], 0.0])
+        inertial = -data.mass * np.cross(data.center_of_mass, acc)[2]
+        assert abs(moment + inertial) <= 1e-4 * abs(moment), (j, moment, inertial)
+        table = participation_from_load_cases(data, rigid_section_loads(res, RECORD, j, data))
+        tr = data.translational_modes
+        in_plane = [k for k in range(data.n_modes) if np.abs(tr[k][:, 2]).max() < 1e-6 * np.abs(tr[k]).max()]
+        assert set(table.kept) <= set(in_plane)
+        assert table.shares[min(in_plane, key=lambda k: data.frequencies[k])] == 100.0

@@ -155,3 +155,24 @@ def test_empty_pipe_lowers_the_holding_force():
 def test_flexible_variant_is_not_built_yet():
     with pytest.raises(NotImplementedError, match="flexible"):
         PumpTruck(flexible=True)
+
+
+def test_figures_of_a_run(short_cycle, tmp_path):
+    """The run's figures (the CLI's --plots hook): one PNG each for flows, pressures, hinge forces, section lengths
+    and tip path, readable images; the rigid sections' pin-to-pin lengths stay at their nominal values (1e-9 m)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.image as mpimg
+
+    from models.pump_truck.plots import figures
+
+    model, res, _ = short_cycle
+    paths = figures(model, res, tmp_path)
+    assert [p.name for p in paths] == ["flows.png", "pressures.png", "hinge_forces.png", "section_lengths.png",
+                                       "tip_path.png"]
+    for p in paths:
+        assert mpimg.imread(p).shape[0] > 200
+    for n in range(1, 5):
+        length = np.linalg.norm(res[f"joint{n + 1}.frame_a.r_0"] - res[f"joint{n}.frame_b.r_0"], axis=1)
+        np.testing.assert_allclose(length, model.record.sections[n - 1].length, atol=1e-9)
