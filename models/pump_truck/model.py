@@ -7,12 +7,10 @@ Mechanics (world ``y`` up, gravity ``9.81 m/s²`` along ``−y``):
 
 * The boom moves in the vertical ``x``–``y`` plane; joint 1 sits ``turret.height`` above the slewing bearing;
   joints 1–5 turn about ``z``; relative joint angles ``q`` as in the record (``q = 0``: all sections in line,
-  ``q1 = 0``: horizontal). **Slewing** is a 1D rotation about the vertical axis: the slewing motor turns the
-  inertia of turret and boom about that axis (``rotational.Inertia``, :meth:`PumpTruck.slew_inertia` at the start
-  pose), decoupled from the boom's planar motion (no centrifugal or gyroscopic coupling: at 0.1 rad/s the
-  centrifugal acceleration of the tip is 3 % of g). A 3D slewing ``Revolute`` under the boom's four-bar loops
-  does not build yet: the engine's redundant-loop analysis mis-selects states when the loops' plane turns
-  about a joint (``InitializationError`` at the start; to be fixed in the engine).
+  ``q1 = 0``: horizontal). **Slewing**: the whole boom stands on a revolute about the vertical world ``y`` axis
+  (the slewing bearing) carrying the turret body (``turret.mass``, ``turret.J_slew`` about the axis), so slewing
+  and the boom's motion are coupled in 3D (centrifugal and gyroscopic terms included); the boom's four-bar loops
+  turn with it (their redundant rows are dropped in the cut frames: ``docs/engine.md``).
 * Five sections as rigid ``Body`` with the record's mass properties: steel box + delivery pipe (filled or
   empty) from :func:`~models.pump_truck.statics.mass_properties`; the end hose a point mass at the tip pin
   (as in the hand statics), lumped into section 5's body. The section bodies are made by one function,
@@ -263,8 +261,8 @@ class PumpTruck(fl.Model):
     flexible : bool
         ``True`` asks for FlexibleBody sections (not built yet: ``NotImplementedError``).
     slewing : bool
-        ``True`` (default): the slewing drive (motor, gear, valve, control) turns the turret-and-boom inertia about
-        the vertical axis (:meth:`slew_inertia` at the start pose); ``False``: no slewing drive.
+        ``True`` (default): the slewing bearing (a revolute about world ``y`` under the turret) and its drive
+        (motor, gear, valve, control); ``False``: the turret fixed to the ground, no slewing drive.
     link_plate : float
         Cross-section of levers and links at joint scale 3 [m2] (default :data:`LINK_PLATE`).
 
@@ -335,7 +333,14 @@ class PumpTruck(fl.Model):
         tr = record.turret
         self.slewing = bool(slewing)
         self.turret_top = FixedTranslation(r=[0.0, tr.height, 0.0])
-        self.connect(self.world.frame_b, self.turret_top.frame_a)
+        if self.slewing:  # the slewing bearing: a revolute about world y under the whole boom, turret on it
+            self.slew = Revolute(n=[0, 1, 0], use_axis_flange=True, init={"phi": float(q0[0]), "w": 0.0})
+            self.turret = Body(m=tr.mass, r_CM=[0.0, tr.height / 2, 0.0],
+                               I=np.diag([tr.J_slew / 2, tr.J_slew, tr.J_slew / 2]))
+            self.connect(self.world.frame_b, self.slew.frame_a)
+            self.connect(self.slew.frame_b, self.turret_top.frame_a, self.turret.frame_a)
+        else:
+            self.connect(self.world.frame_b, self.turret_top.frame_a)
         parent = self.turret_top.frame_b  # joint 1 frame: x horizontal, y up, z the boom-joint axis
         self.joint1_housing = FixedTranslation(r=[*record.joint1.H, 0.0])
         self.connect(parent, self.joint1_housing.frame_a)
@@ -381,7 +386,7 @@ class PumpTruck(fl.Model):
                 return
             sensor = rotational.AngleSensor()
             setattr(self, f"angle_{name}", sensor)
-            self.connect(self.slew.flange_b if name == "slew" else getattr(self, name).axis, sensor.flange)
+            self.connect(getattr(self, name).axis, sensor.flange)
             kind = {"controller_type": "PID", "Td": T_D} if T_D > 0 else {"controller_type": "PI"}
             pid = LimPID(init_type="initial_output", y_start=0.0, k=sign * OMEGA_C / K_v, Ti=T_I, y_max=1.0,
                          y_min=-1.0, **kind)
@@ -442,7 +447,7 @@ class PumpTruck(fl.Model):
                                    "Q_nom": Q_nom})
 
         if self.slewing:
-            self._slew_drive(tank_ports, supply_ports, control, self.slew_inertia(q))
+            self._slew_drive(tank_ports, supply_ports, control)
         self.connect(*tank_ports)
         self.connect(*supply_ports)
 
@@ -464,10 +469,9 @@ class PumpTruck(fl.Model):
             J += m_link * (0.5 * (pins[f"T{n}"] + pins[f"C{n}"]))[0] ** 2
         return J
 
-    def _slew_drive(self, tank_ports: list, supply_ports: list, control: Any, J_slew: float) -> None:
-        """Slewing motor, gear, valve and hose volumes driving the turret-and-boom inertia ``J_slew`` [kg.m2];
-        the slew angle under ``control``."""
-        self.slew = rotational.Inertia(J=J_slew, init={"phi": float(self.q0[0]), "w": 0.0})
+    def _slew_drive(self, tank_ports: list, supply_ports: list, control: Any) -> None:
+        """Slewing motor, gear, valve and hose volumes driving the slewing revolute's axis; the slew angle under
+        ``control``."""
         self.slew_motor = HydraulicMotor(D=SLEW_D)
         self.slew_rotor = rotational.Inertia(J=SLEW_ROTOR_J)
         self.slew_gear = rotational.IdealGear(ratio=SLEW_RATIO)
@@ -477,7 +481,7 @@ class PumpTruck(fl.Model):
         self.slew_line_b = Volume(V=V_HOSE, p_start=P_TANK)
         self.connect(self.slew_motor.flange, self.slew_rotor.flange_a)
         self.connect(self.slew_rotor.flange_b, self.slew_gear.flange_a)
-        self.connect(self.slew_gear.flange_b, self.slew.flange_a)
+        self.connect(self.slew_gear.flange_b, self.slew.axis)
         self.connect(self.slew_valve.port_A, self.slew_line_a.port, self.slew_motor.port_a)
         self.connect(self.slew_valve.port_B, self.slew_line_b.port, self.slew_motor.port_b)
         tank_ports.append(self.slew_valve.port_T)
