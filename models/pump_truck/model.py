@@ -286,8 +286,10 @@ class PumpTruck(fl.Model):
                  filled: bool | None = None, flexible: bool = False, slewing: bool = True,
                  link_plate: float = LINK_PLATE) -> None:
         if flexible:
-            raise NotImplementedError("PumpTruck(flexible=True): the FlexibleBody sections are not built yet; "
-                                      "only the rigid variant (flexible=False) exists")
+            raise NotImplementedError("PumpTruck(flexible=True) is not available yet: the flexible sections exist "
+                                      "(models.pump_truck.flexible.flexible_section, MPF from rigid_section_loads) but "
+                                      "the boom's static start with deflected sections does not hold yet; use the "
+                                      "rigid variant (flexible=False)")
         super().__init__()
         record = PumpTruckParameters() if record is None else record
         if not isinstance(record, PumpTruckParameters):
