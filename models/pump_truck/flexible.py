@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.components.mechanics.flexible import FEModel, ModalData, beam_mesh, box, modal_data_from_fe
+from flexlib.components.mechanics.flexible.body import inertial_load_amplitudes
 
 from .parameters import PumpTruckParameters
 
@@ -253,15 +254,7 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
     a_0 = np.asarray(result[f"section{j}.a_0"], dtype=float).reshape(nt, 3)
     w = np.asarray(result[f"section{j}.w_a"], dtype=float).reshape(nt, 3)
     z = np.asarray(result[f"section{j}.z_a"], dtype=float).reshape(nt, 3)
-    alpha = np.einsum("kij,kj->ki", T, a_0 - g)
-    values: dict[str, np.ndarray] = {}
-    axes = "xyz"
-    for a in range(3):
-        values[f"acc_{axes[a]}"] = alpha[:, a]
-        values[f"alpha_{axes[a]}"] = z[:, a]
-        values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
-    for a, b in ((0, 1), (1, 2), (2, 0)):
-        values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
+    values = inertial_load_amplitudes(np.einsum("kij,kj->ki", T, a_0 - g), z, w)
     points = attachment_points(record, j)
 
     def add(node: int, F: np.ndarray, M: np.ndarray) -> None:

@@ -16,8 +16,8 @@ import pytest
 
 from flexlib.components.mechanics.flexible import box
 from models.pump_truck.flexible import attachment_points, section_fe, section_modal_data
+from models.pump_truck.model import section_mass_properties
 from models.pump_truck.parameters import PumpTruckParameters
-from models.pump_truck.statics import mass_properties
 
 RECORD = PumpTruckParameters()
 
@@ -27,16 +27,8 @@ def test_section_mass_properties_equal_the_design_statics(j):
     """Mass and centre of mass equal the statics' to 1e-12 (section 5 with the end hose at its tip pin); the
     inertia about the centre of mass to 2e-4 (the pipe is lumped at 49 nodes here, a line there)."""
     data, _nodes = section_modal_data(RECORD, j, cache=False)
-    mp = dict(mass_properties(RECORD, j - 1))
-    if j == 5:  # the hose: a point mass at the tip pin
-        m_h, x_h = RECORD.hose.mass, np.array([RECORD.sections[4].length, 0.0, 0.0])
-        m = mp["m"] + m_h
-        com = (mp["m"] * mp["com"] + m_h * x_h) / m
-        inertia = mp["I"].copy()
-        for mi, ci in ((mp["m"], mp["com"]), (m_h, x_h)):
-            d = ci - com
-            inertia += mi * (d @ d * np.eye(3) - np.outer(d, d))
-        mp = {"m": m, "com": com, "I": inertia}
+    # the rigid model's section: the statics' box and pipe, on section 5 with the hose at the tip pin
+    mp = section_mass_properties(RECORD, j - 1)
     assert data.mass == pytest.approx(mp["m"], rel=1e-12)
     np.testing.assert_allclose(data.center_of_mass, mp["com"], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(data.inertia_cm, mp["I"], rtol=2e-4, atol=2e-4 * np.abs(mp["I"]).max())

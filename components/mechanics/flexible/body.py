@@ -68,7 +68,7 @@ from ..multibody.world import World, gravity_of
 from .modal_data import ModalData
 from .selection import default_damping_ratio, select_modes
 
-__all__ = ["FlexibleBody", "cayley_rotation", "frame_names"]
+__all__ = ["FlexibleBody", "cayley_rotation", "frame_names", "inertial_load_amplitudes"]
 
 _LETTERS = "abcdefghijklmnopqrstuvwxyz"
 #: Mode-shape entries at a frame below this fraction of the mode's largest entry are round-off (set to zero).
@@ -301,15 +301,7 @@ class FlexibleBody(Component):
         a_0 = np.asarray(result[f"{self.path}.a_0"], dtype=float).reshape(nt, 3)
         w = np.asarray(result[f"{self.path}.w"], dtype=float).reshape(nt, 3)
         z = np.asarray(result[f"{self.path}.z"], dtype=float).reshape(nt, 3)
-        alpha = np.einsum("kij,kj->ki", T, a_0 - g)
-        axes = "xyz"
-        values: dict[str, np.ndarray] = {}
-        for a in range(3):
-            values[f"acc_{axes[a]}"] = alpha[:, a]
-            values[f"alpha_{axes[a]}"] = z[:, a]
-            values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
-        for a, b in ((0, 1), (1, 2), (2, 0)):
-            values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
+        values = inertial_load_amplitudes(np.einsum("kij,kj->ki", T, a_0 - g), z, w)
         for node, frame in zip(self.frame_nodes, frame_names(len(self.frame_nodes)), strict=True):
             Tf = np.asarray(result[f"{self.path}.{frame}.T"], dtype=float).reshape(nt, 3, 3, order="F")
             to_body = np.einsum("kij,klj->kil", T, Tf)  # T_body T_frame^T = T_rel^T
@@ -526,6 +518,22 @@ def _choose_modes(data: ModalData, modes: int | Sequence[int] | None, max_freque
                          f"({data.n_modes} modes: 0..{data.n_modes - 1})")
     out = data.select(idx)
     return out if max_frequency is None else select_modes(out, max_frequency=max_frequency)
+
+
+def inertial_load_amplitudes(alpha: np.ndarray, z: np.ndarray, w: np.ndarray) -> dict[str, np.ndarray]:
+    """Amplitudes of the inertial unit load cases (:func:`~.geometric.inertial_load_cases`) of a reference frame
+    with origin acceleration less gravity ``alpha`` [m/s2], angular acceleration ``z`` [rad/s2] and angular
+    velocity ``w`` [rad/s], all (nt, 3) in body axes: ``acc_*``, ``alpha_*``, ``omega_aa`` = ``w_a²``,
+    ``omega_ab`` = ``w_a w_b``."""
+    axes = "xyz"
+    values: dict[str, np.ndarray] = {}
+    for a in range(3):
+        values[f"acc_{axes[a]}"] = alpha[:, a]
+        values[f"alpha_{axes[a]}"] = z[:, a]
+        values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
+    return values
 
 
 def cayley_rotation(theta: np.ndarray) -> np.ndarray:
