@@ -137,3 +137,8 @@ class ModalFileError(FlexlibError, ValueError):
 class RegistryError(FlexlibError, LookupError):
     """An unknown registered model or scenario (the message names it, the known ones and the closest match), or
     a bad registration (``flexlib.registry``)."""
+
+
+class ResultCheckWarning(UserWarning):
+    """A check of a result's recorded rows (the settling of derivative-level unknowns) could not run; the rows are
+    returned as the solver left them, and ``result.stats["settle_error"]`` says why."""

@@ -56,3 +56,21 @@ def test_out_of_plane_reactions_stay_zero(run):
     _model, res = run
     assert np.abs(res["beam.frame_a.t"][:, :2]).max() <= 1e-6
     assert np.abs(res["beam.frame_a.f"][:, 2]).max() <= 1e-6
+
+
+def test_a_failing_check_keeps_the_rows(monkeypatch):
+    """If the settling itself fails (here: forced), the run's rows are kept as IDA left them, the result is
+    returned, stats name the reason and a ResultCheckWarning says so: nothing is lost to the check."""
+    import flexlib.solve.simulation as simulation
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("forced failure")
+
+    monkeypatch.setattr(simulation, "settle_derivative_level", broken)
+    data = beam_modal_data()
+    sim = fl.Simulation(PinnedFreeBeam(data, bending_modes(data)[:1], frames=[0, 32]))
+    with pytest.warns(fl.ResultCheckWarning, match="forced failure"):
+        res = sim.run(0.2, dt_out=0.05, progress=False)
+    assert res.success and len(res.t) >= 5
+    assert res.stats["settle_error"] == "RuntimeError: forced failure"
+    assert np.all(np.isfinite(res["beam.q"]))

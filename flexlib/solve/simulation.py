@@ -29,6 +29,7 @@ from flexlib.core.variables import Parameter
 from flexlib.errors import (
     NativeSolverError,
     ParameterError,
+    ResultCheckWarning,
     ResultFileError,
     ResultSaveWarning,
     SimulationInterrupted,
@@ -466,14 +467,22 @@ class Simulation:
         if traj.t:
             T = np.array(traj.t)
             values = np.zeros((len(T), len(names)))
-            repaired = 0
+            repaired, settle_error = 0, ""
             for model, rows, Ts, Y, YP, P in segments(traj, m, pvec):
-                Y, YP, n_fixed = settle_derivative_level(self._rows, model, Ts, Y, YP, P)
-                repaired += n_fixed
+                try:
+                    Y, YP, n_fixed = settle_derivative_level(self._rows, model, Ts, Y, YP, P)
+                    repaired += n_fixed
+                except Exception as exc:  # never lose a run's rows to the check: keep them as recorded
+                    settle_error = f"{type(exc).__name__}: {exc}"
                 values[rows] = self._assemble(model, Ts, Y, YP, P)
         else:
             T, values = np.zeros(0), np.zeros((0, len(names)))
         stats = dict(traj.stats)
+        if traj.t and settle_error:
+            stats["settle_error"] = settle_error
+            warnings.warn(f"{m.name}: the derivative-level unknowns (forces, accelerations) of the recorded rows "
+                          f"could not be checked ({settle_error}); they are as IDA left them", ResultCheckWarning,
+                          stacklevel=3)
         stats.update({"rows_resettled": repaired if traj.t else 0,
                       "wall_init": t_init, "rtol": rtol, "atol": atol, "n_states": int(m.differential.sum()),
                       "n_unknowns": m.n, "build_cached": bool(self.build_info.get("cached")),
