@@ -486,8 +486,8 @@ class Initializer:
                 # no solution with these relation values: re-evaluate the relations at the best point
                 # found (the start guesses may lie on the wrong side of a limiter) and try again
                 point = getattr(err, "point", None)
-                if not m.n_relations or point is None:
-                    raise
+                if not m.n_relations or point is None or np.size(point[0]) != m.n or np.size(point[1]) != m.n:
+                    raise  # (a point of the full system, before explicit eliminations, is not this model's)
                 with np.errstate(all="ignore"):
                     z = np.asarray(m.function("ind")(t0, point[0], point[1], p)).ravel()
                 flipped = False
