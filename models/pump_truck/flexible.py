@@ -73,6 +73,12 @@ def attachment_points(record: PumpTruckParameters, j: int) -> dict[str, tuple[fl
     return points
 
 
+def station_node(x: np.ndarray, node_ids: np.ndarray, position: float, length: float) -> int:
+    """Id of the node at the station of an attachment at ``position`` [m] along the axis (the nearest of the
+    nodes at ``x`` [m]; a point beyond an end belongs to the end node)."""
+    return int(node_ids[np.argmin(np.abs(x - min(max(position, 0.0), length)))])
+
+
 def section_fe(record: PumpTruckParameters, j: int, n_elements: int = N_ELEMENTS) -> tuple[FEModel, dict[str, int]]:
     """Beam FE model of section ``j`` (1–5) with its pipe as offset point masses (section 5: and the end hose at
     its tip).
@@ -100,7 +106,7 @@ def section_fe(record: PumpTruckParameters, j: int, n_elements: int = N_ELEMENTS
     fe = fe.with_point_masses(fe.node_ids, mu * tributary, offsets=np.tile(offset, (x.size, 1)))
     if j == 5:
         fe = fe.with_point_masses([int(fe.node_ids[-1])], [record.hose.mass])
-    nodes = {name: int(fe.node_ids[np.argmin(np.abs(x - px))]) for name, (px, _py) in points.items()}
+    nodes = {name: station_node(x, fe.node_ids, px, L) for name, (px, _py) in points.items()}
     return fe, nodes
 
 
@@ -136,9 +142,12 @@ def section_modal_data(record: PumpTruckParameters, j: int, *, n_elements: int =
                       "n_fixed_modes": n_fixed_modes, "version": 1}, sort_keys=True, default=str)
     digest = hashlib.sha256(key.encode()).hexdigest()[:24]
     path = _cache_dir() / f"section{j}-{digest}.h5"
-    fe, nodes = section_fe(record, j, n_elements)
     if cache and path.exists():
-        return ModalData.read(path), nodes
+        data = ModalData.read(path)
+        L = record.sections[j - 1].length
+        return data, {name: station_node(data.coordinates[:, 0], data.node_ids, px, L)
+                      for name, (px, _py) in attachment_points(record, j).items()}
+    fe, nodes = section_fe(record, j, n_elements)
     interface = sorted(set(nodes.values()))
     data = modal_data_from_fe(fe, interface, n_fixed_modes, reference_node=nodes["root"], attachment="pinned",
                               title=f"pump-truck boom section {j}", creator="models.pump_truck.flexible")
@@ -187,10 +196,7 @@ def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[
     L = record.sections[j - 1].length
     x = data.coordinates[:, 0]
 
-    def station(point: Sequence[float]) -> int:
-        return int(data.node_ids[np.argmin(np.abs(x - min(max(float(point[0]), 0.0), L)))])
-
-    at = {name: station(p) for name, p in pins.items()}
+    at = {name: station_node(x, data.node_ids, float(p[0]), L) for name, p in pins.items()}
     frame_nodes = list(dict.fromkeys([nodes["root"], nodes["tip"], *at.values()]))
     missing = sorted(set(frame_nodes) - set(data.interface_nodes.tolist()))
     if missing:
@@ -265,9 +271,6 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
             key = f"F{node}_{comp}"
             values[key] = values.get(key, 0.0) + M[:, i]
 
-    def station(px: float) -> int:
-        return int(data.node_ids[np.argmin(np.abs(x - min(max(px, 0.0), L)))])
-
     frames = [(f"section{j}_tip", (L, 0.0))] + [(f"section{j}_{pin}", points[name]) for pin, name in PIN_POINTS.items()
                                                  if name in points]
     for path, (px, py) in frames:
@@ -275,10 +278,10 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
             continue
         F = np.asarray(result[f"{path}.frame_b.f"], dtype=float).reshape(nt, 3)
         M = np.asarray(result[f"{path}.frame_b.t"], dtype=float).reshape(nt, 3)
-        node = station(px)
+        node = station_node(x, data.node_ids, px, L)
         offset = np.array([px, py, 0.0]) - data.coordinates[data.node_index(node)]
         add(node, F, M + np.cross(offset, F))
-    root = station(0.0)
+    root = station_node(x, data.node_ids, 0.0, L)
     add(root, -np.asarray(result[f"joint{j}.frame_b.f"], dtype=float).reshape(nt, 3),
         -np.asarray(result[f"joint{j}.frame_b.t"], dtype=float).reshape(nt, 3))
     zero = np.zeros(nt)

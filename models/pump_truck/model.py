@@ -454,23 +454,6 @@ class PumpTruck(fl.Model):
         self.connect(*supply_ports)
 
     # ---- building blocks ------------------------------------------------------------------------------------
-    def slew_inertia(self, q: np.ndarray) -> float:
-        """Moment of inertia [kg.m2] of turret and boom about the slewing axis (world ``y``) at joint angles ``q``."""
-        geo = _pose(self.record, q, self.link_plate)
-        J = self.record.turret.J_slew
-        for k in range(5):
-            mp = section_mass_properties(self.record, k)
-            th = geo["theta"][k]
-            n = np.array([math.sin(th), math.cos(th), 0.0])  # world y in the section frame
-            x = geo["J"][k][0] + (rot(th) @ mp["com"][:2])[0]
-            J += float(n @ mp["I"] @ n) + mp["m"] * (x**2 + float(mp["com"][2]) ** 2)
-        for n in range(2, 6):
-            m_lever, m_link = linkage_masses(self.record, n, self.link_plate)
-            pins = geo["pins"]
-            J += m_lever * (0.5 * (pins[f"P{n}"] + pins[f"T{n}"]))[0] ** 2
-            J += m_link * (0.5 * (pins[f"T{n}"] + pins[f"C{n}"]))[0] ** 2
-        return J
-
     def _slew_drive(self, tank_ports: list, supply_ports: list, control: Any) -> None:
         """Slewing motor, gear, valve and hose volumes driving the slewing revolute's axis; the slew angle under
         ``control``."""
