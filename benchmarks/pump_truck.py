@@ -1,7 +1,8 @@
 """Benchmark: the rigid pump-truck boom (``models/pump_truck/model.py``, issue 11) in a registered scenario.
 
-Prints the unknowns and states, the cold build (fresh cache directory) and the cached build (a new instance, same
-cache) in CPU time (this process and its gcc children), then one run of the scenario (default ``expand-fold``,
+Prints the unknowns and states, the cold build (fresh cache directory; until the simulation can run, its C
+library then compiles in the background) and the cached build (a new instance, same cache, compiled C) in CPU time
+(this process and its gcc children), then one run of the cached instance over the scenario (default ``expand-fold``,
 optionally cut at ``--t-end``): CPU time, real-time factor (simulated time / CPU time of the run), IDA steps,
 residual evaluations and events. Targets of issue 11 on this machine: rigid ≥ 20× real time, cold build ≤ 10 s,
 cached ≤ 1 s. No timing is asserted; on a shared machine compare CPU times and step counts.
@@ -46,8 +47,10 @@ def main() -> None:
         model = entry.factory(scenario)
         sim = fl.Simulation(model)
         cold = _cpu() - c0
+        sim.compiled.wait_for_library()  # the C library compiled in the background (gcc: children's CPU)
+        background = _cpu() - c0 - cold
         c0 = _cpu()
-        fl.Simulation(entry.factory(scenario))
+        sim = fl.Simulation(entry.factory(scenario))  # the run below uses the cached build (compiled C)
         cached = _cpu() - c0
         run = dict(scenario.run)
         c0 = _cpu()
@@ -55,7 +58,8 @@ def main() -> None:
         cpu = _cpu() - c0
     t_sim = float(res.t[-1] - res.t[0])
     print(f"pump-truck / {scenario.name}: {res.stats.get('n_unknowns')} unknowns, {res.stats.get('n_states')} states")
-    print(f"build: cold {cold:.2f} s CPU, cached {cached:.2f} s CPU")
+    print(f"build: cold {cold:.2f} s CPU (runnable; the C library compiles in the background for a further "
+          f"{background:.2f} s CPU), cached {cached:.2f} s CPU")
     print(f"run: {t_sim:g} s simulated in {cpu:.2f} s CPU, real-time factor {t_sim / cpu:.2f}, "
           f"{res.stats.get('steps')} steps, {res.stats.get('nfev')} residual evaluations, {len(res.events)} events, "
           f"status {res.status}")

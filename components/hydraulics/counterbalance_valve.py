@@ -6,9 +6,10 @@ from typing import Any
 
 import casadi as ca
 
-from flexlib import Component, Parameter, Variable, der, eq, no_event
+from flexlib import Component, Parameter, Variable, der, eq
 
 from ._checks import PositiveParameters, store_fluid
+from ._smooth import smooth_clamp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
 from .interfaces import Port
@@ -16,9 +17,9 @@ from .interfaces import Port
 __all__ = ["CounterbalanceValve"]
 
 
-def _clip01(h: Any) -> ca.SX:
-    """``h`` clipped to [0, 1], continuous (no events)."""
-    return no_event(h > 0.0, no_event(h < 1.0, h, 1.0), 0.0)
+def _clip01(h: Any, fillet: Any) -> ca.SX:
+    """``h`` clipped to [0, 1], continuous (no events); corners rounded over ``±fillet`` (C1) if ``fillet > 0``."""
+    return smooth_clamp(h, 0.0, 1.0, fillet)
 
 
 class CounterbalanceValve(PositiveParameters, Component):
@@ -85,6 +86,12 @@ class CounterbalanceValve(PositiveParameters, Component):
         Critical Reynolds number of the laminar–turbulent transition [1], > 0.
     T : float
         Time constant of the poppet opening [s], > 0 (used if ``use_dynamics``).
+    smoothing : float
+        Width of the corner fillets of both openings as a fraction of their opening ranges ``dp_check`` and
+        ``dp_open`` [1], in [0, 1]; 0 (default): sharp corners. With ``smoothing > 0`` each opening is C1 and
+        exact outside ``±smoothing/2`` of its range around cracking and full opening (Simscape Fluids'
+        *smoothing factor*): a valve crossing its corners often (a closed loop holding a load) then costs the
+        integrator no corner restarts.
     use_dynamics : bool
         True if the poppet opening lags the pressures by ``T`` (structural; adds the state ``p_c``).
     vented : bool
@@ -132,6 +139,7 @@ class CounterbalanceValve(PositiveParameters, Component):
     A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area of each closed path")
     Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
     T = Parameter(0.02, unit="s", min=0.0, doc="Time constant of the poppet opening")
+    smoothing = Parameter(0.0, unit="1", min=0.0, max=1.0, doc="Corner fillet width / opening range")
 
     m_check = Variable(unit="kg/s", doc="Mass flow valve -> load through the check valve")
     m_relief = Variable(unit="kg/s", doc="Mass flow load -> valve through the poppet")
@@ -163,10 +171,10 @@ class CounterbalanceValve(PositiveParameters, Component):
         V, L, X = self.port_valve, self.port_load, self.port_pilot
         p_ref = self.fluid.p_ref if self.vented else V.p
         return [
-            eq(self.h_check, _clip01((V.p - L.p - self.p_check) / self.dp_check)),
+            eq(self.h_check, _clip01((V.p - L.p - self.p_check) / self.dp_check, 0.5 * self.smoothing)),
             eq(self.p_open, (L.p - p_ref) + self.pilot_ratio * (X.p - p_ref)),
             eq(self.T * der(self.p_c), self.p_open - self.p_c) if self.use_dynamics else eq(self.p_c, self.p_open),
-            eq(self.h_relief, _clip01((self.p_c - self.p_crack) / self.dp_open)),
+            eq(self.h_relief, _clip01((self.p_c - self.p_crack) / self.dp_open, 0.5 * self.smoothing)),
             eq(self.m_check, self._path(self.h_check, self.Q_nom_check, V.p, L.p)),
             eq(self.m_relief, self._path(self.h_relief, self.Q_nom, L.p, V.p)),
             eq(V.m_flow, self.m_check - self.m_relief),

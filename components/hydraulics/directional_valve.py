@@ -12,6 +12,7 @@ from flexlib import Component, Input, Parameter, Variable, assert_, der, eq, no_
 from flexlib.errors import ModelError, ParameterError
 
 from ._checks import PositiveParameters, store_fluid
+from ._smooth import smooth_ramp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
 from .interfaces import Port
@@ -57,6 +58,17 @@ class DirectionalValve43(PositiveParameters, Component):
         port_P.m_flow = m_PA + m_PB (+ m_PT),  port_A.m_flow = m_AT − m_PA,
         port_B.m_flow = m_BT − m_PB,           port_T.m_flow = −(m_AT + m_BT (+ m_PT))
 
+    Pressure-compensated meter-in (``compensated=True``, structural): an individual 2-way pressure compensator
+    upstream of the spool (the load-sensing valve sections of mobile machines) keeps the drop across an open
+    meter-in edge (P→A, P→B) at ``dp_comp`` whenever the supply allows it, so their flow follows the spool and
+    not the load::
+
+        Δp_eff = Δp − ramp(Δp − dp_comp)   (a min with its corner rounded over ±5 % of dp_comp, C1)
+
+    replaces ``Δp = p_P − p_A`` (``p_P − p_B``) in the meter-in orifice law; the compensator's own dynamics are
+    neglected (much faster than the spool). With ``dp_comp = dp_nom`` the meter-in edges pass ``Q_nom·h`` at
+    any supply pressure above the load pressure + ``dp_nom``; the meter-out edges are unchanged.
+
     Centre configurations (``centre``, structural) set the default laps: ``"closed"`` (all 0: critical
     centre, all ports blocked in neutral), ``"open"`` (all −0.1: all ports connected), ``"float"`` (P
     edges 0, tank edges −0.1: A and B to T, P blocked), ``"tandem"`` (all 0.1, plus a P→T bypass of
@@ -88,6 +100,10 @@ class DirectionalValve43(PositiveParameters, Component):
         Critical Reynolds number of the laminar–turbulent transition [1], > 0.
     centre : str
         ``"closed"`` (default), ``"open"``, ``"float"`` or ``"tandem"`` (structural; see above).
+    dp_comp : float
+        Pressure drop held across an open meter-in edge by the compensator [Pa], > 0 (``compensated`` only).
+    compensated : bool
+        True for pressure-compensated meter-in edges (structural; default False).
     ideal_spool : bool
         True for an instantaneous spool, ``xs = clip(u)`` (structural; default False: second-order lag).
     fluid : Fluid
@@ -120,12 +136,14 @@ class DirectionalValve43(PositiveParameters, Component):
     ----------
     MathWorks Simscape Fluids, *4-Way 3-Position Directional Valve (IL)* block documentation (edges,
     laps, leakage area).
+    Danfoss, *PVG 32 proportional valve group*, technical information (pressure-compensated sections); H. Murrenhoff,
+    *Grundlagen der Fluidtechnik, Teil 1: Hydraulik*, Shaker 2005, ch. 8 (load sensing, individual compensators).
     Hopsan component library, *4/3 Directional Valve* (``Hydraulic43Valve``): spool second-order
     dynamics, overlaps per edge.
     H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §3.4–3.5 (four-way spool valves, rated flow).
     """
 
-    _positive = ("Q_nom", "dp_nom", "Cd", "omega", "zeta", "xs_PT", "Re_cr")
+    _positive = ("Q_nom", "dp_nom", "Cd", "omega", "zeta", "xs_PT", "Re_cr", "dp_comp")
 
     Q_nom = Parameter(6e-4, unit="m3/s", min=0.0, doc="Nominal flow of one open edge at dp_nom")
     dp_nom = Parameter(35e5, unit="Pa", min=0.0, doc="Nominal pressure drop per edge")
@@ -140,6 +158,7 @@ class DirectionalValve43(PositiveParameters, Component):
     Q_nom_PT = Parameter(6e-4, unit="m3/s", min=0.0, doc="Nominal flow of the tandem P->T bypass")
     xs_PT = Parameter(0.1, unit="1", min=0.0, doc="Spool position closing the tandem bypass")
     Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
+    dp_comp = Parameter(10e5, unit="Pa", min=0.0, doc="Drop held across an open meter-in edge (compensated)")
 
     u = Input(unit="1", doc="Spool command (-1..1)")
     xs = Variable(unit="1", fixed=True, state_select="prefer", doc="Normalised spool position")
@@ -157,7 +176,8 @@ class DirectionalValve43(PositiveParameters, Component):
     port_A = Port(doc="Consumer A")
     port_B = Port(doc="Consumer B")
 
-    def __init__(self, centre: str = "closed", fluid: Fluid = HLP46, ideal_spool: bool = False, **kw: Any) -> None:
+    def __init__(self, centre: str = "closed", fluid: Fluid = HLP46, ideal_spool: bool = False,
+                 compensated: bool = False, **kw: Any) -> None:
         if centre not in CENTRES:
             raise ModelError(f"{type(self).__name__}: centre must be one of {sorted(CENTRES)}, got {centre!r}")
         for name, lap in zip(("lap_PA", "lap_PB", "lap_AT", "lap_BT"), CENTRES[centre], strict=True):
@@ -166,6 +186,7 @@ class DirectionalValve43(PositiveParameters, Component):
         store_fluid(self, fluid)
         self.centre = centre
         self.ideal_spool = bool(ideal_spool)
+        self.compensated = bool(compensated)
         if self.ideal_spool:  # xs and vs follow from the command: no initial conditions of their own
             self.set_start("xs", 0.0, fixed=False)
             self.set_start("vs", 0.0, fixed=False)
@@ -184,13 +205,17 @@ class DirectionalValve43(PositiveParameters, Component):
         """Area of a fully open edge from the nominal rating [m2]."""
         return self.Q_nom / (self.Cd * ca.sqrt(2.0 * self.dp_nom / self.fluid.rho_ref))
 
-    def _edge(self, opening: Any, A_max: Any, p_up: Any, p_down: Any) -> ca.SX:
-        """Mass flow through one edge of normalised opening ``opening`` (clipped to [0, 1])."""
+    def _edge(self, opening: Any, A_max: Any, p_up: Any, p_down: Any, meter_in: bool = False) -> ca.SX:
+        """Mass flow through one edge of normalised opening ``opening`` (clipped to [0, 1]); a ``meter_in`` edge of
+        a compensated valve sees at most ``dp_comp``."""
         h = no_event(opening > 0.0, no_event(opening < 1.0, opening, 1.0), 0.0)
         area = A_max * h + self.A_leak
         rho = self.fluid.density(0.5 * (p_up + p_down))
         p_cr = critical_pressure(area, self.Cd, rho, self.fluid.nu, self.Re_cr)
-        return orifice_mass_flow(p_up - p_down, area, self.Cd, rho, p_cr)
+        dp = p_up - p_down
+        if meter_in and self.compensated:
+            dp = dp - smooth_ramp(dp - self.dp_comp, 0.05 * self.dp_comp)
+        return orifice_mass_flow(dp, area, self.Cd, rho, p_cr)
 
     def equations(self) -> list:
         assert_(self.u <= 1.0 + 1e-6, "spool command above +1")
@@ -201,9 +226,9 @@ class DirectionalValve43(PositiveParameters, Component):
             eq(self.u_sat, no_event(self.u > 1.0, 1.0, no_event(self.u < -1.0, -1.0, self.u))),
             *([eq(xs, self.u_sat), eq(self.vs, 0.0)] if self.ideal_spool else
               [eq(der(xs), self.vs), eq(der(self.vs), w**2 * (self.u_sat - xs) - 2.0 * self.zeta * w * self.vs)]),
-            eq(self.m_PA, self._edge((xs - self.lap_PA) / (1.0 - self.lap_PA), self.A_max, P.p, A.p)),
+            eq(self.m_PA, self._edge((xs - self.lap_PA) / (1.0 - self.lap_PA), self.A_max, P.p, A.p, True)),
             eq(self.m_BT, self._edge((xs - self.lap_BT) / (1.0 - self.lap_BT), self.A_max, B.p, T.p)),
-            eq(self.m_PB, self._edge((-xs - self.lap_PB) / (1.0 - self.lap_PB), self.A_max, P.p, B.p)),
+            eq(self.m_PB, self._edge((-xs - self.lap_PB) / (1.0 - self.lap_PB), self.A_max, P.p, B.p, True)),
             eq(self.m_AT, self._edge((-xs - self.lap_AT) / (1.0 - self.lap_AT), self.A_max, A.p, T.p)),
             eq(A.m_flow, self.m_AT - self.m_PA), eq(B.m_flow, self.m_BT - self.m_PB),
             eq(self.q_A, -A.m_flow / self.fluid.density(A.p)), eq(self.q_B, -B.m_flow / self.fluid.density(B.p)),

@@ -26,18 +26,37 @@ Mechanics (world ``y`` up, gravity ``9.81 m/s²`` along ``−y``):
   ``STOP_MARGIN`` at each end, so the transport fold sits just clear of the end stops.
 
 Hydraulics (HLP46): a pressure-compensated pump (``PUMP_D`` at ``PUMP_SPEED``, compensator ``P_COMP``) into a
-supply volume, a relief valve at the system pressure, a tank; per cylinder a closed-centre proportional
-``DirectionalValve43`` (spool 20 Hz) and a ``CounterbalanceValve`` in the line of the chamber that holds the
-extended boom (pilot from the other line, pilot ratio ``PILOT_RATIO`` = 3:1, setting 1.3 × the joint's worst
-holding pressure of the record, poppet lag ``CBV_T`` = the pilot damping orifice real valves carry) with a
-hose volume between it and the directional valve. The turret is slewed by a ``HydraulicMotor`` through an
-``IdealGear`` (``SLEW_RATIO``) with its own valve and hose volumes.
+supply volume, a relief valve at the system pressure, a tank. Per cylinder:
+
+* a closed-centre proportional ``DirectionalValve43`` (spool 20 Hz) with pressure-compensated meter-in edges
+  (the individual compensators of the load-sensing valve blocks booms carry). The lowering flow is then set by the
+  spool, and the pilot pressure rises only as far as the counterbalance valve must open to let the load follow.
+  With plain edges at the 320 bar supply, any lowering command drove the pilot to supply pressure and the
+  counterbalance valve wide open: a relay that held every joint loop in a limit cycle;
+* a ``CounterbalanceValve`` on *each* cylinder line (pilot from the other line, pilot ratio ``PILOT_RATIO`` = 3:1,
+  setting 1.3 × the joint's worst holding pressure of the record, poppet lag ``CBV_T`` = the pilot damping
+  orifice), each with a hose volume to the directional valve. Joints 2–5 fold through 180° and joint 1 rises
+  far enough for folded sections to put the centre of mass behind it, so a joint's load changes chamber within
+  its range (over 3000 random poses of the record every joint holds on both chambers, up to 12–36 MPa). The
+  openings have C1 corners over ``CBV_SMOOTHING`` of their ranges (Simscape's smoothing factor: a loop holding a
+  load crosses them often);
+* seal friction (``LineCylinder``): Coulomb ``CYL_FC`` × the force of the system pressure on the piston (3.5 bar
+  of friction pressure: the breakaway pressure of standard cylinder seals, Rexroth data 3–5 bar), regularised
+  below ``CYL_VREG``, plus viscous ``D_CYL``. Without it, counterbalance-metered lowering of the folding sections
+  grew into a 2.6 Hz oscillation (the known counterbalance lowering instability); the seal friction damps it,
+  as on the real machine.
+
+The turret is slewed by a ``HydraulicMotor`` through an ``IdealGear`` (``SLEW_RATIO``) with its own valve and
+hose volumes.
 
 Control: per joint (``slew``, ``joint1`` … ``joint5``) a ``LimPID`` (PI by default, ``T_D > 0`` adds the D part;
-output limited to ±1 = the valve command; crossover ``OMEGA_C`` = 0.3 rad/s, well below the lightly damped
-hydraulic modes of the boom: at 1 rad/s with D the loops ran into a limit cycle) on the joint angle measured at
-the joint's axis flange following a ``TimeTable`` reference; or, for a joint given in ``commands``, the valve
-command straight from a ``TimeTable`` (the operator's joystick).
+output limited to ±1 = the valve command) whose output passes the valve amplifier's command filter (``T_CMD``,
+first order: the ramp of mobile valve electronics; with the raw PI output the loops excited the boom's 5–6 Hz
+oil-spring modes into limit cycles). A boom joint is controlled on its cylinder's pin-to-pin length, measured
+along the cylinder: the joint's angle reference becomes a length reference through the record's kinematics
+(:func:`length_reference`), so the crossover is ``OMEGA_C`` = 0.3 rad/s in every pose (on the angle it would
+rise tenfold where the lever arm falls near the fold). The slewing joint is controlled on its angle. A joint
+given in ``commands`` gets its valve command straight from a ``TimeTable`` (the operator's joystick).
 
 Static-equilibrium start in any pose: the joints start at rest at ``pose``; the holding chamber of each cylinder
 starts at ``p_tank + |F|/A`` with ``F`` the holding force by virtual work on this model's own geometry
@@ -63,7 +82,7 @@ from typing import Any
 import numpy as np
 
 import flexlib as fl
-from flexlib.components.control import Constant, LimPID, TimeTable
+from flexlib.components.control import Constant, FirstOrder, LimPID, TimeTable
 from flexlib.components.hydraulics import (
     CounterbalanceValve,
     DirectionalValve43,
@@ -75,8 +94,8 @@ from flexlib.components.hydraulics import (
     Volume,
 )
 from flexlib.components.hydraulics.fluid import HLP46
-from flexlib.components.mechanics import rotational
-from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
+from flexlib.components.mechanics import rotational, translational
+from flexlib.components.mechanics.multibody import Body, FixedTranslation, LineForce, Revolute, World
 from flexlib.errors import ParameterError
 from flexlib.models.boom_proxy import _link_body
 
@@ -109,14 +128,19 @@ V_HOSE = 1.0e-3  # hose volume between directional and counterbalance valve, and
 W_MAX = 0.03  # joint speed at full valve command, 35 bar per edge, largest lever arm [rad/s] (valve sizing)
 VALVE_DP = 35e5  # nominal pressure drop per edge [Pa]
 VALVE_HZ = 20.0  # spool bandwidth [Hz]
+CYL_FC = 0.01  # Coulomb seal friction / force of p_system on the piston [1] (3.5 bar breakaway pressure)
+CYL_VREG = 0.005  # regularisation velocity of the seal friction [m/s]
 PILOT_RATIO = 3.0  # counterbalance pilot ratio (Sun standard 3:1)
 CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
 CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
 CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
+CBV_OVER_CENTRE = True  # a counterbalance valve on both cylinder lines (joints fold over centre: the load reverses)
+CBV_SMOOTHING = 0.1  # counterbalance openings: C1 corners over 10 % of their ranges (Simscape smoothing factor)
 D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
 OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
 T_I = 2.0  # integral time [s]
 T_D = 0.0  # derivative time [s]; 0: PI (a D part at Td = 0.05 s excites the boom's hydraulic modes: 10x steps)
+T_CMD = 0.16  # valve amplifier command filter (ramp) [s]: 1 Hz; keeps the loops off the boom's 5-6 Hz oil modes
 SLEW_D = 50e-6 / (2 * math.pi)  # slewing motor 50 cm3/rev [m3/rad]
 SLEW_RATIO = 300.0  # motor / turret speed (planetary gearbox and slewing ring)
 SLEW_Q = 25.0 / 60000  # slew valve rating [m3/s]
@@ -212,6 +236,28 @@ def section_mass_properties(record: PumpTruckParameters, k: int) -> dict:
         d = ci - com
         inertia += mi * (d @ d * np.eye(3) - np.outer(d, d))
     return {"m": m, "com": com, "I": inertia}
+
+
+def length_reference(record: PumpTruckParameters, n: int, t: np.ndarray, q_deg: np.ndarray | None,
+                     q0: float, step_deg: float = 10.0) -> tuple[np.ndarray, np.ndarray]:
+    """Pin-to-pin length reference [m] of cylinder ``n`` (1–5) for the joint-angle table ``(t, q_deg)``.
+
+    The angle table is linear between its knots; the length is not, so each interval is resampled at most
+    ``step_deg`` [deg] apart and mapped through the record's closed-form kinematics
+    (:meth:`~models.pump_truck.parameters.PumpTruckParameters.drive`). ``q_deg=None``: the joint holds ``q0``
+    [rad]. Returns the times [s] and lengths [m] of a ``TimeTable``.
+    """
+    drive = record.drive(n)
+    if q_deg is None:
+        return np.zeros(1), np.array([drive.state(q0).length])
+    t, q = np.asarray(t, dtype=float), np.radians(np.asarray(q_deg, dtype=float))
+    ts, qs = [t[:1]], [q[:1]]
+    for i in range(len(t) - 1):
+        m = max(1, math.ceil(abs(math.degrees(q[i + 1] - q[i])) / step_deg))
+        ts.append(np.linspace(t[i], t[i + 1], m + 1)[1:])
+        qs.append(np.linspace(q[i], q[i + 1], m + 1)[1:])
+    tt, qq = np.concatenate(ts), np.concatenate(qs)
+    return tt, np.array([drive.state(float(v)).length for v in qq])
 
 
 def _local(point: np.ndarray, origin: np.ndarray, theta: float) -> list[float]:
@@ -381,21 +427,58 @@ class PumpTruck(fl.Model):
             setattr(self, f"{kind}_{name}", table)
             return table.y
 
-        def control(name: str, k: int, valve: DirectionalValve43, K_v: float, sign: float) -> None:
-            """Valve command of joint ``name``: open loop, or a PID on its angle (``sign``: +1 if u > 0 raises q)."""
+        def control(name: str, k: int, valve: DirectionalValve43, K_v: float, sign: float,
+                    cylinder: LineCylinder | None = None, areas: tuple[float, float] = (1.0, 1.0)) -> None:
+            """Valve command of joint ``name``: open loop, or a PID through the command filter.
+
+            A boom joint (``cylinder`` given) is controlled on its cylinder's length: the angle reference becomes a
+            length reference through the record's kinematics (:func:`length_reference`), the loop gain is
+            ``OMEGA_C·A_p/Q_nom`` and the crossover ``OMEGA_C`` in every pose (on the angle, the lever arm, which
+            falls to a tenth of its maximum near the fold, would raise the crossover onto the oil-spring modes). The
+            slewing joint (``cylinder=None``, a constant gear) is controlled on its angle. ``K_v``: the valve's gain,
+            rad/s per unit command for the slew, its ``Q_nom`` [m3/s] for a cylinder; ``sign`` +1 if u > 0 raises the
+            angle. A cylinder loop gets the reference speed as feed-forward (``areas`` = piston and annulus area
+            [m2]: the compensated valve's command for that speed, extending or retracting), so the PI only corrects.
+            """
             if name in cmd_cols:
                 self.connect(sources(name, k, "cmd"), valve.u)
                 return
-            sensor = rotational.AngleSensor()
-            setattr(self, f"angle_{name}", sensor)
-            self.connect(getattr(self, name).axis, sensor.flange)
             kind = {"controller_type": "PID", "Td": T_D} if T_D > 0 else {"controller_type": "PI"}
-            pid = LimPID(init_type="initial_output", y_start=0.0, k=sign * OMEGA_C / K_v, Ti=T_I, y_max=1.0,
-                         y_min=-1.0, **kind)
+            if cylinder is None:
+                sensor = rotational.AngleSensor()
+                setattr(self, f"angle_{name}", sensor)
+                self.connect(getattr(self, name).axis, sensor.flange)
+                measured, gain = sensor.phi, sign * OMEGA_C / K_v
+            else:
+                line = LineForce()  # the pin-to-pin line of the cylinder, carrying no force: a length sensor
+                sensor = translational.RelativePositionSensor()
+                setattr(self, f"stroke_line_{name}", line)
+                setattr(self, f"stroke_{name}", sensor)
+                self.connect(cylinder.frame_a, line.frame_a)
+                self.connect(cylinder.frame_b, line.frame_b)
+                self.connect(line.flange_a, sensor.flange_a)
+                self.connect(line.flange_b, sensor.flange_b)
+                measured, gain = sensor.s_rel, OMEGA_C * areas[0] / K_v
+            pid = LimPID(init_type="initial_output", y_start=0.0, k=gain, Ti=T_I, y_max=1.0, y_min=-1.0,
+                         use_feed_forward=cylinder is not None, **kind)
             setattr(self, f"pid_{name}", pid)
-            self.connect(sources(name, k, "ref"), pid.u_s)
-            self.connect(sensor.phi, pid.u_m)
-            self.connect(pid.y, valve.u)
+            if cylinder is None:
+                self.connect(sources(name, k, "ref"), pid.u_s)
+            else:
+                t_L, L_ref = length_reference(record, k, t_ref, ref_cols.get(name), float(q0[k]))
+                table = TimeTable(t=t_L, y=L_ref)
+                setattr(self, f"ref_{name}", table)
+                self.connect(table.y, pid.u_s)
+                speed = np.append(np.diff(L_ref) / np.diff(t_L), 0.0) if len(t_L) > 1 else np.zeros(1)
+                ff = TimeTable(t=t_L, y=speed * np.where(speed > 0, areas[0], areas[1]) * K_v ** -1,
+                               smoothness="constant")
+                setattr(self, f"ff_{name}", ff)
+                self.connect(ff.y, pid.u_ff)
+            self.connect(measured, pid.u_m)
+            ramp = FirstOrder(T=T_CMD)
+            setattr(self, f"ramp_{name}", ramp)
+            self.connect(pid.y, ramp.u)
+            self.connect(ramp.y, valve.u)
 
         # ---- boom cylinders --------------------------------------------------------------------------------
         self.cylinders: list[dict[str, Any]] = []
@@ -411,6 +494,7 @@ class PumpTruck(fl.Model):
             p_A, p_B = (P_TANK + F / A_p, P_TANK) if F >= 0 else (P_TANK, P_TANK - F / A_r)
             m_rod = record.steel.rho * math.pi / 4 * rod**2 * (row["l_max"] - row["l_min"])
             cyl = LineCylinder(d_bore=bore, d_rod=rod, stroke=stroke, L0=L0, m=m_rod, d=D_CYL,
+                               F_c=CYL_FC * A_p * record.p_system, v_reg=CYL_VREG,
                                V_dead_A=0.1 * A_p * stroke + 1e-4, V_dead_B=0.1 * A_r * stroke + 1e-4,
                                p_A_start=p_A, p_B_start=p_B)
             setattr(self, f"cylinder{n}", cyl)
@@ -426,25 +510,29 @@ class PumpTruck(fl.Model):
             arm = max(abs(a) for a in arms)
             Q_nom = A_p * arm * W_MAX
             valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=VALVE_DP, omega=2 * math.pi * VALVE_HZ, zeta=0.7,
-                                       A_leak=1e-10)
+                                       A_leak=1e-10, compensated=True, dp_comp=VALVE_DP)
             setattr(self, f"valve{n}", valve)
             tank_ports.append(valve.port_T)
             supply_ports.append(valve.port_P)
-            cbv = CounterbalanceValve(p_crack=1.3 * row["p_worst"], pilot_ratio=PILOT_RATIO, dp_open=CBV_DP_OPEN,
-                                      dp_check=CBV_DP_CHECK,
-                                      Q_nom=2 * Q_nom, Q_nom_check=2 * Q_nom, dp_nom=VALVE_DP, use_dynamics=True,
-                                      T=CBV_T, A_leak=1e-11)
-            hose = Volume(V=V_HOSE, p_start=P_TANK)
+            # valve port A feeds the cap side: u > 0 extends the cylinder
+            hold_port, free_port = (cyl.port_A, cyl.port_B) if hold == "A" else (cyl.port_B, cyl.port_A)
+            v_hold, v_free = (valve.port_A, valve.port_B) if hold == "A" else (valve.port_B, valve.port_A)
+            cbv, hose = self._counterbalance(1.3 * row["p_worst"], Q_nom)
             setattr(self, f"cbv{n}", cbv)
             setattr(self, f"hose{n}", hose)
-            hold_port, free_port = (cyl.port_A, cyl.port_B) if hold == "A" else (cyl.port_B, cyl.port_A)
-            # valve port A feeds the cap side: u > 0 extends the cylinder
-            v_hold, v_free = (valve.port_A, valve.port_B) if hold == "A" else (valve.port_B, valve.port_A)
             self.connect(v_hold, hose.port, cbv.port_valve)
             self.connect(cbv.port_load, hold_port)
-            self.connect(v_free, free_port, cbv.port_pilot)
+            if CBV_OVER_CENTRE:  # the other chamber holds the load once the joint is over centre
+                over, over_hose = self._counterbalance(1.3 * row["p_worst"], Q_nom)
+                setattr(self, f"cbv{n}_over", over)
+                setattr(self, f"hose{n}_over", over_hose)
+                self.connect(v_free, over_hose.port, over.port_valve, cbv.port_pilot)
+                self.connect(over.port_load, free_port)
+                self.connect(over.port_pilot, hose.port)
+            else:
+                self.connect(v_free, free_port, cbv.port_pilot)
             sign = 1.0 if arms[len(arms) // 2] > 0 else -1.0
-            control(f"joint{n}", n, valve, Q_nom / (A_p * arm), sign)
+            control(f"joint{n}", n, valve, Q_nom, sign, cyl, (A_p, A_r))
             self.cylinders.append({"bore": bore, "rod": rod, "stroke": stroke, "L0": L0, "hold": hold,
                                    "Q_nom": Q_nom})
 
@@ -454,6 +542,15 @@ class PumpTruck(fl.Model):
         self.connect(*supply_ports)
 
     # ---- building blocks ------------------------------------------------------------------------------------
+    @staticmethod
+    def _counterbalance(p_crack: float, Q_nom: float) -> tuple[CounterbalanceValve, Volume]:
+        """A counterbalance valve set at ``p_crack`` [Pa] for a line of valve rating ``Q_nom`` [m3/s], and the hose
+        volume between it and the directional valve."""
+        cbv = CounterbalanceValve(p_crack=p_crack, pilot_ratio=PILOT_RATIO, dp_open=CBV_DP_OPEN, dp_check=CBV_DP_CHECK,
+                                  smoothing=CBV_SMOOTHING, Q_nom=2 * Q_nom, Q_nom_check=2 * Q_nom, dp_nom=VALVE_DP,
+                                  use_dynamics=True, T=CBV_T, A_leak=1e-11)
+        return cbv, Volume(V=V_HOSE, p_start=P_TANK)
+
     def _slew_drive(self, tank_ports: list, supply_ports: list, control: Any) -> None:
         """Slewing motor, gear, valve and hose volumes driving the slewing revolute's axis; the slew angle under
         ``control``."""
