@@ -12,7 +12,7 @@ from ._checks import PositiveParameters, store_fluid
 from ._smooth import smooth_clamp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
-from .interfaces import Port
+from .interfaces import P_NOMINAL, Port, set_nominal
 
 __all__ = ["CounterbalanceValve"]
 
@@ -51,6 +51,9 @@ class CounterbalanceValve(PositiveParameters, Component):
         T·der(p_c) = p_open − p_c,   h_r = clip((p_c − p_crack)/dp_open, 0, 1)
 
     ``p_c`` then starts at 0 (closed valve; override with ``init={"p_c": ...}``). No events anywhere.
+    The openings are weighted in the error test as the pressures they follow (nominal ``1e7 Pa / dp_check`` and
+    ``1e7 Pa / dp_open``, at least 1): with nominal 1 a check valve hovering at its cracking pressure in a line at
+    tank pressure set the step size 100 times below what the pressures themselves need.
 
     Counterbalance circuits are prone to oscillation: the pilot pressure, fed by a pump, integrates the
     speed error, and a high pilot ratio or a restriction downstream of the non-vented valve (the meter-out
@@ -159,6 +162,11 @@ class CounterbalanceValve(PositiveParameters, Component):
         self.vented = bool(vented)
         if not self.use_dynamics and "p_c" not in self._starts:
             self.set_start("p_c", 0.0, fixed=False)  # algebraic (= p_open) without dynamics
+        # the openings are functions of pressures (nominal P_NOMINAL): weighted as the pressures are
+        for h, span in (("h_check", "dp_check"), ("h_relief", "dp_open")):
+            value = self.parameter_value(span)
+            if value is not None and float(value) > 0:
+                set_nominal(self, h, max(1.0, P_NOMINAL / float(value)))
 
     def _path(self, opening: Any, Q_nom: Any, p_up: Any, p_down: Any) -> ca.SX:
         fl = self.fluid

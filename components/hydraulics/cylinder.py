@@ -159,11 +159,15 @@ class DoubleActingCylinder(PositiveParameters, Component):
     [m3]; q_A, q_B [m3/s]: volume flows into the chambers at the ports; F, F_hyd, F_fric, F_stop [N];
     m_flow_int, m_flow_ext [kg/s]; v_rod [m/s]: absolute rod velocity.
 
-    Nominal values (error weights, ``atol·nominal``): pressures 1e7 Pa; forces 1e4 N (1e3 N friction and
-    end-stop contact, which is zero most of the time);
+    Nominal values (error weights, ``atol·nominal``): pressures 1e7 Pa; forces 1e4 N (1e3 N end-stop contact,
+    which is zero most of the time);
     position ``stroke`` and velocity ``stroke``/s (per instance, from the constructor's stroke); chamber
     mass deviations and compression masses ``rho_ref·V·1e7/beta`` (the mass that 100 bar adds to the chamber at
-    mid-stroke, per instance); volumes ``A_p·stroke``; port flows 1e-3 m3/s, mass flows 1 kg/s.
+    mid-stroke, per instance); volumes ``A_p·stroke``; mass flows 1 kg/s. Functions of ``v`` are weighted as ``v``
+    is: the port flows ``A_p·stroke`` and ``A_r·stroke`` [m3/s] (the flows at the nominal velocity), the friction
+    force its slope at ``v = 0`` times the nominal velocity, ``(F_c·stribeck/v_reg + d)·stroke`` (at least
+    1e3 N): with a tight class nominal a holding cylinder's friction force, steep around ``v = 0``, set the step
+    size instead of ``v`` (a boom cylinder with 1 % Coulomb friction: a third of the steps of a pump-truck run).
 
     Notes
     -----
@@ -256,6 +260,13 @@ class DoubleActingCylinder(PositiveParameters, Component):
         a_r = a_p - math.pi / 4.0 * float(val["d_rod"]) ** 2
         set_nominal(self, "x", stroke)
         set_nominal(self, "v", stroke)
+        # the port flows and the friction force are functions of v: weighted as v is (flow, friction slope at v = 0)
+        set_nominal(self, "q_A", a_p * stroke)
+        set_nominal(self, "q_B", a_r * stroke)
+        fric = {n: self.parameter_value(n) for n in ("F_c", "stribeck", "v_reg", "d")}
+        if all(v is not None for v in fric.values()):
+            slope = float(fric["F_c"]) * float(fric["stribeck"]) / float(fric["v_reg"]) + float(fric["d"])
+            set_nominal(self, "F_fric", max(self._decls["F_fric"].nominal, slope * stroke))
         set_nominal(self, "V_A", float(val["V_dead_A"]) + a_p * stroke)
         set_nominal(self, "V_B", float(val["V_dead_B"]) + a_r * stroke)
         set_nominal(self, "dm_A", chamber_mass_nominal(self.fluid, float(val["V_dead_A"]) + a_p * stroke / 2))

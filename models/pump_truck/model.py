@@ -33,11 +33,11 @@ supply volume, a relief valve at the system pressure, a tank. Per cylinder:
   spool, and the pilot pressure rises only as far as the counterbalance valve must open to let the load follow.
   With plain edges at the 320 bar supply, any lowering command drove the pilot to supply pressure and the
   counterbalance valve wide open: a relay that held every joint loop in a limit cycle;
-* a ``CounterbalanceValve`` on *each* cylinder line (pilot from the other line, pilot ratio ``PILOT_RATIO`` = 3:1,
-  setting 1.3 × the joint's worst holding pressure of the record, poppet lag ``CBV_T`` = the pilot damping
-  orifice), each with a hose volume to the directional valve. Joints 2–5 fold through 180° and joint 1 rises
-  far enough for folded sections to put the centre of mass behind it, so a joint's load changes chamber within
-  its range (over 3000 random poses of the record every joint holds on both chambers, up to 12–36 MPa). The
+* a ``CounterbalanceValve`` on each cylinder line that holds the load somewhere in the joint's range (pilot from
+  the other line, pilot ratio ``PILOT_RATIO`` = 3:1, setting 1.3 × that side's worst holding pressure over the
+  record's sizing sweep, poppet lag ``CBV_T`` = the pilot damping orifice), each with a hose volume to the
+  directional valve. Joints 2–5 fold through 180°, so their load changes chamber within their range: both lines
+  carry one (the second named ``cbv{n}_over``); joint 1 always pushes: its cap side only. The
   openings have C1 corners over ``CBV_SMOOTHING`` of their ranges (Simscape's smoothing factor: a loop holding a
   load crosses them often);
 * seal friction (``LineCylinder``): Coulomb ``CYL_FC`` × the force of the system pressure on the piston (3.5 bar
@@ -134,7 +134,6 @@ PILOT_RATIO = 3.0  # counterbalance pilot ratio (Sun standard 3:1)
 CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
 CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
 CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
-CBV_OVER_CENTRE = True  # a counterbalance valve on both cylinder lines (joints fold over centre: the load reverses)
 CBV_SMOOTHING = 0.1  # counterbalance openings: C1 corners over 10 % of their ranges (Simscape smoothing factor)
 D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
 OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
@@ -145,6 +144,10 @@ SLEW_D = 50e-6 / (2 * math.pi)  # slewing motor 50 cm3/rev [m3/rad]
 SLEW_RATIO = 300.0  # motor / turret speed (planetary gearbox and slewing ring)
 SLEW_Q = 25.0 / 60000  # slew valve rating [m3/s]
 SLEW_ROTOR_J = 0.02  # motor rotor and gearbox input inertia [kg.m2]
+# slewing-ring friction torque [N.m]: Rothe Erde's estimate mu/2 (4.4 M_k + F_a D_L) with mu = 0.005, tilting moment
+# M_k = 1.5 MN.m, axial load F_a = 150 kN, raceway diameter D_L = 1.5 m (42 m boom, filled, working pose)
+SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
+SLEW_W_REG = 1e-3  # regularisation speed of the slewing-ring friction [rad/s]
 
 
 @lru_cache(maxsize=64)
@@ -382,7 +385,8 @@ class PumpTruck(fl.Model):
         self.slewing = bool(slewing)
         self.turret_top = FixedTranslation(r=[0.0, tr.height, 0.0])
         if self.slewing:  # the slewing bearing: a revolute about world y under the whole boom, turret on it
-            self.slew = Revolute(n=[0, 1, 0], use_axis_flange=True, init={"phi": float(q0[0]), "w": 0.0})
+            self.slew = Revolute(n=[0, 1, 0], use_axis_flange=True, use_friction=True, tau_c0=SLEW_FRICTION,
+                                 w_reg=SLEW_W_REG, init={"phi": float(q0[0]), "w": 0.0})
             self.turret = Body(m=tr.mass, r_CM=[0.0, tr.height / 2, 0.0],
                                I=np.diag([tr.J_slew / 2, tr.J_slew, tr.J_slew / 2]))
             self.connect(self.world.frame_b, self.slew.frame_a)
@@ -517,13 +521,14 @@ class PumpTruck(fl.Model):
             # valve port A feeds the cap side: u > 0 extends the cylinder
             hold_port, free_port = (cyl.port_A, cyl.port_B) if hold == "A" else (cyl.port_B, cyl.port_A)
             v_hold, v_free = (valve.port_A, valve.port_B) if hold == "A" else (valve.port_B, valve.port_A)
-            cbv, hose = self._counterbalance(1.3 * row["p_worst"], Q_nom)
+            free = "B" if hold == "A" else "A"
+            cbv, hose = self._counterbalance(1.3 * row[f"p_worst_{hold}"], Q_nom)
             setattr(self, f"cbv{n}", cbv)
             setattr(self, f"hose{n}", hose)
             self.connect(v_hold, hose.port, cbv.port_valve)
             self.connect(cbv.port_load, hold_port)
-            if CBV_OVER_CENTRE:  # the other chamber holds the load once the joint is over centre
-                over, over_hose = self._counterbalance(1.3 * row["p_worst"], Q_nom)
+            if row[f"p_worst_{free}"] > 0:  # the other chamber holds the load once the joint is over centre
+                over, over_hose = self._counterbalance(1.3 * row[f"p_worst_{free}"], Q_nom)
                 setattr(self, f"cbv{n}_over", over)
                 setattr(self, f"hose{n}_over", over_hose)
                 self.connect(v_free, over_hose.port, over.port_valve, cbv.port_pilot)
@@ -558,7 +563,7 @@ class PumpTruck(fl.Model):
         self.slew_rotor = rotational.Inertia(J=SLEW_ROTOR_J)
         self.slew_gear = rotational.IdealGear(ratio=SLEW_RATIO)
         self.slew_valve = DirectionalValve43(Q_nom=SLEW_Q, dp_nom=VALVE_DP, omega=2 * math.pi * VALVE_HZ, zeta=0.7,
-                                             A_leak=1e-10)
+                                             A_leak=1e-10, compensated=True, dp_comp=VALVE_DP)
         self.slew_line_a = Volume(V=V_HOSE, p_start=P_TANK)
         self.slew_line_b = Volume(V=V_HOSE, p_start=P_TANK)
         self.connect(self.slew_motor.flange, self.slew_rotor.flange_a)

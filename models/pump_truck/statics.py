@@ -110,8 +110,9 @@ def sizing(record: PumpTruckParameters, n_sweep: int = 91) -> list[dict]:
     -------
     list of dict
         Per joint: ``bore``, ``rod`` [m], ``l_min``, ``l_max``, ``stroke`` [m], ``min_transmission_deg``,
-        extended-horizontal ``lever_arm`` [m], ``F`` [N], ``p`` [Pa], and the worst pose ``q_worst`` [rad] with
-        its pressure ``p_worst`` [Pa].
+        extended-horizontal ``lever_arm`` [m], ``F`` [N], ``p`` [Pa], the worst pose ``q_worst`` [rad] with
+        its pressure ``p_worst`` [Pa], and the largest holding pressure on each side over the sweep, ``p_worst_A``
+        (cap side, the cylinder pushes) and ``p_worst_B`` (rod side, it pulls) [Pa]; 0 for a side that never holds.
     """
     p_max = record.p_hold_fraction * record.p_system
     rows = []
@@ -139,8 +140,11 @@ def sizing(record: PumpTruckParameters, n_sweep: int = 91) -> list[dict]:
             bore, rod = chosen
         pressures = [_pressure(F, bore, rod) for F in forces]
         i_ext, i_worst = int(np.argmin(np.abs(qs))), int(np.argmax(pressures))
+        side = {c: max([p for F, p in zip(forces, pressures, strict=True) if (F >= 0) == (c == "A")], default=0.0)
+                for c in ("A", "B")}
         rows.append({"joint": k + 1, "bore": bore, "rod": rod, "l_min": min(lengths), "l_max": max(lengths),
                      "stroke": max(lengths) - min(lengths), "min_transmission_deg": min(trans),
                      "lever_arm": drive.state(0.0).lever_arm, "F": forces[i_ext], "p": pressures[i_ext],
-                     "q_worst": float(qs[i_worst]), "p_worst": pressures[i_worst], "sized": chosen is not None})
+                     "q_worst": float(qs[i_worst]), "p_worst": pressures[i_worst], "p_worst_A": side["A"],
+                     "p_worst_B": side["B"], "sized": chosen is not None})
     return rows
