@@ -18,6 +18,7 @@ rigid bodies) and ch. 7 (virtual work). ISO 3320:2013 (cylinder bores and rod di
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -33,8 +34,15 @@ __all__ = ["cylinder_forces", "joint_torques", "mass_properties", "point_masses"
 def mass_properties(record: PumpTruckParameters, k: int, pipe: bool = True, n_elements: int = 8) -> dict:
     """Mass [kg], centre of mass [m] (section frame: root at 0, ``x`` along it) and inertia about it [kg.m2].
 
-    Section ``k`` is 0-based; ``pipe`` adds the delivery pipe in its current state (filled or empty).
+    Section ``k`` is 0-based; ``pipe`` adds the delivery pipe in its current state (filled or empty). Computed
+    once per record and section (the record is frozen); the arrays returned are copies.
     """
+    m, com, inertia = _mass_properties(record, k, pipe, n_elements)
+    return {"m": m, "com": com.copy(), "I": inertia.copy()}
+
+
+@lru_cache(maxsize=256)
+def _mass_properties(record: PumpTruckParameters, k: int, pipe: bool, n_elements: int) -> tuple:
     sec = record.sections[k]
     L = sec.length
     fe = beam_mesh([0, 0, 0], [L, 0, 0], n_elements, box(sec.b, sec.h, sec.t(record.steel.rho)),
@@ -56,7 +64,7 @@ def mass_properties(record: PumpTruckParameters, k: int, pipe: bool = True, n_el
     for mi, ci, Ii in zip(masses, coms, inertias):
         r = ci - com
         inertia += Ii + mi * (r @ r * np.eye(3) - np.outer(r, r))
-    return {"m": m, "com": com, "I": inertia}
+    return float(m), com, inertia
 
 
 def point_masses(record: PumpTruckParameters, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
