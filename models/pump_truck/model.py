@@ -147,7 +147,7 @@ SLEW_ROTOR_J = 0.02  # motor rotor and gearbox input inertia [kg.m2]
 # slewing-ring friction torque [N.m]: Rothe Erde's estimate mu/2 (4.4 M_k + F_a D_L) with mu = 0.005, tilting moment
 # M_k = 1.5 MN.m, axial load F_a = 150 kN, raceway diameter D_L = 1.5 m (42 m boom, filled, working pose)
 SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
-SLEW_W_REG = 1e-3  # regularisation speed of the slewing-ring friction [rad/s]
+SLEW_W_REG = 1e-2  # regularisation speed of the slewing-ring friction [rad/s] (1e-3: Newton failed holding at 361 s)
 
 
 @lru_cache(maxsize=64)
