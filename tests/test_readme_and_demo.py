@@ -43,15 +43,16 @@ def test_demo_runs(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("cmd", ["python -m flexlib.models.examples.demo", 'pip install -q -e ".[test]"',
-                                 "flexlib run pump-truck --scenario hold --out pump_truck_output/hold.h5 --plots "
-                                 "pump_truck_output"])
+                                 "flexlib run pump-truck --scenario expand-fold --out pump_truck_output/expand_fold.h5 "
+                                 "--plots pump_truck_output"])
 def test_readme_commands_present(cmd):
     assert cmd in (ROOT / "README.md").read_text()
 
 
 def test_readme_main_job_runs_as_written(tmp_path, monkeypatch):
-    """The README's main command (after its install part) in a fresh directory: the pump truck held for 30 s; it
-    leaves the result file and the five figures, and the boom holds (every joint within 1e-3 rad)."""
+    """The README's main command (after its install part) in a fresh directory: the pump truck's full expand-fold
+    cycle; it leaves the result file and the five figures, every joint reaches the working pose (1°) and comes back
+    to the transport fold (1°)."""
     import shlex
 
     import matplotlib.image as mpimg
@@ -67,9 +68,14 @@ def test_readme_main_job_runs_as_written(tmp_path, monkeypatch):
     res = CliRunner().invoke(cli, [*args, "--no-progress"], env={"COLUMNS": "200"}, catch_exceptions=False)
     assert res.exit_code == 0, res.output
     out = tmp_path / "pump_truck_output"
-    result = fl.load_result(out / "hold.h5")
-    assert result.success and result.t[-1] == 30.0
+    from flexlib.models.pump_truck.model import TRANSPORT_POSE_DEG, WORKING_POSE_DEG
+
+    result = fl.load_result(out / "expand_fold.h5")
+    assert result.success and result.t[-1] == pytest.approx(922.156, abs=0.01)
+    i_work = int(np.searchsorted(result.t, 459.5))  # the working pose reached at 457.6 s, in the 2 s pause
     for n in range(1, 6):
-        assert np.ptp(result[f"joint{n}.phi"]) < 1e-3
+        phi = np.degrees(result[f"joint{n}.phi"])
+        assert phi[i_work] == pytest.approx(WORKING_POSE_DEG[n], abs=1.0), f"joint{n} working pose"
+        assert phi[-1] == pytest.approx(TRANSPORT_POSE_DEG[n], abs=1.0), f"joint{n} back in the transport fold"
     for name in ("flows", "pressures", "hinge_forces", "section_lengths", "tip_path"):
         assert mpimg.imread(out / f"{name}.png").shape[0] > 200
