@@ -1,0 +1,76 @@
+"""Regression tests of the pump-truck boom against its goldens (``models/pump_truck/goldens.py``).
+
+The goldens hold cylinder port flows, chamber pressures, hinge forces (components and magnitude) and joint angles on a
+decimated grid; the tolerances (1 % of each signal's range plus a floor per kind) are stated and justified in the
+module docstring. A failure prints which signal, where, golden vs now, by how much, and leaves an overlay plot in the
+test's temporary directory. Regenerate deliberately: ``python -m models.pump_truck.goldens --regenerate``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import flexlib as fl
+from flexlib.errors import ResultFileError
+from flexlib.models.pump_truck.goldens import GOLDENS, compare, golden_path, make_golden, report
+from flexlib.registry import get_model, run_scenario
+
+
+@pytest.fixture(scope="module")
+def hold_run() -> fl.Result:
+    return run_scenario("pump-truck", "hold", progress=False).result
+
+
+@pytest.mark.parametrize(("scenario", "flexible"), [(s, f) for s, f, _ in GOLDENS])
+def test_pump_truck_matches_its_golden(scenario, flexible, tmp_path, hold_run):
+    sc = get_model("pump-truck").scenario(scenario)
+    res = hold_run if scenario == "hold" else run_scenario(
+        "pump-truck", replace(sc, options={**sc.options, "flexible": flexible}) if flexible else sc,
+        progress=False).result
+    path = golden_path(scenario, flexible)
+    bad = compare(res, path, plot_dir=tmp_path)
+    assert not bad, report(bad, path, tmp_path)
+
+
+def test_a_two_percent_larger_bore_fails_the_hold_golden_naming_the_signals(tmp_path):
+    """A 2 % larger joint-2 bore lowers its holding pressure by 4 %: the comparison must fail, name cylinder 2's
+    pressure with golden and new values, and write the overlay plot."""
+    from flexlib.models.pump_truck import model as truck
+
+    sc = get_model("pump-truck").scenario("hold")
+    record = truck.PumpTruckParameters()
+    rows = truck.sizing(record)
+    model = truck.PumpTruck(pose=sc.data["pose"], commands=sc.data["commands"], filled=True)
+    sim = fl.Simulation(model)
+    A = np.pi / 4 * rows[1]["bore"] ** 2
+    res = sim.run(30.0, progress=False, **sc.run, params={"cylinder2.cylinder.d_bore": 1.02 * rows[1]["bore"],
+                                                            "cylinder2.cylinder.p_A_start":
+                                                            truck.P_TANK + model.F_hold[1] / (A * 1.02**2)})
+    bad = compare(res, golden_path("hold"), plot_dir=tmp_path)
+    names = [m.name for m in bad]
+    assert "cylinder2.cylinder.p_A" in names
+    text = report(bad, golden_path("hold"), tmp_path)
+    assert "cylinder2.cylinder.p_A: at t = " in text and "golden" in text and "tolerance" in text
+    assert (tmp_path / "golden-hold.png").stat().st_size > 1000
+
+
+def test_a_perturbed_flow_fails_and_a_missing_golden_is_named(tmp_path, hold_run):
+    golden = fl.load_result(golden_path("hold"))
+    k = golden.names.index("cylinder1.cylinder.p_A")
+    golden.values[:, k] *= 1.05  # a golden 5 % off in one pressure: exactly that signal fails
+    bad = compare(hold_run, golden)
+    assert [m.name for m in bad] == ["cylinder1.cylinder.p_A"]
+    with pytest.raises(ResultFileError, match=r"nowhere\.h5 does not exist"):
+        compare(hold_run, tmp_path / "nowhere.h5")
+
+
+def test_goldens_record_how_they_were_made(tmp_path):
+    path = make_golden("hold", dt=5.0, directory=tmp_path)
+    g = fl.load_result(path)
+    assert g.metadata["golden_scenario"] == "hold"
+    assert g.metadata["golden_command"].startswith("python -m models.pump_truck.goldens --regenerate")
+    assert "rtol" in g.metadata["golden_run"] and g.metadata["golden_commit"]
+    assert "joint2.F_hinge" in g.names and g.t[-1] == pytest.approx(30.0)
