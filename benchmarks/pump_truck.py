@@ -1,13 +1,17 @@
-"""Benchmark: the rigid pump-truck boom (``models/pump_truck/model.py``, issue 11) in a registered scenario.
+"""Benchmark: the pump-truck boom (``models/pump_truck/``, issue 11), rigid and flexible, in a registered scenario.
 
-Prints the unknowns and states, the cold build (fresh cache directory; until the simulation can run, its C
-library then compiles in the background) and the cached build (a new instance, same cache, compiled C) in CPU time
-(this process and its gcc children), then one run of the cached instance over the scenario (default ``expand-fold``,
-optionally cut at ``--t-end``): CPU time, real-time factor (simulated time / CPU time of the run), IDA steps,
-residual evaluations and events. Targets of issue 11 on this machine: rigid ≥ 20× real time, cold build ≤ 10 s,
-cached ≤ 1 s. No timing is asserted; on a shared machine compare CPU times and step counts.
+For each variant (``--variant rigid``, ``flexible`` or ``both``, the default) in one process: the unknowns and
+states, the cold build (fresh cache directory; for the flexible boom this includes the five sections' beam meshes
+and Craig–Bampton reductions and the MPF mode selection on the rigid boom's static loads; until the simulation can
+run, its C library then compiles in the background) and the cached build (a new instance, same cache, compiled C)
+in CPU time (this process and its gcc children), then one run of the cached instance over the scenario (default
+``expand-fold``, optionally cut at ``--t-end``): CPU time, real-time factor (simulated time / CPU time of the
+run), IDA steps, residual evaluations and events; with both, the flexible/rigid CPU ratio of the runs, timed in the
+same process. Targets of issue 11 on this machine: rigid ≥ 20× real time, flexible (five sections × ~8 modes) ≥ 5×,
+flexible/rigid ≤ 2, cold build ≤ 10 s, cached ≤ 1 s. No timing is asserted; on a shared machine compare CPU times
+and step counts.
 
-Run: ``python benchmarks/pump_truck.py [--scenario expand-fold] [--t-end 20]`` (repository root).
+Run: ``python benchmarks/pump_truck.py [--variant both] [--scenario expand-fold] [--t-end 20]`` (repository root).
 """
 
 from __future__ import annotations
@@ -32,17 +36,31 @@ def _cpu() -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--variant", choices=("rigid", "flexible", "both"), default="both")
     parser.add_argument("--scenario", default="expand-fold")
     parser.add_argument("--t-end", type=float, default=None, help="cut the scenario at this time [s]")
     args = parser.parse_args()
+    cpu = {}
+    for flexible in {"rigid": (False,), "flexible": (True,), "both": (False, True)}[args.variant]:
+        cpu[flexible] = bench(args.scenario, args.t_end, flexible)
+    if len(cpu) == 2:
+        print(f"flexible / rigid CPU time of the run: {cpu[True] / cpu[False]:.2f}")
+
+
+def bench(name: str, t_end: float | None, flexible: bool) -> float:
+    """Build (cold, cached) and run one variant in a fresh cache; print the figures; return the run's CPU time."""
+    from dataclasses import replace
+
     with tempfile.TemporaryDirectory() as cache:
         os.environ["FLEXLIB_CACHE_DIR"] = cache
         import flexlib as fl
         from flexlib.registry import get_model
 
         entry = get_model("pump-truck")
-        scenario = entry.scenario(args.scenario)
-        t_end = args.t_end if args.t_end is not None else scenario.t_end
+        scenario = entry.scenario(name)
+        if flexible:
+            scenario = replace(scenario, options={**scenario.options, "flexible": True})
+        t_end = t_end if t_end is not None else scenario.t_end
         c0 = _cpu()
         model = entry.factory(scenario)
         sim = fl.Simulation(model)
@@ -57,12 +75,16 @@ def main() -> None:
         res = sim.run(t_end, progress=False, **run)
         cpu = _cpu() - c0
     t_sim = float(res.t[-1] - res.t[0])
-    print(f"pump-truck / {scenario.name}: {res.stats.get('n_unknowns')} unknowns, {res.stats.get('n_states')} states")
+    variant = "flexible" if flexible else "rigid"
+    modes = f", modes {dict(model.modes)}" if flexible else ""
+    print(f"pump-truck / {scenario.name} / {variant}: {res.stats.get('n_unknowns')} unknowns, "
+          f"{res.stats.get('n_states')} states{modes}")
     print(f"build: cold {cold:.2f} s CPU (runnable; the C library compiles in the background for a further "
           f"{background:.2f} s CPU), cached {cached:.2f} s CPU")
     print(f"run: {t_sim:g} s simulated in {cpu:.2f} s CPU, real-time factor {t_sim / cpu:.2f}, "
           f"{res.stats.get('steps')} steps, {res.stats.get('nfev')} residual evaluations, {len(res.events)} events, "
           f"status {res.status}")
+    return cpu
 
 
 if __name__ == "__main__":

@@ -37,8 +37,8 @@ __all__ = ["RUN_OPTIONS", "ModelEntry", "RunRecord", "Scenario", "ScenarioRun", 
            "register_model", "register_scenario", "run_scenario", "run_settings"]
 
 #: Keyword arguments of :meth:`flexlib.Simulation.run` a scenario may set in ``run``.
-RUN_OPTIONS = ("t_start", "dt_out", "rtol", "atol", "max_step", "max_steps", "solver", "steady_state",
-               "dynamic_states")
+RUN_OPTIONS = ("t_start", "dt_out", "rtol", "atol", "max_step", "max_steps", "max_order", "solver",
+               "steady_state", "dynamic_states")
 
 #: Package searched for built-in registrations: each of its modules (subpackages included) whose source calls
 #: ``register_model(`` is imported on the first lookup, so a new model (``models/pump_truck/``) only registers

@@ -1,7 +1,7 @@
 """Signal blocks and controllers after ``Modelica.Blocks``: sources, math, nonlinear blocks, linear systems, LimPID.
 
 Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``; math ``Gain``, ``Add``,
-``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``; continuous
+``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``, ``Tare``; continuous
 ``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs are named ``y``, inputs ``u`` / ``u1``, ``u2``,
 ``u3`` (``u_s``, ``u_m`` on the PID).
 """
@@ -20,6 +20,7 @@ from .rate_limiter import RateLimiter
 from .sine import Sine
 from .step import Step
 from .switch import Switch
+from .tare import Tare
 from .time_table import TimeTable
 from .transfer_function import TransferFunction
 from .trapezoid import Trapezoid
@@ -39,6 +40,7 @@ __all__ = [
     "Sine",
     "Step",
     "Switch",
+    "Tare",
     "TimeTable",
     "TransferFunction",
     "Trapezoid",

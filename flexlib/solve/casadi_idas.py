@@ -187,7 +187,7 @@ class _Backend:
         return len(self.x_idx)
 
     def integrator(self, K: int, rtol: float, atol: float, capped: bool, max_num_steps: int,
-                   variant: int = 0) -> ca.Function:
+                   variant: int = 0, max_order: int = 5) -> ca.Function:
         """Integrator over the normalised grid ``τ = 1..K`` (built once per options and ``K``).
 
         ``variant`` 0 is the ordinary start (``IDACalcIC`` for consistent ``z`` and ``dx/dτ``, ``w`` outside
@@ -195,7 +195,7 @@ class _Backend:
         ``IDACalcIC`` (the given ``y, y'`` are consistent already), 2: ``w`` in the error test with
         ``atol·nominal`` per second.
         """
-        key = (K, float(rtol), float(atol), bool(capped), int(max_num_steps), int(variant))
+        key = (K, float(rtol), float(atol), bool(capped), int(max_num_steps), int(variant), int(max_order))
         F = self.integrators.get(key)
         if F is None:
             wall = _time.perf_counter()
@@ -206,6 +206,7 @@ class _Backend:
                 "linear_solver": LINEAR_SOLVER, "reltol": float(rtol), "abstol": float(atol),
                 "abstolv": abstolv.tolist(), "max_num_steps": int(max_num_steps),
                 "disable_internal_warnings": True, "show_eval_warnings": False, "calc_ic": variant != 1,
+                "max_order": float(max_order),
             }
             if capped:
                 opts["max_step_size"] = 1.0  # one grid interval; the grid is refined to max_step
@@ -323,8 +324,9 @@ class _Runner:
     """One run: calls the cached integrators, converts their output, counts statistics."""
 
     def __init__(self, model: CompiledModel, be: _Backend, p: np.ndarray, stats: dict[str, Any], rtol: float,
-                 atol: float, capped: bool, max_steps: int, state_rel: np.ndarray) -> None:
+                 atol: float, capped: bool, max_steps: int, state_rel: np.ndarray, max_order: int = 5) -> None:
         self.model, self.be, self.p, self.stats = model, be, p, stats
+        self.max_order = int(max_order)
         self.rtol, self.atol, self.capped = rtol, atol, capped
         self.max_steps = max_steps
         self.mns = int(min(max_steps, 100_000))  # IDAS steps per output interval
@@ -348,7 +350,7 @@ class _Runner:
         z0 = np.where(be.z_w, yp[be.z_idx], y[be.z_idx])
         first: RuntimeError | None = None
         for variant in START_VARIANTS:
-            F = be.integrator(len(grid), self.rtol, self.atol, self.capped, mns, variant)
+            F = be.integrator(len(grid), self.rtol, self.atol, self.capped, mns, variant, self.max_order)
             self.stats["integrator_calls"] += 1
             try:
                 (X, Z, *_), st = _evaluate(F, [x0, z0, self.p, u])
@@ -466,7 +468,8 @@ class _Runner:
 
 def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
                      t0: float, t_end: float, t_out: np.ndarray | None, *, rtol: float = 1e-6, atol: float = 1e-8,
-                     max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None) -> Trajectory:
+                     max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None,
+                     max_order: int = 5) -> Trajectory:
     """Integrate from consistent ``y0, yp0`` at ``t0`` to ``t_end`` with CasADi's IDAS.
 
     Same arguments, result and errors as :func:`flexlib.solve.ida.integrate`.
@@ -504,7 +507,8 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
     be = _backend(model)
     capped = max_step > 0.0
-    runner = _Runner(model, be, p, stats, rtol, atol, capped, int(max_steps), state_rel)
+    stats["max_order"] = int(max_order)
+    runner = _Runner(model, be, p, stats, rtol, atol, capped, int(max_steps), state_rel, max_order)
 
     y, yp = np.array(y0, dtype=float), np.array(yp0, dtype=float)
     traj.add(t0, y, yp, p[n_par:].copy())

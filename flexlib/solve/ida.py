@@ -43,6 +43,10 @@ __all__ = ["DENSE_MAX", "Progress", "Trajectory", "integrate"]
 #: benchmarks/ida_overhead.py); larger ones use SuperLU_MT with the CasADi sparsity pattern.
 DENSE_MAX = 40
 
+#: Newton iterations IDA may take per step before it declares a convergence failure (IDA's default 4; both IDA
+#: routes; see docs/engine.md, "Newton iterations").
+NEWTON_ITERS = 6
+
 
 @dataclass
 class Trajectory:
@@ -230,7 +234,7 @@ def next_time_event(model: CompiledModel, p: np.ndarray, t: float, t_end: float)
 def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
               t0: float, t_end: float, t_out: np.ndarray | None, *, rtol: float = 1e-6, atol: float = 1e-8,
               max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None,
-              monitor: Any = None) -> Trajectory:
+              monitor: Any = None, max_order: int = 5) -> Trajectory:
     """Integrate from consistent ``y0, yp0`` at ``t0`` to ``t_end``.
 
     Parameters
@@ -245,6 +249,8 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
         Maximum step size [s] (0: unlimited).
     max_steps : int
         Maximum number of internal steps for the whole run.
+    max_order : int
+        Highest BDF order (1–5; ``IDASetMaxOrd``).
     progress : bool or None
         Show a progress bar; None shows one when the run takes longer than 2 s.
     monitor : StateSelectionMonitor, optional
@@ -260,9 +266,9 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     if monitor is not None:
         monitor.reset()
     n_par = model.n_params
-    solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
+    solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step, max_order)
     stats = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
-             "state_switches": 0}
+             "state_switches": 0, "max_order": int(max_order)}
     traj.stats = stats
     done = [0, 0]  # evaluations of finished IDA segments (IDAReInit resets the counters)
     cur = [0, 0]
@@ -376,7 +382,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     model, y1, yp1 = switched
                     init = Initializer(model)
                     y1, yp1 = init.reinit(t, y1, yp1, p)
-                    solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step)
+                    solver, _cb, ev_holder, state_rel = _make_solver(model, p, rtol, atol, max_step, max_order)
                     step = solver.step
                     watching = model.has_state_choice
                     pending_c = False
@@ -464,7 +470,7 @@ def state_relations(model: CompiledModel) -> np.ndarray:
 
 
 def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
-                 max_step: float) -> tuple[Any, _Callbacks, _EventsFn, np.ndarray]:
+                 max_step: float, max_order: int = 5) -> tuple[Any, _Callbacks, _EventsFn, np.ndarray]:
     """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above."""
     state_rel = state_relations(model)
     dense = model.n <= DENSE_MAX
@@ -472,7 +478,8 @@ def _make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
     opts: dict[str, Any] = dict(
         rtol=rtol, atol=absolute_tolerances(model, atol),
         algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
-        jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000,
+        jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000, max_order=int(max_order),
+        max_nonlin_iters=NEWTON_ITERS,
     )
     if dense:
         opts["linsolver"] = "dense"

@@ -43,6 +43,7 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import RunArgumentError, SimulationInterrupted, SolverError
 from flexlib.solve.ida import (
     DENSE_MAX,
+    NEWTON_ITERS,
     Progress,
     Trajectory,
     _event_iteration,
@@ -80,7 +81,7 @@ ROW_BUFFER_VALUES = 1_000_000
 def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
                      t0: float, t_end: float, t_out: np.ndarray | None, *, rtol: float = 1e-6, atol: float = 1e-8,
                      max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None,
-                     monitor: Any = None) -> Trajectory:
+                     monitor: Any = None, max_order: int = 5) -> Trajectory:
     """Integrate from consistent ``y0, yp0`` at ``t0`` to ``t_end`` with the C-driven IDA.
 
     Parameters
@@ -100,6 +101,8 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         Maximum step size [s] (0: unlimited).
     max_steps : int
         Maximum number of internal steps for the whole run.
+    max_order : int
+        Highest BDF order (1–5; ``IDASetMaxOrd``).
     progress : bool or None
         Show a progress bar; None shows one when the run takes longer than 2 s.
     monitor : StateSelectionMonitor, optional
@@ -122,8 +125,9 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     if t_out is not None:
         grid = np.asarray(t_out, dtype=float)
         grid = np.ascontiguousarray(grid[grid > t0])
-    drv, state_rel = _make_driver(model, p, rtol, atol, max_step, t0, y0, yp0)
+    drv, state_rel = _make_driver(model, p, rtol, atol, max_step, t0, y0, yp0, max_order)
     stats["linear_solver"] = drv.linsol
+    stats["max_order"] = int(max_order)
     drv.set_grid(grid)
     retired: list[dict[str, float]] = []  # counters of drivers replaced at state switches
     traj.add(t0, y0, yp0, p[n_par:].copy())
@@ -245,7 +249,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                         y1, yp1 = init.reinit(t, y1, yp1, p)
                         pos = drv.grid_pos()
                         retired.append(drv.stats())
-                        drv, state_rel = _make_driver(model, p, rtol, atol, max_step, t, y1, yp1)
+                        drv, state_rel = _make_driver(model, p, rtol, atol, max_step, t, y1, yp1, max_order)
                         if grid is not None:
                             grid = np.ascontiguousarray(grid[pos:])
                         drv.set_grid(grid)
@@ -347,7 +351,7 @@ def _collect(stats: dict[str, Any], parts: list[dict[str, float]], wall: float) 
     stats["wall_root"] = sum(s["t_root"] for s in parts)
     stats["wall_ida"] = max(advance_s - model_s, 0.0)
     stats["wall_python"] = max(wall - advance_s, 0.0)
-    for key in ("n_lsetup", "n_lsolve", "n_factor_full", "n_newton", "n_newton_fail", "n_err_fail"):
+    for key in ("n_lsetup", "n_lsolve", "n_factor_full", "n_newton", "n_newton_fail", "n_err_fail", "nonfinite"):
         stats[key] = sum(int(s[key]) for s in parts)
     stats["wall_lsetup"] = sum(s["t_lsetup"] for s in parts)
     stats["wall_lsolve"] = sum(s["t_lsolve"] for s in parts)
@@ -376,13 +380,16 @@ def linear_solver(model: CompiledModel) -> str:
 
 
 def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, max_step: float, t0: float,
-                 y0: np.ndarray, yp0: np.ndarray) -> tuple[Driver, np.ndarray]:
+                 y0: np.ndarray, yp0: np.ndarray, max_order: int = 5) -> tuple[Driver, np.ndarray]:
     """A C driver for ``model`` (indicators of the state relations as IDA root functions)."""
     state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
     ev = evaluators(model, _zc_function(model, p, state_rel))
     drv = Driver(model, p, ev, len(state_rel), linear_solver(model), rtol, absolute_tolerances(model, atol),
                  max_step, t0, y0, yp0)
     drv.set_wall_chunk(CHUNK_WALL)
+    if max_order != 5:
+        drv.set_max_order(max_order)
+    drv.set_newton(max_iters=NEWTON_ITERS)
     return drv, state_rel
 
 
@@ -393,6 +400,9 @@ def _failure_message(model: CompiledModel, drv: Driver, code: int, t: float, p: 
     point: non-finite values with their equation, a singular iteration matrix, the fastest-changing unknowns."""
     y, yp = drv.state()
     head = f"IDA failed at t = {t:.10g} s: {drv.flag_name(code)} (status {code})" + _dominant(model, drv)
+    bad = int(drv.stats().get("nonfinite", 0))
+    if bad:  # IDA counts a non-finite residual at a Newton iterate as a convergence failure
+        head += f"; {bad} residual evaluations during the run were not finite (retried with smaller steps)"
     return failure_message(head, model, p, t, y, yp, traj, rtol, atol)
 
 

@@ -47,6 +47,8 @@ class RunOptions:
         Largest step [s] (0: unlimited).
     max_steps : int
         Largest number of steps.
+    max_order : int or None
+        Highest BDF order (1–5), or None: the model's choice (:meth:`Simulation.run`).
     params : dict
         Parameter overrides (string keys; values are checked by the parameter declarations).
     steady_state, dynamic_states : bool
@@ -66,6 +68,7 @@ class RunOptions:
     atol: float
     max_step: float
     max_steps: int
+    max_order: int | None
     params: dict[str, Any]
     steady_state: bool
     dynamic_states: bool
@@ -175,7 +178,8 @@ def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.nda
 
 def check_run_arguments(experiment: Any, source: str, *, t_start: Any, t_end: Any, dt_out: Any, output_times: Any,
                         rtol: Any, atol: Any, max_step: Any, max_steps: Any, params: Any, steady_state: Any,
-                        dynamic_states: Any, progress: Any, solver: Any, result_file: Any) -> RunOptions:
+                        dynamic_states: Any, progress: Any, solver: Any, result_file: Any,
+                        max_order: Any = None) -> RunOptions:
     """Check every argument of a run and build the output grid.
 
     Parameters
@@ -186,8 +190,8 @@ def check_run_arguments(experiment: Any, source: str, *, t_start: Any, t_end: An
     source : str
         Where ``experiment`` comes from (``"Model.experiment"``), named when one of its values is invalid.
     t_start, t_end, dt_out, output_times, rtol, atol, max_step, max_steps, params, steady_state, \
-dynamic_states, progress, solver, result_file
-        As given to :meth:`Simulation.run`.
+dynamic_states, progress, solver, result_file, max_order
+        As given to :meth:`Simulation.run` (``max_order`` None: the experiment's, if it has one).
 
     Returns
     -------
@@ -209,7 +213,8 @@ dynamic_states, progress, solver, result_file
             t_end=experiment.t_end if t_end is None else t_end, dt_out=dt_out, output_times=output_times,
             rtol=experiment.rtol if rtol is None else rtol, atol=experiment.atol if atol is None else atol,
             max_step=max_step, max_steps=max_steps, params=params, steady_state=steady_state,
-            dynamic_states=dynamic_states, progress=progress, solver=solver, result_file=result_file)
+            dynamic_states=dynamic_states, progress=progress, solver=solver, result_file=result_file,
+            max_order=getattr(experiment, "max_order", None) if max_order is None else max_order)
     except RunArgumentError as err:
         if getattr(err, "argument", None) in defaulted:
             raise RunArgumentError(f"{err} (the value comes from {source})") from None
@@ -218,7 +223,7 @@ dynamic_states, progress, solver, result_file
 
 def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: Any, atol: Any, max_step: Any,
            max_steps: Any, params: Any, steady_state: Any, dynamic_states: Any, progress: Any, solver: Any,
-           result_file: Any) -> RunOptions:
+           result_file: Any, max_order: Any = None) -> RunOptions:
     t0 = _real("t_start", t_start, "must be a finite time [s]")
     t1 = _real("t_end", t_end, "must be a finite time [s]")
     if not math.isfinite(t0):
@@ -260,10 +265,14 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
             match = difflib.get_close_matches(solver.lower(), SOLVERS, n=1)
             close = f"did you mean {match[0]!r}?" if match else ""
         raise _bad("solver", solver, f"must be one of {', '.join(repr(s) for s in SOLVERS)}", close)
+    if max_order is not None and (isinstance(max_order, (bool, np.bool_)) or not isinstance(max_order, numbers.Real)
+                                  or not float(max_order).is_integer() or not 1 <= max_order <= 5):
+        raise _bad("max_order", max_order, "must be an integer 1 ... 5 (the highest BDF order) or None")
     steady = _flag("steady_state", steady_state)
     dynamic = _flag("dynamic_states", dynamic_states)
     bar = _flag("progress", progress, allow_none=True)
     path = None if result_file is None else check_result_path(result_file)
     return RunOptions(t_start=t0, t_end=t1, grid=grid, rtol=r, atol=a, max_step=h, max_steps=n_steps,
+                      max_order=None if max_order is None else int(max_order),
                       params=dict(params), steady_state=bool(steady), dynamic_states=bool(dynamic), progress=bar,
                       solver=solver, result_file=path)

@@ -65,6 +65,8 @@ class Experiment:
         Tolerances.
     t_start : float
         Start time [s].
+    max_order : int or None
+        Highest BDF order of IDA (1–5); None: 5 (:meth:`Simulation.run`).
     """
 
     t_end: float = 1.0
@@ -72,6 +74,7 @@ class Experiment:
     rtol: float = 1e-6
     atol: float = 1e-8
     t_start: float = 0.0
+    max_order: int | None = None
 
 
 class Simulation:
@@ -210,7 +213,7 @@ class Simulation:
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
         max_step: float = 0.0, max_steps: int = 5_000_000, params: dict[str, Any] | None = None,
         steady_state: bool = False, progress: bool | None = None, result_file: str | os.PathLike | None = None,
-        solver: str = "ida", dynamic_states: bool = True,
+        solver: str = "ida", dynamic_states: bool = True, max_order: int | None = None,
     ) -> Result:
         """Initialise and integrate.
 
@@ -251,6 +254,13 @@ class Simulation:
         dynamic_states : bool
             Re-select the states during the run when the selected dummy-derivative blocks become
             ill-conditioned (the IDA backends; see ``flexlib/solve/state_selection.py``).
+        max_order : int, optional
+            Highest BDF order IDA may use, 1–5 (MATLAB ode15s' ``MaxOrder``); default: the model's
+            ``experiment.max_order``, else 5. Orders above 2 are not A-stable: in a machine whose fast, lightly
+            damped modes (elastic modes, oil springs) are not the subject of the run, IDA at a loose tolerance
+            then cuts its steps and rings such a mode at the tolerance level, where BDF2 damps it. A run that
+            resolves the vibration itself at a tight tolerance is faster at high order. See ``docs/engine.md``,
+            "BDF order".
 
         Returns
         -------
@@ -275,7 +285,7 @@ class Simulation:
             exp, f"{type(self.model).__name__}.experiment", t_start=t_start, t_end=t_end, dt_out=dt_out,
             output_times=output_times, rtol=rtol, atol=atol, max_step=max_step, max_steps=max_steps, params=params,
             steady_state=steady_state, dynamic_states=dynamic_states, progress=progress, solver=solver,
-            result_file=result_file)
+            result_file=result_file, max_order=max_order)
         t0, t1 = opts.t_start, opts.t_end
         m = self.compiled
         values, starts = gather_values(self.model)
@@ -294,7 +304,7 @@ class Simulation:
                     return self.run(t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol,
                                     atol=atol, max_step=max_step, max_steps=max_steps, params=params,
                                     steady_state=steady_state, progress=progress, result_file=result_file,
-                                    solver=solver, dynamic_states=dynamic_states)
+                                    solver=solver, dynamic_states=dynamic_states, max_order=max_order)
                 extra: dict[str, Any] = {}
                 if opts.solver in ("ida", "ida-native", "ida-sksundae"):
                     native = opts.solver == "ida-native" or (opts.solver == "ida" and native_available())
@@ -308,6 +318,7 @@ class Simulation:
                     traj = integrate_static(m, p, t0, t1, opts.grid)
                 else:
                     run_opts = dict(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
+                                    max_order=opts.max_order or 5,
                                     progress=opts.progress, **extra)
                     try:
                         traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)

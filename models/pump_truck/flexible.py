@@ -43,8 +43,8 @@ from flexlib.components.mechanics.flexible.body import inertial_load_amplitudes
 
 from .parameters import PumpTruckParameters
 
-__all__ = ["PIN_POINTS", "attachment_points", "flexible_section", "rigid_section_loads", "section_fe",
-           "section_modal_data"]
+__all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "flexible_section", "in_plane_modes", "mpf_modes",
+           "rigid_section_loads", "section_fe", "section_modal_data"]
 
 #: Default number of beam elements per section.
 N_ELEMENTS = 48
@@ -71,6 +71,22 @@ def attachment_points(record: PumpTruckParameters, j: int) -> dict[str, tuple[fl
         points["lever_pivot"] = (L + float(nxt.P[0]), float(nxt.P[1]))
         points["housing"] = (L + float(nxt.H[0]), float(nxt.H[1]))
     return points
+
+
+def in_plane_modes(data: ModalData, tol: float = 1e-6) -> list[int]:
+    """Indices of the modes that move the section in its plane (body ``x``–``y``), by frequency.
+
+    A mode is in-plane if its out-of-plane translations ``uz`` carry at most ``tol`` of its squared translational
+    amplitudes. The boom's loads (gravity, cylinders, joint reactions) lie in that plane; a section's lateral and
+    torsional modes are not excited by them, and its lever-and-link loops are planar (their revolute joints
+    over-constrain the loop in 3D, and the engine drops the redundant rows for the loop as built: lateral modes
+    would make those rows independent again).
+    """
+    T = np.asarray(data.translational_modes, dtype=float)
+    out = np.sum(T[:, :, 2] ** 2, axis=1)
+    total = np.sum(T ** 2, axis=(1, 2))
+    keep = np.flatnonzero(out <= tol * np.maximum(total, 1e-300))
+    return [int(k) for k in keep[np.argsort(data.frequencies[keep])]]
 
 
 def station_node(x: np.ndarray, node_ids: np.ndarray, position: float, length: float) -> int:
@@ -157,6 +173,21 @@ def section_modal_data(record: PumpTruckParameters, j: int, *, n_elements: int =
     return data, nodes
 
 
+def _source_hash() -> str:
+    """SHA-256 of the boom package's, the component library's and the engine's Python sources (what the rigid
+    loads depend on)."""
+    import flexlib
+    import flexlib.components
+
+    h = hashlib.sha256()
+    roots = (Path(__file__).resolve().parent, Path(flexlib.__file__).resolve().parent,
+             Path(flexlib.components.__file__).resolve().parent)
+    for path in sorted(p for root in roots for p in root.rglob("*.py")):
+        h.update(path.name.encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()[:24]
+
+
 def _cache_dir() -> Path:
     from flexlib.compile.cache import cache_dir
 
@@ -182,7 +213,8 @@ def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[
     record : PumpTruckParameters
         The design record.
     modes : int or sequence of int
-        Modes kept: the lowest ``modes`` by frequency, or their indices into the section's modal data.
+        Modes kept: the lowest ``modes`` in-plane modes (:func:`in_plane_modes`), or their indices into the
+        section's modal data.
 
     Returns
     -------
@@ -202,8 +234,11 @@ def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[
     if missing:
         raise ValueError(f"flexible_section: section {j} pins {sorted(k for k, n in at.items() if n in missing)} "
                          "are not at attachment stations of the record (attachment_points)")
-    kept = list(np.argsort(data.frequencies)[:modes]) if isinstance(modes, int) else list(modes)
+    kept = in_plane_modes(data)[:modes] if isinstance(modes, int) else [int(k) for k in modes]
     body = FlexibleBody(data, modes=kept, frames=frame_nodes)
+    # the static start: at rest (qd = 0) with zero modal accelerations; the deflection q follows from the loads
+    body.set_start("qd", np.zeros(len(kept)), fixed=True)
+    body.set_start("qdd", np.zeros(len(kept)), fixed=True)
     setattr(owner, f"section{j}", body)
     owner.connect(root, body.frame_at(nodes["root"]))
     frames: dict[str, Any] = {"root": root, "tip": body.frame_at(nodes["tip"])}
@@ -286,3 +321,84 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
         -np.asarray(result[f"joint{j}.frame_b.t"], dtype=float).reshape(nt, 3))
     zero = np.zeros(nt)
     return np.column_stack([np.broadcast_to(values.get(c, zero), (nt,)) for c in data.load_cases])
+
+
+#: Poses [deg] (slew, q1 … q5) whose static loads select the sections' modes (:func:`mpf_modes`): the transport
+#: fold, the stations of the unfolding (each joint in turn moved to the working pose), the working pose and the
+#: extended horizontal boom.
+MPF_POSES_DEG = (
+    (0.0, 0.0, 176.0, -176.0, 176.0, -176.0),
+    (0.0, 50.0, 176.0, -176.0, 176.0, -176.0),
+    (0.0, 50.0, 10.0, -176.0, 176.0, -176.0),
+    (0.0, 50.0, 10.0, -30.0, 176.0, -176.0),
+    (0.0, 50.0, 10.0, -30.0, 20.0, -176.0),
+    (0.0, 50.0, 10.0, -30.0, 20.0, -40.0),
+    (0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+)
+
+
+def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes: int = 8,
+              poses: Sequence[Sequence[float]] = MPF_POSES_DEG, cache: bool = True) -> dict[int, list[int]]:
+    """Each section's modes chosen by the modal participation factor method (seed 001; issue 10).
+
+    The loads on each section in the rigid boom's static equilibrium at ``poses`` (:func:`rigid_section_loads` of
+    a rigid :class:`~models.pump_truck.model.PumpTruck` at rest there, filled as the record says) give each mode's
+    static amplitude ``q_i = φ_iᵀ F / k_i``; a mode is kept if at some pose it reaches ``threshold`` of the largest
+    (:func:`~flexlib.components.mechanics.flexible.participation_from_load_cases`) and moves the section in its
+    plane (:func:`in_plane_modes`); of those, the ``max_modes`` with the largest shares, in frequency order.
+
+    Parameters
+    ----------
+    record : PumpTruckParameters
+        The design record.
+    threshold : float
+        Share of the largest static modal amplitude a kept mode reaches at some pose [1].
+    max_modes : int
+        Most modes kept per section.
+    poses : sequence of 6 floats
+        Poses [deg] (slew, q1 … q5) whose loads are used.
+    cache : bool
+        Read and write the selection under ``$FLEXLIB_CACHE_DIR/pump_truck`` (keyed by everything it depends on).
+
+    Returns
+    -------
+    dict of int to list of int
+        Section number (1–5) to mode indices into :func:`section_modal_data`.
+    """
+    import flexlib as fl
+    from flexlib.components.mechanics.flexible import participation_from_load_cases
+
+    from .model import PumpTruck
+
+    if not 0.0 < threshold <= 1.0 or int(max_modes) < 1:
+        raise ValueError(f"mpf_modes: threshold must be in (0, 1] and max_modes >= 1, got {threshold!r}, "
+                         f"{max_modes!r}")
+    datas = {j: section_modal_data(record, j, cache=cache)[0] for j in range(1, 6)}
+    key = json.dumps({"record": asdict(record), "modal": {j: d.content_hash() for j, d in datas.items()},
+                      "threshold": threshold, "max_modes": int(max_modes),
+                      "poses": [list(map(float, p)) for p in poses], "version": 2,
+                      # the loads come from the rigid model: a change of its code or of the engine selects anew
+                      "code": _source_hash(), "flexlib": fl.__version__}, sort_keys=True, default=str)
+    path = _cache_dir() / f"mpf-{hashlib.sha256(key.encode()).hexdigest()[:24]}.json"
+    if cache and path.exists():
+        try:
+            return {int(j): [int(k) for k in v] for j, v in json.loads(path.read_text())["modes"].items()}
+        except (ValueError, KeyError, TypeError):
+            pass  # a damaged file: select again and replace it
+    rows: dict[int, list[np.ndarray]] = {j: [] for j in range(1, 6)}
+    for pose in poses:
+        result = fl.Simulation(PumpTruck(record, pose=pose, slewing=False)).run(0.01, dt_out=0.01, progress=False)
+        for j, data in datas.items():
+            rows[j].append(rigid_section_loads(result, record, j, data)[:1])
+    chosen: dict[int, list[int]] = {}
+    for j, data in datas.items():
+        table = participation_from_load_cases(data, np.vstack(rows[j]), threshold=threshold)
+        candidates = [k for k in in_plane_modes(data) if k in set(table.kept)]
+        best = sorted(candidates, key=lambda k: -table.shares[k])[: int(max_modes)]
+        chosen[j] = sorted(best, key=lambda k: data.frequencies[k])
+    if cache:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(".json.part")
+        tmp.write_text(json.dumps({"modes": chosen, "threshold": threshold, "max_modes": int(max_modes)}))
+        os.replace(tmp, path)
+    return chosen

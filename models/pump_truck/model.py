@@ -1,4 +1,4 @@
-"""Rigid simulation model of the 42 m pump-truck boom (issue 11), built on the design record.
+"""Simulation model of the 42 m pump-truck boom (issue 11), rigid or flexible, built on the design record.
 
 Built from library components only (3D multibody, hydraulics, control), with the numbers of
 :class:`~models.pump_truck.parameters.PumpTruckParameters`:
@@ -13,9 +13,9 @@ Mechanics (world ``y`` up, gravity ``9.81 m/s²`` along ``−y``):
   turn with it (their redundant rows are dropped in the cut frames: ``docs/engine.md``).
 * Five sections as rigid ``Body`` with the record's mass properties: steel box + delivery pipe (filled or
   empty) from :func:`~models.pump_truck.statics.mass_properties`; the end hose a point mass at the tip pin
-  (as in the hand statics), lumped into section 5's body. The section bodies are made by one function,
-  :meth:`PumpTruck._section`, which returns the section's named frames (root, tip, pins), so a FlexibleBody
-  can be swapped in with the same frames.
+  (as in the hand statics), lumped into section 5's body. The sections are made by one function,
+  :meth:`PumpTruck._section`, which returns the section's named frames (root, tip, pins); the flexible variant
+  (below) returns the same frames from a FlexibleBody.
 * Joint 1 driven by its direct cylinder (record ``joint1``: housing ``H`` on the turret, bracket ``c`` on
   section 1); joints 2–5 through the record's lever-and-link four-bars: lever (rocker) pivoted at ``P`` on
   section k−1, link from the lever tip ``T`` to the bracket ``c`` on section k, cylinder from ``H`` on section
@@ -58,10 +58,20 @@ along the cylinder: the joint's angle reference becomes a length reference throu
 rise tenfold where the lever arm falls near the fold). The slewing joint is controlled on its angle. A joint
 given in ``commands`` gets its valve command straight from a ``TimeTable`` (the operator's joystick).
 
-Static-equilibrium start in any pose: the joints start at rest at ``pose``; the holding chamber of each cylinder
-starts at ``p_tank + |F|/A`` with ``F`` the holding force by virtual work on this model's own geometry
-(:func:`holding_forces`: sections, pipe, hose, levers and links), the other chamber and all lines at tank
-pressure, valves and counterbalance valves closed, controller outputs zero.
+Static-equilibrium start in any pose: the joints start at ``pose``, at rest and not accelerating (``phi``, ``w``
+and ``a`` of each boom joint are initial conditions); the pressure of each cylinder's holding chamber is what the
+initialisation solves for (its start value, ``p_tank + |F|/A`` with ``F`` the holding force by virtual work on this
+model's own geometry, :func:`holding_forces`, is the guess), the other chamber and all lines start at tank pressure,
+valves and counterbalance valves closed with their poppets at rest (``steady_start``), controller outputs zero, and
+each length loop tared to the record's length in the start pose (``Tare``). With flexible sections the same
+conditions give the deflected equilibrium: modal velocities and accelerations start at zero, the modal coordinates
+are solved for.
+
+Flexible variant (``flexible=True``): each section a ``FlexibleBody`` from its beam mesh and Craig–Bampton
+reduction (:mod:`models.pump_truck.flexible`; pipe and hose as offset point masses), its in-plane modes chosen by
+the modal participation factor method on the rigid boom's static loads (:func:`~models.pump_truck.flexible.mpf_modes`,
+1 %, at most 8 per section). Each pin of the rigid model becomes a frame at the pin's beam node (off-axis pins
+through a rigid bracket), so cylinders, levers and links attach as before and the hinge forces keep their names.
 
 References
 ----------
@@ -82,7 +92,7 @@ from typing import Any
 import numpy as np
 
 import flexlib as fl
-from flexlib.components.control import Constant, FirstOrder, LimPID, TimeTable
+from flexlib.components.control import Constant, FirstOrder, LimPID, Tare, TimeTable
 from flexlib.components.hydraulics import (
     CounterbalanceValve,
     DirectionalValve43,
@@ -135,6 +145,7 @@ CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
 CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
 CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
 CBV_SMOOTHING = 0.1  # counterbalance openings: C1 corners over 10 % of their ranges (Simscape smoothing factor)
+CBV_A_LEAK = 1e-11  # counterbalance: leakage area of both paths [m2]
 D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
 OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
 T_I = 2.0  # integral time [s]
@@ -263,10 +274,25 @@ def length_reference(record: PumpTruckParameters, n: int, t: np.ndarray, q_deg: 
     return tt, np.array([drive.state(float(v)).length for v in qq])
 
 
-def _local(point: np.ndarray, origin: np.ndarray, theta: float) -> list[float]:
-    """A planar point in the frame of a section rooted at ``origin`` with absolute angle ``theta``."""
-    d = rot(-theta) @ (np.asarray(point) - origin)
-    return [float(d[0]), float(d[1]), 0.0]
+def _check_modes(modes: Any) -> int | dict[int, list[int]]:
+    """``PumpTruck(modes=...)`` of a flexible boom: a count >= 1, or a list of mode indices for every section 1–5."""
+    if isinstance(modes, int) and not isinstance(modes, bool):
+        if modes < 1:
+            raise ParameterError(f"PumpTruck: modes must be at least 1 per section, got {modes!r}")
+        return modes
+    if not isinstance(modes, Mapping):
+        raise ParameterError(f"PumpTruck: modes must be 'mpf', a count or a mapping of section (1-5) to mode "
+                             f"indices, got {modes!r}")
+    try:
+        out = {int(k): [int(i) for i in v] for k, v in modes.items()}
+    except (TypeError, ValueError):
+        raise ParameterError(f"PumpTruck: modes must map section numbers 1-5 to lists of mode indices, got "
+                             f"{modes!r}") from None
+    if sorted(out) != [1, 2, 3, 4, 5]:
+        missing = sorted(set(range(1, 6)) - set(out))
+        extra = sorted(set(out) - set(range(1, 6)))
+        raise ParameterError(f"PumpTruck: modes must give every section 1-5 (missing {missing}, unknown {extra})")
+    return out
 
 
 def _table(owner: str, spec: Any, n_values: int | None = None) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -290,7 +316,7 @@ def _table(owner: str, spec: Any, n_values: int | None = None) -> tuple[np.ndarr
 
 
 class PumpTruck(fl.Model):
-    """The pump-truck boom, rigid variant (see the module docstring).
+    """The pump-truck boom, rigid or with flexible sections (see the module docstring).
 
     Parameters
     ----------
@@ -308,7 +334,12 @@ class PumpTruck(fl.Model):
     filled : bool, optional
         Delivery pipe filled with concrete (default: the record's ``pipe.filled``).
     flexible : bool
-        ``True`` asks for FlexibleBody sections (not built yet: ``NotImplementedError``).
+        ``True``: each section a FlexibleBody (beam mesh, Craig–Bampton; :mod:`models.pump_truck.flexible`), its
+        static deflection part of the start.
+    modes : "mpf", int or mapping
+        Modes of the flexible sections: ``"mpf"`` (default) the modal participation factor selection
+        (:func:`~models.pump_truck.flexible.mpf_modes`: 1 % threshold, at most 8 per section), a count (the lowest
+        in-plane modes) or ``{section: [mode indices]}``.
     slewing : bool
         ``True`` (default): the slewing bearing (a revolute about world ``y`` under the turret) and its drive
         (motor, gear, valve, control); ``False``: the turret fixed to the ground, no slewing drive.
@@ -328,17 +359,12 @@ class PumpTruck(fl.Model):
         line carries the counterbalance valve), ``Q_nom`` [m3/s] of its valve.
     """
 
-    experiment = fl.Experiment(t_end=10.0, dt_out=0.05, rtol=1e-6, atol=1e-8)
+    experiment = fl.Experiment(t_end=10.0, dt_out=0.05, rtol=1e-6, atol=1e-8, max_order=2)
 
     def __init__(self, record: PumpTruckParameters | None = None, pose: Sequence[float] | None = None,
                  targets: Mapping[str, Any] | None = None, commands: Mapping[str, Any] | None = None,
                  filled: bool | None = None, flexible: bool = False, slewing: bool = True,
-                 link_plate: float = LINK_PLATE) -> None:
-        if flexible:
-            raise NotImplementedError("PumpTruck(flexible=True) is not available yet: the flexible sections exist "
-                                      "(models.pump_truck.flexible.flexible_section, MPF from rigid_section_loads) but "
-                                      "the boom's static start with deflected sections does not hold yet; use the "
-                                      "rigid variant (flexible=False)")
+                 link_plate: float = LINK_PLATE, modes: int | str | Mapping[int, Sequence[int]] = "mpf") -> None:
         super().__init__()
         record = PumpTruckParameters() if record is None else record
         if not isinstance(record, PumpTruckParameters):
@@ -356,7 +382,18 @@ class PumpTruck(fl.Model):
                 raise ParameterError(
                     f"PumpTruck: pose joint{k + 1} = {math.degrees(q0[k + 1]):.2f} deg is outside its range "
                     f"{math.degrees(drive.q_min):.1f} ... {math.degrees(drive.q_max):.1f} deg")
-        self.q0 = q0
+        self._q0 = q0  # (underscore: the pose is a start value, not structure; one build serves every pose)
+        self.flexible = bool(flexible)
+        if self.flexible and isinstance(modes, str):
+            if modes != "mpf":
+                raise ParameterError(f"PumpTruck: modes must be 'mpf', a count or a mapping of section to mode "
+                                     f"indices, got {modes!r}")
+            from .flexible import mpf_modes
+
+            modes = mpf_modes(record)
+        if self.flexible:
+            modes = _check_modes(modes)
+        self.modes = modes
         t_ref, ref_cols = _table("targets", targets) if targets is not None else (np.zeros(1), {})
         t_cmd, cmd_cols = _table("commands", commands) if commands is not None else (np.zeros(1), {})
         for name, col in cmd_cols.items():
@@ -376,7 +413,7 @@ class PumpTruck(fl.Model):
         q = q0[1:]
         geo = _pose(record, q, self.link_plate)
         F_hold, _ = holding_forces(record, q, self.link_plate)
-        self.F_hold = F_hold
+        self._F_hold = F_hold
         rows = sizing(record)
 
         # ---- mechanics -------------------------------------------------------------------------------------
@@ -400,13 +437,11 @@ class PumpTruck(fl.Model):
         frames: list[dict[str, Any]] = []
         for k in range(5):
             n = k + 1
-            joint = Revolute(use_axis_flange=True, init={"phi": float(q[k]), "w": 0.0})
+            # at rest in equilibrium: angle, speed and acceleration fixed; the holding pressures follow
+            joint = Revolute(use_axis_flange=True, init={"phi": float(q[k]), "w": 0.0, "a": 0.0})
             setattr(self, f"joint{n}", joint)
             self.connect(parent, joint.frame_a)
-            pins = {"C": geo["pins"][f"C{n}"]}
-            if n < 5:
-                pins.update({"P_next": geo["pins"][f"P{n + 1}"], "H_next": geo["pins"][f"H{n + 1}"]})
-            fr = self._section(k, joint.frame_b, geo["J"][k], geo["theta"][k], pins)
+            fr = self._section(k, joint.frame_b)
             frames.append(fr)
             parent = fr["tip"]
 
@@ -421,13 +456,14 @@ class PumpTruck(fl.Model):
         supply_ports = [self.pump.port_b, self.supply.port, self.relief.port_a]
 
         def sources(name: str, k: int, kind: str) -> Any:
-            """Reference (``kind="ref"``, rad) or valve command (``"cmd"``) of joint ``name`` as a TimeTable."""
+            """Reference (``kind="ref"``, rad) or valve command (``"cmd"``) of joint ``name`` as a TimeTable (a
+            constant reference a ``Constant``: its value a parameter, so one build serves every start pose)."""
             if kind == "cmd":
                 table = TimeTable(t=t_cmd, y=cmd_cols[name])
             elif name in ref_cols:
                 table = TimeTable(t=t_ref, y=np.radians(ref_cols[name]))
             else:
-                table = TimeTable(t=[0.0], y=[float(q0[k])])
+                table = Constant(k=float(q0[k]))
             setattr(self, f"{kind}_{name}", table)
             return table.y
 
@@ -462,7 +498,12 @@ class PumpTruck(fl.Model):
                 self.connect(cylinder.frame_b, line.frame_b)
                 self.connect(line.flange_a, sensor.flange_a)
                 self.connect(line.flange_b, sensor.flange_b)
-                measured, gain = sensor.s_rel, OMEGA_C * areas[0] / K_v
+                # tared at the start to the record's length in the start pose: a flexible boom's sections start
+                # deflected, and the loop must hold them there, not pull the pins to the rigid kinematics
+                tare = Tare(y_start=float(record.drive(k).state(float(q0[k])).length))
+                setattr(self, f"tare_{name}", tare)
+                self.connect(sensor.s_rel, tare.u)
+                measured, gain = tare.y, OMEGA_C * areas[0] / K_v
             pid = LimPID(init_type="initial_output", y_start=0.0, k=gain, Ti=T_I, y_max=1.0, y_min=-1.0,
                          use_feed_forward=cylinder is not None, **kind)
             setattr(self, f"pid_{name}", pid)
@@ -470,12 +511,12 @@ class PumpTruck(fl.Model):
                 self.connect(sources(name, k, "ref"), pid.u_s)
             else:
                 t_L, L_ref = length_reference(record, k, t_ref, ref_cols.get(name), float(q0[k]))
-                table = TimeTable(t=t_L, y=L_ref)
+                table = TimeTable(t=t_L, y=L_ref) if len(t_L) > 1 else Constant(k=float(L_ref[0]))
                 setattr(self, f"ref_{name}", table)
                 self.connect(table.y, pid.u_s)
                 speed = np.append(np.diff(L_ref) / np.diff(t_L), 0.0) if len(t_L) > 1 else np.zeros(1)
-                ff = TimeTable(t=t_L, y=speed * np.where(speed > 0, areas[0], areas[1]) * K_v ** -1,
-                               smoothness="constant")
+                ff = (TimeTable(t=t_L, y=speed * np.where(speed > 0, areas[0], areas[1]) * K_v ** -1,
+                                smoothness="constant") if len(t_L) > 1 else Constant(k=0.0))
                 setattr(self, f"ff_{name}", ff)
                 self.connect(ff.y, pid.u_ff)
             self.connect(measured, pid.u_m)
@@ -500,7 +541,11 @@ class PumpTruck(fl.Model):
             cyl = LineCylinder(d_bore=bore, d_rod=rod, stroke=stroke, L0=L0, m=m_rod, d=D_CYL,
                                F_c=CYL_FC * A_p * record.p_system, v_reg=CYL_VREG,
                                V_dead_A=0.1 * A_p * stroke + 1e-4, V_dead_B=0.1 * A_r * stroke + 1e-4,
-                               p_A_start=p_A, p_B_start=p_B)
+                               p_fixed=False)
+            # the free chamber at tank pressure; the holding chamber's pressure is what holds the joint at rest
+            # (its start value the hand statics' guess)
+            cyl.cylinder.set_start("p_A", p_A, fixed=F < 0)
+            cyl.cylinder.set_start("p_B", p_B, fixed=F >= 0)
             setattr(self, f"cylinder{n}", cyl)
             if n == 1:
                 self.connect(self.joint1_housing.frame_b, cyl.frame_a)
@@ -546,6 +591,16 @@ class PumpTruck(fl.Model):
         self.connect(*tank_ports)
         self.connect(*supply_ports)
 
+    @property
+    def q0(self) -> np.ndarray:
+        """Start angles [rad] (slew, q1 … q5)."""
+        return self._q0.copy()
+
+    @property
+    def F_hold(self) -> np.ndarray:
+        """Holding forces of the five cylinders at the start, by the hand statics [N] (positive pushes)."""
+        return self._F_hold.copy()
+
     # ---- building blocks ------------------------------------------------------------------------------------
     @staticmethod
     def _counterbalance(p_crack: float, Q_nom: float) -> tuple[CounterbalanceValve, Volume]:
@@ -553,7 +608,7 @@ class PumpTruck(fl.Model):
         volume between it and the directional valve."""
         cbv = CounterbalanceValve(p_crack=p_crack, pilot_ratio=PILOT_RATIO, dp_open=CBV_DP_OPEN, dp_check=CBV_DP_CHECK,
                                   smoothing=CBV_SMOOTHING, Q_nom=2 * Q_nom, Q_nom_check=2 * Q_nom, dp_nom=VALVE_DP,
-                                  use_dynamics=True, T=CBV_T, A_leak=1e-11)
+                                  use_dynamics=True, T=CBV_T, A_leak=CBV_A_LEAK, steady_start=True)
         return cbv, Volume(V=V_HOSE, p_start=P_TANK)
 
     def _slew_drive(self, tank_ports: list, supply_ports: list, control: Any) -> None:
@@ -575,15 +630,27 @@ class PumpTruck(fl.Model):
         supply_ports.append(self.slew_valve.port_P)
         control("slew", 0, self.slew_valve, SLEW_Q / SLEW_D / SLEW_RATIO, 1.0)
 
-    def _section(self, k: int, root: Any, origin: np.ndarray, theta: float, pins: dict[str, np.ndarray]) -> dict:
-        """Section ``k`` (0-based) as a rigid Body on the frame ``root``; returns its frames.
+    def _section(self, k: int, root: Any) -> dict:
+        """Section ``k`` (0-based) on the frame ``root``: a rigid Body, or a FlexibleBody (``flexible``).
 
-        ``pins`` are planar turret-frame points (start pose) fixed on the section; each gets a frame. Returned:
-        ``root``, ``tip`` and one frame per pin name. A flexible variant returns the same frames from a
-        FlexibleBody's interface nodes.
+        Its pins (the record's attachment points in the section frame, independent of the pose: the drive bracket
+        ``C`` and, on sections 1–4, the next joint's lever pivot ``P_next`` and cylinder housing ``H_next``) each
+        get a frame. Returned: ``root``, ``tip`` and one frame per pin name, the same for both variants.
         """
+        from .flexible import PIN_POINTS, attachment_points, flexible_section
+
         n = k + 1
         sec = self.record.sections[k]
+        points = attachment_points(self.record, n)
+        pins = {name: [*points[point], 0.0] for name, point in PIN_POINTS.items() if point in points}
+        if self.flexible:
+            modes = self.modes if isinstance(self.modes, int) else self.modes[n]
+            frames = flexible_section(self, n, root, pins, self.record, modes)
+            tip = FixedTranslation(r=[0.0, 0.0, 0.0])  # the tip pin under the rigid model's name
+            setattr(self, f"section{n}_tip", tip)
+            self.connect(frames["tip"], tip.frame_a)
+            frames["tip"] = tip.frame_b
+            return frames
         mp = section_mass_properties(self.record, k)
         body = Body(m=mp["m"], r_CM=[float(v) for v in mp["com"]], I=mp["I"])
         setattr(self, f"section{n}", body)
@@ -594,7 +661,7 @@ class PumpTruck(fl.Model):
         self.connect(root, tip.frame_a)
         frames["tip"] = tip.frame_b
         for name, point in pins.items():
-            pin = FixedTranslation(r=_local(point, origin, theta))
+            pin = FixedTranslation(r=[float(v) for v in point])
             setattr(self, f"section{n}_{name}", pin)
             self.connect(root, pin.frame_a)
             frames[name] = pin.frame_b

@@ -7,7 +7,10 @@
 - ``section_lengths.png``: each section's pin-to-pin length minus its nominal length [mm] (Figs. 16–17: constant
   for a rigid boom, fluctuating for a flexible one);
 - ``modal_coordinates.png``: each flexible section's modal coordinates (Fig. 11), flexible runs only;
-- ``tip_path.png``: the tip's path in the boom plane and the joint angles over time.
+- ``tip_path.png``: the tip's path in the boom plane and the joint angles over time;
+- ``boom.pvd`` (+ ``boom_*.vtu``): the moving boom for ParaView, one frame per ``VTK_DT`` of simulated time: each
+  flexible section's deformed beam mesh, and stick figures of the rigid parts (rigid sections pin to pin,
+  cylinders, levers and links).
 
 Rigid and flexible runs overlaid (Fig. 13): ``flexlib compare rigid.h5 flexible.h5 --plot both.png``.
 
@@ -26,6 +29,8 @@ import numpy as np
 __all__ = ["figures"]
 
 _JOINTS = range(1, 6)
+#: Time between the frames of the VTK series [s].
+VTK_DT = 1.0
 
 
 def _save(fig: Any, path: Path) -> Path:
@@ -135,4 +140,21 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     ax2.grid(True, alpha=0.3)
     ax2.legend(fontsize=8)
     out.append(_save(fig, directory / "tip_path.png"))
+    out.append(write_boom_vtk(model, result, directory / "boom.pvd"))
     return out
+
+
+def write_boom_vtk(model: Any, result: Any, path: Path, dt: float = VTK_DT) -> Path:
+    """The boom over time as a VTK series for ParaView (module docstring), one frame per ``dt`` [s]."""
+    from flexlib.components.mechanics.flexible.drawing import write_model_vtk
+
+    lines: dict[str, list[str]] = {}
+    for n in _JOINTS:
+        if not _has(result, f"section{n}.q"):  # a rigid section: its pins
+            lines[f"section{n}"] = [f"joint{n}.frame_b", f"section{n}_tip.frame_b"]
+        lines[f"cylinder{n}"] = [f"cylinder{n}.frame_a", f"cylinder{n}.frame_b"]
+        if n > 1:
+            lines[f"linkage{n}"] = [f"lever_joint{n}.frame_a", f"lever_tip{n}.frame_b", f"link_tip{n}.frame_b"]
+    t = np.asarray(result.t, dtype=float)
+    stride = max(1, round(dt / max(float(np.median(np.diff(t))), 1e-12))) if t.size > 1 else 1
+    return write_model_vtk(path, model, result, lines=lines, stride=stride)

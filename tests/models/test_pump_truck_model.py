@@ -153,14 +153,11 @@ def test_empty_pipe_lowers_the_holding_force():
     assert np.all(np.abs(empty.F_hold) < np.abs(filled.F_hold))
 
 
-def test_flexible_variant_is_not_built_yet():
-    with pytest.raises(NotImplementedError, match="flexible"):
-        PumpTruck(flexible=True)
-
-
 def test_figures_of_a_run(short_cycle, tmp_path):
     """The run's figures (the CLI's --plots hook): one PNG each for flows, pressures, hinge forces, section lengths
-    and tip path, readable images; the rigid sections' pin-to-pin lengths stay at their nominal values (1e-9 m)."""
+    and tip path, readable images, and the VTK series for ParaView (one frame per second, each with
+    the stick figures of the five sections, cylinders and four linkages: 14 polylines); the rigid sections'
+    pin-to-pin lengths stay at their nominal values (1e-9 m)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -171,9 +168,15 @@ def test_figures_of_a_run(short_cycle, tmp_path):
     model, res, _ = short_cycle
     paths = figures(model, res, tmp_path)
     assert [p.name for p in paths] == ["flows.png", "pressures.png", "hinge_forces.png", "section_lengths.png",
-                                       "tip_path.png"]
-    for p in paths:
+                                       "tip_path.png", "boom.pvd"]
+    for p in paths[:-1]:
         assert mpimg.imread(p).shape[0] > 200
+    import meshio
+
+    frames = sorted((tmp_path / "boom.pvd.d").glob("*.vtu"))
+    assert len(frames) in (17, 18)  # one per second over 16 s (rows at events shift the stride), and the last row
+    mesh = meshio.read(frames[-1])
+    assert sum(len(block.data) for block in mesh.cells) == 5 + 5 + 4 * 2
     for n in range(1, 5):
         length = np.linalg.norm(res[f"joint{n + 1}.frame_a.r_0"] - res[f"joint{n}.frame_b.r_0"], axis=1)
         np.testing.assert_allclose(length, model.record.sections[n - 1].length, atol=1e-9)

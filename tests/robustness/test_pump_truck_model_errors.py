@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+import flexlib as fl
 from flexlib.errors import ParameterError
 from flexlib.models.pump_truck.model import PumpTruck
 from flexlib.models.pump_truck.scenarios import _factory
@@ -32,9 +33,21 @@ def test_bad_model_arguments_name_the_culprit(kwargs, match):
         PumpTruck(**kwargs)
 
 
-def test_flexible_variant_is_refused_clearly():
-    with pytest.raises(NotImplementedError, match=r"flexible=True\) is not available yet"):
-        PumpTruck(flexible=True)
+@pytest.mark.parametrize(("modes", "match"), [
+    ("all", r"modes must be 'mpf', a count or a mapping of section to mode indices, got 'all'"),
+    (0, r"modes must be at least 1 per section, got 0"),
+    ({1: [1]}, r"modes must give every section 1-5 \(missing \[2, 3, 4, 5\], unknown \[\]\)"),
+    ({k: ["a"] for k in range(1, 6)}, r"modes must map section numbers 1-5 to lists of mode indices"),
+])
+def test_bad_flexible_modes_are_named(modes, match):
+    with pytest.raises(ParameterError, match=match):
+        PumpTruck(flexible=True, modes=modes, slewing=False)
+
+
+def test_a_mode_the_section_does_not_have_is_named():
+    with pytest.raises(fl.ModelError, match=r"modes \[999\] are not in the modal data 'pump-truck boom section 5' "
+                                            r"\(18 modes: 0\.\.17\)"):
+        PumpTruck(flexible=True, modes={1: [1], 2: [1], 3: [1], 4: [1], 5: [999]}, slewing=False)
 
 
 def test_unknown_scenario_data_is_named():

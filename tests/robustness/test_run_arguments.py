@@ -81,6 +81,10 @@ BAD = {
     "max_steps_zero": (dict(t_end=1.0, max_steps=0), r"max_steps = 0.*positive integer"),
     "max_steps_negative": (dict(t_end=1.0, max_steps=-5), r"max_steps = -5.*positive integer"),
     "max_steps_fraction": (dict(t_end=1.0, max_steps=10.5), r"max_steps = 10\.5.*positive integer"),
+    "max_order_zero": (dict(t_end=1.0, max_order=0), r"max_order = 0.*integer 1 \.\.\. 5"),
+    "max_order_six": (dict(t_end=1.0, max_order=6), r"max_order = 6.*integer 1 \.\.\. 5"),
+    "max_order_fraction": (dict(t_end=1.0, max_order=2.5), r"max_order = 2\.5.*integer"),
+    "max_order_bool": (dict(t_end=1.0, max_order=True), r"max_order = True"),
     "max_steps_string": (dict(t_end=1.0, max_steps="1000"), r"max_steps = '1000'.*positive integer"),
     "max_steps_bool": (dict(t_end=1.0, max_steps=True), r"max_steps = True.*positive integer"),
     "params_list": (dict(t_end=1.0, params=[("x", 1.0)]), r"params = \[\('x', 1\.0\)\].*dict.*list"),
@@ -164,3 +168,16 @@ def test_bad_value_from_the_models_experiment_names_it():
         sim.run()
     res = sim.run(1.0)  # an explicit t_end: the experiment's dt_out is not used, every step is recorded
     assert res.success and len(res.t) > 2
+
+
+@pytest.mark.parametrize("solver", ["ida", "ida-sksundae", "casadi-idas"])
+def test_max_order_caps_the_bdf_order_and_is_recorded(sim, solver):
+    """x = cos t to 1e-5 with the order capped at 2 and at 5; at the same tolerance order 2 needs more than twice
+    the residual evaluations of order 5 (the cap is applied)."""
+    evals = {}
+    for order in (2, 5):
+        res = sim.run(5.0, dt_out=0.1, rtol=1e-8, atol=1e-10, max_order=order, solver=solver, progress=False)
+        np.testing.assert_allclose(res["x"], np.cos(res.t), atol=1e-5)
+        assert res.stats["max_order"] == order
+        evals[order] = res.stats["nfev"]
+    assert evals[2] > 2 * evals[5]

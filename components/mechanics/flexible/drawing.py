@@ -477,7 +477,7 @@ def animate(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, path: str 
 
 
 def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
-                    lines: dict[str, Sequence[str]] | None = None, scale: float = 1.0) -> Path:
+                    lines: dict[str, Sequence[str]] | None = None, scale: float = 1.0, stride: int = 1) -> Path:
     """Write a whole machine over time as one VTK series: every FlexibleBody's deformed mesh and stick figures of
     the rigid parts, for ParaView.
 
@@ -494,6 +494,8 @@ def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
         their origins ``r_0``.
     scale : float
         Magnification of the elastic displacements (drawing only).
+    stride : int
+        Write every ``stride``-th row of the result (a long run on a fine grid), the last row always.
 
     Returns
     -------
@@ -517,19 +519,24 @@ def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
     path = Path(path)
     _collection_kind(path)
     scale = float(scale)
-    t = np.asarray(result.t, dtype=float)
+    if isinstance(stride, bool) or not isinstance(stride, int) or stride < 1:
+        raise RunArgumentError(f"{func}: stride must be a positive integer, got {stride!r}")
+    t_all = np.asarray(result.t, dtype=float)
+    rows = np.unique(np.append(np.arange(0, t_all.size, stride), t_all.size - 1)) if t_all.size else np.zeros(0, int)
+    t = t_all[rows]
     nt = t.size
     parts: list[tuple[np.ndarray, np.ndarray, list[tuple[str, np.ndarray]]]] = []  # points, |u|, cells
     bodies = sorted((c for c in model.walk() if isinstance(c, FlexibleBody)), key=lambda c: c.path)
     for body in bodies:
-        _t, q, r_0, T = body.motion(result)
+        _t, q, r_0, T = (np.asarray(a)[rows] for a in body.motion(result))
         data = body.modal_data
         pts = deformed_positions(data, q, r_0, T, scale=scale)
         u = np.linalg.norm(node_displacements(data, q), axis=-1) if data.n_modes else np.zeros(pts.shape[:2])
         parts.append((pts, u, _cells(data, None, None, func)))
     for name, frames in (lines or {}).items():
         try:
-            pts = np.stack([np.asarray(result[f"{frame}.r_0"], dtype=float).reshape(nt, 3) for frame in frames], 1)
+            pts = np.stack([np.asarray(result[f"{frame}.r_0"], dtype=float).reshape(t_all.size, 3)[rows]
+                            for frame in frames], 1)
         except Exception as exc:  # ResultKeyError: say which line and frame
             raise RunArgumentError(f"{func}: line {name!r}: {exc}") from None
         n = len(frames)

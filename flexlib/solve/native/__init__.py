@@ -168,6 +168,8 @@ def _lib() -> ctypes.CDLL:
         lib.fd_use_cpu_clock.restype = None
         lib.fd_set_newton.argtypes = [vp, d, i, d]
         lib.fd_set_newton.restype = i
+        lib.fd_set_max_order.argtypes = [vp, i]
+        lib.fd_set_max_order.restype = i
         _LIB.append(lib)
         return lib
 
@@ -419,6 +421,11 @@ class Driver:
         (``IDASetMaxNonlinIters``, 4), convergence coefficient (``IDASetNonlinConvCoef``, 0.33)."""
         if self._lib.fd_set_newton(self._ptr, dcj, max_iters, conv_coef) != 0:
             raise FlexlibError(f"invalid IDA Newton options dcj={dcj}, max_iters={max_iters}, conv_coef={conv_coef}")
+
+    def set_max_order(self, order: int) -> None:
+        """Highest BDF order IDA may use (``IDASetMaxOrd``, 1–5; default 5)."""
+        if not 1 <= int(order) <= 5 or self._lib.fd_set_max_order(self._ptr, int(order)) != 0:
+            raise FlexlibError(f"invalid IDA maximum order {order!r} (1 ... 5)")
 
     def stats(self) -> dict[str, float]:
         """Evaluation counts, linear-solver counts and seconds spent in C."""

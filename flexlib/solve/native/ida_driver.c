@@ -70,6 +70,7 @@ int IDASetJacFn(void *mem, IDALsJacFn jac);
 int IDASetDeltaCjLSetup(void *mem, sunrealtype dcj);
 int IDASetMaxNonlinIters(void *mem, int maxcor);
 int IDASetNonlinConvCoef(void *mem, sunrealtype epcon);
+int IDASetMaxOrd(void *mem, int maxord);
 int IDAGetNumLinSolvSetups(void *mem, long int *nlinsetups);
 int IDAGetNumNonlinSolvIters(void *mem, long int *nniters);
 int IDAGetNumNonlinSolvConvFails(void *mem, long int *nncfails);
@@ -572,6 +573,9 @@ int fd_set_newton(drv_t *d, double dcj, int maxcor, double epcon) {
     if (epcon > 0) f |= IDASetNonlinConvCoef(d->mem, epcon);
     return f;
 }
+
+/* Highest BDF order IDA may use (1..5). */
+int fd_set_max_order(drv_t *d, int maxord) { return IDASetMaxOrd(d->mem, maxord); }
 
 /* Size of the last step taken [s]. */
 double fd_last_step(drv_t *d) { return d->hlast; }

@@ -61,3 +61,21 @@ def test_two_outputs_cannot_be_connected():
     model.b = Constant(k=2.0)
     with pytest.raises(fl.ConnectError, match=r"a\.y.*b\.y"):
         model.connect(model.a.y, model.b.y)
+
+
+def test_tare_rezeroes_its_input_at_the_start():
+    """Tare: y = u − u(t0) + y_start with u = 0.7 + 2 sin(2π t) from t0 = 0.3 s: y(t) = 2 (sin 2πt − sin 0.6π) + 5.
+    The start value is held by a state (der(u0) = 0), so it also holds for a start the initialisation computes."""
+    from flexlib.components.control import Tare
+
+    class Tared(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.sine = Sine(amplitude=2.0, f=1.0, offset=0.7)
+            self.tare = Tare(y_start=5.0)
+            self.connect(self.sine.y, self.tare.u)
+
+    res = fl.Simulation(Tared()).run(2.0, t_start=0.3, dt_out=0.01, rtol=1e-8, atol=1e-10, progress=False)
+    expected = 2.0 * (np.sin(2 * np.pi * res.t) - np.sin(2 * np.pi * 0.3)) + 5.0
+    np.testing.assert_allclose(res["tare.y"], expected, atol=1e-7)
+    assert res["tare.y"][0] == pytest.approx(5.0, abs=1e-12)

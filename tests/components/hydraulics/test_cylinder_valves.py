@@ -7,6 +7,7 @@ tolerance. Pressures are absolute; the tank is at atmospheric pressure.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -351,7 +352,7 @@ class HangingLoad(fl.Model):
     valve; the valve opens fully (P→A, B→T: lowering) between t_on and t_off."""
 
     def __init__(self, mass: float, q_pump: float, t_on: float, t_off: float, pilot_ratio: float = 1.5,
-                 ramp: float = 0.3, smoothing: float = 0.0) -> None:
+                 ramp: float = 0.3, smoothing: float = 0.0, **cbv_options: Any) -> None:
         super().__init__()
         p_load = (mass * G + P_ATM * (A_P - A_R)) / A_R  # chamber B pressure holding the load, p_A = p_atm
         self.fixed, self.tank = Fixed(), Tank()
@@ -362,7 +363,7 @@ class HangingLoad(fl.Model):
                                  y=[0.0, 0.0, 1.0, 1.0, 0.0, 0.0])
         self.valve = DirectionalValve43(Q_nom=Q_NOM, dp_nom=DP_NOM, centre="float")
         self.cbv = CounterbalanceValve(p_crack=1.3 * (p_load - P_ATM), pilot_ratio=pilot_ratio, dp_open=60 * BAR,
-                                       Q_nom=Q_NOM, Q_nom_check=Q_NOM, smoothing=smoothing)
+                                       Q_nom=Q_NOM, Q_nom_check=Q_NOM, smoothing=smoothing, **cbv_options)
         self.cylinder = DoubleActingCylinder(x_start=0.1, p_A_start=P_ATM, p_B_start=p_load, **{**CYL, "d": 1e4})
         self.load = Mass(m=mass)
         self.weight, self.gravity = Force(), Constant(k=mass * G)
@@ -405,6 +406,23 @@ def test_counterbalance_valve_holds_and_lowers_without_runaway(smoothing):
     stopped = t > t_end - 0.4
     assert np.abs(v[stopped]).max() < 1e-3
     assert np.ptp(x[stopped]) < 1e-5
+
+
+def test_counterbalance_poppet_starts_at_rest_with_steady_start():
+    """``use_dynamics`` with ``steady_start``: the control pressure starts at its equilibrium, the opening pressure
+    ``p_open = (p_B − p_valve) + ratio·(p_pilot − p_valve)`` = p_B − p_atm with both lines at atmosphere (hand
+    statics of the hanging load, 1e-6), and moves by less than 1e-3 of it over the first T/5 (only as p_open itself
+    creeps); without it, p_c starts at 0 and rises towards p_open with the lag T (first order: 1 − e^(−t/T) at
+    t = T, 1 %)."""
+    mass, T = 1000.0, 0.05
+    p_load = (mass * G + P_ATM * (A_P - A_R)) / A_R
+    _, res = run(HangingLoad(mass, 20.0 / 60000.0, 5.0, 6.0, use_dynamics=True, T=T, steady_start=True), 0.4,
+                 dt_out=0.01)
+    assert res["cbv.p_c"][0] == pytest.approx(p_load - P_ATM, rel=1e-6)
+    assert abs(res["cbv.p_c"][1] - res["cbv.p_c"][0]) < 1e-3 * res["cbv.p_c"][0]
+    _, res = run(HangingLoad(mass, 20.0 / 60000.0, 5.0, 6.0, use_dynamics=True, T=T), 0.4, dt_out=0.01)
+    assert res["cbv.p_c"][0] == 0.0
+    assert res.value("cbv.p_c", T) == pytest.approx((p_load - P_ATM) * (1 - np.exp(-1.0)), rel=1e-2)
 
 
 # ---------------------------------------------------------------------------------------------------------------

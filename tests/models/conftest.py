@@ -1,0 +1,26 @@
+"""Shared pump-truck runs: each registered scenario runs once per test session, rigid or flexible."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+from functools import cache
+
+import pytest
+
+import flexlib as fl
+from flexlib.registry import get_model, run_scenario
+
+
+@cache
+def _pump_truck_run(scenario: str, flexible: bool = False) -> fl.Result:
+    sc = get_model("pump-truck").scenario(scenario)
+    if flexible:
+        sc = replace(sc, options={**sc.options, "flexible": True})
+    return run_scenario("pump-truck", sc, progress=False).result
+
+
+@pytest.fixture(scope="session")
+def pump_truck_run() -> Callable[..., fl.Result]:
+    """``pump_truck_run(scenario, flexible=False)``: the registered scenario's result (cached for the session)."""
+    return _pump_truck_run
