@@ -105,7 +105,14 @@ from flexlib.components.hydraulics import (
 )
 from flexlib.components.hydraulics.fluid import HLP46
 from flexlib.components.mechanics import rotational, translational
-from flexlib.components.mechanics.multibody import Body, FixedTranslation, LineForce, Revolute, World
+from flexlib.components.mechanics.multibody import (
+    Body,
+    FixedTranslation,
+    LineForce,
+    RelativePosition,
+    Revolute,
+    World,
+)
 from flexlib.errors import ParameterError
 from flexlib.models.boom_proxy import _link_body
 
@@ -650,6 +657,11 @@ class PumpTruck(fl.Model):
             setattr(self, f"section{n}_tip", tip)
             self.connect(frames["tip"], tip.frame_a)
             frames["tip"] = tip.frame_b
+            # the tip pin seen from the root pin's frame: r_rel[1] is the section's deflection from its root tangent
+            sensor = RelativePosition()
+            setattr(self, f"deflection{n}", sensor)
+            self.connect(root, sensor.frame_a)
+            self.connect(tip.frame_b, sensor.frame_b)
             return frames
         mp = section_mass_properties(self.record, k)
         body = Body(m=mp["m"], r_CM=[float(v) for v in mp["com"]], I=mp["I"])

@@ -98,10 +98,12 @@ SCENARIOS = (
 
 def summary_signals(model: PumpTruck) -> list[str]:
     """Peak pressures and flows per cylinder, hinge-force components per joint (on section n, in its frame),
-    joint angles, the slew angle (for ``flexlib run``'s table)."""
+    joint angles, the slew angle and, flexible, each section's tip deflection (for ``flexlib run``'s table)."""
     sig = [f"cylinder{n}.cylinder.{v}" for n in range(1, 6) for v in ("p_A", "p_B", "q_A", "q_B")]
     sig += [f"joint{n}.frame_b.f[{i}]" for n in range(1, 6) for i in (0, 1)]
     sig += [f"joint{n}.phi" for n in range(1, 6)]
+    if model.flexible:  # each section's tip deflection from its root pin's tangent
+        sig += [f"deflection{n}.r_rel[1]" for n in range(1, 6)]
     if model.slewing:
         sig.append("slew.phi")
     return sig

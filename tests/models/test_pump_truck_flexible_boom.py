@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.mechanics.flexible.output import node_displacements
+from flexlib.components.mechanics.flexible.output import node_displacements, node_rotations
 from flexlib.models.pump_truck.flexible import in_plane_modes, mpf_modes, section_modal_data
 from flexlib.models.pump_truck.model import EXTENDED_POSE_DEG, PumpTruck
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
@@ -103,3 +103,17 @@ def test_flexible_sections_change_length_and_peak_higher_at_the_reversal(pump_tr
             F = np.hypot(res[f"joint{n}.frame_b.f[0]"], res[f"joint{n}.frame_b.f[1]"])[window]
             peaks.append(F.max() - np.median(F))  # the peak above the quasi-static level
         assert peaks[1] > peaks[0], (n, peaks)
+
+
+def test_deflection_sensors_read_the_tip_from_the_root_tangent(static_pair):
+    """``deflection{n}.r_rel[1]`` (the summary's tip deflection): the tip pin's position in the root pin's frame,
+    which turns with the root node's elastic rotation: ``u_tip,y − θ_root,z·x_tip`` to first order (1e-3 of it)."""
+    model, res, _ = static_pair
+    for n in range(1, 6):
+        body = getattr(model, f"section{n}")
+        data = body.modal_data
+        q = np.asarray(res[f"section{n}.q"]).reshape(len(res.t), -1)[0]
+        x = data.coordinates[:, 0]
+        root, tip = [int(data.node_ids[np.argmin(x)])], [int(data.node_ids[np.argmax(x)])]
+        expected = node_displacements(data, q, tip)[0, 1] - node_rotations(data, q, root)[0, 2] * x.max()
+        assert res[f"deflection{n}.r_rel[1]"][0] == pytest.approx(expected, rel=1e-3), n
