@@ -263,6 +263,9 @@ class DoubleActingCylinder(PositiveParameters, Component):
         # the port flows and the friction force are functions of v: weighted as v is (flow, friction slope at v = 0)
         set_nominal(self, "q_A", a_p * stroke)
         set_nominal(self, "q_B", a_r * stroke)
+        rho = float(self.fluid.rho_ref)  # the port mass flows as the volume flows (a port at a node of several lines
+        set_nominal(self.port_A, "m_flow", rho * a_p * stroke)  # is not an alias of any one line's flow)
+        set_nominal(self.port_B, "m_flow", rho * a_r * stroke)
         fric = {n: self.parameter_value(n) for n in ("F_c", "stribeck", "v_reg", "d")}
         if all(v is not None for v in fric.values()):
             slope = float(fric["F_c"]) * float(fric["stribeck"]) / float(fric["v_reg"]) + float(fric["d"])

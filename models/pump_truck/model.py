@@ -40,6 +40,10 @@ supply volume, a relief valve at the system pressure, a tank. Per cylinder:
   carry one (the second named ``cbv{n}_over``); joint 1 always pushes: its cap side only. The
   openings have C1 corners over ``CBV_SMOOTHING`` of their ranges (Simscape's smoothing factor: a loop holding a
   load crosses them often);
+* the cylinder-port cartridges of the valve block on both ports of every cylinder (``shock{n}A``, ``makeup{n}B``,
+  ...): a shock relief valve to tank at ``SHOCK_FACTOR`` × the system pressure and an anti-cavitation make-up check
+  valve from tank. They bound an emergency stop: without them a chamber trapped behind its counterbalance valve
+  reached 430 bar and an expanding one −61 bar (pure oil); with them 374 bar and +0.09 bar;
 * seal friction (``LineCylinder``): Coulomb ``CYL_FC`` × the force of the system pressure on the piston (3.5 bar
   of friction pressure: the breakaway pressure of standard cylinder seals, Rexroth data 3–5 bar), regularised
   below ``CYL_VREG``, plus viscous ``D_CYL``. Without it, counterbalance-metered lowering of the folding sections
@@ -94,6 +98,7 @@ import numpy as np
 import flexlib as fl
 from flexlib.components.control import Constant, FirstOrder, LimPID, Tare, TimeTable
 from flexlib.components.hydraulics import (
+    CheckValve,
     CounterbalanceValve,
     DirectionalValve43,
     HydraulicMotor,
@@ -152,6 +157,11 @@ CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
 CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
 CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
 CBV_SMOOTHING = 0.1  # counterbalance openings: C1 corners over 10 % of their ranges (Simscape smoothing factor)
+SHOCK_FACTOR = 1.1  # cylinder-port shock relief valves: setting / system pressure [1]
+SHOCK_LEAK = 1e-16  # ... leakage conductance [m3/(s.Pa)]: 0.2 cm3/min at 350 bar (Sun cartridges: <= 0.33 cm3/min)
+MAKEUP_CRACK = 0.2e5  # anti-cavitation make-up check valves: cracking pressure [Pa]
+MAKEUP_OPEN = 1e5  # ... pressure difference at full opening [Pa]
+MAKEUP_AREA = 2e-4  # ... full opening area [m2]
 CBV_A_LEAK = 1e-11  # counterbalance: leakage area of both paths [m2]
 D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
 OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
@@ -569,6 +579,15 @@ class PumpTruck(fl.Model):
                                        A_leak=1e-10, compensated=True, dp_comp=VALVE_DP)
             setattr(self, f"valve{n}", valve)
             tank_ports.append(valve.port_T)
+            # the cylinder-port cartridges of the valve block: a shock relief valve to tank and an anti-cavitation
+            # make-up check valve from tank on each port (what limits the pressure peaks of an emergency stop)
+            for side, port in (("A", cyl.port_A), ("B", cyl.port_B)):
+                shock = PressureReliefValve(p_crack=SHOCK_FACTOR * record.p_system, p_grad=1e10, G_leak=SHOCK_LEAK)
+                makeup = CheckValve(p_crack=MAKEUP_CRACK, p_open=MAKEUP_OPEN, A_max=MAKEUP_AREA)
+                setattr(self, f"shock{n}{side}", shock)
+                setattr(self, f"makeup{n}{side}", makeup)
+                self.connect(port, shock.port_a, makeup.port_b)
+                tank_ports += [shock.port_b, makeup.port_a]
             supply_ports.append(valve.port_P)
             # valve port A feeds the cap side: u > 0 extends the cylinder
             hold_port, free_port = (cyl.port_A, cyl.port_B) if hold == "A" else (cyl.port_B, cyl.port_A)
