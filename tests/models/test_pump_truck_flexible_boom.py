@@ -15,7 +15,7 @@ References and tolerances:
 * **Seed 000's findings on the expand-fold cycle**: the sections' pin-to-pin lengths fluctuate (rigid: constant to
   1e-9 m; flexible: more than 0.1 mm; measured 0.16-0.87 mm), and at the reversal (±15 s around the middle of the
   cycle) every hinge force peaks higher above its quasi-static level (the window's median) than the rigid boom's
-  (measured joint 1: 9.2 vs 5.0 kN, joint 5: 4.1 vs 1.8 kN).
+  (measured joint 1: 8.1 vs 4.1 kN, joint 5: 3.6 vs 1.7 kN).
 """
 
 from __future__ import annotations
