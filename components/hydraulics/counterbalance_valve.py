@@ -166,11 +166,9 @@ class CounterbalanceValve(PositiveParameters, Component):
         store_fluid(self, fluid)
         self.use_dynamics = bool(use_dynamics)
         self.steady_start = bool(steady_start) and self.use_dynamics
-        if self.steady_start and "p_c" not in self._starts:
-            self.set_start("p_c", 0.0, fixed=False)  # a guess: der(p_c) = 0 fixes it
         self.vented = bool(vented)
-        if not self.use_dynamics and "p_c" not in self._starts:
-            self.set_start("p_c", 0.0, fixed=False)  # algebraic (= p_open) without dynamics
+        if (self.steady_start or not self.use_dynamics) and "p_c" not in self._starts:
+            self.set_start("p_c", 0.0, fixed=False)  # a guess: p_c = p_open (algebraic) or der(p_c) = 0 fixes it
         # the openings are functions of pressures (nominal P_NOMINAL): weighted as the pressures are
         for h, span in (("h_check", "dp_check"), ("h_relief", "dp_open")):
             value = self.parameter_value(span)

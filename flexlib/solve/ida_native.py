@@ -387,8 +387,7 @@ def _make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, 
     drv = Driver(model, p, ev, len(state_rel), linear_solver(model), rtol, absolute_tolerances(model, atol),
                  max_step, t0, y0, yp0)
     drv.set_wall_chunk(CHUNK_WALL)
-    if max_order != 5:
-        drv.set_max_order(max_order)
+    drv.set_max_order(max_order)
     drv.set_newton(max_iters=NEWTON_ITERS)
     return drv, state_rel
 

@@ -47,8 +47,8 @@ class RunOptions:
         Largest step [s] (0: unlimited).
     max_steps : int
         Largest number of steps.
-    max_order : int or None
-        Highest BDF order (1–5), or None: the model's choice (:meth:`Simulation.run`).
+    max_order : int
+        Highest BDF order (1–5): as given, else the experiment's, else 5.
     params : dict
         Parameter overrides (string keys; values are checked by the parameter declarations).
     steady_state, dynamic_states : bool
@@ -68,7 +68,7 @@ class RunOptions:
     atol: float
     max_step: float
     max_steps: int
-    max_order: int | None
+    max_order: int
     params: dict[str, Any]
     steady_state: bool
     dynamic_states: bool
@@ -273,6 +273,6 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
     bar = _flag("progress", progress, allow_none=True)
     path = None if result_file is None else check_result_path(result_file)
     return RunOptions(t_start=t0, t_end=t1, grid=grid, rtol=r, atol=a, max_step=h, max_steps=n_steps,
-                      max_order=None if max_order is None else int(max_order),
+                      max_order=5 if max_order is None else int(max_order),
                       params=dict(params), steady_state=bool(steady), dynamic_states=bool(dynamic), progress=bar,
                       solver=solver, result_file=path)

@@ -318,7 +318,7 @@ class Simulation:
                     traj = integrate_static(m, p, t0, t1, opts.grid)
                 else:
                     run_opts = dict(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
-                                    max_order=opts.max_order or 5,
+                                    max_order=opts.max_order,
                                     progress=opts.progress, **extra)
                     try:
                         traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)

@@ -90,7 +90,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -121,16 +120,21 @@ from flexlib.components.mechanics.multibody import (
 from flexlib.errors import ParameterError
 from flexlib.models.boom_proxy import _link_body
 
-from .kinematics import rot
+from .arguments import JOINTS, check_modes, check_table
+from .geometry import (
+    LINK_PLATE,
+    _pose,
+    holding_forces,
+    length_reference,
+    linkage_masses,
+    section_mass_properties,
+    sizing,
+)
 from .parameters import PumpTruckParameters
-from .statics import mass_properties as _mass_properties
-from .statics import sizing as _sizing
 
 __all__ = ["JOINTS", "TRANSPORT_POSE_DEG", "WORKING_POSE_DEG", "PumpTruck", "holding_forces", "linkage_masses",
            "section_mass_properties"]
 
-#: Joint names: the slewing joint and the five boom joints.
-JOINTS = ("slew", "joint1", "joint2", "joint3", "joint4", "joint5")
 #: Transport fold [deg] (slew, q1 … q5): boom resting on the truck, joints 2–5 folded to 2° before their ends.
 TRANSPORT_POSE_DEG = (0.0, 0.0, 176.0, -176.0, 176.0, -176.0)
 #: A working pose [deg]: boom raised 50°, sections opening downwards towards the pour.
@@ -139,7 +143,6 @@ WORKING_POSE_DEG = (0.0, 50.0, 10.0, -30.0, 20.0, -40.0)
 EXTENDED_POSE_DEG = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 P_TANK = HLP46.p_ref  # tank pressure [Pa] (atmospheric)
-LINK_PLATE = 2 * 0.025 * 0.12  # lever/link cross-section at joint scale 3.0: two 25 x 120 mm plates [m2]
 STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
 PUMP_D = 140e-6 / (2 * math.pi)  # 140 cm3/rev [m3/rad]: 210 L/min at 1500 rpm
 PUMP_SPEED = 1500 * 2 * math.pi / 60  # [rad/s]
@@ -176,160 +179,6 @@ SLEW_ROTOR_J = 0.02  # motor rotor and gearbox input inertia [kg.m2]
 # M_k = 1.5 MN.m, axial load F_a = 150 kN, raceway diameter D_L = 1.5 m (42 m boom, filled, working pose)
 SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
 SLEW_W_REG = 1e-2  # regularisation speed of the slewing-ring friction [rad/s] (1e-3: Newton failed holding at 361 s)
-
-
-@lru_cache(maxsize=64)
-def mass_properties(record: PumpTruckParameters, k: int) -> dict:
-    """:func:`models.pump_truck.statics.mass_properties` of section ``k`` with pipe, memoised per record (the beam
-    mesh behind it costs ~50 ms; the records are frozen)."""
-    return _mass_properties(record, k)
-
-
-@lru_cache(maxsize=16)
-def sizing(record: PumpTruckParameters) -> list[dict]:
-    """:func:`models.pump_truck.statics.sizing`, memoised per record."""
-    return _sizing(record)
-
-
-def linkage_masses(record: PumpTruckParameters, k: int, link_plate: float = LINK_PLATE) -> tuple[float, float]:
-    """Masses [kg] of lever and link of joint ``k`` (2–5): steel bars of cross-section ``link_plate`` [m2] at joint
-    scale 3, scaled by (scale/3)²."""
-    fb = record.drive(k)
-    scale = fb.r / 0.48
-    area = link_plate * (scale / 3.0) ** 2
-    return record.steel.rho * area * fb.r, record.steel.rho * area * fb.s
-
-
-def _pose(record: PumpTruckParameters, q: np.ndarray, link_plate: float = LINK_PLATE) -> dict[str, Any]:
-    """Planar pose (turret frame, joint 1 at the origin) of every pin and mass of the boom at joint angles ``q``."""
-    J, th = [np.zeros(2)], [0.0]
-    pins: dict[str, np.ndarray] = {}
-    masses: list[tuple[float, np.ndarray]] = []
-    for k, sec in enumerate(record.sections):
-        n = k + 1
-        theta = th[-1] + q[k]
-        R_prev, R = rot(th[-1]), rot(theta)
-        mp = mass_properties(record, k)
-        masses.append((mp["m"], J[-1] + R @ mp["com"][:2]))
-        drive = record.drive(n)
-        st = drive.state(float(q[k]))
-        pins[f"H{n}"] = J[-1] + R_prev @ np.array(drive.H)
-        pins[f"C{n}"] = J[-1] + R_prev @ st.C
-        pins[f"T{n}"] = J[-1] + R_prev @ st.T
-        if n > 1:
-            pins[f"P{n}"] = J[-1] + R_prev @ np.array(drive.P)
-            m_lever, m_link = linkage_masses(record, n, link_plate)
-            masses.append((m_lever, 0.5 * (pins[f"P{n}"] + pins[f"T{n}"])))
-            masses.append((m_link, 0.5 * (pins[f"T{n}"] + pins[f"C{n}"])))
-        J.append(J[-1] + R @ np.array([sec.length, 0.0]))
-        th.append(theta)
-    masses.append((record.hose.mass, J[-1]))
-    return {"J": J, "theta": th[1:], "pins": pins, "masses": masses}
-
-
-def holding_forces(record: PumpTruckParameters, q: Sequence[float],
-                   link_plate: float = LINK_PLATE) -> tuple[np.ndarray, np.ndarray]:
-    """Cylinder forces [N] (positive pushes) holding the boom at rest at ``q`` [rad], and lengths [m].
-
-    Virtual work on this model's geometry, ``F_k ∂l_k/∂q_k = ∂V/∂q_k`` (``V`` the potential energy of sections,
-    pipe, hose, levers and links; cylinder ``k`` spans joint ``k`` only), by central differences (step 1e-6 rad,
-    relative error ~1e-9).
-    """
-    q = np.asarray(q, dtype=float)
-
-    def V(qq: np.ndarray) -> float:
-        return record.g * sum(m * x[1] for m, x in _pose(record, qq, link_plate)["masses"])
-
-    F, lengths = np.zeros(5), np.zeros(5)
-    h = 1e-6
-    for k in range(5):
-        dq = np.zeros(5)
-        dq[k] = h
-        dV = (V(q + dq) - V(q - dq)) / (2 * h)
-        st = record.drive(k + 1).state(float(q[k]))
-        F[k] = dV / st.lever_arm
-        lengths[k] = st.length
-    return F, lengths
-
-
-def section_mass_properties(record: PumpTruckParameters, k: int) -> dict:
-    """Mass [kg], centre of mass [m] (section frame) and inertia at it [kg.m2] of section ``k`` (0-based) as built:
-    box and pipe (:func:`~models.pump_truck.statics.mass_properties`), plus the end hose as a point mass at the tip
-    pin for the last section."""
-    mp = mass_properties(record, k)
-    if k < len(record.sections) - 1:
-        return mp
-    m_h, x_h = record.hose.mass, np.array([record.sections[k].length, 0.0, 0.0])
-    m = mp["m"] + m_h
-    com = (mp["m"] * mp["com"] + m_h * x_h) / m
-    inertia = mp["I"].copy()
-    for mi, ci in ((mp["m"], mp["com"]), (m_h, x_h)):
-        d = ci - com
-        inertia += mi * (d @ d * np.eye(3) - np.outer(d, d))
-    return {"m": m, "com": com, "I": inertia}
-
-
-def length_reference(record: PumpTruckParameters, n: int, t: np.ndarray, q_deg: np.ndarray | None,
-                     q0: float, step_deg: float = 10.0) -> tuple[np.ndarray, np.ndarray]:
-    """Pin-to-pin length reference [m] of cylinder ``n`` (1–5) for the joint-angle table ``(t, q_deg)``.
-
-    The angle table is linear between its knots; the length is not, so each interval is resampled at most
-    ``step_deg`` [deg] apart and mapped through the record's closed-form kinematics
-    (:meth:`~models.pump_truck.parameters.PumpTruckParameters.drive`). ``q_deg=None``: the joint holds ``q0``
-    [rad]. Returns the times [s] and lengths [m] of a ``TimeTable``.
-    """
-    drive = record.drive(n)
-    if q_deg is None:
-        return np.zeros(1), np.array([drive.state(q0).length])
-    t, q = np.asarray(t, dtype=float), np.radians(np.asarray(q_deg, dtype=float))
-    ts, qs = [t[:1]], [q[:1]]
-    for i in range(len(t) - 1):
-        m = max(1, math.ceil(abs(math.degrees(q[i + 1] - q[i])) / step_deg))
-        ts.append(np.linspace(t[i], t[i + 1], m + 1)[1:])
-        qs.append(np.linspace(q[i], q[i + 1], m + 1)[1:])
-    tt, qq = np.concatenate(ts), np.concatenate(qs)
-    return tt, np.array([drive.state(float(v)).length for v in qq])
-
-
-def _check_modes(modes: Any) -> int | dict[int, list[int]]:
-    """``PumpTruck(modes=...)`` of a flexible boom: a count >= 1, or a list of mode indices for every section 1–5."""
-    if isinstance(modes, int) and not isinstance(modes, bool):
-        if modes < 1:
-            raise ParameterError(f"PumpTruck: modes must be at least 1 per section, got {modes!r}")
-        return modes
-    if not isinstance(modes, Mapping):
-        raise ParameterError(f"PumpTruck: modes must be 'mpf', a count or a mapping of section (1-5) to mode "
-                             f"indices, got {modes!r}")
-    try:
-        out = {int(k): [int(i) for i in v] for k, v in modes.items()}
-    except (TypeError, ValueError):
-        raise ParameterError(f"PumpTruck: modes must map section numbers 1-5 to lists of mode indices, got "
-                             f"{modes!r}") from None
-    if sorted(out) != [1, 2, 3, 4, 5]:
-        missing = sorted(set(range(1, 6)) - set(out))
-        extra = sorted(set(out) - set(range(1, 6)))
-        raise ParameterError(f"PumpTruck: modes must give every section 1-5 (missing {missing}, unknown {extra})")
-    return out
-
-
-def _table(owner: str, spec: Any, n_values: int | None = None) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """Check a time table ``{"t": [...], "<joint>": [...], ...}`` and return ``t`` and the columns."""
-    if not isinstance(spec, Mapping) or "t" not in spec:
-        raise ParameterError(f"PumpTruck: {owner} must be a mapping with a time column 't' and one column per joint")
-    t = np.asarray(spec["t"], dtype=float)
-    if t.ndim != 1 or t.size < 1 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-        raise ParameterError(f"PumpTruck: {owner}['t'] must be finite, strictly increasing times [s]")
-    cols = {}
-    for name, col in spec.items():
-        if name == "t":
-            continue
-        if name not in JOINTS:
-            raise ParameterError(f"PumpTruck: {owner} has unknown joint {name!r}; joints are {', '.join(JOINTS)}")
-        y = np.asarray(col, dtype=float)
-        if y.shape != t.shape or not np.all(np.isfinite(y)):
-            raise ParameterError(f"PumpTruck: {owner}[{name!r}] needs {t.size} finite values (one per time point)")
-        cols[name] = y
-    return t, cols
 
 
 class PumpTruck(fl.Model):
@@ -401,18 +250,9 @@ class PumpTruck(fl.Model):
                     f"{math.degrees(drive.q_min):.1f} ... {math.degrees(drive.q_max):.1f} deg")
         self._q0 = q0  # (underscore: the pose is a start value, not structure; one build serves every pose)
         self.flexible = bool(flexible)
-        if self.flexible and isinstance(modes, str):
-            if modes != "mpf":
-                raise ParameterError(f"PumpTruck: modes must be 'mpf', a count or a mapping of section to mode "
-                                     f"indices, got {modes!r}")
-            from .flexible import mpf_modes
-
-            modes = mpf_modes(record)
-        if self.flexible:
-            modes = _check_modes(modes)
-        self.modes = modes
-        t_ref, ref_cols = _table("targets", targets) if targets is not None else (np.zeros(1), {})
-        t_cmd, cmd_cols = _table("commands", commands) if commands is not None else (np.zeros(1), {})
+        self.modes = check_modes(modes, record) if self.flexible else modes
+        t_ref, ref_cols = check_table("targets", targets) if targets is not None else (np.zeros(1), {})
+        t_cmd, cmd_cols = check_table("commands", commands) if commands is not None else (np.zeros(1), {})
         for name, col in cmd_cols.items():
             if np.any(np.abs(col) > 1.0):
                 raise ParameterError(f"PumpTruck: commands[{name!r}] must stay within -1 ... 1 (valve command)")
