@@ -4,6 +4,7 @@ import os as _os
 
 _os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (see docs/engine.md)
 
+from flexlib.analysis import linearize, modal_analysis, modal_sweep
 from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component, Connector, Model
 from flexlib.core.functions import abs_, assert_, if_else, max_, min_, no_event, sign
@@ -26,6 +27,7 @@ from flexlib.errors import (
     EmptyResultError,
     FlexlibError,
     InitializationError,
+    LinearizationError,
     ModalFileError,
     ModelError,
     NativeSolverError,
@@ -60,6 +62,7 @@ __all__ = [
     "Flow",
     "InitializationError",
     "Input",
+    "LinearizationError",
     "ModalFileError",
     "Model",
     "ModelError",
@@ -89,9 +92,12 @@ __all__ = [
     "der",
     "eq",
     "if_else",
+    "linearize",
     "load_result",
     "max_",
     "min_",
+    "modal_analysis",
+    "modal_sweep",
     "no_event",
     "sign",
     "time",

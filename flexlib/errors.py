@@ -15,6 +15,7 @@ __all__ = [
     "EmptyResultError",
     "FlexlibError",
     "InitializationError",
+    "LinearizationError",
     "ModalFileError",
     "ModelError",
     "ParameterError",
@@ -71,6 +72,11 @@ class StructuralSingularityError(BalanceError):
 
 class InitializationError(FlexlibError):
     """Consistent initial values could not be found, or initial conditions are over/under-specified."""
+
+
+class LinearizationError(FlexlibError):
+    """A model cannot be linearised as asked: an unknown input or output, a DAE that is not index 1 at the
+    operating point, joints that cannot be locked together (``flexlib.analysis``)."""
 
 
 class SolverError(FlexlibError):

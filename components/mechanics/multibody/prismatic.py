@@ -21,13 +21,16 @@ class Prismatic(PartialTwoFrames):
     """Translation of frame_b relative to frame_a by ``s`` along the fixed axis ``n``; same orientation.
 
     ``r_0,b = r_0,a + T_aᵀ (e s)``; ``T_b = T_a``, ``w_b = w_a``; ``f_a + f_b = 0``;
-    ``t_a + t_b + (e s) × f_b = 0``; the driving force along the axis is ``f = −e·f_b`` (zero without an
-    axis flange).
+    ``t_a + t_b + (e s) × f_b = 0``; the driving force along the axis is ``f = −e·f_b``: the flange force plus
+    the constant ``f_drive`` (only ``f_drive`` without an axis flange).
 
     Parameters
     ----------
     n : array_like (3,)
         Direction of translation resolved in frame_a [1]; normalised, must not be zero.
+    f_drive : float
+        Constant drive force along the axis on frame_b [N] (default 0); a load case, and the channel through
+        which :func:`flexlib.analysis.modal_analysis` holds the joint when it is locked.
     use_axis_flange : bool
         True if the joint has a drive flange ``axis`` and its housing ``support`` (structural).
 
@@ -49,6 +52,7 @@ class Prismatic(PartialTwoFrames):
     """
 
     n = Parameter([1.0, 0.0, 0.0], unit="1", shape=3, doc="Direction of translation resolved in frame_a")
+    f_drive = Parameter(0.0, unit="N", doc="Constant drive force along the axis, acting on frame_b")
     s = Variable(unit="m", state_select="prefer", doc="Relative distance from frame_a to frame_b along n")
     v = Variable(unit="m/s", state_select="prefer", doc="Relative velocity")
     a = Variable(unit="m/s2", doc="Relative acceleration")
@@ -73,13 +77,13 @@ class Prismatic(PartialTwoFrames):
                eq(a.f + b.f, 0.0), eq(a.t + b.t + ca.cross(es, b.f), 0.0), eq(self.f, -ca.dot(e, b.f))]
         eqs += [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
         if self.use_axis_flange:
-            eqs += [eq(self.axis.s - self.support.s, self.s), eq(self.axis.f, self.f)]
+            eqs += [eq(self.axis.s - self.support.s, self.s), eq(self.axis.f + self.f_drive, self.f)]
             if support_grounded(self.support, (PartialAbsoluteSensor, PartialRelativeSensor)):
                 eqs.append(eq(self.support.s, 0.0, label="support grounded in the world (MSL)"))
             else:
                 eqs.append(eq(self.support.f, -self.f))
         else:
-            eqs.append(eq(self.f, 0.0, label="free joint axis (no drive)"))
+            eqs.append(eq(self.f, self.f_drive, label="no drive flange: only f_drive acts along the axis"))
         return eqs
 
 

@@ -20,9 +20,9 @@ class Revolute(PartialTwoFrames):
     """Rotation of frame_b relative to frame_a by the angle ``phi`` about the fixed axis ``n``.
 
     ``r_0,b = r_0,a``; ``T_b = T_rel(n, φ) T_a``, ``w_b = T_rel w_a + n·w``; ``f_a = −T_relᵀ f_b``,
-    ``t_a = −T_relᵀ t_b``; the driving torque about the axis is ``tau = −n·t_b`` (zero without an
-    axis flange). When the orientation tree is rooted at frame_b the relations are written the other
-    way round.
+    ``t_a = −T_relᵀ t_b``; the net torque about the axis is ``tau = −n·t_b``: the flange's drive torque plus the
+    constant ``tau_drive`` minus friction. When the orientation tree is rooted at frame_b the relations are
+    written the other way round.
 
     Parameters
     ----------
@@ -44,6 +44,9 @@ class Revolute(PartialTwoFrames):
         Viscous friction coefficient [N.m.s/rad].
     w_reg : float
         Regularisation speed of the Coulomb friction [rad/s].
+    tau_drive : float
+        Constant drive torque about the axis on frame_b [N.m] (default 0), added to the flange's; a load case,
+        and the channel through which :func:`flexlib.analysis.modal_analysis` holds the joint when it is locked.
     use_axis_flange : bool
         True if the joint has a drive flange ``axis`` and its housing ``support`` (structural).
     use_friction : bool
@@ -81,6 +84,7 @@ class Revolute(PartialTwoFrames):
     w_s = Parameter(0.1, unit="rad/s", min=1e-9, doc="Stribeck velocity")
     d = Parameter(0.0, unit="N.m.s/rad", min=0.0, doc="Viscous friction coefficient")
     w_reg = Parameter(1e-3, unit="rad/s", min=1e-12, doc="Regularisation speed of the Coulomb friction")
+    tau_drive = Parameter(0.0, unit="N.m", doc="Constant drive torque about the axis, acting on frame_b")
     phi = Variable(unit="rad", state_select="prefer", doc="Relative rotation angle from frame_a to frame_b")
     w = Variable(unit="rad/s", state_select="prefer", doc="Relative angular velocity")
     a = Variable(unit="rad/s2", doc="Relative angular acceleration")
@@ -114,13 +118,14 @@ class Revolute(PartialTwoFrames):
         eqs.append(eq(self.tau, -ca.dot(e, b.t)))
         eqs.append(eq(self.tau_f, self.friction_torque(e) if self.use_friction else 0.0))
         if self.use_axis_flange:
-            eqs += [eq(self.axis.phi - self.support.phi, self.phi), eq(self.axis.tau, self.tau + self.tau_f)]
+            eqs += [eq(self.axis.phi - self.support.phi, self.phi),
+                    eq(self.axis.tau + self.tau_drive, self.tau + self.tau_f)]
             if support_grounded(self.support, (PartialAbsoluteSensor, PartialRelativeSensor)):
                 eqs.append(eq(self.support.phi, 0.0, label="support grounded in the world (MSL)"))
             else:
                 eqs.append(eq(self.support.tau, -(self.tau + self.tau_f)))
         else:
-            eqs.append(eq(self.tau, -self.tau_f, label="no drive: only friction acts about the axis"))
+            eqs.append(eq(self.tau, self.tau_drive - self.tau_f, label="no drive flange: tau_drive and friction act"))
         return eqs
 
     def friction_torque(self, e: Any) -> ca.SX:

@@ -1,0 +1,363 @@
+"""Stage 8 — linear analysis: the index-reduced DAE linearised at an operating point, exactly.
+
+The compiled DAE ``F(t, y, y', p) = 0`` is index 1; its differential unknowns ``x`` are the states of the
+dummy-derivative selection (independent coordinates of the constraint manifold: joint angles and rates,
+modal coordinates, chamber masses, controller states) and the rest ``z`` are algebraic. At a consistent point
+``(y₀, y₀', p₀)`` its first-order expansion reads::
+
+    F_x' δx' + F_z δz = −F_x δx − F_u δu
+
+and the matrix ``[F_x'  F_z]`` is regular exactly when the DAE is index 1 there with this state selection
+(it is the Newton matrix of the consistent-rates problem). Solving it once for all columns gives::
+
+    δx' = A δx + B δu,        δz = Z_x δx + Z_u δu
+
+so ``A`` is the state matrix *on the constraint manifold* — what Modelica tools' ``linearize`` and Simulink's
+``linmod`` return — and every variable of the model follows by the chain rule: an output ``o = h(t, y, y', p)``
+gives ``δo = C δx + D δu`` through ``δy`` and ``δy'`` (algebraic rates ``δz' = Z_x δx'``, the input held).
+The Jacobians are CasADi's algorithmic derivatives of the compiled functions (the model's C library where it
+has one): ``F_y = jac(c_j = 0)`` and ``F_y' = (jac(c_j) − jac(0))/c_j`` (``jac`` is affine in ``c_j``; with
+``c_j = 2²⁰`` the cancellation error is ``eps·|F_y|/c_j``), ``F_u`` and the output Jacobians from the SX
+functions. No finite differences.
+
+Inputs ``u`` are named scalar parameters: a source's value (``"force_src.k"``), a joint's constant drive torque
+(``"joint1.tau_drive"``), a valve command held by a ``Constant``. Outputs are any variable of the model by name.
+
+References
+----------
+- S. E. Mattsson, G. Söderlind, "Index reduction in differential-algebraic equations using dummy
+  derivatives", *SIAM J. Sci. Comput.* 14(3), 1993 (the state selection that makes ``x`` a chart of the
+  constraint manifold).
+- K. E. Brenan, S. L. Campbell, L. R. Petzold, *Numerical Solution of Initial-Value Problems in DAEs*,
+  SIAM 1996, §2.2 (semi-explicit index-1 form and its linearisation).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import scipy.sparse as sps
+import scipy.sparse.linalg as spla
+
+from flexlib.compile.cache import gather_values
+from flexlib.core.component import Component
+from flexlib.errors import LinearizationError
+from flexlib.results.result import Result
+
+__all__ = ["LinearSystem", "LinearizationError", "OperatingPoint", "linearize", "operating_point"]
+
+#: ``c_j`` at which the iteration matrix is evaluated to separate ``∂F/∂y'`` from ``∂F/∂y`` (see the module doc)
+CJ = float(2**20)
+
+
+@dataclass
+class OperatingPoint:
+    """A consistent point of a compiled model: time [s], unknowns ``y`` and rates ``yp``, parameters and
+    relation values ``p`` (the compiled model's order), and where it came from."""
+
+    t: float
+    y: np.ndarray
+    yp: np.ndarray
+    p: np.ndarray
+    source: str
+
+
+def _simulation(model: Any) -> Any:
+    from flexlib.solve.simulation import Simulation
+
+    if isinstance(model, Simulation):
+        return model
+    if isinstance(model, Component):
+        return Simulation(model)
+    raise TypeError(f"expected a flexlib Simulation or model, got {type(model).__name__}")
+
+
+def operating_point(sim: Any, *, at: Result | None = None, t: float | None = None,
+                    params: dict[str, Any] | None = None, steady_state: bool = False,
+                    starts: dict[str, float] | None = None) -> OperatingPoint:
+    """A consistent operating point of ``sim``'s compiled model.
+
+    Parameters
+    ----------
+    sim : Simulation
+        The simulation whose model is linearised.
+    at : Result, optional
+        Take the states of this result at time ``t`` [s] (linear interpolation between output rows) and make
+        the algebraic unknowns and rates consistent with them (the model's event relations are evaluated at
+        the point). Without it: the model's own initial point at ``t`` (default 0 s).
+    t : float, optional
+        Time [s] of the point.
+    params : dict, optional
+        Parameter overrides (on top of the result's parameters when ``at`` is given).
+    steady_state : bool
+        Without ``at``: initialise with ``der(x) = 0`` for every state without an initial condition of its own
+        (a static equilibrium, as ``run(steady_state=True)``).
+    starts : dict, optional
+        Without ``at``: start values ``{"joint1.phi": 0.3}`` used as initial conditions (fixed) instead of the
+        model's, e.g. the pose of a static equilibrium.
+    """
+    m = sim.compiled
+    if at is None:
+        t0 = 0.0 if t is None else float(t)
+        values, st = gather_values(sim.model)
+        for name, value in (starts or {}).items():
+            if name not in st:
+                raise LinearizationError(f"starts: {name!r} is not a variable of {m.name}")
+            st[name] = (float(value), True)
+        pvec = sim.parameter_vector(params, values)
+        p = np.concatenate([pvec, np.zeros(m.n_relations)])
+        y, yp = sim._initialize(t0, p, st, steady_state)
+        what = "steady state" if steady_state else "initial point"
+        return OperatingPoint(t0, y, yp, p, f"{what} at t = {t0:g} s")
+    if t is None:
+        raise LinearizationError("at=result needs the time t [s] of the operating point")
+    if starts:
+        raise LinearizationError("starts apply to the model's own initial point, not to at=result")
+    if not len(at.t) or not at.t[0] - 1e-12 <= t <= at.t[-1] + 1e-12:
+        raise LinearizationError(f"t = {t:g} s is outside the result ({at.t[0] if len(at.t) else 'no rows'} ... "
+                                 f"{at.t[-1] if len(at.t) else ''} s)")
+    index = set(m.param_names)
+    merged = {k: v for k, (v, _unit) in at.parameters.items() if k in index}
+    merged.update(params or {})
+    pvec = sim.parameter_vector(merged)
+    missing = [n for n in m.y_names if n not in at]
+    if missing:
+        raise LinearizationError(f"the result lacks {len(missing)} unknowns of {m.name} ({', '.join(missing[:5])}"
+                                 f"{' …' if len(missing) > 5 else ''}): it comes from another model")
+    y = np.array([float(at.value(n, t)) for n in m.y_names])
+    p = np.concatenate([pvec, np.zeros(m.n_relations)])
+    if m.n_relations:
+        z = np.asarray(m.function("ind")(t, y, np.zeros(m.n), p), dtype=float).ravel()
+        p[m.n_params:] = [float(rel.value(zk)) for rel, zk in zip(m.relations, z, strict=True)]
+    y, yp = sim.initializer.reinit(float(t), y, np.zeros(m.n), p)
+    return OperatingPoint(float(t), y, yp, p, f"result {at.model!r} at t = {t:g} s")
+
+
+@dataclass
+class LinearSystem:
+    """``δx' = A δx + B δu``, ``δo = C δx + D δu`` of a model at an operating point (module docstring).
+
+    Attributes
+    ----------
+    A, B, C, D : ndarray
+        State-space matrices (SI units of the states, inputs and outputs).
+    states, inputs, outputs : list of str
+        Names of the states (the compiled model's selection), input parameters and output variables.
+    point : OperatingPoint
+        Where the model was linearised.
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    states: list[str]
+    inputs: list[str]
+    outputs: list[str]
+    point: OperatingPoint
+    _lin: Any = field(repr=False, default=None)
+
+    def sensitivity(self, names: list[str]) -> tuple[np.ndarray, np.ndarray]:
+        """``(C_n, D_n)``: the rows of ``C`` and ``D`` for other variables ``names`` at the same point."""
+        return self._lin.outputs(self.point, list(names))
+
+    def frequency_response(self, f: Any, input: str | None = None, output: str | None = None) -> np.ndarray:
+        """``H(j2πf) = C (j2πf I − A)⁻¹ B + D`` at frequencies ``f`` [Hz].
+
+        Returns an array ``(len(f), n_outputs, n_inputs)``, or ``(len(f),)`` for one ``input`` and ``output``.
+        """
+        freqs = np.atleast_1d(np.asarray(f, dtype=float))
+        cols = [self._where(self.inputs, input, "input")] if input is not None else list(range(len(self.inputs)))
+        rows = [self._where(self.outputs, output, "output")] if output is not None else list(range(len(self.outputs)))
+        B, C, D = self.B[:, cols], self.C[rows], self.D[np.ix_(rows, cols)]
+        n = self.A.shape[0]
+        H = np.empty((len(freqs), len(rows), len(cols)), dtype=complex)
+        for k, fk in enumerate(freqs):
+            H[k] = C @ np.linalg.solve(2j * np.pi * fk * np.eye(n) - self.A, B) + D
+        return H[:, 0, 0] if input is not None and output is not None else H
+
+    @staticmethod
+    def _where(names: list[str], name: str, what: str) -> int:
+        if name not in names:
+            raise LinearizationError(f"{name!r} is not an {what} of this linear system ({', '.join(names)})")
+        return names.index(name)
+
+
+class Linearizer:
+    """Linearises one simulation's compiled model at any number of points (Jacobian functions built once)."""
+
+    def __init__(self, sim: Any) -> None:
+        self.sim = sim
+        m = sim.compiled
+        self.m = m
+        self.diff = np.flatnonzero(np.asarray(m.differential, dtype=bool))
+        self.alg = np.flatnonzero(~np.asarray(m.differential, dtype=bool))
+        self.pattern = sps.csc_matrix((np.zeros(len(m.jac_row)), np.asarray(m.jac_row), np.asarray(m.jac_colind)),
+                                      shape=(m.n, m.n))
+        self._pindex = {n: k for k, n in enumerate(m.param_names)}
+        self._out_names = [v.name for v in m.variables]
+        self._out_index = {n: k for k, n in enumerate(self._out_names)}
+        self._fu: dict[tuple, ca.Function] = {}
+        self._fo: dict[tuple, ca.Function] = {}
+        self._sym: tuple | None = None
+        self._cache: dict[int, tuple] = {}
+
+    # -- symbolic pieces ------------------------------------------------------------------------
+    def _symbols(self) -> tuple:
+        if self._sym is None:
+            m = self.m
+            n_p = self.m.sx_function("res").size1_in(3)
+            t, y, yp, p = ca.SX.sym("t"), ca.SX.sym("y", m.n), ca.SX.sym("yp", m.n), ca.SX.sym("p", n_p)
+            self._sym = (t, y, yp, p)
+        return self._sym
+
+    def input_indices(self, inputs: list[str]) -> list[int]:
+        out = []
+        for name in inputs:
+            k = self._pindex.get(name)
+            if k is None:
+                import difflib
+
+                close = difflib.get_close_matches(name, self.m.param_names, n=3)
+                hint = f"; did you mean {', '.join(close)}?" if close else ""
+                raise LinearizationError(f"input {name!r} is not a parameter of {self.m.name}{hint} (inputs are "
+                                         "scalar parameters: a source's value, a joint's tau_drive/f_drive)")
+            if name in getattr(self.m, "assumed", {}):
+                raise LinearizationError(
+                    f"input {name!r} was assumed zero when the model was built (planar geometry; see "
+                    "docs/engine.md, 'Constant unknowns'): build with assume_zero_geometry=False to use it as input")
+            out.append(k)
+        return out
+
+    def _input_function(self, idx: tuple[int, ...]) -> ca.Function:
+        f = self._fu.get(idx)
+        if f is None:
+            t, y, yp, p = self._symbols()
+            F = self.m.sx_function("res")(t, y, yp, p)
+            u = ca.vertcat(*[p[k] for k in idx]) if idx else ca.SX(0, 1)
+            f = ca.Function("F_u", [t, y, yp, p], [ca.jacobian(F, u)])
+            self._fu[idx] = f
+        return f
+
+    def _output_function(self, names: tuple[str, ...], idx: tuple[int, ...]) -> ca.Function:
+        key = (names, idx)
+        f = self._fo.get(key)
+        if f is None:
+            t, y, yp, p = self._symbols()
+            rows = []
+            for name in names:
+                k = self._out_index.get(name)
+                if k is None:
+                    import difflib
+
+                    close = difflib.get_close_matches(name, self._out_names, n=3)
+                    hint = f"; did you mean {', '.join(close)}?" if close else ""
+                    raise LinearizationError(f"output {name!r} is not a variable of {self.m.name}{hint}")
+                rows.append(k)
+            every = self.m.sx_function("out")(t, y, yp, p)
+            out = ca.vertcat(*[every[k] for k in rows]) if rows else ca.SX(0, 1)
+            u = ca.vertcat(*[p[k] for k in idx]) if idx else ca.SX(0, 1)
+            f = ca.Function("O", [t, y, yp, p], [ca.jacobian(out, y), ca.jacobian(out, yp), ca.jacobian(out, u)])
+            self._fo[key] = f
+        return f
+
+    # -- numeric --------------------------------------------------------------------------------
+    def _solve(self, point: OperatingPoint, idx: tuple[int, ...]) -> tuple:
+        """``(A, B, Yx, Yu, YPx, YPu)``: state matrices and the sensitivities of every unknown and rate."""
+        key = id(point)
+        hit = self._cache.get(key)
+        if hit is not None and hit[0] is point and hit[1] == idx:
+            return hit[2]
+        m, t, y, yp, p = self.m, point.t, point.y, point.yp, point.p
+        jac = m.function("jac")
+        J0, Jc = self.pattern.copy(), self.pattern.copy()
+        J0.data = np.asarray(jac(t, y, yp, p, 0.0).nonzeros(), dtype=float)
+        Jc.data = np.asarray(jac(t, y, yp, p, CJ).nonzeros(), dtype=float)
+        Fy, Fyp = J0, (Jc - J0) / CJ
+        ns, n = len(self.diff), m.n
+        if n and len(self.alg) and abs(Fyp[:, self.alg]).max() > 0.0:
+            raise LinearizationError(f"{m.name}: the residual depends on rates of algebraic unknowns (not an "
+                                     "index-1 DAE in IDA's form)")
+        M = sps.hstack([Fyp[:, self.diff], Fy[:, self.alg]], format="csc")
+        Fu = np.asarray(self._input_function(idx)(t, y, yp, p), dtype=float).reshape(n, len(idx))
+        rhs = -np.hstack([Fy[:, self.diff].toarray(), Fu])
+        try:
+            sol = spla.splu(M).solve(rhs) if n else np.zeros((0, ns + len(idx)))
+        except RuntimeError as exc:
+            raise LinearizationError(
+                f"{m.name} at {point.source}: the DAE is not index 1 there with its state selection "
+                f"({', '.join(m.y_names[i] for i in self.diff[:6])}{' …' if ns > 6 else ''}): {exc}") from None
+        if not np.all(np.isfinite(sol)) or np.abs(M @ sol - rhs).max(initial=0.0) > 1e-6 * max(
+                1.0, np.abs(rhs).max(initial=0.0)) * max(1.0, np.abs(sol).max(initial=0.0)):
+            raise LinearizationError(f"{m.name} at {point.source}: the index-1 matrix [F_x', F_z] is numerically "
+                                     "singular (a singular configuration, or a state selection that does not hold "
+                                     "here)")
+        A, B = sol[:ns, :ns], sol[:ns, ns:]
+        Zx, Zu = sol[ns:, :ns], sol[ns:, ns:]
+        Yx, Yu = np.zeros((n, ns)), np.zeros((n, len(idx)))
+        Yx[self.diff] = np.eye(ns)
+        Yx[self.alg], Yu[self.alg] = Zx, Zu
+        YPx, YPu = np.zeros((n, ns)), np.zeros((n, len(idx)))
+        YPx[self.diff], YPu[self.diff] = A, B
+        YPx[self.alg], YPu[self.alg] = Zx @ A, Zx @ B
+        out = (A, B, Yx, Yu, YPx, YPu)
+        self._cache = {key: (point, idx, out)}
+        return out
+
+    def outputs(self, point: OperatingPoint, names: list[str], inputs: list[str] | None = None
+                ) -> tuple[np.ndarray, np.ndarray]:
+        idx = tuple(self.input_indices(list(inputs or [])))
+        _, _, Yx, Yu, YPx, YPu = self._solve(point, idx)
+        Oy, Oyp, Ou = (np.asarray(x, dtype=float) for x in
+                       self._output_function(tuple(names), idx)(point.t, point.y, point.yp, point.p))
+        Oy, Oyp = Oy.reshape(len(names), -1), Oyp.reshape(len(names), -1)
+        C = Oy @ Yx + Oyp @ YPx
+        D = Oy @ Yu + Oyp @ YPu + Ou.reshape(len(names), len(idx))
+        return C, D
+
+    def linearize(self, point: OperatingPoint, inputs: list[str], outputs: list[str]) -> LinearSystem:
+        idx = tuple(self.input_indices(inputs))
+        A, B, *_ = self._solve(point, idx)
+        C, D = self.outputs(point, outputs, inputs) if outputs else (np.zeros((0, len(self.diff))),
+                                                                      np.zeros((0, len(idx))))
+        states = [self.m.y_names[i] for i in self.diff]
+        return LinearSystem(A, B, C, D, states, list(inputs), list(outputs), point, self)
+
+
+def linearize(model: Any, *, inputs: list[str] | tuple[str, ...] = (), outputs: list[str] | tuple[str, ...] = (),
+              at: Result | None = None, t: float | None = None, params: dict[str, Any] | None = None,
+              steady_state: bool = False, starts: dict[str, float] | None = None) -> LinearSystem:
+    """Linearise a model at an operating point (module docstring).
+
+    Parameters
+    ----------
+    model : Simulation or Component
+        The model (a Component is built first).
+    inputs : list of str
+        Names of scalar parameters taken as inputs ``u``.
+    outputs : list of str
+        Names of variables taken as outputs.
+    at, t, params, steady_state, starts
+        The operating point, as :func:`operating_point`: the model's initial point (``steady_state=True``: a
+        static equilibrium; ``starts``: a pose), or the state of a result ``at`` at time ``t`` [s].
+
+    Returns
+    -------
+    LinearSystem
+
+    Raises
+    ------
+    LinearizationError
+        An unknown input or output name, or a DAE that is not index 1 at the point.
+
+    Examples
+    --------
+    >>> lin = linearize(model, inputs=["force.k"], outputs=["mass.s"], steady_state=True)  # doctest: +SKIP
+    >>> lin.frequency_response([1.0, 10.0], "force.k", "mass.s")                           # doctest: +SKIP
+    """
+    sim = _simulation(model)
+    point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
+    return Linearizer(sim).linearize(point, list(inputs), list(outputs))

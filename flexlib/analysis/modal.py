@@ -1,0 +1,287 @@
+"""Modal analysis of an assembled model: eigenvalues of the linearised DAE, free or with joints locked.
+
+The state matrix ``A`` of :mod:`.linear` (on the constraint manifold) gives the modes directly: each eigenvalue
+``λ`` is a mode with undamped natural frequency ``f = |λ|/2π``, damping ratio ``ζ = −Re λ/|λ|`` and damped
+frequency ``Im λ/2π`` (MATLAB's ``damp``); a conjugate pair is listed once. Its eigenvector, mapped through the
+sensitivities of the linearisation, is the mode shape of any variable (a frame's position, a modal coordinate,
+a chamber pressure). Oil compliance, controller states and joint friction enter as they are in the model.
+
+**Locked joints** (ADAMS's "rigid degrees of freedom locked", as seed 002 computes the frequencies of its
+robots): a locked joint keeps its coordinate ``c(x) = φ`` (or ``s``) fixed through a reaction ``λ`` acting in its
+own drive channel (the joint's ``tau_drive`` / ``f_drive`` parameter, an input ``b = ∂x'/∂τ``). With the locks
+``C δx = 0`` on position coordinates (``C B = 0``: relative degree two) the reactions that hold them are
+``λ = −(C A B)⁻¹ C A² δx``, and the locked dynamics are those of ``A_c = A − B (C A B)⁻¹ C A²`` on the subspace
+``{C δx = 0, C A δx = 0}`` (positions and rates of the locked joints zero), which ``A_c`` leaves invariant: the
+zero dynamics of the locked outputs (A. Isidori, *Nonlinear Control Systems*, 3rd ed., Springer 1995, §4.3 and
+§5.1). For a mechanism this is exactly the Lagrangian system with the locked coordinates removed (Géradin &
+Rixen, *Mechanical Vibrations*, 3rd ed., Wiley 2015, §2.6: constraints by Lagrange multipliers). ``C A B``
+singular means the chosen joints are not independent (a closed loop already holds one of them); the error
+names them. ``lock="rigid"`` locks a largest independent set of the model's revolute and prismatic joints,
+chosen by pivoted QR on ``C A B`` (largest joint mobility first).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.linalg as sla
+
+from flexlib.analysis.linear import (
+    LinearizationError,
+    Linearizer,
+    LinearSystem,
+    OperatingPoint,
+    _simulation,
+    operating_point,
+)
+from flexlib.results.result import Result
+
+__all__ = ["ModalSweep", "Modes", "modal_analysis", "modal_sweep"]
+
+#: Eigenvalues below this magnitude [rad/s] are rigid-body (zero-frequency) modes: no damping ratio
+ZERO_EIGENVALUE = 1e-6
+#: Relative tolerance of the independence of locked joints (pivoted QR of ``C A B``)
+LOCK_RANK_TOL = 1e-8
+
+
+@dataclass
+class Modes:
+    """Modes of a model at an operating point, ordered by natural frequency.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray of complex
+        One per mode [rad/s] (of a conjugate pair the one with ``Im λ > 0``).
+    vectors : ndarray of complex
+        ``(n_states, n_modes)`` eigenvectors in the model's states, each scaled to a largest entry of 1.
+    system : LinearSystem
+        The (free) linearisation they come from.
+    locked : list of str
+        Joints held.
+    """
+
+    eigenvalues: np.ndarray
+    vectors: np.ndarray
+    system: LinearSystem
+    locked: list[str] = field(default_factory=list)
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """Undamped natural frequencies ``|λ|/2π`` [Hz]."""
+        return np.abs(self.eigenvalues) / (2 * np.pi)
+
+    @property
+    def damped_frequencies(self) -> np.ndarray:
+        """Damped frequencies ``Im λ/2π`` [Hz] (0 for a real eigenvalue)."""
+        return np.abs(self.eigenvalues.imag) / (2 * np.pi)
+
+    @property
+    def damping(self) -> np.ndarray:
+        """Damping ratios ``−Re λ/|λ|`` [1] (NaN for a zero eigenvalue; 1 or more for a real one)."""
+        mag = np.abs(self.eigenvalues)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(mag > ZERO_EIGENVALUE, -self.eigenvalues.real / mag, np.nan)
+
+    @property
+    def oscillatory(self) -> np.ndarray:
+        """Mask of the modes with a complex eigenvalue (vibration modes)."""
+        return np.abs(self.eigenvalues.imag) > ZERO_EIGENVALUE
+
+    def shape(self, name: str) -> np.ndarray:
+        """Complex amplitude of variable ``name`` in each mode (same scaling as :attr:`vectors`)."""
+        C, _ = self.system.sensitivity([name])
+        return C[0] @ self.vectors
+
+    def table(self, n: int | None = None) -> str:
+        """A text table of the first ``n`` modes: frequency [Hz], damping ratio [%], damped frequency [Hz]."""
+        lines = [f"{'mode':>4}  {'f [Hz]':>12}  {'zeta [%]':>9}  {'f_d [Hz]':>12}"]
+        for k in range(len(self.eigenvalues) if n is None else min(n, len(self.eigenvalues))):
+            z = self.damping[k]
+            lines.append(f"{k + 1:>4}  {self.frequencies[k]:>12.6g}  {'-' if np.isnan(z) else f'{100 * z:.3g}':>9}"
+                         f"  {self.damped_frequencies[k]:>12.6g}")
+        if self.locked:
+            lines.append(f"locked: {', '.join(self.locked)}")
+        return "\n".join(lines)
+
+
+def _lock_channels(lin: Linearizer, joints: list[str]) -> tuple[list[str], list[str]]:
+    """Drive parameters and coordinates of the joints to lock."""
+    params, coords = [], []
+    names = set(lin.m.param_names)
+    variables = {v.name for v in lin.m.variables}
+    for j in joints:
+        if f"{j}.tau_drive" in names and f"{j}.phi" in variables:
+            params.append(f"{j}.tau_drive")
+            coords.append(f"{j}.phi")
+        elif f"{j}.f_drive" in names and f"{j}.s" in variables:
+            params.append(f"{j}.f_drive")
+            coords.append(f"{j}.s")
+        else:
+            raise LinearizationError(f"cannot lock {j!r}: not a Revolute or Prismatic joint of {lin.m.name} (a "
+                                     "lockable joint has a coordinate phi/s and a drive parameter tau_drive/f_drive)")
+    return params, coords
+
+
+def _all_joints(lin: Linearizer) -> list[str]:
+    variables = {v.name for v in lin.m.variables}
+    out = []
+    for name in lin.m.param_names:
+        for par, coord in ((".tau_drive", ".phi"), (".f_drive", ".s")):
+            if name.endswith(par) and name[: -len(par)] + coord in variables:
+                out.append(name[: -len(par)])
+    return out
+
+
+def _eig(A: np.ndarray, basis: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenpairs of ``A`` (restricted to ``basis`` if given), one of each conjugate pair, by frequency."""
+    Ar = A if basis is None else basis.T @ A @ basis
+    lam, W = np.linalg.eig(Ar) if Ar.size else (np.zeros(0, complex), np.zeros((0, 0), complex))
+    V = W if basis is None else basis @ W
+    keep = lam.imag >= 0.0  # a real matrix: exact conjugate pairs, real eigenvalues with Im = 0
+    lam, V = lam[keep], V[:, keep]
+    order = np.lexsort((lam.real, np.abs(lam)))
+    lam, V = lam[order], V[:, order]
+    if V.size:
+        big = np.argmax(np.abs(V), axis=0)
+        V = V / V[big, np.arange(V.shape[1])]
+    return lam, V
+
+
+def _locked_modes(lin: Linearizer, point: OperatingPoint, joints: list[str] | str
+                  ) -> tuple[LinearSystem, np.ndarray, np.ndarray, list[str]]:
+    auto = isinstance(joints, str)
+    if auto and joints != "rigid":
+        raise LinearizationError(f"lock={joints!r}: expected 'rigid' or a list of joint names")
+    names = _all_joints(lin) if auto else list(joints)
+    if not names:
+        raise LinearizationError(f"lock='rigid': {lin.m.name} has no revolute or prismatic joint")
+    params, coords = _lock_channels(lin, names)
+    sys = lin.linearize(point, params, coords)
+    A, B, C = sys.A, sys.B, sys.C
+    G = C @ A @ B
+    scale = max(np.abs(G).max(initial=0.0), 1e-300)
+    if np.abs(C @ B).max(initial=0.0) > 1e-8 * scale * max(1.0, 1.0 / max(np.abs(A).max(initial=1.0), 1e-300)):
+        bad = [names[k] for k in np.flatnonzero(np.abs(C @ B).max(axis=1) > 1e-8 * scale)]
+        raise LinearizationError(f"cannot lock {', '.join(bad)}: the joint coordinate responds directly to its drive "
+                                 "(it is not a position coordinate of the mechanism at this point)")
+    _, R, piv = sla.qr(G, pivoting=True)
+    diag = np.abs(np.diag(R))
+    rank = int(np.sum(diag > LOCK_RANK_TOL * diag.max(initial=0.0))) if diag.size else 0
+    if rank < len(names):
+        dependent = [names[k] for k in piv[rank:]]
+        if not auto:
+            raise LinearizationError(
+                f"cannot lock {', '.join(names)} together: {', '.join(dependent)} "
+                f"{'is' if len(dependent) == 1 else 'are'} already held by the others (a closed kinematic loop); "
+                "lock fewer joints")
+        keep = sorted(int(k) for k in piv[:rank])
+        names = [names[k] for k in keep]
+        A, B, C = A, B[:, keep], C[keep]
+        G = C @ A @ B
+    Ac = A - B @ np.linalg.solve(G, C @ A @ A)
+    basis = sla.null_space(np.vstack([C, C @ A]), rcond=1e-10)
+    lam, V = _eig(Ac, basis)
+    return sys, lam, V, names
+
+
+def modal_analysis(model: Any, *, lock: list[str] | tuple[str, ...] | str | None = None, at: Result | None = None,
+                   t: float | None = None, params: dict[str, Any] | None = None, steady_state: bool = False,
+                   starts: dict[str, float] | None = None) -> Modes:
+    """Natural frequencies, damping ratios and mode shapes of a model at an operating point (module doc).
+
+    Parameters
+    ----------
+    model : Simulation or Component
+        The model.
+    lock : list of str or "rigid", optional
+        Joints (Revolute / Prismatic component names) held at their operating-point coordinate, or ``"rigid"``
+        for a largest independent set of them (the mechanism's rigid degrees of freedom). Default: free.
+    at, t, params, steady_state, starts
+        The operating point (:func:`flexlib.analysis.operating_point`).
+
+    Returns
+    -------
+    Modes
+
+    Examples
+    --------
+    >>> modes = modal_analysis(model, steady_state=True)  # doctest: +SKIP
+    >>> print(modes.table(6))                             # doctest: +SKIP
+    """
+    sim = _simulation(model)
+    point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
+    return _modes(Linearizer(sim), point, lock)
+
+
+def _modes(lin: Linearizer, point: OperatingPoint, lock: Any) -> Modes:
+    if lock is None or (not isinstance(lock, str) and not list(lock)):
+        sys = lin.linearize(point, [], [])
+        lam, V = _eig(sys.A, None)
+        return Modes(lam, V, sys, [])
+    sys, lam, V, names = _locked_modes(lin, point, lock if isinstance(lock, str) else list(lock))
+    return Modes(lam, V, sys, names)
+
+
+@dataclass
+class ModalSweep:
+    """Frequencies over a set of operating points.
+
+    Attributes
+    ----------
+    points : list of str
+        Where each row was computed.
+    frequencies, damping : ndarray
+        ``(n_points, n_modes)``: undamped natural frequency [Hz] and damping ratio [1] of the lowest ``n_modes``
+        oscillatory modes at each point (NaN where a point has fewer).
+    modes : list of Modes
+        The full analysis at each point.
+    """
+
+    points: list[str]
+    frequencies: np.ndarray
+    damping: np.ndarray
+    modes: list[Modes]
+
+
+def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, poses: list[dict[str, float]] | None = None,
+                lock: list[str] | str | None = None, n_modes: int = 6, params: dict[str, Any] | None = None,
+                steady_state: bool = True) -> ModalSweep:
+    """The lowest ``n_modes`` vibration modes over a trajectory or a set of poses.
+
+    Parameters
+    ----------
+    model : Simulation or Component
+        The model (built once for the whole sweep).
+    at, times : Result and array_like
+        Operating points along a result: its states at each time [s].
+    poses : list of dict
+        Or static poses: start values (e.g. joint angles) held as initial conditions, each solved as a static
+        equilibrium when ``steady_state`` (default).
+    lock, params
+        As :func:`modal_analysis`.
+    n_modes : int
+        Oscillatory modes reported per point.
+    """
+    sim = _simulation(model)
+    if (at is None) == (poses is None):
+        raise LinearizationError("modal_sweep: give either at=result with times=[...] or poses=[{...}, ...]")
+    lin = Linearizer(sim)
+    points: list[OperatingPoint] = []
+    if at is not None:
+        if times is None:
+            raise LinearizationError("modal_sweep: at=result needs times=[...] [s]")
+        points = [operating_point(sim, at=at, t=float(tk), params=params) for tk in np.atleast_1d(times)]
+    else:
+        points = [operating_point(sim, params=params, steady_state=steady_state, starts=pose) for pose in poses or []]
+    f = np.full((len(points), n_modes), np.nan)
+    z = np.full((len(points), n_modes), np.nan)
+    all_modes = []
+    for k, point in enumerate(points):
+        modes = _modes(lin, point, lock)
+        osc = np.flatnonzero(modes.oscillatory)[:n_modes]
+        f[k, :len(osc)] = modes.frequencies[osc]
+        z[k, :len(osc)] = modes.damping[osc]
+        all_modes.append(modes)
+    return ModalSweep([pt.source for pt in points], f, z, all_modes)
