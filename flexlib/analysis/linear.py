@@ -160,6 +160,12 @@ class LinearSystem:
     point: OperatingPoint
     _lin: Any = field(repr=False, default=None)
 
+    @property
+    def nominal(self) -> np.ndarray:
+        """Nominal magnitudes of the states (the model's ``nominal`` attributes) [SI units]."""
+        m = self._lin.m
+        return np.asarray(m.nominal, dtype=float)[self._lin.diff]
+
     def sensitivity(self, names: list[str]) -> tuple[np.ndarray, np.ndarray]:
         """``(C_n, D_n)``: the rows of ``C`` and ``D`` for other variables ``names`` at the same point."""
         return self._lin.outputs(self.point, list(names))

@@ -16,8 +16,11 @@ zero dynamics of the locked outputs (A. Isidori, *Nonlinear Control Systems*, 3r
 §5.1). For a mechanism this is exactly the Lagrangian system with the locked coordinates removed (Géradin &
 Rixen, *Mechanical Vibrations*, 3rd ed., Wiley 2015, §2.6: constraints by Lagrange multipliers). ``C A B``
 singular means the chosen joints are not independent (a closed loop already holds one of them); the error
-names them. ``lock="rigid"`` locks a largest independent set of the model's revolute and prismatic joints,
-chosen by pivoted QR on ``C A B`` (largest joint mobility first).
+names them. ``lock="rigid"`` locks a largest set of the model's revolute and prismatic joints whose coordinates
+stay independent when the bodies are rigid (pivoted QR of the joint coordinates on the state directions that
+leave every elastic coordinate unchanged — the variables components name in ``elastic_coordinates``, a flexible
+body's ``q``): the mechanism's rigid degrees of freedom, so that a joint of a loop closed by flexible links is
+not locked as if the loop were open.
 """
 
 from __future__ import annotations
@@ -89,18 +92,29 @@ class Modes:
         """Mask of the modes with a complex eigenvalue (vibration modes)."""
         return np.abs(self.eigenvalues.imag) > ZERO_EIGENVALUE
 
+    def dominant(self, k: int) -> str:
+        """The state with the largest amplitude in mode ``k`` (states scaled by their nominal values)."""
+        nominal = self.system.nominal
+        return self.system.states[int(np.argmax(np.abs(self.vectors[:, k]) / nominal))]
+
     def shape(self, name: str) -> np.ndarray:
         """Complex amplitude of variable ``name`` in each mode (same scaling as :attr:`vectors`)."""
         C, _ = self.system.sensitivity([name])
         return C[0] @ self.vectors
 
-    def table(self, n: int | None = None) -> str:
-        """A text table of the first ``n`` modes: frequency [Hz], damping ratio [%], damped frequency [Hz]."""
-        lines = [f"{'mode':>4}  {'f [Hz]':>12}  {'zeta [%]':>9}  {'f_d [Hz]':>12}"]
-        for k in range(len(self.eigenvalues) if n is None else min(n, len(self.eigenvalues))):
+    def table(self, n: int | None = None, *, vibration_only: bool = True) -> str:
+        """A text table of the first ``n`` modes: frequency [Hz], damping ratio [%], damped frequency [Hz].
+
+        ``vibration_only`` (default) lists the oscillatory modes (complex eigenvalues) and counts the others
+        (rigid-body and first-order modes: real eigenvalues of integrators, valves, over-damped motions)."""
+        keep = np.flatnonzero(self.oscillatory) if vibration_only else np.arange(len(self.eigenvalues))
+        lines = [f"{'mode':>4}  {'f [Hz]':>12}  {'zeta [%]':>9}  {'f_d [Hz]':>12}  dominant state"]
+        for k in keep[:n]:
             z = self.damping[k]
             lines.append(f"{k + 1:>4}  {self.frequencies[k]:>12.6g}  {'-' if np.isnan(z) else f'{100 * z:.3g}':>9}"
-                         f"  {self.damped_frequencies[k]:>12.6g}")
+                         f"  {self.damped_frequencies[k]:>12.6g}  {self.dominant(k)}")
+        if vibration_only and len(keep) < len(self.eigenvalues):
+            lines.append(f"(and {len(self.eigenvalues) - len(keep)} non-oscillatory modes: real eigenvalues)")
         if self.locked:
             lines.append(f"locked: {', '.join(self.locked)}")
         return "\n".join(lines)
@@ -125,13 +139,28 @@ def _lock_channels(lin: Linearizer, joints: list[str]) -> tuple[list[str], list[
 
 
 def _all_joints(lin: Linearizer) -> list[str]:
+    """Revolute and prismatic joints whose drive channel survived the build (a drive parameter that the planar
+    assumption fixed to zero, e.g. about a redundant loop direction, cannot carry a lock reaction)."""
     variables = {v.name for v in lin.m.variables}
+    assumed = getattr(lin.m, "assumed", {}) or {}
     out = []
     for name in lin.m.param_names:
         for par, coord in ((".tau_drive", ".phi"), (".f_drive", ".s")):
-            if name.endswith(par) and name[: -len(par)] + coord in variables:
+            if name.endswith(par) and name[: -len(par)] + coord in variables and name not in assumed:
                 out.append(name[: -len(par)])
     return out
+
+
+def _elastic_coordinates(lin: Linearizer) -> list[str]:
+    """Names of the elastic (small-motion) coordinates: the variables that components list in their
+    ``elastic_coordinates`` attribute (a flexible body's modal coordinates ``q``)."""
+    names = {v.name for v in lin.m.variables}
+    out = []
+    for node in lin.sim.model.walk():
+        for var in getattr(type(node), "elastic_coordinates", ()):
+            prefix = f"{node.path}.{var}" if node.path else var
+            out += [n for n in names if n == prefix or n.startswith(prefix + "[")]
+    return sorted(out)
 
 
 def _eig(A: np.ndarray, basis: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
@@ -166,7 +195,15 @@ def _locked_modes(lin: Linearizer, point: OperatingPoint, joints: list[str] | st
         bad = [names[k] for k in np.flatnonzero(np.abs(C @ B).max(axis=1) > 1e-8 * scale)]
         raise LinearizationError(f"cannot lock {', '.join(bad)}: the joint coordinate responds directly to its drive "
                                  "(it is not a position coordinate of the mechanism at this point)")
-    _, R, piv = sla.qr(G, pivoting=True)
+    if auto:
+        # the rigid degrees of freedom: joints independent in the large-motion states (the small-motion ones,
+        # elastic modal coordinates, are left out as in the loop-rank test of flexlib.compile.redundancy), so
+        # the joints of a lever-and-link loop closed by flexible links count once
+        elastic = _elastic_coordinates(lin)
+        rigid = sla.null_space(lin.outputs(point, elastic)[0], rcond=1e-10) if elastic else np.eye(A.shape[0])
+        _, R, piv = sla.qr((C @ rigid).T, pivoting=True)
+    else:
+        _, R, piv = sla.qr(G, pivoting=True)
     diag = np.abs(np.diag(R))
     rank = int(np.sum(diag > LOCK_RANK_TOL * diag.max(initial=0.0))) if diag.size else 0
     if rank < len(names):

@@ -140,6 +140,10 @@ class FlexibleBody(Component):
     free body.
     """
 
+    #: Small-motion (elastic) coordinates: held by ``flexlib.analysis.modal_analysis(lock="rigid")`` to find the
+    #: mechanism's rigid degrees of freedom
+    elastic_coordinates = ("q",)
+
     Q_start = Parameter([0.0, 0.0, 0.0, 1.0], unit="1", shape=4, doc="Start orientation quaternion of frame_a")
     w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3, doc="Start angular velocity of the reference frame")
     r_0 = Variable(unit="m", shape=3, state_select="avoid", doc="Reference-frame origin resolved in world")
