@@ -185,3 +185,46 @@ def test_bad_requests_are_named_errors():
         fl.modal_analysis(sim, lock=["m1"])
     with pytest.raises(fl.LinearizationError, match="needs the time"):
         fl.linearize(sim, at=sim.run(0.1, progress=False))
+
+
+def test_linearization_along_a_result_and_sweeps():
+    """At a time of a swinging pendulum's result the state matrix is [[0, 1], [−ω0² cos θ, 0]] at the state of
+    the point (θ from the bottom), to 1e-9; a sweep over result times gives f = ω0 √cos θ / 2π; a pose sweep of
+    the closed cylinder over its piston position follows the oil-spring formula."""
+    m, L, Izz = 3.0, 0.8, 0.05
+    w0 = np.sqrt(m * 9.81 * L / (Izz + m * L**2))
+    model = Pendulum(m, L, Izz)
+    model.rev.set_start("phi", -np.pi / 2 + 1.0)
+    sim = fl.Simulation(model)
+    res = sim.run(1.5, dt_out=0.01, rtol=1e-10, atol=1e-12, progress=False)
+    lin = fl.linearize(sim, at=res, t=0.37, outputs=["rev.phi"])
+    assert lin.states == ["rev.phi", "rev.w"]
+    theta = lin.point.y[sim.compiled.y_names.index("rev.phi")] + np.pi / 2
+    np.testing.assert_allclose(theta, res.value("rev.phi", 0.37) + np.pi / 2, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(lin.A, [[0.0, 1.0], [-w0**2 * np.cos(theta), 0.0]], rtol=1e-9, atol=1e-12)
+    times = [0.0, 0.2, 0.5, 0.9]
+    sweep = fl.modal_sweep(sim, at=res, times=times, n_modes=1)
+    th = np.array([res.value("rev.phi", tk) for tk in times]) + np.pi / 2
+    np.testing.assert_allclose(sweep.frequencies[:, 0], w0 * np.sqrt(np.cos(th)) / (2 * np.pi), rtol=1e-8)
+
+    beta, d_bore, d_rod, stroke, m_load = 1.5e9, 0.1, 0.056, 0.8, 800.0
+    A_p = np.pi / 4 * d_bore**2
+    A_r = A_p - np.pi / 4 * d_rod**2
+
+    class Cyl(fl.Model):
+        def __init__(self):
+            super().__init__()
+            self.ground = Fixed()
+            self.cyl = DoubleActingCylinder(d_bore=d_bore, d_rod=d_rod, stroke=stroke, m=0.0, x_start=0.4,
+                                            p_A_start=50e5, p_B_start=50e5 * A_p / A_r, p_amb=0.0,
+                                            fluid=Fluid(name="test oil", beta=beta))
+            self.load = Mass(m=m_load)
+            self.connect(self.ground.flange, self.cyl.flange_a)
+            self.connect(self.cyl.flange_b, self.load.flange_a)
+
+    xs = [0.1, 0.4, 0.7]
+    sweep = fl.modal_sweep(Cyl(), poses=[{"cyl.x_start": x} for x in xs], n_modes=1, steady_state=False)
+    ref = [np.sqrt(beta * (A_p**2 / (1e-5 + A_p * x) + A_r**2 / (1e-5 + A_r * (stroke - x))) / m_load) / (2 * np.pi)
+           for x in xs]
+    np.testing.assert_allclose(sweep.frequencies[:, 0], ref, rtol=1e-9)
+    assert len(sweep.points) == 3 and len(sweep.modes) == 3

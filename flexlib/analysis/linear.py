@@ -47,7 +47,7 @@ from flexlib.core.component import Component
 from flexlib.errors import LinearizationError
 from flexlib.results.result import Result
 
-__all__ = ["LinearSystem", "LinearizationError", "OperatingPoint", "linearize", "operating_point"]
+__all__ = ["LinearSystem", "OperatingPoint", "linearize", "operating_point", "result_parameters", "result_point"]
 
 #: ``c_j`` at which the iteration matrix is evaluated to separate ``∂F/∂y'`` from ``∂F/∂y`` (see the module doc)
 CJ = float(2**20)
@@ -116,24 +116,63 @@ def operating_point(sim: Any, *, at: Result | None = None, t: float | None = Non
         raise LinearizationError("at=result needs the time t [s] of the operating point")
     if starts:
         raise LinearizationError("starts apply to the model's own initial point, not to at=result")
+    return result_point(sim, at, float(t), result_parameters(sim, at, params))
+
+
+def result_parameters(sim: Any, at: Result, params: dict[str, Any] | None = None) -> np.ndarray:
+    """The parameter vector of a result's run (its recorded parameters, then ``params``), checked."""
+    index = set(sim.compiled.param_names)
+    merged = {k: v for k, (v, _unit) in at.parameters.items() if k in index}
+    merged.update(params or {})
+    return sim.parameter_vector(merged)
+
+
+def result_point(sim: Any, at: Result, t: float, pvec: np.ndarray) -> OperatingPoint:
+    """The operating point at time ``t`` [s] of result ``at``, parameters ``pvec`` (:func:`operating_point`)."""
+    m = sim.compiled
     if not len(at.t) or not at.t[0] - 1e-12 <= t <= at.t[-1] + 1e-12:
         raise LinearizationError(f"t = {t:g} s is outside the result ({at.t[0] if len(at.t) else 'no rows'} ... "
                                  f"{at.t[-1] if len(at.t) else ''} s)")
-    index = set(m.param_names)
-    merged = {k: v for k, (v, _unit) in at.parameters.items() if k in index}
-    merged.update(params or {})
-    pvec = sim.parameter_vector(merged)
-    missing = [n for n in m.y_names if n not in at]
+    diff = np.asarray(m.differential, dtype=bool)
+    missing = [n for n, d in zip(m.y_names, diff, strict=True) if d and n not in at]
     if missing:
-        raise LinearizationError(f"the result lacks {len(missing)} unknowns of {m.name} ({', '.join(missing[:5])}"
+        raise LinearizationError(f"the result lacks {len(missing)} states of {m.name} ({', '.join(missing[:5])}"
                                  f"{' …' if len(missing) > 5 else ''}): it comes from another model")
-    y = np.array([float(at.value(n, t)) for n in m.y_names])
+    # states from the result (interpolated between its rows, right values at events); algebraic unknowns it does
+    # not store (dummy derivatives der(x)) start from the result's slope of x; all algebraics are then solved
+    row = _row(at, t)
+    y = np.array([row[at._col(n)] if n in at else _slope(at, n, t) for n in m.y_names])
     p = np.concatenate([pvec, np.zeros(m.n_relations)])
     if m.n_relations:
         z = np.asarray(m.function("ind")(t, y, np.zeros(m.n), p), dtype=float).ravel()
         p[m.n_params:] = [float(rel.value(zk)) for rel, zk in zip(m.relations, z, strict=True)]
-    y, yp = sim.initializer.reinit(float(t), y, np.zeros(m.n), p)
-    return OperatingPoint(float(t), y, yp, p, f"result {at.model!r} at t = {t:g} s")
+    # algebraic unknowns and state derivatives consistent with the states held (the rates of the algebraic
+    # unknowns, which IDA's predictor would want after a restart, do not enter the linearisation)
+    y, yp = sim.initializer._reinit(t, y, np.zeros(m.n), p, 1e-10)
+    return OperatingPoint(t, y, yp, p, f"result {at.model!r} at t = {t:g} s")
+
+
+def _row(at: Result, t: float) -> np.ndarray:
+    """All columns of ``at`` interpolated at ``t`` (right values at an event, as :meth:`Result.value`)."""
+    tt = at.t
+    keep = np.ones(len(tt), dtype=bool)
+    keep[:-1] = tt[1:] != tt[:-1]
+    tk, vals = tt[keep], at.values[keep]
+    k = int(np.clip(np.searchsorted(tk, t, side="right"), 1, max(len(tk) - 1, 1)))
+    if len(tk) == 1:
+        return vals[0].astype(float)
+    w = float(np.clip((t - tk[k - 1]) / (tk[k] - tk[k - 1]), 0.0, 1.0))
+    return (1.0 - w) * vals[k - 1] + w * vals[k]
+
+
+def _slope(at: Result, name: str, t: float) -> float:
+    """Guess for ``der(x)`` at ``t`` from the result's rows of ``x`` (0 if the result lacks ``x``)."""
+    base = name[4:-1] if name.startswith("der(") and name.endswith(")") else None
+    if base is None or base not in at or len(at.t) < 2:
+        return 0.0
+    k = int(np.clip(np.searchsorted(at.t, t), 1, len(at.t) - 1))
+    dt = at.t[k] - at.t[k - 1]
+    return float((at[base][k] - at[base][k - 1]) / dt) if dt > 0 else 0.0
 
 
 @dataclass

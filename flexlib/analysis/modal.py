@@ -38,6 +38,8 @@ from flexlib.analysis.linear import (
     OperatingPoint,
     _simulation,
     operating_point,
+    result_parameters,
+    result_point,
 )
 from flexlib.results.result import Result
 
@@ -284,7 +286,7 @@ class ModalSweep:
 
 def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, poses: list[dict[str, float]] | None = None,
                 lock: list[str] | str | None = None, n_modes: int = 6, params: dict[str, Any] | None = None,
-                steady_state: bool = True) -> ModalSweep:
+                steady_state: bool = True, f_min: float = 0.0, max_damping: float = np.inf) -> ModalSweep:
     """The lowest ``n_modes`` vibration modes over a trajectory or a set of poses.
 
     Parameters
@@ -294,12 +296,16 @@ def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, pose
     at, times : Result and array_like
         Operating points along a result: its states at each time [s].
     poses : list of dict
-        Or static poses: start values (e.g. joint angles) held as initial conditions, each solved as a static
-        equilibrium when ``steady_state`` (default).
+        Or static poses: start values (e.g. joint angles, held as initial conditions) and parameter values
+        (e.g. a cylinder's ``x_start``) per pose, each solved as a static equilibrium when ``steady_state``
+        (default).
     lock, params
         As :func:`modal_analysis`.
     n_modes : int
         Oscillatory modes reported per point.
+    f_min, max_damping : float
+        Report only vibration modes at or above ``f_min`` [Hz] with a damping ratio up to ``max_damping`` [1]
+        (e.g. leave out slow closed-loop control modes and the well-damped valve-spool modes of a machine).
     """
     sim = _simulation(model)
     if (at is None) == (poses is None):
@@ -309,15 +315,22 @@ def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, pose
     if at is not None:
         if times is None:
             raise LinearizationError("modal_sweep: at=result needs times=[...] [s]")
-        points = [operating_point(sim, at=at, t=float(tk), params=params) for tk in np.atleast_1d(times)]
+        pvec = result_parameters(sim, at, params)
+        points = [result_point(sim, at, float(tk), pvec) for tk in np.atleast_1d(times)]
     else:
-        points = [operating_point(sim, params=params, steady_state=steady_state, starts=pose) for pose in poses or []]
+        pnames = set(sim.compiled.param_names)
+        for pose in poses or []:
+            pars = {**(params or {}), **{k: v for k, v in pose.items() if k in pnames}}
+            starts = {k: v for k, v in pose.items() if k not in pnames}
+            points.append(operating_point(sim, params=pars, steady_state=steady_state, starts=starts))
     f = np.full((len(points), n_modes), np.nan)
     z = np.full((len(points), n_modes), np.nan)
     all_modes = []
     for k, point in enumerate(points):
         modes = _modes(lin, point, lock)
-        osc = np.flatnonzero(modes.oscillatory)[:n_modes]
+        with np.errstate(invalid="ignore"):
+            wanted = modes.oscillatory & (modes.frequencies >= f_min) & (modes.damping <= max_damping)
+        osc = np.flatnonzero(wanted)[:n_modes]
         f[k, :len(osc)] = modes.frequencies[osc]
         z[k, :len(osc)] = modes.damping[osc]
         all_modes.append(modes)
