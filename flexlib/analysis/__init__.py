@@ -2,7 +2,7 @@
 frequency response and pose sweeps (``docs/linear_analysis.md``)."""
 
 from flexlib.analysis.linear import LinearSystem, OperatingPoint, linearize, operating_point
-from flexlib.analysis.modal import ModalSweep, Modes, modal_analysis, modal_sweep
+from flexlib.analysis.modal import ModalSweep, Modes, mobility, modal_analysis, modal_sweep
 
-__all__ = ["LinearSystem", "ModalSweep", "Modes", "OperatingPoint", "linearize", "modal_analysis", "modal_sweep",
-           "operating_point"]
+__all__ = ["LinearSystem", "ModalSweep", "Modes", "OperatingPoint", "linearize", "mobility", "modal_analysis",
+           "modal_sweep", "operating_point"]

@@ -43,7 +43,7 @@ from flexlib.analysis.linear import (
 )
 from flexlib.results.result import Result
 
-__all__ = ["ModalSweep", "Modes", "modal_analysis", "modal_sweep"]
+__all__ = ["ModalSweep", "Modes", "mobility", "modal_analysis", "modal_sweep"]
 
 #: Eigenvalues below this magnitude [rad/s] are rigid-body (zero-frequency) modes: no damping ratio
 ZERO_EIGENVALUE = 1e-6
@@ -140,17 +140,24 @@ def _lock_channels(lin: Linearizer, joints: list[str]) -> tuple[list[str], list[
     return params, coords
 
 
-def _all_joints(lin: Linearizer) -> list[str]:
-    """Revolute and prismatic joints whose drive channel survived the build (a drive parameter that the planar
-    assumption fixed to zero, e.g. about a redundant loop direction, cannot carry a lock reaction)."""
+def _joints(lin: Linearizer, lockable: bool) -> list[tuple[str, str]]:
+    """``(joint, coordinate)`` of the revolute and prismatic joints, prismatic ones (linear drives) first, then in
+    the model's order; ``lockable``: only those whose drive channel survived the build (a drive parameter that the
+    planar assumption fixed to zero, e.g. about a redundant loop direction, cannot carry a lock reaction)."""
     variables = {v.name for v in lin.m.variables}
-    assumed = getattr(lin.m, "assumed", {}) or {}
-    out = []
+    assumed = (getattr(lin.m, "assumed", {}) or {}) if lockable else {}
+    found = {".f_drive": [], ".tau_drive": []}
     for name in lin.m.param_names:
-        for par, coord in ((".tau_drive", ".phi"), (".f_drive", ".s")):
-            if name.endswith(par) and name[: -len(par)] + coord in variables and name not in assumed:
-                out.append(name[: -len(par)])
-    return out
+        for par, coord in ((".f_drive", ".s"), (".tau_drive", ".phi")):
+            joint = name[: -len(par)]
+            if name.endswith(par) and joint + coord in variables and name not in assumed:
+                found[par].append((joint, joint + coord))
+    return found[".f_drive"] + found[".tau_drive"]
+
+
+def _all_joints(lin: Linearizer) -> list[str]:
+    """The joints ``lock="rigid"`` chooses from (:func:`_joints`, lockable)."""
+    return [j for j, _ in _joints(lin, True)]
 
 
 def _elastic_coordinates(lin: Linearizer) -> list[str]:
@@ -180,6 +187,63 @@ def _eig(A: np.ndarray, basis: np.ndarray | None) -> tuple[np.ndarray, np.ndarra
     return lam, V
 
 
+def _rank(M: np.ndarray, scale: float | None = None) -> tuple[int, np.ndarray]:
+    """Numerical rank of the rows of ``M`` (relative to ``scale``, default the largest pivot) and the pivot order
+    of a pivoted QR of ``Mᵀ`` (independent rows first)."""
+    if not M.size:
+        return 0, np.arange(M.shape[0])
+    _, R, piv = sla.qr(M.T, pivoting=True)
+    diag = np.abs(np.diag(R))
+    ref = diag.max(initial=0.0) if scale is None else scale
+    return int(np.sum(diag > LOCK_RANK_TOL * ref)), piv
+
+
+def _rigid_rank(lin: Linearizer, point: OperatingPoint, C: np.ndarray) -> tuple[int, np.ndarray]:
+    """Rank of joint coordinates ``C`` (rows: sensitivities to the states) on the state directions that leave every
+    elastic coordinate unchanged (the joints of a loop closed by flexible links count as in the rigid mechanism),
+    and the row order with an independent set first: taken greedily in the given order, so the caller's
+    preference (drives first, then the model's order) decides among equivalent sets."""
+    elastic = _elastic_coordinates(lin)
+    rigid = sla.null_space(lin.outputs(point, elastic)[0], rcond=1e-10) if elastic else np.eye(C.shape[1])
+    M = C @ rigid
+    scale = float(np.linalg.norm(C, 2)) if C.size else 0.0  # motion the elastic coordinates allow is no rigid DOF
+    total, _ = _rank(M, scale)
+    chosen: list[int] = []
+    for k in range(M.shape[0]):
+        if len(chosen) == total:
+            break
+        if _rank(M[[*chosen, k]], scale)[0] == len(chosen) + 1:
+            chosen.append(k)
+    rest = [k for k in range(M.shape[0]) if k not in chosen]
+    return total, np.array(chosen + rest, dtype=int)
+
+
+def mobility(model: Any, *, at: Result | None = None, t: float | None = None, params: dict[str, Any] | None = None,
+             steady_state: bool = False, starts: dict[str, float] | None = None) -> tuple[int, list[str]]:
+    """The mechanism's rigid degrees of freedom at an operating point, and joints that parametrise them.
+
+    The number of independent coordinates among all revolute and prismatic joints (their ``phi`` / ``s``) on the
+    constraint manifold, the elastic coordinates held (:func:`modal_analysis`, ``lock="rigid"``): the real
+    mobility of an over-constrained mechanism, which Grübler's count misses. Degrees of freedom that no joint
+    coordinate expresses (a free-floating body) are not counted.
+
+    Returns
+    -------
+    int, list of str
+        The mobility and a set of that many independent joints.
+    """
+    sim = _simulation(model)
+    point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
+    lin = Linearizer(sim)
+    pairs = _joints(lin, False)
+    joints, coords = [j for j, _ in pairs], [c for _, c in pairs]
+    if not joints:
+        return 0, []
+    C, _ = lin.outputs(point, coords)
+    rank, piv = _rigid_rank(lin, point, C)
+    return rank, [joints[int(k)] for k in piv[:rank]]
+
+
 def _locked_modes(lin: Linearizer, point: OperatingPoint, joints: list[str] | str
                   ) -> tuple[LinearSystem, np.ndarray, np.ndarray, list[str]]:
     auto = isinstance(joints, str)
@@ -197,17 +261,7 @@ def _locked_modes(lin: Linearizer, point: OperatingPoint, joints: list[str] | st
         bad = [names[k] for k in np.flatnonzero(np.abs(C @ B).max(axis=1) > 1e-8 * scale)]
         raise LinearizationError(f"cannot lock {', '.join(bad)}: the joint coordinate responds directly to its drive "
                                  "(it is not a position coordinate of the mechanism at this point)")
-    if auto:
-        # the rigid degrees of freedom: joints independent in the large-motion states (the small-motion ones,
-        # elastic modal coordinates, are left out as in the loop-rank test of flexlib.compile.redundancy), so
-        # the joints of a lever-and-link loop closed by flexible links count once
-        elastic = _elastic_coordinates(lin)
-        rigid = sla.null_space(lin.outputs(point, elastic)[0], rcond=1e-10) if elastic else np.eye(A.shape[0])
-        _, R, piv = sla.qr((C @ rigid).T, pivoting=True)
-    else:
-        _, R, piv = sla.qr(G, pivoting=True)
-    diag = np.abs(np.diag(R))
-    rank = int(np.sum(diag > LOCK_RANK_TOL * diag.max(initial=0.0))) if diag.size else 0
+    rank, piv = _rigid_rank(lin, point, C) if auto else _rank(G)
     if rank < len(names):
         dependent = [names[k] for k in piv[rank:]]
         if not auto:
@@ -215,7 +269,7 @@ def _locked_modes(lin: Linearizer, point: OperatingPoint, joints: list[str] | st
                 f"cannot lock {', '.join(names)} together: {', '.join(dependent)} "
                 f"{'is' if len(dependent) == 1 else 'are'} already held by the others (a closed kinematic loop); "
                 "lock fewer joints")
-        keep = sorted(int(k) for k in piv[:rank])
+        keep = [int(k) for k in piv[:rank]]
         names = [names[k] for k in keep]
         A, B, C = A, B[:, keep], C[keep]
         G = C @ A @ B
