@@ -113,6 +113,7 @@ class Modes:
         lines = [f"{'mode':>4}  {'f [Hz]':>12}  {'zeta [%]':>9}  {'f_d [Hz]':>12}  dominant state"]
         for k in keep[:n]:
             z = self.damping[k]
+            z = 0.0 if abs(z) < 1e-12 else z  # no "-0"
             lines.append(f"{k + 1:>4}  {self.frequencies[k]:>12.6g}  {'-' if np.isnan(z) else f'{100 * z:.3g}':>9}"
                          f"  {self.damped_frequencies[k]:>12.6g}  {self.dominant(k)}")
         if vibration_only and len(keep) < len(self.eigenvalues):
