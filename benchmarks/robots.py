@@ -1,0 +1,61 @@
+"""Benchmark: build and run times of the seed-002 robots (issue 12), rigid and flexible.
+
+Cartesian manipulator (``models/robots/cartesian.py``): the three drives on trapezoidal speed profiles for 0.6 s
+(the default profiles of ``CartesianRobot``), rigid and flexible arms (default record: 12 beam elements, 6 constraint
++ 4 fixed-interface modes per arm), at ``rtol`` 1e-6. Printed per variant: unknowns and states, cold build (fresh
+cache directory, until runnable) and cached build in CPU time of this process and its gcc children, the run's CPU
+time, steps and the ratio of run CPU to simulated time; then the flexible/rigid ratios. The flexible robot starts
+in its sagged static equilibrium (``steady_state=True``). No timing is asserted.
+
+Run: ``python benchmarks/robots.py`` (repository root).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
+
+import sys
+import tempfile
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+
+def _cpu() -> float:
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def bench(flexible: bool, t_end: float = 0.6) -> tuple[float, float]:
+    with tempfile.TemporaryDirectory() as cache:
+        os.environ["FLEXLIB_CACHE_DIR"] = cache
+        import flexlib as fl
+        from models.robots import CartesianRobot
+
+        c0 = _cpu()
+        sim = fl.Simulation(CartesianRobot(flexible=flexible))
+        cold = _cpu() - c0
+        sim.compiled.wait_for_library()
+        c0 = _cpu()
+        sim = fl.Simulation(CartesianRobot(flexible=flexible))
+        cached = _cpu() - c0
+        c0 = _cpu()
+        res = sim.run(t_end, dt_out=0.005, rtol=1e-6, atol=1e-8, steady_state=flexible, progress=False)
+        run = _cpu() - c0
+    variant = "flexible" if flexible else "rigid"
+    print(f"cartesian / {variant}: {sim.compiled.n} unknowns, {len(sim.states)} states; build cold {cold:.2f} s, "
+          f"cached {cached:.2f} s CPU; run {t_end} s simulated in {run:.2f} s CPU (real-time factor {t_end / run:.2f}), "
+          f"{res.stats['steps']} steps, status {res.status}")
+    return cold, run
+
+
+def main() -> None:
+    rigid = bench(False)
+    flexible = bench(True)
+    print(f"flexible / rigid: cold build {flexible[0] / rigid[0]:.1f}, run {flexible[1] / rigid[1]:.1f}")
+
+
+if __name__ == "__main__":
+    main()
