@@ -46,7 +46,8 @@ def bench(flexible: bool, t_end: float = 0.6) -> tuple[float, float]:
         run = _cpu() - c0
     variant = "flexible" if flexible else "rigid"
     print(f"cartesian / {variant}: {sim.compiled.n} unknowns, {len(sim.states)} states; build cold {cold:.2f} s, "
-          f"cached {cached:.2f} s CPU; run {t_end} s simulated in {run:.2f} s CPU (real-time factor {t_end / run:.2f}), "
+          f"cached {cached:.2f} s CPU; run {t_end} s simulated in {run:.2f} s CPU "
+          f"(real-time factor {t_end / run:.2f}), "
           f"{res.stats['steps']} steps, status {res.status}")
     return cold, run
 

@@ -11,8 +11,10 @@ positions and orientations are replaced by their explicit tree equations — sym
 kinematics), and the rank of their Jacobian (columns scaled by each coordinate's nominal value) is found by QR
 with column pivoting — at the start configuration or at a slightly perturbed one, whichever has the higher
 (generic) rank, so that a singular start (a fully stretched linkage) does not hide a real constraint. The
-perturbation moves large-motion coordinates only; small-motion ones (nominal below ``SMALL_MOTION_NOMINAL``,
-e.g. a flexible body's modal coordinates) stay at their start values. Each dependent row
+perturbed point is moved back onto the loop constraints (Gauss–Newton) before its rank counts: off the constraint
+manifold, rows that only the loop geometry makes dependent (the extra links of a parallelogram) would look
+independent. The perturbation moves large-motion coordinates only; small-motion ones (nominal below
+``SMALL_MOTION_NOMINAL``, e.g. a flexible body's modal coordinates) stay at their start values. Each dependent row
 is dropped and replaced by "the dual reaction component at the cut is zero": the
 world-resolved force component for a position row, the frame-resolved
 torque component for an orientation row. Reactions in the remaining (determinate) directions
@@ -157,11 +159,13 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
     loop = [r for r, e in enumerate(simple.equations) if e.origin == "loop closure"]
     if not loop:
         return simple
-    rank, piv = _loop_rank(simple, loop, param_values)
+    (rank_off, _), (rank, piv) = _loop_rank(simple, loop, param_values)
     framed = dataclasses.replace(simple, equations=_frame_resolved(simple))
     if any(e is not f for e, f in zip(simple.equations, framed.equations, strict=True)):
-        rank_f, piv_f = _loop_rank(framed, loop, param_values)
-        if rank_f < rank:
+        (rank_f_off, _), (rank_f, piv_f) = _loop_rank(framed, loop, param_values)
+        # which resolution: decided off the constraint manifold, where a world row that only the start pose made
+        # redundant (the loop plane turned by a slew) shows as independent
+        if rank_f_off < rank_off:
             simple, rank, piv = framed, rank_f, piv_f
     dropped = sorted(int(piv[k]) for k in range(rank, len(loop)))
     if not dropped:
@@ -180,8 +184,12 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
     return dataclasses.replace(simple, equations=equations, outputs=outputs, redundant=report)
 
 
-def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, float]) -> tuple[int, np.ndarray]:
-    """Generic rank of the loop rows' Jacobian in joint coordinates and the QR column pivots (rows first)."""
+def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, float]
+               ) -> tuple[tuple[int, np.ndarray], tuple[int, np.ndarray]]:
+    """Generic rank of the loop rows' Jacobian in joint coordinates and the QR pivots (independent rows first),
+    ``(off, on)``: at perturbed points as perturbed (off the constraint manifold) and moved back onto the loop
+    constraints (on it; the rows to drop). Without any perturbed point that closes the loops, both are the
+    former."""
     vs, defs, _ = explicit_definitions(simple, frame_variables(simple))
     L = ca.vertcat(*[simple.equations[r].expr for r in loop])
     for _ in range(len(simple.variables) + 1):
@@ -208,6 +216,8 @@ def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, fl
     if rel_syms:
         jac = ca.substitute(jac, ca.vertcat(*rel_syms), ca.SX.zeros(len(rel_syms)))
     gfun = ca.Function("G", [point_syms], [jac])
+    Lrel = ca.substitute(L, ca.vertcat(*rel_syms), ca.SX.zeros(len(rel_syms))) if rel_syms else L
+    lfun = ca.Function("L", [point_syms], [Lrel])
     # generic rank: the start configuration may be singular (a stretched linkage); perturbed joint
     # coordinates keep a planar mechanism planar, so structural redundancy persists there
     # The rank is taken in coordinates scaled by their nominal values. Only large-motion coordinates
@@ -218,16 +228,51 @@ def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, fl
     nom = np.asarray(qn, dtype=float)
     moves = np.where(nom >= SMALL_MOTION_NOMINAL, 1.0, 0.0)
     rng = np.random.default_rng(12345)
-    candidates = [np.asarray(gfun(point_vals)) * nom]
+    start = np.asarray(gfun(point_vals)) * nom
+    off, on = [start], [start]
     for _ in range(2):
         pert = point_vals.copy()
         pert[:len(qv)] += 0.05 * rng.standard_normal(len(qv)) * (nom + np.abs(pert[:len(qv)])) * moves
-        candidates.append(np.asarray(gfun(pert)) * nom)
-    G = max(candidates, key=_rank)
+        off.append(np.asarray(gfun(pert)) * nom)
+        projected = _onto_loops(lfun, gfun, pert, nom * moves)
+        if projected is not None:
+            on.append(np.asarray(gfun(projected)) * nom)
+    if len(on) == 1:  # no perturbed point closes the loops (they cannot close near the start): the raw ranks
+        on = off
+    return _pivots(max(off, key=_rank)), _pivots(max(on, key=_rank))
+
+
+def _pivots(G: np.ndarray) -> tuple[int, np.ndarray]:
+    """Rank of the rows of ``G`` and the pivot order (independent rows first) of a pivoted QR of ``Gᵀ``."""
     scale = max(1.0, float(np.abs(G).max()))
     _, R, piv = sla.qr(G.T, mode="economic", pivoting=True)
     diag = np.abs(np.diag(R))
     return int(np.sum(diag > 1e-9 * scale)), piv
+
+
+def _onto_loops(lfun: ca.Function, gfun: ca.Function, point: np.ndarray, scale: np.ndarray,
+                iterations: int = 30) -> np.ndarray | None:
+    """The perturbed point moved back onto the loop constraints (Gauss–Newton, minimum-norm steps in the scaled
+    large-motion coordinates; the others held), or None if it does not converge.
+
+    The rank must be the generic rank *on the constraint manifold*: off it, rows that are dependent only because
+    of the geometry the loops enforce (the extra links of a parallelogram, parallel to the line of its disc axes)
+    become independent, and a perturbed point left off the manifold would count them as constraints."""
+    x = point.copy()
+    n = len(scale)
+    cols = np.flatnonzero(scale > 0)
+    r0 = np.asarray(lfun(x), dtype=float).ravel()
+    tol = 1e-12 * max(1.0, float(np.abs(r0).max(initial=0.0)), float(np.abs(x[:n]).max(initial=0.0)))
+    for _ in range(iterations):
+        r = np.asarray(lfun(x), dtype=float).ravel()
+        if not np.all(np.isfinite(r)):
+            return None
+        if np.abs(r).max(initial=0.0) <= tol:
+            return x
+        J = np.asarray(gfun(x), dtype=float)[:, cols] * scale[cols]
+        step = np.linalg.lstsq(J, r, rcond=None)[0]
+        x[cols] -= scale[cols] * step
+    return None
 
 
 def _is_derivative(sym: ca.SX) -> bool:
