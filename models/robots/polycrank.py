@@ -33,7 +33,8 @@ import numpy as np
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 
-__all__ = ["CHANNELS", "PolycrankFragment", "PolycrankParameters", "drive_torques", "potential_energy"]
+__all__ = ["CHANNELS", "PolycrankFragment", "PolycrankParameters", "drive_torques", "mechanical_energy",
+           "potential_energy"]
 
 #: The channels and their pin radius attribute in the parameter record: outer (shield 5), inner 3 and 4 (grip)
 CHANNELS = ("o", "c3", "c4")
@@ -63,6 +64,9 @@ class PolycrankParameters:
         Point mass on the upper disc (grip and object), at ``A2`` [kg].
     g : float
         Gravity [m/s2], along ``−y`` (in the plane of motion).
+    mu, r_bearing, tau_c0 : float
+        Friction of the nine bearings (``friction=True``): coefficient [1] on the radial load at the bearing radius
+        [m] (cross-roller bearing, journal model) and the load-independent seal torque [N.m].
     """
 
     L4: float = 0.30
@@ -80,6 +84,9 @@ class PolycrankParameters:
     m_link: float = 0.10
     m_load: float = 5.0
     g: float = 9.81
+    mu: float = 0.004
+    r_bearing: float = 0.05
+    tau_c0: float = 0.02
 
     @property
     def total_mass(self) -> float:
@@ -134,13 +141,48 @@ def drive_torques(par: PolycrankParameters, angles: tuple[float, float, float, f
     return np.array(out)
 
 
+def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray:
+    """Kinetic plus gravitational energy of every body, minus the work potential of the constant drive torques
+    (``−Σ τ_drive φ``) [J], over a result: constant without friction, falling with it."""
+    n = len(result.t)
+    E = np.zeros(n)
+    g = model.par.g
+    for node in model.walk():
+        if isinstance(node, Body):
+            m = float(node.parameter_value("m"))
+            r_cm = np.asarray(node.parameter_value("r_CM"), dtype=float)
+            inertia = np.asarray(node.parameter_value("I"), dtype=float).reshape(3, 3)
+            T = result[f"{node.path}.frame_a.T"].reshape(n, 3, 3, order="F")
+            w = result[f"{node.path}.w_a"]
+            v_cm = result[f"{node.path}.v_0"] + np.einsum("nji,nj->ni", T, np.cross(w, r_cm))
+            x_cm = result[f"{node.path}.r_0"] + np.einsum("nji,j->ni", T, r_cm)
+            E += 0.5 * m * np.sum(v_cm**2, axis=1) + 0.5 * np.einsum("ni,ij,nj->n", w, inertia, w) + m * g * x_cm[:, 1]
+        elif isinstance(node, Revolute):
+            E -= float(node.parameter_value("tau_drive")) * result[f"{node.path}.phi"]
+    return E
+
+
 class PolycrankFragment(fl.Model):
     """The POLYCRANK power-transmission fragment (module docstring), rigid links.
 
     Parameters
     ----------
-    angles : tuple of float
-        Start angles [rad] of shield 4 and of the outer, c3 and c4 discs at ``A0`` (absolute).
+    angles, speeds : tuple of float
+        Start angles [rad] and angular velocities [rad/s] of shield 4 and of the outer, c3 and c4 discs at ``A0``
+        (absolute).
+    friction : bool
+        Coulomb + viscous friction in the nine bearings (the revolute joints' journal model: ``mu`` on the radial
+        load at ``r_bearing``, plus ``tau_c0``).
+
+    Range: a parallelogram link passes a change point (its pins on the line of the disc axes) every 60° of
+    relative rotation of its discs; there the rows kept for that link lose rank and the rigid model stops with a
+    singular Jacobian. Motion through change points needs the compliance of flexible pull rods (or a redundancy
+    selection made again during the run): not built yet.
+
+    The pull rods' preload (seed 002: "links of parallelogram linkages are mounted with initial load") is a
+    self-stress of the statically indeterminate linkage: with rigid links it is carried by the links themselves
+    and changes nothing (the redundant links' reactions are indeterminate and set to zero), so it belongs to the
+    variant with flexible pull rods.
     hold : bool
         Each drive (``j4`` and the three discs at ``A0``) carries the constant torque that holds the fragment at
         rest (:func:`drive_torques`, as ``tau_drive``); otherwise the drives carry no torque.
@@ -149,19 +191,23 @@ class PolycrankFragment(fl.Model):
     """
 
     def __init__(self, *, angles: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0), hold: bool = True,
+                 speeds: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0), friction: bool = False,
                  params: PolycrankParameters | None = None) -> None:
         super().__init__()
         par = params or PolycrankParameters()
-        self.par = par
+        self.par, self.friction = par, bool(friction)
+        w4, w_o, w_c3, w_c4 = (float(w) for w in speeds)
         th4, th_o, th_c3, th_c4 = (float(a) for a in angles)
         tau = drive_torques(par, (th4, th_o, th_c3, th_c4)) if hold else np.zeros(4)
         z = [0.0, 0.0, 1.0]
         self.world = World(g=par.g, n=[0.0, -1.0, 0.0])
         # shields on their bearings
-        self.j4 = Revolute(n=z, init={"phi": th4, "w": 0.0}, tau_drive=float(tau[0]))
+        bearing = {"use_friction": True, "mu": par.mu, "r_bearing": par.r_bearing, "tau_c0": par.tau_c0} \
+            if friction else {}
+        self.j4 = Revolute(n=z, init={"phi": th4, "w": w4}, tau_drive=float(tau[0]), **bearing)
         self.shield4 = Body(m=par.m_shield4, r_CM=[par.L4 / 2, 0, 0], I=np.eye(3) * par.I_shield4)
         self.to_A1 = FixedTranslation(r=[par.L4, 0.0, 0.0])
-        self.j5 = Revolute(n=z, guess={"phi": th_o - th4})
+        self.j5 = Revolute(n=z, guess={"phi": th_o - th4}, **bearing)
         self.shield5 = Body(m=par.m_shield5, r_CM=[par.L5 / 2, 0, 0], I=np.eye(3) * par.I_shield5)
         self.to_A2 = FixedTranslation(r=[par.L5, 0.0, 0.0])
         self.load = Body(m=par.m_load, r_CM=[0.0, 0.0, 0.0], I=np.eye(3) * 1e-6)
@@ -173,8 +219,8 @@ class PolycrankFragment(fl.Model):
         self.connect(self.j5.frame_b, self.to_A2.frame_a)
         self.connect(self.to_A2.frame_b, self.load.frame_a)
         disc = {"m": par.m_disc, "r_CM": [0.0, 0.0, 0.0], "I": np.diag([par.I_disc / 2, par.I_disc / 2, par.I_disc])}
-        for ch, th, t_drive in (("o", th_o, tau[1]), ("c3", th_c3, tau[2]), ("c4", th_c4, tau[3])):
-            d0 = Revolute(n=z, init={"phi": th, "w": 0.0}, tau_drive=float(t_drive))
+        for ch, th, t_drive, w in (("o", th_o, tau[1], w_o), ("c3", th_c3, tau[2], w_c3), ("c4", th_c4, tau[3], w_c4)):
+            d0 = Revolute(n=z, init={"phi": th, "w": w}, tau_drive=float(t_drive), **bearing)
             setattr(self, f"d0{ch}", d0)
             setattr(self, f"disc0{ch}", Body(**disc))
             self.connect(self.world.frame_b, d0.frame_a)
@@ -182,13 +228,13 @@ class PolycrankFragment(fl.Model):
             if ch == "o":  # the outer links end on shield 5's pin circle at A1
                 self._parallelogram(f"{ch}4", d0.frame_b, self.j5.frame_b, par.radius(ch), par.L4, th, th4)
                 continue
-            d1 = Revolute(n=z, guess={"phi": th - th4})
+            d1 = Revolute(n=z, guess={"phi": th - th4}, **bearing)
             setattr(self, f"d1{ch}", d1)
             setattr(self, f"disc1{ch}", Body(**{**disc, "m": 2 * par.m_disc, "I": 2 * disc["I"]}))
             self.connect(self.to_A1.frame_b, d1.frame_a)
             self.connect(d1.frame_b, getattr(self, f"disc1{ch}").frame_a)
             self._parallelogram(f"{ch}4", d0.frame_b, d1.frame_b, par.radius(ch), par.L4, th, th4)
-            d2 = Revolute(n=z, guess={"phi": th - th_o})
+            d2 = Revolute(n=z, guess={"phi": th - th_o}, **bearing)
             setattr(self, f"d2{ch}", d2)
             setattr(self, f"disc2{ch}", Body(**disc))
             self.connect(self.to_A2.frame_b, d2.frame_a)
