@@ -34,6 +34,7 @@ References
 
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -140,7 +141,7 @@ def result_point(sim: Any, at: Result, t: float, pvec: np.ndarray) -> OperatingP
                                  f"{' …' if len(missing) > 5 else ''}): it comes from another model")
     # states from the result (interpolated between its rows, right values at events); algebraic unknowns it does
     # not store (dummy derivatives der(x)) start from the result's slope of x; all algebraics are then solved
-    row = _row(at, t)
+    row = at.row(t)
     y = np.array([row[at._col(n)] if n in at else _slope(at, n, t) for n in m.y_names])
     p = np.concatenate([pvec, np.zeros(m.n_relations)])
     if m.n_relations:
@@ -150,19 +151,6 @@ def result_point(sim: Any, at: Result, t: float, pvec: np.ndarray) -> OperatingP
     # unknowns, which IDA's predictor would want after a restart, do not enter the linearisation)
     y, yp = sim.initializer._reinit(t, y, np.zeros(m.n), p, 1e-10)
     return OperatingPoint(t, y, yp, p, f"result {at.model!r} at t = {t:g} s")
-
-
-def _row(at: Result, t: float) -> np.ndarray:
-    """All columns of ``at`` interpolated at ``t`` (right values at an event, as :meth:`Result.value`)."""
-    tt = at.t
-    keep = np.ones(len(tt), dtype=bool)
-    keep[:-1] = tt[1:] != tt[:-1]
-    tk, vals = tt[keep], at.values[keep]
-    k = int(np.clip(np.searchsorted(tk, t, side="right"), 1, max(len(tk) - 1, 1)))
-    if len(tk) == 1:
-        return vals[0].astype(float)
-    w = float(np.clip((t - tk[k - 1]) / (tk[k] - tk[k - 1]), 0.0, 1.0))
-    return (1.0 - w) * vals[k - 1] + w * vals[k]
 
 
 def _slope(at: Result, name: str, t: float) -> float:
@@ -252,11 +240,12 @@ class Linearizer:
 
     # -- symbolic pieces ------------------------------------------------------------------------
     def _symbols(self) -> tuple:
+        """``(t, y, yp, p)`` symbols and the residual and every output as expressions of them, built once."""
         if self._sym is None:
             m = self.m
-            n_p = self.m.sx_function("res").size1_in(3)
+            n_p = m.sx_function("res").size1_in(3)
             t, y, yp, p = ca.SX.sym("t"), ca.SX.sym("y", m.n), ca.SX.sym("yp", m.n), ca.SX.sym("p", n_p)
-            self._sym = (t, y, yp, p)
+            self._sym = (t, y, yp, p, m.sx_function("res")(t, y, yp, p), m.sx_function("out")(t, y, yp, p))
         return self._sym
 
     def input_indices(self, inputs: list[str]) -> list[int]:
@@ -264,8 +253,6 @@ class Linearizer:
         for name in inputs:
             k = self._pindex.get(name)
             if k is None:
-                import difflib
-
                 close = difflib.get_close_matches(name, self.m.param_names, n=3)
                 hint = f"; did you mean {', '.join(close)}?" if close else ""
                 raise LinearizationError(f"input {name!r} is not a parameter of {self.m.name}{hint} (inputs are "
@@ -280,8 +267,7 @@ class Linearizer:
     def _input_function(self, idx: tuple[int, ...]) -> ca.Function:
         f = self._fu.get(idx)
         if f is None:
-            t, y, yp, p = self._symbols()
-            F = self.m.sx_function("res")(t, y, yp, p)
+            t, y, yp, p, F, _ = self._symbols()
             u = ca.vertcat(*[p[k] for k in idx]) if idx else ca.SX(0, 1)
             f = ca.Function("F_u", [t, y, yp, p], [ca.jacobian(F, u)])
             self._fu[idx] = f
@@ -291,18 +277,15 @@ class Linearizer:
         key = (names, idx)
         f = self._fo.get(key)
         if f is None:
-            t, y, yp, p = self._symbols()
+            t, y, yp, p, _, every = self._symbols()
             rows = []
             for name in names:
                 k = self._out_index.get(name)
                 if k is None:
-                    import difflib
-
                     close = difflib.get_close_matches(name, self._out_names, n=3)
                     hint = f"; did you mean {', '.join(close)}?" if close else ""
                     raise LinearizationError(f"output {name!r} is not a variable of {self.m.name}{hint}")
                 rows.append(k)
-            every = self.m.sx_function("out")(t, y, yp, p)
             out = ca.vertcat(*[every[k] for k in rows]) if rows else ca.SX(0, 1)
             u = ca.vertcat(*[p[k] for k in idx]) if idx else ca.SX(0, 1)
             f = ca.Function("O", [t, y, yp, p], [ca.jacobian(out, y), ca.jacobian(out, yp), ca.jacobian(out, u)])

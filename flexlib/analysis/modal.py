@@ -123,42 +123,30 @@ class Modes:
         return "\n".join(lines)
 
 
-def _lock_channels(lin: Linearizer, joints: list[str]) -> tuple[list[str], list[str]]:
-    """Drive parameters and coordinates of the joints to lock."""
-    params, coords = [], []
-    names = set(lin.m.param_names)
-    variables = {v.name for v in lin.m.variables}
-    for j in joints:
-        if f"{j}.tau_drive" in names and f"{j}.phi" in variables:
-            params.append(f"{j}.tau_drive")
-            coords.append(f"{j}.phi")
-        elif f"{j}.f_drive" in names and f"{j}.s" in variables:
-            params.append(f"{j}.f_drive")
-            coords.append(f"{j}.s")
-        else:
-            raise LinearizationError(f"cannot lock {j!r}: not a Revolute or Prismatic joint of {lin.m.name} (a "
-                                     "lockable joint has a coordinate phi/s and a drive parameter tau_drive/f_drive)")
-    return params, coords
-
-
-def _joints(lin: Linearizer, lockable: bool) -> list[tuple[str, str]]:
-    """``(joint, coordinate)`` of the revolute and prismatic joints, prismatic ones (linear drives) first, then in
-    the model's order; ``lockable``: only those whose drive channel survived the build (a drive parameter that the
-    planar assumption fixed to zero, e.g. about a redundant loop direction, cannot carry a lock reaction)."""
+def _joints(lin: Linearizer, lockable: bool) -> list[tuple[str, str, str]]:
+    """``(joint, drive parameter, coordinate)`` of the revolute and prismatic joints, prismatic ones (linear drives)
+    first, then in the model's order; ``lockable``: only those whose drive channel survived the build (a drive
+    parameter that the planar assumption fixed to zero, e.g. about a redundant loop direction, cannot carry a
+    lock reaction)."""
     variables = {v.name for v in lin.m.variables}
     assumed = (getattr(lin.m, "assumed", {}) or {}) if lockable else {}
-    found = {".f_drive": [], ".tau_drive": []}
+    found: dict[str, list[tuple[str, str, str]]] = {".f_drive": [], ".tau_drive": []}
     for name in lin.m.param_names:
         for par, coord in ((".f_drive", ".s"), (".tau_drive", ".phi")):
             joint = name[: -len(par)]
             if name.endswith(par) and joint + coord in variables and name not in assumed:
-                found[par].append((joint, joint + coord))
+                found[par].append((joint, name, joint + coord))
     return found[".f_drive"] + found[".tau_drive"]
 
 
-def _all_joints(lin: Linearizer) -> list[str]:
-    """The joints ``lock="rigid"`` chooses from (:func:`_joints`, lockable)."""
-    return [j for j, _ in _joints(lin, True)]
+def _lock_channels(lin: Linearizer, joints: list[str]) -> tuple[list[str], list[str]]:
+    """Drive parameters and coordinates of the joints to lock."""
+    known = {j: (par, coord) for j, par, coord in _joints(lin, False)}
+    for j in joints:
+        if j not in known:
+            raise LinearizationError(f"cannot lock {j!r}: not a Revolute or Prismatic joint of {lin.m.name} (a "
+                                     "lockable joint has a coordinate phi/s and a drive parameter tau_drive/f_drive)")
+    return [known[j][0] for j in joints], [known[j][1] for j in joints]
 
 
 def _elastic_coordinates(lin: Linearizer) -> list[str]:
@@ -236,8 +224,8 @@ def mobility(model: Any, *, at: Result | None = None, t: float | None = None, pa
     sim = _simulation(model)
     point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
     lin = Linearizer(sim)
-    pairs = _joints(lin, False)
-    joints, coords = [j for j, _ in pairs], [c for _, c in pairs]
+    triples = _joints(lin, False)
+    joints, coords = [j for j, _, _ in triples], [c for _, _, c in triples]
     if not joints:
         return 0, []
     C, _ = lin.outputs(point, coords)
@@ -250,7 +238,7 @@ def _locked_modes(lin: Linearizer, point: OperatingPoint, joints: list[str] | st
     auto = isinstance(joints, str)
     if auto and joints != "rigid":
         raise LinearizationError(f"lock={joints!r}: expected 'rigid' or a list of joint names")
-    names = _all_joints(lin) if auto else list(joints)
+    names = [j for j, _, _ in _joints(lin, True)] if auto else list(joints)
     if not names:
         raise LinearizationError(f"lock='rigid': {lin.m.name} has no revolute or prismatic joint")
     params, coords = _lock_channels(lin, names)

@@ -141,11 +141,27 @@ class Result:
         """
         x = self[name]
         self._require_rows(f"value({name!r}, t)")
-        tt = self.t
-        # at an event time the result holds the left and right values; use the right one
-        keep = np.ones(len(tt), dtype=bool)
-        keep[:-1] = tt[1:] != tt[:-1]
-        return np.interp(t, tt[keep], x[keep])
+        keep = self._right_rows()
+        return np.interp(t, self.t[keep], x[keep])
+
+    def row(self, t: float) -> np.ndarray:
+        """Every variable (columns of :attr:`values`) interpolated linearly at time ``t`` (right value at events;
+        clipped to the first and last row, as :meth:`value`)."""
+        self._require_rows(f"row({t!r})")
+        keep = self._right_rows()
+        tk, vals = self.t[keep], self.values[keep]
+        if len(tk) == 1:
+            return vals[0].astype(float)
+        k = int(np.clip(np.searchsorted(tk, t, side="right"), 1, len(tk) - 1))
+        w = float(np.clip((t - tk[k - 1]) / (tk[k] - tk[k - 1]), 0.0, 1.0))
+        return (1.0 - w) * vals[k - 1] + w * vals[k]
+
+    def _right_rows(self) -> np.ndarray:
+        """Mask of the rows to interpolate: at an event time the result holds the left and right values; the
+        right one is kept."""
+        keep = np.ones(len(self.t), dtype=bool)
+        keep[:-1] = self.t[1:] != self.t[:-1]
+        return keep
 
     def final(self, name: str) -> float:
         """Value of ``name`` at the end of the run (:class:`EmptyResultError` if the result has no rows)."""

@@ -37,6 +37,8 @@ from flexlib.components.mechanics import translational
 from flexlib.components.mechanics.flexible import FlexibleBody, beam_mesh, box, modal_data_from_fe
 from flexlib.components.mechanics.multibody import Body, FixedRotation, FixedTranslation, Prismatic, Revolute, World
 
+from .statics import energy_gradient
+
 __all__ = ["CartesianParameters", "CartesianRobot", "arm_mass", "arm_modal_data", "holding_forces", "leg_angles",
            "potential_energy"]
 
@@ -141,13 +143,8 @@ def holding_forces(par: CartesianParameters, tip: Any = (0.0, 0.0, 0.0), h: floa
     """Hand statics by virtual work: the drive forces [N] (legs 1–3, along their axes) that hold the robot at rest
     at ``tip`` [m]. The kinematics are decoupled (drive ``i`` strokes the tip coordinate ``e_i``), so
     ``F_i = ∂V/∂p_(e_i)`` of :func:`potential_energy` (central difference of the closed-form energy, step ``h``)."""
-    p = np.asarray(tip, dtype=float)
-    out = []
-    for ei, _ui in LEG_AXES:
-        dp = np.zeros(3)
-        dp[ei] = h
-        out.append((potential_energy(par, p + dp) - potential_energy(par, p - dp)) / (2 * h))
-    return np.array(out)
+    grad = energy_gradient(lambda p: potential_energy(par, p), np.asarray(tip, dtype=float), h)
+    return grad[[ei for ei, _ui in LEG_AXES]]
 
 
 @lru_cache(maxsize=8)

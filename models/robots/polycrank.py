@@ -33,6 +33,8 @@ import numpy as np
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 
+from .statics import energy_gradient
+
 __all__ = ["CHANNELS", "PolycrankFragment", "PolycrankParameters", "drive_torques", "mechanical_energy",
            "potential_energy"]
 
@@ -132,13 +134,7 @@ def drive_torques(par: PolycrankParameters, angles: tuple[float, float, float, f
                   h: float = 1e-6) -> np.ndarray:
     """Hand statics by virtual work: the drive torques [N.m] on shield 4 and on the outer, c3 and c4 discs at
     ``A0`` that hold the fragment at rest (``∂V/∂θ``, central differences of :func:`potential_energy`)."""
-    x = np.asarray(angles, dtype=float)
-    out = []
-    for k in range(4):
-        dx = np.zeros(4)
-        dx[k] = h
-        out.append((potential_energy(par, *(x + dx)) - potential_energy(par, *(x - dx))) / (2 * h))
-    return np.array(out)
+    return energy_gradient(lambda x: potential_energy(par, *x), np.asarray(angles, dtype=float), h)
 
 
 def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray:
