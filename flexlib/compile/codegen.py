@@ -528,16 +528,22 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     model._sx = dict(fns)
     model._functions = dict(fns)
     model.derivative_level = derivative_level(F, y, yp, dae.differential)
+    def texts() -> tuple[str, str]:  # serialized once, for the C file's name and the cache entry
+        model.serialized = {k: f.serialize() for k, f in fns.items()}
+        return model.serialized["res"], model.serialized["jac"]
+
     if codegen == "auto":
         ops = fns["res"].n_instructions() + fns["jac"].n_instructions()
         big = model.n > AUTO_C_MIN_UNKNOWNS or ops >= AUTO_C_MIN_OPERATIONS
         if big and (shutil.which("gcc") or shutil.which("cc")):
             model.wants_c = True
-            model.library_pending = generate_c(fns["res"], fns["jac"], build_dir, background=True)
+            model.library_pending = generate_c(fns["res"], fns["jac"], build_dir, background=True,
+                                               serialized=texts())
             model._functions.pop("res")
             model._functions.pop("jac")
     elif codegen:
-        model.library, model.library_sha256, model.library_size = generate_c(fns["res"], fns["jac"], build_dir)
+        model.library, model.library_sha256, model.library_size = generate_c(fns["res"], fns["jac"], build_dir,
+                                                                             serialized=texts())
         model._functions.pop("res")
         model._functions.pop("jac")
     return model

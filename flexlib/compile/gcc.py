@@ -69,7 +69,7 @@ GCC_O1_MAX_LINES = 30000
 
 
 def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike | None, *,
-               background: bool = False) -> Any:
+               background: bool = False, serialized: tuple[str, str] | None = None) -> Any:
     """Write ``res`` and ``jac`` as C, compile them with gcc and return the shared library's manifest.
 
     The library is named by the SHA-256 of its own bytes (``flexlib_<sha256[:32]>.so``, so processes
@@ -82,6 +82,9 @@ def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike 
     at once (:meth:`CompiledModel._adopt_pending` hashes and moves it when it exists). gcc's messages go to
     ``gcc.log`` in that directory.
 
+    ``serialized``: ``res`` and ``jac`` already serialized (the source file's name is their hash), so a build
+    that stores them in the cache serializes them once (1 s of a flexible boom's cold build).
+
     Returns
     -------
     path, sha256, size
@@ -93,7 +96,8 @@ def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike 
         raise FlexlibError("codegen=True needs a C compiler (gcc) on PATH")
     build = Path(build_dir) if build_dir else Path(tempfile.mkdtemp(prefix="flexlib_"))
     build.mkdir(parents=True, exist_ok=True)
-    digest = hashlib.sha256((res.serialize() + jac.serialize()).encode()).hexdigest()[:16]
+    texts = serialized if serialized is not None else (res.serialize(), jac.serialize())
+    digest = hashlib.sha256((texts[0] + texts[1]).encode()).hexdigest()[:16]
     cg = ca.CodeGenerator(f"flexlib_{digest}.c")
     cg.add(res)
     cg.add(jac)

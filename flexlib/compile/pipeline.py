@@ -207,8 +207,9 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
             if model.wants_c and model.library is None:  # stored before its background gcc had finished
                 pending = _COMPILING.get(str(entry))
                 if pending is None:
+                    texts = (model.serialized["res"], model.serialized["jac"]) if model.serialized else None
                     pending = generate_c(model.sx_function("res"), model.sx_function("jac"), directory / "lib",
-                                         background=True)
+                                         background=True, serialized=texts)
                     _COMPILING[str(entry)] = pending
                 model.library_pending = pending  # share this process's compile: no second gcc of the same C
                 model.on_library = _updater(entry)

@@ -73,6 +73,11 @@ class Result:
 
     def __post_init__(self) -> None:
         self._index = {n: k for k, n in enumerate(self.names)}
+        self._arrays: dict[str, list[int]] = {}  # "frame.r" -> columns of r[0], r[1], ... (in column order)
+        for k, n in enumerate(self.names):
+            base, bracket, _ = n.partition("[")
+            if bracket:
+                self._arrays.setdefault(base, []).append(k)
 
     @property
     def success(self) -> bool:
@@ -106,9 +111,9 @@ class Result:
         if name in self._index:
             return self.values[:, self._index[name]]
         # array variables: "frame.r" -> columns r[0], r[1], ...
-        cols = [k for n, k in self._index.items() if n.startswith(name + "[")]
+        cols = self._arrays.get(name)
         if cols:
-            return self.values[:, sorted(cols)]
+            return self.values[:, cols]
         raise self._unknown(name)
 
     def _require_rows(self, what: str) -> None:

@@ -399,10 +399,14 @@ class PumpTruck(fl.Model):
                                F_c=CYL_FC * A_p * record.p_system, v_reg=CYL_VREG,
                                V_dead_A=0.1 * A_p * stroke + 1e-4, V_dead_B=0.1 * A_r * stroke + 1e-4,
                                p_fixed=False)
-            # the free chamber at tank pressure; the holding chamber's pressure is what holds the joint at rest
-            # (its start value the hand statics' guess)
-            cyl.cylinder.set_start("p_A", p_A, fixed=F < 0)
-            cyl.cylinder.set_start("p_B", p_B, fixed=F >= 0)
+            # the free chamber at tank pressure (initial_equations); the holding chamber's pressure is what holds
+            # the joint at rest (its start value the hand statics' guess). Which chamber is free is a parameter,
+            # not a fixed start: the build (cache key) stays the same in every pose.
+            cyl.cylinder.set_start("p_A", p_A, fixed=False)
+            cyl.cylinder.set_start("p_B", p_B, fixed=False)
+            setattr(self, f"free_A{n}", fl.Parameter(1.0 if F < 0 else 0.0, unit="1",
+                                                      doc=f"1: cylinder {n}'s cap chamber (A) starts at tank "
+                                                          "pressure; 0: its rod chamber (B) does"))
             setattr(self, f"cylinder{n}", cyl)
             if n == 1:
                 self.connect(self.joint1_housing.frame_b, cyl.frame_a)
@@ -466,6 +470,16 @@ class PumpTruck(fl.Model):
     def F_hold(self) -> np.ndarray:
         """Holding forces of the five cylinders at the start, by the hand statics [N] (positive pushes)."""
         return self._F_hold.copy()
+
+    def initial_equations(self) -> list:
+        """Each cylinder's free chamber at tank pressure: ``s (p_A − p_T) + (1 − s)(p_B − p_T) = 0``, ``s`` =
+        ``free_A{n}`` (1 when the cylinder holds by pulling, its cap chamber free)."""
+        out = []
+        for n in range(1, 6):
+            s, c = getattr(self, f"free_A{n}"), getattr(self, f"cylinder{n}").cylinder
+            out.append(fl.eq(s * (c.p_A - P_TANK) + (1 - s) * (c.p_B - P_TANK), 0.0,
+                             label=f"cylinder {n}: free chamber at tank pressure"))
+        return out
 
     # ---- building blocks ------------------------------------------------------------------------------------
     @staticmethod
