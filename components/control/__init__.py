@@ -1,8 +1,9 @@
 """Signal blocks and controllers after ``Modelica.Blocks``: sources, math, nonlinear blocks, linear systems, LimPID.
 
 Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``; math ``Gain``, ``Add``,
-``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``, ``Tare``; continuous
-``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs are named ``y``, inputs ``u`` / ``u1``, ``u2``,
+``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``, ``Tare``; the
+start-found offset ``Trim``; continuous ``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs are named
+``y``, inputs ``u`` / ``u1``, ``u2``,
 ``u3`` (``u_s``, ``u_m`` on the PID).
 """
 
@@ -24,6 +25,7 @@ from .tare import Tare
 from .time_table import TimeTable
 from .transfer_function import TransferFunction
 from .trapezoid import Trapezoid
+from .trim import Trim
 
 __all__ = [
     "Add",
@@ -44,4 +46,5 @@ __all__ = [
     "TimeTable",
     "TransferFunction",
     "Trapezoid",
+    "Trim",
 ]

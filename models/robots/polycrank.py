@@ -27,16 +27,33 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
 import flexlib as fl
+from flexlib.components.control import Constant, TimeTable, Trapezoid, Trim
+from flexlib.components.mechanics import rotational
+from flexlib.components.mechanics.flexible import (
+    FlexibleBody,
+    beam_mesh,
+    circle,
+    energies,
+    modal_data_from_fe,
+    nodal_stress,
+    von_mises,
+)
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 
 from .statics import energy_gradient
 
 __all__ = ["CHANNELS", "PolycrankFragment", "PolycrankParameters", "drive_torques", "mechanical_energy",
-           "potential_energy"]
+           "mount_stretch", "potential_energy", "preload_params", "rod_modal_data", "rod_stress"]
+
+#: Drive options of :class:`PolycrankFragment`, and its driven joints (shield 4, then the discs at ``A0``)
+DRIVES = ("torque", "trim", "held", "motion")
+DRIVEN = ("j4", "d0o", "d0c3", "d0c4")
 
 #: The channels and their pin radius attribute in the parameter record: outer (shield 5), inner 3 and 4 (grip)
 CHANNELS = ("o", "c3", "c4")
@@ -66,6 +83,11 @@ class PolycrankParameters:
         Point mass on the upper disc (grip and object), at ``A2`` [kg].
     g : float
         Gravity [m/s2], along ``−y`` (in the plane of motion).
+    d_rod, E_rod : float
+        Pull rod (flexible variant): steel rod diameter [m] and Young's modulus [Pa]; its density is set so that the
+        rod carries the whole link mass ``m_link`` (heads included).
+    rod_elements, rod_modes : int
+        Beam elements and fixed-interface modes per pull rod (Craig–Bampton, both pins interface).
     mu, r_bearing, tau_c0 : float
         Friction of the nine bearings (``friction=True``): coefficient [1] on the radial load at the bearing radius
         [m] (cross-roller bearing, journal model) and the load-independent seal torque [N.m].
@@ -89,6 +111,10 @@ class PolycrankParameters:
     mu: float = 0.004
     r_bearing: float = 0.05
     tau_c0: float = 0.02
+    d_rod: float = 0.006
+    E_rod: float = 2.1e11
+    rod_elements: int = 6
+    rod_modes: int = 2
 
     @property
     def total_mass(self) -> float:
@@ -137,9 +163,64 @@ def drive_torques(par: PolycrankParameters, angles: tuple[float, float, float, f
     return energy_gradient(lambda x: potential_energy(par, *x), np.asarray(angles, dtype=float), h)
 
 
+@lru_cache(maxsize=16)
+def rod_modal_data(par: PolycrankParameters, length: float) -> Any:
+    """Craig–Bampton data of one pull rod of free length ``length`` [m] (beam along x, both pins interface,
+    reference frame at the first pin, geometric stiffening of the unit load cases, stresses at the rod's surface
+    fibre in the plane of motion, ``y = d/2``, where the in-plane bending adds to the axial stress)."""
+    section = circle(par.d_rod)
+    rho = par.m_link / (section.A * length)
+    fe = beam_mesh((0.0, 0.0, 0.0), (length, 0.0, 0.0), par.rod_elements, section, E=par.E_rod, rho=rho)
+    return modal_data_from_fe(fe, [0, par.rod_elements], par.rod_modes, reference_node=0,
+                              title=f"POLYCRANK pull rod {length:.6f} m, d {par.d_rod} m",
+                              stress_fibre=(par.d_rod / 2, 0.0), geometric_stiffening=True)
+
+
+def mount_stretch(par: PolycrankParameters, length: float, preload: float) -> float:
+    """Stretch [m] that mounting a pull rod of free length ``length`` [m] between its pins needs for the tension
+    ``preload`` [N]: ``T L / (E A)`` (the rod is that much shorter than the pin distance)."""
+    return preload * length / (par.E_rod * circle(par.d_rod).A)
+
+
+def preload_params(model: PolycrankFragment, preload: float) -> dict[str, list[float]]:
+    """Run-time parameters (``run(params=...)``) that mount every pull rod of a flexible ``model`` with the tension
+    ``preload`` [N]: each rod's mount offset ``<link>_mount<k>.r`` (no rebuild).
+
+    The model must be built with a preload > 0: built with none, its zero mount offsets are assumed zero (planar
+    mechanism, ``flexlib.compile.constants``) and a run with others raises ``StructureChangedError``."""
+    if not model.flexible:
+        raise fl.ParameterError("preload_params: the model has rigid links (flexible=False)")
+    if preload and not model.preload:
+        raise fl.ParameterError("preload_params: the model was built without preload (its mount offsets are "
+                                "assumed zero); build it with PolycrankFragment(preload=...) > 0 to vary the preload "
+                                "at run time")
+    if not (preload >= 0 and math.isfinite(preload)):
+        raise fl.ParameterError(f"preload_params: preload must be a finite tension >= 0 N, got {preload!r}")
+    out = {}
+    for name, length in model._mounts:
+        out[f"{name}.r"] = [-mount_stretch(model.par, length, preload), 0.0, 0.0]
+    return out
+
+
+def rod_stress(model: PolycrankFragment, result: fl.Result) -> dict[str, np.ndarray]:
+    """Von Mises stress [Pa] of every pull rod of a flexible ``model`` over a result: the largest over the rod's
+    nodes at its in-plane surface fibre (stress modes superposed with the run's modal coordinates,
+    :func:`~flexlib.components.mechanics.flexible.nodal_stress`), by rod path (``o4_rod1`` …), each (nt,)."""
+    if not model.flexible:
+        raise fl.ParameterError("rod_stress: the model has rigid links (flexible=False)")
+    out = {}
+    for node in model.walk():
+        if isinstance(node, FlexibleBody):
+            sigma = nodal_stress(node.modal_data, result[f"{node.path}.q"])
+            out[node.path] = von_mises(sigma).max(axis=1)
+    return out
+
+
 def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray:
-    """Kinetic plus gravitational energy of every body, minus the work potential of the constant drive torques
-    (``−Σ τ_drive φ``) [J], over a result: constant without friction, falling with it."""
+    """Kinetic plus gravitational energy of every body, plus the strain energy of the flexible pull rods
+    (:func:`~flexlib.components.mechanics.flexible.energies`), minus the work potential of the constant drive
+    torques (``−Σ τ_drive φ``, with ``drive="trim"`` ``−Σ b φ`` of the trims) [J], over a result: constant
+    without friction, damping, interval torques and driven motion."""
     n = len(result.t)
     E = np.zeros(n)
     g = model.par.g
@@ -153,8 +234,16 @@ def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray
             v_cm = result[f"{node.path}.v_0"] + np.einsum("nji,nj->ni", T, np.cross(w, r_cm))
             x_cm = result[f"{node.path}.r_0"] + np.einsum("nji,j->ni", T, r_cm)
             E += 0.5 * m * np.sum(v_cm**2, axis=1) + 0.5 * np.einsum("ni,ij,nj->n", w, inertia, w) + m * g * x_cm[:, 1]
+        elif isinstance(node, FlexibleBody):  # frame_a at the rod's reference node: its T is the body's
+            p = node.path
+            E += energies(node.modal_data, result[f"{p}.q"], result[f"{p}.qd"], result[f"{p}.r_0"],
+                          result[f"{p}.v_0"], result[f"{p}.w"], result[f"{p}.frame_a.T"].reshape(n, 3, 3, order="F"),
+                          g=(0.0, -g, 0.0))["total"]
         elif isinstance(node, Revolute):
             E -= float(node.parameter_value("tau_drive")) * result[f"{node.path}.phi"]
+    for name in DRIVEN:  # drive="trim": the holding torque's work potential (the interval torques do work)
+        if f"trim_{name}.b" in result:
+            E -= result[f"trim_{name}.b"] * result[f"{name}.phi"]
     return E
 
 
@@ -180,27 +269,99 @@ class PolycrankFragment(fl.Model):
     and changes nothing (the redundant links' reactions are indeterminate and set to zero), so it belongs to the
     variant with flexible pull rods.
     hold : bool
-        Each drive (``j4`` and the three discs at ``A0``) carries the constant torque that holds the fragment at
-        rest (:func:`drive_torques`, as ``tau_drive``); otherwise the drives carry no torque.
+        ``drive="torque"``: each drive (``j4`` and the three discs at ``A0``) carries the constant torque that holds
+        the rigid fragment at rest (:func:`drive_torques`, as ``tau_drive``); otherwise the drives carry no torque.
+    drive : {"torque", "trim", "held", "motion"}
+        ``"torque"``: constant drive torques (``hold``), the start angles and speeds initial conditions.
+        ``"trim"``: each drive a torque source (``motor_j4`` …) whose torque is the holding torque that the
+        initialisation finds for the start at rest (a :class:`~flexlib.components.control.Trim`, ``trim_j4`` …,
+        guessed from the hand statics; the drive joints start at rest and not accelerating) plus the interval
+        torques ``torques`` — the seed's torque-driven runs, rigid or flexible (with ``run(steady_state=True)``).
+        ``"held"``: each drive's axis held at its start angle by a position source (``hold_j4``, ``hold_d0o``,
+        ``hold_d0c3``, ``hold_d0c4``: ``flange.tau`` is the holding torque, a result) — the drives of a static
+        start (``run(steady_state=True)``) of the flexible fragment, whose holding torques differ from the rigid
+        hand statics by what the links' compliance changes.
+        ``"motion"``: each drive's speed follows a trapezoid (``motion``) from its start angle.
+    motion : tuple of 4 (peak, ramp, plateau, start)
+        ``drive="motion"``: per drive, peak speed [rad/s], ramp and plateau durations [s] and start time [s].
+    torques : tuple of 4 (times, torques)
+        ``drive="trim"``: per drive, a table of torques [N.m] added to the trim, constant from each time [s] to the
+        next (default none).
+    flexible : bool
+        Each pull rod a Craig–Bampton :class:`~flexlib.components.mechanics.flexible.FlexibleBody` (beam mesh of a
+        ``d_rod`` steel rod, both pins interface, geometric stiffening of its axial force: without it a tensioned
+        rod of the linear floating-frame model shortens its chord by bending instead of stretching and finds a
+        spurious bent equilibrium). Static start: ``drive="held"`` and ``run(steady_state=True)``.
+    preload : float
+        Tension of every pull rod when mounted [N] (``flexible=True``): the rod's free length is the pin
+        distance shortened by ``T L / (E A)``.
     params : PolycrankParameters
         The numbers.
     """
 
     def __init__(self, *, angles: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0), hold: bool = True,
                  speeds: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0), friction: bool = False,
-                 params: PolycrankParameters | None = None) -> None:
+                 drive: str = "torque", motion: tuple | None = None, torques: tuple | None = None,
+                 flexible: bool = False,
+                 preload: float = 0.0, params: PolycrankParameters | None = None) -> None:
         super().__init__()
         par = params or PolycrankParameters()
-        self.par, self.friction = par, bool(friction)
+        if preload and not flexible:
+            raise fl.ParameterError("PolycrankFragment: preload needs flexible=True (with rigid links a pull rod's "
+                                    "preload is a self-stress the rigid links carry; see the class docstring)")
+        if not (preload >= 0 and math.isfinite(preload)):
+            raise fl.ParameterError(f"PolycrankFragment: preload must be a finite tension >= 0 N, got {preload!r}")
+        self.par, self.friction, self.flexible, self.preload = par, bool(friction), bool(flexible), float(preload)
         w4, w_o, w_c3, w_c4 = (float(w) for w in speeds)
         th4, th_o, th_c3, th_c4 = (float(a) for a in angles)
-        tau = drive_torques(par, (th4, th_o, th_c3, th_c4)) if hold else np.zeros(4)
+        hand = drive_torques(par, (th4, th_o, th_c3, th_c4))
+        tau = hand if hold else np.zeros(4)
         z = [0.0, 0.0, 1.0]
         self.world = World(g=par.g, n=[0.0, -1.0, 0.0])
         # shields on their bearings
         bearing = {"use_friction": True, "mu": par.mu, "r_bearing": par.r_bearing, "tau_c0": par.tau_c0} \
             if friction else {}
-        self.j4 = Revolute(n=z, init={"phi": th4, "w": w4}, tau_drive=float(tau[0]), **bearing)
+        if drive not in DRIVES:
+            raise fl.ParameterError(f"PolycrankFragment: drive must be one of {DRIVES}, got {drive!r}")
+        if drive == "motion" and (motion is None or len(motion) != 4 or any(len(m) != 4 for m in motion)):
+            raise fl.ParameterError("PolycrankFragment: drive='motion' needs motion = four (peak [rad/s], ramp "
+                                    f"[s], plateau [s], start [s]) tuples, got {motion!r}")
+        if torques is not None and (drive != "trim" or len(torques) != 4):
+            raise fl.ParameterError("PolycrankFragment: torques (four (times [s], torques [N.m]) tables) go with "
+                                    f"drive='trim', got drive={drive!r}, torques={torques!r}")
+        if drive != "torque":
+            tau = np.zeros(4)
+        self.drive = drive
+
+        def driven(name: str, th: float, w: float, t_drive: float) -> Revolute:
+            """A drive joint: constant torque, or its axis held / moved / trimmed by a source (``drive``)."""
+            if drive == "torque":
+                return Revolute(n=z, tau_drive=float(t_drive), init={"phi": th, "w": w}, **bearing)
+            k = DRIVEN.index(name)
+            start = {"held": {"guess": {"phi": th}}, "motion": {"init": {"phi": th}},
+                     "trim": {"init": {"phi": th, "w": 0.0, "a": 0.0}}}[drive]
+            joint = Revolute(n=z, use_axis_flange=True, **bearing, **start)
+            if drive == "held":
+                source, ref, name_s = rotational.Position(), Constant(k=th), f"hold_{name}"
+            elif drive == "motion":
+                peak, ramp, plateau, t0 = (float(v) for v in motion[k])
+                ref = Trapezoid(amplitude=peak, rising=ramp, width=plateau, falling=ramp,
+                                period=2 * ramp + plateau + 1e3, nperiod=1, start_time=t0)
+                source, name_s = rotational.Speed(), f"speed_{name}"
+            else:  # the holding torque found at the start (trim) plus the interval torques
+                times, values = torques[k] if torques is not None else ((0.0,), (0.0,))
+                ref = (TimeTable([float(t) for t in times], [float(v) for v in values], smoothness="constant")
+                       if len(times) > 1 else Constant(k=float(values[0])))
+                setattr(self, f"trim_{name}", Trim(guess={"b": float(hand[k])}))
+                source, name_s = rotational.Torque(), f"motor_{name}"
+            setattr(self, name_s, source)
+            setattr(self, f"ref_{name}", ref)
+            self._sources.append((joint, source, ref, getattr(self, f"trim_{name}", None)))
+            return joint
+
+        self._sources: list = []
+        self._mounts: list[tuple[str, float]] = []
+        self.j4 = driven("j4", th4, w4, tau[0])
         self.shield4 = Body(m=par.m_shield4, r_CM=[par.L4 / 2, 0, 0], I=np.eye(3) * par.I_shield4)
         self.to_A1 = FixedTranslation(r=[par.L4, 0.0, 0.0])
         self.j5 = Revolute(n=z, guess={"phi": th_o - th4}, **bearing)
@@ -216,7 +377,7 @@ class PolycrankFragment(fl.Model):
         self.connect(self.to_A2.frame_b, self.load.frame_a)
         disc = {"m": par.m_disc, "r_CM": [0.0, 0.0, 0.0], "I": np.diag([par.I_disc / 2, par.I_disc / 2, par.I_disc])}
         for ch, th, t_drive, w in (("o", th_o, tau[1], w_o), ("c3", th_c3, tau[2], w_c3), ("c4", th_c4, tau[3], w_c4)):
-            d0 = Revolute(n=z, init={"phi": th, "w": w}, tau_drive=float(t_drive), **bearing)
+            d0 = driven(f"d0{ch}", th, w, t_drive)
             setattr(self, f"d0{ch}", d0)
             setattr(self, f"disc0{ch}", Body(**disc))
             self.connect(self.world.frame_b, d0.frame_a)
@@ -236,6 +397,13 @@ class PolycrankFragment(fl.Model):
             self.connect(self.to_A2.frame_b, d2.frame_a)
             self.connect(d2.frame_b, getattr(self, f"disc2{ch}").frame_a)
             self._parallelogram(f"{ch}5", d1.frame_b, d2.frame_b, par.radius(ch), par.L5, th, th_o)
+        for joint, source, ref, trim in self._sources:
+            if trim is not None:
+                self.connect(ref.y, trim.u)
+                self.connect(trim.y, source.tau)
+            else:
+                self.connect(ref.y, source.phi_ref if drive == "held" else source.w_ref)
+            self.connect(source.flange, joint.axis)
 
     def _parallelogram(self, name: str, disc_a, disc_b, rho: float, length: float, th_disc: float,
                        th_body: float) -> None:
@@ -245,17 +413,29 @@ class PolycrankFragment(fl.Model):
         for k in range(par.n_links):
             pa = FixedTranslation(r=_pin(rho, k, par.n_links))
             ja = Revolute(n=[0.0, 0.0, 1.0], guess={"phi": th_body - th_disc})
-            rod = FixedTranslation(r=[length, 0.0, 0.0])
-            mass = Body(m=par.m_link, r_CM=[length / 2, 0.0, 0.0], I=np.diag([1e-6, 1.0, 1.0]) * par.m_link
-                        * length**2 / 12 + np.eye(3) * 1e-7)
             jb = Revolute(n=[0.0, 0.0, 1.0], guess={"phi": th_disc - th_body})
             pb = FixedTranslation(r=_pin(rho, k, par.n_links))
-            for part, comp in (("pa", pa), ("ja", ja), ("rod", rod), ("mass", mass), ("jb", jb), ("pb", pb)):
+            if self.flexible:  # the pull rod; its mount offset along the rod shortens it by the preload stretch
+                rod = FlexibleBody(rod_modal_data(par, length), geometric_stiffening=True)
+                mount = FixedTranslation(r=[-mount_stretch(par, length, self.preload), 0.0, 0.0])
+                self._mounts.append((f"{name}_mount{k + 1}", length))
+                parts = (("pa", pa), ("ja", ja), ("rod", rod), ("mount", mount), ("jb", jb), ("pb", pb))
+            else:
+                rod = FixedTranslation(r=[length, 0.0, 0.0])
+                mass = Body(m=par.m_link, r_CM=[length / 2, 0.0, 0.0], I=np.diag([1e-6, 1.0, 1.0]) * par.m_link
+                            * length**2 / 12 + np.eye(3) * 1e-7)
+                parts = (("pa", pa), ("ja", ja), ("rod", rod), ("mass", mass), ("jb", jb), ("pb", pb))
+            for part, comp in parts:
                 setattr(self, f"{name}_{part}{k + 1}", comp)
+            if not self.flexible:
+                self.connect(ja.frame_b, mass.frame_a)
             self.connect(disc_a, pa.frame_a)
             self.connect(pa.frame_b, ja.frame_a)
             self.connect(ja.frame_b, rod.frame_a)
-            self.connect(ja.frame_b, mass.frame_a)
-            self.connect(rod.frame_b, jb.frame_a)
+            if self.flexible:
+                self.connect(rod.frame_b, mount.frame_a)
+                self.connect(mount.frame_b, jb.frame_a)
+            else:
+                self.connect(rod.frame_b, jb.frame_a)
             self.connect(disc_b, pb.frame_a)
             self.connect(pb.frame_b, jb.frame_b)

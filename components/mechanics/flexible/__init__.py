@@ -18,6 +18,7 @@ from .invariants import INVARIANT_NAMES, inertia_invariants
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
 from .output import (
     deformed_positions,
+    energies,
     nodal_stress,
     node_displacements,
     node_rotations,
@@ -62,6 +63,7 @@ __all__ = [
     "deformed_positions",
     "elastic_static_responses",
     "element_matrices",
+    "energies",
     "frame_names",
     "geometric_stiffness_matrix",
     "i_section",

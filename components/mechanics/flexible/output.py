@@ -6,6 +6,7 @@ orientation ``T(t)`` (nt, 3, 3), world to body (``v_body = T @ v_world``, as in 
 module recovers, at any node ``p`` with undeformed position ``s_p`` and mode shapes ``Phi_p``, ``Phi*_p``,
 ``S_p``:
 
+- kinetic, strain and gravitational energy of the body (:func:`energies`, from the inertia invariants);
 - elastic displacement ``u_p = Phi_p q`` [m] and small rotation ``theta_p = Phi*_p q`` [rad] in body axes;
 - world position ``r_p = r_0 + T^T (s_p + u_p)`` [m] (floating frame of reference, Shabana ch. 5);
 - stress ``sigma_p = S_p q`` [Pa] (modal stress recovery: superposition of the stress modes) and its von Mises
@@ -42,8 +43,8 @@ from flexlib.errors import ModalFileError, RunArgumentError
 
 from .modal_data import ModalData
 
-__all__ = ["deformed_positions", "nodal_stress", "node_displacements", "node_rotations", "section_forces",
-           "von_mises"]
+__all__ = ["deformed_positions", "energies", "nodal_stress", "node_displacements", "node_rotations",
+           "section_forces", "von_mises"]
 
 FIELDS = ("displacement", "rotation", "von_mises", "stress")
 _ORTHO_TOL = 1e-6  # |T T^T - I| above which an orientation is refused
@@ -414,3 +415,73 @@ def _field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
         sigma = np.einsum("tm,mnk->tnk", s["q"], _stress_modes(data, func))
         return von_mises(sigma) if field == "von_mises" else sigma
     raise RunArgumentError(f"{func}: unknown field {field!r}; choose from {list(FIELDS)}")
+
+
+def energies(data: ModalData, q: Any, qd: Any, r_0: Any, v_0: Any, w: Any, T: Any,
+             g: Sequence[float] = (0.0, -9.81, 0.0)) -> dict[str, np.ndarray]:
+    """Kinetic, strain and gravitational potential energy of a flexible body over a run [J].
+
+    With the body-axes velocity ``v = T v_0`` of the reference origin, its angular velocity ``w`` (body axes) and
+    the inertia invariants (:mod:`.invariants`), the kinetic energy of the mass points is (Shabana §5.4;
+    Schwertassek & Wallrapp ch. 5)::
+
+        E_kin = ½ I1 v·v + v·(w × c) + v·(I3 q̇) + ½ wᵀ J(q) w + wᵀ C(q) q̇ + ½ q̇ᵀ I6 q̇
+
+    with ``c = I2 + I3 q``, ``J(q) = I7 + Σ_j q_j (I8_j + I8_jᵀ) + Σ_jk q_j q_k I9_jk`` and
+    ``C(q) = I4 + Σ_j q_j I5_j`` — the terms whose Lagrange equations are FlexibleBody's equations of motion, so
+    their sum with the strain energy ``E_strain = ½ qᵀ K q`` and the potential ``E_pot = −g·(I1 r_0 + Tᵀ c)`` is
+    conserved in a run without damping, friction or drives. (The geometric stiffness of ``geometric_stiffening``
+    adds the work of the body's loads on its foreshortening, not counted here.)
+
+    Parameters
+    ----------
+    data : ModalData
+        The body's modal data (the modes it was built with: ``FlexibleBody.data``).
+    q, qd : array_like (nt, M)
+        Modal coordinates [1] and their rates [1/s] (``<body>.q``, ``<body>.qd``).
+    r_0, v_0 : array_like (nt, 3)
+        Origin of the reference frame and its velocity, world axes [m], [m/s] (``<body>.r_0``, ``<body>.v_0``).
+    w : array_like (nt, 3)
+        Angular velocity of the reference frame, body axes [rad/s] (``<body>.w``).
+    T : array_like (nt, 3, 3)
+        Orientation of the reference frame, world to body (for a body whose ``frame_a`` sits at the reference
+        node, ``<body>.frame_a.T``).
+    g : sequence of 3 float
+        Gravity [m/s2], world axes.
+
+    Returns
+    -------
+    dict
+        ``kinetic``, ``strain``, ``potential`` and ``total``, each (nt,) [J].
+    """
+    func = "energies"
+    _check_data(data, func)
+    qa, _ = _modal_coordinates(data, q, func)
+    qda, _ = _modal_coordinates(data, qd, func)
+    nt = qa.shape[0]
+    r, R = _frame_motion(r_0, T, nt, func)
+    vecs = {}
+    for name, value in (("v_0", v_0), ("w", w)):
+        a = _array(func, name, value)
+        if a.shape != (nt, 3):
+            raise RunArgumentError(f"{func}: argument {name!r} has shape {a.shape}, expected ({nt}, 3)")
+        vecs[name] = a
+    gv = _array(func, "g", g)
+    if gv.shape != (3,):
+        raise RunArgumentError(f"{func}: argument 'g' has shape {gv.shape}, expected (3,) [m/s2]")
+    inv = data.invariants
+    v = np.einsum("tij,tj->ti", R, vecs["v_0"])
+    w_ = vecs["w"]
+    c = inv["I2"][None, :] + np.einsum("am,tm->ta", inv["I3"], qa)
+    J = (inv["I7"][None] + np.einsum("tj,jab->tab", qa, inv["I8"] + np.swapaxes(inv["I8"], 1, 2))
+         + np.einsum("tj,tk,jkab->tab", qa, qa, inv["I9"]))
+    C = inv["I4"][None] + np.einsum("tj,jck->tck", qa, inv["I5"])
+    kinetic = (0.5 * float(inv["I1"]) * np.einsum("ti,ti->t", v, v)
+               + np.einsum("ti,ti->t", v, np.cross(w_, c))
+               + np.einsum("ti,am,tm->t", v, inv["I3"], qda)
+               + 0.5 * np.einsum("ta,tab,tb->t", w_, J, w_)
+               + np.einsum("ta,tak,tk->t", w_, C, qda)
+               + 0.5 * np.einsum("tm,mn,tn->t", qda, inv["I6"], qda))
+    strain = 0.5 * np.einsum("tm,mn,tn->t", qa, data.generalized_stiffness, qa)
+    potential = -(float(inv["I1"]) * r @ gv + np.einsum("tji,tj,i->t", R, c, gv))
+    return {"kinetic": kinetic, "strain": strain, "potential": potential, "total": kinetic + strain + potential}

@@ -79,3 +79,32 @@ def test_tare_rezeroes_its_input_at_the_start():
     expected = 2.0 * (np.sin(2 * np.pi * res.t) - np.sin(2 * np.pi * 0.3)) + 5.0
     np.testing.assert_allclose(res["tare.y"], expected, atol=1e-7)
     assert res["tare.y"][0] == pytest.approx(5.0, abs=1e-12)
+
+
+def test_trim_finds_the_holding_torque_at_the_start():
+    """Trim: y = u + b, b constant and found by the initialisation. An inertia J = 0.5 kg.m2 loaded by −3 N.m,
+    driven by a torque source fed by Trim(u = step of 1 N.m at 0.5 s), starts at rest and not accelerating: the
+    trim is the holding torque b = 3 N.m (the guess 2 N.m is corrected), and after the step the inertia
+    accelerates at 1/J = 2 rad/s2: φ(t) = (t − 0.5)² for t > 0.5 s."""
+    from flexlib.components.control import Step, Trim
+    from flexlib.components.mechanics.rotational import Inertia, Torque
+
+    class Held(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.load = Torque()
+            self.load_value = Constant(k=-3.0)
+            self.motor = Torque()
+            self.step = Step(height=1.0, start_time=0.5)
+            self.trim = Trim(guess={"b": 2.0})
+            self.inertia = Inertia(J=0.5, init={"phi": 0.0, "w": 0.0, "a": 0.0})
+            self.connect(self.load_value.y, self.load.tau)
+            self.connect(self.step.y, self.trim.u)
+            self.connect(self.trim.y, self.motor.tau)
+            self.connect(self.load.flange, self.motor.flange, self.inertia.flange_a)
+
+    res = fl.Simulation(Held()).run(1.0, dt_out=0.01, rtol=1e-9, atol=1e-11, progress=False)
+    assert res["trim.b"][0] == pytest.approx(3.0, abs=1e-9)
+    assert np.ptp(res["trim.b"]) < 1e-12
+    t = res.t
+    np.testing.assert_allclose(res["inertia.phi"], np.where(t > 0.5, (t - 0.5) ** 2, 0.0), atol=1e-7)

@@ -1,0 +1,199 @@
+"""The POLYCRANK fragment's dynamic study after seed 002 (§4.2, its Figs. 11–13): a torque pulse, then free
+vibration, for the rigid fragment and the four flexible variants (friction in the bearings or not, pull rods
+preloaded or not), and the lowest frequencies with the drives locked in several poses.
+
+Set-up (assumed; the seed gives no numbers for its driving torque): the fragment hangs (shield 4 along ``−y``,
+the channels at 10°–20° from the parallelograms' change points, which come every 30° of relative rotation), the
+four drives hold it at rest with the torques the initialisation finds (``drive="trim"``), and shield 4's drive adds
+``PULSE`` for ``PULSE_WIDTH``. The fragment then swings as a pendulum about ``A0``; friction and preload take the
+energy out (the preload's self-stress loads the bearings, and the journal friction grows with the radial load).
+
+One flexible build serves the four flexible variants: friction is built in and switched off with zero
+coefficients (:func:`no_friction`), the preload is set by the rods' mount offsets (:func:`preload_params`).
+
+Run ``python -m models.robots.polycrank_study [--out DIR] [--t-end T]``: a table of the figures and the PNGs
+``energy.png`` (energy above the start), ``reactions.png`` (force in the grip disc's bearing, the cap–disc joint
+of the seed's Fig. 13, and in shield 5's bearing), ``stress.png`` (largest von Mises stress over the pull rods)
+and ``shield.png`` (shield 4's angle, speed and acceleration).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import flexlib as fl
+
+from .polycrank import PolycrankFragment, PolycrankParameters, mechanical_energy, preload_params, rod_stress
+
+__all__ = [
+    "BEARINGS",
+    "LOCKED",
+    "PRELOAD",
+    "PULSE",
+    "SWING_POSE",
+    "locked_frequencies",
+    "no_friction",
+    "plot_study",
+    "pulse_model",
+    "run_variants",
+    "summary",
+]
+
+#: Hanging start pose [rad]: shield 4 along −y; outer, c3 and c4 discs 20°, 10° and 40° from it.
+SWING_POSE = (-math.pi / 2, -math.pi / 2 + math.radians(20), -math.pi / 2 + math.radians(10),
+              -math.pi / 2 + math.radians(40))
+#: Torque pulse on shield 4's drive [N.m], its start and its width [s].
+PULSE, PULSE_START, PULSE_WIDTH = 5.0, 0.05, 0.05
+#: Pull-rod preload of the preloaded variants [N] (assumed: 35 % of the rod's Euler load 1.46 kN, 18 MPa).
+PRELOAD = 500.0
+#: The nine bearings (friction switched by their coefficients).
+BEARINGS = ("j4", "j5", "d0o", "d0c3", "d0c4", "d1c3", "d1c4", "d2c3", "d2c4")
+#: Joints locked for the modal analysis (ADAMS: "all rigid degrees of freedom blocked").
+LOCKED = ["j4", "d0o", "d0c3", "d0c4"]
+
+
+def no_friction() -> dict[str, float]:
+    """Run-time parameters that switch the bearings' friction off (zero coefficients)."""
+    return {f"{j}.{k}": 0.0 for j in BEARINGS for k in ("mu", "tau_c0")}
+
+
+def pulse_model(flexible: bool, params: PolycrankParameters | None = None,
+                angles: tuple[float, float, float, float] = SWING_POSE) -> PolycrankFragment:
+    """The fragment with bearing friction, trimmed drives and the torque pulse on shield 4 (flexible: rods built
+    with ``PRELOAD``, so that the preload is a run-time parameter)."""
+    t0, t1 = PULSE_START, PULSE_START + PULSE_WIDTH
+    torques = (((0.0, t0, t1), (0.0, PULSE, 0.0)), ((0.0,), (0.0,)), ((0.0,), (0.0,)), ((0.0,), (0.0,)))
+    return PolycrankFragment(angles=angles, drive="trim", torques=torques, friction=True, flexible=flexible,
+                             preload=PRELOAD if flexible else 0.0, params=params)
+
+
+def run_variants(t_end: float = 1.0, params: PolycrankParameters | None = None,
+                 dt_out: float = 0.002) -> dict[str, tuple[PolycrankFragment, fl.Result]]:
+    """Run the rigid fragment and the four flexible variants; ``{name: (model, result)}`` with names ``rigid``,
+    ``flexible``, ``friction``, ``preload``, ``friction+preload``."""
+    out: dict[str, tuple[PolycrankFragment, fl.Result]] = {}
+    rigid = pulse_model(False, params)
+    out["rigid"] = (rigid, fl.Simulation(rigid).run(t_end, dt_out=dt_out, params=no_friction(), progress=False))
+    flex = pulse_model(True, params)
+    sim = fl.Simulation(flex)
+    for name, fric, pre in (("flexible", False, 0.0), ("friction", True, 0.0), ("preload", False, PRELOAD),
+                            ("friction+preload", True, PRELOAD)):
+        p = {**preload_params(flex, pre), **({} if fric else no_friction())}
+        out[name] = (flex, sim.run(t_end, dt_out=dt_out, steady_state=True, params=p, progress=False))
+    return out
+
+
+def summary(runs: dict[str, tuple[PolycrankFragment, fl.Result]], at: float = 0.3) -> list[dict[str, Any]]:
+    """Per variant: the pulse's energy left at ``at`` [s] (fraction of the frictionless rigid run's), the largest
+    force in the grip disc's bearing ``d2c3`` and in shield 5's ``j5`` [N], the largest rod von Mises stress [Pa]
+    (flexible) and the trims (holding torques) [N.m]."""
+    rows = []
+    ref = None
+    for name, (model, res) in runs.items():
+        E = mechanical_energy(model, res)
+        k = int(np.searchsorted(res.t, at))
+        gained = float(E[k] - E[0])
+        if ref is None:
+            ref = gained
+        row = {"variant": name, "energy_left": gained / ref, "d2c3_force": float(np.linalg.norm(
+            res["d2c3.frame_a.f"], axis=1).max()), "j5_force": float(np.linalg.norm(res["j5.frame_a.f"], axis=1).max()),
+            "trims": [float(res[f"trim_{j}.b"][0]) for j in ("j4", "d0o", "d0c3", "d0c4")]}
+        if model.flexible:
+            row["von_mises"] = float(max(s.max() for s in rod_stress(model, res).values()))
+        rows.append(row)
+    return rows
+
+
+def locked_frequencies(poses: list[tuple[float, float, float, float]], preload: float = PRELOAD,
+                       n: int = 4, params: PolycrankParameters | None = None) -> np.ndarray:
+    """Lowest ``n`` vibration frequencies [Hz] of the flexible fragment with the drives locked, at rest in each
+    pose (one build: the poses are start values and guesses), without friction; (len(poses), n)."""
+    out = []
+    for pose in poses:
+        model = pulse_model(True, params, angles=pose)
+        modes = fl.modal_analysis(model, lock=LOCKED, steady_state=True,
+                                  params={**no_friction(), **preload_params(model, preload)})
+        f = modes.frequencies[modes.oscillatory]
+        out.append(np.sort(f)[:n])
+    return np.array(out)
+
+
+def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | Path) -> list[Path]:
+    """Write ``energy.png``, ``reactions.png``, ``stress.png`` and ``shield.png`` into ``out``; their paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = []
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for name, (model, res) in runs.items():
+        E = mechanical_energy(model, res)
+        ax.plot(res.t, 1e3 * (E - E[0]), label=name)
+    ax.set(xlabel="t [s]", ylabel="energy above the start [mJ]", title="Torque pulse, then free swing")
+    ax.legend()
+    paths.append(out / "energy.png")
+    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+    for name, (_model, res) in runs.items():
+        for ax, joint in zip(axes, ("d2c3", "j5"), strict=True):
+            ax.plot(res.t, np.linalg.norm(res[f"{joint}.frame_a.f"], axis=1), label=name)
+    axes[0].set(ylabel="grip disc bearing d2c3 [N]", yscale="log")
+    axes[1].set(xlabel="t [s]", ylabel="shield 5 bearing j5 [N]", yscale="log")
+    axes[0].legend()
+    paths.append(out / "reactions.png")
+    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for name, (model, res) in runs.items():
+        if model.flexible:
+            ax.plot(res.t, 1e-6 * np.max(list(rod_stress(model, res).values()), axis=0), label=name)
+    ax.set(xlabel="t [s]", ylabel="largest von Mises stress in the pull rods [MPa]")
+    ax.legend()
+    paths.append(out / "stress.png")
+    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
+    for name, (_model, res) in runs.items():
+        for ax, var in zip(axes, ("phi", "w", "a"), strict=True):
+            ax.plot(res.t, res[f"j4.{var}"], label=name)
+    for ax, label in zip(axes, ("shield 4 angle [rad]", "speed [rad/s]", "acceleration [rad/s2]"), strict=True):
+        ax.set(ylabel=label)
+    axes[-1].set(xlabel="t [s]")
+    axes[0].legend()
+    paths.append(out / "shield.png")
+    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return paths
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default="polycrank_study", help="folder for the PNGs")
+    parser.add_argument("--t-end", type=float, default=1.0, help="simulated time [s]")
+    args = parser.parse_args()
+    runs = run_variants(args.t_end)
+    print(f"{'variant':<18} {'energy left at 0.3 s':>21} {'|F| d2c3 [N]':>13} {'|F| j5 [N]':>11} "
+          f"{'von Mises [MPa]':>16}")
+    for row in summary(runs):
+        vm = f"{row['von_mises'] / 1e6:16.1f}" if "von_mises" in row else f"{'–':>16}"
+        print(f"{row['variant']:<18} {row['energy_left']:21.3f} {row['d2c3_force']:13.0f} {row['j5_force']:11.0f} {vm}")
+    poses = [tuple(a + math.radians(turn) for a in SWING_POSE) for turn in (0, 45, 90)]
+    for pre in (0.0, PRELOAD):
+        f = locked_frequencies(poses, preload=pre)
+        print(f"lowest frequencies, drives locked, preload {pre:.0f} N [Hz]: "
+              + "; ".join(", ".join(f"{x:.1f}" for x in row) for row in f))
+    for p in plot_study(runs, args.out):
+        print("wrote", p)
+
+
+if __name__ == "__main__":
+    main()
