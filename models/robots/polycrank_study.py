@@ -133,34 +133,32 @@ def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     paths = []
-    fig, ax = plt.subplots(figsize=(7, 4))
+
+    def save(fig: Any, name: str, legend_ax: Any) -> None:
+        legend_ax.legend()
+        paths.append(out / name)
+        fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
+        plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(7.5, 4))
     for name, (model, res) in runs.items():
         E = mechanical_energy(model, res)
         ax.plot(res.t, 1e3 * (E - E[0]), label=name)
     ax.set(xlabel="t [s]", ylabel="energy above the start [mJ]", title="Torque pulse, then free swing")
-    ax.legend()
-    paths.append(out / "energy.png")
-    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    save(fig, "energy.png", ax)
     fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
     for name, (_model, res) in runs.items():
         for ax, joint in zip(axes, ("d2c3", "j5"), strict=True):
             ax.plot(res.t, np.linalg.norm(res[f"{joint}.frame_a.f"], axis=1), label=name)
     axes[0].set(ylabel="grip disc bearing d2c3 [N]", yscale="log")
     axes[1].set(xlabel="t [s]", ylabel="shield 5 bearing j5 [N]", yscale="log")
-    axes[0].legend()
-    paths.append(out / "reactions.png")
-    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    save(fig, "reactions.png", axes[0])
     fig, ax = plt.subplots(figsize=(7, 4))
     for name, (model, res) in runs.items():
         if model.flexible:
             ax.plot(res.t, 1e-6 * np.max(list(rod_stress(model, res).values()), axis=0), label=name)
     ax.set(xlabel="t [s]", ylabel="largest von Mises stress in the pull rods [MPa]")
-    ax.legend()
-    paths.append(out / "stress.png")
-    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    save(fig, "stress.png", ax)
     fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
     for name, (_model, res) in runs.items():
         for ax, var in zip(axes, ("phi", "w", "a"), strict=True):
@@ -168,10 +166,7 @@ def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | 
     for ax, label in zip(axes, ("shield 4 angle [rad]", "speed [rad/s]", "acceleration [rad/s2]"), strict=True):
         ax.set(ylabel=label)
     axes[-1].set(xlabel="t [s]")
-    axes[0].legend()
-    paths.append(out / "shield.png")
-    fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    save(fig, "shield.png", axes[0])
     return paths
 
 
