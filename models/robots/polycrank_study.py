@@ -63,11 +63,11 @@ def no_friction() -> dict[str, float]:
 
 
 def pulse_model(flexible: bool, params: PolycrankParameters | None = None,
-                angles: tuple[float, float, float, float] = SWING_POSE) -> PolycrankFragment:
-    """The fragment with bearing friction, trimmed drives and the torque pulse on shield 4 (flexible: rods built
-    with ``PRELOAD``, so that the preload is a run-time parameter)."""
+                angles: tuple[float, float, float, float] = SWING_POSE, pulse: float = PULSE) -> PolycrankFragment:
+    """The fragment with bearing friction, trimmed drives and the torque pulse ``pulse`` [N.m] on shield 4
+    (flexible: rods built with ``PRELOAD``, so that the preload is a run-time parameter)."""
     t0, t1 = PULSE_START, PULSE_START + PULSE_WIDTH
-    torques = (((0.0, t0, t1), (0.0, PULSE, 0.0)), ((0.0,), (0.0,)), ((0.0,), (0.0,)), ((0.0,), (0.0,)))
+    torques = (((0.0, t0, t1), (0.0, float(pulse), 0.0)), ((0.0,), (0.0,)), ((0.0,), (0.0,)), ((0.0,), (0.0,)))
     return PolycrankFragment(angles=angles, drive="trim", torques=torques, friction=True, flexible=flexible,
                              preload=PRELOAD if flexible else 0.0, params=params)
 

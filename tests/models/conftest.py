@@ -12,8 +12,13 @@ import flexlib as fl
 from flexlib.registry import get_model, run_scenario
 
 
-@cache
 def _pump_truck_run(scenario: str, flexible: bool = False) -> fl.Result:
+    # one key per run: functools.cache keys f("a") and f("a", False) apart, which ran expand-fold twice
+    return _cached_run(str(scenario), bool(flexible))
+
+
+@cache
+def _cached_run(scenario: str, flexible: bool) -> fl.Result:
     sc = get_model("pump-truck").scenario(scenario)
     if flexible:
         sc = replace(sc, options={**sc.options, "flexible": True})
