@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 import flexlib as fl
-from flexlib.components.control import Constant, TimeTable, Trapezoid
+from flexlib.components.control import Constant, TimeTable, Trapezoid, Trim
 from flexlib.components.mechanics import translational
 from flexlib.components.mechanics.flexible import FlexibleBody, beam_mesh, box, modal_data_from_fe
 from flexlib.components.mechanics.multibody import Body, FixedRotation, FixedTranslation, Prismatic, Revolute, World
@@ -164,16 +164,21 @@ class CartesianRobot(fl.Model):
     ----------
     flexible : bool
         Arms as flexible bodies (``n_modes`` fixed-interface modes each) instead of rigid ones.
-    drive : {"motion", "force", "free"}
+    drive : {"motion", "force", "trim", "free"}
         ``"motion"``: each drive follows a trapezoidal speed profile (``speeds``); ``"force"``: each drive pushes
-        with a force constant over time intervals (``forces``); ``"free"``: each drive carries the constant force
+        with a force constant over time intervals (``forces``); ``"trim"``: each drive pushes with the force that
+        holds the robot at rest at ``tip`` — found by the initialisation (``trim{k}``, a
+        :class:`~flexlib.components.control.Trim`: for the flexible robot it differs from the rigid hand statics by
+        the arms' sag) — plus the interval forces ``forces`` (the seed's force-driven runs, started at rest with
+        ``run(steady_state=True)`` when flexible); ``"free"``: each drive carries the constant force
         ``f_drive`` that holds the rigid robot at rest at ``tip`` (:func:`holding_forces`; static analysis,
         linearisation, modal analysis with the drives locked).
     speeds : sequence of (float, float, float, float)
         Per drive: peak speed [m/s], ramp time [s], plateau time [s], start time [s] of a trapezoidal speed profile
         (a zero peak: the drive stands still).
     forces : sequence of (times, values)
-        Per drive: breakpoints [s] and drive forces [N], held constant from each breakpoint to the next.
+        Per drive: breakpoints [s] and drive forces [N], held constant from each breakpoint to the next (with
+        ``drive="trim"``, added to the holding force).
     tip : sequence of float
         Tip start position [m] (home: the origin).
     params : CartesianParameters
@@ -185,8 +190,9 @@ class CartesianRobot(fl.Model):
                  forces: Any = None, tip: Any = (0.0, 0.0, 0.0), params: CartesianParameters | None = None) -> None:
         super().__init__()
         par = params or CartesianParameters()
-        if drive not in ("motion", "force", "free"):
-            raise fl.ParameterError(f"CartesianRobot: drive={drive!r} is not one of 'motion', 'force', 'free'")
+        if drive not in ("motion", "force", "trim", "free"):
+            raise fl.ParameterError(f"CartesianRobot: drive={drive!r} is not one of 'motion', 'force', 'trim', "
+                                    "'free'")
         self.par, self.flexible, self.drive = par, bool(flexible), drive
         tip = np.asarray(tip, dtype=float)
         angles = leg_angles(par, tip)
@@ -202,7 +208,8 @@ class CartesianRobot(fl.Model):
             orient = FixedRotation(n=[1.0, 1.0, 1.0], angle=turn)
             # the tip position is the initial condition (through the drive strokes); the joint angles are
             # guesses that the loop closure corrects
-            init = {"s": float(tip[ei])} if drive == "motion" else {"s": float(tip[ei]), "v": 0.0}
+            init = {"motion": {"s": float(tip[ei])}, "trim": {"s": float(tip[ei]), "v": 0.0, "a": 0.0}}.get(
+                drive, {"s": float(tip[ei]), "v": 0.0})
             guide = Prismatic(n=[0.0, 0.0, 1.0], use_axis_flange=drive != "free", init=init,
                               f_drive=float(hold[k - 1]) if drive == "free" else 0.0)
             slider = Body(m=par.m_slider, r_CM=[0.0, 0.0, 0.0], I=np.eye(3) * par.I_slider)
@@ -238,12 +245,18 @@ class CartesianRobot(fl.Model):
                 setattr(self, f"speed{k}", src)
                 self.connect(profile.y, src.v_ref)
                 self.connect(src.flange, guide.axis)
-            elif drive == "force":
+            elif drive in ("force", "trim"):
                 times, values = forces[k - 1] if forces is not None else ((0.0,), (0.0,))
                 table = (TimeTable([float(tk) for tk in times], [float(v) for v in values], smoothness="constant")
                          if len(times) > 1 else Constant(k=float(values[0])))
                 push = translational.Force()
                 setattr(self, f"force_table{k}", table)
                 setattr(self, f"push{k}", push)
-                self.connect(table.y, push.f)
+                if drive == "trim":
+                    trim = Trim(guess={"b": float(hold[k - 1])})
+                    setattr(self, f"trim{k}", trim)
+                    self.connect(table.y, trim.u)
+                    self.connect(trim.y, push.f)
+                else:
+                    self.connect(table.y, push.f)
                 self.connect(push.flange, guide.axis)

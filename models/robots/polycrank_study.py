@@ -144,7 +144,7 @@ def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | 
     for name, (model, res) in runs.items():
         E = mechanical_energy(model, res)
         ax.plot(res.t, 1e3 * (E - E[0]), label=name)
-    ax.set(xlabel="t [s]", ylabel="energy above the start [mJ]", title="Torque pulse, then free swing")
+    ax.set(xlabel="t [s]", ylabel="E − E(0) [mJ]", title="Torque pulse, then free swing")
     save(fig, "energy.png", ax)
     fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
     for name, (_model, res) in runs.items():

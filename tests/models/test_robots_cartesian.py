@@ -69,3 +69,22 @@ def test_bad_robot_arguments():
         CartesianRobot(drive="hydraulic")
     with pytest.raises(fl.ParameterError, match="out of reach"):
         CartesianRobot(tip=(0.0, 0.9, 0.0))
+
+
+def test_force_driven_robot_starts_trimmed_and_only_the_flexible_tip_turns():
+    """Seed 002's force-driven runs (``drive="trim"``: the holding force found at the start plus forces constant
+    over intervals; ``models/robots/cartesian_study.py``). The rigid robot's holding forces are the hand statics
+    (1e-6), the flexible robot's differ from them by the arms' sag only (1 %); under the interval forces the rigid
+    tip does not rotate (1e-9 rad) while the flexible one turns by a fraction of a milliradian (1e-5 … 5e-3 rad)."""
+    from models.robots.cartesian_study import CASES, tip_rotation
+
+    _, drive, kwargs, t_end = next(c for c in CASES if c[0] == "forces")
+    hand = holding_forces(CartesianParameters(), (0.0, 0.0, 0.0))
+    for flexible in (False, True):
+        res = fl.Simulation(CartesianRobot(flexible=flexible, drive=drive, **kwargs)).run(
+            t_end, dt_out=0.005, steady_state=flexible, progress=False)
+        assert res.success
+        trims = np.array([res[f"trim{k}.b"][0] for k in (1, 2, 3)])
+        np.testing.assert_allclose(trims, hand, atol=(0.01 if flexible else 1e-6) * np.abs(hand).max())
+        turn = tip_rotation(res).max()
+        assert (1e-5 < turn < 5e-3) if flexible else (turn < 1e-9), (flexible, turn)
