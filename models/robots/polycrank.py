@@ -91,6 +91,9 @@ class PolycrankParameters:
     mu, r_bearing, tau_c0 : float
         Friction of the nine bearings (``friction=True``): coefficient [1] on the radial load at the bearing radius
         [m] (cross-roller bearing, journal model) and the load-independent seal torque [N.m].
+    stribeck, w_s, d_bearing : float
+        The bearings' break-away to Coulomb friction ratio [1] at rest, its Stribeck speed [rad/s] and their viscous
+        coefficient [N.m.s/rad] (grease) — the revolute joint's Coulomb + Stribeck + viscous law.
     """
 
     L4: float = 0.30
@@ -111,6 +114,9 @@ class PolycrankParameters:
     mu: float = 0.004
     r_bearing: float = 0.05
     tau_c0: float = 0.02
+    stribeck: float = 1.3
+    w_s: float = 0.05
+    d_bearing: float = 2.0e-3
     d_rod: float = 0.006
     E_rod: float = 2.1e11
     rod_elements: int = 6
@@ -319,8 +325,8 @@ class PolycrankFragment(fl.Model):
         z = [0.0, 0.0, 1.0]
         self.world = World(g=par.g, n=[0.0, -1.0, 0.0])
         # shields on their bearings
-        bearing = {"use_friction": True, "mu": par.mu, "r_bearing": par.r_bearing, "tau_c0": par.tau_c0} \
-            if friction else {}
+        bearing = {"use_friction": True, "mu": par.mu, "r_bearing": par.r_bearing, "tau_c0": par.tau_c0,
+                   "stribeck": par.stribeck, "w_s": par.w_s, "d": par.d_bearing} if friction else {}
         if drive not in DRIVES:
             raise fl.ParameterError(f"PolycrankFragment: drive must be one of {DRIVES}, got {drive!r}")
         if drive == "motion" and (motion is None or len(motion) != 4 or any(len(m) != 4 for m in motion)):

@@ -13,8 +13,8 @@ coefficients (:func:`no_friction`), the preload is set by the rods' mount offset
 
 Run ``python -m models.robots.polycrank_study [--out DIR] [--t-end T]``: a table of the figures and the PNGs
 ``energy.png`` (energy above the start), ``reactions.png`` (force in the grip disc's bearing, the cap–disc joint
-of the seed's Fig. 13, and in shield 5's bearing), ``stress.png`` (largest von Mises stress over the pull rods)
-and ``shield.png`` (shield 4's angle, speed and acceleration).
+of the seed's Fig. 13, in shield 5's bearing, and the friction torque in shield 4's), ``stress.png`` (largest von
+Mises stress over the pull rods) and ``shield.png`` (shield 4's angle, speed and acceleration).
 """
 
 from __future__ import annotations
@@ -58,8 +58,8 @@ LOCKED = ["j4", "d0o", "d0c3", "d0c4"]
 
 
 def no_friction() -> dict[str, float]:
-    """Run-time parameters that switch the bearings' friction off (zero coefficients)."""
-    return {f"{j}.{k}": 0.0 for j in BEARINGS for k in ("mu", "tau_c0")}
+    """Run-time parameters that switch the bearings' friction off (zero Coulomb and viscous coefficients)."""
+    return {f"{j}.{k}": 0.0 for j in BEARINGS for k in ("mu", "tau_c0", "d")}
 
 
 def pulse_model(flexible: bool, params: PolycrankParameters | None = None,
@@ -91,7 +91,7 @@ def run_variants(t_end: float = 1.0, params: PolycrankParameters | None = None,
 def summary(runs: dict[str, tuple[PolycrankFragment, fl.Result]], at: float = 0.3) -> list[dict[str, Any]]:
     """Per variant: the pulse's energy left at ``at`` [s] (fraction of the frictionless rigid run's), the largest
     force in the grip disc's bearing ``d2c3`` and in shield 5's ``j5`` [N], the largest rod von Mises stress [Pa]
-    (flexible) and the trims (holding torques) [N.m]."""
+    (flexible), the trims (holding torques) [N.m] and the largest friction torque in shield 4's bearing [N.m]."""
     rows = []
     ref = None
     for name, (model, res) in runs.items():
@@ -102,7 +102,8 @@ def summary(runs: dict[str, tuple[PolycrankFragment, fl.Result]], at: float = 0.
             ref = gained
         row = {"variant": name, "energy_left": gained / ref, "d2c3_force": float(np.linalg.norm(
             res["d2c3.frame_a.f"], axis=1).max()), "j5_force": float(np.linalg.norm(res["j5.frame_a.f"], axis=1).max()),
-            "trims": [float(res[f"trim_{j}.b"][0]) for j in ("j4", "d0o", "d0c3", "d0c4")]}
+            "trims": [float(res[f"trim_{j}.b"][0]) for j in ("j4", "d0o", "d0c3", "d0c4")],
+            "friction_j4": float(np.abs(res["j4.tau_f"]).max()) if "j4.tau_f" in res else 0.0}
         if model.flexible:
             row["von_mises"] = float(max(s.max() for s in rod_stress(model, res).values()))
         rows.append(row)
@@ -146,12 +147,15 @@ def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | 
         ax.plot(res.t, 1e3 * (E - E[0]), label=name)
     ax.set(xlabel="t [s]", ylabel="E − E(0) [mJ]", title="Torque pulse, then free swing")
     save(fig, "energy.png", ax)
-    fig, axes = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
+    fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
     for name, (_model, res) in runs.items():
-        for ax, joint in zip(axes, ("d2c3", "j5"), strict=True):
+        for ax, joint in zip(axes[:2], ("d2c3", "j5"), strict=True):
             ax.plot(res.t, np.linalg.norm(res[f"{joint}.frame_a.f"], axis=1), label=name)
+        if "j4.tau_f" in res:
+            axes[2].plot(res.t, res["j4.tau_f"], label=name)
     axes[0].set(ylabel="grip disc bearing d2c3 [N]", yscale="log")
-    axes[1].set(xlabel="t [s]", ylabel="shield 5 bearing j5 [N]", yscale="log")
+    axes[1].set(ylabel="shield 5 bearing j5 [N]", yscale="log")
+    axes[2].set(xlabel="t [s]", ylabel="friction torque, shield 4 bearing [N.m]")
     save(fig, "reactions.png", axes[0])
     fig, ax = plt.subplots(figsize=(7, 4))
     for name, (model, res) in runs.items():
@@ -177,10 +181,11 @@ def main() -> None:
     args = parser.parse_args()
     runs = run_variants(args.t_end)
     print(f"{'variant':<18} {'energy left at 0.3 s':>21} {'|F| d2c3 [N]':>13} {'|F| j5 [N]':>11} "
-          f"{'von Mises [MPa]':>16}")
+          f"{'von Mises [MPa]':>16} {'friction j4 [N.m]':>18}")
     for row in summary(runs):
         vm = f"{row['von_mises'] / 1e6:16.1f}" if "von_mises" in row else f"{'–':>16}"
-        print(f"{row['variant']:<18} {row['energy_left']:21.3f} {row['d2c3_force']:13.0f} {row['j5_force']:11.0f} {vm}")
+        print(f"{row['variant']:<18} {row['energy_left']:21.3f} {row['d2c3_force']:13.0f} {row['j5_force']:11.0f} {vm}"
+              f" {row['friction_j4']:18.3f}")
     poses = [tuple(a + math.radians(turn) for a in SWING_POSE) for turn in (0, 45, 90)]
     for pre in (0.0, PRELOAD):
         f = locked_frequencies(poses, preload=pre)
