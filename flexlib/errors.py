@@ -148,3 +148,8 @@ class RegistryError(FlexlibError, LookupError):
 class ResultCheckWarning(UserWarning):
     """A check of a result's recorded rows (the settling of derivative-level unknowns) could not run; the rows are
     returned as the solver left them, and ``result.stats["settle_error"]`` says why."""
+
+
+class AnalysisWarning(UserWarning):
+    """A linear-analysis result that rests on a numerical choice flexlib cannot confirm at this operating point
+    (``lock="rigid"`` / ``mobility`` on loops closed through flexible bodies); the message says what to check."""

@@ -228,3 +228,31 @@ def test_linearization_along_a_result_and_sweeps():
            for x in xs]
     np.testing.assert_allclose(sweep.frequencies[:, 0], ref, rtol=1e-9)
     assert len(sweep.points) == 3 and len(sweep.modes) == 3
+
+
+def test_rigid_dof_count_on_a_loop_closed_through_a_flexible_body_warns():
+    """A flexible rod pinned to the ground at both ends closes a loop through its elastic coordinates: the rigid
+    degrees of freedom (none here) are counted with those coordinates held, a count that can miss some in an
+    over-constrained mechanism with flexible links, so mobility (and lock="rigid") say so with an AnalysisWarning
+    that names the count."""
+    from flexlib.components.mechanics.flexible import circle
+    from flexlib.errors import AnalysisWarning
+
+    data = modal_data_from_fe(beam_mesh((0, 0, 0), (0.3, 0, 0), 4, circle(0.006), E=2.1e11, rho=7850.0), [0, 4], 1,
+                              reference_node=0, title="rod")
+
+    class PinnedRod(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.world = World()
+            self.ja = Revolute(n=[0, 0, 1], guess={"phi": 0.0})
+            self.rod = FlexibleBody(data)
+            self.jb = Revolute(n=[0, 0, 1], guess={"phi": 0.0})
+            self.pb = FixedTranslation(r=[0.3, 0, 0])
+            self.connect(self.world.frame_b, self.ja.frame_a, self.pb.frame_a)
+            self.connect(self.ja.frame_b, self.rod.frame_a)
+            self.connect(self.rod.frame_b, self.jb.frame_a)
+            self.connect(self.pb.frame_b, self.jb.frame_b)
+
+    with pytest.warns(AnalysisWarning, match=r"this count \(0\) can miss"):
+        assert fl.analysis.mobility(fl.Simulation(PinnedRod()), steady_state=True)[0] == 0

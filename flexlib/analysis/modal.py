@@ -25,6 +25,7 @@ not locked as if the loop were open.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -41,6 +42,7 @@ from flexlib.analysis.linear import (
     result_parameters,
     result_point,
 )
+from flexlib.errors import AnalysisWarning
 from flexlib.results.result import Result
 
 __all__ = ["ModalSweep", "Modes", "mobility", "modal_analysis", "modal_sweep"]
@@ -204,6 +206,12 @@ def _rigid_rank(lin: Linearizer, point: OperatingPoint, C: np.ndarray) -> tuple[
         if _rank(M[[*chosen, k]], scale)[0] == len(chosen) + 1:
             chosen.append(k)
     rest = [k for k in range(M.shape[0]) if k not in chosen]
+    if elastic and any("loop closure" in row for row in lin.m.row_labels):
+        warnings.warn(
+            f"{lin.m.name}: the rigid degrees of freedom are counted with the elastic coordinates held, at a point "
+            f"where loops closed through flexible bodies are deflected; this count ({total}) can miss some of them "
+            "(an over-constrained mechanism with flexible links). Check the joints it chose against the mechanism, "
+            "or pass the joints to lock by name", AnalysisWarning, stacklevel=3)
     return total, np.array(chosen + rest, dtype=int)
 
 
