@@ -528,6 +528,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     model._sx = dict(fns)
     model._functions = dict(fns)
     model.derivative_level = derivative_level(F, y, yp, dae.differential)
+
     def texts() -> tuple[str, str]:  # serialized once, for the C file's name and the cache entry
         model.serialized = {k: f.serialize() for k, f in fns.items()}
         return model.serialized["res"], model.serialized["jac"]

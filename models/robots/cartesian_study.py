@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 import flexlib as fl
 from flexlib.components.mechanics.flexible import node_displacements
@@ -38,10 +39,7 @@ def tip_rotation(result: fl.Result) -> np.ndarray:
     """Rotation angle of the tip from its start orientation [rad], (nt,)."""
     n = len(result.t)
     T = result["tip.frame_a.T"].reshape(n, 3, 3, order="F")
-    R = np.einsum("tij,kj->tik", T, T[0])  # relative rotation T(t) T(0)^T
-    # atan2(|sin|, cos) of the rotation angle: accurate near zero, where arccos((tr R − 1)/2) loses half the digits
-    axial = np.stack([R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0], R[:, 1, 0] - R[:, 0, 1]], axis=1) / 2
-    return np.arctan2(np.linalg.norm(axial, axis=1), (np.trace(R, axis1=1, axis2=2) - 1) / 2)
+    return Rotation.from_matrix(np.einsum("tij,kj->tik", T, T[0])).magnitude()  # of T(t) T(0)^T
 
 
 def arm_deflection(model: CartesianRobot, result: fl.Result) -> np.ndarray:

@@ -254,26 +254,26 @@ def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray
 
 
 class PolycrankFragment(fl.Model):
-    """The POLYCRANK power-transmission fragment (module docstring), rigid links.
+    """The POLYCRANK power-transmission fragment (module docstring), rigid or with flexible pull rods.
 
-    Parameters
-    ----------
-    angles, speeds : tuple of float
-        Start angles [rad] and angular velocities [rad/s] of shield 4 and of the outer, c3 and c4 discs at ``A0``
-        (absolute).
-    friction : bool
-        Coulomb + viscous friction in the nine bearings (the revolute joints' journal model: ``mu`` on the radial
-        load at ``r_bearing``, plus ``tau_c0``).
-
-    Range: a parallelogram link passes a change point (its pins on the line of the disc axes) every 60° of
-    relative rotation of its discs; there the rows kept for that link lose rank and the rigid model stops with a
-    singular Jacobian. Motion through change points needs the compliance of flexible pull rods (or a redundancy
-    selection made again during the run): not built yet.
+    A parallelogram link passes a change point (its pins on the line of the disc axes) every 30° of relative
+    rotation of its discs; there the loop rows kept for a rigid link lose rank and a run released with speeds can
+    stop with a singular Jacobian. Flexible pull rods carry no torque there and run through
+    (``tests/models/test_robots_polycrank_flexible.py``).
 
     The pull rods' preload (seed 002: "links of parallelogram linkages are mounted with initial load") is a
     self-stress of the statically indeterminate linkage: with rigid links it is carried by the links themselves
     and changes nothing (the redundant links' reactions are indeterminate and set to zero), so it belongs to the
     variant with flexible pull rods.
+
+    Parameters
+    ----------
+    angles, speeds : tuple of float
+        Start angles [rad] and angular velocities [rad/s] of shield 4 and of the outer, c3 and c4 discs at ``A0``
+        (absolute; the speeds with ``drive="torque"``).
+    friction : bool
+        Coulomb + Stribeck + viscous friction in the nine bearings (the revolute joints' law: ``mu`` on the radial
+        load at ``r_bearing``, plus ``tau_c0``; :class:`PolycrankParameters`).
     hold : bool
         ``drive="torque"``: each drive (``j4`` and the three discs at ``A0``) carries the constant torque that holds
         the rigid fragment at rest (:func:`drive_torques`, as ``tau_drive``); otherwise the drives carry no torque.
@@ -297,10 +297,10 @@ class PolycrankFragment(fl.Model):
         Each pull rod a Craig–Bampton :class:`~flexlib.components.mechanics.flexible.FlexibleBody` (beam mesh of a
         ``d_rod`` steel rod, both pins interface, geometric stiffening of its axial force: without it a tensioned
         rod of the linear floating-frame model shortens its chord by bending instead of stretching and finds a
-        spurious bent equilibrium). Static start: ``drive="held"`` and ``run(steady_state=True)``.
+        spurious bent equilibrium). Static start: ``drive="trim"`` or ``"held"`` and ``run(steady_state=True)``.
     preload : float
-        Tension of every pull rod when mounted [N] (``flexible=True``): the rod's free length is the pin
-        distance shortened by ``T L / (E A)``.
+        Tension of every pull rod when mounted [N] (``flexible=True``): each rod hangs on its far pin through a
+        mount offset ``−T L / (E A)`` along it (a run-time parameter: :func:`preload_params`).
     params : PolycrankParameters
         The numbers.
     """
@@ -321,7 +321,7 @@ class PolycrankFragment(fl.Model):
         w4, w_o, w_c3, w_c4 = (float(w) for w in speeds)
         th4, th_o, th_c3, th_c4 = (float(a) for a in angles)
         hand = drive_torques(par, (th4, th_o, th_c3, th_c4))
-        tau = hand if hold else np.zeros(4)
+        tau = hand if hold and drive == "torque" else np.zeros(4)  # constant drive torques (drive="torque")
         z = [0.0, 0.0, 1.0]
         self.world = World(g=par.g, n=[0.0, -1.0, 0.0])
         # shields on their bearings
@@ -335,8 +335,6 @@ class PolycrankFragment(fl.Model):
         if torques is not None and (drive != "trim" or len(torques) != 4):
             raise fl.ParameterError("PolycrankFragment: torques (four (times [s], torques [N.m]) tables) go with "
                                     f"drive='trim', got drive={drive!r}, torques={torques!r}")
-        if drive != "torque":
-            tau = np.zeros(4)
         self.drive = drive
 
         def driven(name: str, th: float, w: float, t_drive: float) -> Revolute:
@@ -347,6 +345,7 @@ class PolycrankFragment(fl.Model):
             start = {"held": {"guess": {"phi": th}}, "motion": {"init": {"phi": th}},
                      "trim": {"init": {"phi": th, "w": 0.0, "a": 0.0}}}[drive]
             joint = Revolute(n=z, use_axis_flange=True, **bearing, **start)
+            trim = None
             if drive == "held":
                 source, ref, name_s = rotational.Position(), Constant(k=th), f"hold_{name}"
             elif drive == "motion":
@@ -358,11 +357,12 @@ class PolycrankFragment(fl.Model):
                 times, values = torques[k] if torques is not None else ((0.0,), (0.0,))
                 ref = (TimeTable([float(t) for t in times], [float(v) for v in values], smoothness="constant")
                        if len(times) > 1 else Constant(k=float(values[0])))
-                setattr(self, f"trim_{name}", Trim(guess={"b": float(hand[k])}))
+                trim = Trim(guess={"b": float(hand[k])})
+                setattr(self, f"trim_{name}", trim)
                 source, name_s = rotational.Torque(), f"motor_{name}"
             setattr(self, name_s, source)
             setattr(self, f"ref_{name}", ref)
-            self._sources.append((joint, source, ref, getattr(self, f"trim_{name}", None)))
+            self._sources.append((joint, source, ref, trim))
             return joint
 
         self._sources: list = []
