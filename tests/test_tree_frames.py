@@ -7,12 +7,15 @@ substituting the forward kinematics. Reference for every comparison: the same mo
 the integration tolerance stated at each test.
 """
 
+import dataclasses
+
+import casadi as ca
 import numpy as np
 import pytest
 
 import flexlib as fl
 from flexlib.compile import tearing
-from flexlib.components.mechanics.multibody import Body, Bushing, World
+from flexlib.components.mechanics.multibody import Body, Bushing, SpringDamperLine, World
 from flexlib.models.n_link_pendulum import NLinkPendulum
 from flexlib.models.planar_mechanisms import FourBarLinkage
 
@@ -122,3 +125,65 @@ def test_free_body_on_bushing_with_frames_kept(monkeypatch):
     assert sim.report.tree_frames.startswith("kept")
     res = sim.run(0.1, dt_out=0.05, steady_state=True, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(res["bushing.r_rel"][-1], [0.0, -m * G / c[1], 0.0], rtol=1e-8, atol=1e-14)
+
+
+class SpannedChain(fl.Model):
+    """A 4-link pendulum chain (gravity −y) with a line spring from the tip of link 2 to the tip of link 4: the
+    spring's rows relate two frames whose common frame is link 2's."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.chain = NLinkPendulum(4, phi0=-0.6)
+        self.spring = SpringDamperLine(c=400.0, d=2.0, s_unstretched=0.6)
+        self.connect(self.chain.rod2.frame_b, self.spring.frame_a)
+        self.connect(self.chain.rod4.frame_b, self.spring.frame_b)
+
+
+def test_rows_between_frames_are_written_relative_to_their_common_frame(monkeypatch):
+    """``tearing._localize_rows``: the spring's length row no longer involves the joints above link 2 (structural
+    locality), the report counts the rewritten rows, and 0.5 s at rtol 1e-11 agrees with the build that keeps the
+    rows as torn (``_localize_rows`` replaced by the identity): joint angles and spring length to 1e-8 m."""
+    monkeypatch.delenv("FLEXLIB_TREE_FRAMES", raising=False)
+    b = fl.build(SpannedChain(), use_cache=False)
+    assert "rows written relative to their common base frame" in b.compiled.report.tree_frames
+    length = [e for e in b.simple.equations if e.owner == "spring" and "length" in e.label]
+    assert length
+    for e in length:
+        names = {str(s) for s in ca.symvar(e.expr)}
+        assert not any("joint1" in n or "joint2" in n for n in names), names
+    runs = {}
+    sim = fl.Simulation(SpannedChain(), use_cache=False)
+    runs["local"] = sim.run(0.5, dt_out=0.05, rtol=1e-11, atol=1e-13, progress=False)
+    monkeypatch.setattr(tearing, "_localize_rows", lambda simple, *args: (simple, 0))
+    ref = fl.Simulation(SpannedChain(), use_cache=False)
+    assert "rows written relative" not in ref.report.tree_frames
+    runs["torn"] = ref.run(0.5, dt_out=0.05, rtol=1e-11, atol=1e-13, progress=False)
+    assert np.ptp(runs["torn"]["spring.length"]) > 1e-2  # the spring really works
+    for k in range(1, 5):
+        np.testing.assert_allclose(runs["local"][f"chain.joint{k}.phi"], runs["torn"][f"chain.joint{k}.phi"], atol=1e-8)
+    np.testing.assert_allclose(runs["local"]["spring.length"], runs["torn"]["spring.length"], atol=1e-8)
+
+
+def test_rows_that_are_not_invariant_are_kept_as_built():
+    """The numeric check of ``_localize_rows`` rejects a row that depends on the common frame's orientation: a row
+    ``r_a,x − r_b,x`` (world-resolved) between the tips of links 2 and 4 changes when link 2 turns, so it is kept;
+    the spring's length row (invariant) is rewritten."""
+    from flexlib.compile.flatten import flatten
+    from flexlib.compile.redundancy import explicit_definitions
+    from flexlib.compile.simplify import simplify
+
+    model = SpannedChain()
+    flat = flatten(model, check=False)
+    params = {q.sym.element_hash(): q.value for q in flat.parameters}
+    simple = simplify(flat)
+    ids = tearing._frame_ids(simple)
+    vs, defs, _ = explicit_definitions(simple, ids)
+    by_name = {v.name: v.sym for v in simple.variables}
+    world_row = by_name["spring.frame_a.r_0[0]"] - by_name["spring.frame_b.r_0[0]"]
+    probe = dataclasses.replace(simple.equations[0], expr=world_row, label="world-resolved probe")
+    probed = dataclasses.replace(simple, equations=[*simple.equations, probe])
+    out, n = tearing._localize_rows(probed, vs, defs, params)
+    assert n >= 1
+    assert out.equations[-1].expr is probe.expr  # not invariant: kept as built
+    changed = [e.label for e, o in zip(probed.equations, out.equations, strict=True) if e.expr is not o.expr]
+    assert any("length" in lab for lab in changed), changed

@@ -43,6 +43,7 @@ class Initializer:
         self.diff = np.flatnonzero(model.differential)
         self._init_fns: dict[tuple, tuple[ca.Function, ca.Function]] = {}
         self._reinit_fns: tuple[Any, Any] | None = None
+        self._last_jac: Any = None  # the Jacobian at the point the last _solve accepted (None: not evaluated)
 
     # -- symbolic set-up ------------------------------------------------------------------------
     def _symbols(self) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX, ca.SX]:
@@ -395,29 +396,46 @@ class Initializer:
                tol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
         """Recompute algebraic variables and derivatives at an event, states held."""
         y_new, yp_new = self._reinit(t, y, yp, p, tol)
-        return y_new, self.algebraic_rates(t, y_new, yp_new, p)
+        return y_new, self.algebraic_rates(t, y_new, yp_new, p, self._last_jac)
 
-    def algebraic_rates(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> np.ndarray:
-        """``yp`` with the rates of the algebraic variables filled in (by a consistent solve at ``t + δ``).
+    def algebraic_rates(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
+                        jac: sps.spmatrix | None = None) -> np.ndarray:
+        """``yp`` with the rates of the algebraic variables filled in, from the consistent point at ``t + δ``.
 
-        They do not enter the residual, but IDA's predictor uses them on the first step; zeros
-        make the error test fail on systems whose algebraic variables move fast.
+        They do not enter the residual, but IDA's predictor uses them on the first step; zeros make the error
+        test fail on systems whose algebraic variables move fast. The states are moved to ``y + δ·y'`` and the
+        held problem (:meth:`_reinit`) is solved at ``t + δ`` by chord steps with its Jacobian at ``t`` (``jac``
+        when the caller has it): the guess is ``O(δ)`` off and the Jacobian ``O(δ)`` stale, so two steps leave
+        ``O(δ³)``, far below the ``O(δ)`` of the difference quotient itself.
         """
-        alg = np.flatnonzero(~self.model.differential)
+        m = self.model
+        alg = np.flatnonzero(~m.differential)
         if len(alg) == 0:
             return yp
+        g, jg = self._held_functions()
+        na = len(alg)
+        w = np.concatenate([y[alg], yp[self.diff]])
         delta = 1e-7 * max(1.0, abs(t))
-        y2 = y + delta * yp
-        try:
-            y2, _ = self._reinit(t + delta, y2, yp, p, 1e-12, diagnose=False)
-        except InitializationError:
-            return yp
+        with np.errstate(all="ignore"):
+            try:
+                J = jac if jac is not None else jg(w, np.concatenate([[t], p, y[self.diff]]))
+                lu = sps.linalg.splu(sps.csc_matrix(J if sps.issparse(J) else J.sparse()))
+            except RuntimeError:  # singular there: the rates stay as they are
+                return yp
+            par = np.concatenate([[t + delta], p, y[self.diff] + delta * yp[self.diff]])
+            w2 = np.concatenate([y[alg] + delta * yp[alg], yp[self.diff]])
+            for _ in range(2):
+                r = np.asarray(g(w2, par), dtype=float).ravel()
+                step = lu.solve(-r)
+                if not np.all(np.isfinite(step)):
+                    return yp
+                w2 += step
         out = yp.copy()
-        out[alg] = (y2[alg] - y[alg]) / delta
+        out[alg] = (w2[:na] - y[alg]) / delta
         return out
 
-    def _reinit(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
-                tol: float, diagnose: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    def _held_functions(self) -> tuple[Any, Any]:
+        """Residual and Jacobian of the event problem with the states held (:meth:`_reinit`)."""
         m = self.model
         if self._reinit_fns is None:
             alg = np.flatnonzero(~m.differential)
@@ -440,7 +458,12 @@ class Initializer:
                 par = ca.vertcat(t_s, p_s, ystate)
                 self._reinit_fns = (ca.Function("g", [w, par], [F]),
                                     ca.Function("jg", [w, par], [ca.jacobian(F, w)]))
-        g, jg = self._reinit_fns
+        return self._reinit_fns
+
+    def _reinit(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
+                tol: float, diagnose: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        m = self.model
+        g, jg = self._held_functions()
         w0 = np.concatenate([y[self._alg], yp[self.diff]])
         par = np.concatenate([[t], p, y[self.diff]])
         labels = [(lab.split(":")[0], lab) for lab in m.row_labels]
@@ -573,6 +596,23 @@ class Initializer:
         kind = "over-specified" if rows and not cols else "under-specified" if cols and not rows else "inconsistent"
         raise InitializationError(f"initial conditions are {kind}: " + "\n".join(parts))
 
+    def _accept(self, w: np.ndarray, r: np.ndarray, J: Any, diagnose: bool, labels: list[tuple[str, str]],
+                cols: list[tuple[str, str]], what: str) -> np.ndarray:
+        """Return the consistent point ``w`` (its Jacobian ``J`` kept for :meth:`algebraic_rates`).
+
+        Consistent, but the integrator also needs a finite iteration matrix there: a law whose derivative is not
+        finite at the start (sign(dp)·sqrt(|dp|) at dp = 0) is named now, not as an integrator failure at t0
+        (with explicit unknowns eliminated, compile/explicit.py, a start is often consistent without a Newton
+        step)."""
+        if diagnose:
+            nf = nonfinite_lines(r, J, labels, cols, w, "at the consistent start")
+            if nf:
+                err = InitializationError(f"{what}: non-finite values:\n" + "\n".join(nf))
+                err.best = w
+                raise err
+        self._last_jac = J
+        return w
+
     def _solve(self, g: Any, jg: Any, w0: np.ndarray, par: np.ndarray, tol: float,
                labels: list[tuple[str, str]], cols: list[tuple[str, str]], nominal: np.ndarray,
                what: str = "could not find consistent initial values", diagnose: bool = True) -> np.ndarray:
@@ -597,27 +637,19 @@ class Initializer:
             return float(np.max(np.abs(r) / s)) if len(r) else 0.0
 
         w = w0.astype(float).copy()
+        self._last_jac = None
         with np.errstate(all="ignore"):
             r = fun(w)
             # damped Newton with sparse LU (fast path for the usual well-posed problem). It iterates to the absolute
             # tolerance while that makes progress; where it stalls (round-off: a 1e7 Pa equation cannot be held
-            # to 1e-10 Pa), the scaled test decides
+            # to 1e-10 Pa), a point that passes the scaled test with the Jacobian there is accepted as soon as a
+            # full Newton step from it no longer lowers the residual (no line search spinning on noise)
             for _ in range(50):
                 norm = np.linalg.norm(r, np.inf)
+                J = jac(w) if norm > tol or diagnose else None
+                scaled_ok = norm > tol and bool(np.all(np.isfinite(r))) and wnorm(r, row_scale(J, nominal)) <= tol
                 if norm <= tol:
-                    if not diagnose:
-                        return w
-                    # consistent, but the integrator also needs a finite iteration matrix there: a law whose
-                    # derivative is not finite at the start (sign(dp)·sqrt(|dp|) at dp = 0) is named now, not
-                    # as an integrator failure at t0 (with explicit unknowns eliminated, compile/explicit.py,
-                    # a start is often consistent without a Newton step)
-                    nf = nonfinite_lines(r, jac(w), labels, cols, w, "at the consistent start")
-                    if not nf:
-                        return w
-                    err = InitializationError(f"{what}: non-finite values:\n" + "\n".join(nf))
-                    err.best = w
-                    raise err
-                J = jac(w)
+                    return self._accept(w, r, J, diagnose, labels, cols, what)
                 with warnings.catch_warnings():
                     warnings.simplefilter("error", sps.linalg.MatrixRankWarning)
                     try:
@@ -631,6 +663,12 @@ class Initializer:
                         break
                 if not np.all(np.isfinite(step)):
                     break
+                if scaled_ok:  # round-off level: one full step, taken only if it lowers the residual
+                    r_try = fun(w + step)
+                    if np.all(np.isfinite(r_try)) and np.linalg.norm(r_try, np.inf) < norm:
+                        w, r = w + step, r_try
+                        continue
+                    return self._accept(w, r, J, diagnose, labels, cols, what)
                 lam = 1.0
                 while lam > 1e-4:
                     w_try = w + lam * step
@@ -707,9 +745,16 @@ class _StatesHeld:
 
     def __init__(self, model: CompiledModel, alg: np.ndarray, diff: np.ndarray) -> None:
         self.model, self.alg, self.diff = model, alg, diff
-        n = model.n
-        self.pattern = sps.csc_matrix((np.zeros(len(model.jac_row)), np.asarray(model.jac_row),
-                                       np.asarray(model.jac_colind)), shape=(n, n))
+        # the model Jacobian's CSC nonzeros that make the columns of ∂F/∂w: those of the algebraic columns, then
+        # those of the state columns (gathered once; each evaluation is then two C calls and two gathers)
+        colind = np.asarray(model.jac_colind)
+        row = np.asarray(model.jac_row)
+        take = [np.arange(colind[c], colind[c + 1]) for c in np.concatenate([alg, diff]).astype(int)]
+        self._take_alg = np.concatenate(take[:len(alg)] or [np.zeros(0, int)]).astype(int)
+        self._take_diff = np.concatenate(take[len(alg):] or [np.zeros(0, int)]).astype(int)
+        self._rows = np.concatenate([row[self._take_alg], row[self._take_diff]]).astype(np.int32)
+        self._colptr = np.concatenate([[0], np.cumsum([len(k) for k in take])]).astype(np.int32)
+        self._shape = (model.n, len(alg) + len(diff))
 
     def _point(self, w: np.ndarray, par: np.ndarray) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
         m, na = self.model, len(self.alg)
@@ -728,13 +773,11 @@ class _StatesHeld:
         """``∂F/∂w`` (CSC): algebraic columns ``∂F/∂y_alg``, then state columns ``∂F/∂y'_states``."""
         t, y, yp, p = self._point(w, par)
         jac = self.model.function("jac")
-        j0, jc = self.pattern.copy(), self.pattern.copy()
-        j0.data = np.asarray(jac(t, y, yp, p, 0.0).nonzeros(), dtype=float)
-        jc.data = np.asarray(jac(t, y, yp, p, self.CJ).nonzeros(), dtype=float)
-        d_dyp = (jc[:, self.diff] - j0[:, self.diff]) / self.CJ
-        J = sps.hstack([j0[:, self.alg], d_dyp], format="csc")
+        j0 = np.asarray(jac(t, y, yp, p, 0.0).nonzeros(), dtype=float)
+        jc = np.asarray(jac(t, y, yp, p, self.CJ).nonzeros(), dtype=float)
+        data = np.concatenate([j0[self._take_alg], (jc[self._take_diff] - j0[self._take_diff]) / self.CJ])
+        J = sps.csc_matrix((data, self._rows.copy(), self._colptr.copy()), shape=self._shape)  # pruned below
         J.eliminate_zeros()  # the ∂F/∂y pattern of the state columns: no entries of ∂F/∂y'
-        J.sort_indices()
         return J
 
 
