@@ -387,7 +387,9 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
             pass  # a damaged file: select again and replace it
     rows: dict[int, list[np.ndarray]] = {j: [] for j in range(1, 6)}
     for pose in poses:
-        result = fl.Simulation(PumpTruck(record, pose=pose, slewing=False)).run(0.01, dt_out=0.01, progress=False)
+        # a few static starts: CasADi's virtual machine, no C library compiled for them in the background
+        result = fl.Simulation(PumpTruck(record, pose=pose, slewing=False), codegen=False).run(0.01, dt_out=0.01,
+                                                                                          progress=False)
         for j, data in datas.items():
             rows[j].append(rigid_section_loads(result, record, j, data)[:1])
     chosen: dict[int, list[int]] = {}
