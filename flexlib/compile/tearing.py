@@ -129,11 +129,12 @@ def _localize_rows(simple: SimpleSystem, vs: ca.SX, defs: ca.SX,
     deepest frame symbols are expanded until those left belong to one frame, which is then set to the identity.
 
     Rows are not classified by kind: each rewrite is checked against the torn original at two random points
-    (parameters at their values, every other symbol random, so the torn ``T_F`` is a product of rotations), and a
-    row that does not match — a world-resolved loop row, a body's gravity, a base frame whose orientation is not a
-    rotation of the coordinates — is kept as built. Rows with derivatives are left alone (their frame derivatives
-    follow the chain rule of the torn definitions). Measured on the pump truck (``benchmarks/pump_truck.py``): the
-    flexible boom's Jacobian 494 k → 320 k operations, the rigid one's 58 k → 31 k.
+    (parameters at their values, event relations false and then true, every other symbol random, so the torn
+    ``T_F`` is a product of rotations), and a row that does not match — a world-resolved loop row, a body's
+    gravity, a base frame whose orientation is not a rotation of the coordinates — is kept as built. Rows with
+    derivatives are left alone (their frame derivatives follow the chain rule of the torn definitions). Measured
+    on the pump truck (``benchmarks/pump_truck.py``): the flexible boom's Jacobian 494 k → 320 k operations, the
+    rigid one's 58 k → 31 k.
 
     Returns the system and the number of rows rewritten.
     """
@@ -185,10 +186,13 @@ def _localize_rows(simple: SimpleSystem, vs: ca.SX, defs: ca.SX,
     f = ca.Function("loops", [ca.vertcat(*symbols) if symbols else ca.SX(0, 1)], [both])
     rng = np.random.default_rng(20261126)
     fixed = np.array([params.get(x.element_hash(), np.nan) for x in symbols], dtype=float)
+    rel = {r.info.sym.element_hash() for r, _ in simple.relations}
+    is_rel = np.array([x.element_hash() in rel for x in symbols], dtype=bool)
     ok = np.ones(len(rewrites), dtype=bool)
     m = len(rewrites)
-    for _ in range(2):
+    for switch in (0.0, 1.0):  # event relations false, then true: both branches of a piecewise row
         point = np.where(np.isfinite(fixed), fixed, rng.uniform(-1.0, 1.0, len(symbols)))
+        point[is_rel] = switch
         with np.errstate(all="ignore"):
             val = np.asarray(f(point), dtype=float).ravel()
         a, b = val[:m], val[m:]
