@@ -134,7 +134,11 @@ static struct {
     int (*solve)(void *, void *, int, int, double *, klu_common_t *);
     int (*free_symbolic)(void **, klu_common_t *);
     int (*free_numeric)(void **, klu_common_t *);
+    int (*refactor)(int *, int *, double *, void *, void *, klu_common_t *);
+    int (*rcond)(void *, void *, klu_common_t *);
 } KLU;
+static int klu_reuse_min_n = 0; /* refactorise with the previous pivots from this many unknowns (0: never) ... */
+static double klu_rcond_min = 1e-3; /* ... while rcond stays above this share of the last full factorisation's */
 
 typedef int (*cfun_t)(const double **, double **, long long *, double *, int);
 typedef int (*cidfun_t)(int, const double **, double **, long long *, double *, int);
@@ -184,6 +188,8 @@ typedef struct {
     SUNLinearSolver inner;
     klu_common_t klu;
     void *klu_sym, *klu_num;
+    double klu_rcond_full;
+    int klu_reuse;
     long ls_setups, ls_solves, ls_full; /* setups, solves, KLU numeric factorisations */
     double sec_setup, sec_solve;
     int ls_flag;
@@ -298,16 +304,20 @@ static int rootfn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *
 /* ---- linear solver wrapper: times the bundled solvers, or factorises with KLU ---- */
 
 /* KLU with its defaults: the pattern is IDA's (constant); the first setup analyses it once (BTF, then AMD on each
- * block: klu_analyze), and every setup factorises with threshold partial pivoting (klu_factor, tol 0.001). COLAMD
+ * block: klu_analyze), and a setup factorises with threshold partial pivoting (klu_factor, tol 0.001). COLAMD
  * instead of AMD halves the factorisation on the boom proxy (190 instead of 420 us) but, with tol 0.001, ran a stiff
  * bushing four-bar into 20000 steps at t = 0.017 s; with tol 1.0 it runs, but puts an rtol-1e-10 test (a force
- * computed two ways, 1e-8 N allowed) 2.8e-8 N off. Refactorising with the previous pivots (klu_refactor: 112 instead
- * of 327 us per setup on the boom proxy) put that test 2e-8 N off even with a pivot-growth check. Neither is used. */
+ * computed two ways, 1e-8 N allowed) 2.8e-8 N off: not used. Refactorising with the previous pivots (klu_refactor:
+ * 112 instead of 327 us per setup on the boom proxy) put that small model's test 2e-8 N off, so it is used only from
+ * klu_reuse_min_n unknowns (fd_set_klu_reuse; Python's KLU_REUSE_MIN_UNKNOWNS), where the factorisation dominates,
+ * and only while klu_rcond stays above klu_rcond_min times the last full factorisation's: a setup whose refactor
+ * fails or degrades the pivots factorises afresh (SUNDIALS' KLU module refactors the same way). */
 static int klu_full(drv_t *d, int *Ap, int *Ai, double *Ax) {
     if (d->klu_num) KLU.free_numeric(&d->klu_num, &d->klu);
     d->klu_num = KLU.factor(Ap, Ai, Ax, d->klu_sym, &d->klu);
     d->ls_full++;
     if (!d->klu_num) return d->klu.status == 1 ? SUNLS_PACKAGE_FAIL_REC : -1; /* KLU_SINGULAR: recoverable */
+    if (d->klu_reuse && KLU.rcond(d->klu_sym, d->klu_num, &d->klu)) d->klu_rcond_full = d->klu.rcond;
     return 0;
 }
 
@@ -323,8 +333,13 @@ static int ls_setup(SUNLinearSolver S, SUNMatrix A) {
         if (!d->klu_sym) {
             d->klu_sym = KLU.analyze(d->n, Ap, Ai, &d->klu);
             if (!d->klu_sym) { flag = -1; goto done; }
+            d->klu_reuse = klu_reuse_min_n > 0 && d->n >= klu_reuse_min_n;
         }
-        flag = klu_full(d, Ap, Ai, Ax);
+        if (d->klu_reuse && d->klu_num && KLU.refactor(Ap, Ai, Ax, d->klu_sym, d->klu_num, &d->klu)
+            && KLU.rcond(d->klu_sym, d->klu_num, &d->klu) && d->klu.rcond >= klu_rcond_min * d->klu_rcond_full)
+            flag = 0;
+        else
+            flag = klu_full(d, Ap, Ai, Ax);
     }
 done:
     d->ls_setups++;
@@ -378,7 +393,14 @@ int fd_set_klu(void **fns) {
     KLU.solve = (int (*)(void *, void *, int, int, double *, klu_common_t *))fns[3];
     KLU.free_symbolic = (int (*)(void **, klu_common_t *))fns[4];
     KLU.free_numeric = (int (*)(void **, klu_common_t *))fns[5];
+    KLU.refactor = (int (*)(int *, int *, double *, void *, void *, klu_common_t *))fns[6];
+    KLU.rcond = (int (*)(void *, void *, klu_common_t *))fns[7];
     return 0;
+}
+
+void fd_set_klu_reuse(int min_n, double rcond_min) {
+    klu_reuse_min_n = KLU.refactor && KLU.rcond ? min_n : 0;
+    klu_rcond_min = rcond_min;
 }
 
 static SUNLinearSolver ls_create(drv_t *d) {
