@@ -320,13 +320,15 @@ def _defining_rows(rows: list[_Row], cols: list[_Col], rules: dict[int, ca.SX]) 
     for r, row in enumerate(rows):
         if row.order:
             continue
-        for c in row.inc:
-            if c in index:
-                sym = cols[c].info.sym
-                if ca.is_linear(row.expr, sym):
-                    coef = ca.jacobian(row.expr, sym)
-                    if coef.is_constant() and abs(float(ca.evalf(coef))) == 1.0:
-                        entries.append((r, index[c]))
+        cs = sorted(c for c in row.inc if c in index)
+        if not cs:
+            continue
+        # one gradient per row: a constant partial derivative means the row is linear in that column
+        grad = ca.jacobian(row.expr, ca.vertcat(*[cols[c].info.sym for c in cs]))
+        for k, c in enumerate(cs):
+            coef = grad[0, k]
+            if coef.is_constant() and abs(float(ca.evalf(coef))) == 1.0:
+                entries.append((r, index[c]))
     if not entries:
         return {}
     rr, cc = zip(*entries, strict=True)

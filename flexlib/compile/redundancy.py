@@ -76,12 +76,14 @@ def explicit_definitions(simple: SimpleSystem, var_ids: list[int],
         symbols = ca.symvar(e.expr)
         if require_algebraic and any(_is_derivative(s) for s in symbols):
             continue  # a row with derivatives (a dynamic equation) stays: it defines a derivative
-        # the candidates this row contains, in the order of var_ids (a lookup per symbol, not a scan of var_ids)
-        for j in sorted(j for j in (position.get(s.element_hash()) for s in symbols) if j is not None):
-            sym = syms[var_ids[j]]
-            if not ca.is_linear(e.expr, sym):
-                continue
-            c = ca.jacobian(e.expr, sym)
+        # the candidates this row contains, in the order of var_ids (a lookup per symbol, not a scan of var_ids);
+        # one gradient per row: a constant partial derivative means the row is linear in that candidate
+        js = sorted(j for j in (position.get(s.element_hash()) for s in symbols) if j is not None)
+        if not js:
+            continue
+        grad = ca.jacobian(e.expr, ca.vertcat(*[syms[var_ids[j]] for j in js]))
+        for k, j in enumerate(js):
+            c = grad[0, k]
             if c.is_constant() and abs(float(ca.evalf(c))) == 1.0:
                 entries.append((r, j))
                 coefs[(r, j)] = float(ca.evalf(c))
