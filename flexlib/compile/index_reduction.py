@@ -310,7 +310,7 @@ def _defining_rows(rows: list[_Row], cols: list[_Col], rules: dict[int, ca.SX]) 
     ``T = T(Q)``: linear in it with a unit coefficient), found by a matching over such pairs."""
     import scipy.sparse as sp
 
-    from flexlib.compile.structure import matching
+    from flexlib.compile.structure import matching, unit_coefficients
 
     rule_cols = sorted(rules)
     if not rule_cols:
@@ -321,14 +321,7 @@ def _defining_rows(rows: list[_Row], cols: list[_Col], rules: dict[int, ca.SX]) 
         if row.order:
             continue
         cs = sorted(c for c in row.inc if c in index)
-        if not cs:
-            continue
-        # one gradient per row: a constant partial derivative means the row is linear in that column
-        grad = ca.jacobian(row.expr, ca.vertcat(*[cols[c].info.sym for c in cs]))
-        for k, c in enumerate(cs):
-            coef = grad[0, k]
-            if coef.is_constant() and abs(float(ca.evalf(coef))) == 1.0:
-                entries.append((r, index[c]))
+        entries += [(r, index[cs[k]]) for k, _ in unit_coefficients(row.expr, [cols[c].info.sym for c in cs])]
     if not entries:
         return {}
     rr, cc = zip(*entries, strict=True)

@@ -33,7 +33,7 @@ import scipy.sparse as sp
 
 from flexlib.compile.flatten import FlatEquation
 from flexlib.compile.simplify import SimpleSystem
-from flexlib.compile.structure import matching
+from flexlib.compile.structure import matching, unit_coefficients
 from flexlib.core.component import Connector
 from flexlib.core.variables import Kind
 
@@ -76,17 +76,11 @@ def explicit_definitions(simple: SimpleSystem, var_ids: list[int],
         symbols = ca.symvar(e.expr)
         if require_algebraic and any(_is_derivative(s) for s in symbols):
             continue  # a row with derivatives (a dynamic equation) stays: it defines a derivative
-        # the candidates this row contains, in the order of var_ids (a lookup per symbol, not a scan of var_ids);
-        # one gradient per row: a constant partial derivative means the row is linear in that candidate
+        # the candidates this row contains, in the order of var_ids (a lookup per symbol, not a scan of var_ids)
         js = sorted(j for j in (position.get(s.element_hash()) for s in symbols) if j is not None)
-        if not js:
-            continue
-        grad = ca.jacobian(e.expr, ca.vertcat(*[syms[var_ids[j]] for j in js]))
-        for k, j in enumerate(js):
-            c = grad[0, k]
-            if c.is_constant() and abs(float(ca.evalf(c))) == 1.0:
-                entries.append((r, j))
-                coefs[(r, j)] = float(ca.evalf(c))
+        for k, c in unit_coefficients(e.expr, [syms[var_ids[j]] for j in js]):
+            entries.append((r, js[k]))
+            coefs[(r, js[k])] = c
     if not entries:
         return ca.SX(0, 1), ca.SX(0, 1), []
     rr, cc = zip(*entries, strict=True)

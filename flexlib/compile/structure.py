@@ -13,7 +13,7 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["culprits", "derivative_level", "incidence", "matching"]
+__all__ = ["culprits", "derivative_level", "incidence", "matching", "unit_coefficients"]
 
 
 def incidence(exprs: ca.SX, syms: ca.SX) -> sp.csr_matrix:
@@ -228,3 +228,19 @@ def derivative_level(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray) ->
         _, under = culprits(inc, row_match, col_match)
         mask[alg[under]] = True
     return mask
+
+
+def unit_coefficients(expr: ca.SX, syms: Sequence[ca.SX]) -> list[tuple[int, float]]:
+    """The symbols a scalar row gives explicitly: ``(k, c)`` for each ``syms[k]`` whose coefficient ``c`` in ``expr``
+    is the constant ±1 (one gradient for the row; a constant partial derivative means the row is linear in it)."""
+    if not syms:
+        return []
+    grad = ca.jacobian(expr, ca.vertcat(*syms))
+    out = []
+    for k in range(len(syms)):
+        c = grad[0, k]
+        if c.is_constant():
+            value = float(ca.evalf(c))
+            if abs(value) == 1.0:
+                out.append((k, value))
+    return out

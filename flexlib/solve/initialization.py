@@ -408,18 +408,16 @@ class Initializer:
         when the caller has it): the guess is ``O(δ)`` off and the Jacobian ``O(δ)`` stale, so two steps leave
         ``O(δ³)``, far below the ``O(δ)`` of the difference quotient itself.
         """
-        m = self.model
-        alg = np.flatnonzero(~m.differential)
-        if len(alg) == 0:
+        if self.model.differential.all():
             return yp
         g, jg = self._held_functions()
+        alg = self._alg
         na = len(alg)
         w = np.concatenate([y[alg], yp[self.diff]])
         delta = 1e-7 * max(1.0, abs(t))
         with np.errstate(all="ignore"):
             try:
-                J = jac if jac is not None else jg(w, np.concatenate([[t], p, y[self.diff]]))
-                lu = sps.linalg.splu(sps.csc_matrix(J if sps.issparse(J) else J.sparse()))
+                lu = sps.linalg.splu(_csc(jac if jac is not None else jg(w, np.concatenate([[t], p, y[self.diff]]))))
             except RuntimeError:  # singular there: the rates stay as they are
                 return yp
             par = np.concatenate([[t + delta], p, y[self.diff] + delta * yp[self.diff]])
@@ -630,8 +628,7 @@ class Initializer:
             return np.asarray(g(w, par)).ravel()
 
         def jac(w: np.ndarray) -> sps.csc_matrix:
-            J = jg(w, par)
-            return J if sps.issparse(J) else sps.csc_matrix(J.sparse())
+            return _csc(jg(w, par))
 
         def wnorm(r: np.ndarray, s: np.ndarray) -> float:
             return float(np.max(np.abs(r) / s)) if len(r) else 0.0
@@ -779,6 +776,11 @@ class _StatesHeld:
         J = sps.csc_matrix((data, self._rows.copy(), self._colptr.copy()), shape=self._shape)  # pruned below
         J.eliminate_zeros()  # the ∂F/∂y pattern of the state columns: no entries of ∂F/∂y'
         return J
+
+
+def _csc(J: Any) -> sps.csc_matrix:
+    """A Jacobian as CSC: the states-held one already is; a CasADi Function's comes as a sparse DM."""
+    return sps.csc_matrix(J if sps.issparse(J) else J.sparse())
 
 
 def _pattern(jg: ca.Function) -> sps.csr_matrix:
