@@ -31,6 +31,7 @@ import scipy.linalg as sla
 from flexlib.compile.flatten import FlatEquation, FlatVariable, describe_all
 from flexlib.compile.post_simplify import post_simplify as _post_simplify
 from flexlib.compile.simplify import Condition, SimpleSystem
+from flexlib.compile.structure import row_jacobian
 from flexlib.core.functions import Relation
 from flexlib.core.variables import StateSelect, SymInfo, time
 from flexlib.errors import StructuralSingularityError
@@ -316,12 +317,10 @@ def _defining_rows(rows: list[_Row], cols: list[_Col], rules: dict[int, ca.SX]) 
     if not rule_cols:
         return {}
     index = {c: k for k, c in enumerate(rule_cols)}
-    entries = []
-    for r, row in enumerate(rows):
-        if row.order:
-            continue
-        cs = sorted(c for c in row.inc if c in index)
-        entries += [(r, index[cs[k]]) for k, _ in unit_coefficients(row.expr, [cols[c].info.sym for c in cs])]
+    cand = [(r, sorted(c for c in row.inc if c in index)) for r, row in enumerate(rows) if not row.order]
+    cand = [(r, cs) for r, cs in cand if cs]
+    found = unit_coefficients([rows[r].expr for r, _ in cand], [[cols[c].info.sym for c in cs] for _, cs in cand])
+    entries = [(r, index[cs[k]]) for (r, cs), units in zip(cand, found, strict=True) for k, _ in units]
     if not entries:
         return {}
     rr, cc = zip(*entries, strict=True)
@@ -431,7 +430,7 @@ def _select_dummies(rows: list[_Row], cols: list[_Col], variables: list[FlatVari
             raise StructuralSingularityError(
                 f"dummy derivative selection failed at level {level}: {need} differentiated equations but only "
                 f"{len(cand)} candidate derivatives")
-        jexpr = ca.jacobian(ca.vertcat(*[rows[r].expr for r in g_diff]), ca.vertcat(*[cols[c].info.sym for c in cand]))
+        jexpr = row_jacobian(ca.vertcat(*[rows[r].expr for r in g_diff]), ca.vertcat(*[cols[c].info.sym for c in cand]))
         jfun = ca.Function("jsel", [point_syms], [jexpr])
         J = np.asarray(jfun(point_vals))
         costs = [_cost(cols[c], cols, variables) for c in cand]

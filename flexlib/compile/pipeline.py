@@ -33,7 +33,7 @@ from flexlib.compile.simplify import SimpleSystem, simplify
 from flexlib.compile.tearing import tear_or_keep_frames, tree_frames_mode
 from flexlib.core.component import Component
 
-__all__ = ["Build", "analyse", "build", "prepare"]
+__all__ = ["Build", "analyse", "build", "build_key", "prepare"]
 
 
 @dataclass
@@ -147,6 +147,12 @@ def analyse(root: Component, *,
     return flat, simple, dae, times
 
 
+def build_key(root: Component, *, codegen: bool | str, assume_zero_geometry: bool) -> str:
+    """The cache key of ``root``'s build: its structure and the build options, not its values."""
+    return cache.model_key(root, {"codegen": codegen, "zero_geometry": bool(assume_zero_geometry),
+                                  "explicit": explicit_mode(), "tree_frames": tree_frames_mode()})
+
+
 def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
           assume_zero_geometry: bool | None = None) -> Build:
     """Run stages 1–5, or load their product from the disk cache.
@@ -184,10 +190,7 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     if assume_zero_geometry is None:
         assume_zero_geometry = zero_geometry()
     assume_zero_geometry = bool(assume_zero_geometry)
-    key = (cache.model_key(root, {"codegen": codegen, "zero_geometry": assume_zero_geometry,
-                                  "explicit": explicit_mode(),
-                                  "tree_frames": tree_frames_mode()})
-           if directory is not None else None)
+    key = build_key(root, codegen=codegen, assume_zero_geometry=assume_zero_geometry) if directory else None
     timings["key"] = _time.perf_counter() - t0
     timings["model_key"] = key
     entry = cache.entry_path(directory, type(root).__name__, key) if key else None

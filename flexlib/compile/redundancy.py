@@ -70,6 +70,7 @@ def explicit_definitions(simple: SimpleSystem, var_ids: list[int],
     entries, coefs = [], {}
     syms = {k: simple.variables[k].sym for k in var_ids}
     position = {syms[k].element_hash(): j for j, k in enumerate(var_ids)}
+    cand_rows, cand_js = [], []
     for r, e in enumerate(eqs):
         if e.origin == "loop closure":
             continue
@@ -78,7 +79,12 @@ def explicit_definitions(simple: SimpleSystem, var_ids: list[int],
             continue  # a row with derivatives (a dynamic equation) stays: it defines a derivative
         # the candidates this row contains, in the order of var_ids (a lookup per symbol, not a scan of var_ids)
         js = sorted(j for j in (position.get(s.element_hash()) for s in symbols) if j is not None)
-        for k, c in unit_coefficients(e.expr, [syms[var_ids[j]] for j in js]):
+        if js:
+            cand_rows.append(r)
+            cand_js.append(js)
+    found = unit_coefficients([eqs[r].expr for r in cand_rows], [[syms[var_ids[j]] for j in js] for js in cand_js])
+    for r, js, units in zip(cand_rows, cand_js, found, strict=True):
+        for k, c in units:
             entries.append((r, js[k]))
             coefs[(r, js[k])] = c
     if not entries:

@@ -230,17 +230,67 @@ def derivative_level(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray) ->
     return mask
 
 
-def unit_coefficients(expr: ca.SX, syms: Sequence[ca.SX]) -> list[tuple[int, float]]:
-    """The symbols a scalar row gives explicitly: ``(k, c)`` for each ``syms[k]`` whose coefficient ``c`` in ``expr``
-    is the constant ±1 (one gradient for the row; a constant partial derivative means the row is linear in it)."""
-    if not syms:
-        return []
-    grad = ca.jacobian(expr, ca.vertcat(*syms))
-    out = []
-    for k in range(len(syms)):
-        c = grad[0, k]
-        if c.is_constant():
-            value = float(ca.evalf(c))
-            if abs(value) == 1.0:
-                out.append((k, value))
+def unit_coefficients(exprs: Sequence[ca.SX], syms: Sequence[Sequence[ca.SX]]) -> list[list[tuple[int, float]]]:
+    """For each scalar row ``exprs[r]``, the symbols of ``syms[r]`` it gives explicitly: ``(k, c)`` for each
+    ``syms[r][k]`` whose coefficient ``c`` in the row is the constant ±1 (a constant partial derivative means the
+    row is linear in it). One Jacobian for all rows, with respect to the union of their symbols."""
+    out: list[list[tuple[int, float]]] = [[] for _ in exprs]
+    rows = [r for r, ss in enumerate(syms) if len(ss)]
+    if not rows:
+        return out
+    # d(row r)/d(syms[r]) for every r at once: each row reads its own candidates' entries of one Jacobian
+    union: dict[int, int] = {}
+    for r in rows:
+        for s in syms[r]:
+            union.setdefault(s.element_hash(), len(union))
+    by_hash = {}
+    for r in rows:
+        for s in syms[r]:
+            by_hash.setdefault(s.element_hash(), s)
+    cols = ca.vertcat(*[by_hash[h] for h in union])
+    J = ca.jacobian(ca.vertcat(*[exprs[r] for r in rows]), cols)
+    colind, row_of = J.sparsity().get_ccs()
+    nz = J.nz[:] if J.nnz() else ca.SX(0, 1)
+    depends = np.diff(np.asarray(ca.jacobian_sparsity(nz, ca.vertcat(*ca.symvar(nz))).T.colind())) \
+        if nz.numel() and ca.symvar(nz) else np.zeros(nz.numel(), dtype=int)
+    const = np.flatnonzero(depends == 0)
+    values = np.asarray(ca.evalf(nz[const.tolist()])).ravel() if len(const) else np.zeros(0)
+    entry = {}
+    for k, v in zip(const, values, strict=True):
+        if abs(v) == 1.0:
+            col = int(np.searchsorted(colind, k, side="right") - 1)
+            entry[(int(row_of[k]), col)] = float(v)
+    for i, r in enumerate(rows):
+        for k, s in enumerate(syms[r]):
+            c = entry.get((i, union[s.element_hash()]))
+            if c is not None:
+                out[r].append((k, c))
     return out
+
+
+#: Rows with more than this many structural nonzeros are differentiated one by one (:func:`row_jacobian`).
+DENSE_ROW_NNZ = 16
+
+
+def row_jacobian(expr: ca.SX, x: ca.SX) -> ca.SX:
+    """``d expr / d x`` with its dense rows differentiated one by one, the others together.
+
+    One scalar row is differentiated in reverse mode: one adjoint sweep over the row's own expression, at most a
+    few times its operations. CasADi's Jacobian of many rows at once picks one mode for all, with column colouring
+    in forward mode, which sweeps a shared expression once per column: where a row deep in a torn tree depends on
+    many coordinates through shared kinematics (a flexible section's modal coordinates all move the frames
+    downstream through its tip frame), that is many sweeps. Flexible pump truck, dummy-derivative level of 202 rows
+    and 312 candidates: 97 k operations in 0.37 s at once, 23 k in 0.09 s row by row. Rows with at most
+    :data:`DENSE_ROW_NNZ` nonzeros stay together, where the colouring compresses well.
+    """
+    if expr.numel() == 0 or x.numel() == 0:
+        return ca.jacobian(expr, x)
+    row_nnz = np.diff(np.asarray(ca.jacobian_sparsity(expr, x).T.colind()))
+    dense = np.flatnonzero(row_nnz > DENSE_ROW_NNZ)
+    if not len(dense):
+        return ca.jacobian(expr, x)
+    sparse = np.flatnonzero(row_nnz <= DENSE_ROW_NNZ)
+    parts = [ca.jacobian(expr[int(i)], x) for i in dense]
+    if len(sparse):
+        parts.append(ca.jacobian(expr[sparse.tolist()], x))
+    return ca.vertcat(*parts)[np.argsort(np.concatenate([dense, sparse])).tolist(), :]

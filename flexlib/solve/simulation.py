@@ -6,6 +6,7 @@ of runs with different parameters, tolerances and end times, without recompiling
 
 from __future__ import annotations
 
+import copy
 import difflib
 import hashlib
 import os
@@ -21,9 +22,9 @@ import numpy as np
 from flexlib.compile import cache
 from flexlib.compile.cache import gather_values
 from flexlib.compile.codegen import CompiledModel
-from flexlib.compile.constants import check_assumed
+from flexlib.compile.constants import assumptions_hold, check_assumed
 from flexlib.compile.index_reduction import IndexReport
-from flexlib.compile.pipeline import Build, build
+from flexlib.compile.pipeline import Build, build, build_key
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter
 from flexlib.errors import (
@@ -77,6 +78,14 @@ class Experiment:
     max_order: int | None = None
 
 
+def _span_end(t0: Any) -> Any:
+    """``t0 + 1`` for a finite number (anything else is passed on for the argument check to report)."""
+    try:
+        return float(t0) + 1.0
+    except (TypeError, ValueError):
+        return t0
+
+
 class Simulation:
     """Compile a model once and run it.
 
@@ -118,6 +127,7 @@ class Simulation:
             raise TypeError(f"Simulation expects a flexlib Component, got {type(model).__name__}")
         self.model = model
         self._codegen = codegen
+        self._use_cache = use_cache
         self.build: Build = build(model, codegen=codegen, use_cache=use_cache,
                                   assume_zero_geometry=assume_zero_geometry)
         self._zero_geometry = self.build.assume_zero_geometry
@@ -128,6 +138,39 @@ class Simulation:
         self.init_cached = False
         self._rows = RowEvaluator()
         self._state_monitor: Any = None
+
+    def with_model(self, model: Component) -> Simulation:
+        """A Simulation of another instance of the same model, sharing this one's build.
+
+        An instance that differs from this one only in values (start values, parameters: a machine in another
+        pose, a sweep over initial conditions) has the same build: the new Simulation shares the compiled model
+        and its initialisation functions instead of loading them from the cache again. Whether the structure is
+        the same is checked, not assumed (the build's cache key, and the parameter assumptions the build made):
+        an instance that differs in structure gets its own build, as ``Simulation(model)`` would give it.
+
+        Parameters
+        ----------
+        model : Component
+            The other instance.
+
+        Returns
+        -------
+        Simulation
+        """
+        if not isinstance(model, Component):
+            raise TypeError(f"Simulation expects a flexlib Component, got {type(model).__name__}")
+        options = {"codegen": self._codegen, "assume_zero_geometry": self._zero_geometry}
+        key = self.build.key or build_key(self.model, **options)
+        same = (type(model) is type(self.model) and build_key(model, **options) == key
+                and assumptions_hold(self.compiled.assumed, model))
+        if not same:
+            return Simulation(model, use_cache=self._use_cache, **options)
+        other = copy.copy(self)
+        other.model = model
+        other.init_cached = False
+        other._rows = RowEvaluator()
+        other._state_monitor = None
+        return other
 
     @property
     def report(self) -> IndexReport:
@@ -353,6 +396,58 @@ class Simulation:
             err.result = result  # type: ignore[attr-defined]
             raise
         return result
+
+    def initialize(self, *, t_start: float | None = None, params: dict[str, Any] | None = None,
+                   steady_state: bool = False) -> Result:
+        """The consistent start alone, as a one-row :class:`Result` at ``t_start`` (what a Modelica tool returns
+        for a simulation with stop time = start time): every variable, e.g. the holding pressures and hinge forces
+        of a static start, without integrating.
+
+        Parameters
+        ----------
+        t_start : float, optional
+            Start time [s] (default: the model's ``experiment``).
+        params : dict, optional
+            Parameter overrides for this start (no recompile), as in :meth:`run`.
+        steady_state : bool
+            Initialise with ``der(x) = 0`` for every state without an initial condition of its own.
+
+        Returns
+        -------
+        Result
+            One row; ``stats["steps"]`` is 0.
+
+        Raises
+        ------
+        RunArgumentError
+            An argument is invalid.
+        InitializationError
+            No consistent start was found (the error names the equations and variables that fail).
+        """
+        exp = getattr(self.model, "experiment", None) or Experiment()
+        t0 = exp.t_start if t_start is None else t_start
+        # the run's own argument checks (a one-second span stands in for the end time, which is not used)
+        opts = check_run_arguments(
+            exp, f"{type(self.model).__name__}.experiment", t_start=t0, t_end=_span_end(t0), dt_out=None,
+            output_times=None, rtol=None, atol=None, max_step=0.0, max_steps=1, params=params,
+            steady_state=steady_state, dynamic_states=False, progress=False, solver="ida", result_file=None,
+            max_order=None)
+        m = self.compiled
+        values, starts = gather_values(self.model)
+        pvec = self.parameter_vector(opts.params, values)
+        p = np.concatenate([pvec, np.zeros(m.n_relations)])
+        wall = _time.perf_counter()
+        y0, yp0 = self._initialize(opts.t_start, p, starts, opts.steady_state)
+        t_init = _time.perf_counter() - wall
+        if self._stale_cached_build(opts.t_start, y0, yp0, p, opts.params):
+            self._rebuild_uncached()
+            return self.initialize(t_start=t_start, params=params, steady_state=steady_state)
+        check_assertions(m, p, opts.t_start)
+        traj = Trajectory(models=[m])
+        traj.stats = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
+                      "state_switches": 0}
+        traj.add(opts.t_start, y0, yp0, p[m.n_params:])
+        return self._result(traj, pvec, t_init, opts.rtol, opts.atol)
 
     def _stale_cached_build(self, t0: float, y0: np.ndarray, yp0: np.ndarray, p: np.ndarray,
                             params: dict[str, Any] | None) -> bool:

@@ -386,10 +386,13 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
         except (ValueError, KeyError, TypeError):
             pass  # a damaged file: select again and replace it
     rows: dict[int, list[np.ndarray]] = {j: [] for j in range(1, 6)}
+    sim = None
     for pose in poses:
-        # a few static starts: CasADi's virtual machine, no C library compiled for them in the background
-        result = fl.Simulation(PumpTruck(record, pose=pose, slewing=False), codegen=False).run(0.01, dt_out=0.01,
-                                                                                          progress=False)
+        # a static start (no integration) of each pose, on one build (the pose is a start value: one build serves
+        # every pose) and CasADi's virtual machine (no C library compiled for it in the background)
+        model = PumpTruck(record, pose=pose, slewing=False)
+        sim = fl.Simulation(model, codegen=False) if sim is None else sim.with_model(model)
+        result = sim.initialize()
         for j, data in datas.items():
             rows[j].append(rigid_section_loads(result, record, j, data)[:1])
     chosen: dict[int, list[int]] = {}

@@ -303,15 +303,17 @@ static int rootfn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *
 
 /* ---- linear solver wrapper: times the bundled solvers, or factorises with KLU ---- */
 
-/* KLU with its defaults: the pattern is IDA's (constant); the first setup analyses it once (BTF, then AMD on each
- * block: klu_analyze), and a setup factorises with threshold partial pivoting (klu_factor, tol 0.001). COLAMD
- * instead of AMD halves the factorisation on the boom proxy (190 instead of 420 us) but, with tol 0.001, ran a stiff
- * bushing four-bar into 20000 steps at t = 0.017 s; with tol 1.0 it runs, but puts an rtol-1e-10 test (a force
- * computed two ways, 1e-8 N allowed) 2.8e-8 N off: not used. Refactorising with the previous pivots (klu_refactor:
- * 112 instead of 327 us per setup on the boom proxy) put that small model's test 2e-8 N off, so it is used only from
- * klu_reuse_min_n unknowns (fd_set_klu_reuse; Python's KLU_REUSE_MIN_UNKNOWNS), where the factorisation dominates,
- * and only while klu_rcond stays above klu_rcond_min times the last full factorisation's: a setup whose refactor
- * fails or degrades the pivots factorises afresh (SUNDIALS' KLU module refactors the same way). */
+/* KLU: the pattern is IDA's (constant); the first setup analyses it once (BTF, then a fill-reducing ordering of each
+ * block: klu_analyze), and a setup factorises with threshold partial pivoting (klu_factor, tol 0.001).
+ * Below klu_reuse_min_n unknowns (fd_set_klu_reuse; Python's KLU_REUSE_MIN_UNKNOWNS) KLU keeps its defaults: AMD,
+ * and fresh pivots at every setup. COLAMD there halved the factorisation on the boom proxy (190 instead of 420 us)
+ * but ran a stiff bushing four-bar into 20000 steps at t = 0.017 s, and refactorising with the previous pivots
+ * (klu_refactor: 112 instead of 327 us) put an rtol-1e-10 test of a small model (a force computed two ways, 1e-8 N
+ * allowed) 2e-8 N off. From klu_reuse_min_n unknowns, where the factorisation dominates, the ordering is COLAMD
+ * (pump truck, 150 s of expand-fold: flexible 0.42 -> 0.28 ms per setup, 18 -> 16 us per solve; rigid 60 -> 46 us)
+ * and a setup refactorises with the previous pivots (klu_refactor, as SUNDIALS' own KLU module does) while klu_rcond
+ * stays above klu_rcond_min times the last full factorisation's: a setup whose refactor fails or degrades the
+ * pivots factorises afresh. */
 static int klu_full(drv_t *d, int *Ap, int *Ai, double *Ax) {
     if (d->klu_num) KLU.free_numeric(&d->klu_num, &d->klu);
     d->klu_num = KLU.factor(Ap, Ai, Ax, d->klu_sym, &d->klu);
@@ -331,9 +333,10 @@ static int ls_setup(SUNLinearSolver S, SUNMatrix A) {
         int *Ap = SUNSparseMatrix_IndexPointers(A), *Ai = SUNSparseMatrix_IndexValues(A);
         double *Ax = SUNSparseMatrix_Data(A);
         if (!d->klu_sym) {
+            d->klu_reuse = klu_reuse_min_n > 0 && d->n >= klu_reuse_min_n;
+            d->klu.ordering = d->klu_reuse ? 1 : 0; /* COLAMD on the large models, AMD (KLU's default) below */
             d->klu_sym = KLU.analyze(d->n, Ap, Ai, &d->klu);
             if (!d->klu_sym) { flag = -1; goto done; }
-            d->klu_reuse = klu_reuse_min_n > 0 && d->n >= klu_reuse_min_n;
         }
         if (d->klu_reuse && d->klu_num && KLU.refactor(Ap, Ai, Ax, d->klu_sym, d->klu_num, &d->klu)
             && KLU.rcond(d->klu_sym, d->klu_num, &d->klu) && d->klu.rcond >= klu_rcond_min * d->klu_rcond_full)
