@@ -24,7 +24,7 @@ import scipy.sparse as sps
 import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 
 from flexlib.compile.codegen import AUTO_C_MIN_UNKNOWNS, CompiledModel, compile_dae
-from flexlib.compile.structure import culprits, group_by_owner, matching
+from flexlib.compile.structure import culprits, group_by_owner, matching, row_jacobian
 from flexlib.core.component import DEFAULT_START
 from flexlib.errors import InitializationError, ParameterError
 from flexlib.solve.diagnose import nonfinite_lines, row_scale, singular_lines
@@ -76,7 +76,7 @@ class Initializer:
             G = ca.vertcat(*rows)
             w = ca.vertcat(y, ypd)
             g = ca.Function("g", [w, ca.vertcat(t, p, vals)], [G])
-            jg = ca.Function("jg", [w, ca.vertcat(t, p, vals)], [ca.jacobian(G, w)])
+            jg = ca.Function("jg", [w, ca.vertcat(t, p, vals)], [row_jacobian(G, w)])  # dense rows in reverse mode
             self._init_fns[key] = (g, jg)
         return self._init_fns[key]
 
