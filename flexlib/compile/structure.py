@@ -239,20 +239,14 @@ def unit_coefficients(exprs: Sequence[ca.SX], syms: Sequence[Sequence[ca.SX]]) -
     if not rows:
         return out
     # d(row r)/d(syms[r]) for every r at once: each row reads its own candidates' entries of one Jacobian
-    union: dict[int, int] = {}
-    for r in rows:
-        for s in syms[r]:
-            union.setdefault(s.element_hash(), len(union))
-    by_hash = {}
-    for r in rows:
-        for s in syms[r]:
-            by_hash.setdefault(s.element_hash(), s)
-    cols = ca.vertcat(*[by_hash[h] for h in union])
-    J = ca.jacobian(ca.vertcat(*[exprs[r] for r in rows]), cols)
+    by_hash = {s.element_hash(): s for r in rows for s in syms[r]}
+    column = {h: k for k, h in enumerate(by_hash)}
+    J = ca.jacobian(ca.vertcat(*[exprs[r] for r in rows]), ca.vertcat(*by_hash.values()))
     colind, row_of = J.sparsity().get_ccs()
     nz = J.nz[:] if J.nnz() else ca.SX(0, 1)
-    depends = np.diff(np.asarray(ca.jacobian_sparsity(nz, ca.vertcat(*ca.symvar(nz))).T.colind())) \
-        if nz.numel() and ca.symvar(nz) else np.zeros(nz.numel(), dtype=int)
+    free = ca.symvar(nz) if nz.numel() else []
+    depends = (np.diff(np.asarray(ca.jacobian_sparsity(nz, ca.vertcat(*free)).T.colind())) if free
+               else np.zeros(nz.numel(), dtype=int))
     const = np.flatnonzero(depends == 0)
     values = np.asarray(ca.evalf(nz[const.tolist()])).ravel() if len(const) else np.zeros(0)
     entry = {}
@@ -262,7 +256,7 @@ def unit_coefficients(exprs: Sequence[ca.SX], syms: Sequence[Sequence[ca.SX]]) -
             entry[(int(row_of[k]), col)] = float(v)
     for i, r in enumerate(rows):
         for k, s in enumerate(syms[r]):
-            c = entry.get((i, union[s.element_hash()]))
+            c = entry.get((i, column[s.element_hash()]))
             if c is not None:
                 out[r].append((k, c))
     return out

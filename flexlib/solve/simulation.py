@@ -331,9 +331,7 @@ class Simulation:
             result_file=result_file, max_order=max_order)
         t0, t1 = opts.t_start, opts.t_end
         m = self.compiled
-        values, starts = gather_values(self.model)
-        pvec = self.parameter_vector(opts.params, values)
-        p = np.concatenate([pvec, np.zeros(m.n_relations)])
+        starts, pvec, p = self._parameters(opts.params)
         with sigterm_as_interrupt() as stop:
             wall = _time.perf_counter()
             t_init = 0.0
@@ -433,9 +431,7 @@ class Simulation:
             steady_state=steady_state, dynamic_states=False, progress=False, solver="ida", result_file=None,
             max_order=None)
         m = self.compiled
-        values, starts = gather_values(self.model)
-        pvec = self.parameter_vector(opts.params, values)
-        p = np.concatenate([pvec, np.zeros(m.n_relations)])
+        starts, pvec, p = self._parameters(opts.params)
         wall = _time.perf_counter()
         y0, yp0 = self._initialize(opts.t_start, p, starts, opts.steady_state)
         t_init = _time.perf_counter() - wall
@@ -448,6 +444,13 @@ class Simulation:
                       "state_switches": 0}
         traj.add(opts.t_start, y0, yp0, p[m.n_params:])
         return self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+
+    def _parameters(self, params: dict[str, Any] | None) -> tuple[dict, np.ndarray, np.ndarray]:
+        """The instance's start values, its parameter vector with ``params`` applied, and that vector followed by
+        the relation values (zero until the initialisation sets them)."""
+        values, starts = gather_values(self.model)
+        pvec = self.parameter_vector(params, values)
+        return starts, pvec, np.concatenate([pvec, np.zeros(self.compiled.n_relations)])
 
     def _stale_cached_build(self, t0: float, y0: np.ndarray, yp0: np.ndarray, p: np.ndarray,
                             params: dict[str, Any] | None) -> bool:

@@ -193,8 +193,9 @@ class StateSelectionMonitor:
             levels, offset = [], 0
             # candidates whose column of the level Jacobian is structurally zero never enter the exchange ratio
             # (flexible pump truck: 60 of the 110 unselected candidates of its 202-row level)
-            structural = np.zeros(model.function("jlev").sparsity_out(0).numel(), dtype=bool)
-            structural[np.asarray(model.function("jlev").sparsity_out(0).find(), dtype=np.intp)] = True
+            sp = model.function("jlev").sparsity_out(0)
+            structural = np.zeros(sp.numel(), dtype=bool)
+            structural[np.asarray(sp.find(), dtype=np.intp)] = True
             for n_rows, n_cands, costs, selected in model.levels:
                 if n_cands > n_rows:
                     nonzero = structural[offset:offset + n_rows * n_cands].reshape((n_rows, n_cands), order="F").any(0)
