@@ -37,7 +37,7 @@ from flexlib.compile.structure import matching, unit_coefficients
 from flexlib.core.component import Connector
 from flexlib.core.variables import Kind
 
-__all__ = ["CHECK_PREFIX", "explicit_definitions", "frame_variables", "remove_redundant"]
+__all__ = ["BRANCH_SUFFIX", "CHECK_PREFIX", "explicit_definitions", "frame_variables", "remove_redundant"]
 
 _AXES = "xyz"
 
@@ -46,6 +46,8 @@ _AXES = "xyz"
 #: function: every run checks, at its own parameter and start values, that the rows dropped as redundant
 #: at build time still hold (a parameter change can make a planar loop spatial; see ``docs/engine.md``).
 CHECK_PREFIX = "#dropped:"
+#: Label suffix of the half-turn check of an orientation loop closure (:func:`_branch_checks`).
+BRANCH_SUFFIX = " (half-turn branch)"
 
 #: Coordinates with a smaller nominal value are small-motion ones (elastic deformation): the generic-rank test
 #: does not perturb them (see :func:`remove_redundant`).
@@ -106,6 +108,34 @@ def explicit_definitions(simple: SimpleSystem, var_ids: list[int],
     return ca.vertcat(*vs), ca.vertcat(*defs), rows
 
 
+def _branch_checks(simple: SimpleSystem) -> dict[str, ca.SX]:
+    """A check row per orientation loop closure: ``min(cos θ, 0)`` with ``θ`` the relative rotation of the two cut
+    frames, ``cos θ = (trace(T_b T_aᵀ) − 1)/2``.
+
+    The closure's residue (:func:`~flexlib.components.mechanics.multibody.frames.equality_constraint`, the sine part
+    of the relative rotation, as Modelica's ``equalityConstraint``) vanishes at a half-turn as well as at the
+    identity, so a consistent start can close a loop in its mirrored branch, where the forces and torques across
+    the cut act in reversed axes. The row is zero on the physical branch (``θ`` near zero) and about −1 on the
+    mirrored one; :func:`flexlib.solve.build_checks.check_dropped_rows` evaluates it with the dropped rows, at the
+    start and over the run."""
+    out = simple.outputs
+    checks: dict[str, ca.SX] = {}
+    for e in simple.equations:
+        if e.origin != "loop closure" or e.meta is None or e.meta[0] != "orientation" or e.meta[3] != 0:
+            continue
+        _, a, b, _ = e.meta
+        try:
+            Ta = [[out[f"{a._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
+            Tb = [[out[f"{b._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
+        except (KeyError, AttributeError):  # an over-determined record other than a frame orientation
+            continue
+        trace = sum(Tb[i][j] * Ta[i][j] for i in range(3) for j in range(3))  # trace(T_b T_aᵀ)
+        label = e.label.rsplit(" [", 1)[0]
+        checks[f"{CHECK_PREFIX}{e.owner + ': ' if e.owner else ''}{label}{BRANCH_SUFFIX}"] = ca.fmin(
+            0.5 * (trace - 1.0), 0.0)
+    return checks
+
+
 def _reaction(simple: SimpleSystem, meta: tuple) -> tuple[ca.SX, str]:
     kind, a, _, k = meta
     out = simple.outputs
@@ -161,6 +191,7 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
     loop = [r for r, e in enumerate(simple.equations) if e.origin == "loop closure"]
     if not loop:
         return simple
+    simple = dataclasses.replace(simple, outputs={**simple.outputs, **_branch_checks(simple)})
     (rank_off, _), (rank, piv) = _loop_rank(simple, loop, param_values)
     framed = dataclasses.replace(simple, equations=_frame_resolved(simple))
     if any(e is not f for e, f in zip(simple.equations, framed.equations, strict=True)):

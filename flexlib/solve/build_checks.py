@@ -23,7 +23,8 @@ from __future__ import annotations
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.errors import StructureChangedError
+from flexlib.compile.redundancy import BRANCH_SUFFIX
+from flexlib.errors import InitializationError, StructureChangedError
 from flexlib.solve.rows import RowEvaluator
 
 __all__ = ["START_TOL", "check_dropped_rows", "dropped_row_values", "run_tolerance"]
@@ -80,6 +81,17 @@ def check_dropped_rows(model: CompiledModel, t: np.ndarray, y: np.ndarray, yp: n
         return
     tt = np.atleast_1d(np.asarray(t, dtype=float))
     first = int(np.argmax(np.any(~(np.abs(values) <= tol), axis=0))) if tt.size > 1 else 0
+    flipped = [(label[:-len(BRANCH_SUFFIX)], w) for label, w in bad if label.endswith(BRANCH_SUFFIX)]
+    if flipped:
+        lines = "\n".join(f"  {label}: relative rotation of the cut frames "
+                          f"{np.degrees(np.arccos(-min(w, 1.0))):.1f} deg" for label, w in flipped)
+        text = (f"{model.name}: a kinematic loop is closed in its mirrored branch {where} (first at "
+                f"t = {tt[first]:.10g} s): the orientation residue of a loop closure (the sine part of the cut "
+                "frames' relative rotation, as Modelica's equalityConstraint) vanishes at a half-turn too, and "
+                "there the forces and torques across the cut act in reversed axes, so the results would be "
+                f"wrong.\n{lines}\nGive the loop's joint angles start values near the intended assembly (init= or "
+                "guess= of the joints).")
+        raise (InitializationError if where == "at the start" else StructureChangedError)(text)
     lines = "\n".join(f"  {label}: |residual| up to {w:.3g}" for label, w in bad)
     cause = (f" The run overrides {', '.join(sorted(overrides))}; build the model with these values instead "
              "(a Simulation of an instance constructed with them) so the redundancy analysis sees them."
