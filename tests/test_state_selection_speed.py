@@ -125,3 +125,37 @@ def test_background_codegen_switches_to_c_with_identical_results(tmp_path, monke
     assert m.function("res").class_name() == "External"
     c = sim.run(10.0, dt_out=0.1, progress=False)
     np.testing.assert_allclose(c.values, vm.values, rtol=1e-12, atol=1e-12 * np.abs(vm.values).max())
+
+
+def test_exchange_ratio_sparse_and_dense_agree():
+    """The monitor's indicator ``max |B⁻¹ N|`` of a level (``B`` the selected candidate columns, ``N`` the other
+    candidates), computed from the level Jacobian's nonzeros by the sparse LU of large levels and by LAPACK on small
+    ones, against a dense solve of the same block; a singular ``B`` gives inf on both paths."""
+    from flexlib.solve import state_selection as ss
+
+    rng = np.random.default_rng(3)
+    n_rows, n_cands = 70, 95
+    pattern = rng.random((n_rows, n_cands)) < 0.06
+    selected = [c for c in range(n_cands) if c % 4 != 3][:n_rows]
+    pattern[np.arange(n_rows), selected] = True  # a structurally regular B
+    block = np.where(pattern, rng.uniform(0.5, 2.0, pattern.shape) * rng.choice([-1, 1], pattern.shape), 0.0)
+    block[np.arange(n_rows), selected] += 4.0  # and a well-conditioned one
+    flat = np.flatnonzero(block.ravel(order="F"))
+    nz = block.ravel(order="F")[flat]
+    take = np.arange(len(flat))
+    others = [k for k in range(n_cands) if k not in selected and pattern[:, k].any()]
+    expected = np.abs(np.linalg.solve(block[:, selected], block[:, others])).max()
+    for sparse_rows in (1, 10_000):
+        old = ss.SPARSE_LEVEL_ROWS
+        ss.SPARSE_LEVEL_ROWS = sparse_rows
+        try:
+            level = ss._Level(n_rows, n_cands, [0] * n_cands, selected, take, flat % n_rows, flat // n_rows)
+            assert level.sparse == (sparse_rows == 1)
+            assert level.exchange_ratio(nz) == pytest.approx(expected, rel=1e-10)
+            assert level.exchange_ratio(nz) == pytest.approx(expected, rel=1e-10)  # again, reusing the pattern
+            singular = nz.copy()
+            singular[np.isin(flat // n_rows, selected[:1])] = 0.0  # a zero selected column
+            assert level.exchange_ratio(singular) == np.inf
+            np.testing.assert_array_equal(level.dense(nz), block)
+        finally:
+            ss.SPARSE_LEVEL_ROWS = old
