@@ -25,6 +25,7 @@ joint (bushing) resolves such reactions physically instead.
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -125,8 +126,7 @@ def _branch_checks(simple: SimpleSystem) -> dict[str, ca.SX]:
             continue
         _, a, b, _ = e.meta
         try:
-            Ta = [[out[f"{a._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
-            Tb = [[out[f"{b._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
+            Ta, Tb = _frame_T(out, a), _frame_T(out, b)
         except (KeyError, AttributeError):  # an over-determined record other than a frame orientation
             continue
         trace = sum(Tb[i][j] * Ta[i][j] for i in range(3) for j in range(3))  # trace(T_b T_aᵀ)
@@ -136,11 +136,16 @@ def _branch_checks(simple: SimpleSystem) -> dict[str, ca.SX]:
     return checks
 
 
+def _frame_T(out: dict[str, ca.SX], frame: Any) -> list[list[ca.SX]]:
+    """A frame's orientation matrix ``T`` (world → frame) as entries of ``simple.outputs``."""
+    return [[out[f"{frame._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
+
+
 def _reaction(simple: SimpleSystem, meta: tuple) -> tuple[ca.SX, str]:
     kind, a, _, k = meta
     out = simple.outputs
     if kind == "position":
-        T = [[out[f"{a._label('T')}[{i},{j}]"] for j in range(3)] for i in range(3)]
+        T = _frame_T(out, a)
         f = [out[f"{a._label('f')}[{i}]"] for i in range(3)]
         expr = sum(T[j][k] * f[j] for j in range(3))  # (Tᵀ f)_k: cut force along world axis k
         return expr, f"force along world {_AXES[k]} at {a.path}"

@@ -56,24 +56,20 @@ class _Level:
         self.shape = (n_rows, n_cands)
         self.costs, self.selected = costs, selected
         self.take, self.rows, self.cols = take, rows, cols
-        nonzero = np.zeros(n_cands, dtype=bool)
-        nonzero[cols] = True
         sel = np.asarray(selected, dtype=np.intp)
-        others = np.array([k for k in range(n_cands) if k not in set(selected) and nonzero[k]], dtype=np.intp)
-        self.n_others = len(others)
-        where = np.full(n_cands, -1, dtype=np.intp)  # candidate -> column of B (selected) or of N (others)
-        where[sel] = np.arange(len(sel))
         in_b = np.isin(cols, sel)
-        in_n = np.isin(cols, others)
-        where_n = np.full(n_cands, -1, dtype=np.intp)
-        where_n[others] = np.arange(len(others))
+        others = np.setdiff1d(cols, sel)  # the unselected candidates with a structural nonzero
+        self.n_others = len(others)
+        where = np.full(n_cands, -1, dtype=np.intp)  # candidate -> its column in B (selected) or in N (others)
+        where[sel] = np.arange(len(sel))
+        where[others] = np.arange(len(others))
         self.sparse = n_rows >= SPARSE_LEVEL_ROWS
         # B = block[:, selected] as CSC (sorted by column, then row), N = block[:, others] dense
         b_take, b_row, b_col = take[in_b], rows[in_b], where[cols[in_b]]
         order = np.lexsort((b_row, b_col))
         self.b_take, self.b_row, self.b_col = b_take[order], b_row[order].astype(np.int32), b_col[order]
         self.b_indptr = np.concatenate([[0], np.cumsum(np.bincount(self.b_col, minlength=len(sel)))]).astype(np.int32)
-        self.n_take, self.n_row, self.n_col = take[in_n], rows[in_n], where_n[cols[in_n]]
+        self.n_take, self.n_row, self.n_col = take[~in_b], rows[~in_b], where[cols[~in_b]]
         self._B: sps.csc_matrix | None = None
 
     def dense(self, nz: np.ndarray) -> np.ndarray:
@@ -206,19 +202,13 @@ class StateSelectionMonitor:
     def _check(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> bool:
         self.counts["indicator"] += 1
         nz = self._jlev(model, t, y, yp, p)
-        worst = 1e-12  # largest exchange ratio over the levels
-        es = []
-        blocks = []
-        for level in self._levels(model):
-            e = level.exchange_ratio(nz)
-            if not e < np.inf:  # also NaN
-                e = np.inf
-            worst = max(worst, e)
-            es.append(e)
-            blocks.append(level)
+        levels = self._levels(model)
+        es = [level.exchange_ratio(nz) for level in levels]
+        es = [e if e < np.inf else np.inf for e in es]  # also NaN
+        worst = max([1e-12, *es])  # largest exchange ratio over the levels
         if worst > self._e_ref:
             self.counts["full"] += 1
-            for level in blocks:
+            for level in levels:
                 block, costs, selected = level.dense(nz), level.costs, level.selected
                 n_rows, n_cands = block.shape
                 best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
@@ -259,9 +249,7 @@ class StateSelectionMonitor:
         """The levels with a choice (:class:`_Level`), cached per model."""
         entry = self._buffers.get(("levels", id(model)))
         if entry is None or entry[0] is not model:
-            sp = model.function("jlev").sparsity_out(0)
-            colind, row = (np.asarray(a, dtype=np.intp) for a in sp.get_ccs())
-            flat = row + sp.size1() * np.repeat(np.arange(sp.size2()), np.diff(colind))  # nonzero -> dense index
+            flat = np.asarray(model.function("jlev").sparsity_out(0).find(), dtype=np.intp)  # nonzero -> dense index
             levels, offset = [], 0
             for n_rows, n_cands, costs, selected in model.levels:
                 size = n_rows * n_cands
