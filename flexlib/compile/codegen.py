@@ -548,7 +548,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     model._structure = dae.structure
     model._sx = dict(fns)
     model._functions = dict(fns)
-    model.derivative_level = derivative_level(F, y, yp, dae.differential)
+    model.derivative_level = derivative_level(F, y, yp, dae.differential, dae.untested)
 
     def texts() -> tuple[str, str]:  # serialized once, for the C file's name and the cache entry
         model.serialized = {k: f.serialize() for k, f in fns.items()}

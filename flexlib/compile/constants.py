@@ -244,7 +244,9 @@ def zero_geometry() -> bool:
 
 def _frame_parameters(simple: SimpleSystem) -> set[int]:
     """Hashes of the parameters of components with a 3D frame (over-determined connector): joint axes,
-    rod vectors, centres of mass, inertia tensors, gravity — the parameters that make a mechanism planar."""
+    rod vectors, centres of mass, inertia tensors, the direction of gravity — the parameters that make a mechanism
+    planar. A component's ``non_geometric_parameters`` are left out (the World's gravity magnitude ``g``: a run
+    may change it, and no row is structurally zero because it is)."""
     from flexlib.core.component import Connector
 
     out = set()
@@ -253,7 +255,7 @@ def _frame_parameters(simple: SimpleSystem) -> set[int]:
         key = id(q.node)
         if key not in frame_owner:
             frame_owner[key] = any(isinstance(c, Connector) and c.overdetermined for c in q.node._children.values())
-        if frame_owner[key]:
+        if frame_owner[key] and q.decl_name not in getattr(q.node, "non_geometric_parameters", ()):
             out.add(q.sym.element_hash())
     return out
 

@@ -120,6 +120,8 @@ def _safe_rows(rows: list[ca.SX], varying: ca.SX) -> np.ndarray:
     n_work = fn.sz_w() + 1
     dep = np.zeros(n_work, dtype=bool)   # work entry depends on a varying value
     bad = np.zeros(n_work, dtype=bool)   # ... through an operation that can fail
+    nonneg = np.zeros(n_work, dtype=bool)  # provably >= 0 (squares and their sums, products, positive constants)
+    pos = np.zeros(n_work, dtype=bool)   # provably > 0
     safe = np.ones(F.numel(), dtype=bool)
     row_of = F.sparsity().row()
     op_in, op_out = ca.OP_INPUT, ca.OP_OUTPUT
@@ -135,9 +137,23 @@ def _safe_rows(rows: list[ca.SX], varying: ca.SX) -> np.ndarray:
         else:
             d = any(dep[i] for i in ins)
             b = any(bad[i] for i in ins)
-            if d and op not in _SAFE_OPS and not (op == ca.OP_DIV and not dep[ins[1]]):
+            if d and op not in _SAFE_OPS and not (op == ca.OP_DIV and (not dep[ins[1]] or pos[ins[1]])):
                 b = True
             dep[outs[0]], bad[outs[0]] = d, b
+            o = outs[0]
+            if op == ca.OP_CONST:
+                c = float(fn.instruction_constant(k))
+                nonneg[o], pos[o] = c >= 0.0, c > 0.0
+            elif op == ca.OP_SQ or (op == ca.OP_MUL and len(ins) == 2 and ins[0] == ins[1]):
+                nonneg[o], pos[o] = True, False
+            elif op == ca.OP_ADD:
+                nonneg[o] = nonneg[ins[0]] and nonneg[ins[1]]
+                pos[o] = nonneg[o] and (pos[ins[0]] or pos[ins[1]])
+            elif op in (ca.OP_MUL, ca.OP_DIV):
+                nonneg[o] = nonneg[ins[0]] and nonneg[ins[1]]
+                pos[o] = pos[ins[0]] and pos[ins[1]]
+            else:
+                nonneg[o] = pos[o] = False
     return safe
 
 

@@ -42,6 +42,8 @@ class FlatVariable:
     kind: Kind
     owner: str
     der_rule: ca.SX | None = None
+    #: False for a variable declared at the derivative level (``Variable(error_test=False)``)
+    error_test: bool = True
 
 
 @dataclass(eq=False)
@@ -181,7 +183,8 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                 by_hash[sym.element_hash()] = len(variables)
                 variables.append(FlatVariable(label, sym, lookup(sym), decl.unit, decl.doc, float(starts[k]), fixed,
                                               decl.nominal, node.state_select_of(name), kind, node.path,
-                                              None if rule is None else rule[k]))
+                                              None if rule is None else rule[k],
+                                              bool(getattr(decl, "error_test", True))))
 
     # -- component equations --------------------------------------------------------------------
     for node in nodes:

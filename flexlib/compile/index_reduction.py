@@ -132,6 +132,8 @@ class DAE:
     col_values: ca.SX | None = None
     levels: list[Level] = field(default_factory=list)
     level_jacobians: list[ca.SX] = field(default_factory=list)
+    untested: np.ndarray | None = None
+    """Algebraic entries declared ``error_test=False`` (kept out of IDA's error test with the derivative level)."""
     structure: Structure | None = None
 
 
@@ -543,7 +545,9 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     labels += [f"der({_col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
     cand_cols = {c for lev in levels for c in lev.cands}
     protected = np.array([k in cand_cols for k in entries], dtype=bool)
-    F, keep, subs_syms, subs_vals, kept_rows, explicit = _post_simplify(F, y, yp, differential, protected, explicit)
+    untested = np.array([_untested(cols[k], variables) for k in entries], dtype=bool) & ~differential
+    F, keep, subs_syms, subs_vals, kept_rows, explicit = _post_simplify(F, y, yp, differential, protected, explicit,
+                                                                        untested=untested)
     labels = [labels[k] for k in kept_rows]
     # rebuild y without eliminated entries
     y_keep = ca.vertcat(*[y[i] for i in keep])
@@ -592,8 +596,13 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
         relations=[(rel, e) for (rel, _), e in zip(simple.relations, rel_exprs, strict=True)],
         report=report, owners=owners, row_labels=labels,
         col_names=[_col_name(c, variables) for c in cols], col_values=ca.vertcat(*col_exprs),
-        levels=levels, level_jacobians=level_jacs, structure=structure,
+        levels=levels, level_jacobians=level_jacs, structure=structure, untested=untested[keep],
     )
+
+
+def _untested(col: _Col, variables: list[FlatVariable]) -> bool:
+    """A variable (not a derivative column) declared ``error_test=False``, or an alias of one."""
+    return col.order == 0 and not variables[col.var].error_test
 
 
 def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],

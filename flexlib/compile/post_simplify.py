@@ -23,7 +23,8 @@ def _linear_single(e: ca.SX, sym: ca.SX) -> bool:
 
 
 def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
-                  protected: np.ndarray | None = None, explicit_stage: bool = True):
+                  protected: np.ndarray | None = None, explicit_stage: bool = True,
+                  untested: np.ndarray | None = None):
     """Substitute known state derivatives, eliminate trivial algebraic aliases and explicit algebraics.
 
     ``protected`` marks entries that must stay unknowns (dummy-derivative candidates); ``explicit_stage=False``
@@ -87,11 +88,14 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
             continue
         k = sgn * s0 * s1
         if ha in y_hash and not differential[y_hash[ha]]:
-            alias[y_hash[ha]] = (k, b)
+            gone, target = y_hash[ha], b
         elif hb in y_hash and not differential[y_hash[hb]]:
-            alias[y_hash[hb]] = (k, a)
+            gone, target = y_hash[hb], a
         else:
             continue
+        alias[gone] = (k, target)
+        if untested is not None and untested[gone] and target.element_hash() in y_hash:
+            untested[y_hash[target.element_hash()]] = True  # the derivative-level mark goes with the value
         dropped_rows.add(r)
     if alias:
         asyms, avals = [], []
@@ -114,7 +118,7 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
         fixed[list(alias)] = True
         if explicit_scope() == "error-test":
             # only unknowns already outside IDA's error test (derivative level): the test keeps what it checked
-            fixed |= ~derivative_level(ca.vertcat(*rows), y, yp, differential)
+            fixed |= ~derivative_level(ca.vertcat(*rows), y, yp, differential, untested)
         kept2, explicit, values, new = eliminate_explicit_algebraics(rows, y, yp, differential, fixed)
         if explicit and _states_kept(new, yp, differential, set(explicit) | set(alias)):
             esyms = ca.vertcat(*[y[i] for i in explicit])

@@ -194,6 +194,8 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
             rv,
             state_select=max(flat.variables[i].state_select for i, _ in members),
             nominal=max(flat.variables[i].nominal for i, _ in members),
+            # an alias of a derivative-level variable (a joint's acceleration, say) is one too
+            error_test=all(flat.variables[i].error_test for i, _ in members),
         )
         if merged.start == 0.0:
             for i, s in members:

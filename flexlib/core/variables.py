@@ -348,6 +348,12 @@ class Variable(Declaration):
         variables of the same node (Modelica's derivative annotation; for a frame's orientation
         matrix ``der(T) = −[w×] T``). Index reduction uses it instead of introducing ``der(x)`` as an
         unknown, so such a variable is never a state and its derivative costs no equations.
+    error_test : bool
+        False for an acceleration-level quantity that the equations of motion determine without derivatives of
+        the states (a joint's relative acceleration, a frame's acceleration carried along a multibody tree): as an
+        algebraic unknown it stays out of IDA's local error test, with the reactions it determines, like the
+        unknowns the engine finds determined only through derivatives — unless positions and velocities alone
+        determine it (``flexlib.compile.structure.derivative_level``). A state is always tested.
     """
 
     kind = Kind.variable
@@ -355,10 +361,11 @@ class Variable(Declaration):
     def __init__(
         self, *, unit: str = "1", doc: str = "", start: Any = 0.0, fixed: bool = False,
         nominal: float = 1.0, state_select: str = "default", shape: int | tuple[int, ...] = (),
-        derivative: Any = None,
+        derivative: Any = None, error_test: bool = True,
     ) -> None:
         super().__init__(unit=unit, doc=doc, shape=shape)
         self.derivative = derivative
+        self.error_test = bool(error_test)
         if state_select not in _STATE_SELECT:
             raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)}, got {state_select!r}")
         if not nominal > 0:

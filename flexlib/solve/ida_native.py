@@ -65,6 +65,11 @@ from flexlib.solve.native import (
     klu_available,
 )
 
+#: IDA failures after which the run restarts once from the last accepted point (``IDA_ERR_FAIL``, ``IDA_CONV_FAIL``)
+RECOVERABLE = {-3: "IDA_ERR_FAIL", -4: "IDA_CONV_FAIL"}
+#: ... at most this many times per run
+MAX_RECOVERIES = 10
+
 __all__ = ["CHUNK_STEPS", "KLU_MIN", "integrate_native", "linear_solver"]
 
 #: Up to this many unknowns the driver factorises dense (SUNDIALS dense LU); above, KLU when installed
@@ -119,7 +124,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     traj = Trajectory(models=[model])
     n_par = model.n_params
     stats: dict[str, Any] = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
-                             "state_switches": 0}
+                             "state_switches": 0, "recoveries": 0}
     traj.stats = stats
     grid = None
     if t_out is not None:
@@ -143,6 +148,7 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
     rooted: set[int] = set()
     ind_fn = model.function("ind")
     last_event_t, burst = -np.inf, 0
+    last_recovery_t = -np.inf
     t_event, which = next_time_event(model, p, t, t_end)
     use_monitor = monitor is not None and model.has_state_choice
     if monitor is not None:
@@ -179,6 +185,24 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                 pending_c = False
                 drv.rebind(evaluators(model, _zc_function(model, p, state_rel)))
                 stats["compiled_at"] = t
+            if code in RECOVERABLE and t > last_recovery_t and stats["recoveries"] < MAX_RECOVERIES:
+                # IDA's corrector or error test failed repeatedly with the step shrinking (a valve snapping open
+                # at the limit of the iteration matrix's reuse): restart from the last accepted point, made
+                # consistent, with IDA's history reset (order 1, a new Jacobian) — once per point reached, and at
+                # most MAX_RECOVERIES times in a run
+                y_now, yp_now = drv.state()
+                try:
+                    y_now, yp_now = _event_iteration(model, init, p, t, y_now, yp_now, [])
+                except SolverError:
+                    raise SolverError(_failure_message(model, drv, code, t, p, traj, rtol, atol)) from None
+                last_recovery_t = t
+                stats["recoveries"] += 1
+                traj.events.append((t, f"restart after {RECOVERABLE[code]} (IDA re-initialised at the last "
+                                       "accepted point)"))
+                drv.reinit(t, y_now, yp_now)
+                traj.add(t, y_now, yp_now, p[n_par:].copy())
+                watch, rooted = (2 if len(state_rel) else 0), set()
+                continue
             if code < 0:
                 raise SolverError(_failure_message(model, drv, code, t, p, traj, rtol, atol))
             if stats["steps"] % CHUNK_STEPS < nsteps or code == FD_CHUNK:

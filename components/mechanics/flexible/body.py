@@ -33,6 +33,11 @@ elastic rotation, turned into an exact rotation by the Cayley map ``T_rel = I + 
 ``w_k = T_rel w + 2/(1 + a·a) (ȧ − a × ȧ)``, so the frame rule ``der(T_k) = −[w_k×] T_k`` holds exactly.
 The orientation enters through whichever frame is nearest the root of the orientation tree (or, for a body
 that nothing orients, from the body's own quaternion on ``frame_a``, as :class:`~..multibody.body.Body`).
+Velocities and accelerations enter the same way (recursive kinematics, :class:`~..multibody.interfaces.Frame`):
+from the entry frame's ``v``, ``a`` (less gravity) and ``z``, resolved in that frame, ``α`` and ``ż`` follow
+with the body's own coordinates (``α = T_relᵀ a_e − (ż × x_e + w × (w × x_e) + 2 w × ẋ_e + ẍ_e)``, ``ẋ = Φ q̇``),
+and every other frame's ``v``, ``a``, ``z`` from them, so the equations never read the orientation or position of
+the body in the world (which depend on every joint and modal coordinate between it and the root).
 
 With zero modes the equations are exactly the rigid body's (``Body`` about its frame with the same mass
 properties).
@@ -135,10 +140,8 @@ class FlexibleBody(Component):
     Variables
     ---------
     r_0 [m], v_0 [m/s], a_0 [m/s2]: reference-frame origin in the world; w [rad/s], z [rad/s2]: its angular
-    velocity and acceleration in body axes; alpha [m/s2]: ``α = T (a_0 − g)``, an unknown of its own, so that the
-    translation, rotation and modal rows read it instead of the orientation ``T``, which depends on every joint and
-    modal coordinate between the root and the body (flexible pump truck: 12.6 k → 11.7 k iteration-matrix nonzeros,
-    Jacobian evaluations 4.2 → 2.2 s CPU over its expand-fold); q [1], qd [1/s], qdd [1/s2]: modal coordinates and
+    velocity and acceleration in body axes; alpha [m/s2]: ``α = T (a_0 − g)``, the origin's acceleration less
+    gravity in body axes, from the entry frame (module docstring); q [1], qd [1/s], qdd [1/s2]: modal coordinates and
     their rates (absent with zero modes; a mode shape is metres per unit ``q``); Q [1]: quaternion of ``frame_a`` of
     a free body.
     """
@@ -211,7 +214,7 @@ class FlexibleBody(Component):
                               doc="Modal coordinates")
             self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer", nominal=qd_nom,
                                doc="Modal velocities der(q)")
-            self.qdd = Variable(unit="1/s2", shape=m, doc="Modal accelerations der(qd)")
+            self.qdd = Variable(unit="1/s2", shape=m, error_test=False, doc="Modal accelerations der(qd)")
             fixed = "default" if q_fixed is None else bool(q_fixed)
             self.set_start("q", np.zeros(m), fixed=fixed)
             self.set_start("qd", np.zeros(m), fixed=fixed)
@@ -394,15 +397,47 @@ class FlexibleBody(Component):
         eqs += [
             eq(w, ca.mtimes(Tr_e.T, e.w - wr_e)),
             eq(self.r_0, e.r_0 - ca.mtimes(T.T, x_e)),
-            eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0), eq(der(w), z),
         ]
+        # velocities and accelerations along the tree (recursive kinematics): a frame's origin x_k(q) moves with
+        # xd = Phi_k qd, xdd = Phi_k qdd in body axes; its angular velocity Tr_k w + wr_k(q, qd) changes at the
+        # rate d/dt of that expression (componentwise in the frame: the frame's z)
+        qq = ca.vertcat(q, qd) if m else ca.SX.zeros(0, 1)
+        qqd = ca.vertcat(qd, qdd) if m else ca.SX.zeros(0, 1)
+
+        def rates(k: int) -> tuple:
+            x_k, Tr_k, wr_k, Phi_k, _ = kin[k]
+            xd, xdd = lin(Phi_k, qd), lin(Phi_k, qdd)
+            wk = ca.mtimes(Tr_k, w) + wr_k
+            zk = ca.mtimes(Tr_k, z) + (ca.jtimes(wk, qq, qqd) if m else ca.SX.zeros(3, 1))
+            return x_k, xd, xdd, zk
+
+        _, xd_e, xdd_e, z_e = rates(entry)
+        g = gravity_of(self)
+
+        def acc(x: Any, xd: Any, xdd: Any) -> Any:  # a material point's acceleration relative to the origin, body axes
+            return ca.cross(z, x) + ca.cross(w, ca.cross(w, x)) + 2 * ca.cross(w, xd) + xdd
+
+        alpha = self.alpha  # T (a_0 - g): the origin's acceleration less gravity, body axes
+        if entry == 0 and self.is_root(e):
+            eqs += [eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0), eq(der(w), z),
+                    eq(alpha, ca.mtimes(T, self.a_0 - g), label="acceleration in body axes"),
+                    eq(e.v, ca.mtimes(Tr_e, ca.mtimes(T, self.v_0) + ca.cross(w, x_e) + xd_e)),
+                    eq(e.a, ca.mtimes(Tr_e, alpha + acc(x_e, xd_e, xdd_e))), eq(e.z, z_e)]
+        else:
+            v_body = ca.mtimes(Tr_e.T, e.v) - ca.cross(w, x_e) - xd_e  # origin velocity, body axes
+            eqs += [eq(alpha, ca.mtimes(Tr_e.T, e.a) - acc(x_e, xd_e, xdd_e), label="acceleration in body axes"),
+                    eq(self.v_0, ca.mtimes(T.T, v_body)), eq(self.a_0, ca.mtimes(T.T, alpha) + g), eq(e.z, z_e)]
+        v_origin = ca.mtimes(Tr_e.T, e.v) - ca.cross(w, x_e) - xd_e
         for k, f in enumerate(frames):
             if k != entry:
                 x, Tr, wr = kin[k][:3]
+                _, xd, xdd, z_k = rates(k)
                 # written from the entry frame (not from r_0): the frame chain stays explicit in frame
                 # variables, as the loop-redundancy analysis needs (flexlib.compile.redundancy)
                 eqs += [eq(f.r_0, e.r_0 + ca.mtimes(T.T, x - x_e)), eq(f.T, ca.mtimes(Tr, T)),
-                        eq(f.w, ca.mtimes(Tr, w) + wr)]
+                        eq(f.w, ca.mtimes(Tr, w) + wr),
+                        eq(f.v, ca.mtimes(Tr, v_origin + ca.cross(w, x) + xd)),
+                        eq(f.a, ca.mtimes(Tr, alpha + acc(x, xd, xdd))), eq(f.z, z_k)]
         if m:
             eqs += [eq(der(q), qd), eq(der(qd), qdd)]
 
@@ -421,7 +456,6 @@ class FlexibleBody(Component):
 
         mass = float(inv["I1"])
         alpha = self.alpha
-        eqs.append(eq(alpha, ca.mtimes(T, self.a_0 - gravity_of(self)), label="acceleration in body axes"))
         I3 = inv["I3"]
         c = ca.DM(inv["I2"]) + lin(I3, q)
         I8 = inv["I8"]  # (M, 3, 3)

@@ -10,7 +10,7 @@ import numpy as np
 from flexlib import Component, Parameter, Variable, der, eq
 from flexlib.errors import ParameterError
 
-from .frames import equality_constraint, resolve2
+from .frames import equality_constraint, resolve1, resolve2
 from .interfaces import Frame
 from .quaternions import floating_frame_equations, quaternion_to_T
 from .world import gravity_of
@@ -21,12 +21,15 @@ __all__ = ["Body"]
 class Body(Component):
     """Rigid body: Newton–Euler equations resolved in ``frame_a``.
 
-    ``f_a = m·(T_a (a_0 − g_0) + z × r_CM + w × (w × r_CM))``,
-    ``t_a = I z + w × (I w) + r_CM × f_a``, with ``w`` and ``z = der(w)`` the angular velocity and
-    acceleration of frame_a resolved in frame_a, ``I`` the inertia tensor at the centre of mass
-    resolved in frame_a, and ``g_0`` the World's gravity. If no definite root (World/Fixed) reaches
-    the body, it is the root of its orientation tree and its orientation comes from a unit
-    quaternion ``Q`` (states; ``|Q| = 1`` is kept by index reduction — no drift, no singularity).
+    ``f_a = m·(α_a + z × r_CM + w × (w × r_CM))``,
+    ``t_a = I z + w × (I w) + r_CM × f_a``, with ``α_a = T_a (a_0 − g_0)`` the acceleration of frame_a's origin less
+    the World's gravity ``g_0``, ``w`` and ``z = der(w)`` the angular velocity and acceleration, all resolved in
+    frame_a and read from the frame (recursive kinematics, :class:`~.interfaces.Frame`), and ``I`` the inertia
+    tensor at the centre of mass resolved in frame_a. ``v_0 = T_aᵀ v_a`` and ``a_0 = T_aᵀ α_a + g_0`` report the
+    motion in the world. If no definite root (World/Fixed) reaches the body, it is the root of its orientation tree:
+    its orientation comes from a unit quaternion ``Q`` (states; ``|Q| = 1`` is kept by index reduction — no drift,
+    no singularity), its position from ``der(r_0) = v_0``, ``der(v_0) = a_0``, and it gives frame_a its ``v``,
+    ``a``, ``z``.
 
     Parameters
     ----------
@@ -117,10 +120,14 @@ class Body(Component):
         fa = self.frame_a
         g_0 = gravity_of(self)
         w, z, r_cm = self.w_a, self.z_a, self.r_CM
+        if self.is_root(fa):
+            kin = [eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0), eq(der(self.w_a), self.z_a),
+                   eq(fa.v, resolve2(fa.T, self.v_0)), eq(fa.a, resolve2(fa.T, self.a_0 - g_0)), eq(fa.z, self.z_a)]
+        else:
+            kin = [eq(self.v_0, resolve1(fa.T, fa.v)), eq(self.a_0, resolve1(fa.T, fa.a) + g_0), eq(self.z_a, fa.z)]
         eqs = [
-            eq(self.r_0, fa.r_0), eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0),
-            eq(der(self.w_a), self.z_a),
-            eq(fa.f, self.m * (resolve2(fa.T, self.a_0 - g_0) + ca.cross(z, r_cm) + ca.cross(w, ca.cross(w, r_cm)))),
+            eq(self.r_0, fa.r_0), *kin,
+            eq(fa.f, self.m * (fa.a + ca.cross(z, r_cm) + ca.cross(w, ca.cross(w, r_cm)))),
             eq(fa.t, ca.mtimes(self.I, z) + ca.cross(w, ca.mtimes(self.I, w)) + ca.cross(r_cm, fa.f)),
         ]
         if self.is_root(fa):

@@ -68,11 +68,13 @@ class FreeMotion(PartialTwoFrames):
     w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3, doc="Start relative angular velocity in frame_b")
     r_rel_a = Variable(unit="m", shape=3, state_select="prefer", doc="Position of frame_b from frame_a in frame_a")
     v_rel_a = Variable(unit="m/s", shape=3, state_select="prefer", doc="der(r_rel_a)")
-    a_rel_a = Variable(unit="m/s2", shape=3, doc="der(v_rel_a)")
+    a_rel_a = Variable(unit="m/s2", shape=3, error_test=False, doc="der(v_rel_a)")
     Q = Variable(unit="1", shape=4, start=[0.0, 0.0, 0.0, 1.0], state_select="prefer",
                  doc="Relative orientation quaternion (e·sin(φ/2), cos(φ/2)) of frame_b relative to frame_a")
     w_rel_b = Variable(unit="rad/s", shape=3, state_select="prefer",
                        doc="Angular velocity of frame_b relative to frame_a, resolved in frame_b")
+    z_rel_b = Variable(unit="rad/s2", shape=3, error_test=False,
+                       doc="der(w_rel_b): relative angular acceleration, resolved in frame_b")
 
     def __init__(self, orientation_fixed: bool = False, w_fixed: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -107,8 +109,20 @@ class FreeMotion(PartialTwoFrames):
                eq(der(self.v_rel_a), self.a_rel_a), eq(self.w_rel_b, quaternion_w(Q, der(Q))),
                eq(ca.dot(Q, Q), 1.0, label="quaternion norm"),
                eq(a.f, 0.0), eq(a.t, 0.0), eq(b.f, 0.0), eq(b.t, 0.0)]
+        r, v_r, a_r, w_r, z_r = self.r_rel_a, self.v_rel_a, self.a_rel_a, self.w_rel_b, self.z_rel_b
+        eqs.append(eq(der(w_r), z_r))
         if self.rooted(a):
-            eqs += [eq(b.T, absolute_rotation(a.T, T_rel)), eq(b.w, ca.mtimes(T_rel, a.w) + self.w_rel_b)]
+            eqs += [eq(b.T, absolute_rotation(a.T, T_rel)), eq(b.w, ca.mtimes(T_rel, a.w) + w_r),
+                    eq(b.v, ca.mtimes(T_rel, a.v + ca.cross(a.w, r) + v_r)),
+                    eq(b.a, ca.mtimes(T_rel, a.a + ca.cross(a.z, r) + ca.cross(a.w, ca.cross(a.w, r))
+                                      + 2 * ca.cross(a.w, v_r) + a_r)),
+                    eq(b.z, ca.mtimes(T_rel, a.z) + ca.cross(ca.mtimes(T_rel, a.w), w_r) + z_r)]
         else:
-            eqs += [eq(a.T, absolute_rotation(b.T, T_rel.T)), eq(a.w, resolve1(T_rel, b.w - self.w_rel_b))]
+            w_a = resolve1(T_rel, b.w - w_r)
+            z_a = resolve1(T_rel, b.z - z_r - ca.cross(b.w - w_r, w_r))
+            eqs += [eq(a.T, absolute_rotation(b.T, T_rel.T)), eq(a.w, w_a),
+                    eq(a.v, resolve1(T_rel, b.v) - ca.cross(w_a, r) - v_r),
+                    eq(a.a, resolve1(T_rel, b.a) - ca.cross(z_a, r) - ca.cross(w_a, ca.cross(w_a, r))
+                       - 2 * ca.cross(w_a, v_r) - a_r),
+                    eq(a.z, z_a)]
         return eqs

@@ -17,8 +17,9 @@ __all__ = ["World", "gravity_of"]
 class World(Component):
     """Inertial frame at the origin and uniform gravity ``g_0 = g·n`` [m/s²] in world coordinates.
 
-    ``frame_b`` is the world frame (a definite orientation root). Bodies find the World of their
-    model and use its gravity.
+    ``frame_b`` is the world frame (a definite orientation root), at rest, its origin's acceleration less gravity
+    ``a = −g_0`` (gravity enters the recursive kinematics there, :class:`~.interfaces.Frame`). Bodies find the
+    World of their model and use its gravity.
 
     Parameters
     ----------
@@ -40,6 +41,9 @@ class World(Component):
     g = Parameter(9.81, unit="m/s2", min=0.0, doc="Gravity acceleration magnitude")
     n = Parameter([0.0, -1.0, 0.0], unit="1", shape=3, doc="Direction of gravity resolved in world")
     frame_b = Frame(doc="World frame")
+    #: Not geometry: the planar-model analysis (``flexlib/compile/constants.py``) never assumes the gravity
+    #: magnitude zero, so a run may change it
+    non_geometric_parameters = ("g",)
 
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
@@ -51,7 +55,8 @@ class World(Component):
 
     def equations(self):
         fb = self.frame_b
-        return [eq(fb.r_0, 0.0), eq(fb.T, ca.SX.eye(3)), eq(fb.w, 0.0)]
+        return [eq(fb.r_0, 0.0), eq(fb.T, ca.SX.eye(3)), eq(fb.w, 0.0),
+                eq(fb.v, 0.0), eq(fb.a, -self.gravity()), eq(fb.z, 0.0)]
 
 
 def gravity_of(component: Component) -> ca.SX:
