@@ -187,3 +187,25 @@ def test_rows_that_are_not_invariant_are_kept_as_built():
     assert out.equations[-1].expr is probe.expr  # not invariant: kept as built
     changed = [e.label for e, o in zip(probed.equations, out.equations, strict=True) if e.expr is not o.expr]
     assert any("length" in lab for lab in changed), changed
+
+
+def test_a_joint_written_without_the_frame_rates_is_named():
+    """A user joint that relates r_0, T and w but not the frame's v, a, z (recursive kinematics) leaves them
+    undetermined: the balance check names that joint's frame_b and those variables."""
+    from flexlib import eq
+    from flexlib.components.mechanics.multibody.interfaces import PartialTwoFrames
+
+    class OldStyleWeld(PartialTwoFrames):
+        def equations(self):
+            a, b = self.frame_a, self.frame_b
+            return [eq(b.r_0, a.r_0), eq(b.T, a.T), eq(b.w, a.w), eq(a.f + b.f, 0.0), eq(a.t + b.t, 0.0)]
+
+    class Model(fl.Model):
+        def __init__(self):
+            super().__init__()
+            self.world, self.weld, self.body = World(), OldStyleWeld(), Body(m=1.0, I=np.eye(3))
+            self.connect(self.world.frame_b, self.weld.frame_a)
+            self.connect(self.weld.frame_b, self.body.frame_a)
+
+    with pytest.raises(fl.BalanceError, match=r"weld\.frame_b: weld\.frame_b\.v\[0\].*weld\.frame_b\.a\[0\]"):
+        fl.Simulation(Model(), use_cache=False)
