@@ -44,6 +44,8 @@ class FlatVariable:
     der_rule: ca.SX | None = None
     #: False for a variable declared at the derivative level (``Variable(error_test=False)``)
     error_test: bool = True
+    #: True for a kinematic intermediate (``Variable(intermediate=True)``): eliminated where a row gives it
+    intermediate: bool = False
 
 
 @dataclass(eq=False)
@@ -184,7 +186,8 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                 variables.append(FlatVariable(label, sym, lookup(sym), decl.unit, decl.doc, float(starts[k]), fixed,
                                               decl.nominal, node.state_select_of(name), kind, node.path,
                                               None if rule is None else rule[k],
-                                              bool(getattr(decl, "error_test", True))))
+                                              bool(getattr(decl, "error_test", True)),
+                                              bool(getattr(decl, "intermediate", False))))
 
     # -- component equations --------------------------------------------------------------------
     for node in nodes:

@@ -546,8 +546,10 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     cand_cols = {c for lev in levels for c in lev.cands}
     protected = np.array([k in cand_cols for k in entries], dtype=bool)
     untested = np.array([_untested(cols[k], variables) for k in entries], dtype=bool) & ~differential
+    intermediate = np.array([cols[k].order == 0 and variables[cols[k].var].intermediate for k in entries],
+                            dtype=bool) & ~differential
     F, keep, subs_syms, subs_vals, kept_rows, explicit = _post_simplify(F, y, yp, differential, protected, explicit,
-                                                                        untested=untested)
+                                                                        untested=untested, intermediate=intermediate)
     labels = [labels[k] for k in kept_rows]
     # rebuild y without eliminated entries
     y_keep = ca.vertcat(*[y[i] for i in keep])

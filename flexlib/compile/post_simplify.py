@@ -24,7 +24,7 @@ def _linear_single(e: ca.SX, sym: ca.SX) -> bool:
 
 def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
                   protected: np.ndarray | None = None, explicit_stage: bool = True,
-                  untested: np.ndarray | None = None):
+                  untested: np.ndarray | None = None, intermediate: np.ndarray | None = None):
     """Substitute known state derivatives, eliminate trivial algebraic aliases and explicit algebraics.
 
     ``protected`` marks entries that must stay unknowns (dummy-derivative candidates); ``explicit_stage=False``
@@ -118,7 +118,11 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
         fixed[list(alias)] = True
         if explicit_scope() == "error-test":
             # only unknowns already outside IDA's error test (derivative level): the test keeps what it checked
-            fixed |= ~derivative_level(ca.vertcat(*rows), y, yp, differential, untested)
+            # ... and kinematic intermediates (``Variable(intermediate=True)``: a frame's velocity along the tree)
+            free = derivative_level(ca.vertcat(*rows), y, yp, differential, untested)
+            if intermediate is not None:
+                free |= intermediate
+            fixed |= ~free
         kept2, explicit, values, new = eliminate_explicit_algebraics(rows, y, yp, differential, fixed)
         if explicit and _states_kept(new, yp, differential, set(explicit) | set(alias)):
             esyms = ca.vertcat(*[y[i] for i in explicit])

@@ -196,6 +196,7 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
             nominal=max(flat.variables[i].nominal for i, _ in members),
             # an alias of a derivative-level variable (a joint's acceleration, say) is one too
             error_test=all(flat.variables[i].error_test for i, _ in members),
+            intermediate=any(flat.variables[i].intermediate for i, _ in members),
         )
         if merged.start == 0.0:
             for i, s in members:

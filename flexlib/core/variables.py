@@ -354,6 +354,11 @@ class Variable(Declaration):
         algebraic unknown it stays out of IDA's local error test, with the reactions it determines, like the
         unknowns the engine finds determined only through derivatives — unless positions and velocities alone
         determine it (``flexlib.compile.structure.derivative_level``). A state is always tested.
+    intermediate : bool
+        True for a quantity that only carries kinematics from one component to the next (a multibody frame's
+        velocity and accelerations along the tree): where a row gives it explicitly, the engine eliminates it even
+        while IDA's error test checks it (stage 3c, ``flexlib/compile/explicit.py``), as it does the unknowns
+        outside the test; it stays in results by name.
     """
 
     kind = Kind.variable
@@ -361,11 +366,12 @@ class Variable(Declaration):
     def __init__(
         self, *, unit: str = "1", doc: str = "", start: Any = 0.0, fixed: bool = False,
         nominal: float = 1.0, state_select: str = "default", shape: int | tuple[int, ...] = (),
-        derivative: Any = None, error_test: bool = True,
+        derivative: Any = None, error_test: bool = True, intermediate: bool = False,
     ) -> None:
         super().__init__(unit=unit, doc=doc, shape=shape)
         self.derivative = derivative
         self.error_test = bool(error_test)
+        self.intermediate = bool(intermediate)
         if state_select not in _STATE_SELECT:
             raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)}, got {state_select!r}")
         if not nominal > 0:

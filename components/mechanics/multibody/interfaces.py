@@ -61,10 +61,11 @@ class Frame(Connector):
     T = Potential(unit="1", shape=(3, 3), overdetermined=True, doc="Transformation matrix world to frame",
                   derivative=lambda frame: -ca.mtimes(skew(frame.w), frame.T))
     w = Potential(unit="rad/s", shape=3, overdetermined=True, doc="Angular velocity resolved in frame")
-    v = Potential(unit="m/s", shape=3, overdetermined=True, doc="Velocity of the origin, resolved in frame")
-    a = Potential(unit="m/s2", shape=3, overdetermined=True, error_test=False,
+    v = Potential(unit="m/s", shape=3, overdetermined=True, intermediate=True,
+                  doc="Velocity of the origin, resolved in frame")
+    a = Potential(unit="m/s2", shape=3, overdetermined=True, error_test=False, intermediate=True,
                   doc="Acceleration of the origin less gravity, resolved in frame")
-    z = Potential(unit="rad/s2", shape=3, overdetermined=True, error_test=False,
+    z = Potential(unit="rad/s2", shape=3, overdetermined=True, error_test=False, intermediate=True,
                   doc="Angular acceleration, resolved in frame")
     f = Flow(unit="N", shape=3, doc="Cut force resolved in frame")
     t = Flow(unit="N.m", shape=3, doc="Cut torque resolved in frame")
