@@ -545,7 +545,9 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     labels += [f"der({_col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
     cand_cols = {c for lev in levels for c in lev.cands}
     protected = np.array([k in cand_cols for k in entries], dtype=bool)
-    untested = np.array([_untested(cols[k], variables) for k in entries], dtype=bool) & ~differential
+    # declarations of the algebraic entries that are variables (not derivative columns), alias classes merged
+    untested = np.array([cols[k].order == 0 and not variables[cols[k].var].error_test for k in entries],
+                        dtype=bool) & ~differential
     intermediate = np.array([cols[k].order == 0 and variables[cols[k].var].intermediate for k in entries],
                             dtype=bool) & ~differential
     F, keep, subs_syms, subs_vals, kept_rows, explicit = _post_simplify(F, y, yp, differential, protected, explicit,
@@ -600,11 +602,6 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
         col_names=[_col_name(c, variables) for c in cols], col_values=ca.vertcat(*col_exprs),
         levels=levels, level_jacobians=level_jacs, structure=structure, untested=untested[keep],
     )
-
-
-def _untested(col: _Col, variables: list[FlatVariable]) -> bool:
-    """A variable (not a derivative column) declared ``error_test=False``, or an alias of one."""
-    return col.order == 0 and not variables[col.var].error_test
 
 
 def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],

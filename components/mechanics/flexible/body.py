@@ -418,16 +418,15 @@ class FlexibleBody(Component):
             return ca.cross(z, x) + ca.cross(w, ca.cross(w, x)) + 2 * ca.cross(w, xd) + xdd
 
         alpha = self.alpha  # T (a_0 - g): the origin's acceleration less gravity, body axes
+        v_origin = ca.mtimes(Tr_e.T, e.v) - ca.cross(w, x_e) - xd_e  # origin velocity, body axes
         if entry == 0 and self.is_root(e):
             eqs += [eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0), eq(der(w), z),
                     eq(alpha, ca.mtimes(T, self.a_0 - g), label="acceleration in body axes"),
                     eq(e.v, ca.mtimes(Tr_e, ca.mtimes(T, self.v_0) + ca.cross(w, x_e) + xd_e)),
                     eq(e.a, ca.mtimes(Tr_e, alpha + acc(x_e, xd_e, xdd_e))), eq(e.z, z_e)]
         else:
-            v_body = ca.mtimes(Tr_e.T, e.v) - ca.cross(w, x_e) - xd_e  # origin velocity, body axes
             eqs += [eq(alpha, ca.mtimes(Tr_e.T, e.a) - acc(x_e, xd_e, xdd_e), label="acceleration in body axes"),
-                    eq(self.v_0, ca.mtimes(T.T, v_body)), eq(self.a_0, ca.mtimes(T.T, alpha) + g), eq(e.z, z_e)]
-        v_origin = ca.mtimes(Tr_e.T, e.v) - ca.cross(w, x_e) - xd_e
+                    eq(self.v_0, ca.mtimes(T.T, v_origin)), eq(self.a_0, ca.mtimes(T.T, alpha) + g), eq(e.z, z_e)]
         for k, f in enumerate(frames):
             if k != entry:
                 x, Tr, wr = kin[k][:3]
