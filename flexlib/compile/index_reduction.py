@@ -33,8 +33,8 @@ from flexlib.compile.post_simplify import post_simplify as _post_simplify
 from flexlib.compile.simplify import Condition, SimpleSystem
 from flexlib.compile.structure import row_jacobian
 from flexlib.core.functions import Relation
-from flexlib.core.variables import StateSelect, SymInfo, time
-from flexlib.errors import StructuralSingularityError
+from flexlib.core.variables import StateSelect, SymInfo, full_name, lookup, time
+from flexlib.errors import ModelError, StructuralSingularityError
 
 __all__ = ["DAE", "IndexReport", "reduce_index"]
 
@@ -584,9 +584,11 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
             jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
                               ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
         level_jacs.append(final_matrix(jac))
-    cond_exprs = final([c.expr for c in simple.conditions])
-    rel_exprs = final([i for _, i in simple.relations])
     names = [_col_name(cols[entries[i]], variables) for i in keep]
+    cond_exprs = _initial_derivatives(simple.conditions, final([c.expr for c in simple.conditions]),
+                                      dict(zip(out_names, out_exprs, strict=True)), F, y_new, yp_new,
+                                      differential[keep], names)
+    rel_exprs = final([i for _, i in simple.relations])
     owners = [variables[cols[entries[i]].var].owner for i in keep]
     nominal = np.array([variables[cols[entries[i]].var].nominal for i in keep])
     start = np.array([variables[cols[entries[i]].var].start if cols[entries[i]].order == 0 else 0.0 for i in keep])
@@ -602,6 +604,70 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
         col_names=[_col_name(c, variables) for c in cols], col_values=ca.vertcat(*col_exprs),
         levels=levels, level_jacobians=level_jacs, structure=structure, untested=untested[keep],
     )
+
+
+def _initial_derivatives(conditions: list[Condition], exprs: list[ca.SX], outputs: dict[str, ca.SX], F: ca.SX,
+                         y: ca.SX, yp: ca.SX, differential: np.ndarray, names: list[str]) -> list[ca.SX]:
+    """``der(v)`` in an initial equation, for a variable ``v`` whose derivative the equations do not contain.
+
+    MSL's ``PID_Controller`` writes ``der(spring.w_rel) = 0`` where MSL makes ``w_rel`` a state; here ``w_rel`` may
+    be a dummy derivative, defined by the differentiated constraint as ``der(i2.phi) - der(i1.phi)`` and so, through
+    ``w = der(phi)``, as ``i2.w - i1.w``. As Modelica tools do, the derivative is taken from the index-reduced
+    system: ``v`` is expressed in the states ``x`` by the rows of the residual that define an unknown explicitly
+    (linear in it with a constant coefficient), and then ``der(v) = dv/dx · x' + dv/dt``, with the states'
+    derivatives ``x'`` unknowns of the initialisation. A ``v`` that the rows do not express in the states is
+    refused, naming the initial equation, the variable, the unknowns it depends on and what to write instead.
+    """
+    out = []
+    for cond, expr in zip(conditions, exprs, strict=True):
+        pending = [s for s in ca.symvar(expr) if (info := lookup(s)) is not None and info.kind == "der"]
+        for s in pending:
+            info = lookup(s)
+            name = full_name(info.base)
+            where = f"initial equation of {cond.name.rsplit(' #', 1)[0]}"
+            e = outputs.get(name) if info.base.kind != "der" else None
+            if e is None:
+                raise ModelError(f"{where}: der({name}) cannot be evaluated at the start ({name} is not a variable "
+                                 "of the model's equations, or der() is applied twice); write the condition on a "
+                                 "variable, e.g. der(v) = 0 for the variable v, or use steady_state=True")
+            e, left = _in_states(e, F, y, yp, differential, names)
+            if left:
+                raise ModelError(
+                    f"{where}: der({name}) is not known at the start: {name} is not a state of this model and the "
+                    "equations do not express it in the states (it depends on "
+                    + ", ".join(left[:5]) + (", ..." if len(left) > 5 else "")
+                    + f"). Write the condition on states (der() of the state variables {name} is computed from; "
+                    "the build's report lists the states), declare " + name + " with state_select='prefer' so that it "
+                    "becomes a state, or use steady_state=True")
+            d = ca.mtimes(ca.jacobian(e, y), yp) + ca.jacobian(e, time)
+            expr = ca.substitute([expr], [s], [d])[0]
+        out.append(expr)
+    return out
+
+
+def _in_states(e: ca.SX, F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray, names: list[str],
+               rounds: int = 50) -> tuple[ca.SX, list[str]]:
+    """``e`` with its algebraic unknowns and derivatives replaced by the rows of ``F`` that define them explicitly
+    (``c·u + rest = 0`` with ``c`` constant), until it depends on the states ``x`` only; also the names of what is
+    left (empty on success)."""
+    left: list[tuple[ca.SX, str]] = []
+    for _ in range(rounds):
+        left = [(y[k], names[k]) for k in sorted(set(ca.jacobian(e, y).sparsity().get_col())) if not differential[k]]
+        left += [(yp[k], f"der({names[k]})") for k in sorted(set(ca.jacobian(e, yp).sparsity().get_col()))]
+        if not left:
+            return e, []
+        for u, _label in left:
+            col = ca.jacobian(F, u)
+            rows = sorted(set(col.sparsity().row()))
+            defining = [r for r in rows if col[r].is_constant() and float(ca.evalf(col[r])) != 0.0]
+            if defining:
+                r = defining[0]
+                rest = ca.substitute([F[r]], [u], [ca.SX(0.0)])[0]  # F[r] = c·u + rest, rest free of u
+                e = ca.substitute([e], [u], [-rest / col[r]])[0]
+                break
+        else:
+            break
+    return e, [label for _, label in left]
 
 
 def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],

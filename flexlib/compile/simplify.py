@@ -18,6 +18,7 @@ import casadi as ca
 from flexlib.compile.flatten import FlatEquation, FlatSystem, FlatVariable
 from flexlib.core.component import Connector
 from flexlib.core.functions import Relation
+from flexlib.core.variables import render_many
 from flexlib.errors import InitializationError
 
 __all__ = ["Condition", "SimpleSystem", "simplify"]
@@ -254,8 +255,12 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
     outputs = {v.name: value_of[i] for i, v in enumerate(flat.variables)}
     conditions = _conditions(flat, value_of)
     initial_exprs = subst([e.expr for e in flat.initial])
+    # an initial equation without a label of its own is named by its text (der(spring.w_rel) = 0)
+    plain = [k for k, e in enumerate(flat.initial) if e.label == "initial equation"]
+    texts = dict(zip(plain, render_many([flat.initial[k].expr for k in plain], 110), strict=True))
     for k, (e, expr) in enumerate(zip(flat.initial, initial_exprs, strict=True)):
-        conditions.append(Condition(f"{e.owner or '(model)'}: {e.label} #{k}", expr, 0.0))
+        label = f"{texts[k]} = 0" if k in texts else e.label
+        conditions.append(Condition(f"{e.owner or '(model)'}: {label} #{k}", expr, 0.0))
     return SimpleSystem(flat, kept_vars, equations, outputs, conditions, relations, n_elim, der_rules)
 
 

@@ -127,8 +127,16 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.casadi_dae import compiled_residual, fill_reducing_order
-from flexlib.solve.ida import Progress, Trajectory, _event_iteration, absolute_tolerances, next_time_event
+from flexlib.solve.ida import (
+    Progress,
+    Trajectory,
+    _event_iteration,
+    absolute_tolerances,
+    failure_message,
+    next_time_event,
+)
 from flexlib.solve.initialization import Initializer
+from flexlib.solve.signals import interrupted
 
 __all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "LINEAR_SOLVER", "RETRY_STEPS",
            "START_VARIANTS", "STUCK_TOL", "SUB_GRID", "USE_LIBRARY", "compiled_residual", "integrate_casadi"]
@@ -355,6 +363,8 @@ class _Runner:
             try:
                 (X, Z, *_), st = _evaluate(F, [x0, z0, self.p, u])
             except RuntimeError as err:
+                if interrupted():  # Ctrl-C / SIGTERM inside IDAS: its residual failed on the KeyboardInterrupt
+                    raise KeyboardInterrupt from None
                 if "IDA_TOO_MUCH_WORK" in str(err):
                     first = err
                     break
@@ -637,16 +647,23 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
             if stats["steps"] >= max_steps:
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
             bar.update(t)
+    except Exception as err:  # e.g. an InitializationError in the event iteration
+        if not interrupted():  # (a failure caused by Ctrl-C / SIGTERM swallowed in C is the interrupt below)
+            if isinstance(err, SolverError) and str(err).startswith("CasADi IDAS failed"):
+                # IDAS names only its flag: add what failed at the last accepted point, as the other backends do
+                # (a non-finite equation with its variables, a singular iteration matrix, the fastest unknowns)
+                err.args = (failure_message(str(err), model, p, t, y, yp, traj, rtol, atol),)
+            traj.status, traj.message = "failed", str(err) if isinstance(err, SolverError) else \
+                f"error at t = {t:.10g} s: {err}"
+            if isinstance(err, SolverError):
+                err.result = traj
+                raise
+            raise SolverError(traj.message, traj) from err
+        traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
+        raise SimulationInterrupted(traj.message, traj) from None
     except KeyboardInterrupt:
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
-    except SolverError as err:
-        traj.status, traj.message = "failed", str(err)
-        err.result = traj
-        raise
-    except Exception as err:  # e.g. an InitializationError in the event iteration
-        traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
-        raise SolverError(traj.message, traj) from err
     finally:
         bar.close()
     stats["wall_integrate"] = _time.perf_counter() - wall0

@@ -23,6 +23,9 @@ from flexlib.errors import RunArgumentError
 
 __all__ = ["MAX_OUTPUT_POINTS", "SOLVERS", "RunOptions", "check_result_path", "check_run_arguments"]
 
+#: Shortest run span [s], and at least 1e-12 of |t| (about 4500 units in the last place): below it IDA's first
+#: step and error norms underflow, or the times cannot be told apart
+MIN_SPAN = 1e-100
 #: Largest output grid accepted (points); a larger one is almost certainly a unit mistake in ``dt_out``
 #: (10 million rows of a 500-variable model are 40 GB).
 MAX_OUTPUT_POINTS = 10_000_000
@@ -169,11 +172,13 @@ def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.nda
                    f"{MAX_OUTPUT_POINTS}",
                    "use a larger dt_out, give the times you need as output_times, or omit dt_out to record "
                    "every solver step")
+    # t0, t0 + dt, ... and always t1 itself as the last point. A multiple of dt within round-off of t1
+    # (0.1 * 7 = 0.7000000000000001 for t_end = 0.7) is t1, not a point past the end: it is replaced by t1
+    # exactly, so the run ends with a row at t_end whatever the floating-point ratio t_end / dt_out
     n = int(np.floor((t1 - t0) / dt + 1e-9))
     grid = t0 + dt * np.arange(n + 1)
-    if grid[-1] < t1 - 1e-12 * max(1.0, abs(t1)):
-        grid = np.append(grid, t1)
-    return grid
+    grid = grid[grid < t1 - 1e-9 * dt]
+    return np.append(grid, t1)
 
 
 def check_run_arguments(experiment: Any, source: str, *, t_start: Any, t_end: Any, dt_out: Any, output_times: Any,
@@ -232,6 +237,11 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
         raise _bad("t_end", t_end, "must be a finite time [s] greater than t_start")
     if not t1 > t0:
         raise _bad("t_end", t_end, f"t_end ({t1:g}) must be greater than t_start ({t0:g})")
+    shortest = max(MIN_SPAN, 1e-12 * max(abs(t0), abs(t1)))
+    if t1 - t0 < shortest:
+        raise _bad("t_end", t_end, f"the span t_end - t_start = {t1 - t0:g} s is too short to integrate from "
+                   f"t_start = {t0:g} s (at least {shortest:g} s: below it the step sizes underflow or the times "
+                   "cannot be told apart in floating point)")
     grid = _output_grid(t0, t1, dt_out, output_times)
     r = _real("rtol", rtol, "must be a number with 0 < rtol < 1")
     if not (math.isfinite(r) and 0.0 < r < 1.0):

@@ -6,6 +6,7 @@ that the message names the culprit (time of the failure and the solver), and wha
 ``err.result``.
 """
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -118,3 +119,24 @@ def test_jacobian_companion_that_does_not_compile_falls_back_to_the_symbolic_res
     assert any(lib in str(w.message) for w in rec)
     assert not sim.compiled._functions["casadi_idas"].compiled
     np.testing.assert_allclose(res["x"], 1.0 / (1.0 - res.t), rtol=1e-6)
+
+
+class Root(fl.Model):
+    """x' = −1 from 1, y = sqrt(x): square root of a negative number after t = 1 s."""
+
+    x = Variable(unit="m")
+    y = Variable(unit="m0.5")
+
+    def equations(self):
+        return [eq(der(self.x), -1.0), eq(self.y, ca.sqrt(self.x), label="square root")]
+
+
+def test_sqrt_of_a_negative_names_the_equation_as_the_default_backend_does():
+    """Issue 26: the run ended as "CasADi IDAS failed ... (IDA_LSETUP_FAIL)" without naming the equation; now the
+    message carries the default backend's diagnosis at the last accepted point."""
+    sim = fl.Simulation(Root(init={"x": 1.0}), use_cache=False)
+    with pytest.raises(fl.SolverError, match=r"(?s)CasADi IDAS failed between t = 1 s.*equation \(model\): square "
+                                             r"root evaluates to nan.*x = -") as err:
+        sim.run(2.0, solver="casadi-idas", progress=False)
+    res = err.value.result
+    assert res.status == "failed" and 0.99 < res.t[-1] <= 1.0

@@ -42,6 +42,10 @@ BAD = {
     "t_end_nan": (dict(t_end=np.nan), r"t_end = nan.*finite"),
     "t_end_before_start": (dict(t_end=-1.0), r"t_end = -1\.0.*greater than t_start \(0\)"),
     "t_end_equals_start": (dict(t_end=0.5, t_start=0.5), r"t_end = 0\.5.*greater than t_start"),
+    "t_end_span_underflows": (dict(t_end=1e-300), r"t_end = 1e-300.*span.*too short.*at least 1e-100 s"),
+    "t_end_span_below_resolution": (dict(t_start=1e6, t_end=1e6 + 1e-7),
+                                    r"span t_end - t_start = 1\.0+1e-07 s is too short.*t_start = 1e\+06 s.*at least "
+                                    r"1e-06 s"),
     "t_end_string": (dict(t_end="10"), r"t_end = '10'.*finite time.*str"),
     "t_end_bool": (dict(t_end=True), r"t_end = True.*bool"),
     "t_start_nan": (dict(t_end=1.0, t_start=np.nan), r"t_start = nan.*finite"),

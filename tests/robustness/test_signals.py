@@ -2,6 +2,7 @@
 up to that point is kept and written; Ctrl-C during a save leaves no partial file (issue 8: before, SIGTERM
 wrote nothing)."""
 
+import os
 import signal
 import subprocess
 import sys
@@ -49,6 +50,15 @@ def recorder():
     previous = signal.signal(signal.SIGTERM, lambda signum, frame: calls.append(signum))
     yield calls
     signal.signal(signal.SIGTERM, previous)
+
+
+@pytest.fixture
+def ctrl_c():
+    """Python's own SIGINT handler (KeyboardInterrupt) for the test, restored after it: a suite started as a
+    background job (``pytest &``) inherits SIGINT ignored, and a raised SIGINT would then do nothing."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
 
 
 def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
@@ -197,7 +207,7 @@ def test_sigterm_during_initialisation(sim, monkeypatch, tmp_path, recorder):
     assert back.status == "interrupted" and back.values.shape[0] == 0
 
 
-def test_ctrl_c_signal_during_the_steps(sim, monkeypatch, tmp_path):
+def test_ctrl_c_signal_during_the_steps(sim, monkeypatch, tmp_path, ctrl_c):
     signal_at_call(monkeypatch, 300, signal.SIGINT)
     with pytest.raises(fl.SimulationInterrupted, match=r"interrupted by the user at t = "):
         sim.run(100.0, dt_out=0.01, result_file=tmp_path / "run.h5")
@@ -242,7 +252,7 @@ def test_sigterm_while_writing_is_delivered_after_the_file_is_complete(sim, monk
     assert len(fl.load_result(tmp_path / "run.h5").t) == 11
 
 
-def test_ctrl_c_during_a_save_leaves_no_partial_file(sim, saved_file, monkeypatch):
+def test_ctrl_c_during_a_save_leaves_no_partial_file(sim, saved_file, monkeypatch, ctrl_c):
     """SIGINT when the temporary file is written but not yet renamed: the previous file is intact and no
     temporary file remains."""
     before = saved_file.read_bytes()
@@ -259,7 +269,7 @@ def test_ctrl_c_during_a_save_leaves_no_partial_file(sim, saved_file, monkeypatc
     assert [p.name for p in saved_file.parent.iterdir()] == [saved_file.name]
 
 
-def test_ctrl_c_during_the_save_of_a_run_keeps_the_result(sim, monkeypatch, tmp_path):
+def test_ctrl_c_during_the_save_of_a_run_keeps_the_result(sim, monkeypatch, tmp_path, ctrl_c):
     def write(result, tmp):
         signal.raise_signal(signal.SIGINT)
 
@@ -295,3 +305,39 @@ def saved_file(sim, tmp_path):
     path = tmp_path / "keep.h5"
     sim.run(0.2).save(path)
     return path
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
+@pytest.mark.parametrize("solver", ["ida", "ida-sksundae", "casadi-idas"])
+def test_every_backend_stops_mid_run_with_the_rows_so_far(sim, solver, signum, ctrl_c):
+    """A signal from another thread while a long run integrates (an undamped oscillator over 1e6 s, minutes of
+    work): every backend stops with SimulationInterrupted and the rows so far (issue 26: CasADi's IDAS turned
+    the KeyboardInterrupt raised in its residual into a failed step, its halve-and-retry went on, and the run
+    ended 7 s later with "maximum number of steps reached"). The signal is sent once the run is past t = 100 s."""
+    started = threading.Event()
+    real = ida.Progress.update
+
+    def update(self, t):  # every backend reports its progress here as the run advances
+        if t > 100.0:
+            started.set()
+        real(self, t)
+
+    def send():
+        if started.wait(120.0):
+            os.kill(os.getpid(), signum)
+
+    ida.Progress.update = update
+    sender = threading.Thread(target=send, daemon=True)
+    sender.start()
+    try:
+        with pytest.raises(fl.SimulationInterrupted, match="SIGTERM" if signum == signal.SIGTERM else "by the user") \
+                as err:
+            sim.run(1e6, dt_out=1.0, solver=solver, max_steps=10**9, progress=False)
+    finally:
+        ida.Progress.update = real
+        started.set()
+        sender.join()
+    res = err.value.result
+    assert res.status == "interrupted"
+    assert 100.0 < res.t[-1] < 1e6 and np.array_equal(res.t[:101], np.arange(101.0))
+    assert res["x"][50] == pytest.approx(np.cos(50.0), abs=1e-3)  # the rows kept are the solution
