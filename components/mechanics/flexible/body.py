@@ -64,13 +64,13 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Component, Parameter, Variable, der, eq
-from flexlib.errors import ModelError
+from flexlib.errors import EmptyResultError, ModalFileError, ModelError, ParameterError, RunArgumentError
 
 from ..multibody.frames import equality_constraint, skew
 from ..multibody.interfaces import Frame
 from ..multibody.quaternions import floating_frame_equations, quaternion_to_T
 from ..multibody.world import World, gravity_of
-from .modal_data import ModalData
+from .modal_data import LOAD_CASE_NAMES, ModalData
 from .selection import default_damping_ratio, select_modes
 
 __all__ = ["FlexibleBody", "cayley_rotation", "frame_names", "inertial_load_amplitudes"]
@@ -105,17 +105,21 @@ class FlexibleBody(Component):
         once. The compiled-model cache keys on the data's content (:meth:`ModalData.content_hash`), not on
         the path.
     modes : int or sequence of int, optional
-        The modes to keep: a count (the lowest ``modes`` in frequency) or indices into the file's modes.
-        Default: all. ``0`` gives the rigid body.
+        The modes to keep: an ``int`` count (the lowest ``modes`` in frequency; at most the file's number of
+        modes) or a list of distinct indices into the file's modes (``[]``: none). Default: all. ``0`` gives the
+        rigid body. Anything else (a string such as ``"4"``, a float, a bool, a nested list) is refused.
     max_frequency : float, optional
-        Keep only modes at or below this frequency [Hz] (with ``modes`` as a count: both apply).
+        Keep only modes at or below this frequency [Hz], ``>= 0`` (with ``modes`` as a count: both apply); a
+        cut-off that keeps no mode of a body that has modes is refused (``modes=0`` is the rigid body).
     frames : sequence of int, optional
-        Node ids that get a frame connector, named ``frame_a``, ``frame_b``, … in this order (see
-        :func:`frame_names`); default: the file's interface nodes. :meth:`frame_at` finds a node's frame.
-    damping : mapping of int to float, optional
-        Modal damping ratios [1] replacing, per kept mode (index into the kept modes), the file's or the
-        default rule (1 % below 100 Hz, 10 % to 1000 Hz, 100 % above). The ratios are the tunable parameter
-        ``zeta``.
+        Node ids (at least one, distinct) that get a frame connector, named ``frame_a``, ``frame_b``, … in this
+        order (see :func:`frame_names`); default: the file's interface nodes. :meth:`frame_at` finds a node's
+        frame.
+    damping : float, sequence of float or mapping of int to float, optional
+        Modal damping ratios [1] (fractions of critical, each in ``[0, 1]``: ``0.02`` is 2 %) replacing the
+        file's or the default rule (1 % below 100 Hz, 10 % to 1000 Hz, 100 % above): one number for every kept
+        mode (``0.0``: undamped), one per kept mode, or ``{mode: ratio}`` for some kept modes (indices into the
+        kept modes). The ratios are the tunable parameter ``zeta`` (give ``damping`` or ``zeta``, not both).
     geometric_stiffening : bool
         Add the geometric stiffness of the file's unit load cases (needs ``/geometric_stiffness`` in the
         file: ``modal_data_from_fe(..., geometric_stiffening=True)``).
@@ -166,33 +170,34 @@ class FlexibleBody(Component):
                  damping: Mapping[int, float] | None = None, geometric_stiffening: bool = False,
                  q_fixed: bool | None = None, orientation_fixed: bool = False, w_fixed: bool = False,
                  **kwargs: Any) -> None:
-        data = modal_data if isinstance(modal_data, ModalData) else ModalData.read(modal_data)
-        data = _choose_modes(data, modes, max_frequency)
+        if isinstance(modal_data, ModalData):
+            title = modal_data.title
+            data, source = modal_data, f"modal data {title!r}" if title else "modal data (untitled)"
+        elif isinstance(modal_data, str | os.PathLike):
+            data, source = ModalData.read(modal_data), f"modal file {os.fspath(modal_data)!r}"
+        else:
+            raise ModelError(f"FlexibleBody: modal_data must be a ModalData or the path of a modal file (str or "
+                             f"Path), got {modal_data!r} ({type(modal_data).__name__})")
+        data = _choose_modes(data, modes, max_frequency, source)
         deferred = {k: kwargs.pop(k) for k in ("zeta", "init", "guess", "state_select") if k in kwargs}
         super().__init__(**kwargs)
         self._data = data
-        self._source = str(modal_data) if not isinstance(modal_data, ModalData) else data.title
-        self.orientation_fixed = bool(orientation_fixed)
-        self.w_fixed = bool(w_fixed)
-        self.geometric_stiffening = bool(geometric_stiffening)
-        nodes = [int(n) for n in (data.interface_nodes if frames is None else frames)]
-        if not nodes:
-            raise ModelError(f"{type(self).__name__}: no frames (the modal data {data.title!r} has no interface "
-                             "nodes; pass frames=[node ids])")
-        if len(set(nodes)) != len(nodes):
-            raise ModelError(f"{type(self).__name__}: frames {nodes} name a node twice")
-        for node in nodes:
-            try:
-                data.node_index(node)
-            except KeyError:
-                raise ModelError(f"{type(self).__name__}: frames: node {node} is not in the modal data "
-                                 f"{self._source!r} (nodes {int(data.node_ids.min())}..{int(data.node_ids.max())})")\
-                    from None
+        self._source = source  # how messages name the data: "modal file 'arm.h5'" or "modal data 'arm'"
+        self.orientation_fixed = _flag("orientation_fixed", orientation_fixed)
+        self.w_fixed = _flag("w_fixed", w_fixed)
+        self.geometric_stiffening = _flag("geometric_stiffening", geometric_stiffening)
+        q_fixed = None if q_fixed is None else _flag("q_fixed", q_fixed, "True, False or None")
+        nodes = _frame_nodes(data, frames, source)
         self.frame_nodes = tuple(nodes)
-        if self.geometric_stiffening and data.geometric_stiffness is None:
-            raise ModelError(f"{type(self).__name__}: geometric_stiffening=True, but the modal data "
-                             f"{self._source!r} has no '/geometric_stiffness' (build it with "
-                             "modal_data_from_fe(..., geometric_stiffening=True))")
+        if self.geometric_stiffening:
+            if data.geometric_stiffness is None:
+                raise ModelError(f"{type(self).__name__}: geometric_stiffening=True, but the {source} has no "
+                                 "'/geometric_stiffness' (build it with modal_data_from_fe(..., "
+                                 "geometric_stiffening=True))")
+            if not data.geometric_stiffness:
+                raise ModelError(f"{type(self).__name__}: geometric_stiffening=True, but the group "
+                                 f"'/geometric_stiffness' of the {source} holds no load case (expected "
+                                 f"{LOAD_CASE_NAMES}): no stiffening term could be added")
         names = frame_names(len(nodes))
         for name in names:
             setattr(self, name, Frame(doc=f"Frame at node {nodes[names.index(name)]}"))
@@ -201,38 +206,47 @@ class FlexibleBody(Component):
             self.branch(self._frames[0], other)
         self.potential_root(self._frames[0])
         m = data.n_modes
+        if "zeta" in deferred and damping is not None:
+            raise ModelError(f"{type(self).__name__}: both damping={damping!r} and zeta are given: damping sets the "
+                             "parameter zeta (the modal damping ratios); give one of them")
         if m:
             zeta = default_damping_ratio(data.frequencies) if data.damping_ratio is None else data.damping_ratio
-            zeta = np.array(zeta, dtype=float)
-            for mode, value in (damping or {}).items():
-                if not 0 <= int(mode) < m:
-                    raise ModelError(f"{type(self).__name__}: damping given for mode {mode}, but {m} modes are kept")
-                zeta[int(mode)] = float(value)
-            self.zeta = Parameter(zeta, unit="1", shape=m, min=0.0, doc="Modal damping ratios")
+            zeta = _damping_ratios(np.array(zeta, dtype=float), damping)
+            self.zeta = Parameter(zeta, unit="1", shape=m, min=0.0, max=1.0,
+                                  doc="Modal damping ratios (fractions of critical)")
             q_nom, qd_nom = _modal_nominals(data)
             self.q = Variable(unit="1", shape=m, start=np.zeros(m), state_select="prefer", nominal=q_nom,
                               doc="Modal coordinates")
             self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer", nominal=qd_nom,
                                doc="Modal velocities der(q)")
             self.qdd = Variable(unit="1/s2", shape=m, error_test=False, doc="Modal accelerations der(qd)")
-            fixed = "default" if q_fixed is None else bool(q_fixed)
+            fixed = "default" if q_fixed is None else q_fixed
             self.set_start("q", np.zeros(m), fixed=fixed)
             self.set_start("qd", np.zeros(m), fixed=fixed)
-        elif damping:
-            raise ModelError(f"{type(self).__name__}: damping given, but no modes are kept")
+        else:
+            _damping_ratios(np.zeros(0), damping)  # checks the value; {mode: ratio} names a mode not kept
         if "zeta" in deferred:
+            _check_zeta(deferred["zeta"], m)
             zeta_given = deferred.pop("zeta")
             if m or np.size(zeta_given):  # an empty zeta fits a body without modes
                 self._assign("zeta", zeta_given)
-        for name, value in (deferred.get("init") or {}).items():
-            self.set_start(name, value, fixed=True)
-        for name, value in (deferred.get("guess") or {}).items():
-            self.set_start(name, value, fixed=False)
+        for kind, fixed_start in (("init", True), ("guess", False)):
+            for name, value in (deferred.get(kind) or {}).items():
+                if name in ("q", "qd") and m:
+                    value = _modal_start(kind, name, value, m)
+                self.set_start(name, value, fixed=fixed_start)
         for name, value in (deferred.get("state_select") or {}).items():
             self.set_state_select(name, value)
         q0 = self.parameter_value("Q_start")
         if np.linalg.norm(q0) > 1e-12:
             self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)
+
+    def check(self, values: dict[str, np.ndarray]) -> None:
+        """``Q_start`` must be a quaternion (not all zero): it is normalised, and a zero one has no direction."""
+        q0 = values.get("Q_start")
+        if q0 is not None and not np.linalg.norm(q0) > 1e-12:
+            raise ParameterError(f"{self.param_label('Q_start')} = {np.asarray(q0).tolist()} [1] is not a rotation: "
+                                 "give a non-zero quaternion (x, y, z, w), e.g. [0, 0, 0, 1] for no rotation")
 
     # ------------------------------------------------------------------ data access
     @property
@@ -269,15 +283,59 @@ class FlexibleBody(Component):
             Reference-frame origin in the world [m].
         T : ndarray (nt, 3, 3)
             Reference-frame orientation, world → body [1] (from ``frame_a`` and its elastic rotation).
+
+        Raises
+        ------
+        RunArgumentError
+            ``result`` is not a :class:`~flexlib.Result`, or it belongs to another model: it holds no variables of
+            this body, or another number of modal coordinates or frames (a run of another build of the body).
+        EmptyResultError
+            The result has no rows.
         """
+        nt = self._check_result(result, "motion")
         t = np.asarray(result.t, dtype=float)
-        nt = t.size
-        q = np.asarray(result[f"{self.path}.q"], dtype=float).reshape(nt, -1) if self.n_modes else np.zeros((nt, 0))
+        q = (np.asarray(result[f"{self.path}.q"], dtype=float).reshape(nt, self.n_modes) if self.n_modes
+             else np.zeros((nt, 0)))
         T_a = np.asarray(result[f"{self.path}.frame_a.T"], dtype=float).reshape(nt, 3, 3, order="F")
         Psi = self._node_shapes(self.frame_nodes[0])[2]
         T_rel = cayley_rotation(q @ Psi.T if self.n_modes else np.zeros((nt, 3)))
         T = np.einsum("kji,kjl->kil", T_rel, T_a)  # T_rel^T T_a
         return t, q, np.asarray(result[f"{self.path}.r_0"], dtype=float).reshape(nt, 3), T
+
+    def _check_result(self, result: Any, func: str) -> int:
+        """The number of rows of ``result``, after checking it holds this body as built: its modal coordinates
+        (as many as the body keeps) and its frames."""
+        from flexlib.results.result import Result
+
+        where = f"{self.where}.{func}"
+        if not isinstance(result, Result):
+            raise RunArgumentError(f"{where}: argument 'result' must be a flexlib Result (of Simulation.run or "
+                                   f"Result.load), got {type(result).__name__}")
+        if not self.path:
+            raise RunArgumentError(f"{where}: this FlexibleBody is not part of a model; use the body of the model "
+                                   f"that made the result of {result.model}")
+        prefix = f"{self.path}."
+        own = [n for n in result.names if n.startswith(prefix)]
+        if not own:
+            raise RunArgumentError(f"{where}: the result of {result.model} holds no variables of {self.path} "
+                                   f"({prefix}*): it belongs to another model")
+        n_q = sum(1 for n in own if n == f"{prefix}q" or n.startswith(f"{prefix}q["))
+        if n_q != self.n_modes:
+            raise RunArgumentError(f"{where}: the result of {result.model} holds {n_q} modal coordinates for "
+                                   f"{self.path} ({prefix}q), but the body has {self.n_modes} (modes kept from the "
+                                   f"{self._source}): the result belongs to another model (another build of "
+                                   "this body); use the body of the model that made it")
+        held = {n[len(prefix):].split(".")[0] for n in own if n.startswith(f"{prefix}frame_")}
+        names = frame_names(len(self.frame_nodes))
+        if set(names) != held:
+            raise RunArgumentError(f"{where}: the result of {result.model} holds the frames {sorted(held)} of "
+                                   f"{self.path}, but the body has {names} (at nodes {list(self.frame_nodes)}): "
+                                   "the result belongs to another model")
+        nt = int(np.size(result.t))
+        if not nt:
+            raise EmptyResultError(f"{where}: the result of {result.model} has no rows; the run is "
+                                   f"{result.status}" + (f" ({result.message})" if result.message else ""))
+        return nt
 
     def load_amplitudes(self, result: Any) -> np.ndarray:
         """Amplitudes of the modal data's unit load cases over a result, for mode-acceleration recovery.
@@ -300,12 +358,15 @@ class FlexibleBody(Component):
 
         Raises
         ------
-        ValueError
-            The modal data hold no static load responses.
+        ModalFileError
+            The modal data hold no static load responses (for loads at a frame's node); a ``ValueError``.
+        RunArgumentError, EmptyResultError
+            As :meth:`motion`: a result of another model, or one without rows.
         """
         d = self._data
         if d.load_cases is None:
             d.residual_fields()  # raises the explanatory error
+        self._check_result(result, "load_amplitudes")
         t, _q, _r0, T = self.motion(result)
         nt = t.size
         g = _result_gravity(self, result)
@@ -325,10 +386,10 @@ class FlexibleBody(Component):
         for node, frame in zip(self.frame_nodes, frame_names(len(self.frame_nodes)), strict=True):
             if node not in carried and np.abs(np.column_stack(
                     [values[f"F{node}_{c}"] for c in _COMPONENTS])).max(initial=0.0) > 0.0:
-                raise ValueError(f"{self.path}.{frame}: loads at node {node}, but the modal data {d.title!r} hold no "
-                                 f"static responses for loads there (its load cases cover the interface nodes "
-                                 f"{sorted(carried)}): make node {node} an interface node of the "
-                                 "reduction for mode-acceleration recovery")
+                raise ModalFileError(f"{self.path}.{frame}: loads at node {node}, but the modal data {d.title!r} "
+                                     f"hold no static responses for loads there (its load cases cover the interface "
+                                     f"nodes {sorted(carried)}): make node {node} an interface node of the "
+                                     "reduction for mode-acceleration recovery")
         zero = np.zeros(nt)
         return np.column_stack([values.get(c, zero) for c in d.load_cases]) if d.load_cases else np.zeros((nt, 0))
 
@@ -546,20 +607,201 @@ def _modal_nominals(data: ModalData) -> tuple[float, float]:
     return q_nom, q_nom * 2 * np.pi * (float(f.min()) if f.size else 1.0)
 
 
-def _choose_modes(data: ModalData, modes: int | Sequence[int] | None, max_frequency: float | None) -> ModalData:
-    if modes is None or isinstance(modes, (int, np.integer)):
+def _is_int(value: Any) -> bool:
+    """A Python or numpy integer, not a bool."""
+    return isinstance(value, int | np.integer) and not isinstance(value, bool | np.bool_)
+
+
+def _is_real(value: Any) -> bool:
+    """A Python or numpy real number, not a bool."""
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool | np.bool_)
+
+
+def _flag(name: str, value: Any, accepted: str = "True or False") -> bool:
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    raise ModelError(f"FlexibleBody: {name} must be {accepted}, got {value!r} ({type(value).__name__})")
+
+
+def _int_list(name: str, value: Any, what: str, example: str) -> list[int]:
+    """``value`` as a list of ints: a list, tuple, range or 1-D integer array whose items are all integers."""
+    if isinstance(value, str | bytes | Mapping) or not isinstance(value, Sequence | np.ndarray | range):
+        raise ModelError(f"FlexibleBody: {name} must be {what}, got {value!r} ({type(value).__name__}); "
+                         f"for example {example}")
+    if isinstance(value, np.ndarray):
+        if value.ndim != 1:
+            raise ModelError(f"FlexibleBody: {name} must be a flat list of {what}, got an array of shape "
+                             f"{value.shape}")
+        items = value.tolist()
+    else:
+        items = list(value)
+    for k, item in enumerate(items):
+        if not _is_int(item):
+            hint = ""
+            if isinstance(item, float | np.floating) and float(item).is_integer():
+                hint = f" (write {int(item)})"
+            elif isinstance(item, str) and item.strip().lstrip("-").isdigit():
+                hint = f" (write {int(item)}, without quotes)"
+            raise ModelError(f"FlexibleBody: {name}[{k}] is {item!r} ({type(item).__name__}): {name} must be "
+                             f"{what}{hint}")
+    return [int(i) for i in items]
+
+
+def _frame_nodes(data: ModalData, frames: Any, source: str) -> list[int]:
+    """The node ids of the frames: given, else the file's interface nodes; at least one, distinct, in the file."""
+    if frames is None:
+        nodes = [int(n) for n in data.interface_nodes]
+        if not nodes:
+            raise ModelError(f"FlexibleBody: no frames: the {source} has no interface nodes ('/interface/node_ids' "
+                             f"is empty); pass frames=[node ids] (nodes {int(data.node_ids.min())}.."
+                             f"{int(data.node_ids.max())})")
+        return nodes
+    nodes = _int_list("frames", frames, "a list of node ids (ints)", "frames=[0, 6]")
+    if not nodes:
+        iface = [int(n) for n in data.interface_nodes]
+        raise ModelError(f"FlexibleBody: frames is empty: a flexible body needs at least one frame (frame_a) to be "
+                         f"connected; pass node ids, e.g. frames={iface or [int(data.node_ids[0])]}, or leave "
+                         f"frames out for the interface nodes of the {source} {iface}")
+    if len(set(nodes)) != len(nodes):
+        twice = sorted({n for n in nodes if nodes.count(n) > 1})
+        raise ModelError(f"FlexibleBody: frames {nodes} name a node twice (node {twice[0]}); each node gets at most "
+                         "one frame")
+    for node in nodes:
+        try:
+            data.node_index(node)
+        except KeyError:
+            raise ModelError(f"FlexibleBody: frames: node {node} is not in the {source} (nodes "
+                             f"{int(data.node_ids.min())}..{int(data.node_ids.max())})") from None
+    return nodes
+
+
+def _ratio(where: str, value: Any) -> float:
+    """A modal damping ratio: a real number in [0, 1]."""
+    accepted = "a modal damping ratio in [0, 1] (a fraction of critical damping: 0.02 for 2 %)"
+    if not _is_real(value):
+        raise ModelError(f"FlexibleBody: {where} must be {accepted}, got {value!r} ({type(value).__name__})")
+    v = float(value)
+    if not 0.0 <= v <= 1.0:  # NaN fails too
+        hint = f" (a percentage? {v:g} % is {v / 100:g})" if 1.0 < v <= 100.0 else ""
+        raise ModelError(f"FlexibleBody: {where} must be {accepted}, got {v!r}{hint}")
+    return v
+
+
+def _damping_ratios(zeta: np.ndarray, damping: Any) -> np.ndarray:
+    """The modal damping ratios of the kept modes: ``zeta`` (file or default rule) with ``damping`` applied."""
+    m = zeta.size
+    if damping is None:
+        return zeta
+    if isinstance(damping, np.ndarray) and damping.ndim == 0:
+        damping = damping.item()
+    if isinstance(damping, Mapping):
+        if damping and not m:
+            raise ModelError(f"FlexibleBody: damping given for modes {sorted(damping, key=str)}, but no modes are "
+                             "kept")
+        for mode, value in damping.items():
+            if not _is_int(mode):
+                raise ModelError(f"FlexibleBody: damping: key {mode!r} ({type(mode).__name__}) must be the index "
+                                 f"(int) of a kept mode, 0..{m - 1}")
+            if not 0 <= mode < m:
+                raise ModelError(f"FlexibleBody: damping given for mode {mode}, but {m} modes are kept (indices "
+                                 f"0..{m - 1} into the kept modes)")
+            zeta[int(mode)] = _ratio(f"damping[{mode}]", value)
+        return zeta
+    if _is_real(damping):
+        zeta[:] = _ratio("damping", damping)
+        return zeta
+    if isinstance(damping, str | bytes) or not isinstance(damping, Sequence | np.ndarray):
+        raise ModelError(f"FlexibleBody: damping must be a modal damping ratio for every kept mode (e.g. 0.02), one "
+                         f"per kept mode ({m}) or {{mode: ratio}}, got {damping!r} ({type(damping).__name__})")
+    values = list(damping.tolist() if isinstance(damping, np.ndarray) else damping)
+    nested = any(isinstance(v, Sequence | np.ndarray) and not isinstance(v, str) for v in values)
+    if nested or len(values) != m:
+        raise ModelError(f"FlexibleBody: damping has {len(values)} {'nested ' if nested else ''}values, but {m} "
+                         "modes are kept: give one ratio per kept mode, one number for all, or {mode: ratio}")
+    for k, value in enumerate(values):
+        zeta[k] = _ratio(f"damping[{k}]", value)
+    return zeta
+
+
+def _check_zeta(value: Any, m: int) -> None:
+    """``zeta`` given directly: numbers (not text or bools), one per kept mode (the parameter checks the bounds)."""
+    items = np.asarray(value, dtype=object).ravel().tolist() if not isinstance(value, str | bytes) else [value]
+    for item in items:
+        if not _is_real(item):
+            raise ParameterError(f"FlexibleBody: zeta must be modal damping ratios (numbers in [0, 1]), one per kept "
+                                 f"mode ({m}), got {value!r} (an item {item!r} of type {type(item).__name__})")
+    if not m and items:
+        raise ParameterError(f"FlexibleBody: zeta has {len(items)} values, but no modes are kept (zeta is absent "
+                             "for the rigid body)")
+
+
+def _modal_start(kind: str, name: str, value: Any, m: int) -> np.ndarray:
+    """A start value of the modal coordinates ``q`` [1] or rates ``qd`` [1/s]: finite numbers, one per kept mode."""
+    where = f"FlexibleBody: {kind}[{name!r}]"
+    items = [value] if isinstance(value, str | bytes) or np.ndim(value) == 0 else np.asarray(
+        value, dtype=object).ravel().tolist()
+    for item in items:
+        if not _is_real(item):
+            raise ModelError(f"{where} must be numbers, one per kept mode ({m}), got {value!r} (an item {item!r} of "
+                             f"type {type(item).__name__})")
+    if np.ndim(value) != 1 or len(items) != m:
+        raise ModelError(f"{where} has shape {np.shape(value)}, but {m} modes are kept: give one value per kept "
+                         f"mode, e.g. {kind}={{{name!r}: np.zeros({m})}}")
+    out = np.array(items, dtype=float)
+    if not np.all(np.isfinite(out)):
+        raise ModelError(f"{where} has a non-finite value {float(out[~np.isfinite(out)][0])!r} at index "
+                         f"{int(np.flatnonzero(~np.isfinite(out))[0])}")
+    return out
+
+
+def _choose_modes(data: ModalData, modes: Any, max_frequency: Any, source: str) -> ModalData:
+    """The kept modes: ``modes`` (None, an int count or a list of indices) and ``max_frequency`` (module rules)."""
+    n = data.n_modes
+    accepted = ("an int count of the lowest modes (e.g. modes=4) or a list of mode indices into the file's "
+                f"modes 0..{n - 1} (e.g. modes=[0, 2])")
+    if max_frequency is not None:
+        if not _is_real(max_frequency) or not float(max_frequency) >= 0.0:
+            raise ModelError(f"FlexibleBody: max_frequency must be a frequency [Hz] >= 0, got {max_frequency!r} "
+                             f"({type(max_frequency).__name__})")
+        max_frequency = float(max_frequency)
+    idx: list[int] = []
+    if modes is None or _is_int(modes):
         if modes is not None and int(modes) < 0:
-            raise ModelError(f"FlexibleBody: modes must be >= 0, got {modes}")
+            raise ModelError(f"FlexibleBody: modes must be >= 0, got {modes} (a count of the lowest modes; 0 for the "
+                             "rigid body)")
+        if modes is not None and max_frequency is None and int(modes) > n:
+            raise ModelError(f"FlexibleBody: modes={int(modes)} asks for the {int(modes)} lowest modes, but the "
+                             f"{source} has only {n}")
         if modes is None and max_frequency is None:
             return data
-        return select_modes(data, count=None if modes is None else int(modes), max_frequency=max_frequency)
-    idx = [int(i) for i in modes]
-    bad = [i for i in idx if not 0 <= i < data.n_modes]
-    if bad:
-        raise ModelError(f"FlexibleBody: modes {bad} are not in the modal data {data.title!r} "
-                         f"({data.n_modes} modes: 0..{data.n_modes - 1})")
-    out = data.select(idx)
-    return out if max_frequency is None else select_modes(out, max_frequency=max_frequency)
+        out = select_modes(data, count=None if modes is None else int(modes), max_frequency=max_frequency)
+    else:
+        if isinstance(modes, bool | np.bool_):
+            raise ModelError(f"FlexibleBody: modes={modes!r} is a bool; modes must be {accepted}")
+        if isinstance(modes, str):
+            hint = ""
+            if modes.strip().isdigit():
+                k = int(modes)
+                hint = f"; write modes={k} for the {k} lowest modes, or modes=[{k}] for the mode of index {k}"
+            raise ModelError(f"FlexibleBody: modes={modes!r} is a string; modes must be {accepted}{hint}")
+        if isinstance(modes, float | np.floating):
+            hint = f"; write modes={int(modes)}" if float(modes).is_integer() else ""
+            raise ModelError(f"FlexibleBody: modes={modes!r} is a float; modes must be {accepted}{hint}")
+        idx = _int_list("modes", modes, accepted, "modes=[0, 2]")
+        twice = sorted({i for i in idx if idx.count(i) > 1})
+        if twice:
+            raise ModelError(f"FlexibleBody: modes {idx} name mode {twice[0]} twice; each mode is kept once")
+        bad = [i for i in idx if not 0 <= i < n]
+        if bad:
+            raise ModelError(f"FlexibleBody: modes {bad} are not in the {source} ({n} modes: 0..{n - 1})")
+        out = data.select(idx)
+        if max_frequency is not None:
+            out = select_modes(out, max_frequency=max_frequency)
+    rigid_asked = modes is not None and (int(modes) == 0 if _is_int(modes) else not idx)
+    if max_frequency is not None and n and not out.n_modes and not rigid_asked:
+        raise ModelError(f"FlexibleBody: max_frequency={max_frequency:g} Hz keeps no mode of the {source} (lowest "
+                         f"{float(data.frequencies.min()):.4g} Hz); pass modes=0 for a rigid body")
+    return out
 
 
 def inertial_load_amplitudes(alpha: np.ndarray, z: np.ndarray, w: np.ndarray) -> dict[str, np.ndarray]:

@@ -28,7 +28,7 @@ import numpy as np
 from flexlib.errors import ResultFileError, RunArgumentError
 
 from .modal_data import ModalData
-from .output import _field_values, _name, _series
+from .output import _field_values, _name, _scale, _series
 
 __all__ = ["animate", "plot_frame", "write_model_vtk", "write_series", "write_vtk_series"]
 
@@ -228,9 +228,29 @@ def _colour_values(s: dict[str, Any], color: str, func: str) -> np.ndarray:
     return np.linalg.norm(v, axis=-1) if color == "displacement" else v
 
 
+def _figure_options(func: str, cmap: Any, figsize: Any, dpi: Any) -> None:
+    """``cmap`` a matplotlib colour map name, ``figsize`` two positive sizes [inch], ``dpi`` a positive number."""
+    import matplotlib
+
+    if not isinstance(cmap, str) or cmap not in matplotlib.colormaps:
+        raise RunArgumentError(f"{func}: argument 'cmap' must be the name of a matplotlib colour map (e.g. 'jet', "
+                               f"'viridis'), got {cmap!r}")
+    size = np.asarray(figsize, dtype=object).ravel().tolist() if not isinstance(figsize, str) else [figsize]
+    if (len(size) != 2 or not all(isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool)
+                                  and math.isfinite(v) and v > 0 for v in size)):
+        raise RunArgumentError(f"{func}: argument 'figsize' must be (width, height), two positive numbers [inch], got "
+                               f"{figsize!r}")
+    if isinstance(dpi, bool) or not isinstance(dpi, int | float | np.integer | np.floating) or not (
+            math.isfinite(dpi) and dpi > 0):
+        raise RunArgumentError(f"{func}: argument 'dpi' must be a positive number [dots per inch], got {dpi!r}")
+
+
 def _frame_indices(nt: int, frames: int | Sequence[int] | None, func: str) -> np.ndarray:
     if frames is None:
         frames = min(nt, 200)
+    if isinstance(frames, bool | np.bool_):
+        raise RunArgumentError(f"{func}: argument 'frames' must be a number of frames (int >= 1) or sample indices, "
+                               f"got {frames!r}")
     if isinstance(frames, int | np.integer):
         if frames < 1:
             raise RunArgumentError(f"{func}: argument 'frames' must be at least 1, got {frames}")
@@ -382,7 +402,8 @@ def plot_frame(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, index: 
     func = "plot_frame"
     s = _series(func, data, times, q, r_0, T, scale)
     nt = s["t"].shape[0]
-    if not isinstance(index, int | np.integer) or not -nt <= index < nt:
+    _figure_options(func, cmap, figsize, dpi)
+    if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer) or not -nt <= index < nt:
         raise RunArgumentError(f"{func}: argument 'index' must be one sample index in {-nt}..{nt - 1}, got "
                                f"{index!r}")
     k = np.array([int(index) % nt])
@@ -455,7 +476,8 @@ def animate(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, path: str 
     s = _series(func, data, times, q, r_0, T, scale)
     idx = _frame_indices(s["t"].shape[0], frames, func)
     values = _colour_values(s, color, func)
-    if not (isinstance(fps, int | float) and math.isfinite(fps) and fps > 0):
+    _figure_options(func, cmap, figsize, dpi)
+    if isinstance(fps, bool) or not (isinstance(fps, int | float) and math.isfinite(fps) and fps > 0):
         raise RunArgumentError(f"{func}: argument 'fps' must be a positive number, got {fps!r}")
     out = _check_output_path(path, func, (".gif", ".mp4")) if path is not None else None
     if out is not None and out.suffix.lower() == ".mp4" and not animation.writers.is_available("ffmpeg"):
@@ -506,11 +528,16 @@ def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
     Raises
     ------
     RunArgumentError
-        No flexible body and no lines, an unknown frame path, a bad suffix.
+        No flexible body and no lines, an unknown frame path, a line of fewer than two frames, a bad suffix,
+        ``scale`` not a finite number, a ``model`` or ``result`` of the wrong type, a result of another model
+        (:meth:`FlexibleBody.motion`).
     ResultFileError
         The files cannot be written (nothing is left behind).
     """
     import meshio
+
+    from flexlib.core.component import Component
+    from flexlib.results.result import Result
 
     from .body import FlexibleBody
     from .output import deformed_positions, node_displacements
@@ -518,9 +545,20 @@ def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
     func = "write_model_vtk"
     path = Path(path)
     _collection_kind(path)
-    scale = float(scale)
+    scale = _scale(func, scale)
     if isinstance(stride, bool) or not isinstance(stride, int) or stride < 1:
         raise RunArgumentError(f"{func}: stride must be a positive integer, got {stride!r}")
+    if not isinstance(model, Component):
+        raise RunArgumentError(f"{func}: argument 'model' must be the flexlib model the result belongs to, got "
+                               f"{type(model).__name__}")
+    if not isinstance(result, Result):
+        raise RunArgumentError(f"{func}: argument 'result' must be a flexlib Result (of Simulation.run or "
+                               f"Result.load), got {type(result).__name__}")
+    for name, frames in (lines or {}).items():
+        if (isinstance(frames, str) or not isinstance(frames, Sequence) or len(frames) < 2
+                or not all(isinstance(f, str) for f in frames)):
+            raise RunArgumentError(f"{func}: line {name!r} must be a list of at least two frame paths (e.g. "
+                                   f"['joint1.frame_b', 'joint2.frame_a']), got {frames!r}")
     t_all = np.asarray(result.t, dtype=float)
     rows = np.unique(np.append(np.arange(0, t_all.size, stride), t_all.size - 1)) if t_all.size else np.zeros(0, int)
     t = t_all[rows]

@@ -19,6 +19,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -33,7 +34,7 @@ from flexlib.errors import ModalFileError
 
 from .invariants import INVARIANT_NAMES, invariant_shapes
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "SI_UNITS", "ModalData"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "LOAD_CASE_NAMES", "SI_UNITS", "ModalData", "is_load_case_name"]
 
 FORMAT = "flexlib-modal"
 FORMAT_VERSION = 1
@@ -65,6 +66,28 @@ _DATASETS: dict[str, tuple[str, bool, bool]] = {
     "static_section_forces": ("static_loads/section_forces", False, False),
     "static_stress": ("static_loads/stress", False, False),
 }
+#: The unit load cases a flexible body knows (geometric stiffness and static responses): the grammar of their names.
+LOAD_CASE_NAMES = ("acc_x|y|z, alpha_x|y|z, omega_xx|yy|zz|xy|yz|zx, F<node id>_ux|uy|uz|rx|ry|rz "
+                   "(a node of '/nodes/ids')")
+_CASE = re.compile(r"(acc|alpha)_[xyz]|omega_(xx|yy|zz|xy|yz|zx)|F(-?\d+)_(ux|uy|uz|rx|ry|rz)")
+
+
+def is_load_case_name(name: Any, node_ids: Sequence[int] | np.ndarray) -> bool:
+    """True if ``name`` is a unit load case a flexible body applies (:data:`LOAD_CASE_NAMES`): an inertial case or a
+    load ``F<node>_<component>`` at one of ``node_ids``."""
+    match = _CASE.fullmatch(name) if isinstance(name, str) else None
+    if match is None:
+        return False
+    return match.group(3) is None or int(match.group(3)) in {int(k) for k in node_ids}
+
+
+def _unknown_cases(dataset: str, what: str, names: Sequence[Any], node_ids: np.ndarray) -> None:
+    unknown = [k for k in names if not is_load_case_name(k, node_ids)]
+    if unknown:
+        raise _Invalid(dataset, f"{what} {unknown} unknown: a flexible body applies only the load cases "
+                                f"{LOAD_CASE_NAMES}; no term of theirs would enter its equations")
+
+
 _STATIC = ("static_translations", "static_rotations", "static_modal_loads", "static_section_forces", "static_stress")
 _REL = 1e-9  # relative tolerance of the symmetry and consistency checks
 
@@ -115,7 +138,7 @@ class ModalData:
     mass_description : str
         ``"consistent"`` or ``"lumped"``: how the invariants were computed.
     damping_ratio : ndarray (M,), optional
-        Modal damping ratios [1]; ``None``: the frequency rule of
+        Modal damping ratios [1], each in ``[0, 1]`` (fractions of critical); ``None``: the frequency rule of
         :func:`~flexlib.components.mechanics.flexible.selection.default_damping_ratio`.
     stress_modes : ndarray (M, N, 6), optional
         Stress per unit modal coordinate at each node [Pa] (sxx, syy, szz, sxy, syz, szx).
@@ -126,10 +149,11 @@ class ModalData:
         axes at both ends of each element of ``elements``.
     geometric_stiffness : mapping of str to ndarray (M, M), optional
         Modal geometric stiffness per unit load case [N/m per unit coordinate and unit load] (see
-        :mod:`.geometric`): ``acc_x..z``, ``alpha_x..z``, ``omega_xx..zx``, ``F{node}_{ux..rz}``.
+        :mod:`.geometric`): ``acc_x..z``, ``alpha_x..z``, ``omega_xx..zx``, ``F{node}_{ux..rz}`` (a node of
+        ``node_ids``); other names are refused (:data:`LOAD_CASE_NAMES`: a flexible body would apply none of them).
     load_cases : tuple of str, optional
-        Names of the unit load cases of the static responses (as for ``geometric_stiffness``); stored as the JSON
-        attribute ``cases`` of the group ``/static_loads``.
+        Names of the unit load cases of the static responses (as for ``geometric_stiffness``, the same names
+        only); stored as the JSON attribute ``cases`` of the group ``/static_loads``.
     static_translations, static_rotations : ndarray (C, N, 3), optional
         The body's exact elastic static response to each unit load case (all FE modes, with inertia relief for
         the rigid-body modes the reference frame carries) [m, rad per unit load].
@@ -270,12 +294,13 @@ class ModalData:
 
         Raises
         ------
-        ValueError
-            The data hold no static load responses (made with ``static_loads=False`` or by another producer).
+        ModalFileError
+            The data hold no static load responses (made with ``static_loads=False`` or by another producer); a
+            ``ValueError``.
         """
         if self.load_cases is None:
-            raise ValueError(f"modal data {self.title!r}: no static load responses (dataset '/static_loads'); make "
-                             "the data with modal_data_from_fe(..., static_loads=True)")
+            raise ModalFileError(f"modal data {self.title!r}: no static load responses (dataset '/static_loads'); "
+                                 "make the data with modal_data_from_fe(..., static_loads=True)")
         K = self.generalized_stiffness
         if self.n_modes:
             coef = np.linalg.lstsq(K, self.static_modal_loads.T, rcond=None)[0]  # (M, C)
@@ -380,10 +405,17 @@ class ModalData:
         ModalFileError
             Missing or truncated file, not a flexlib modal file, a future format version, a missing dataset,
             a wrong dtype (e.g. a string where a number belongs), shape, non-finite value, non-symmetric or
-            indefinite mass/stiffness, units other than SI, or invariants that contradict the body properties.
-            The message names the file and the dataset.
+            indefinite mass/stiffness, units other than SI, invariants that contradict the body properties,
+            damping ratios outside [0, 1], load-case names a flexible body does not know (:data:`LOAD_CASE_NAMES`),
+            a directory or a path that is not a str/PathLike. The message names the file and the dataset.
         """
+        if not isinstance(path, str | os.PathLike):
+            raise ModalFileError(f"ModalData.read: path must be the path of a modal file (str or Path), got "
+                                 f"{path!r} ({type(path).__name__})")
         name = os.fspath(path)
+        if os.path.isdir(name):
+            raise ModalFileError(f"{name}: is a directory, not a modal file: give the path of the HDF5 modal file "
+                                 "(.h5) in it")
         if not os.path.isfile(name):
             raise ModalFileError(f"{name}: no such modal file")
         try:
@@ -465,8 +497,9 @@ def _read_all(f: h5py.File, name: str) -> dict[str, Any]:
     out["mass_description"] = text("invariants", "mass_description")
     out["load_cases"] = None
     if "static_loads" in f:
+        cases = text("static_loads", "cases")
         try:
-            out["load_cases"] = json.loads(text("static_loads", "cases"))
+            out["load_cases"] = json.loads(cases)
         except ValueError as exc:
             raise ModalFileError(f"{name}: dataset '/static_loads' attribute 'cases' is not JSON: {exc}") from None
     prov = f.attrs.get("provenance", "{}")
@@ -597,6 +630,10 @@ def _validate(d: ModalData) -> dict[str, Any]:
         zeta = _numeric(p["damping_ratio"], d.damping_ratio, (m,))
         if np.any(zeta < 0):
             raise _Invalid(p["damping_ratio"], f"negative damping ratio at mode {int(np.argmin(zeta))}")
+        if np.any(zeta > 1):
+            j = int(np.argmax(zeta))
+            raise _Invalid(p["damping_ratio"], f"damping ratio {zeta[j]:g} at mode {j} is above 1: ratios are "
+                                               "fractions of critical damping in [0, 1] (0.02 for 2 %)")
         out["damping_ratio"] = zeta
     out["stress_modes"] = None if d.stress_modes is None else _numeric(p["stress_modes"], d.stress_modes, (m, N, 6))
     n_el = out["elements"].shape[0]
@@ -612,8 +649,9 @@ def _validate(d: ModalData) -> dict[str, Any]:
                                                       f"got {k!r}")
             geo[k] = _numeric(f"geometric_stiffness/{k}", v, (m, m))
             _symmetric(f"geometric_stiffness/{k}", geo[k], definite=None)
+        _unknown_cases("geometric_stiffness", "load cases", sorted(geo), ids)
         out["geometric_stiffness"] = MappingProxyType(geo)
-    out.update(_validate_static(d, p, m, N, n_el))
+    out.update(_validate_static(d, p, m, N, n_el, ids))
     if not isinstance(d.invariants, Mapping):
         raise _Invalid("invariants", "must map I1..I9 to arrays")
     inv = {}
@@ -638,7 +676,8 @@ def _validate(d: ModalData) -> dict[str, Any]:
 
 
 
-def _validate_static(d: ModalData, p: dict[str, str], m: int, N: int, n_el: int) -> dict[str, Any]:
+def _validate_static(d: ModalData, p: dict[str, str], m: int, N: int, n_el: int,
+                     out_ids: np.ndarray) -> dict[str, Any]:
     """The static load responses: all or none, names unique, shapes consistent with the cases and modes."""
     out: dict[str, Any] = {attr: None for attr in _STATIC}
     cases = d.load_cases
@@ -655,6 +694,7 @@ def _validate_static(d: ModalData, p: dict[str, str], m: int, N: int, n_el: int)
                                        f"got {cases!r}")
     if len(set(cases)) != len(cases):
         raise _Invalid("static_loads", "attribute 'cases' names a load case twice")
+    _unknown_cases("static_loads", "attribute 'cases': load cases", list(cases), out_ids)
     C = len(cases)
     out["load_cases"] = tuple(cases)
     shapes = {"static_translations": (C, N, 3), "static_rotations": (C, N, 3), "static_modal_loads": (C, m),

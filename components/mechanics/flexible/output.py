@@ -70,6 +70,13 @@ def _finite(func: str, arg: str, a: np.ndarray) -> None:
 
 def _array(func: str, arg: str, value: Any) -> np.ndarray:
     try:
+        kind = np.asarray(value).dtype.kind
+    except (TypeError, ValueError):  # ragged nesting
+        kind = "O"
+    if kind in "USb":  # text ('1e-3' stays text: numbers are not read out of strings) or bools
+        raise RunArgumentError(f"{func}: argument {arg!r} must be an array of real numbers, got "
+                               f"{'text' if kind != 'b' else 'bools'}: {value!r:.80}")
+    try:
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise RunArgumentError(f"{func}: argument {arg!r} must be an array of real numbers: {exc}") from None
@@ -93,7 +100,8 @@ def _modal_coordinates(data: ModalData, q: Any, func: str) -> tuple[np.ndarray, 
     if a.ndim == 2 and a.shape[1] == M:
         return a, False
     raise RunArgumentError(f"{func}: argument 'q' has shape {a.shape}, expected (nt, {M}) or ({M},): "
-                           f"{_name(data)} has {M} modes")
+                           f"{_name(data)} has {M} modes (pass the modal data a body was built with, "
+                           "body.modal_data, with the q of body.motion(result))")
 
 
 def _node_indices(data: ModalData, nodes: Sequence[int] | np.ndarray | None, func: str) -> np.ndarray:

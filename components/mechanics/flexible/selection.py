@@ -24,6 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from flexlib.errors import RunArgumentError
+
 from .modal_data import ModalData
 
 __all__ = [
@@ -220,7 +222,19 @@ def select_modes(data: ModalData, *, count: int | None = None, max_frequency: fl
         Only modes with frequency at or below this cut-off [Hz].
     participation : ParticipationTable, optional
         Only the modes it keeps (MPF at or above its threshold).
+
+    Raises
+    ------
+    RunArgumentError
+        ``count`` not an int >= 0 or ``max_frequency`` not a number >= 0 (a ``ValueError``).
     """
+    if count is not None and (isinstance(count, bool | np.bool_) or not isinstance(count, int | np.integer)
+                              or count < 0):
+        raise RunArgumentError(f"select_modes: count must be an int >= 0 (the number of lowest modes kept), got "
+                               f"{count!r} ({type(count).__name__})")
+    if max_frequency is not None and (not _real(max_frequency) or not float(max_frequency) >= 0.0):
+        raise RunArgumentError(f"select_modes: max_frequency must be a frequency [Hz] >= 0, got {max_frequency!r} "
+                               f"({type(max_frequency).__name__})")
     order = np.argsort(data.frequencies, kind="stable")
     keep = [int(i) for i in order]
     if max_frequency is not None:
@@ -232,9 +246,7 @@ def select_modes(data: ModalData, *, count: int | None = None, max_frequency: fl
         kept = set(participation.kept)
         keep = [i for i in keep if i in kept]
     if count is not None:
-        if count < 0:
-            raise ValueError(f"select_modes: count must be >= 0, got {count}")
-        keep = keep[:count]
+        keep = keep[:int(count)]
     return data.select(keep)
 
 
@@ -254,12 +266,19 @@ def default_damping_ratio(frequencies: np.ndarray | Sequence[float],
     return _override(zeta, overrides, "default_damping_ratio")
 
 
+def _real(value: object) -> bool:
+    """A Python or numpy real number, not a bool (nor text)."""
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool | np.bool_)
+
+
 def _override(zeta: np.ndarray, overrides: Mapping[int, float] | None, caller: str) -> np.ndarray:
     for mode, value in (overrides or {}).items():
-        if not 0 <= mode < zeta.size:
-            raise ValueError(f"{caller}: override for mode {mode}, but there are {zeta.size} modes")
-        if not math.isfinite(value) or value < 0:
-            raise ValueError(f"{caller}: damping ratio of mode {mode} must be >= 0, got {value!r}")
+        if (isinstance(mode, bool | np.bool_) or not isinstance(mode, int | np.integer)
+                or not 0 <= mode < zeta.size):
+            raise RunArgumentError(f"{caller}: override for mode {mode!r}, but there are {zeta.size} modes (keys are "
+                                   f"mode indices, ints 0..{zeta.size - 1})")
+        if not _real(value) or not math.isfinite(value) or value < 0:
+            raise RunArgumentError(f"{caller}: damping ratio of mode {mode} must be a number >= 0, got {value!r}")
         zeta[mode] = value
     return zeta
 
