@@ -31,11 +31,14 @@ References
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable, Sequence
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import scipy.sparse as sp
+
+from flexlib.errors import RunArgumentError
 
 from .fe_model import BeamElements, FEModel, MassPoints
 from .sections import Section
@@ -48,10 +51,50 @@ _GAUSS_MASS = 6
 
 
 def _section_at(section: SectionLike, s: float) -> Section:
-    sec = section(s) if callable(section) else section
+    if isinstance(section, Section):
+        return section
+    try:
+        sec = section(s)
+    except RunArgumentError as exc:
+        raise RunArgumentError(f"beam_mesh: argument 'section' at position fraction s = {s:.6g}: {exc}") from None
+    except (ValueError, TypeError, ZeroDivisionError, ArithmeticError) as exc:
+        raise RunArgumentError(f"beam_mesh: argument 'section' (a function) fails at position fraction s = {s:.6g}: "
+                               f"{type(exc).__name__}: {exc}") from None
     if not isinstance(sec, Section):
-        raise TypeError(f"section at position fraction {s:g} must be a Section, got {type(sec).__name__}")
+        raise SectionTypeError(f"beam_mesh: argument 'section' (a function of the position fraction s in [0, 1]): the "
+                               f"section at position fraction {s:.6g} must be a Section, got {type(sec).__name__} "
+                               f"{sec!r:.60}")
     return sec
+
+
+class SectionTypeError(RunArgumentError, TypeError):
+    """A ``section`` function of :func:`beam_mesh` returned something that is not a Section (a
+    :class:`~flexlib.errors.RunArgumentError` and a ``TypeError``)."""
+
+
+def _real(name: str, value: Any, accepted: str) -> float:
+    """A real number argument (not a bool or a string), as float; finite."""
+    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Real) or not math.isfinite(float(value)):
+        raise RunArgumentError(f"beam_mesh: {name} must be {accepted}, got {type(value).__name__} {value!r}")
+    return float(value)
+
+
+def _point(name: str, value: Any, *, nonzero: bool = False) -> np.ndarray:
+    """Three finite coordinates [m] (or direction components)."""
+    if isinstance(value, str | bytes):
+        raise RunArgumentError(f"beam_mesh: argument {name!r} must be three numbers (x, y, z), got {value!r}")
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise RunArgumentError(f"beam_mesh: argument {name!r} must be three numbers (x, y, z), got {value!r}") from None
+    if a.shape != (3,):
+        raise RunArgumentError(f"beam_mesh: argument {name!r} must be three numbers (x, y, z), got shape {a.shape}: "
+                               f"{value!r}")
+    if not np.all(np.isfinite(a)):
+        raise RunArgumentError(f"beam_mesh: argument {name!r} has a non-finite coordinate: {a.tolist()}")
+    if nonzero and not np.any(a):
+        raise RunArgumentError(f"beam_mesh: argument {name!r} must be a nonzero direction, got {a.tolist()}")
+    return a
 
 
 def _shape(xi: float, L: float, phi_y: float, phi_z: float) -> tuple[np.ndarray, np.ndarray]:
@@ -155,8 +198,9 @@ def _frame(axis: np.ndarray, y_axis: Sequence[float] | None) -> np.ndarray:
     if y_axis is None and abs(ex @ hint) > 0.99:
         hint = np.array([0.0, 0.0, 1.0])
     ez = np.cross(ex, hint)
-    if np.linalg.norm(ez) < 1e-9:
-        raise ValueError(f"beam_mesh: y_axis {list(hint)} is parallel to the beam axis {list(ex)}")
+    if np.linalg.norm(ez) < 1e-9 * np.linalg.norm(hint):
+        raise RunArgumentError(f"beam_mesh: y_axis {hint.tolist()} is parallel to the beam axis {ex.tolist()}: it "
+                               "must give the section's y direction across the beam")
     ez /= np.linalg.norm(ez)
     return np.vstack([ex, np.cross(ez, ex), ez])
 
@@ -164,15 +208,23 @@ def _frame(axis: np.ndarray, y_axis: Sequence[float] | None) -> np.ndarray:
 def _stations(length: float, n_elements: int, nodes_at: Sequence[float]) -> np.ndarray:
     """Node positions as fractions of ``length``: equal elements, or split at ``nodes_at`` [m] with the elements
     shared out by part length (largest remainders; at least one per part)."""
-    at = np.asarray(list(nodes_at), dtype=float).ravel()
+    if isinstance(nodes_at, str | bytes | numbers.Number) or not isinstance(nodes_at, Sequence | np.ndarray | range):
+        raise RunArgumentError(f"beam_mesh: argument 'nodes_at' must be a sequence of distances [m] from start, got "
+                               f"{nodes_at!r}" + (f" (for one node: [{nodes_at}])" if isinstance(nodes_at, numbers.Real)
+                                                  else ""))
+    try:
+        at = np.asarray(list(nodes_at), dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise RunArgumentError(f"beam_mesh: argument 'nodes_at' must be numbers (distances [m] from start), got "
+                               f"{list(nodes_at)!r}") from None
     if at.size and (not np.all(np.isfinite(at)) or at.min() < 0 or at.max() > length * (1 + 1e-12)):
-        raise ValueError(f"beam_mesh: nodes_at must lie on the axis, 0 .. {length:g} m, got {at.tolist()}")
+        raise RunArgumentError(f"beam_mesh: nodes_at must lie on the axis, 0 .. {length:g} m, got {at.tolist()}")
     cuts = np.unique(np.concatenate([[0.0, 1.0], np.clip(at / length, 0.0, 1.0)]))
     cuts = cuts[np.concatenate([[True], np.diff(cuts) > 1e-9])]
     cuts[-1] = 1.0
     parts = np.diff(cuts)
     if parts.size > n_elements:
-        raise ValueError(f"beam_mesh: {parts.size} parts between the nodes_at positions need at least as many "
+        raise RunArgumentError(f"beam_mesh: {parts.size} parts between the nodes_at positions need at least as many "
                          f"elements, got n_elements={n_elements}")
     share = parts * n_elements
     count = np.maximum(np.floor(share).astype(int), 1)
@@ -208,7 +260,7 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     G : float, optional
         Shear modulus [Pa]; default ``E / (2 (1 + nu))``.
     nu : float
-        Poisson's ratio [1], used only for the default ``G``.
+        Poisson's ratio [1], ``-1 < nu <= 0.5``, used only for the default ``G``.
     theory : {"euler-bernoulli", "timoshenko"}
         Beam theory: Timoshenko adds shear flexibility (shear areas of the section) and, by default, rotary
         inertia.
@@ -231,29 +283,60 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
         ``M``, ``K``, nodes, six DOFs per node, element connectivity, and the mass points (Gauss points for a
         consistent mass, nodes for a lumped one) from which the inertia invariants are computed.
 
+    Raises
+    ------
+    RunArgumentError
+        An argument that is not what is accepted, named: ``start``/``end`` not three finite numbers or
+        coinciding, ``E``, ``rho``, ``G`` not positive finite numbers (strings and bools are refused), ``nu``
+        outside ``(-1, 0.5]``, ``n_elements`` not a whole number >= 1, ``section`` not a Section (or a function
+        that fails or returns something else at a position), ``theory``/``mass`` not one of their choices,
+        ``rotary_inertia`` not a bool, ``y_axis`` zero, non-finite or along the beam, ``nodes_at`` off the axis.
+
     References
     ----------
     Przemieniecki 1968 ch. 5 and 11; Friedman & Kosmatka 1993; Cook et al. 2002 §11.3 (see the module).
     """
-    if not isinstance(n_elements, int | np.integer) or n_elements < 1:
-        raise ValueError(f"beam_mesh: n_elements must be a positive integer, got {n_elements!r}")
+    if isinstance(n_elements, bool | np.bool_) or not isinstance(n_elements, numbers.Integral) or n_elements < 1:
+        raise RunArgumentError(f"beam_mesh: n_elements must be a positive integer (a whole number >= 1), got "
+                               f"{n_elements!r}")
+    p0, p1 = _point("start", start), _point("end", end)
+    E = _real("E", E, "a positive finite number [Pa]")
+    rho = _real("rho", rho, "a positive finite number [kg/m3]")
     for name, value in (("E", E), ("rho", rho)):
-        if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
-            raise ValueError(f"beam_mesh: {name} must be a positive finite number, got {value!r}")
+        if value <= 0:
+            raise RunArgumentError(f"beam_mesh: {name} must be a positive finite number "
+                                   f"[{'Pa' if name == 'E' else 'kg/m3'}], got {value!r}")
     if theory not in ("euler-bernoulli", "timoshenko"):
-        raise ValueError(f"beam_mesh: theory must be 'euler-bernoulli' or 'timoshenko', got {theory!r}")
+        raise RunArgumentError(f"beam_mesh: theory must be 'euler-bernoulli' or 'timoshenko', got {theory!r}")
     if mass not in ("consistent", "lumped"):
-        raise ValueError(f"beam_mesh: mass must be 'consistent' or 'lumped', got {mass!r}")
-    G = E / (2 * (1 + nu)) if G is None else G
-    if not math.isfinite(G) or G <= 0:
-        raise ValueError(f"beam_mesh: G must be a positive finite number, got {G!r}")
+        raise RunArgumentError(f"beam_mesh: mass must be 'consistent' or 'lumped', got {mass!r}")
+    if rotary_inertia is not None and not isinstance(rotary_inertia, bool | np.bool_):
+        raise RunArgumentError(f"beam_mesh: rotary_inertia must be True, False or None (default by theory), got "
+                               f"{rotary_inertia!r}")
+    if not isinstance(section, Section) and not callable(section):
+        raise RunArgumentError(f"beam_mesh: argument 'section' must be a Section (rectangle(), circle(), tube(), "
+                               f"box(), i_section() or Section(...)) or a function of the position fraction "
+                               f"returning one, got {type(section).__name__} {section!r:.60}")
+    if G is None:
+        nu = _real("nu", nu, "Poisson's ratio, a number in (-1, 0.5]")
+        if not -1.0 < nu <= 0.5:
+            raise RunArgumentError(f"beam_mesh: Poisson's ratio nu must be in (-1, 0.5] (an isotropic material: "
+                                   f"G = E / (2 (1 + nu)) > 0 and bulk modulus > 0), got {nu!r}")
+        G = E / (2 * (1 + nu))
+    else:
+        G = _real("G", G, "a positive finite number [Pa]")
+    if G <= 0:
+        raise RunArgumentError(f"beam_mesh: G must be a positive finite number [Pa], got {G!r}")
     timoshenko = theory == "timoshenko"
     rotary = timoshenko if rotary_inertia is None else bool(rotary_inertia)
-    p0, p1 = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
     axis = p1 - p0
     length = float(np.linalg.norm(axis))
-    if length == 0:
-        raise ValueError("beam_mesh: start and end coincide")
+    if length == 0 or not math.isfinite(length):
+        raise RunArgumentError(f"beam_mesh: start and end coincide ({p0.tolist()}): the beam has no length"
+                               if length == 0 else f"beam_mesh: the beam from {p0.tolist()} to {p1.tolist()} is "
+                               "too long to represent")
+    if y_axis is not None:
+        y_axis = _point("y_axis", y_axis, nonzero=True)
     R = _frame(axis, y_axis)
     T = np.kron(np.eye(4), R)
     fractions = _stations(length, int(n_elements), nodes_at)

@@ -19,6 +19,7 @@ References
 from __future__ import annotations
 
 import os
+import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -28,12 +29,26 @@ import numpy as np
 import scipy.io
 import scipy.sparse as sp
 
-from flexlib.errors import ModalFileError
+from flexlib.errors import ModalFileError, RunArgumentError
 
-__all__ = ["COMPONENTS", "BeamElements", "FEModel", "MassPoints", "read_fe", "read_matrix_market"]
+__all__ = ["COMPONENTS", "BeamElements", "FEModel", "MassPoints", "UnknownNodeError", "read_fe",
+           "read_matrix_market", "read_nodes"]
 
 #: Names of the six components of a node, in ``dof_map`` column order.
 COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+#: What :func:`read_fe` reads, and the readers of the other FE matrix formats (for error messages).
+_FORMATS = ("read_fe reads a .npz archive (FEModel.write_npz: CSR parts M_data/M_indices/M_indptr/M_shape and "
+            "the same for K, or dense M and K, with nodes and dof_map); Matrix Market .mtx files: "
+            "read_matrix_market(mass, stiffness, nodes, dof_map); Nastran: read_nastran_op4 / read_nastran_dmig; "
+            "ANSYS .full: read_ansys_full")
+
+
+class UnknownNodeError(RunArgumentError, KeyError):
+    """A node id that the FE model does not have (a :class:`~flexlib.errors.RunArgumentError` and a ``KeyError``)."""
+
+    def __str__(self) -> str:  # KeyError would show the repr of the message
+        return str(self.args[0]) if self.args else ""
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,16 +161,47 @@ class FEModel:
             problems.append(f"M {self.M.shape} and K {self.K.shape} must be square and of equal size")
         if self.nodes.ndim != 2 or self.nodes.shape[1] != 3:
             problems.append(f"nodes must have shape (N, 3), got {self.nodes.shape}")
+        elif not np.all(np.isfinite(self.nodes)):
+            row = int(np.argwhere(~np.isfinite(self.nodes))[0, 0])
+            problems.append(f"node {row} has a non-finite coordinate {self.nodes[row].tolist()} [m]")
         if self.dof_map.shape != (self.nodes.shape[0], 6):
             problems.append(f"dof_map must have shape (N, 6) = {(self.nodes.shape[0], 6)}, got {self.dof_map.shape}")
         elif self.dof_map.size:
             used = self.dof_map[self.dof_map >= 0]
-            if used.size and (used.max() >= n or len(np.unique(used)) != used.size):
+            if np.any(self.dof_map < -1):
+                problems.append(f"dof_map holds {int(self.dof_map.min())}: rows are >= 0, or -1 for an absent DOF")
+            elif used.size and (used.max() >= n or len(np.unique(used)) != used.size):
                 problems.append("dof_map rows must be distinct and below the matrix size")
+            elif used.size != n and not (self.M.shape != (n, n) or self.K.shape != (n, n)):
+                free = np.setdiff1d(np.arange(n), used)
+                problems.append(f"rows {_ranges(free)} of the {n}-row matrices belong to no node (dof_map maps "
+                                f"{used.size} rows): their mass and stiffness would be lost from the body")
         if self.node_ids.shape != (self.nodes.shape[0],) or len(np.unique(self.node_ids)) != self.node_ids.size:
             problems.append("node_ids must be one distinct id per node")
         if problems:
-            raise ValueError("FEModel: " + "; ".join(problems))
+            raise RunArgumentError("FEModel: " + "; ".join(problems))
+
+    def dof_label(self, row: int) -> str:
+        """``"node 7 uz (row 44)"``: the node id and component of a matrix row (for messages)."""
+        hit = np.argwhere(self.dof_map == int(row))
+        if hit.size == 0:
+            return f"row {int(row)}"
+        p, c = (int(v) for v in hit[0])
+        return f"node {int(self.node_ids[p])} {COMPONENTS[c]} (row {int(row)})"
+
+    def source_label(self, matrix: str = "K") -> str:
+        """Where the model (its ``"M"`` or ``"K"``) came from, for messages: the file, or the producer."""
+        source = self.info.get("source")
+        if isinstance(source, list | tuple) and len(source) == 2:  # Matrix Market: [mass file, stiffness file]
+            return str(source[0 if matrix == "M" else 1])
+        if source:
+            return str(source)
+        return f"FE model from {self.info['producer']}" if self.info.get("producer") else "FE model (in memory)"
+
+    @property
+    def from_file(self) -> bool:
+        """The model was read from a file (``info["source"]``)."""
+        return bool(self.info.get("source"))
 
     @property
     def n_dofs(self) -> int:
@@ -168,7 +214,8 @@ class FEModel:
         out = []
         for i in np.atleast_1d(np.asarray(node_ids)).ravel():
             if int(i) not in lookup:
-                raise KeyError(f"FEModel: no node with id {int(i)} (ids {self.node_ids.min()}..{self.node_ids.max()})")
+                raise UnknownNodeError(f"FEModel: no node with id {int(i)} (ids {self.node_ids.min()}.."
+                                       f"{self.node_ids.max()}, {self.node_ids.size} nodes)")
             out.append(lookup[int(i)])
         return np.asarray(out, dtype=np.int64)
 
@@ -407,35 +454,242 @@ class FEModel:
                 tmp.unlink()
 
 
-def _check_matrices(path: str, M: sp.spmatrix, K: sp.spmatrix, n_nodes: int, dof_map: np.ndarray,
-                    names: tuple[str, str] = ("M", "K")) -> None:
-    for name, A in zip(names, (M, K)):
+def _ranges(rows: np.ndarray, limit: int = 8) -> str:
+    """``"24..29, 31"``: sorted integers as runs (for messages)."""
+    rows = np.unique(np.asarray(rows, dtype=np.int64))
+    runs: list[str] = []
+    start = prev = None
+    for r in [*rows.tolist(), None]:
+        if r is not None and prev is not None and r == prev + 1:
+            prev = r
+            continue
+        if start is not None:
+            runs.append(str(start) if start == prev else f"{start}..{prev}")
+        start = prev = r
+    return ", ".join(runs[:limit]) + (" ..." if len(runs) > limit else "")
+
+
+def _label_rows(dof_map: np.ndarray, node_ids: np.ndarray | None = None) -> Any:
+    """A function giving ``"node 7 uz (row 44)"`` for a matrix row, from a DOF map (for messages)."""
+    def label(row: int) -> str:  # only called to write a message: search then
+        hit = np.argwhere(dof_map == int(row)) if dof_map.ndim == 2 and dof_map.shape[1] == 6 else np.zeros((0, 2))
+        if hit.size == 0:
+            return f"row {int(row)}"
+        p, c = (int(v) for v in hit[0])
+        ok = node_ids is not None and p < len(node_ids)
+        return f"node {int(node_ids[p]) if ok else p} {COMPONENTS[c]} (row {int(row)})"
+
+    return label
+
+
+def check_semidefinite_pattern(A: sp.spmatrix, name: str, label: Any) -> str | None:
+    """Why a symmetric ``A`` (mass or stiffness) cannot be positive semi-definite, or None: a negative diagonal
+    term, or an off-diagonal term larger than the geometric mean of its two diagonal terms (a 2 x 2 principal
+    minor below zero), naming the DOFs through ``label(row)``. Necessary conditions only (cheap: one pass over
+    the nonzeros); the reduction finds what these miss."""
+    A = sp.coo_matrix(A)
+    d = np.asarray(A.diagonal(), dtype=float)
+    scale = float(np.abs(d).max(initial=0.0)) or 1.0
+    neg = np.flatnonzero(d < -1e-12 * scale)
+    if neg.size:
+        r = int(neg[np.argmin(d[neg])])
+        kind = "mass" if name[:1] in "Mm" else "stiffness"
+        more = "" if neg.size == 1 else f"; {neg.size} such DOFs"
+        return (f"matrix {name!r} has a negative diagonal term {d[r]:.6g} at {label(r)}: a {kind} matrix is positive "
+                f"semi-definite (its diagonal >= 0){more}")
+    off = A.row != A.col
+    if np.any(off):
+        i, j, v = A.row[off], A.col[off], np.abs(A.data[off])
+        bound = np.sqrt(np.maximum(d[i], 0.0) * np.maximum(d[j], 0.0))
+        bad = np.flatnonzero(v > bound * (1 + 1e-8) + 1e-12 * scale)
+        if bad.size:
+            k = bad[np.argmax(v[bad] - bound[bad])]
+            return (f"matrix {name!r} is not positive semi-definite: the term {A.data[off][k]:.6g} at ({label(i[k])}, "
+                    f"{label(j[k])}) exceeds the geometric mean {bound[k]:.6g} of their diagonal terms "
+                    "(a 2 x 2 principal minor is negative)")
+    return None
+
+
+def _check_matrices(path: str | tuple[str, str], M: sp.spmatrix, K: sp.spmatrix, n_nodes: int,
+                    dof_map: np.ndarray, names: tuple[str, str] = ("M", "K"), nodes_source: str = "nodes",
+                    node_ids: np.ndarray | None = None, default_map: bool = False) -> None:
+    """Square, finite, symmetric, positive semi-definite (necessary conditions) matrices of equal size, and a DOF map
+    that covers every row once; errors name the file of the matrix at fault (``path``: one file, or the mass and
+    stiffness files), the DOF and the node list."""
+    files = (path, path) if isinstance(path, str) else path
+    both = files[0] if files[0] == files[1] else f"{files[0]}, {files[1]}"
+    for name, A, file in zip(names, (M, K), files):
         if A.shape[0] != A.shape[1]:
-            raise ModalFileError(f"{path}: matrix {name!r} is not square: shape {A.shape}")
+            raise ModalFileError(f"{file}: matrix {name!r} is not square: shape {A.shape}")
+    if M.shape != K.shape:
+        raise ModalFileError(f"{both}: matrices {names[0]!r} {M.shape} and {names[1]!r} {K.shape} differ in size")
+    dof_map = np.asarray(dof_map)
+    label = _label_rows(dof_map, node_ids)
+    for name, A, file in zip(names, (M, K), files):
         if not np.all(np.isfinite(A.data)):
-            raise ModalFileError(f"{path}: matrix {name!r} has non-finite entries (NaN or inf)")
+            coo = sp.coo_matrix(A)
+            k = int(np.flatnonzero(~np.isfinite(coo.data))[0])
+            raise ModalFileError(f"{file}: matrix {name!r} has non-finite entries (NaN or inf): {coo.data[k]} at "
+                                 f"({label(coo.row[k])}, {label(coo.col[k])})")
         asym = abs(A - A.T).max() if A.nnz else 0.0
         scale = abs(A).max() if A.nnz else 1.0
         if asym > 1e-9 * scale:
-            raise ModalFileError(f"{path}: matrix {name!r} is not symmetric (max |A - A^T| = {asym:.3g}, "
-                                 f"max |A| = {scale:.3g})")
-    if M.shape != K.shape:
-        raise ModalFileError(f"{path}: matrices {names[0]!r} {M.shape} and {names[1]!r} {K.shape} differ in size")
-    if dof_map.shape != (n_nodes, 6):
-        raise ModalFileError(f"{path}: 'dof_map' must have shape ({n_nodes}, 6), got {dof_map.shape}")
-    if dof_map.max(initial=-1) >= M.shape[0]:
-        raise ModalFileError(f"{path}: 'dof_map' refers to row {dof_map.max()} of a {M.shape[0]}-row matrix")
+            D = sp.coo_matrix(abs(A - A.T))
+            k = int(np.argmax(D.data))
+            raise ModalFileError(f"{file}: matrix {name!r} is not symmetric (max |A - A^T| = {asym:.3g} at "
+                                 f"({label(D.row[k])}, {label(D.col[k])}), max |A| = {scale:.3g})")
+    n = M.shape[0]
+    if dof_map.ndim != 2 or dof_map.shape != (n_nodes, 6):
+        raise ModalFileError(f"{both}: 'dof_map' must have shape ({n_nodes}, 6) (one row per node of {nodes_source}, "
+                             f"one column per component {' '.join(COMPONENTS)}), got {dof_map.shape}")
+    if dof_map.max(initial=-1) >= n:
+        p, c = (int(v) for v in np.argwhere(dof_map == dof_map.max())[0])
+        raise ModalFileError(f"{both}: 'dof_map' refers to row {dof_map.max()} of a {n}-row matrix (node {p} "
+                             f"{COMPONENTS[c]}): {n_nodes} nodes in {nodes_source}" +
+                             (f", but {n} rows = {n / 6:g} x 6 (six DOFs per node by the default dof_map): is "
+                              "a node too many in the node list, or the matrices' DOF set not six per node "
+                              "(pass dof_map)?" if default_map else ""))
+    if dof_map.min(initial=-1) < -1:
+        p, c = (int(v) for v in np.argwhere(dof_map < -1)[0])
+        raise ModalFileError(f"{both}: 'dof_map' holds {int(dof_map[p, c])} at node {p} {COMPONENTS[c]}: rows are "
+                             ">= 0, or -1 for a DOF the node does not have")
+    used = dof_map[dof_map >= 0]
+    values, counts = np.unique(used, return_counts=True)
+    if np.any(counts > 1):
+        r = int(values[np.argmax(counts > 1)])
+        owners = [f"node {int(node_ids[p]) if node_ids is not None else int(p)} {COMPONENTS[c]}"
+                  for p, c in np.argwhere(dof_map == r)]
+        raise ModalFileError(f"{both}: 'dof_map' gives row {r} to {' and '.join(owners)}: each row is one DOF")
+    if values.size != n:
+        free = np.setdiff1d(np.arange(n), values)
+        hint = ""
+        if default_map and n % 6 == 0 and n // 6 > n_nodes:
+            hint = (f": by the default dof_map (six rows per node) these are nodes "
+                    f"{_ranges(np.arange(n_nodes, n // 6))}"
+                    f" — {n // 6} nodes for the matrices, {n_nodes} in the node list: is a node missing from it?")
+        elif default_map:
+            hint = f": {n} rows are not six per node — pass dof_map"
+        raise ModalFileError(f"{both}: matrix rows {_ranges(free)} (of {n}) belong to no node in the node list "
+                             f"{nodes_source} ({n_nodes} nodes); their mass and stiffness would drop out of the "
+                             f"body{hint}")
+    for name, A, file in zip(names, (M, K), files):
+        why = check_semidefinite_pattern(A, name, label)
+        if why is not None:
+            raise ModalFileError(f"{file}: {why}")
+
+
+def _text_table(path: str, label: str) -> np.ndarray:
+    """A whitespace/comma separated table of numbers from a text file (``#`` comments), as float."""
+    p = Path(path)
+    if p.is_dir():
+        raise ModalFileError(f"{path}: {label!r} is a directory, not a table file")
+    try:
+        text = p.read_text().replace(",", " ")
+    except FileNotFoundError:
+        raise ModalFileError(f"{path}: cannot read {label!r}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ModalFileError(f"{path}: cannot read {label!r}: {exc}") from None
+    lines = [ln.split("#", 1)[0] for ln in text.splitlines()]
+    rows = [(k + 1, ln.split()) for k, ln in enumerate(lines) if ln.strip()]
+    if not rows:
+        raise ModalFileError(f"{path}: {label!r} is empty (no rows of numbers)")
+    width = len(rows[0][1])
+    for line, fields in rows:
+        if len(fields) != width:
+            raise ModalFileError(f"{path}: {label!r} line {line} has {len(fields)} columns, line {rows[0][0]} has "
+                                 f"{width}")
+        for f in fields:
+            try:
+                float(f)
+            except ValueError:
+                raise ModalFileError(f"{path}: {label!r} line {line}: {f!r} is not a number (a header line? start "
+                                     "it with #)") from None
+    return np.array([[float(f) for f in fields] for _, fields in rows], dtype=float)
 
 
 def read_table(value: Any, label: str, dtype: type) -> np.ndarray:
-    """An array given directly, or read from a whitespace/comma separated text file (``label`` names it in errors)."""
+    """An array given directly, or read from a whitespace/comma separated text file (``label`` names it in errors);
+    integer tables must hold whole numbers."""
     if isinstance(value, str | os.PathLike):
+        where = os.fspath(value)
+        table = _text_table(where, label)
+    else:
+        where = f"argument {label!r}"
+        if isinstance(value, bool) or value is None:
+            raise RunArgumentError(f"{where} must be an array or a path, got {value!r}")
         try:
-            text = Path(value).read_text().replace(",", " ")
-            return np.atleast_2d(np.loadtxt(text.splitlines(), dtype=dtype))
-        except (OSError, ValueError) as exc:
-            raise ModalFileError(f"{os.fspath(value)}: cannot read {label!r}: {exc}") from None
-    return np.asarray(value, dtype=dtype)
+            table = np.asarray(value, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise RunArgumentError(f"{where} must be an array of numbers or a path to a table: {exc}") from None
+        if table.ndim == 1 and table.size in (3, 4, 6) and label != "node_ids":
+            table = table[None, :]
+    error = ModalFileError if isinstance(value, str | os.PathLike) else RunArgumentError
+    if np.issubdtype(dtype, np.integer):
+        bad = ~np.isfinite(table) | (table != np.round(table))
+        if np.any(bad):
+            at = tuple(int(v) for v in np.argwhere(bad)[0])
+            raise error(f"{where}: {label!r} must hold whole numbers, got {float(table[at])!r} at (row, column) "
+                        f"{at if len(at) > 1 else at[0]}")
+        return table.astype(np.int64)
+    return table.astype(dtype)
+
+
+def read_nodes(value: Any, label: str = "nodes",
+               node_ids: Sequence[int] | np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, str]:
+    """Node coordinates [m] as an array or text table ``(N, 3)`` ``[x, y, z]`` or ``(N, 4)`` ``[id, x, y, z]``:
+    ``(ids, xyz, description)``; finite coordinates and distinct whole-number ids, each error naming the node and
+    the table (a file: :class:`~flexlib.errors.ModalFileError`; an array: :class:`~flexlib.errors.RunArgumentError`).
+    ``node_ids`` gives the ids of an ``(N, 3)`` table (default ``0 .. N-1``)."""
+    table = read_table(value, label, float)
+    file = isinstance(value, str | os.PathLike)
+    where = os.fspath(value) if file else f"argument {label!r}"
+    error = ModalFileError if file else RunArgumentError
+    if table.ndim != 2 or table.shape[1] not in (3, 4) or table.shape[0] == 0:
+        raise error(f"{where}: {label!r} must be a table (N, 3) [x, y, z] or (N, 4) [id, x, y, z] [m], got shape "
+                    f"{table.shape}")
+    xyz = table[:, -3:]
+    if table.shape[1] == 4:
+        if node_ids is not None:
+            raise RunArgumentError(f"{where}: {label!r} has an id column and node_ids is given too: give one")
+        raw = table[:, 0]
+        bad = ~np.isfinite(raw) | (raw != np.round(raw))
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise error(f"{where}: {label!r} row {k}: node id {float(raw[k])!r} is not a whole number (columns: id, "
+                        "x, y, z)")
+        ids = raw.astype(np.int64)
+    elif node_ids is None:
+        ids = np.arange(xyz.shape[0], dtype=np.int64)
+    else:
+        ids = read_table(node_ids, "node_ids", np.int64).ravel()
+        if ids.size != xyz.shape[0]:
+            raise RunArgumentError(f"argument 'node_ids' has {ids.size} ids for the {xyz.shape[0]} nodes of {where}")
+    values, counts = np.unique(ids, return_counts=True)
+    if np.any(counts > 1):
+        dup = int(values[np.argmax(counts > 1)])
+        rows = np.flatnonzero(ids == dup).tolist()
+        raise error(f"{where}: node id {dup} appears {len(rows)} times (rows {rows}): ids must be distinct")
+    bad = ~np.isfinite(xyz)
+    if np.any(bad):
+        k = int(np.argwhere(bad)[0, 0])
+        raise error(f"{where}: node {int(ids[k])} (row {k}) has a non-finite coordinate {xyz[k].tolist()} [m]")
+    return ids, xyz, where
+
+
+def _check_file(path: Any, what: str, argument: str) -> str:
+    """The path as a string, checked to be an existing, non-empty regular file (errors name it)."""
+    if not isinstance(path, str | os.PathLike):
+        raise RunArgumentError(f"argument {argument!r} must be a path (str or os.PathLike) to {what}, got "
+                               f"{type(path).__name__} {path!r}")
+    name = os.fspath(path)
+    p = Path(name)
+    if p.is_dir():
+        raise ModalFileError(f"{name}: is a directory, not {what} (argument {argument!r})")
+    if not p.exists():
+        raise ModalFileError(f"{name}: no such file ({what}, argument {argument!r})")
+    if p.stat().st_size == 0:
+        raise ModalFileError(f"{name}: the file is empty ({what}, argument {argument!r})")
+    return name
 
 
 def read_fe(path: str | os.PathLike[str]) -> FEModel:
@@ -446,41 +700,111 @@ def read_fe(path: str | os.PathLike[str]) -> FEModel:
     Raises
     ------
     ModalFileError
-        Missing, unreadable or inconsistent file; the message names the file and the array.
+        Missing, unreadable or inconsistent file, or another format (a ``.npy`` array, Matrix Market, ...: the
+        message says which reader takes it); the message names the file and the array.
     """
-    name = os.fspath(path)
+    name = _check_file(path, "an FE model .npz archive", "path")
+    with open(name, "rb") as f:
+        magic = f.read(6)
+    if not zipfile.is_zipfile(name):
+        kind = ("a single numpy array (.npy)" if magic == b"\x93NUMPY" else
+                "a Matrix Market file" if magic.startswith(b"%%Matr") else "not a .npz (zip) archive")
+        raise ModalFileError(f"{name}: {kind}, not an FE model archive: {_FORMATS}")
     try:
         data = np.load(name, allow_pickle=False)
-    except (OSError, ValueError) as exc:
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
         raise ModalFileError(f"{name}: cannot read FE matrices: {exc}") from None
     with data:
         def get(key: str) -> np.ndarray:
             if key not in data.files:
-                raise ModalFileError(f"{name}: array {key!r} is missing (has {sorted(data.files)})")
-            value = data[key]
-            if not np.issubdtype(value.dtype, np.number):
-                raise ModalFileError(f"{name}: array {key!r} must be numeric, got dtype {value.dtype}")
+                raise ModalFileError(f"{name}: array {key!r} is missing (has {sorted(data.files)}); {_FORMATS}")
+            try:
+                value = data[key]
+            except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
+                raise ModalFileError(f"{name}: array {key!r} cannot be read: {exc}") from None
+            if not np.issubdtype(value.dtype, np.number) or np.issubdtype(value.dtype, np.complexfloating):
+                raise ModalFileError(f"{name}: array {key!r} must be real numbers, got dtype {value.dtype}")
             return value
+
+        def whole(key: str, value: np.ndarray) -> np.ndarray:
+            if not np.issubdtype(value.dtype, np.integer):
+                bad = ~np.isfinite(value) | (value != np.round(value))
+                if np.any(bad):
+                    raise ModalFileError(f"{name}: array {key!r} must hold whole numbers, got "
+                                         f"{float(value.ravel()[np.argmax(bad.ravel())])!r}")
+            return value.astype(np.int64)
 
         mats = {}
         for key in ("M", "K"):
             if key in data.files:
-                mats[key] = sp.csr_matrix(get(key).astype(float))
+                dense = get(key)
+                if dense.ndim != 2:
+                    raise ModalFileError(f"{name}: array {key!r} must be a 2-D matrix, got shape {dense.shape}")
+                mats[key] = sp.csr_matrix(dense.astype(float))
             else:
-                shape = tuple(int(s) for s in get(f"{key}_shape"))
-                mats[key] = sp.csr_matrix((get(f"{key}_data").astype(float), get(f"{key}_indices"),
-                                           get(f"{key}_indptr")), shape=shape)
+                shape = whole(f"{key}_shape", get(f"{key}_shape")).ravel()
+                if shape.size != 2 or np.any(shape < 0):
+                    raise ModalFileError(f"{name}: array '{key}_shape' must be two sizes (rows, columns), got "
+                                         f"{shape.tolist()}")
+                try:
+                    mats[key] = sp.csr_matrix((get(f"{key}_data").astype(float),
+                                               whole(f"{key}_indices", get(f"{key}_indices")),
+                                               whole(f"{key}_indptr", get(f"{key}_indptr"))),
+                                              shape=(int(shape[0]), int(shape[1])))
+                    mats[key].check_format(full_check=True)
+                except (ValueError, TypeError, IndexError) as exc:
+                    raise ModalFileError(f"{name}: the CSR arrays {key}_data, {key}_indices, {key}_indptr, "
+                                         f"{key}_shape do not form a matrix: {exc}") from None
         nodes = get("nodes").astype(float)
-        dof_map = get("dof_map").astype(np.int64)
-        node_ids = get("node_ids").astype(np.int64) if "node_ids" in data.files else np.arange(nodes.shape[0])
-        elements = get("elements").astype(np.int64) if "elements" in data.files else np.zeros((0, 2), np.int64)
-    if nodes.ndim != 2 or nodes.shape[1] != 3 or not np.all(np.isfinite(nodes)):
-        raise ModalFileError(f"{name}: 'nodes' must be finite with shape (N, 3), got {nodes.shape}")
-    _check_matrices(name, mats["M"], mats["K"], nodes.shape[0], dof_map)
+        dof_map = whole("dof_map", get("dof_map"))
+        node_ids = whole("node_ids", get("node_ids")).ravel() if "node_ids" in data.files else None
+        elements = whole("elements", get("elements")) if "elements" in data.files else np.zeros((0, 2), np.int64)
+    if nodes.ndim != 2 or nodes.shape[1] != 3:
+        raise ModalFileError(f"{name}: 'nodes' must have shape (N, 3) [m], got {nodes.shape}")
+    if node_ids is None:
+        node_ids = np.arange(nodes.shape[0])
+    elif node_ids.size != nodes.shape[0]:
+        raise ModalFileError(f"{name}: 'node_ids' has {node_ids.size} ids for {nodes.shape[0]} nodes")
+    values, counts = np.unique(node_ids, return_counts=True)
+    if np.any(counts > 1):
+        raise ModalFileError(f"{name}: 'node_ids' gives id {int(values[np.argmax(counts > 1)])} to "
+                             f"{int(counts.max())} nodes: ids must be distinct")
+    if not np.all(np.isfinite(nodes)):
+        k = int(np.argwhere(~np.isfinite(nodes))[0, 0])
+        raise ModalFileError(f"{name}: 'nodes': node {int(node_ids[k])} (row {k}) has a non-finite coordinate "
+                             f"{nodes[k].tolist()} [m]")
+    if elements.size and (elements.ndim != 2 or elements.min() < 0 or elements.max() >= nodes.shape[0]):
+        raise ModalFileError(f"{name}: 'elements' must be rows of node indices 0..{nodes.shape[0] - 1}, got "
+                             f"shape {elements.shape} with values {elements.min()}..{elements.max()}")
+    _check_matrices(name, mats["M"], mats["K"], nodes.shape[0], dof_map, nodes_source=f"{name} 'nodes'",
+                    node_ids=node_ids)
     try:
         return FEModel(mats["M"], mats["K"], nodes, dof_map, node_ids, elements, info={"source": name})
     except ValueError as exc:
         raise ModalFileError(f"{name}: {exc}") from None
+
+
+def _read_mtx(path: Any, label: str, argument: str) -> sp.csr_matrix:
+    """One real matrix from a Matrix Market file (coordinate or array; general or symmetric)."""
+    name = _check_file(path, f"a Matrix Market file of matrix {label!r}", argument)
+    try:
+        field_, symmetry = scipy.io.mminfo(name)[4:]
+    except (OSError, ValueError, UnicodeDecodeError) as exc:
+        raise ModalFileError(f"{name}: cannot read matrix {label!r} as Matrix Market (argument {argument!r}): "
+                             f"{exc}") from None
+    if field_ not in ("real", "integer", "double"):
+        raise ModalFileError(f"{name}: matrix {label!r} is a Matrix Market {field_!r} matrix"
+                             + (" (a sparsity pattern without values)" if field_ == "pattern" else "")
+                             + "; a real matrix is needed")
+    if symmetry not in ("general", "symmetric"):
+        raise ModalFileError(f"{name}: matrix {label!r} is declared {symmetry!r}; a mass or stiffness matrix is "
+                             "symmetric ('general' or 'symmetric')")
+    try:
+        A = scipy.io.mmread(name)
+    except (OSError, ValueError, IndexError, UnicodeDecodeError) as exc:
+        raise ModalFileError(f"{name}: cannot read matrix {label!r} as Matrix Market (argument {argument!r}): "
+                             f"{exc}") from None
+    return sp.csr_matrix(A, dtype=float)
 
 
 def read_matrix_market(mass: str | os.PathLike[str], stiffness: str | os.PathLike[str],
@@ -492,31 +816,33 @@ def read_matrix_market(mass: str | os.PathLike[str], stiffness: str | os.PathLik
     Parameters
     ----------
     mass, stiffness : path
-        ``.mtx`` files of the mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices.
-    nodes : array (N, 3) or path
-        Undeformed node coordinates [m].
+        ``.mtx`` files of the mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices (coordinate or
+        array format, real or integer, general or symmetric). A lumped (diagonal) mass matrix may leave
+        rotational DOFs without mass (no rotary inertia): the reduction condenses them statically.
+    nodes : array or path
+        Undeformed node coordinates [m]: a table ``(N, 3)`` ``[x, y, z]`` (node ids ``0 .. N-1``) or ``(N, 4)``
+        ``[id, x, y, z]`` (``#`` starts a comment in a file).
     dof_map : array (N, 6) or path, optional
         Matrix row of each node's ``(ux, uy, uz, rx, ry, rz)``, ``-1`` if absent; default six DOFs per node in
-        node order (``6 i + c``).
+        node order (``6 i + c``). Every matrix row must belong to one node's component.
 
     Raises
     ------
     ModalFileError
-        A file is missing or unreadable, or the matrices and maps do not fit together.
+        A file is missing, empty, a directory or not Matrix Market; a matrix is complex, a pattern, not square,
+        not symmetric, not finite or not positive semi-definite (a negative diagonal term); the matrices and
+        maps do not fit together (a row that belongs to no node). The message names the file at fault.
+    RunArgumentError
+        ``nodes`` or ``dof_map`` given as an array that is not a table of numbers.
     """
-    mats = []
-    for label, p in (("M", mass), ("K", stiffness)):
-        try:
-            mats.append(sp.csr_matrix(scipy.io.mmread(os.fspath(p))).astype(float))
-        except (OSError, ValueError) as exc:
-            raise ModalFileError(f"{os.fspath(p)}: cannot read matrix {label!r} as Matrix Market: {exc}") from None
-
-    xyz = read_table(nodes, "nodes", float)
-    dmap = (np.arange(6 * xyz.shape[0]).reshape(-1, 6) if dof_map is None else read_table(dof_map, "dof_map", np.int64))
-    source = os.fspath(stiffness)
-    _check_matrices(source, mats[0], mats[1], xyz.shape[0], dmap)
+    M = _read_mtx(mass, "M", "mass")
+    K = _read_mtx(stiffness, "K", "stiffness")
+    files = (os.fspath(mass), os.fspath(stiffness))
+    ids, xyz, where = read_nodes(nodes, "nodes")
+    default = dof_map is None
+    dmap = np.arange(6 * xyz.shape[0]).reshape(-1, 6) if default else read_table(dof_map, "dof_map", np.int64)
+    _check_matrices(files, M, K, xyz.shape[0], dmap, nodes_source=where, node_ids=ids, default_map=default)
     try:
-        return FEModel(mats[0], mats[1], xyz, dmap, np.arange(xyz.shape[0]),
-                       info={"source": [os.fspath(mass), os.fspath(stiffness)]})
+        return FEModel(M, K, xyz, dmap, ids, info={"source": list(files)})
     except ValueError as exc:
-        raise ModalFileError(f"{source}: {exc}") from None
+        raise ModalFileError(f"{files[1]}: {exc}") from None

@@ -38,7 +38,7 @@ import scipy.sparse as sp
 
 from flexlib.errors import ModalFileError
 
-from .fe_model import COMPONENTS, FEModel, _check_matrices, read_table
+from .fe_model import COMPONENTS, FEModel, _check_file, _check_matrices, read_nodes, read_table
 
 __all__ = ["read_ansys_full", "read_nastran_dmig", "read_nastran_op4"]
 
@@ -47,20 +47,30 @@ ANSYS_DOF_LABELS = {1: "UX", 2: "UY", 3: "UZ", 4: "ROTX", 5: "ROTY", 6: "ROTZ", 
                     10: "VX", 11: "VY", 12: "VZ", 19: "PRES", 20: "TEMP", 21: "VOLT", 22: "MAG"}
 
 
-def _optional(module: str, extra: str, package: str) -> ModuleType:
+def _optional(module: str, extra: str, package: str, reader: str = "this reader", path: Any = None) -> ModuleType:
     try:
         return importlib.import_module(module)
     except ImportError as exc:
-        raise ImportError(f"{package} is needed for this reader: pip install 'flexlib[{extra}]' ({exc})") from None
+        file = "" if path is None else f" ({os.fspath(path)})" if isinstance(path, str | os.PathLike) else ""
+        raise ImportError(f"{reader}{file}: {package} is needed for this reader: pip install 'flexlib[{extra}]' "
+                          f"({exc}); without it, export the mass and stiffness matrices to Matrix Market and use "
+                          "read_matrix_market") from None
 
 
 def _fe_model(source: str, M: sp.spmatrix, K: sp.spmatrix, nodes: np.ndarray, dof_map: np.ndarray,
-              node_ids: np.ndarray, info: dict[str, Any], names: tuple[str, str] = ("M", "K")) -> FEModel:
-    """Validate (square, finite, symmetric, map within the matrices) and build the FEModel; errors name ``source``."""
+              node_ids: np.ndarray, info: dict[str, Any], names: tuple[str, str] = ("M", "K"),
+              nodes_source: str = "nodes", default_map: bool = False) -> FEModel:
+    """Validate (square, finite, symmetric, positive semi-definite diagonal, every row mapped to one node) and
+    build the FEModel; errors name ``source``."""
     M, K = sp.csr_matrix(M, dtype=float), sp.csr_matrix(K, dtype=float)
-    if nodes.ndim != 2 or nodes.shape[1] != 3 or not np.all(np.isfinite(nodes)):
-        raise ModalFileError(f"{source}: node coordinates must be finite with shape (N, 3), got {nodes.shape}")
-    _check_matrices(source, M, K, nodes.shape[0], dof_map, names)
+    if nodes.ndim != 2 or nodes.shape[1] != 3:
+        raise ModalFileError(f"{source}: node coordinates must have shape (N, 3), got {nodes.shape}")
+    if not np.all(np.isfinite(nodes)):
+        k = int(np.argwhere(~np.isfinite(nodes))[0, 0])
+        raise ModalFileError(f"{source}: node {int(node_ids[k])} has a non-finite coordinate {nodes[k].tolist()} "
+                             f"[m] ({nodes_source})")
+    _check_matrices(source, M, K, nodes.shape[0], dof_map, names, nodes_source=nodes_source,
+                    node_ids=np.asarray(node_ids), default_map=default_map)
     try:
         return FEModel(M, K, nodes, dof_map, node_ids, info=info)
     except ValueError as exc:
@@ -138,12 +148,13 @@ def read_ansys_full(path: str | os.PathLike[str], *,
         Unreadable or non-full file, a non-structural DOF label, nodes with different DOF sets, matrices that
         are not symmetric or finite, a node without coordinates; the message names the file.
     """
-    reader = _optional("ansys.mapdl.reader", "ansys", "ansys-mapdl-reader")
+    reader = _optional("ansys.mapdl.reader", "ansys", "ansys-mapdl-reader", "read_ansys_full", path)
     from ansys.mapdl.reader.common import read_table as ansys_read_table
 
     name = os.fspath(path)
     if not Path(name).is_file():
-        raise ModalFileError(f"{name}: no such ANSYS full file")
+        raise ModalFileError(f"{name}: " + ("is a directory, not an ANSYS full file" if Path(name).is_dir() else
+                                            "no such ANSYS full file"))
     try:
         full = reader.read_binary(name)
     except Exception as exc:  # the reader raises bare Exception/RuntimeError/struct.error on foreign files
@@ -208,7 +219,7 @@ def read_ansys_full(path: str | os.PathLike[str], *,
             "jobname": str(header.get("jobname", "")), "units_in_file": str(header.get("units", "")),
             "coordinates": source,
             "constrained": _constraint_groups(constrained, labels)}
-    return _fe_model(name, M, K, coordinates, dof_map, node_ids, info)
+    return _fe_model(name, M, K, coordinates, dof_map, node_ids, info, nodes_source=source)
 
 
 def _constraint_groups(constrained: np.ndarray, labels: np.ndarray) -> list[dict[str, list[Any]]]:
@@ -240,13 +251,14 @@ def read_nastran_op4(path: str | os.PathLike[str], *, mass: str = "MAA", stiffne
     mass, stiffness : str
         Names of the mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices in the file (e.g. ``MAA``,
         ``KAA`` or ``MHH``/``KHH``).
-    nodes : array (N, 3) or path
-        Undeformed node coordinates [m] (a path: whitespace/comma separated text).
+    nodes : array or path
+        Undeformed node coordinates [m], ``(N, 3)`` ``[x, y, z]`` or ``(N, 4)`` ``[grid, x, y, z]`` (a path:
+        whitespace/comma separated text).
     dof_map : array (N, 6) or path, optional
         Matrix row of each node's ``(ux, uy, uz, rx, ry, rz)`` (Nastran components 1-6), ``-1`` if absent;
         default six DOFs per node in node order (``6 i + c``).
     node_ids : sequence of int, optional
-        Grid ids of the nodes (default ``0 .. N-1``).
+        Grid ids of the nodes of an ``(N, 3)`` table (default ``0 .. N-1``).
 
     Raises
     ------
@@ -256,10 +268,12 @@ def read_nastran_op4(path: str | os.PathLike[str], *, mass: str = "MAA", stiffne
         Unreadable file, a missing or complex matrix, matrices that are not square, symmetric or finite, or a
         DOF map that does not fit them; the message names the file and the matrix.
     """
-    op4 = _optional("pyNastran.op4.op4", "nastran", "pyNastran")
+    op4 = _optional("pyNastran.op4.op4", "nastran", "pyNastran", "read_nastran_op4", path)
     name = os.fspath(path)
     if not Path(name).is_file():
-        raise ModalFileError(f"{name}: no such OP4 file")
+        raise ModalFileError(f"{name}: " + ("is a directory, not an OP4 file" if Path(name).is_dir() else
+                                            "no such OP4 file"))
+    _check_file(name, "a Nastran OUTPUT4 file", "path")
     try:
         matrices = op4.OP4(debug=False).read_op4(name, precision="double")
     except Exception as exc:  # pyNastran raises assorted errors on malformed files
@@ -278,11 +292,11 @@ def read_nastran_op4(path: str | os.PathLike[str], *, mass: str = "MAA", stiffne
         if A.shape[0] != A.shape[1]:
             raise ModalFileError(f"{name}: matrix {key!r} is not square: shape {A.shape}")
         mats.append(A.astype(float))
-    xyz = read_table(nodes, "nodes", float)
+    ids, xyz, where = read_nodes(nodes, "nodes", node_ids)
     dmap = np.arange(6 * xyz.shape[0]).reshape(-1, 6) if dof_map is None else read_table(dof_map, "dof_map", np.int64)
-    ids = np.arange(xyz.shape[0]) if node_ids is None else np.asarray(node_ids, dtype=np.int64)
     info = {"source": name, "format": "Nastran OUTPUT4", "matrices": [mass, stiffness]}
-    return _fe_model(name, mats[0], mats[1], xyz, dmap, ids, info, (mass, stiffness))
+    return _fe_model(name, mats[0], mats[1], xyz, dmap, ids, info, (mass, stiffness), nodes_source=where,
+                     default_map=dof_map is None)
 
 
 def _dmig_entries(source: str, card: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -349,12 +363,14 @@ def read_nastran_dmig(bdf_path: str | os.PathLike[str], mass_name: str, stiffnes
         Unreadable file; a missing, complex, non-square or twice-given DMIG; a grid without a GRID card or with
         a curvilinear ``CD``; matrices that are not symmetric or finite. The message names the file and the card.
     """
-    bdf = _optional("pyNastran.bdf.bdf", "nastran", "pyNastran")
+    bdf = _optional("pyNastran.bdf.bdf", "nastran", "pyNastran", "read_nastran_dmig", bdf_path)
     name = os.fspath(bdf_path)
     try:
         text = Path(name).read_text(errors="replace")
     except OSError as exc:
         raise ModalFileError(f"{name}: cannot read the bulk data file: {exc}") from None
+    if not text.strip():
+        raise ModalFileError(f"{name}: the bulk data file is empty (no GRID or DMIG cards)")
     if punch is None:
         punch = not any(line.upper().startswith("BEGIN") and "BULK" in line.upper() for line in text.splitlines())
     with warnings.catch_warnings():

@@ -25,8 +25,10 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
+import numbers
+import re
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -34,12 +36,17 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from .fe_model import FEModel
+from flexlib.errors import ModalFileError, RunArgumentError
+
+from .fe_model import FEModel, UnknownNodeError, check_semidefinite_pattern
 from .invariants import inertia_invariants
 
 __all__ = ["CraigBamptonResult", "craig_bampton", "elastic_static_responses", "modal_data_from_fe"]
 
-_DENSE_LIMIT = 400  # interior DOFs up to which the fixed-interface eigenproblem is solved densely
+_DENSE_LIMIT = 400  # massive interior DOFs up to which the fixed-interface eigenproblem is solved densely
+_MASSLESS = 1e-14  # a diagonal mass term below this fraction of the largest one is no mass (a lumped export's 0)
+_RIGID_NAMES = ("translation along x", "translation along y", "translation along z", "rotation about x",
+                "rotation about y", "rotation about z")
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +71,13 @@ class CraigBamptonResult:
         The interface DOF rows.
     n_rigid_removed : int
         Rigid-body modes projected out (6 for a free 3D body, 0 if none were given).
+    massless_dofs : ndarray of int
+        Rows without mass (zero diagonal of ``M``, e.g. the rotations of a lumped mass without rotary inertia):
+        statically condensed in the fixed-interface modes.
+    n_massless_condensed : int
+        Directions of the reduced space without mass (e.g. an interface rotation whose constraint mode moves no
+        mass) condensed statically before orthogonalisation: ``k = n_b + n_modes - n_rigid_removed -
+        n_massless_condensed`` modes remain.
     """
 
     modes: np.ndarray
@@ -74,6 +88,8 @@ class CraigBamptonResult:
     fixed_interface_omega: np.ndarray
     interface_dofs: np.ndarray
     n_rigid_removed: int
+    massless_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    n_massless_condensed: int = 0
 
     @property
     def frequencies(self) -> np.ndarray:
@@ -81,21 +97,296 @@ class CraigBamptonResult:
         return self.omega / (2.0 * math.pi)
 
 
-def _fixed_interface_modes(Kii: sp.csc_matrix, Mii: sp.csc_matrix, lu: Any, n_modes: int) -> tuple[np.ndarray,
-                                                                                                       np.ndarray]:
-    ni = Kii.shape[0]
+@dataclass(frozen=True)
+class _Names:
+    """How errors of a reduction name things: the function, the DOF rows, the matrices' source and the class."""
+
+    func: str = "craig_bampton"
+    label: Callable[[int], str] = lambda row: f"row {int(row)}"
+    source: Callable[[str], str] = lambda matrix: f"argument {matrix!r}"
+    error: type[Exception] = RunArgumentError
+    interface: str = "interface_dofs"
+    rigid_names: tuple[str, ...] = _RIGID_NAMES
+    rigid_hint: str = "pass rigid_body_modes=None"
+    hold_hint: str = "hold the body (FEModel.constrained) or give rigid_body_modes"
+
+    def matrix_error(self, matrix: str, text: str) -> Exception:
+        return self.error(f"{self.source(matrix)}: {text} ({self.func})")
+
+    def largest(self, fieldv: np.ndarray) -> str:
+        return self.label(int(np.argmax(np.abs(fieldv))))
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def _fixed_interface_modes(K: sp.csr_matrix, M: sp.csr_matrix, i: np.ndarray, massless: np.ndarray, lu: Any,
+                           n_modes: int, names: _Names) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest ``n_modes`` modes of ``K_ii phi = omega^2 M_ii phi`` (interface held), mass-normalised, as fields on the
+    interior DOFs ``i``. Interior DOFs without mass are condensed statically (exactly: their rows of the
+    eigenproblem have no inertia, ``K_zm phi_m + K_zz phi_z = 0``), leaving ``(K_mm - K_mz K_zz^-1 K_zm) phi_m =
+    omega^2 M_mm phi_m`` on the massive ones (Guyan 1965; Cook et al. 2002 §11.6, exact for massless DOFs)."""
+    ni = i.size
+    zmask = massless[i]
+    pos_m, pos_z = np.flatnonzero(~zmask), np.flatnonzero(zmask)
+    im, iz = i[pos_m], i[pos_z]
     if n_modes == 0:
         return np.zeros(0), np.zeros((ni, 0))
-    if ni <= _DENSE_LIMIT or n_modes >= ni - 1:
-        w, V = la.eigh(Kii.toarray(), Mii.toarray())
-        w, V = w[:n_modes], V[:, :n_modes]
+    Kmm, Mmm = K[im][:, im].tocsc(), M[im][:, im].tocsc()
+    lu_z = None
+    if iz.size:
+        Kzm = K[iz][:, im].tocsc()
+        try:
+            lu_z = sla.splu(K[iz][:, iz].tocsc())
+        except RuntimeError:
+            raise _unheld(K, iz, names) or names.matrix_error(
+                "K", "the interior DOFs without mass (no mass on the diagonal of M, e.g. rotations of a lumped mass) "
+                     "form a mechanism with the interface held: their stiffness matrix K_zz is singular") from None
+    nm = im.size
+    try:
+        if nm <= _DENSE_LIMIT or n_modes >= nm - 1:
+            A = Kmm.toarray()
+            if lu_z is not None:
+                A = A - Kzm.T.toarray() @ lu_z.solve(Kzm.toarray())
+            w, V = la.eigh((A + A.T) / 2, Mmm.toarray(), subset_by_index=[0, n_modes - 1])
+        else:
+            if lu_z is None:
+                A, op = Kmm, sla.LinearOperator((nm, nm), matvec=lu.solve, dtype=float)
+            else:
+                def kc(x: np.ndarray) -> np.ndarray:
+                    x = np.ravel(x)
+                    return Kmm @ x - Kzm.T @ lu_z.solve(np.asarray(Kzm @ x))
+
+                def kc_inv(x: np.ndarray) -> np.ndarray:  # the Schur complement's inverse is the mm block of K_ii^-1
+                    y = np.zeros(ni)
+                    y[pos_m] = np.ravel(x)
+                    return lu.solve(y)[pos_m]
+
+                A = sla.LinearOperator((nm, nm), matvec=kc, dtype=float)
+                op = sla.LinearOperator((nm, nm), matvec=kc_inv, dtype=float)
+            w, V = sla.eigsh(A, k=n_modes, M=Mmm, sigma=0.0, which="LM", OPinv=op)
+            order = np.argsort(w)
+            w, V = w[order], V[:, order]
+    except la.LinAlgError as exc:
+        found = re.search(r"leading minor of order (\d+)", str(exc))
+        where = f": the first failing leading minor is at {names.label(im[int(found.group(1)) - 1])}" if found else ""
+        raise names.matrix_error("M", f"the mass matrix on the interior DOFs is not positive definite{where} (a "
+                                      "negative or singular mass combination; massless DOFs must have zero rows)"
+                                 ) from None
+    except (sla.ArpackError, sla.ArpackNoConvergence) as exc:
+        raise names.matrix_error("M", f"the fixed-interface eigenproblem failed ({exc}): M is not positive "
+                                      "semi-definite or K not positive definite on the interior") from None
+    mass = np.einsum("ij,ij->j", V, Mmm @ V)
+    if not np.all(np.isfinite(mass)) or np.any(mass <= 0):
+        k = int(np.argmax(~np.isfinite(mass) | (mass <= 0)))
+        raise names.matrix_error("M", f"the mass matrix is not positive semi-definite: a fixed-interface mode has "
+                                      f"mass {mass[k]:.3g}, moving most at "
+                                      f"{names.largest(_embed(V[:, k], im, M.shape[0]))}")
+    V = V / np.sqrt(mass)
+    Phi = np.zeros((ni, n_modes))
+    Phi[pos_m] = V
+    if lu_z is not None:
+        Phi[pos_z] = -lu_z.solve(np.asarray(Kzm @ V))
+    return w, Phi
+
+
+def _embed(v: np.ndarray, rows: np.ndarray, n: int) -> np.ndarray:
+    out = np.zeros(n)
+    out[rows] = v
+    return out
+
+
+def _unheld(K: sp.csr_matrix, rows: np.ndarray, names: _Names) -> Exception | None:
+    """The error for DOFs among ``rows`` without any stiffness (an unconnected DOF: a file problem), or None."""
+    diag = np.abs(K.diagonal())[rows]
+    scale = float(np.abs(K.diagonal()).max(initial=0.0)) or 1.0
+    loose = rows[diag <= 1e-14 * scale]
+    if not loose.size:
+        return None
+    return names.matrix_error("K", f"{names.label(int(loose[0]))} has no stiffness at all (a zero row of K"
+                                   + (f"; {loose.size} such DOFs" if loose.size > 1 else "") + "): an unconnected "
+                                   "DOF — leave it out of the DOF map (-1), or connect it")
+
+
+def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body_modes: Any, orthogonalize: bool,
+                   names: _Names) -> CraigBamptonResult:
+    func = names.func
+    mats = []
+    for label, A in (("M", M), ("K", K)):
+        try:
+            A = sp.csr_matrix(A, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise RunArgumentError(f"{func}: argument {label!r} must be a real matrix (sparse or dense): "
+                                   f"{exc}") from None
+        mats.append(A)
+    M, K = mats
+    n = K.shape[0]
+    if M.shape != (n, n) or K.shape != (n, n):
+        raise RunArgumentError(f"{func}: M {M.shape} and K {K.shape} must be square and of equal size")
+    for label, A in (("M", M), ("K", K)):
+        coo = A.tocoo()
+        bad = ~np.isfinite(coo.data)
+        if np.any(bad):
+            k = int(np.argmax(bad))
+            raise names.matrix_error(label, f"matrix {label!r} has a non-finite entry {coo.data[k]} at "
+                                            f"({names.label(coo.row[k])}, {names.label(coo.col[k])})")
+        asym = abs(A - A.T).max() if A.nnz else 0.0
+        if asym > 1e-9 * (abs(A).max() if A.nnz else 1.0):
+            D = sp.coo_matrix(abs(A - A.T))
+            k = int(np.argmax(D.data))
+            raise names.matrix_error(label, f"matrix {label!r} is not symmetric: |A - A^T| = {asym:.3g} at "
+                                            f"({names.label(D.row[k])}, {names.label(D.col[k])})")
+        why = check_semidefinite_pattern(A, label, names.label)
+        if why is not None:
+            raise names.matrix_error(label, why)
+    try:
+        b = np.asarray(interface_dofs).ravel()
+        if b.size and not (np.issubdtype(b.dtype, np.integer) or
+                           (np.issubdtype(b.dtype, np.floating) and np.all(b == np.round(b)))):
+            raise TypeError
+        b = b.astype(np.int64)
+    except (TypeError, ValueError):
+        raise RunArgumentError(f"{func}: argument {names.interface!r} must be integer DOF rows, got "
+                               f"{interface_dofs!r}") from None
+    if b.size and (b.min() < 0 or b.max() >= n):
+        raise RunArgumentError(f"{func}: {names.interface} must be rows in 0..{n - 1}, got "
+                               f"{int(b.min() if b.min() < 0 else b.max())}")
+    if len(np.unique(b)) != b.size:
+        values, counts = np.unique(b, return_counts=True)
+        raise RunArgumentError(f"{func}: {names.interface} give {names.label(int(values[np.argmax(counts > 1)]))} "
+                               "more than once")
+    diag_m = np.asarray(M.diagonal())
+    if not np.any(diag_m > 0):
+        raise names.matrix_error("M", "the mass matrix has no mass at all (zero diagonal)")
+    massless = diag_m <= _MASSLESS * diag_m.max()
+    if np.any(massless):  # zero rows exactly (check_semidefinite_pattern bounds their off-diagonal terms)
+        keep = sp.diags((~massless).astype(float))
+        M = (keep @ M @ keep).tocsr()
+        M.eliminate_zeros()
+    i = np.setdiff1d(np.arange(n), b)
+    n_massive = int(np.count_nonzero(~massless[i]))
+    if not _is_int(n_modes) or not 0 <= n_modes <= n_massive:
+        extra = f" (of the {i.size} interior DOFs, {i.size - n_massive} have no mass and no modes)" \
+            if n_massive < i.size else " (interior DOFs)"
+        raise RunArgumentError(f"{func}: n_modes must be an integer in 0..{n_massive}{extra}, got "
+                               f"{n_modes!r}")
+    n_modes = int(n_modes)
+    R = None
+    if rigid_body_modes is not None:
+        R = np.asarray(rigid_body_modes, dtype=float)
+        if R.ndim != 2 or R.shape[0] != n:
+            raise RunArgumentError(f"{func}: rigid_body_modes must have shape ({n}, r), got {R.shape}")
+        KR = K @ R
+        residual = np.abs(KR).max() / max(abs(K).max() * np.abs(R).max(), 1e-300)
+        if residual > 1e-8:
+            row, col = np.unravel_index(int(np.argmax(np.abs(KR))), KR.shape)
+            what = names.rigid_names[col] if col < len(names.rigid_names) else f"rigid mode {col}"
+            raise names.matrix_error("K", f"K does not annihilate the rigid-body modes: the {what} leaves a "
+                                          f"relative residual {residual:.2e}, largest at {names.label(int(row))}; "
+                                          "either the FE model "
+                                          f"is held there (constrained), then {names.rigid_hint}, or K is damaged "
+                                          "at that DOF")
+        if np.linalg.matrix_rank(R[b], tol=1e-9 * max(np.abs(R).max(), 1.0)) < R.shape[1]:
+            loose = la.null_space(R[b]) if b.size else np.eye(R.shape[1])
+            coeff = np.abs(loose[:, 0])
+            k = int(np.argmax(coeff))
+            what = names.rigid_names[k] if k < len(names.rigid_names) else "a rigid motion"
+            raise RunArgumentError(f"{func}: the interface DOFs do not restrain all rigid-body motions of the free "
+                                   f"body ({names.interface}: {b.size} DOFs; the {what} moves none of them), so K_ii "
+                                   "is singular: the "
+                                   "constraint modes need interface DOFs that fix the body — one node with its six "
+                                   "DOFs, or three nodes not on a line; add interface nodes")
+        if not orthogonalize:
+            raise RunArgumentError(f"{func}: rigid_body_modes are removed only with orthogonalize=True")
+    Kii = K[i][:, i].tocsc()
+    try:
+        lu = sla.splu(Kii) if i.size else None
+    except RuntimeError:
+        raise _unheld(K, i, names) or RunArgumentError(
+            f"{func}: K_ii is singular with the {names.interface} held ({b.size} DOFs): a mechanism (motion without "
+            f"strain energy) remains — the interface does not restrain the body; add interface DOFs, or "
+            f"{names.hold_hint}") from None
+    Psi = -lu.solve(K[i][:, b].toarray()) if b.size and i.size else np.zeros((i.size, b.size))
+    w, Phi = _fixed_interface_modes(K, M, i, massless, lu, n_modes, names)
+    if np.any(w <= 0):
+        k = int(np.argmax(w <= 0))
+        fieldv = _embed(Phi[:, k], i, n)
+        scale = float(np.abs(Kii.diagonal()).max()) / float(max(np.asarray(M.diagonal())[i].max(initial=0.0), 1e-300))
+        if w[k] < -1e-9 * scale:
+            raise names.matrix_error("K", f"K is not positive semi-definite: a fixed-interface mode has negative "
+                                          f"stiffness (omega^2 = {w[k]:.3g} rad2/s2), largest at "
+                                          f"{names.largest(fieldv)} — a negative or mis-signed stiffness term there")
+        raise RunArgumentError(f"{func}: K_ii is not positive definite: a fixed-interface mode has zero stiffness "
+                               f"(omega^2 = {w[k]:.3g}), moving most at {names.largest(fieldv)}: the "
+                               f"{names.interface} do not restrain the body (a mechanism); add interface DOFs, or "
+                               f"{names.hold_hint}")
+    T = np.zeros((n, b.size + Phi.shape[1]))
+    T[b, np.arange(b.size)] = 1.0
+    T[np.ix_(i, np.arange(b.size))] = Psi
+    T[np.ix_(i, np.arange(b.size, T.shape[1]))] = Phi
+    Mr = T.T @ (M @ T)
+    Kr = T.T @ (K @ T)
+    Mr, Kr = (Mr + Mr.T) / 2, (Kr + Kr.T) / 2
+    n_rigid = 0
+    n_condensed = 0
+    if orthogonalize:
+        P, n_condensed = _massive_subspace(Mr, Kr, T, R, names)
+        T2, Mr2, Kr2 = T @ P, P.T @ Mr @ P, P.T @ Kr @ P
+        Mr2, Kr2 = (Mr2 + Mr2.T) / 2, (Kr2 + Kr2.T) / 2
+        Q = np.eye(T2.shape[1])
+        if R is not None:
+            X = np.linalg.solve(Mr2, T2.T @ (M @ R))  # rigid fields in the reduced coordinates
+            Q = la.null_space(X.T @ Mr2)  # the mass-orthogonal complement: deformation only
+            n_rigid = T2.shape[1] - Q.shape[1]
+        try:
+            _, Y = la.eigh(Q.T @ Kr2 @ Q, Q.T @ Mr2 @ Q)
+        except la.LinAlgError as exc:
+            raise names.matrix_error("M", f"the reduced mass matrix is not positive definite ({exc})") from None
+        X = Q @ Y
+        modes = T2 @ X
+        Mg, Kg = X.T @ Mr2 @ X, X.T @ Kr2 @ X
+        Mg, Kg = (Mg + Mg.T) / 2, (Kg + Kg.T) / 2
     else:
-        op = sla.LinearOperator((ni, ni), matvec=lu.solve, dtype=float)
-        w, V = sla.eigsh(Kii, k=n_modes, M=Mii, sigma=0.0, which="LM", OPinv=op)
-        order = np.argsort(w)
-        w, V = w[order], V[:, order]
-    V = V / np.sqrt(np.einsum("ij,ij->j", V, Mii @ V))
-    return w, V
+        modes, Mg, Kg = T, Mr, Kr
+    d = np.diag(Mg)
+    omega = np.sqrt(np.maximum(np.diag(Kg), 0.0) / np.where(d > 0, d, np.inf))
+    return CraigBamptonResult(modes, Mg, Kg, omega, T, np.sqrt(w), b, n_rigid, np.flatnonzero(massless),
+                              n_condensed)
+
+
+def _massive_subspace(Mr: np.ndarray, Kr: np.ndarray, T: np.ndarray, R: np.ndarray | None,
+                      names: _Names) -> tuple[np.ndarray, int]:
+    """A basis ``P`` of the reduced coordinates without the massless directions, condensed statically (Guyan on
+    the reduced matrices: a direction ``z`` without mass follows the others through ``Z^T Kr (P q) = 0``, which
+    is exact for it), and how many were condensed; ``P = I`` if ``Mr`` is positive definite."""
+    e, U = la.eigh(Mr)
+    scale = float(max(e.max(initial=0.0), 1e-300))
+    if e.min(initial=0.0) < -1e-9 * scale:
+        raise names.matrix_error("M", f"the mass matrix is not positive semi-definite: the reduced mass has a negative "
+                                      f"eigenvalue {e.min():.3g} (of {scale:.3g}), its motion largest at "
+                                      f"{names.largest(T @ U[:, 0])}")
+    zero = e <= 1e-12 * scale
+    if not np.any(zero):
+        return np.eye(Mr.shape[0]), 0
+    Z, Um = U[:, zero], U[:, ~zero]
+    Kzz = Z.T @ Kr @ Z
+    Kzz = (Kzz + Kzz.T) / 2
+    ek, Vk = la.eigh(Kzz)
+    if ek.min() <= 1e-10 * max(float(np.abs(Kr).max()), 1e-300):
+        fieldv = T @ (Z @ Vk[:, 0])
+        what = ""
+        if R is not None:
+            c, *_ = np.linalg.lstsq(R, fieldv, rcond=None)
+            if np.abs(R @ c - fieldv).max() <= 1e-6 * np.abs(fieldv).max():
+                k = int(np.argmax(np.abs(c)))
+                what = (f" — the rigid-body {names.rigid_names[k] if k < len(names.rigid_names) else 'motion'}: all "
+                        "the mass lies on its axis and M gives no rotary inertia about it (a line of lumped masses "
+                        "without rotary inertia); give the nodes rotary inertia (FEModel.with_point_masses(..., "
+                        "inertias=...) or a consistent mass), or attach the body (reference_node)")
+        raise names.matrix_error("M", f"a motion has neither mass nor stiffness (largest at {names.largest(fieldv)})"
+                                      f"{what}")
+    return Um - Z @ np.linalg.solve(Kzz, Z.T @ Kr @ Um), int(np.count_nonzero(zero))
 
 
 def craig_bampton(M: sp.spmatrix | np.ndarray, K: sp.spmatrix | np.ndarray, interface_dofs: Sequence[int] | np.ndarray,
@@ -103,14 +394,22 @@ def craig_bampton(M: sp.spmatrix | np.ndarray, K: sp.spmatrix | np.ndarray, inte
                   orthogonalize: bool = True) -> CraigBamptonResult:
     """Craig–Bampton reduction of ``(M, K)`` with interface DOFs and ``n_modes`` fixed-interface modes.
 
+    DOFs without mass (a zero diagonal term of ``M``: the rotations of a lumped mass matrix without rotary
+    inertia, a common FE export) have no inertia, so their rows of the eigenproblem are static equilibrium:
+    interior ones are condensed statically in the fixed-interface modes (Guyan condensation, exact for massless
+    DOFs), and reduced directions without mass (an interface rotation whose constraint mode moves no mass) are
+    condensed the same way before orthogonalisation. The constraint modes are unchanged, so static interface
+    responses stay exact.
+
     Parameters
     ----------
     M, K : sparse or dense (n, n)
-        Symmetric mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices.
+        Symmetric positive semi-definite mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices.
     interface_dofs : sequence of int
         Rows of the interface (boundary) DOFs, kept exactly by the constraint modes.
     n_modes : int
-        Number of fixed-interface normal modes (0: Guyan reduction on the interface).
+        Number of fixed-interface normal modes (0: Guyan reduction on the interface); at most the number of
+        interior DOFs with mass.
     rigid_body_modes : ndarray (n, r), optional
         Rigid-body displacement fields of a free body (e.g. :meth:`FEModel.rigid_body_modes`); they are
         projected out of the reduced space before orthogonalisation (requires ``orthogonalize``).
@@ -123,69 +422,13 @@ def craig_bampton(M: sp.spmatrix | np.ndarray, K: sp.spmatrix | np.ndarray, inte
 
     Raises
     ------
-    ValueError
-        Bad sizes or DOF indices, ``K_ii`` singular (the interface does not restrain the body), rigid-body
-        fields that ``K`` does not annihilate, or more modes than interior DOFs.
+    RunArgumentError
+        Bad sizes, DOF indices or ``n_modes``; the interface does not restrain the body (``K_ii`` singular or
+        with a zero-frequency mode, naming the DOF that moves); rigid-body fields that ``K`` does not annihilate;
+        a matrix that is not finite, symmetric or positive semi-definite (a negative diagonal term, an
+        off-diagonal term above its diagonal terms, a negative-stiffness or negative-mass mode), naming the DOF.
     """
-    M = sp.csr_matrix(M, dtype=float)
-    K = sp.csr_matrix(K, dtype=float)
-    n = K.shape[0]
-    if M.shape != (n, n) or K.shape != (n, n):
-        raise ValueError(f"craig_bampton: M {M.shape} and K {K.shape} must be square and of equal size")
-    b = np.asarray(interface_dofs, dtype=np.int64).ravel()
-    if b.size and (b.min() < 0 or b.max() >= n or len(np.unique(b)) != b.size):
-        raise ValueError(f"craig_bampton: interface_dofs must be distinct rows in 0..{n - 1}")
-    i = np.setdiff1d(np.arange(n), b)
-    if not isinstance(n_modes, int | np.integer) or n_modes < 0 or n_modes > i.size:
-        raise ValueError(f"craig_bampton: n_modes must be an integer in 0..{i.size} (interior DOFs), got {n_modes!r}")
-    if rigid_body_modes is not None:
-        R = np.asarray(rigid_body_modes, dtype=float)
-        if R.ndim != 2 or R.shape[0] != n:
-            raise ValueError(f"craig_bampton: rigid_body_modes must have shape ({n}, r), got {R.shape}")
-        residual = np.abs(K @ R).max() / max(abs(K).max() * np.abs(R).max(), 1e-300)
-        if residual > 1e-8:
-            raise ValueError(f"craig_bampton: K does not annihilate the rigid-body modes (relative residual "
-                             f"{residual:.2e}): the FE model is constrained; pass rigid_body_modes=None "
-                             "(modal_data_from_fe: free=False)")
-        if np.linalg.matrix_rank(R[b], tol=1e-9 * max(np.abs(R).max(), 1.0)) < R.shape[1]:
-            raise ValueError("craig_bampton: the interface DOFs do not restrain all rigid-body motions "
-                             "(K_ii is singular); add interface nodes")
-        if not orthogonalize:
-            raise ValueError("craig_bampton: rigid_body_modes are removed only with orthogonalize=True")
-    Kii = K[i][:, i].tocsc()
-    Mii = M[i][:, i].tocsc()
-    try:
-        lu = sla.splu(Kii)
-    except RuntimeError as exc:
-        raise ValueError(f"craig_bampton: K_ii is singular ({exc}): the interface does not restrain the "
-                         "body; add interface DOFs") from None
-    Psi = -lu.solve(K[i][:, b].toarray()) if b.size else np.zeros((i.size, 0))
-    w, Phi = _fixed_interface_modes(Kii, Mii, lu, int(n_modes))
-    if np.any(w <= 0):
-        raise ValueError("craig_bampton: K_ii is not positive definite: the interface does not restrain the body")
-    T = np.zeros((n, b.size + Phi.shape[1]))
-    T[b, np.arange(b.size)] = 1.0
-    T[np.ix_(i, np.arange(b.size))] = Psi
-    T[np.ix_(i, np.arange(b.size, T.shape[1]))] = Phi
-    Mr = T.T @ (M @ T)
-    Kr = T.T @ (K @ T)
-    Mr, Kr = (Mr + Mr.T) / 2, (Kr + Kr.T) / 2
-    n_rigid = 0
-    if orthogonalize:
-        Q = np.eye(T.shape[1])
-        if rigid_body_modes is not None:
-            X = np.linalg.solve(Mr, T.T @ (M @ R))  # rigid fields in Craig–Bampton coordinates
-            Q = la.null_space(X.T @ Mr)  # the mass-orthogonal complement: deformation only
-            n_rigid = T.shape[1] - Q.shape[1]
-        _, Y = la.eigh(Q.T @ Kr @ Q, Q.T @ Mr @ Q)
-        X = Q @ Y
-        modes = T @ X
-        Mg, Kg = X.T @ Mr @ X, X.T @ Kr @ X
-        Mg, Kg = (Mg + Mg.T) / 2, (Kg + Kg.T) / 2
-    else:
-        modes, Mg, Kg = T, Mr, Kr
-    omega = np.sqrt(np.maximum(np.diag(Kg), 0.0) / np.diag(Mg))
-    return CraigBamptonResult(modes, Mg, Kg, omega, T, np.sqrt(w), b, n_rigid)
+    return _craig_bampton(M, K, interface_dofs, n_modes, rigid_body_modes, orthogonalize, _Names())
 
 
 def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int, *, free: bool = True,
@@ -251,26 +494,87 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     from .beam import beam_stress_modes, section_force_modes
     from .modal_data import ModalData
 
+    func = "modal_data_from_fe"
+    if not isinstance(fe, FEModel):
+        raise RunArgumentError(f"{func}: argument 'fe' must be an FEModel (from beam_mesh, read_fe, "
+                               f"read_matrix_market or an importer), got {type(fe).__name__} {fe!r:.80}")
+    flags = (("free", free), ("orthogonalize", orthogonalize), ("geometric_stiffening", geometric_stiffening),
+             ("static_loads", static_loads))
+    for flag, value in flags:
+        if not isinstance(value, bool | np.bool_):
+            raise RunArgumentError(f"{func}: argument {flag!r} must be True or False, got {value!r}")
     if (stress_fibre is not None or geometric_stiffening) and fe.beam is None:
-        raise ValueError("modal_data_from_fe: stress_fibre and geometric_stiffening need a beam model (beam_mesh)")
-    interface_nodes = [int(k) for k in interface_nodes]
-    rigid = fe.rigid_body_modes() if free else None
+        raise RunArgumentError(f"{func}: stress_fibre and geometric_stiffening need a beam model (beam_mesh)")
+    if stress_fibre is not None:
+        try:
+            fibre = np.asarray(stress_fibre, dtype=float)
+        except (TypeError, ValueError):
+            fibre = np.zeros(0)
+        if fibre.shape != (2,) or not np.all(np.isfinite(fibre)):
+            raise RunArgumentError(f"{func}: argument 'stress_fibre' must be two finite numbers (y, z) [m], got "
+                                   f"{stress_fibre!r}")
+    interface_nodes = _node_ids(fe, interface_nodes, "interface_nodes")
+    if not _is_int(n_modes) or n_modes < 0:
+        raise RunArgumentError(f"{func}: n_modes must be a whole number >= 0, got {n_modes!r}")
     if attachment not in ("clamped", "pinned"):
-        raise ValueError(f"modal_data_from_fe: attachment must be 'clamped' or 'pinned', got {attachment!r}")
+        raise RunArgumentError(f"{func}: attachment must be 'clamped' or 'pinned', got {attachment!r}")
+    if support_nodes is not None:
+        support_nodes = _node_ids(fe, support_nodes, "support_nodes")
+    given = fe
+    rigid = fe.rigid_body_modes() if free else None
+    rigid_names = _RIGID_NAMES
+    rigid_hint = "pass free=False"
     if reference_node is not None:
-        reference_node = int(reference_node)
+        reference_node = _node_ids(fe, [reference_node], "reference_node", scalar=True)[0]
         centre = fe.nodes[fe.node_index([reference_node])[0]]
+        if fe.mass_points is None:  # lumped from the whole M: the held node's mass stays in the invariants
+            fe = replace(fe, mass_points=fe.lumped_mass_points())
         if attachment == "clamped":
             fe = fe.constrained([reference_node])
             rigid = None
         else:
             fe = fe.constrained([reference_node], ("ux", "uy", "uz"))
             rigid = _rotations_about(fe, centre)
+            rigid_names = tuple(f"rotation about {a} through node {reference_node}" for a in "xyz")
+            rigid_hint = "use attachment='clamped'"
         interface_nodes = [reference_node] + [k for k in interface_nodes if k != reference_node]
         free = False
+    elif free and not interface_nodes:
+        raise RunArgumentError(f"{func}: interface_nodes is empty, but a free body (free=True) needs interface nodes "
+                               "that fix its rigid-body motion for the Craig–Bampton constraint modes (one node with "
+                               "its six DOFs, or three nodes not on a line); give interface_nodes, or attach the body "
+                               "with reference_node=")
+    # messages name the node, component and the row of the model as given (before any attachment constraint)
+    has = fe.dof_map >= 0
+    given_row = np.full(fe.n_dofs, -1, dtype=np.int64)
+    given_row[fe.dof_map[has]] = given.dof_map[has]
+    names = _Names(func=func, label=lambda row: given.dof_label(int(given_row[int(row)])),
+                   source=lambda m: fe.source_label(m), error=ModalFileError if fe.from_file else RunArgumentError,
+                   interface="interface_nodes" + (f" (with reference_node {reference_node})"
+                                                  if reference_node is not None else ""),
+                   rigid_names=rigid_names, rigid_hint=rigid_hint,
+                   hold_hint="pass free=True for a floating body, or reference_node=" if not free and
+                   reference_node is None else "hold the body (reference_node=)")
     dofs = fe.dofs(interface_nodes)
-    cb = craig_bampton(fe.M, fe.K, dofs, n_modes, rigid_body_modes=rigid,
-                       orthogonalize=orthogonalize)
+    cb = _craig_bampton(fe.M, fe.K, dofs, n_modes, rigid, orthogonalize, names)
+    if not orthogonalize:
+        e, U = la.eigh(cb.generalized_mass)
+        if e.size and e.min() <= 1e-12 * max(float(e.max()), 1e-300):
+            raise RunArgumentError(f"{func}: orthogonalize=False keeps the raw Craig–Bampton basis, and a combination "
+                                   f"of its modes carries no mass (moving most at {names.largest(cb.modes @ U[:, 0])}: "
+                                   "interface DOFs without mass whose constraint modes move no mass, e.g. rotations of "
+                                   "a lumped mass without rotary inertia); pass orthogonalize=True, which condenses "
+                                   "them statically")
+    if rigid is None and orthogonalize and cb.omega.size:
+        top = float(np.max(cb.omega)) ** 2
+        zero = np.flatnonzero(cb.omega**2 <= 1e-10 * top)
+        if zero.size:
+            raise RunArgumentError(f"{func}: {zero.size} mode(s) have zero frequency (omega^2 <= 1e-10 x the "
+                                   f"largest), moving most at {names.largest(cb.modes[:, zero[0]])}: the FE model is "
+                                   "not held, but " + ("free=False: pass free=True (floating frame) or "
+                                                       "reference_node=" if reference_node is None else
+                                                       f"attached at node {reference_node} it still has a "
+                                                       "mechanism"))
     points = fe.mass_points if fe.mass_points is not None else fe.lumped_mass_points()
     inv = inertia_invariants(points, cb.modes)
     geometric = None
@@ -279,7 +583,8 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
 
         support = list(interface_nodes[:1] if support_nodes is None else support_nodes)
         if not support:
-            raise ValueError("modal_data_from_fe: geometric_stiffening needs a support node (no interface nodes)")
+            raise RunArgumentError(f"{func}: geometric_stiffening needs a support node (no interface nodes and no "
+                                   "support_nodes)")
         cases = inertial_load_cases(fe) | interface_load_cases(fe, [k for k in interface_nodes if k not in support])
         geometric = modal_geometric_stiffness(fe, cb.modes, support, cases)
     trans, rot = fe.nodal_fields(cb.modes)
@@ -290,7 +595,11 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         cases = inertial_load_cases(fe) | interface_load_cases(fe, interface_nodes)
         names = list(cases)
         loads = np.column_stack([cases[k] for k in names])
-        u = elastic_static_responses(fe, loads, rigid)
+        try:
+            u = elastic_static_responses(fe, loads, rigid)
+        except RunArgumentError as exc:
+            raise RunArgumentError(f"{func}: {exc}; free={free}" + (": pass free=True (floating frame) or "
+                                                                   "reference_node=" if not free else "")) from None
         s_trans, s_rot = fe.nodal_fields(u)
         static = {"load_cases": tuple(names), "static_translations": s_trans, "static_rotations": s_rot,
                   "static_modal_loads": loads.T @ cb.modes,
@@ -303,6 +612,8 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         "n_fixed_interface_modes": int(n_modes),
         "fixed_interface_frequencies_Hz": [float(x) for x in cb.fixed_interface_omega / (2 * math.pi)],
         "n_rigid_modes_removed": int(cb.n_rigid_removed),
+        "n_massless_dofs_condensed": int(cb.massless_dofs.size),
+        "n_massless_reduced_directions_condensed": int(cb.n_massless_condensed),
         "reference_node": reference_node,
         "attachment": None if reference_node is None else attachment,
         "n_fe_dofs": int(fe.n_dofs),
@@ -359,11 +670,39 @@ def elastic_static_responses(fe: FEModel, loads: np.ndarray, rigid: np.ndarray |
     try:
         u = np.asarray(sla.splu(A).solve(rhs))[: fe.n_dofs]
     except RuntimeError as exc:
-        raise ValueError(f"elastic_static_responses: the FE model ({fe.n_dofs} DOFs) has rigid-body motion that "
-                         f"is neither held nor given as rigid-body modes (stiffness singular: {exc})") from None
+        raise RunArgumentError(f"elastic_static_responses: the FE model ({fe.n_dofs} DOFs) has rigid-body motion "
+                               f"that is neither held nor given as rigid-body modes (stiffness singular: {exc})"
+                               ) from None
     if not np.all(np.isfinite(u)):
-        raise ValueError("elastic_static_responses: non-finite static response (singular stiffness)")
+        raise RunArgumentError("elastic_static_responses: non-finite static response (singular stiffness)")
     return u
+
+
+def _node_ids(fe: FEModel, value: Any, argument: str, scalar: bool = False) -> list[int]:
+    """Node ids given as an argument: whole numbers (not bools or strings), distinct, all in the FE model."""
+    func = "modal_data_from_fe"
+    if isinstance(value, str | bytes) or (not scalar and _is_int(value)) or \
+            (not scalar and not isinstance(value, Sequence | np.ndarray | range)):
+        raise RunArgumentError(f"{func}: argument {argument!r} must be a list of node ids, got {value!r}"
+                               + (f" (for one node: [{value}])" if _is_int(value) else ""))
+    ids = []
+    for v in np.asarray(value, dtype=object).ravel():
+        if _is_int(v) or (isinstance(v, float | np.floating) and float(v).is_integer()):
+            ids.append(int(v))
+        else:
+            raise RunArgumentError(f"{func}: argument {argument!r}: node id {v!r} is not a whole number")
+    seen = set()
+    for k in ids:
+        if k in seen:
+            raise RunArgumentError(f"{func}: argument {argument!r} gives node {k} more than once ({ids})")
+        seen.add(k)
+    known = set(int(k) for k in fe.node_ids)
+    missing = [k for k in ids if k not in known]
+    if missing:
+        raise UnknownNodeError(f"{func}: argument {argument!r}: node {missing[0]} is not in the FE model ("
+                               f"{fe.node_ids.size} nodes, ids {int(fe.node_ids.min())}..{int(fe.node_ids.max())}, "
+                               f"{fe.source_label()})")
+    return ids
 
 
 def _rotations_about(fe: FEModel, centre: np.ndarray) -> np.ndarray:

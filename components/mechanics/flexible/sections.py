@@ -18,6 +18,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from flexlib.errors import RunArgumentError
+
 __all__ = ["Section", "box", "circle", "i_section", "rectangle", "tube"]
 
 
@@ -51,11 +53,11 @@ class Section:
     def __post_init__(self) -> None:
         for field in ("A", "Iy", "Iz", "J", "Asy", "Asz"):
             value = getattr(self, field)
-            if not isinstance(value, int | float) or math.isnan(value) or value <= 0:
-                raise ValueError(f"section {self.name!r}: {field} must be a positive number, got {value!r}")
+            if isinstance(value, bool) or not isinstance(value, int | float) or math.isnan(value) or value <= 0:
+                raise RunArgumentError(f"section {self.name!r}: {field} must be a positive number, got {value!r}")
         for field in ("A", "Iy", "Iz", "J"):
             if math.isinf(getattr(self, field)):
-                raise ValueError(f"section {self.name!r}: {field} must be finite")
+                raise RunArgumentError(f"section {self.name!r}: {field} must be finite")
 
     @property
     def Ip(self) -> float:
@@ -65,8 +67,13 @@ class Section:
 
 def _positive(name: str, **values: float) -> None:
     for key, value in values.items():
-        if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
-            raise ValueError(f"{name} section: {key} must be a positive finite length [m], got {value!r}")
+        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
+            raise RunArgumentError(f"{name} section: {key} must be a positive finite length [m], got {value!r}")
+
+
+def _poisson(name: str, nu: float) -> None:
+    if isinstance(nu, bool) or not isinstance(nu, int | float) or not -1.0 < nu <= 0.5:
+        raise RunArgumentError(f"{name} section: Poisson's ratio nu must be a number in (-1, 0.5], got {nu!r}")
 
 
 def rectangle(b: float, h: float, nu: float = 0.3) -> Section:
@@ -84,6 +91,7 @@ def rectangle(b: float, h: float, nu: float = 0.3) -> Section:
         Poisson's ratio [1], for the shear coefficient.
     """
     _positive("rectangle", b=b, h=h)
+    _poisson("rectangle", nu)
     a, c = max(b, h), min(b, h)
     J = a * c**3 * (1.0 / 3.0 - 0.21 * (c / a) * (1.0 - c**4 / (12.0 * a**4)))
     kappa = 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu)
@@ -104,6 +112,7 @@ def circle(d: float, nu: float = 0.3) -> Section:
         Poisson's ratio [1].
     """
     _positive("circle", d=d)
+    _poisson("circle", nu)
     I = math.pi * d**4 / 64.0
     A = math.pi * d**2 / 4.0
     kappa = 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu)
@@ -123,8 +132,9 @@ def tube(d: float, t: float, nu: float = 0.3) -> Section:
         Poisson's ratio [1].
     """
     _positive("tube", d=d, t=t)
+    _poisson("tube", nu)
     if t > d / 2:
-        raise ValueError(f"tube section: wall thickness t={t!r} m exceeds the radius d/2={d / 2!r} m")
+        raise RunArgumentError(f"tube section: wall thickness t={t!r} m exceeds the radius d/2={d / 2!r} m")
     di = d - 2.0 * t
     I = math.pi * (d**4 - di**4) / 64.0
     A = math.pi * (d**2 - di**2) / 4.0
@@ -148,7 +158,7 @@ def box(b: float, h: float, t: float) -> Section:
     """
     _positive("box", b=b, h=h, t=t)
     if 2.0 * t >= min(b, h):
-        raise ValueError(f"box section: wall thickness t={t!r} m leaves no hollow in {b!r} x {h!r} m")
+        raise RunArgumentError(f"box section: wall thickness t={t!r} m leaves no hollow in {b!r} x {h!r} m")
     bi, hi = b - 2.0 * t, h - 2.0 * t
     A = b * h - bi * hi
     Iz = (b * h**3 - bi * hi**3) / 12.0
@@ -173,7 +183,7 @@ def i_section(b: float, h: float, tw: float, tf: float) -> Section:
     """
     _positive("I", b=b, h=h, tw=tw, tf=tf)
     if 2.0 * tf >= h or tw >= b:
-        raise ValueError(f"I section: flanges tf={tf!r} m or web tw={tw!r} m do not fit in {b!r} x {h!r} m")
+        raise RunArgumentError(f"I section: flanges tf={tf!r} m or web tw={tw!r} m do not fit in {b!r} x {h!r} m")
     hw = h - 2.0 * tf
     A = 2.0 * b * tf + hw * tw
     Iz = (b * h**3 - (b - tw) * hw**3) / 12.0
