@@ -5,8 +5,8 @@
     flexlib list                                   # models and scenarios with their docs
     flexlib run n-mass-chain --scenario short --out chain.h5 --param mass0.m=2
     flexlib run --from chain.h5 --rtol 1e-8        # repeat a run from its file (options on top)
-    flexlib show chain.h5                          # run settings stored in a result file
-    flexlib compare a.h5 b.h5 --plot diff.png      # largest differences of the common signals
+    flexlib show chain.h5 --signals 'mass*.s'      # run settings stored in a result file, some variables
+    flexlib compare a.h5 b.h5 --plot diff.png      # largest differences, and what the comparison does not cover
 
 Models and scenarios come from :mod:`flexlib.registry`; ``--models MODULE`` (or ``$FLEXLIB_MODELS``) imports a
 user's module that registers more. Every error is one line naming the culprit (model, scenario, parameter,
@@ -22,6 +22,7 @@ import json
 import math
 import os
 import sys
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -31,11 +32,14 @@ import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from flexlib.errors import FlexlibError, SolverError
+from flexlib.errors import FlexlibError, RegistryError, ResultKeyError, SolverError
+from flexlib.results.compare import compare, compare_results
 
 __all__ = ["cli", "compare_results", "main"]
 
 SOLVERS = ("ida", "ida-native", "ida-sksundae", "casadi-idas")
+#: File name endings of a result file ``--out`` writes without ``--force`` (the file is HDF5).
+RESULT_SUFFIXES = (".h5", ".hdf5", ".hdf", ".he5")
 
 
 def _one_line(err: BaseException) -> str:
@@ -61,6 +65,12 @@ def _console() -> Console:
     return Console(highlight=False, markup=False)  # "[s]" in labels is text, not a style
 
 
+def _say(kind: str, text: str) -> None:
+    """A ``Warning:`` or ``Note:`` line on stderr, after what was printed on stdout (one line, not folded)."""
+    sys.stdout.flush()
+    click.echo(f"{kind}: {' '.join(text.split())}", err=True)
+
+
 def _fmt(x: float) -> str:
     return f"{x:.6g}"
 
@@ -84,21 +94,57 @@ def cli(modules: tuple[str, ...]) -> None:
 @cli.command("list")
 @_friendly
 def list_cmd() -> None:
-    """Show the registered models and their scenarios."""
+    """Show the registered models, their scenarios and their options (``run -O NAME=VALUE``)."""
     from flexlib import registry
 
+    entries = registry.models()
     table = Table(title="flexlib models and scenarios", show_lines=False)
     table.add_column("model", style="bold")
     table.add_column("scenario")
     table.add_column("t_end [s]", justify="right")
     table.add_column("description")
-    for name, entry in registry.models().items():
+    for name, entry in entries.items():
         table.add_row(name, "", "", entry.doc)
         for sname, scen in entry.scenarios.items():
             default = " (default)" if sname == entry.default_scenario else ""
             t_end = _fmt(scen.t_end) if scen.t_end is not None else "model"
             table.add_row("", sname + default, t_end, scen.doc)
-    _console().print(table)
+    console = _console()
+    console.print(table)
+    console.print(_options_table(entries))
+
+
+def _options_table(entries: dict[str, Any]) -> Table:
+    """The model options of every model: a row per model (with the ``data`` keys its scenarios may hold), then one
+    per option (name, type, default, the accepted values and the doc), a rule after each model."""
+    table = Table(title="model options (flexlib run MODEL -O NAME=VALUE)", show_lines=False)
+    table.add_column("option")
+    table.add_column("type")
+    table.add_column("default")
+    table.add_column("accepted values: description")
+    for name, entry in entries.items():
+        notes = [] if entry.options else ["no options"]
+        if entry.data:
+            notes.append("scenario data: " + ", ".join(entry.data))
+        table.add_row(name, "", "", "; ".join(notes), style="bold", end_section=not entry.options)
+        for k, o in enumerate(entry.options, 1):
+            type_name = "any" if o.type is None else o.type.__name__
+            table.add_row(f"  {o.name}", type_name, _option_value(o.default),
+                          o.accepted() + (f": {o.doc}" if o.doc else ""), end_section=k == len(entry.options))
+    return table
+
+
+def _option_value(value: Any) -> str:
+    """An option's value as the command line writes it (``true``, ``none``, ``4``, ``0.006``, ``mpf``)."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, (int, str)):
+        return str(value)
+    return json.dumps(value, default=str)
 
 
 # -- run -----------------------------------------------------------------------------------------------------------
@@ -115,21 +161,23 @@ def _parse_params(items: tuple[str, ...]) -> dict[str, float]:
             raise click.ClickException(f"--param {item!r}: the value {value!r} of {name} is not a number") from None
         if not math.isfinite(number):
             raise click.ClickException(f"--param {item!r}: the value of {name} must be finite")
+        if name in out and out[name] != number:
+            raise click.ClickException(f"--param {name} is given twice ({out[name]:g} and {number:g}); give it once")
         out[name] = number
     return out
 
 
-def _parse_options(items: tuple[str, ...]) -> dict[str, Any]:
-    out: dict[str, Any] = {}
+def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
+    """``NAME=VALUE`` texts by name; the registry converts each by the model's declaration of the option."""
+    out: dict[str, str] = {}
     for item in items:
         name, sep, value = item.partition("=")
-        name = name.strip()
+        name, value = name.strip(), value.strip()
         if not sep or not name:
             raise click.ClickException(f"--option {item!r}: expected NAME=VALUE (for example n=4 or flexible=true)")
-        try:
-            out[name] = json.loads(value)
-        except ValueError:
-            out[name] = value.strip()
+        if name in out and out[name] != value:
+            raise click.ClickException(f"--option {name} is given twice ({out[name]!r} and {value!r}); give it once")
+        out[name] = value
     return out
 
 
@@ -147,16 +195,19 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, Any]:
 @click.option("--from", "from_file", type=click.Path(dir_okay=False),
               help="Repeat the run recorded in this result file (other options apply on top).")
 @click.option("-O", "--option", "model_options", multiple=True, metavar="NAME=VALUE",
-              help="Model option on top of the scenario's (VALUE read as JSON, else text; repeatable).")
+              help="Model option on top of the scenario's, VALUE converted by the option's declared type "
+                   "(bool: true/false/yes/no/1/0; repeatable).")
 @click.option("--flexible/--rigid", default=None, help="Shorthand for --option flexible=true / false.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @click.option("--plots", "plots_dir", type=click.Path(file_okay=False),
               help="Write the model's figures (PNG) of the run into this directory.")
+@click.option("--force", is_flag=True,
+              help="Let --out replace a file that is not a flexlib result, or write a name without .h5.")
 @_friendly
 def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tuple[str, ...], t_end: float | None,
             rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, from_file: str | None,
             model_options: tuple[str, ...], flexible: bool | None, no_progress: bool,
-            plots_dir: str | None) -> None:
+            plots_dir: str | None, force: bool) -> None:
     """Run MODEL in a scenario, then print a summary (times, steps, peaks of the model's signals)."""
     from flexlib import registry
     from flexlib.registry import Scenario
@@ -168,40 +219,145 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
     if scenario is not None and (scenario.endswith(".json") or os.path.isfile(scenario)):
         scen = Scenario.from_file(scenario)
     if from_file is not None:
-        from flexlib.results.hdf5 import load_result
-
         if scenario is not None:
             raise click.ClickException("--from and --scenario: give one (the file records its scenario)")
-        record = registry.run_settings(load_result(from_file), from_file)
+        record, scen = _recorded_run(from_file)
         if model is not None and model != record.model:
             raise click.ClickException(f"model {model!r} differs from the model {record.model!r} recorded in "
                                        f"{from_file}; omit MODEL with --from")
         model = record.model
-        scen = Scenario.from_dict(record.scenario)
         overrides = {**record.params, **overrides}
         t_end = t_end if t_end is not None else record.run.get("t_end")
         given = {**{k: v for k, v in record.run.items() if k != "t_end"}, **given}
     if model is None:
         raise click.ClickException("give a MODEL (see 'flexlib list') or --from FILE")
-    extra_options = _parse_options(model_options)
+    extra_options = registry.get_model(model).parse_options(_parse_options(model_options))  # by declared type
     if flexible is not None:
+        if extra_options.get("flexible", flexible) != flexible:
+            raise click.ClickException(f"--{'flexible' if flexible else 'rigid'} and --option "
+                                       f"flexible={extra_options['flexible']} contradict each other; give one")
         extra_options["flexible"] = flexible
     if extra_options:  # recorded as part of the scenario, so that --from repeats them
         base = scen if isinstance(scen, Scenario) else registry.get_scenario(model, scen)
         scen = dataclasses.replace(base, options={**base.options, **extra_options})
     if out is not None:
-        from flexlib.solve.run_options import check_result_path
-
-        check_result_path(out, "--out")  # before the build
-    try:
-        done = registry.run_scenario(model, scen, params=overrides, t_end=t_end, progress=not no_progress,
-                                     result_file=out, **given)
+        _check_out(out, force)  # before the build
+    if plots_dir is not None:
+        _check_plots_dir(registry.get_model(model), plots_dir)
+    try:  # the CLI writes the file itself, so that a failed write still leaves the result somewhere
+        done = registry.run_scenario(model, scen, params=overrides, t_end=t_end, progress=not no_progress, **given)
     except SolverError as err:
-        where = f"; the result up to the failure is in {out}" if out and err.result is not None else ""
+        where = ""
+        if out and err.result is not None:
+            written, problem = _save(err.result, out)
+            where = f"; {problem}" if problem else f"; the result up to the failure is in {written}"
         raise click.ClickException(f"{model}: the run failed: {_one_line(err)}{where}") from None
-    _print_summary(done, out)
+    except (FlexlibError, ValueError, LookupError) as err:
+        if from_file is None:
+            raise
+        raise click.ClickException(f"{_one_line(err)} (repeating the run recorded in {from_file})") from None
+    written, problem = _save(done.result, out) if out else (None, None)
+    _print_summary(done, written)
     if plots_dir is not None:
         _write_plots(done, plots_dir)
+    if problem:
+        raise click.ClickException(problem)
+
+
+def _recorded_run(from_file: str) -> tuple[Any, Any]:
+    """The run record of ``--from FILE`` and its scenario, checked: every problem of the record names the file."""
+    from flexlib import registry
+    from flexlib.registry import RUN_OPTIONS, Scenario
+    from flexlib.results.hdf5 import load_result
+
+    record = registry.run_settings(load_result(from_file), from_file)
+    try:
+        entry = registry.get_model(record.model)
+    except RegistryError as err:
+        raise click.ClickException(f"{from_file}: the model recorded in the file: {_one_line(err)}") from None
+    try:
+        scen = Scenario.from_dict(record.scenario)
+        entry.check_options(scen)
+    except (FlexlibError, TypeError, ValueError) as err:
+        raise click.ClickException(f"{from_file}: the scenario recorded in the file: {_one_line(err)}") from None
+    for name, value in record.params.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise click.ClickException(f"{from_file}: the parameter override {name!r} recorded in the file is "
+                                       f"{value!r}, not a finite number")
+    unknown = [k for k in record.run if k not in (*RUN_OPTIONS, "t_end")]
+    if unknown:
+        raise click.ClickException(f"{from_file}: the run option {unknown[0]!r} recorded in the file is unknown "
+                                   f"(allowed: t_end, {', '.join(RUN_OPTIONS)})")
+    return record, scen
+
+
+def _check_out(out: str, force: bool) -> None:
+    """``--out``: a file name that can be written, ending in .h5 (or --force), not an existing file of another kind
+    (or --force); checked before the build."""
+    from flexlib.results.hdf5 import not_a_result
+    from flexlib.solve.run_options import check_result_path
+
+    if out.endswith(("/", os.sep)) or (os.altsep and out.endswith(os.altsep)):
+        raise click.ClickException(f"--out {out!r} names a directory; give a file name such as "
+                                   f"{os.path.join(out, 'run.h5')}")
+    path = check_result_path(out, "--out")
+    if force:
+        return
+    what = not_a_result(path)
+    if what is not None:
+        raise click.ClickException(f"--out {out}: the file exists and is {what}, not a flexlib result file; it is "
+                                   "not replaced (give another name, or --force to replace it)")
+    if path.suffix.lower() not in RESULT_SUFFIXES:
+        hint = path.with_suffix(".h5") if path.suffix else path.with_name(path.name + ".h5")
+        raise click.ClickException(f"--out {out}: a result file is HDF5; give a name ending in "
+                                   f"{' or '.join(RESULT_SUFFIXES[:2])} (for example {hint}), or --force to write "
+                                   "it under this name")
+
+
+def _check_plots_dir(entry: Any, directory: str) -> None:
+    """``--plots DIR``: the model has figures and DIR can be created; checked before the build."""
+    if entry.plots is None:
+        raise click.ClickException(f"model {entry.name!r} has no figures (--plots needs a plots hook)")
+    path = Path(directory).expanduser()
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise click.ClickException(f"--plots {directory}: cannot create the directory: "
+                                   f"{err.strerror or err}") from None
+    if not os.access(path, os.W_OK):
+        raise click.ClickException(f"--plots {directory}: the directory is not writable")
+
+
+def _save(result: Any, out: str) -> tuple[str | None, str | None]:
+    """Write ``result`` to ``out``; if that fails (directory removed during the run, disk full), to a new file in
+    the working directory or else the temporary directory, so that a finished run is never lost.
+
+    Returns
+    -------
+    (str or None, str or None)
+        The file written (None if none could be) and, if it is not ``out``, what went wrong.
+    """
+    try:
+        result.save(out)
+        return out, None
+    except Exception as err:  # any failure to write: keep the result elsewhere
+        reason = _one_line(err)
+    stem = Path(out).stem or "result"
+    tried = []
+    for directory in (Path.cwd(), Path(tempfile.gettempdir())):
+        tried.append(str(directory))
+        try:
+            fd, name = tempfile.mkstemp(dir=directory, prefix=f"{stem}.unsaved-", suffix=".h5")
+        except OSError:
+            continue
+        os.close(fd)
+        try:
+            result.save(name)
+        except Exception:
+            Path(name).unlink(missing_ok=True)
+            continue
+        return name, f"{reason}; the result was written to {name} instead"
+    return None, f"{reason}; nor could it be written to a new file in {' or '.join(tried)}: the result is lost"
 
 
 def _write_plots(done: Any, directory: str) -> None:
@@ -211,9 +367,13 @@ def _write_plots(done: Any, directory: str) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
-    path = Path(directory)
+    path = Path(directory).expanduser()
     path.mkdir(parents=True, exist_ok=True)
-    written = done.entry.plots(done.model, done.result, path)
+    try:
+        written = list(done.entry.plots(done.model, done.result, path))
+    except Exception as err:  # a model's own figure code: one line naming the model, not its traceback
+        raise click.ClickException(f"model {done.entry.name!r}: its figures (plots hook) failed: "
+                                   f"{type(err).__name__}: {_one_line(err)}") from None
     _console().print(f"figures: {len(written)} in {path}" + "".join(f"\n  {p}" for p in written))
 
 
@@ -252,123 +412,95 @@ def _print_summary(done: Any, out: str | None) -> None:
 
 
 # -- compare -------------------------------------------------------------------------------------------------------
-def _right_values(res: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Time points and rows with the right value kept at events (as :meth:`Result.value`)."""
-    t = res.t
-    keep = np.ones(len(t), dtype=bool)
-    keep[:-1] = t[1:] != t[:-1]
-    return t[keep], res.values[keep]
-
-
-def compare_results(a: Any, b: Any, signals: list[str] | None = None) -> list[dict[str, Any]]:
-    """Largest differences between two results on a common time grid.
-
-    Both results are interpolated linearly (right values at events) on the union of their time points inside
-    the common time span.
-
-    Parameters
-    ----------
-    a, b : Result
-        The results.
-    signals : list of str, optional
-        Variables to compare (array variables expand to their elements); default: every variable in both.
-
-    Returns
-    -------
-    list of dict
-        One per signal, largest relative difference first: ``name``, ``unit``, ``abs`` (max ``|a − b|``, SI),
-        ``rel`` (that over the larger of ``max |a|`` and ``max |b|``; 0 if both are 0), ``t`` [s] where it
-        occurs, ``a`` and ``b`` there.
-
-    Raises
-    ------
-    ResultKeyError
-        A requested signal is not in one of the results (names it, with close matches).
-    ValueError
-        The results have no common time span.
-    """
-    from flexlib.errors import ResultKeyError
-
-    common = set(b.names)
-    if signals:
-        names: list[str] = []
-        for s in signals:
-            for res in (a, b):
-                if s not in res.names and not any(n.startswith(s + "[") for n in res.names):
-                    try:
-                        res[s]
-                    except ResultKeyError as err:
-                        raise ResultKeyError(f"{err} (signal asked for with --signals)") from None
-            names += [s] if s in a.names else [n for n in a.names if n.startswith(s + "[") and n in common]
-    else:
-        names = [n for n in a.names if n in common]
-    if not len(a.t) or not len(b.t):
-        raise ValueError("cannot compare: a result has no rows")
-    t0, t1 = max(a.t[0], b.t[0]), min(a.t[-1], b.t[-1])
-    if t1 < t0:
-        raise ValueError(f"cannot compare: no common time span ({a.t[0]:g} … {a.t[-1]:g} s and "
-                         f"{b.t[0]:g} … {b.t[-1]:g} s)")
-    ta, va = _right_values(a)
-    tb, vb = _right_values(b)
-    grid = np.union1d(ta, tb)
-    grid = grid[(grid >= t0) & (grid <= t1)]
-    ia, ib = {n: k for k, n in enumerate(a.names)}, {n: k for k, n in enumerate(b.names)}
-    rows = []
-    for n in names:
-        xa = np.interp(grid, ta, va[:, ia[n]])
-        xb = np.interp(grid, tb, vb[:, ib[n]])
-        d = np.abs(xa - xb)
-        k = int(np.argmax(d))
-        scale = max(float(np.max(np.abs(xa))), float(np.max(np.abs(xb))))
-        rel = float(d[k]) / scale if scale else 0.0
-        rows.append({"name": n, "unit": a.units[ia[n]], "abs": float(d[k]), "rel": rel, "t": float(grid[k]),
-                     "a": float(xa[k]), "b": float(xb[k])})
-    rows.sort(key=lambda r: (-r["rel"], -r["abs"]))
-    return rows
-
-
 @cli.command("compare")
 @click.argument("file_a", type=click.Path(dir_okay=False))
 @click.argument("file_b", type=click.Path(dir_okay=False))
 @click.option("--signals", "signal_opts", multiple=True, metavar="NAME[,NAME...]",
-              help="Compare only these variables (repeatable or comma-separated).")
+              help="Compare only these variables: names, array names or patterns with * and ? (repeatable or "
+                   "comma-separated).")
 @click.option("--top", type=click.IntRange(min=1), default=15, show_default=True, help="Rows shown.")
 @click.option("--plot", "plot_file", type=click.Path(dir_okay=False),
-              help="Write an overlay plot (PNG) of the signals (default: the 4 that differ most).")
+              help="Write an overlay plot of the signals, format by the extension (.png, .pdf, .svg, ...; default "
+                   "signals: the 4 that differ most).")
 @click.option("--fail-above", type=click.FloatRange(min=0.0), metavar="REL",
-              help="Exit with code 1 if the largest relative difference exceeds REL.")
+              help="Exit with code 1 if the largest relative difference exceeds REL, or if the comparison does not "
+                   "cover both runs (NaN or inf in one, different time spans, variables in one file only, "
+                   "different units).")
 @_friendly
 def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int, plot_file: str | None,
                 fail_above: float | None) -> None:
-    """Overlay two result files and print their largest differences."""
+    """Overlay two result files and print their largest differences, and what the comparison does not cover."""
     from flexlib.results.hdf5 import load_result
-    from flexlib.solve.run_options import check_result_path
 
     signals = [s.strip() for opt in signal_opts for s in opt.split(",") if s.strip()]
+    if signal_opts and not signals:
+        raise click.ClickException(f"--signals {signal_opts[0]!r}: no variable name given")
     if plot_file is not None:
-        check_result_path(plot_file, "--plot")
+        _check_plot_file(plot_file)  # before the comparison
     a, b = load_result(file_a), load_result(file_b)
-    rows = compare_results(a, b, signals or None)
+    try:
+        cmp = compare(a, b, signals or None, labels=(f"A ({file_a})", f"B ({file_b})"))
+    except ResultKeyError as err:  # only --signals names variables
+        raise click.ClickException(f"--signals: {_one_line(err)}") from None
+    notes = list(cmp.notes)
+    if _same_file(file_a, file_b):
+        notes.insert(0, f"A and B are the same file ({file_a}): no difference is possible")
     console = _console()
-    only_a = len(set(a.names) - set(b.names))
-    only_b = len(set(b.names) - set(a.names))
     console.print(f"A = {file_a} ({a.model}, {a.status}), B = {file_b} ({b.model}, {b.status}): "
-                  f"{len(rows)} signals compared, {only_a} only in A, {only_b} only in B")
-    table = Table(title="largest differences (SI units)")
-    for col, justify in (("signal", "left"), ("unit", "left"), ("max |A−B|", "right"), ("relative", "right"),
-                         ("at t [s]", "right"), ("A", "right"), ("B", "right")):
-        table.add_column(col, justify=justify)
-    for r in rows[:top]:
-        table.add_row(r["name"], r["unit"], _fmt(r["abs"]), f"{r['rel']:.3g}", _fmt(r["t"]), _fmt(r["a"]),
-                      _fmt(r["b"]))
-    console.print(table)
+                  f"{len(cmp.rows)} signals compared over {cmp.span[0]:g} … {cmp.span[1]:g} s, "
+                  f"{len(cmp.only_a)} only in A, {len(cmp.only_b)} only in B")
+    if cmp.rows:
+        table = Table(title="largest differences (SI units)")
+        for col, justify in (("signal", "left"), ("unit", "left"), ("max |A−B|", "right"), ("relative", "right"),
+                             ("at t [s]", "right"), ("A", "right"), ("B", "right")):
+            table.add_column(col, justify=justify)
+        for r in cmp.rows[:top]:
+            table.add_row(r["name"], r["unit"], _fmt(r["abs"]), f"{r['rel']:.3g}", _fmt(r["t"]), _fmt(r["a"]),
+                          _fmt(r["b"]))
+        console.print(table)
     if plot_file is not None:
-        _plot_overlay(a, b, signals or [r["name"] for r in rows[:4]], plot_file, file_a, file_b)
-        console.print(f"plot written to {plot_file}")
-    worst = rows[0]["rel"] if rows else 0.0
-    if fail_above is not None and worst > fail_above:
-        raise click.ClickException(f"the largest relative difference {worst:.3g} ({rows[0]['name']} at "
-                                   f"t = {rows[0]['t']:g} s) exceeds --fail-above {fail_above:g}")
+        names = [r["name"] for r in cmp.rows][: 12 if signals else 4]
+        if names:
+            _plot_overlay(a, b, names, plot_file, file_a, file_b)
+            more = f" (the {len(names)} that differ most of {len(cmp.rows)})" if len(cmp.rows) > len(names) else ""
+            console.print(f"plot written to {plot_file}{more}")
+        else:
+            notes.append(f"no plot written to {plot_file}: no signal compared")
+    for note in notes:
+        _say("Note", note)
+    if fail_above is None:
+        for problem in cmp.problems:
+            _say("Warning", problem)
+        return
+    if cmp.problems:
+        raise click.ClickException(f"--fail-above {fail_above:g}: the comparison does not cover both runs: "
+                                   + "; ".join(cmp.problems))
+    worst = cmp.worst
+    if worst is not None and worst["rel"] > fail_above:
+        raise click.ClickException(f"the largest relative difference {worst['rel']:.3g} ({worst['name']} at "
+                                   f"t = {worst['t']:g} s) exceeds --fail-above {fail_above:g}")
+
+
+def _same_file(a: str, b: str) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def _check_plot_file(plot_file: str) -> None:
+    """``--plot``: an extension matplotlib writes and a place that can be written."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    from flexlib.solve.run_options import check_result_path
+
+    formats = sorted(FigureCanvasBase.get_supported_filetypes())
+    suffix = Path(plot_file).suffix.lower().lstrip(".")
+    if suffix not in formats:
+        what = "has no extension" if not suffix else f"has the extension .{suffix}, not an image format"
+        raise click.ClickException(f"--plot {plot_file} {what}; the extension gives the format, one of "
+                                   f"{', '.join('.' + f for f in formats)} (for example diff.png)")
+    check_result_path(plot_file, "--plot")
 
 
 def _plot_overlay(a: Any, b: Any, names: list[str], path: str, label_a: str, label_b: str) -> None:
@@ -377,7 +509,6 @@ def _plot_overlay(a: Any, b: Any, names: list[str], path: str, label_a: str, lab
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    names = names or []
     fig, axes = plt.subplots(max(len(names), 1), 1, figsize=(8, 2.6 * max(len(names), 1)), sharex=True,
                              squeeze=False)
     for ax, name in zip(axes[:, 0], names):
@@ -399,12 +530,25 @@ def _plot_overlay(a: Any, b: Any, names: list[str], path: str, label_a: str, lab
 # -- show ----------------------------------------------------------------------------------------------------------
 @cli.command("show")
 @click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--signals", "patterns", multiple=True, metavar="PATTERN[,PATTERN...]",
+              help="Also list these variables (names, array names or patterns with * and ?) with unit, min, max "
+                   "and final value; '*' lists all.")
 @_friendly
-def show_cmd(file: str) -> None:
+def show_cmd(file: str, patterns: tuple[str, ...]) -> None:
     """Show the run settings and solver statistics stored in a result file."""
+    from flexlib.errors import ResultFileError
+    from flexlib.results.compare import select
     from flexlib.results.hdf5 import load_result
 
     res = load_result(file)
+    wanted = [p.strip() for opt in patterns for p in opt.split(",") if p.strip()]
+    if patterns and not wanted:
+        raise click.ClickException(f"--signals {patterns[0]!r}: no variable name or pattern given")
+    try:
+        listed = select(res, wanted, file) if wanted else []
+    except ResultKeyError as err:
+        raise click.ClickException(f"--signals: {_one_line(err)}") from None
+    warnings_: list[str] = []
     table = Table(title=file, show_header=False)
     table.add_column("key", style="bold")
     table.add_column("value")
@@ -412,6 +556,14 @@ def show_cmd(file: str) -> None:
     table.add_row("status", res.status + (f" ({_one_line(Exception(res.message))})" if res.message else ""))
     table.add_row("time", f"{res.t[0]:g} … {res.t[-1]:g} s, {len(res.t)} points" if len(res.t) else "no rows")
     table.add_row("variables / parameters", f"{len(res.names)} / {len(res.parameters)}")
+    bad = _nonfinite(res)
+    if bad:
+        table.add_row("NaN or inf", bad)
+        warnings_.append(f"{file}: {bad}")
+    if not res.success:
+        warnings_.append(f"{file}: the run did not succeed ({res.status}), "
+                         + (f"its last row is at t = {res.t[-1]:g} s" if len(res.t) else "it has no rows")
+                         + (f": {_one_line(Exception(res.message))}" if res.message else ""))
     for key in ("steps", "rtol", "atol", "n_unknowns", "n_states"):
         if key in res.stats:
             table.add_row(key, str(res.stats[key]))
@@ -424,20 +576,60 @@ def show_cmd(file: str) -> None:
     else:
         from flexlib.registry import run_settings
 
-        rec = run_settings(res, file)
-        scen = rec.scenario
-        table.add_row("registered model", rec.model)
-        table.add_row("scenario", f"{scen.get('name')}: {scen.get('doc', '')}")
-        for key in ("t_end", "params", "run", "options", "data"):
-            value = scen.get(key)
-            if value not in (None, {}):
-                table.add_row(f"scenario {key}", json.dumps(value))
-        if rec.params:
-            table.add_row("parameter overrides", json.dumps(rec.params))
-        if rec.run:
-            table.add_row("run options given", json.dumps(rec.run))
-        table.add_row("repeat with", f"flexlib run --from {file}")
+        try:
+            rec = run_settings(res, file)
+        except ResultFileError as err:
+            table.add_row("run settings", "damaged (see the warning below); 'flexlib run --from' cannot repeat it")
+            warnings_.append(_one_line(err))
+        else:
+            scen = rec.scenario
+            table.add_row("registered model", rec.model)
+            table.add_row("scenario", f"{scen.get('name')}: {scen.get('doc', '')}")
+            for key in ("t_end", "params", "run", "options", "data"):
+                value = scen.get(key)
+                if value not in (None, {}):
+                    table.add_row(f"scenario {key}", json.dumps(value))
+            if rec.params:
+                table.add_row("parameter overrides", json.dumps(rec.params))
+            if rec.run:
+                table.add_row("run options given", json.dumps(rec.run))
+            table.add_row("repeat with", f"flexlib run --from {file}")
     _console().print(table)
+    if listed:
+        _console().print(_signal_table(res, listed))
+    for text in warnings_:
+        _say("Warning", text)
+
+
+def _signal_table(res: Any, names: list[str]) -> Table:
+    """Unit, min, max and final value of ``names`` (SI; NaN and inf ignored in min and max, counted)."""
+    table = Table(title=f"{len(names)} variable{'' if len(names) == 1 else 's'} (SI units)")
+    for col, justify in (("variable", "left"), ("unit", "left"), ("min", "right"), ("max", "right"),
+                         ("final", "right"), ("NaN/inf", "right"), ("description", "left")):
+        table.add_column(col, justify=justify)
+    index = {n: k for k, n in enumerate(res.names)}
+    for name in names:
+        k = index[name]
+        x = res.values[:, k]
+        finite = x[np.isfinite(x)]
+        lo, hi = (_fmt(finite.min()), _fmt(finite.max())) if finite.size else ("-", "-")
+        final = _fmt(x[-1]) if len(x) else "-"
+        table.add_row(name, res.units[k], lo, hi, final, str(len(x) - finite.size), res.docs[k])
+    return table
+
+
+def _nonfinite(res: Any) -> str:
+    """Which variables of a result hold NaN or inf, from when ("" if none)."""
+    if not res.values.size:
+        return ""
+    finite = np.isfinite(res.values)
+    cols = np.flatnonzero(~finite.all(axis=0))
+    if not cols.size:
+        return ""
+    first = int(np.argmax(~finite.all(axis=1)))
+    names = [res.names[k] for k in cols]
+    shown = ", ".join(names[:5]) + (f", ... ({len(names) - 5} more)" if len(names) > 5 else "")
+    return f"{len(names)} variables are NaN or inf, from t = {res.t[first]:g} s: {shown}"
 
 
 def main(argv: list[str] | None = None) -> None:

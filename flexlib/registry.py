@@ -12,6 +12,10 @@ my.json``).
 parameter overrides, run options) in the result's metadata (``meta_run`` in the HDF5 file, JSON), so that
 :func:`run_settings` and ``flexlib run --from FILE`` repeat the run.
 
+A model declares its options where it registers (:class:`ModelOption`: name, type, default, accepted values or
+range, doc); every value — a registered scenario's, a JSON file's, the command line's ``--option NAME=VALUE`` text
+— is checked against that declaration once, before the factory runs, and an unknown name gets the closest match.
+
 Lookups of unknown names raise :class:`~flexlib.errors.RegistryError` naming the unknown name, the known ones
 and the closest match.
 """
@@ -22,19 +26,32 @@ import difflib
 import importlib
 import json
 import math
+import numbers
 import os
+import sys
 import time as _time
+import traceback
 import warnings
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from flexlib.errors import RegistryError, ResultFileError, ResultSaveWarning, RunArgumentError, SolverError
+import numpy as np
 
-__all__ = ["RUN_OPTIONS", "ModelEntry", "RunRecord", "Scenario", "ScenarioRun", "get_model", "get_scenario", "models",
-           "register_model", "register_scenario", "run_scenario", "run_settings"]
+from flexlib.errors import (
+    InitializationError,
+    ParameterError,
+    RegistryError,
+    ResultFileError,
+    ResultSaveWarning,
+    RunArgumentError,
+    SolverError,
+)
+
+__all__ = ["RUN_OPTIONS", "ModelEntry", "ModelOption", "RunRecord", "Scenario", "ScenarioRun", "get_model",
+           "get_scenario", "models", "register_model", "register_scenario", "run_scenario", "run_settings"]
 
 #: Keyword arguments of :meth:`flexlib.Simulation.run` a scenario may set in ``run``.
 RUN_OPTIONS = ("t_start", "dt_out", "rtol", "atol", "max_step", "max_steps", "max_order", "solver",
@@ -61,6 +78,15 @@ def _frozen(mapping: Mapping[str, Any] | None, what: str) -> Mapping[str, Any]:
     return MappingProxyType(dict(mapping))
 
 
+def _check_params(params: Mapping[str, Any], who: str) -> dict[str, float]:
+    """Parameter overrides, each a finite number (an int kept, any other real as float: JSON-ready); the name and
+    the bounds are checked by the run."""
+    for pname, value in params.items():
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+            raise RunArgumentError(f"{who}: parameter {pname!r} must be a finite number (SI units), got {value!r}")
+    return {k: v if isinstance(v, int) else float(v) for k, v in params.items()}
+
+
 @dataclass(frozen=True)
 class Scenario:
     """One way to run a model: data, not code.
@@ -82,6 +108,9 @@ class Scenario:
         Model options passed to the factory as keyword arguments (``flexible=True``, ``n=4``); structural.
     data : mapping, optional
         Free-form data the model's factory interprets (joint targets over time, valve commands, ...).
+    source : str, optional
+        The file the scenario was read from (:meth:`from_file`), named in error messages; not part of
+        :meth:`to_dict`.
 
     Raises
     ------
@@ -97,11 +126,20 @@ class Scenario:
     run: Mapping[str, Any] = field(default_factory=dict)
     options: Mapping[str, Any] = field(default_factory=dict)
     data: Mapping[str, Any] = field(default_factory=dict)
+    source: str = field(default="", compare=False, repr=False)
+
+    @property
+    def label(self) -> str:
+        """``scenario 'name'`` and, for a scenario read from a file, ``(file PATH)``: how messages name it."""
+        return f"scenario {self.name!r}" + (f" (file {self.source})" if self.source else "")
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.strip():
             raise RunArgumentError(f"Scenario: name must be a non-empty str, got {self.name!r}")
-        who = f"scenario {self.name!r}"
+        if not isinstance(self.source, str):
+            raise RunArgumentError(f"scenario {self.name!r}: source must be a str (a file path), got "
+                                   f"{type(self.source).__name__}")
+        who = self.label
         if not isinstance(self.doc, str):
             raise RunArgumentError(f"{who}: doc must be a str, got {type(self.doc).__name__}")
         if self.t_end is not None:
@@ -117,9 +155,7 @@ class Scenario:
             hint = f"; did you mean {close[0]!r}?" if close else ""
             raise RunArgumentError(f"{who}: unknown run option {unknown[0]!r} (allowed: {', '.join(RUN_OPTIONS)})"
                                    f"{hint}")
-        for pname, value in self.params.items():
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise RunArgumentError(f"{who}: parameter {pname!r} must be a number, got {value!r}")
+        object.__setattr__(self, "params", MappingProxyType(_check_params(self.params, who)))
 
     def to_dict(self) -> dict[str, Any]:
         """The scenario as plain JSON-compatible data (inverse of :meth:`from_dict`)."""
@@ -137,7 +173,7 @@ class Scenario:
             raise RunArgumentError(f"scenario {d.get('name', '?')!r}: unknown field {extra[0]!r} "
                                    f"(fields: {', '.join(known)})")
         if "name" not in d:
-            raise RunArgumentError("a scenario needs a 'name'")
+            raise RunArgumentError(f"a scenario needs a 'name' (fields: {', '.join(known)})")
         return cls(**dict(d))
 
     @classmethod
@@ -152,9 +188,222 @@ class Scenario:
         except ValueError as err:
             raise RunArgumentError(f"the scenario file {os.fspath(path)} is not valid JSON: {err}") from None
         try:
-            return cls.from_dict(raw)
+            scenario = cls.from_dict(raw)
         except RunArgumentError as err:
             raise RunArgumentError(f"{os.fspath(path)}: {err}") from None
+        return replace(scenario, source=os.fspath(path))
+
+
+#: Command-line words of a ``bool`` option (case-insensitive).
+BOOL_WORDS = {"true": True, "yes": True, "1": True, "false": False, "no": False, "0": False}
+#: Command-line words of ``None`` for an option declared with ``allow_none``.
+NONE_WORDS = ("none", "null")
+_OPTION_TYPES = (bool, int, float, str, None)
+
+
+def _is_bool(value: Any) -> bool:
+    return isinstance(value, (bool, np.bool_))
+
+
+@dataclass(frozen=True)
+class ModelOption:
+    """Declaration of one model option (``register_model(..., options=[ModelOption(...), ...])``).
+
+    A scenario's value (Python, a JSON file) and the command line's ``--option NAME=VALUE`` text are checked
+    against the declaration once, before the model's factory runs (:meth:`ModelEntry.check_options`,
+    :meth:`ModelEntry.parse_options`); a model class may check its own keyword with the same declaration
+    (:meth:`validate` with ``error=ParameterError``).
+
+    Parameters
+    ----------
+    name : str
+        The keyword the factory reads (``n``, ``filled``).
+    type : {bool, int, float, str} or None
+        ``bool``: ``True``/``False`` (on the command line ``true/false/yes/no/1/0``, any case; nothing else);
+        ``int``: an integer, not a bool; ``float``: a finite int or float, not a bool (returned as ``float``);
+        ``str``: text; ``None``: any value ``check`` accepts (on the command line read as JSON, else as text).
+    default : Any
+        What the model uses when the option is not given (shown by :meth:`describe`); must pass the declaration.
+    doc : str
+        One-line description.
+    choices : sequence, optional
+        The accepted values, all others refused.
+    low, high : float, optional
+        Bounds of an ``int`` or ``float`` value, inclusive unless ``low_open`` / ``high_open``.
+    unit : str
+        SI unit of a number (``"m2"``), named in messages.
+    allow_none : bool
+        ``None`` (JSON ``null``; ``none`` or ``null`` on the command line) is accepted: the model's own choice.
+    check : callable, optional
+        ``check(value) -> value``: a further check or normalisation after the type's; raises ``ValueError`` whose
+        text completes the sentence "<name> ...", e.g. ``"must give every section 1-5 (missing [2])"``.
+    accepts : str, optional
+        What is accepted, for messages (default: from the type, the choices and the bounds).
+
+    Raises
+    ------
+    RegistryError
+        The declaration itself is malformed (a type other than those above, bounds on a non-number, a default
+        the declaration refuses).
+    """
+
+    name: str
+    type: Any
+    default: Any = None
+    doc: str = ""
+    choices: tuple[Any, ...] = ()
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    unit: str = ""
+    allow_none: bool = False
+    check: Callable[[Any], Any] | None = None
+    accepts: str = ""
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.isidentifier():
+            raise RegistryError(f"ModelOption: name must be a Python identifier (a keyword), got {self.name!r}")
+        who = f"ModelOption({self.name!r})"
+        if self.type not in _OPTION_TYPES:
+            raise RegistryError(f"{who}: type must be bool, int, float, str or None, got {self.type!r}")
+        object.__setattr__(self, "choices", tuple(self.choices))
+        if (self.low is not None or self.high is not None) and self.type not in (int, float):
+            raise RegistryError(f"{who}: low/high bound an int or float option, not {self.type}")
+        for bound in ("low", "high"):
+            value = getattr(self, bound)
+            if value is not None and (_is_bool(value) or not isinstance(value, numbers.Real) or math.isnan(value)):
+                raise RegistryError(f"{who}: {bound} must be a number, got {value!r}")
+        if self.check is not None and not callable(self.check):
+            raise RegistryError(f"{who}: check must be callable, got {type(self.check).__name__}")
+        if self.default is not None or not self.allow_none:
+            try:
+                self.validate(self.default)
+            except RunArgumentError as err:
+                raise RegistryError(f"{who}: the default is refused by the declaration: {err}") from None
+
+    def accepted(self) -> str:
+        """What the option accepts, in words (``"an integer >= 1"``, ``"a number in (0, 1] [m2]"``)."""
+        if self.accepts:
+            text = self.accepts
+        elif self.choices:
+            text = "one of " + ", ".join(repr(c) for c in self.choices)
+        elif self.type is bool:
+            text = "true or false"
+        elif self.type in (int, float):
+            text = ("an integer" if self.type is int else "a finite number") + self._range()
+            text += f" [{self.unit}]" if self.unit else ""
+        elif self.type is str:
+            text = "a string"
+        else:
+            text = "any value"
+        return text + (" or none (the model's default)" if self.allow_none else "")
+
+    def _range(self) -> str:
+        lo, hi = self.low, self.high
+        if lo is not None and hi is not None:
+            return f" in {'(' if self.low_open else '['}{lo:g}, {hi:g}{')' if self.high_open else ']'}"
+        if lo is not None:
+            return f" {'>' if self.low_open else '>='} {lo:g}"
+        if hi is not None:
+            return f" {'<' if self.high_open else '<='} {hi:g}"
+        return ""
+
+    def describe(self) -> str:
+        """One line: ``name: accepted values (default ...): doc``."""
+        return f"{self.name}: {self.accepted()} (default {self.default!r})" + (f": {self.doc}" if self.doc else "")
+
+    def validate(self, value: Any, where: str = "", *, error: type[Exception] = RunArgumentError,
+                 label: str | None = None) -> Any:
+        """``value`` checked against the declaration and normalised (``float`` for a float option).
+
+        Parameters
+        ----------
+        value : Any
+            The option's value.
+        where : str
+            Prefix of the message (``"model 'n-mass-chain', scenario 'short': "``).
+        error : exception class
+            Raised for a refused value (default :class:`~flexlib.errors.RunArgumentError`; a model class checking
+            its own keyword passes :class:`~flexlib.errors.ParameterError`).
+        label : str, optional
+            How the message names the option (default its name).
+
+        Raises
+        ------
+        error
+            Naming the option, the value given and what is accepted.
+        """
+        label = self.name if label is None else label
+
+        def refused() -> Exception:
+            return error(f"{where}{label} must be {self.accepted()}, got {value!r}")
+
+        if value is None:
+            if self.allow_none or (self.type is None and self.check is None):  # an untyped option: any value
+                return None
+            raise refused()
+        t = self.type
+        if t is bool:
+            if not _is_bool(value):
+                raise refused()
+            value = bool(value)
+        elif t is int:
+            if _is_bool(value) or not isinstance(value, numbers.Integral):
+                raise refused()
+            value = int(value)
+        elif t is float:
+            if _is_bool(value) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+                raise refused()
+            value = float(value)
+        elif t is str and not isinstance(value, str):
+            raise refused()
+        if self.choices and not any(value == c and type(value) is type(c) for c in self.choices):
+            raise refused()
+        if t in (int, float):
+            lo, hi = self.low, self.high
+            if lo is not None and (value <= lo if self.low_open else value < lo):
+                raise refused()
+            if hi is not None and (value >= hi if self.high_open else value > hi):
+                raise refused()
+        if self.check is not None:
+            try:
+                value = self.check(value)
+            except (ValueError, TypeError) as err:
+                raise error(f"{where}{label} {err}") from None
+        return value
+
+    def parse(self, text: str, where: str = "", *, error: type[Exception] = RunArgumentError,
+              label: str | None = None) -> Any:
+        """The command line's text of the option converted by the declared type, then :meth:`validate`.
+
+        ``bool``: ``true/false/yes/no/1/0`` (any case); ``int`` and ``float``: Python's literal; ``str``: the
+        text; type ``None``: JSON, else the text; ``none`` or ``null`` where ``allow_none``.
+        """
+        label = self.name if label is None else label
+        s = text.strip()
+        if self.allow_none and s.lower() in NONE_WORDS:
+            return None
+        t = self.type
+        value: Any = s
+        try:
+            if t is bool:
+                value = BOOL_WORDS[s.lower()]
+            elif t is int:
+                value = int(s)
+            elif t is float:
+                value = float(s)
+        except (KeyError, ValueError):
+            accepted = self.accepted()
+            if t is bool and not self.accepts:
+                accepted = "true or false (true/false/yes/no/1/0, any case)" + (" or none" if self.allow_none else "")
+            raise error(f"{where}{label} must be {accepted}, got {text!r}") from None
+        if t is None:
+            try:
+                value = json.loads(s)
+            except ValueError:
+                value = s
+        return self.validate(value, where, error=error, label=label)
 
 
 #: A model's summary signals: variable names, or a function of the built model instance returning them.
@@ -163,7 +412,12 @@ SummarySignals = Sequence[str] | Callable[[Any], Sequence[str]]
 
 @dataclass
 class ModelEntry:
-    """A registered model (see :func:`register_model`)."""
+    """A registered model (see :func:`register_model`).
+
+    ``options`` holds the declarations of the model options (:class:`ModelOption`; an option registered by name
+    alone is untyped: any value, read as JSON on the command line); ``data`` the keys of ``Scenario.data`` the
+    factory reads, or ``None`` if the model does not declare them (not checked).
+    """
 
     name: str
     factory: Callable[[Scenario], Any]
@@ -171,16 +425,75 @@ class ModelEntry:
     scenarios: dict[str, Scenario]
     summary_signals: SummarySignals = ()
     default_scenario: str = ""
-    options: tuple[str, ...] = ()
+    options: tuple[ModelOption, ...] = ()
     plots: Callable[[Any, Any, Path], list[Path]] | None = None
+    data: tuple[str, ...] | None = None
 
-    def check_options(self, scenario: Scenario) -> None:
-        """:class:`RunArgumentError` naming a model option of ``scenario`` the factory does not read."""
-        for key in scenario.options:
-            if key not in self.options:
-                allowed = ", ".join(self.options) if self.options else "none"
-                raise RunArgumentError(f"model {self.name!r}, scenario {scenario.name!r}: unknown model option "
-                                       f"{key!r} (options of {self.name}: {allowed})")
+    @property
+    def option_names(self) -> tuple[str, ...]:
+        """Names of the declared model options."""
+        return tuple(o.name for o in self.options)
+
+    def option(self, name: str, where: str = "") -> ModelOption:
+        """The declaration of option ``name``; :class:`RunArgumentError` naming an unknown one, the closest
+        match and every option with its accepted values."""
+        for o in self.options:
+            if o.name == name:
+                return o
+        known = self.option_names
+        close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+        hint = f"; did you mean {close[0]!r}?" if close else ""
+        listed = "; ".join(f"{o.name} ({o.accepted()})" for o in self.options) or "none"
+        raise RunArgumentError(f"{where}unknown model option {name!r}{hint} (options of {self.name}: {listed})")
+
+    def check_options(self, scenario: Scenario) -> dict[str, Any]:
+        """The model options of ``scenario`` checked against their declarations and normalised.
+
+        Raises
+        ------
+        RunArgumentError
+            An option the model does not declare (with the closest match) or a value its declaration refuses;
+            the message names the model, the scenario (and its file), the option, the value and what is accepted.
+        """
+        where = f"model {self.name!r}, {scenario.label}: "
+        return {key: self.option(key, where).validate(value, where, label=f"option {key!r}")
+                for key, value in scenario.options.items()}
+
+    def check_data(self, scenario: Scenario) -> None:
+        """:class:`RunArgumentError` naming a key of ``scenario.data`` the model does not read (if it declares
+        its data keys)."""
+        if self.data is None:
+            return
+        for key in scenario.data:
+            if key not in self.data:
+                close = difflib.get_close_matches(key, self.data, n=1, cutoff=0.6)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                known = ", ".join(self.data) if self.data else f"none: {self.name} reads no data"
+                raise RunArgumentError(f"model {self.name!r}, {scenario.label}: unknown data {key!r}{hint} "
+                                       f"(data of {self.name}: {known})")
+
+    def checked(self, scenario: Scenario) -> Scenario:
+        """``scenario`` with its options checked and normalised (:meth:`check_options`) and its data keys
+        checked (:meth:`check_data`)."""
+        options = self.check_options(scenario)
+        self.check_data(scenario)
+        return scenario if options == dict(scenario.options) else replace(scenario, options=options)
+
+    def parse_options(self, items: Mapping[str, str], where: str = "--option ") -> dict[str, Any]:
+        """Command-line option texts ``{name: "VALUE"}`` converted by their declared types and checked
+        (:meth:`ModelOption.parse`).
+
+        Raises
+        ------
+        RunArgumentError
+            An unknown option (with the closest match) or a value its declaration refuses, naming the option
+            (as ``--option NAME=VALUE``), the model, the value and what is accepted.
+        """
+        out: dict[str, Any] = {}
+        for key, text in items.items():
+            spec = self.option(key, f"{where}{key}={text}: model {self.name!r}: ")
+            out[key] = spec.parse(text, f"{where}{key}={text}: ", label=f"option {key!r} of model {self.name!r}")
+        return out
 
     def scenario(self, name: str | None = None) -> Scenario:
         """The scenario ``name`` (default: the model's default scenario)."""
@@ -208,8 +521,9 @@ def _unknown(what: str, name: str, known: Mapping[str, Any] | Sequence[str]) -> 
 
 def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, scenarios: Sequence[Scenario],
                    summary_signals: SummarySignals = (), default_scenario: str | None = None,
-                   options: Sequence[str] = (),
-                   plots: Callable[[Any, Any, Path], list[Path]] | None = None) -> ModelEntry:
+                   options: Sequence[ModelOption | str] = (),
+                   plots: Callable[[Any, Any, Path], list[Path]] | None = None,
+                   data: Sequence[str] | None = None) -> ModelEntry:
     """Register a runnable model.
 
     Parameters
@@ -217,8 +531,8 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     name : str
         Name used on the command line (``pump-truck``).
     factory : callable
-        ``factory(scenario) -> Model``: builds the model instance for a :class:`Scenario` (its ``options`` and
-        ``data``).
+        ``factory(scenario) -> Model``: builds the model instance for a :class:`Scenario` (its ``options``, checked
+        and normalised by their declarations, and ``data``).
     doc : str
         One-line description.
     scenarios : sequence of Scenario
@@ -227,12 +541,16 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
         Variables whose peaks ``flexlib run`` prints (or ``f(model) -> names``).
     default_scenario : str, optional
         Name of the default scenario.
-    options : sequence of str
-        Names of the model options the factory reads (``flexible``, ``n``); a scenario with another one is an
-        error naming it.
+    options : sequence of ModelOption or str
+        The model options the factory reads, declared with type, default, accepted values and doc
+        (:class:`ModelOption`); a scenario with another one, or with a value the declaration refuses, is an error
+        naming it. A bare name declares an untyped option (any value; its factory must check it).
     plots : callable, optional
         ``plots(model, result, directory) -> [paths]``: writes the model's figures (PNG) of a run into
         ``directory``; ``flexlib run --plots DIR`` calls it.
+    data : sequence of str, optional
+        The keys of ``Scenario.data`` the factory reads (``()``: none); a scenario with another key is an error
+        naming it. Default ``None``: not declared, not checked.
 
     Returns
     -------
@@ -241,7 +559,10 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     Raises
     ------
     RegistryError
-        The name is taken by another factory, two scenarios share a name, or there is no scenario.
+        The name is taken by another factory, two scenarios or two options share a name, there is no scenario,
+        or an option declaration is malformed.
+    RunArgumentError
+        A scenario's model option or data key is unknown, or a value its declaration refuses.
     """
     if not isinstance(name, str) or not name.strip():
         raise RegistryError(f"register_model: name must be a non-empty str, got {name!r}")
@@ -256,6 +577,20 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
         scen[s.name] = s
     if not scen:
         raise RegistryError(f"register_model({name!r}): give at least one scenario")
+    specs: dict[str, ModelOption] = {}
+    if isinstance(options, (str, Mapping)):
+        raise RegistryError(f"register_model({name!r}): options must be a sequence of ModelOption, got "
+                            f"{type(options).__name__}")
+    for o in options:
+        spec = ModelOption(o, None, doc="(untyped)") if isinstance(o, str) else o
+        if not isinstance(spec, ModelOption):
+            raise RegistryError(f"register_model({name!r}): options must be ModelOption declarations (or names), "
+                                f"got {o!r}")
+        if spec.name in specs:
+            raise RegistryError(f"register_model({name!r}): two options named {spec.name!r}")
+        specs[spec.name] = spec
+    if data is not None and (isinstance(data, (str, Mapping)) or not all(isinstance(k, str) for k in data)):
+        raise RegistryError(f"register_model({name!r}): data must be a sequence of key names, got {data!r}")
     old = _MODELS.get(name)
     # the same module imported under two names (models.x and flexlib.models.x) registers the same factory twice
     if old is not None and getattr(old.factory, "__qualname__", None) != getattr(factory, "__qualname__", None):
@@ -267,9 +602,10 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
                                                                         scen))
     if plots is not None and not callable(plots):
         raise RegistryError(f"register_model({name!r}): plots must be callable, got {type(plots).__name__}")
-    entry = ModelEntry(name, factory, doc, scen, summary_signals, default, tuple(options), plots)
-    for s in scen.values():
-        entry.check_options(s)
+    entry = ModelEntry(name, factory, doc, scen, summary_signals, default, tuple(specs.values()), plots,
+                       None if data is None else tuple(data))
+    for key, s in scen.items():
+        scen[key] = entry.checked(s)
     _MODELS[name] = entry
     return entry
 
@@ -279,8 +615,7 @@ def register_scenario(model: str, scenario: Scenario) -> None:
     if not isinstance(scenario, Scenario):
         raise RegistryError(f"register_scenario({model!r}): expected a Scenario, got {scenario!r}")
     entry = get_model(model)
-    entry.check_options(scenario)
-    entry.scenarios[scenario.name] = scenario
+    entry.scenarios[scenario.name] = entry.checked(scenario)
 
 
 def builtin_modules() -> list[str]:
@@ -303,19 +638,33 @@ def builtin_modules() -> list[str]:
     return sorted(set(found))
 
 
+def _import_failure(err: BaseException) -> str:
+    """``Type: message (file:line)`` of an import failure: for a SyntaxError the offending line of the module,
+    otherwise the innermost frame of the traceback outside the import machinery."""
+    text = f"{type(err).__name__}: {err.msg if isinstance(err, SyntaxError) else err}"
+    if isinstance(err, SyntaxError) and err.filename:
+        return f"{text} ({err.filename}:{err.lineno})"
+    machinery = (os.path.abspath(__file__), os.path.abspath(importlib.__file__))
+    frames = [f for f in traceback.extract_tb(err.__traceback__)
+              if not f.filename.startswith("<frozen") and os.path.abspath(f.filename) not in machinery]
+    return f"{text} ({frames[-1].filename}:{frames[-1].lineno})" if frames else text
+
+
 def _load() -> None:
     global _loaded
     if _loaded:
         return
     extra = [m.strip() for m in os.environ.get(MODULES_ENV, "").split(",") if m.strip()]
-    for module in (*builtin_modules(), *extra):
+    if extra and "" not in sys.path:
+        sys.path.insert(0, "")  # a user's module in the working directory, as with ``flexlib --models``
+    for module in builtin_modules():
+        importlib.import_module(module)
+    for module in extra:
         try:
             importlib.import_module(module)
-        except ImportError as err:
-            if module in extra:
-                raise RegistryError(f"cannot import the model module {module!r} named in ${MODULES_ENV}: "
-                                    f"{err}") from None
-            raise
+        except Exception as err:  # any failure of the user's module: one message naming it, the error, file:line
+            raise RegistryError(f"${MODULES_ENV}: cannot import the model module {module!r}: "
+                                f"{_import_failure(err)}") from None
     _loaded = True  # only once every module imported: a failed import is retried (and reported) next time
 
 
@@ -384,6 +733,19 @@ def run_settings(result: Any, source: str = "the result") -> RunRecord:
         raise ResultFileError(f"{source}: the run settings (meta_run) are damaged: {err}") from None
 
 
+def _overrides_note(scen: Scenario, params: Mapping[str, float] | None) -> str:
+    """Names the parameter overrides of a run whose start failed: a value that changes a loop's geometry can make
+    its closure impossible or change its rank from what the build analysed."""
+    parts = []
+    if scen.params:
+        parts.append(f"{scen.label}: " + ", ".join(f"{k} = {v!r}" for k, v in scen.params.items()))
+    if params:
+        parts.append("given: " + ", ".join(f"{k} = {v!r}" for k, v in params.items()))
+    return ("The start was sought with parameter overrides (" + "; ".join(parts) + "). A value that changes a "
+            "loop's geometry can leave the loop unable to close, or change its rank from the one the build "
+            "analysed: check these values, or build the model with them.")
+
+
 @dataclass
 class ScenarioRun:
     """What :func:`run_scenario` returns: the result, the built model and timings [s] (process CPU time)."""
@@ -414,7 +776,9 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     progress : bool, optional
         Progress bar (the engine's tqdm).
     result_file : path, optional
-        Write the result (with the run settings) to this HDF5 file, also when the run fails.
+        Write the result (with the run settings) to this HDF5 file, also when the run fails. Checked before the
+        build; a write that fails after the run is a :class:`~flexlib.errors.ResultSaveWarning` and the result
+        is returned (or stays on ``err.result``) all the same.
     **run
         Further options of :meth:`flexlib.Simulation.run` (:data:`RUN_OPTIONS`) on top of the scenario's.
 
@@ -427,19 +791,32 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     RegistryError
         Unknown model or scenario.
     RunArgumentError
-        An option is not one of :data:`RUN_OPTIONS`, or ``result_file`` cannot be written (checked before the
-        build).
+        An option is not one of :data:`RUN_OPTIONS`, a model option or data key the model does not declare, a
+        model option's value its declaration refuses (:class:`ModelOption`), a parameter override that is not a
+        finite number, or ``result_file`` cannot be written (all checked before the build).
     ParameterError
-        Unknown parameter or value out of bounds.
+        Unknown parameter or value out of bounds; a bad value in the scenario's data (named with the scenario).
+    InitializationError
+        No consistent start; with parameter overrides the message names them (a value that changes a loop's
+        geometry can make the loop impossible to close or change its rank).
     SolverError
         The run failed; ``err.result`` holds the rows up to the failure, with the run settings.
+
+    Warns
+    -----
+    ResultSaveWarning
+        ``result_file`` could not be written after the run; the result is returned (or on ``err.result``).
     """
     from flexlib.solve.run_options import check_result_path
     from flexlib.solve.simulation import Simulation
 
     entry = get_model(model)
-    scen = scenario if isinstance(scenario, Scenario) else entry.scenario(scenario)
-    entry.check_options(scen)
+    if scenario is not None and not isinstance(scenario, (str, Scenario)):
+        raise RunArgumentError(f"run_scenario: scenario must be a scenario name or a Scenario record, got "
+                               f"{type(scenario).__name__}")
+    scen = entry.checked(scenario if isinstance(scenario, Scenario) else entry.scenario(scenario))
+    if params is not None:
+        params = _check_params(_frozen(params, "run_scenario: params"), "run_scenario")
     unknown = [k for k in run if k not in RUN_OPTIONS]
     if unknown:
         raise RunArgumentError(f"run_scenario: unknown run option {unknown[0]!r} (allowed: {', '.join(RUN_OPTIONS)})")
@@ -452,25 +829,40 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     c0 = _time.process_time()
     try:
         instance = entry.factory(scen)
-    except TypeError as err:  # options that do not fit the factory (a user's scenario file)
-        raise RunArgumentError(f"model {entry.name!r}, scenario {scen.name!r}: the model options "
-                               f"{dict(scen.options)} do not fit the model: {err}") from None
+    except ParameterError as err:  # a bad value in the scenario's data (or an undeclared option): name the scenario
+        raise ParameterError(f"model {entry.name!r}, {scen.label}: {err}") from None
+    except TypeError as err:  # an undeclared option that does not fit the factory, or a value of the wrong type
+        raise RunArgumentError(f"model {entry.name!r}, {scen.label}: the model could not be built from the options "
+                               f"{dict(scen.options)} and the data {sorted(scen.data)}: {err}") from None
     sim = Simulation(instance)
     c1 = _time.process_time()
+    overrides = {**dict(scen.params), **dict(params or {})}
     try:
-        result = sim.run(given.get("t_end", scen.t_end), params={**dict(scen.params), **dict(params or {})},
-                         progress=progress, **opts)
+        result = sim.run(given.get("t_end", scen.t_end), params=overrides, progress=progress, **opts)
+    except InitializationError as err:
+        if not overrides:
+            raise
+        raise InitializationError(f"{err}\n{_overrides_note(scen, params)}") from None
     except SolverError as err:
         if err.result is not None:
             err.result.metadata["run"] = record.to_json()
-            if out is not None:
-                try:
-                    err.result.save(out)
-                except ResultFileError as save_err:
-                    warnings.warn(f"the partial result was not saved: {save_err}", ResultSaveWarning, stacklevel=2)
+            _save_kept(err.result, out, "the partial result")
         raise
     c2 = _time.process_time()
     result.metadata["run"] = record.to_json()
-    if out is not None:
-        result.save(out)
+    _save_kept(result, out, "the result")
     return ScenarioRun(result, instance, entry, scen, c1 - c0, c2 - c1)
+
+
+def _save_kept(result: Any, out: Path | None, what: str) -> None:
+    """Write ``result`` to ``out`` (if given) without ever losing it: a failed write (directory removed during
+    the run, disk full) is a :class:`ResultSaveWarning` naming the file and the reason, and the result is kept
+    (returned, or on ``err.result``), as ``Simulation.run(result_file=...)`` does."""
+    if out is None:
+        return
+    try:
+        result.save(out)
+    except Exception as err:  # any failure to write must not hide the finished run
+        reason = str(err) if isinstance(err, ResultFileError) else f"{out}: {type(err).__name__}: {err}"
+        warnings.warn(ResultSaveWarning(f"{what} was not saved: {reason}; it is kept in memory (returned, or "
+                                        "err.result of the solver error)"), stacklevel=3)

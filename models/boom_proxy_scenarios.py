@@ -8,9 +8,14 @@ driven directly.
 from __future__ import annotations
 
 from flexlib.models.boom_proxy import T_RAMP, BoomProxy
-from flexlib.registry import Scenario, register_model
+from flexlib.registry import ModelOption, Scenario, register_model
 
-__all__: list[str] = []
+__all__ = ["OPTIONS"]
+
+#: The model options of ``boom-proxy`` (checked by the registry before :class:`BoomProxy`, which reads them
+#: with ``bool()``, is built).
+OPTIONS = (ModelOption("linkages", bool, True, "joints 2-5 through four-bar linkages (false: driven directly by "
+                       "their cylinders)"),)
 
 
 def _factory(scenario: Scenario) -> BoomProxy:
@@ -30,5 +35,5 @@ register_model(
     ],
     summary_signals=[f"cylinder{n}.cylinder.{v}" for n in range(1, 6) for v in ("p_A", "p_B", "q_A")]
     + [f"joint{n}.phi" for n in range(1, 6)],
-    options=["linkages"],
+    options=OPTIONS, data=(),
 )

@@ -23,9 +23,13 @@ from __future__ import annotations
 import casadi as ca
 
 import flexlib as fl
-from flexlib.registry import Scenario, register_model
+from flexlib.errors import ParameterError
+from flexlib.registry import ModelOption, Scenario, register_model
 
-__all__ = ["ChainFixed", "ChainForce", "ChainMass", "ChainSpring", "Flange", "NMassChain"]
+__all__ = ["N_OPTION", "ChainFixed", "ChainForce", "ChainMass", "ChainSpring", "Flange", "NMassChain"]
+
+#: The model option ``n`` (declared once: the registry and :class:`NMassChain` check it with this).
+N_OPTION = ModelOption("n", int, 10, "number of masses (structural)", low=1)
 
 
 class Flange(fl.Connector):
@@ -105,14 +109,20 @@ class NMassChain(fl.Model):
     Parameters
     ----------
     n : int
-        Number of masses (structural: changes the equations, hence a cache key entry).
+        Number of masses, at least 1 (structural: changes the equations, hence a cache key entry).
+
+    Raises
+    ------
+    ParameterError
+        ``n`` is not an integer >= 1 (:data:`N_OPTION`).
     """
 
     experiment = fl.Experiment(t_end=10.0, dt_out=0.1)
 
     def __init__(self, n: int = 10, **kwargs: object) -> None:
+        n = N_OPTION.validate(n, "NMassChain: ", error=ParameterError)
         super().__init__(**kwargs)
-        self.n = int(n)
+        self.n = n
         self.wall = ChainFixed()
         self.force = ChainForce()
         L = ChainSpring.L.default
@@ -147,5 +157,5 @@ register_model(
         Scenario("short", "3 masses, 1 s (a quick check)", t_end=1.0, options={"n": 3}, run={"dt_out": 0.05}),
     ],
     summary_signals=lambda model: [f"mass{model.n - 1}.s", f"mass{model.n - 1}.v", "spring0.f"],
-    options=["n"],
+    options=[N_OPTION], data=(),
 )

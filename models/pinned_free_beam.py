@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -49,10 +50,11 @@ from flexlib.components.mechanics.flexible import (
 )
 from flexlib.components.mechanics.multibody import Revolute, World
 from flexlib.components.mechanics.rotational import Torque
-from flexlib.registry import Scenario, register_model
+from flexlib.errors import ModelError, RunArgumentError
+from flexlib.registry import ModelOption, Scenario, register_model
 
-__all__ = ["DENSITY", "LENGTH", "TORQUE", "BeamRun", "PinnedFreeBeam", "beam_fe", "beam_modal_data",
-           "bending_modes", "participation_table", "seed_error", "simulate", "simulate_modes"]
+__all__ = ["DENSITY", "LENGTH", "N_BENDING_MODES", "OPTIONS", "TORQUE", "BeamRun", "PinnedFreeBeam", "beam_fe",
+           "beam_modal_data", "bending_modes", "participation_table", "seed_error", "simulate", "simulate_modes"]
 
 DENSITY = 8000.0      #: [kg/m3]
 YOUNG = 2e11          #: [Pa]
@@ -106,9 +108,16 @@ class PinnedFreeBeam(fl.Model):
     data : ModalData
         The beam's modal data (:func:`beam_modal_data`).
     modes : list of int
-        Modes to keep (indices into ``data``).
+        Modes to keep (indices into ``data``; or, as for :class:`FlexibleBody`, an int count of the lowest).
     geometric_stiffening : bool
         Include the geometric stiffness terms.
+    frames : list of int, optional
+        Node ids of the beam's frames (default: the data's interface nodes); the first is pinned.
+
+    Raises
+    ------
+    ModelError
+        Bad ``modes``, ``frames`` or ``geometric_stiffening`` (from :class:`FlexibleBody`, naming the argument).
     """
 
     def __init__(self, data: ModalData, modes: list[int], geometric_stiffening: bool = True,
@@ -118,7 +127,7 @@ class PinnedFreeBeam(fl.Model):
         self.pin = Revolute(n=[0, 0, 1], use_axis_flange=True, init={"phi": 0.0, "w": 0.0})
         self.torque = Torque()
         self.profile = Step(offset=TORQUE, height=-2 * TORQUE, start_time=1.0)
-        self.beam = FlexibleBody(data, modes=modes, zeta=np.zeros(len(modes)), frames=frames,
+        self.beam = FlexibleBody(data, modes=modes, damping=0.0, frames=frames,
                                  geometric_stiffening=geometric_stiffening)
         self.connect(self.world.frame_b, self.pin.frame_a)
         self.connect(self.pin.frame_b, self.beam.frame_a)
@@ -179,11 +188,15 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
         Output step [s] of the fine series the ±5 ms moment average is taken over.
     compiled : bool
         Wait for the generated C code before the run (timings of the compiled model, as after a first run).
+
+    Raises
+    ------
+    RunArgumentError
+        ``n_modes`` not an int, negative, or more than the data's in-plane bending modes (a ``ValueError``).
     """
+    _check_count("simulate: n_modes", n_modes, RunArgumentError)
     data = beam_modal_data() if data is None else data
-    modes = bending_modes(data)[:n_modes]
-    if len(modes) < n_modes:
-        raise ValueError(f"simulate: the modal data has only {len(modes)} in-plane bending modes")
+    modes = _bending_subset("simulate: n_modes", n_modes, data, RunArgumentError)
     return simulate_modes(modes, data=data, geometric_stiffening=geometric_stiffening, rtol=rtol, atol=atol,
                           dt_fine=dt_fine, compiled=compiled)
 
@@ -272,12 +285,51 @@ def participation_table(data: ModalData | None = None, n_elements: int = 32, thr
 
 
 # -- registration (flexlib list / flexlib run) ------------------------------------------------------------------
+def _bending_subset(what: str, n_modes: Any, data: ModalData, error: type[Exception]) -> list[int]:
+    """The ``n_modes`` lowest in-plane bending modes of ``data``: ``n_modes`` an int in 0..available."""
+    available = bending_modes(data)
+    _check_count(what, n_modes, error, len(available))
+    return available[:int(n_modes)]
+
+
+def _check_count(what: str, n_modes: Any, error: type[Exception], available: int | None = None) -> None:
+    """``n_modes`` an int (not a bool) in 0..available (no upper bound if ``available`` is None)."""
+    if (isinstance(n_modes, bool | np.bool_) or not isinstance(n_modes, int | np.integer) or n_modes < 0
+            or (available is not None and n_modes > available)):
+        bound = ">= 0" if available is None else f"in 0..{available} (the modal data has {available})"
+        raise error(f"{what} must be an int {bound}: the number of lowest in-plane bending modes kept, 0 for a "
+                    f"rigid beam; got {n_modes!r} ({type(n_modes).__name__})")
+
+
+#: In-plane bending modes of :func:`beam_modal_data` (with or without geometric stiffening): the upper bound of the
+#: ``n_modes`` option.
+N_BENDING_MODES = 13
+#: The model options of ``pinned-free-beam`` (checked by the registry, for a registered scenario, a JSON file and
+#: ``flexlib run -O NAME=VALUE``, before the factory runs). The upper bound of ``n_modes`` depends on the modal data,
+#: so the factory checks it, with the data.
+OPTIONS = (
+    ModelOption("n_modes", int, 4, f"lowest in-plane bending modes kept (0: rigid beam; at most the "
+                f"{N_BENDING_MODES} of the beam's modal data)", low=0),
+    ModelOption("geometric_stiffening", bool, True, "geometric stiffness of the unit load cases (centrifugal "
+                "stiffening; false: the linear modal beam)"),
+)
+_OPTIONS = {o.name: o for o in OPTIONS}
+
+
 def _beam_factory(scenario: Scenario) -> PinnedFreeBeam:
-    """``options``: ``n_modes`` (lowest in-plane bending modes kept), ``geometric_stiffening``."""
-    n_modes = int(scenario.options.get("n_modes", 4))
-    stiffening = bool(scenario.options.get("geometric_stiffening", True))
+    """``options`` (declared in :data:`OPTIONS`, checked by the registry before the factory runs): ``n_modes``
+    (lowest in-plane bending modes kept, an int from 0 to the modal data's in-plane bending modes — that bound is
+    checked here, with the data), ``geometric_stiffening`` (True or False). A direct call with an unchecked
+    scenario gets the same checks, as :class:`~flexlib.errors.ModelError`."""
+    where = f"model 'pinned-free-beam', scenario {scenario.name!r}: option"
+    stiffening = _OPTIONS["geometric_stiffening"].validate(
+        scenario.options.get("geometric_stiffening", _OPTIONS["geometric_stiffening"].default), f"{where} ",
+        error=ModelError)
+    n_modes = scenario.options.get("n_modes", _OPTIONS["n_modes"].default)
+    _check_count(f"{where} n_modes", n_modes, ModelError)  # before the reduction: a direct call fails at once
     data = beam_modal_data(geometric_stiffening=stiffening)
-    return PinnedFreeBeam(data, bending_modes(data)[:n_modes], geometric_stiffening=stiffening)
+    modes = _bending_subset(f"{where} n_modes", n_modes, data, ModelError)  # the upper bound: the data's modes
+    return PinnedFreeBeam(data, modes, geometric_stiffening=stiffening)
 
 
 register_model(
@@ -290,5 +342,5 @@ register_model(
                  run={"dt_out": 0.01, "rtol": 1e-7, "atol": 1e-9}),
     ],
     summary_signals=["pin.phi", "pin.w", "torque.tau"],
-    options=["n_modes", "geometric_stiffening"],
+    options=OPTIONS, data=(),
 )

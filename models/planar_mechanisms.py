@@ -268,11 +268,11 @@ register_model(
     doc="crank-rocker four-bar (crank 0.2 m, coupler 0.7 m, rocker 0.9 m), one closed loop, no gravity",
     scenarios=[Scenario("spin", "free motion from 6 rad/s at the crank for 10 s", t_end=10.0, run={"dt_out": 0.01}),
                Scenario("short", "the same for 0.5 s (a quick check)", t_end=0.5, run={"dt_out": 0.01})],
-    summary_signals=["rev_crank.phi", "rev_crank.w", "cut1.frame_a.f[0]", "cut1.frame_a.f[1]"],
+    summary_signals=["rev_crank.phi", "rev_crank.w", "cut1.frame_a.f[0]", "cut1.frame_a.f[1]"], options=(), data=(),
 )
 register_model(
     "three-loop", lambda scenario: ThreeLoopLinkage(),
     doc="7-body, 3-loop, 1-DOF planar chain of three four-bars under gravity",
     scenarios=[Scenario("swing", "released under gravity for 10 s", t_end=10.0, run={"dt_out": 0.01})],
-    summary_signals=["rev_crank.phi", "rev_crank.w"],
+    summary_signals=["rev_crank.phi", "rev_crank.w"], options=(), data=(),
 )

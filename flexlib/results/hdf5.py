@@ -25,7 +25,7 @@ import numpy as np
 from flexlib.errors import ResultFileError, RunArgumentError
 from flexlib.results.result import Result
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "load_result", "remove_orphans", "save_result"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "load_result", "not_a_result", "remove_orphans", "save_result"]
 
 FORMAT = "flexlib-result"
 #: Version of the layout written; files with a higher version are refused on reading.
@@ -193,6 +193,46 @@ def _what_is(path: Path) -> str:
     first = text.splitlines()[0][:60] if text.splitlines() else ""
     kind = "CSV " if "," in first or ";" in first or "\t" in first else ""
     return f"not an HDF5 file but {kind}text ({size} bytes, first line {first!r})"
+
+
+def not_a_result(path: str | os.PathLike) -> str | None:
+    """Why the existing file ``path`` is not a flexlib result file, or None if it is one (or does not exist).
+
+    Reads only the file's head and its ``format`` attribute: cheap enough to ask before overwriting a file
+    (``flexlib run --out`` replaces a result file, but not a CSV or another program's HDF5 file).
+
+    Returns
+    -------
+    str or None
+        ``"a directory"``, ``"not an HDF5 file but CSV text (...)"``, ``"an HDF5 file that is not a flexlib
+        result (...)"``, ``"a truncated or damaged HDF5 file (...)"``, ...; None for a flexlib result file or a
+        path that does not exist.
+    """
+    path = Path(os.fspath(path)).expanduser()
+    if not path.exists():
+        return None
+    if path.is_dir():
+        return "a directory"
+    try:
+        hdf5 = h5py.is_hdf5(path)
+    except OSError as err:
+        return f"a file that cannot be read ({_reason(err)})"
+    try:
+        if not hdf5:
+            return _what_is(path)
+        try:
+            with h5py.File(path, "r") as f:
+                fmt = f.attrs.get("format")
+        except OSError:
+            return _what_is(path)
+    except OSError as err:
+        return f"a file that cannot be read ({_reason(err)})"
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode(errors="replace")
+    if fmt != FORMAT:
+        found = "no 'format' attribute" if fmt is None else f"format attribute {fmt!r}"
+        return f"an HDF5 file that is not a flexlib result ({found})"
+    return None
 
 
 def load_result(path: str | os.PathLike) -> Result:

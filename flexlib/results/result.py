@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.errors import EmptyResultError, ResultKeyError
+from flexlib.errors import EmptyResultError, ResultKeyError, RunArgumentError
 
 __all__ = ["DISPLAY_UNITS", "Result"]
 
@@ -95,10 +95,17 @@ class Result:
             return ResultKeyError(f"result of {self.model}: variables are looked up by name (str), got {name!r} "
                                   f"({type(name).__name__})")
         pool = sorted({n.split("[")[0] for n in self.names} | set(self.names))
-        close = difflib.get_close_matches(name, pool, n=5, cutoff=0.6)
+        inside = [n for n in pool if n.startswith(name + ".")] if name else []
+        if inside:  # a component (instance path), not a variable: name its variables
+            shown = ", ".join(inside[:8]) + (f", ... ({len(inside) - 8} more)" if len(inside) > 8 else "")
+            return ResultKeyError(f"no variable {name!r} in the result of {self.model}: {name!r} is a component; "
+                                  f"its variables are {shown}")
+        same_case = [n for n in pool if n.lower() == name.lower()]  # 'Mass0.S': the case is the only difference
+        close = same_case + [n for n in difflib.get_close_matches(name, pool, n=5, cutoff=0.6) if n not in same_case]
         if not close:  # a wrong component path with the right variable: match on the last part
             leaf = name.rpartition(".")[2]
             close = [n for n in pool if n.rpartition(".")[2] == leaf][:5]
+        close = close[:5]
         hint = f"; did you mean {close[0]!r}? (close matches: {', '.join(close)})" if close else ""
         return ResultKeyError(f"no variable {name!r} in the result of {self.model} "
                               f"({len(self.names)} variables){hint}")
@@ -134,8 +141,29 @@ class Result:
                 return self.units[self._index[elem]]
         return self.units[self._col(name)]
 
+    def _check_times(self, what: str, t: Any) -> np.ndarray:
+        """``t`` as float array, or :class:`RunArgumentError` if it is not a finite time inside the result's span
+        (a value past the end of a run that failed half-way would otherwise be its last row, silently)."""
+        arr = np.asarray(t) if not isinstance(t, str) else np.asarray([t])
+        if arr.dtype.kind not in "iuf":
+            raise RunArgumentError(f"{what}: t must be a time [s] (a number or an array of numbers), got {t!r} "
+                                   f"({type(t).__name__})")
+        tt = arr.astype(float)
+        bad = ~np.isfinite(tt)
+        if bad.any():
+            raise RunArgumentError(f"{what}: t must be finite, got {tt[bad][0]:g}")
+        t0, t1 = float(self.t[0]), float(self.t[-1])
+        tol = 1e-9 * max(1.0, abs(t0), abs(t1))
+        out = (tt < t0 - tol) | (tt > t1 + tol)
+        if out.any():
+            why = f"; the run is {self.status}" + (f": {' '.join(self.message.split())}" if self.message else "") \
+                if not self.success else ""
+            raise RunArgumentError(f"{what}: t = {tt[out][0]:g} s is outside the result of {self.model}, which "
+                                   f"covers {t0:g} … {t1:g} s{why}")
+        return tt
+
     def value(self, name: str, t: float | np.ndarray) -> float | np.ndarray:
-        """Linear interpolation of variable ``name`` at time(s) ``t`` (right value at events).
+        """Linear interpolation of variable ``name`` at time(s) ``t`` [s] (right value at events).
 
         Raises
         ------
@@ -143,16 +171,21 @@ class Result:
             No such variable.
         EmptyResultError
             The result has no rows.
+        RunArgumentError
+            ``t`` is not a number (or array of numbers), not finite, or outside the result's time span (a run that
+            failed half-way has no values after its failure).
         """
         x = self[name]
         self._require_rows(f"value({name!r}, t)")
+        self._check_times(f"value({name!r}, t)", t)
         keep = self._right_rows()
         return np.interp(t, self.t[keep], x[keep])
 
     def row(self, t: float) -> np.ndarray:
-        """Every variable (columns of :attr:`values`) interpolated linearly at time ``t`` (right value at events;
-        clipped to the first and last row, as :meth:`value`)."""
+        """Every variable (columns of :attr:`values`) interpolated linearly at time ``t`` [s] (right value at
+        events); :class:`RunArgumentError` for a ``t`` outside the result's span, as :meth:`value`."""
         self._require_rows(f"row({t!r})")
+        self._check_times(f"row({t!r})", t)
         keep = self._right_rows()
         tk, vals = self.t[keep], self.values[keep]
         if len(tk) == 1:

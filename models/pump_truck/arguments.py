@@ -1,64 +1,150 @@
-"""Checks of :class:`~models.pump_truck.model.PumpTruck`'s arguments: time tables and flexible-section modes."""
+"""Checks of :class:`~models.pump_truck.model.PumpTruck`'s arguments: the model options (declared once, in
+:data:`OPTIONS`, for the registry and the class), the start pose, time tables and flexible-section modes."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
 from flexlib.errors import ParameterError
+from flexlib.registry import ModelOption
 
+from .geometry import LINK_PLATE
 from .parameters import PumpTruckParameters
 
-__all__ = ["JOINTS", "check_modes", "check_table"]
+__all__ = ["JOINTS", "OPTIONS", "check_modes", "check_modes_form", "check_pose", "check_sources", "check_table",
+           "option"]
 
 #: Joint names: the slewing joint and the five boom joints.
 JOINTS = ("slew", "joint1", "joint2", "joint3", "joint4", "joint5")
+
+
+def check_modes_form(modes: Any) -> str | int | dict[int, list[int]]:
+    """The form of ``modes`` (``"mpf"``, a count >= 1, or a list of mode indices for every section 1–5), normalised;
+    ``ValueError`` completing "modes ..." otherwise (the check of the ``modes`` option's declaration)."""
+    if isinstance(modes, str) and modes == "mpf":
+        return modes
+    if isinstance(modes, int | np.integer) and not isinstance(modes, bool | np.bool_):
+        if modes < 1:
+            raise ValueError(f"must be at least 1 per section, got {modes!r}")
+        return int(modes)
+    if not isinstance(modes, Mapping):
+        raise ValueError(f"must be 'mpf', a count or a mapping of section to mode indices, got {modes!r}")
+    try:
+        out = {}
+        for k, v in modes.items():
+            if isinstance(v, str | bytes | Mapping) or isinstance(k, bool) \
+                    or any(isinstance(i, bool | float) for i in v):
+                raise TypeError
+            out[int(k)] = [int(i) for i in v]
+    except (TypeError, ValueError):
+        raise ValueError(f"must map section numbers 1-5 to lists of mode indices, got {modes!r}") from None
+    if sorted(out) != [1, 2, 3, 4, 5]:
+        missing = sorted(set(range(1, 6)) - set(out))
+        extra = sorted(set(out) - set(range(1, 6)))
+        raise ValueError(f"must give every section 1-5 (missing {missing}, unknown {extra})")
+    return out
+
+
+#: The model options of ``PumpTruck`` (and of the registered ``pump-truck``): type, default, accepted values, doc.
+OPTIONS = (
+    ModelOption("filled", bool, None, "delivery pipe filled with concrete (default: the record's pipe.filled)",
+                allow_none=True),
+    ModelOption("flexible", bool, False, "each section a FlexibleBody (beam mesh, Craig-Bampton reduction)"),
+    ModelOption("modes", None, "mpf", "modes of the flexible sections", check=check_modes_form,
+                accepts="'mpf', a count >= 1 or a mapping of every section 1-5 to its mode indices"),
+    ModelOption("slewing", bool, True, "the slewing bearing and its drive (false: the turret fixed to the ground)"),
+    ModelOption("link_plate", float, LINK_PLATE, "cross-section of levers and links at joint scale 3", low=0.0,
+                low_open=True, unit="m2", accepts="a positive area [m2] (a finite number > 0)"),
+)
+_OPTIONS = {o.name: o for o in OPTIONS}
+
+
+def option(name: str, value: Any) -> Any:
+    """``PumpTruck``'s keyword ``name`` checked by its declaration in :data:`OPTIONS` (``ParameterError`` naming
+    it, the value and what is accepted)."""
+    return _OPTIONS[name].validate(value, "PumpTruck: ", error=ParameterError)
 
 
 def check_modes(modes: Any, record: PumpTruckParameters) -> int | dict[int, list[int]]:
     """``PumpTruck(modes=...)`` of a flexible boom: ``"mpf"`` (the selection of
     :func:`~models.pump_truck.flexible.mpf_modes` for ``record``), a count >= 1, or a list of mode indices for every
     section 1–5."""
+    modes = option("modes", modes)
     if modes == "mpf":
         from .flexible import mpf_modes
 
         return mpf_modes(record)
-    if isinstance(modes, int) and not isinstance(modes, bool):
-        if modes < 1:
-            raise ParameterError(f"PumpTruck: modes must be at least 1 per section, got {modes!r}")
-        return modes
-    if not isinstance(modes, Mapping):
-        raise ParameterError(f"PumpTruck: modes must be 'mpf', a count or a mapping of section to mode indices, "
-                             f"got {modes!r}")
+    return modes
+
+
+def check_pose(pose: Any, record: PumpTruckParameters) -> np.ndarray:
+    """The start pose [deg] (slew, q1 … q5) as angles [rad], each boom joint inside its range."""
+    if isinstance(pose, str | bytes | Mapping) or not hasattr(pose, "__len__"):
+        raise ParameterError(f"PumpTruck: pose must be a sequence of 6 angles [deg] (slew, q1 ... q5), got "
+                             f"{type(pose).__name__} {pose!r}")
     try:
-        out = {int(k): [int(i) for i in v] for k, v in modes.items()}
+        q0 = np.radians(np.asarray(pose, dtype=float))
     except (TypeError, ValueError):
-        raise ParameterError(f"PumpTruck: modes must map section numbers 1-5 to lists of mode indices, got "
-                             f"{modes!r}") from None
-    if sorted(out) != [1, 2, 3, 4, 5]:
-        missing = sorted(set(range(1, 6)) - set(out))
-        extra = sorted(set(out) - set(range(1, 6)))
-        raise ParameterError(f"PumpTruck: modes must give every section 1-5 (missing {missing}, unknown {extra})")
-    return out
+        q0 = np.full(1, np.nan)
+    if q0.shape != (6,) or not np.all(np.isfinite(q0)) or any(isinstance(v, bool | np.bool_) for v in pose):
+        raise ParameterError(f"PumpTruck: pose needs 6 finite angles [deg] (slew, q1 ... q5), got {pose!r}")
+    for k in range(5):
+        drive = record.drive(k + 1)
+        if not drive.q_min - 1e-9 <= q0[k + 1] <= drive.q_max + 1e-9:
+            raise ParameterError(
+                f"PumpTruck: pose joint{k + 1} = {math.degrees(q0[k + 1]):.2f} deg is outside its range "
+                f"{math.degrees(drive.q_min):.1f} ... {math.degrees(drive.q_max):.1f} deg")
+    return q0
+
+
+def check_sources(ref_cols: Mapping[str, Any], cmd_cols: Mapping[str, Any]) -> None:
+    """A joint is either controlled (a column in ``targets``) or open loop (a column in ``commands``), not both."""
+    both = [name for name in JOINTS if name in ref_cols and name in cmd_cols]
+    if both:
+        raise ParameterError(f"PumpTruck: {', '.join(both)} {'is' if len(both) == 1 else 'are'} given in both "
+                             "targets and commands; give either a target (closed loop) or a command (open loop) "
+                             "per joint")
 
 
 def check_table(owner: str, spec: Any, n_values: int | None = None) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Check a time table ``{"t": [...], "<joint>": [...], ...}`` and return ``t`` and the columns."""
     if not isinstance(spec, Mapping) or "t" not in spec:
         raise ParameterError(f"PumpTruck: {owner} must be a mapping with a time column 't' and one column per joint")
-    t = np.asarray(spec["t"], dtype=float)
+    t = _numbers(spec["t"])
     if t.ndim != 1 or t.size < 1 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-        raise ParameterError(f"PumpTruck: {owner}['t'] must be finite, strictly increasing times [s]")
+        raise ParameterError(f"PumpTruck: {owner}['t'] must be finite, strictly increasing times [s], got "
+                             f"{spec['t']!r}")
     cols = {}
     for name, col in spec.items():
         if name == "t":
             continue
         if name not in JOINTS:
-            raise ParameterError(f"PumpTruck: {owner} has unknown joint {name!r}; joints are {', '.join(JOINTS)}")
-        y = np.asarray(col, dtype=float)
+            import difflib
+
+            close = difflib.get_close_matches(str(name), JOINTS, n=1, cutoff=0.6)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ParameterError(f"PumpTruck: {owner} has unknown joint {name!r}{hint}; joints are "
+                                 f"{', '.join(JOINTS)}")
+        y = _numbers(col)
         if y.shape != t.shape or not np.all(np.isfinite(y)):
             raise ParameterError(f"PumpTruck: {owner}[{name!r}] needs {t.size} finite values (one per time point)")
         cols[name] = y
     return t, cols
+
+
+def _numbers(values: Any) -> np.ndarray:
+    """``values`` as a float array; NaN (refused by the caller) for text, mappings, bools or anything else that is
+    not a sequence of numbers."""
+    if isinstance(values, str | bytes | Mapping) or isinstance(values, bool | np.bool_):
+        return np.full(1, np.nan)
+    try:
+        seq = list(values) if not isinstance(values, np.ndarray) else values
+        if any(isinstance(v, str | bytes | bool | np.bool_) for v in np.ravel(np.asarray(seq, dtype=object))):
+            return np.full(1, np.nan)
+        return np.asarray(seq, dtype=float)
+    except (TypeError, ValueError):
+        return np.full(1, np.nan)

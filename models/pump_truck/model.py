@@ -120,7 +120,7 @@ from flexlib.components.mechanics.multibody import (
 from flexlib.errors import ParameterError
 from flexlib.models.boom_proxy import _link_body
 
-from .arguments import JOINTS, check_modes, check_table
+from .arguments import JOINTS, check_modes, check_pose, check_sources, check_table, option
 from .geometry import (
     LINK_PLATE,
     _pose,
@@ -196,7 +196,7 @@ class PumpTruck(fl.Model):
         (linear between points, ends held). Joints not given hold their start angle.
     commands : mapping, optional
         Open-loop valve commands (−1…1) as a time table ``{"t": [...], "joint1": [...]}``; a joint given here has
-        no controller.
+        no controller (and must not be in ``targets``).
     filled : bool, optional
         Delivery pipe filled with concrete (default: the record's ``pipe.filled``).
     flexible : bool
@@ -211,6 +211,16 @@ class PumpTruck(fl.Model):
         (motor, gear, valve, control); ``False``: the turret fixed to the ground, no slewing drive.
     link_plate : float
         Cross-section of levers and links at joint scale 3 [m2] (default :data:`LINK_PLATE`).
+
+    The options ``filled``, ``flexible``, ``modes``, ``slewing``, ``link_plate`` are declared (type, accepted
+    values) in :data:`models.pump_truck.arguments.OPTIONS`; ``filled``, ``flexible`` and ``slewing`` take
+    ``True``/``False`` only (``"no"`` is refused, not read as true).
+
+    Raises
+    ------
+    ParameterError
+        An argument of the wrong type or out of range, a joint in both ``targets`` and ``commands``; the message
+        names the argument, the value and what is accepted.
 
     Attributes
     ----------
@@ -235,24 +245,20 @@ class PumpTruck(fl.Model):
         record = PumpTruckParameters() if record is None else record
         if not isinstance(record, PumpTruckParameters):
             raise ParameterError(f"PumpTruck: record must be a PumpTruckParameters, got {type(record).__name__}")
+        # the model options, each checked by its declaration (arguments.OPTIONS, also the registry's)
+        filled, flexible, slewing = option("filled", filled), option("flexible", flexible), option("slewing", slewing)
+        link_plate = option("link_plate", link_plate)
+        modes = option("modes", modes)
         if filled is not None:
-            record = replace(record, pipe=replace(record.pipe, filled=bool(filled)))
+            record = replace(record, pipe=replace(record.pipe, filled=filled))
         self.record = record
-        pose = TRANSPORT_POSE_DEG if pose is None else pose
-        q0 = np.radians(np.asarray(pose, dtype=float))
-        if q0.shape != (6,) or not np.all(np.isfinite(q0)):
-            raise ParameterError(f"PumpTruck: pose needs 6 finite angles [deg] (slew, q1 ... q5), got {pose!r}")
-        for k in range(5):
-            drive = record.drive(k + 1)
-            if not drive.q_min - 1e-9 <= q0[k + 1] <= drive.q_max + 1e-9:
-                raise ParameterError(
-                    f"PumpTruck: pose joint{k + 1} = {math.degrees(q0[k + 1]):.2f} deg is outside its range "
-                    f"{math.degrees(drive.q_min):.1f} ... {math.degrees(drive.q_max):.1f} deg")
+        q0 = check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record)
         self._q0 = q0  # (underscore: the pose is a start value, not structure; one build serves every pose)
-        self.flexible = bool(flexible)
+        self.flexible = flexible
         self.modes = check_modes(modes, record) if self.flexible else modes
         t_ref, ref_cols = check_table("targets", targets) if targets is not None else (np.zeros(1), {})
         t_cmd, cmd_cols = check_table("commands", commands) if commands is not None else (np.zeros(1), {})
+        check_sources(ref_cols, cmd_cols)
         for name, col in cmd_cols.items():
             if np.any(np.abs(col) > 1.0):
                 raise ParameterError(f"PumpTruck: commands[{name!r}] must stay within -1 ... 1 (valve command)")
@@ -264,9 +270,7 @@ class PumpTruck(fl.Model):
                 if np.any(col < lo - 1e-9) or np.any(col > hi + 1e-9):
                     raise ParameterError(f"PumpTruck: targets[{name!r}] leaves the joint's range {lo:.1f} ... "
                                          f"{hi:.1f} deg")
-        if not (isinstance(link_plate, int | float) and math.isfinite(link_plate) and link_plate > 0):
-            raise ParameterError(f"PumpTruck: link_plate must be a positive area [m2], got {link_plate!r}")
-        self.link_plate = float(link_plate)
+        self.link_plate = link_plate
         q = q0[1:]
         geo = _pose(record, q, self.link_plate)
         F_hold, _ = holding_forces(record, q, self.link_plate)
@@ -276,7 +280,7 @@ class PumpTruck(fl.Model):
         # ---- mechanics -------------------------------------------------------------------------------------
         self.world = World()
         tr = record.turret
-        self.slewing = bool(slewing)
+        self.slewing = slewing
         self.turret_top = FixedTranslation(r=[0.0, tr.height, 0.0])
         if self.slewing:  # the slewing bearing: a revolute about world y under the whole boom, turret on it
             self.slew = Revolute(n=[0, 1, 0], use_axis_flange=True, use_friction=True, tau_c0=SLEW_FRICTION,

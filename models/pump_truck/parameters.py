@@ -34,10 +34,56 @@ CYLINDER_RODS = tuple(d / 1000 for d in (12, 14, 16, 18, 20, 22, 25, 28, 32, 36,
                                          100, 110, 125, 140, 160, 180, 200, 220, 250, 280, 320, 360))
 
 
-def _check(owner: str, **values: float) -> None:
-    for name, value in values.items():
-        if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
-            raise ParameterError(f"pump-truck record: {owner}.{name} must be a positive finite number, got {value!r}")
+def _range_text(low: float, high: float, low_open: bool, high_open: bool) -> str:
+    if math.isinf(high):
+        return f"{'>' if low_open else '>='} {low:g}"
+    return f"in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+
+
+def _number(field: str, value: object, unit: str, low: float = 0.0, high: float = math.inf, *,
+            low_open: bool = True, high_open: bool = False, what: str = "") -> None:
+    """``ParameterError`` naming ``field``, its unit, the accepted range and ``value`` unless ``value`` is a finite
+    int or float (not a bool, not text) in the range (default: positive)."""
+    ok = (isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+          and (low < value if low_open else low <= value) and (value < high if high_open else value <= high))
+    if not ok:
+        raise ParameterError(f"pump-truck record: {field} must be a finite number "
+                             f"{_range_text(low, high, low_open, high_open)} [{unit}]{what}, got {value!r}")
+
+
+def _check(owner: str, **values: tuple[object, str]) -> None:
+    """Positive finite numbers: ``name=(value, unit)`` of the record part ``owner``."""
+    for name, (value, unit) in values.items():
+        _number(f"{owner}.{name}", value, unit)
+
+
+def _point(field: str, value: object) -> tuple[float, float]:
+    """A point ``(x, y)`` [m] of two finite numbers, as a tuple of floats (hashable: the record is a cache key)."""
+    try:
+        ok = (not isinstance(value, str | bytes) and len(value) == 2  # type: ignore[arg-type]
+              and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+                      for v in value))  # type: ignore[union-attr]
+    except TypeError:
+        ok = False
+    if not ok:
+        raise ParameterError(f"pump-truck record: {field} must be a point (x, y) of two finite numbers [m], got "
+                             f"{value!r}")
+    return (float(value[0]), float(value[1]))  # type: ignore[index]
+
+
+def _angle_range(field: str, q_min: object, q_max: object) -> None:
+    """A joint range ``q_min < q_max`` inside [-pi, pi] [rad] (an angle in degrees is refused, not wrapped)."""
+    _number(f"{field}.q_min", q_min, "rad", -math.pi, math.pi, low_open=False, what=" (radians)")
+    _number(f"{field}.q_max", q_max, "rad", -math.pi, math.pi, low_open=False, what=" (radians)")
+    if not q_min < q_max:  # type: ignore[operator]
+        raise ParameterError(f"pump-truck record: {field}: q_min must be below q_max, got {q_min!r} >= {q_max!r} "
+                             "[rad]")
+
+
+def _instance(field: str, value: object, cls: type) -> None:
+    if not isinstance(value, cls):
+        raise ParameterError(f"pump-truck record: {field} must be a {cls.__name__}, got {type(value).__name__} "
+                             f"{value!r}")
 
 
 def box_wall_thickness(mass: float, length: float, b: float, h: float, rho: float) -> float:
@@ -61,7 +107,9 @@ class Steel:
     source: str = "EN 10025-6 S690QL handbook values"
 
     def __post_init__(self) -> None:
-        _check("steel", E=self.E, rho=self.rho)
+        # bounds of structural metals and composites: a value in GPa or g/cm3 is refused, not used
+        _number("steel.E", self.E, "Pa", 1e9, 1e12, low_open=False)
+        _number("steel.rho", self.rho, "kg/m3", 1000.0, 25000.0, low_open=False)
 
 
 @dataclass(frozen=True)
@@ -100,8 +148,12 @@ class Pipe:
                    "magnitude); concrete 2400 kg/m3 (EN 206); filled 10.5 + 29.5 = 40 kg/m as in issue 11")
 
     def __post_init__(self) -> None:
-        _check("pipe", empty_mass_per_m=self.empty_mass_per_m, inner_diameter=self.inner_diameter,
-               concrete_density=self.concrete_density, offset=self.offset)
+        _check("pipe", empty_mass_per_m=(self.empty_mass_per_m, "kg/m"), concrete_density=(self.concrete_density,
+                                                                                          "kg/m3"))
+        _number("pipe.inner_diameter", self.inner_diameter, "m", 0.0, 1.0, what=" (metres, not mm)")
+        _number("pipe.offset", self.offset, "m", 0.0, 2.0)
+        if not isinstance(self.filled, bool):
+            raise ParameterError(f"pump-truck record: pipe.filled must be True or False, got {self.filled!r}")
 
     @property
     def mass_per_m(self) -> float:
@@ -119,7 +171,7 @@ class EndHose:
     source: str = "4 m DN125 end hose, about 150 kg filled (issue 11; pump-maker end-hose data)"
 
     def __post_init__(self) -> None:
-        _check("hose", length=self.length, mass=self.mass)
+        _check("hose", length=(self.length, "m"), mass=(self.mass, "kg"))
 
 
 @dataclass(frozen=True)
@@ -134,7 +186,7 @@ class Turret:
                    "~1.2 m: J = 2500 * 1.18^2)")
 
     def __post_init__(self) -> None:
-        _check("turret", mass=self.mass, J_slew=self.J_slew, height=self.height)
+        _check("turret", mass=(self.mass, "kg"), J_slew=(self.J_slew, "kg.m2"), height=(self.height, "m"))
 
 
 @dataclass(frozen=True)
@@ -146,6 +198,11 @@ class DirectDrive:
     q_min: float = math.radians(-5.0)
     q_max: float = math.radians(80.0)
     source: str = "sized here: joint-1 mount points (lever arm ~1.2 m, stroke ~1.7 m)"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "H", _point("joint1.H", self.H))
+        object.__setattr__(self, "c", _point("joint1.c", self.c))
+        _angle_range("joint1", self.q_min, self.q_max)
 
     def state(self, q: float):
         """Drive state at ``q`` [rad] (:func:`models.pump_truck.kinematics.direct_state`)."""
@@ -172,6 +229,15 @@ class FourBar:
     q_min: float
     q_max: float
     source: str = "sized here: base lever-and-link design scaled per joint (see _BASE)"
+
+    def __post_init__(self) -> None:
+        for name in ("P", "H", "c"):
+            object.__setattr__(self, name, _point(f"linkage.{name}", getattr(self, name)))
+        _check("linkage", r=(self.r, "m"), s=(self.s, "m"))
+        if self.sigma not in (1, -1) or isinstance(self.sigma, bool):
+            raise ParameterError(f"pump-truck record: linkage.sigma (assembly branch) must be +1 or -1, got "
+                                 f"{self.sigma!r}")
+        _angle_range("linkage", self.q_min, self.q_max)
 
     @classmethod
     def scaled(cls, scale: float, fold: int) -> FourBar:
@@ -208,11 +274,16 @@ class PumpTruckParameters:
     linkages : tuple of FourBar
         Joints 2–5 lever-and-link drives.
     g : float
-        Gravity [m/s2].
+        Gravity [m/s2], > 0.
     p_system : float
-        System pressure [Pa]; ``p_hold_fraction`` the allowed share of it for holding [1].
+        System pressure [Pa], 1e6 … 1e8 (10 … 1000 bar: a value in bar or MPa is refused); ``p_hold_fraction``
+        the allowed share of it for holding [1], in (0, 1].
     min_transmission_deg : float
-        Smallest allowed transmission angle over every joint's range [deg].
+        Smallest allowed transmission angle over every joint's range [deg], in (0, 90).
+
+    Every field is checked on construction (type, and each number against its range, e.g. positive lengths and
+    masses, ``steel.E`` 1e9 … 1e12 Pa, joint ranges within ±pi rad); a refused value raises
+    :class:`~flexlib.errors.ParameterError` naming the field, its unit, the accepted range and the value.
     """
 
     sections: tuple[SectionSpec, ...] = _SECTIONS
@@ -229,22 +300,39 @@ class PumpTruckParameters:
     source: str = "issue 11 (42 m class, five sections); system pressure 350 bar as on Putzmeister/Schwing booms"
 
     def __post_init__(self) -> None:
-        if len(self.sections) != 5 or len(self.linkages) != 4:
-            raise ParameterError("pump-truck record: sections needs 5 entries and linkages 4 (joints 2-5)")
+        for name, cls, count in (("sections", SectionSpec, 5), ("linkages", FourBar, 4)):
+            value = getattr(self, name)
+            if isinstance(value, str | bytes) or not hasattr(value, "__len__") or len(value) != count \
+                    or not all(isinstance(v, cls) for v in value):
+                got = (f"{type(value).__name__} of {len(value)}: "
+                       f"{', '.join(type(v).__name__ for v in value)}" if isinstance(value, list | tuple)
+                       else repr(value))
+                raise ParameterError(f"pump-truck record: {name} must be {count} {cls.__name__} records "
+                                     f"({'root to tip' if count == 5 else 'joints 2-5'}), got {got}")
+            object.__setattr__(self, name, tuple(value))  # hashable: the record is a cache key
+        for name, cls in (("steel", Steel), ("pipe", Pipe), ("hose", EndHose), ("turret", Turret),
+                          ("joint1", DirectDrive)):
+            _instance(name, getattr(self, name), cls)
         for i, sec in enumerate(self.sections):
-            _check(f"sections[{i}]", length=sec.length, mass=sec.mass, b=sec.b, h=sec.h)
+            _check(f"sections[{i}]", length=(sec.length, "m"), mass=(sec.mass, "kg"))
+            for side in ("b", "h"):  # a box much shorter than wide is a unit slip (mm for m)
+                _number(f"sections[{i}].{side}", getattr(sec, side), "m", 0.0, sec.length, high_open=True,
+                        what=f" (below the section's length {sec.length:g} m)")
             try:
                 t = sec.t(self.steel.rho)
             except ParameterError as err:
                 raise ParameterError(f"pump-truck record: sections[{i}].mass: {err}") from None
             if 2 * t >= min(sec.b, sec.h):
                 raise ParameterError(f"pump-truck record: sections[{i}].mass {sec.mass} kg needs a solid box")
-        _check("record", g=self.g, p_system=self.p_system, p_hold_fraction=self.p_hold_fraction,
-               min_transmission_deg=self.min_transmission_deg)
+        _number("g", self.g, "m/s2")
+        _number("p_system", self.p_system, "Pa", 1e6, 1e8, low_open=False, what=" (10 ... 1000 bar)")
+        _number("p_hold_fraction", self.p_hold_fraction, "1", 0.0, 1.0,
+                what=" (the share of p_system allowed for holding)")
+        _number("min_transmission_deg", self.min_transmission_deg, "deg", 0.0, 90.0, high_open=True)
+        if not isinstance(self.source, str):
+            raise ParameterError(f"pump-truck record: source must be a str, got {self.source!r}")
         for j, drive in enumerate((self.joint1, *self.linkages)):
             name = "joint1" if j == 0 else f"linkages[{j - 1}] (joint {j + 1})"
-            if not drive.q_min < drive.q_max:
-                raise ParameterError(f"pump-truck record: {name}: q_min must be below q_max")
             for q in np.linspace(drive.q_min, drive.q_max, 91):
                 try:
                     st = drive.state(float(q))

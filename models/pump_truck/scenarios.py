@@ -18,6 +18,7 @@ import numpy as np
 from flexlib.errors import ParameterError
 from flexlib.registry import Scenario, register_model
 
+from .arguments import OPTIONS
 from .model import EXTENDED_POSE_DEG, JOINTS, TRANSPORT_POSE_DEG, WORKING_POSE_DEG, PumpTruck
 from .plots import figures
 
@@ -109,6 +110,7 @@ def summary_signals(model: PumpTruck) -> list[str]:
     return sig
 
 
+#: The keys of ``Scenario.data`` the factory reads (arguments of :class:`PumpTruck`).
 DATA_KEYS = ("pose", "targets", "commands")
 
 
@@ -124,5 +126,5 @@ register_model(
     "pump-truck", _factory,
     doc="42 m five-section boom, lever-and-link joints, counterbalance valves, PID joint control (issue 11)",
     scenarios=list(SCENARIOS), summary_signals=summary_signals,
-    options=["filled", "flexible", "modes", "slewing", "link_plate"], plots=figures,
+    options=OPTIONS, data=DATA_KEYS, plots=figures,
 )

@@ -1,0 +1,339 @@
+"""Compare two results: the largest differences of their common signals on a common time grid, and everything
+that makes the comparison incomplete (``flexlib compare``, docs/cli.md).
+
+A comparison only means something when it covers both runs. :func:`compare` therefore reports, beside the
+differences, the *problems* that a regression check must not pass silently — signals that are NaN or inf in one
+result where the other is finite, time spans that differ (a run that failed half-way: only the common span is
+compared), variables in one result only (different models: nothing compared), the same name with different
+units, runs with different status — and *notes* that are worth a line but do not make the comparison wrong.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import re
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from flexlib.errors import EmptyResultError, ResultKeyError, RunArgumentError
+
+__all__ = ["Comparison", "compare", "compare_results", "select"]
+
+#: Names listed in a message before "...".
+_SHOWN = 5
+
+
+@dataclass
+class Comparison:
+    """The outcome of :func:`compare`.
+
+    Attributes
+    ----------
+    rows : list of dict
+        One per compared signal, largest relative difference first: ``name``, ``unit``, ``abs`` (max ``|a − b|``,
+        SI), ``rel`` (that over the larger of ``max |a|`` and ``max |b|``; 0 if both are 0), ``t`` [s] where it
+        occurs, ``a`` and ``b`` there; ``nonfinite_a`` and ``nonfinite_b`` (compared points where that result is
+        NaN or inf), ``mismatch`` (points where only one is, or they differ), ``mismatch_a`` / ``mismatch_b``
+        (of those, where A / B is NaN or inf) and ``from_a`` / ``from_b`` (the first such time [s], or None).
+        A signal with a mismatch has ``abs = rel = inf``, at its first mismatching point.
+    span : (float, float)
+        The compared time span [s] (common to both results).
+    span_a, span_b : (float, float)
+        The time spans [s] of the results.
+    only_a, only_b : list of str
+        Variables in one result only (all of them, also when ``signals`` selects some).
+    problems : list of str
+        What makes the comparison incomplete or untrustworthy (one sentence each, naming the signals, time
+        spans or names); a pass/fail check (``--fail-above``) must fail on any of them.
+    notes : list of str
+        Worth saying, not wrong (both results NaN at the same points, different model classes with the same
+        variables).
+    """
+
+    rows: list[dict[str, Any]]
+    span: tuple[float, float]
+    span_a: tuple[float, float]
+    span_b: tuple[float, float]
+    only_a: list[str] = field(default_factory=list)
+    only_b: list[str] = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def worst(self) -> dict[str, Any] | None:
+        """The row with the largest relative difference (None if no signal was compared)."""
+        return self.rows[0] if self.rows else None
+
+
+def _n(count: int, noun: str) -> str:
+    return f"{count} {noun}" + ("" if count == 1 else "s")
+
+
+def _listed(names: list[str]) -> str:
+    shown = ", ".join(names[:_SHOWN])
+    return shown + (f", ... ({len(names) - _SHOWN} more)" if len(names) > _SHOWN else "")
+
+
+def _is_glob(pattern: str) -> bool:
+    return "*" in pattern or "?" in pattern
+
+
+def _glob(pattern: str) -> re.Pattern[str]:
+    """``*`` and ``?`` are wildcards; ``[`` is literal (array elements are named ``r[0]``)."""
+    return re.compile(fnmatch.translate(pattern.replace("[", "[[]")))
+
+
+def _elements(res: Any, name: str) -> list[str]:
+    return [n for n in res.names if n.startswith(name + "[")]
+
+
+def select(res: Any, signals: list[str] | str, label: str = "the result") -> list[str]:
+    """The variables of one result named by ``signals``: names, array names (their elements) and patterns with
+    ``*`` and ``?`` (``"mass?.s"``; ``"*"`` is every variable), each once, in the order asked.
+
+    Raises
+    ------
+    ResultKeyError
+        A name that is not in the result (with close matches), or a pattern that matches nothing; names
+        ``label``.
+    """
+    if isinstance(signals, str):
+        signals = [signals]
+    names: list[str] = []
+    for s in signals:
+        if not isinstance(s, str) or not s.strip():
+            raise ResultKeyError(f"signals: each signal is a variable name (str), got {s!r}")
+        if _is_glob(s):
+            rx = _glob(s)
+            found = [n for n in res.names if rx.fullmatch(n)]
+            if not found:
+                raise ResultKeyError(f"signal pattern {s!r} matches no variable of {label} ({len(res.names)} "
+                                     "variables)")
+            names += found
+        elif s in res.names:
+            names.append(s)
+        elif _elements(res, s):
+            names += _elements(res, s)
+        else:
+            raise _not_in(res, s, label)
+    return list(dict.fromkeys(names))
+
+
+def _not_in(res: Any, name: str, label: str) -> ResultKeyError:
+    if name in ("t", "time"):
+        return ResultKeyError(f"signal {name!r}: the time is the axis of every signal, not a signal of {label}")
+    return ResultKeyError(f"signal {name!r} is not in {label}: {res._unknown(name)}")
+
+
+def _select(a: Any, b: Any, signals: list[str], labels: tuple[str, str]) -> tuple[list[str], list[str]]:
+    """The variables named by ``signals`` (names, array names, ``*``/``?`` patterns) that are in both results,
+    and the problems: variables a pattern matches in one result only."""
+    names: list[str] = []
+    problems: list[str] = []
+    for s in signals:
+        if not isinstance(s, str) or not s.strip():
+            raise ResultKeyError(f"signals: each signal is a variable name (str), got {s!r}")
+        if not _is_glob(s):  # a name or an array name: in both, with the same elements
+            got_a, got_b = select(a, [s], labels[0]), select(b, [s], labels[1])
+            if got_a != got_b:
+                raise ResultKeyError(f"signal {s!r}: the array has the elements {_listed(got_a)} in {labels[0]} "
+                                     f"but {_listed(got_b)} in {labels[1]}")
+            names += got_a
+            continue
+        rx = _glob(s)
+        found_a = [n for n in a.names if rx.fullmatch(n)]
+        found_b = [n for n in b.names if rx.fullmatch(n)]
+        in_b = set(found_b)
+        both = [n for n in found_a if n in in_b]
+        if not found_a and not found_b:
+            raise ResultKeyError(f"signal pattern {s!r} matches no variable of {labels[0]} or {labels[1]}")
+        if not both:
+            one, other, found = (labels[0], labels[1], found_a) if found_a else (labels[1], labels[0], found_b)
+            raise ResultKeyError(f"signal pattern {s!r} matches {_n(len(found), 'variable')} of {one} "
+                                 f"({_listed(found)}) but none of {other}")
+        in_a = set(found_a)
+        for label, extra in ((labels[0], [n for n in found_a if n not in in_b]),
+                             (labels[1], [n for n in found_b if n not in in_a])):
+            if extra:
+                problems.append(f"signal pattern {s!r} matches {_n(len(extra), 'variable')} only in {label} (not "
+                                f"compared): {_listed(extra)}")
+        names += both
+    return list(dict.fromkeys(names)), problems  # each once, in the order asked
+
+
+def _right_values(res: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Time points and rows with the right value kept at events (as :meth:`Result.value`)."""
+    t = res.t
+    keep = np.ones(len(t), dtype=bool)
+    keep[:-1] = t[1:] != t[:-1]
+    return t[keep], res.values[keep]
+
+
+def _interp(grid: np.ndarray, t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Linear interpolation that keeps NaN and inf: a grid point on a non-finite sample, or inside an interval
+    that touches one, takes that sample's value (np.interp would give NaN for an inf, or a number)."""
+    finite = np.isfinite(x)
+    if finite.all():
+        return np.interp(grid, t, x)
+    if len(t) == 1:
+        return np.full(len(grid), x[0])
+    out = np.interp(grid, t, np.where(finite, x, 0.0))
+    right = np.clip(np.searchsorted(t, grid, side="right"), 1, len(t) - 1)
+    left = right - 1
+    at_r = grid == t[right]
+    at_l = (grid == t[left]) & ~at_r
+    inside = ~at_r & ~at_l
+    src = np.where(at_r, right, np.where(at_l | (inside & ~finite[left]), left, right))
+    bad = ~finite[src]
+    out[bad] = x[src][bad]
+    return out
+
+
+def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
+            labels: tuple[str, str] = ("A", "B")) -> Comparison:
+    """Largest differences between two results on a common time grid, with what the comparison does not cover.
+
+    Both results are interpolated linearly (right values at events) on the union of their time points inside
+    the common time span.
+
+    Parameters
+    ----------
+    a, b : Result
+        The results.
+    signals : list of str or str, optional
+        Variables to compare: names, array names (expand to their elements) and patterns with ``*`` / ``?``;
+        default: every variable in both.
+    labels : (str, str)
+        How messages name the results (``"A (run.h5)"``).
+
+    Returns
+    -------
+    Comparison
+
+    Raises
+    ------
+    ResultKeyError
+        A requested signal is not in one of the results (names it, the result, and close matches), or a pattern
+        matches no variable of both.
+    EmptyResultError
+        A result has no rows (names it and its status).
+    RunArgumentError
+        The results have no common time span (gives both).
+    """
+    if isinstance(signals, str):
+        signals = [signals]
+    for label, res in zip(labels, (a, b), strict=True):
+        if not len(res.t):
+            why = f": {' '.join(res.message.split())}" if res.message else ""
+            raise EmptyResultError(f"cannot compare: {label} has no rows (the run of {res.model} is "
+                                   f"{res.status}{why})")
+    in_a, in_b = set(a.names), set(b.names)
+    only_a = [n for n in a.names if n not in in_b]
+    only_b = [n for n in b.names if n not in in_a]
+    names, selected = _select(a, b, list(signals), labels) if signals else ([n for n in a.names if n in in_b], [])
+    span_a, span_b = (float(a.t[0]), float(a.t[-1])), (float(b.t[0]), float(b.t[-1]))
+    t0, t1 = max(span_a[0], span_b[0]), min(span_a[1], span_b[1])
+    if t1 < t0:
+        raise RunArgumentError(f"cannot compare: no common time span ({labels[0]} covers {span_a[0]:g} … "
+                               f"{span_a[1]:g} s, {labels[1]} {span_b[0]:g} … {span_b[1]:g} s)")
+    out = Comparison([], (t0, t1), span_a, span_b, only_a, only_b)
+    _check_names(out, a, b, bool(signals), labels)
+    out.problems += selected
+    _check_span(out, a, b, labels)
+    ia, ib = {n: k for k, n in enumerate(a.names)}, {n: k for k, n in enumerate(b.names)}
+    units = [(n, a.units[ia[n]], b.units[ib[n]]) for n in names if a.units[ia[n]] != b.units[ib[n]]]
+    if units:
+        out.problems.append(f"{_n(len(units), 'signal')} with different units in {labels[0]} and {labels[1]}, not "
+                            "compared: " + _listed([f"{n} ({ua or '1'} / {ub or '1'})" for n, ua, ub in units]))
+        skip = {n for n, _, _ in units}
+        names = [n for n in names if n not in skip]
+    ta, va = _right_values(a)
+    tb, vb = _right_values(b)
+    grid = np.union1d(ta, tb)
+    grid = grid[(grid >= t0) & (grid <= t1)]
+    for n in names:
+        out.rows.append(_row(n, a.units[ia[n]], grid, _interp(grid, ta, va[:, ia[n]]),
+                             _interp(grid, tb, vb[:, ib[n]])))
+    out.rows.sort(key=lambda r: (-r["rel"], -r["abs"]))
+    _check_nonfinite(out, labels, len(grid))
+    return out
+
+
+def _row(name: str, unit: str, grid: np.ndarray, xa: np.ndarray, xb: np.ndarray) -> dict[str, Any]:
+    fa, fb = np.isfinite(xa), np.isfinite(xb)
+    both = fa & fb
+    same = ~fa & ~fb & ((xa == xb) | (np.isnan(xa) & np.isnan(xb)))  # NaN in both, or the same inf
+    mismatch = ~both & ~same
+    bad_a, bad_b = mismatch & ~fa, mismatch & ~fb  # this side NaN/inf where the other is not the same
+    row = {"name": name, "unit": unit, "nonfinite_a": int((~fa).sum()), "nonfinite_b": int((~fb).sum()),
+           "mismatch": int(mismatch.sum()), "mismatch_a": int(bad_a.sum()), "mismatch_b": int(bad_b.sum()),
+           "from_a": float(grid[np.argmax(bad_a)]) if bad_a.any() else None,
+           "from_b": float(grid[np.argmax(bad_b)]) if bad_b.any() else None}
+    if mismatch.any():
+        k = int(np.argmax(mismatch))
+        return {**row, "abs": np.inf, "rel": np.inf, "t": float(grid[k]), "a": float(xa[k]), "b": float(xb[k])}
+    if not both.any():  # nothing finite to compare: NaN (or the same inf) in both everywhere
+        return {**row, "abs": 0.0, "rel": 0.0, "t": float(grid[0]), "a": float(xa[0]), "b": float(xb[0])}
+    d = np.where(both, np.abs(xa - xb), 0.0)
+    k = int(np.argmax(d))
+    scale = max(float(np.max(np.abs(xa[both]))), float(np.max(np.abs(xb[both]))))
+    rel = float(d[k]) / scale if scale else 0.0
+    return {**row, "abs": float(d[k]), "rel": rel, "t": float(grid[k]), "a": float(xa[k]), "b": float(xb[k])}
+
+
+def _check_names(out: Comparison, a: Any, b: Any, selected: bool, labels: tuple[str, str]) -> None:
+    models = f"{labels[0]} is {a.model}, {labels[1]} is {b.model}"
+    if not set(a.names) & set(b.names):
+        out.problems.append(f"no variable in common, 0 signals compared ({models}); {_n(len(out.only_a), 'variable')} "
+                            f"only in {labels[0]} ({_listed(out.only_a)}), {len(out.only_b)} only in {labels[1]} "
+                            f"({_listed(out.only_b)})")
+        return
+    if not selected and (out.only_a or out.only_b):
+        parts = [f"{len(names)} only in {label} ({_listed(names)})"
+                 for label, names in ((labels[0], out.only_a), (labels[1], out.only_b)) if names]
+        out.problems.append(f"not every variable is in both results: {'; '.join(parts)} (not compared; "
+                            "--signals compares a chosen set)")
+    if a.model != b.model:
+        out.notes.append(f"different model classes: {models}")
+
+
+def _check_span(out: Comparison, a: Any, b: Any, labels: tuple[str, str]) -> None:
+    (a0, a1), (b0, b1) = out.span_a, out.span_b
+    tol = 1e-9 * max(1.0, abs(a0), abs(a1), abs(b0), abs(b1))
+    status = {label: res for label, res in zip(labels, (a, b), strict=True) if res.status != "success"}
+    why = "; ".join(f"{label} is {res.status}" + (f": {' '.join(res.message.split())}" if res.message else "")
+                    for label, res in status.items())
+    if abs(a0 - b0) > tol or abs(a1 - b1) > tol:
+        out.problems.append(f"only the common time span {out.span[0]:g} … {out.span[1]:g} s is compared: "
+                            f"{labels[0]} covers {a0:g} … {a1:g} s, {labels[1]} {b0:g} … {b1:g} s"
+                            + (f"; {why}" if why else ""))
+    elif a.status != b.status:
+        out.problems.append(f"the runs ended differently: {why}")
+    elif status:
+        out.notes.append(f"both runs are {a.status}: {why}")
+
+
+def _check_nonfinite(out: Comparison, labels: tuple[str, str], n_points: int) -> None:
+    for side, other, x in ((labels[1], labels[0], "b"), (labels[0], labels[1], "a")):
+        count, start = f"mismatch_{x}", f"from_{x}"
+        bad = sorted((r for r in out.rows if r[count]), key=lambda r: (r[start], -r[count]))
+        if bad:
+            most = max(r[count] for r in bad)
+            out.problems.append(
+                f"{_n(len(bad), 'signal')} NaN or inf in {side} where {other} is finite, from t = {bad[0][start]:g} "
+                f"s: {_listed([r['name'] for r in bad])} (up to {most} of {n_points} compared points)")
+    same = [r["name"] for r in out.rows if not r["mismatch"] and (r["nonfinite_a"] or r["nonfinite_b"])]
+    if same:
+        out.notes.append(f"{_n(len(same), 'signal')} NaN or inf at the same points in both results (compared on the "
+                         f"finite points only): {_listed(same)}")
+
+
+def compare_results(a: Any, b: Any, signals: list[str] | str | None = None) -> list[dict[str, Any]]:
+    """The rows of :func:`compare` (largest relative difference first); see :class:`Comparison` for the keys.
+
+    Use :func:`compare` to also get what the comparison does not cover (NaN, different time spans, variables in
+    one result only).
+    """
+    return compare(a, b, signals).rows
