@@ -18,6 +18,7 @@ __all__ = [
     "LinearizationError",
     "ModalFileError",
     "ModelError",
+    "ModelWarning",
     "ParameterError",
     "ResultFileError",
     "ResultKeyError",
@@ -153,3 +154,8 @@ class ResultCheckWarning(UserWarning):
 class AnalysisWarning(UserWarning):
     """A linear-analysis result that rests on a numerical choice flexlib cannot confirm at this operating point
     (``lock="rigid"`` / ``mobility`` on loops closed through flexible bodies); the message says what to check."""
+
+
+class ModelWarning(UserWarning):
+    """A model that runs but is probably not what was meant: a component connected to nothing that has no effect
+    on the rest of the model (Modelica tools' check of unconnected components); the message names it."""

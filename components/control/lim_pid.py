@@ -8,6 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Input, Parameter, Variable, der, eq, no_event
+from flexlib.core.component import flag
 from flexlib.errors import ModelError, ParameterError
 
 from .interfaces import INIT_TYPES, PartialSVcontrol, check_choice, scalar
@@ -144,7 +145,8 @@ class LimPID(PartialSVcontrol):
         super().__init__(**kw)
         self.controller_type, self.init_type = controller_type, init_type
         self.with_I, self.with_D = "I" in controller_type, "D" in controller_type
-        self.use_feed_forward, self.strict = bool(use_feed_forward), bool(strict)
+        self.use_feed_forward = flag(self, "use_feed_forward", use_feed_forward)
+        self.strict = flag(self, "strict", strict)
         if self.use_feed_forward:
             self.u_ff = Input(unit="1", doc="Feed-forward signal")
 

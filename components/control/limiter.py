@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Parameter, ParameterError, eq, if_else, no_event
+from flexlib.core.component import flag
 
 from .interfaces import PartialSISO, scalar
 
@@ -60,7 +61,7 @@ class Limiter(PartialSISO):
 
     def __init__(self, strict: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.strict = bool(strict)
+        self.strict = flag(self, "strict", strict)
 
     def check(self, values: dict) -> None:
         hi, lo = scalar(values, "u_max"), scalar(values, "u_min")

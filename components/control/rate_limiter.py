@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Parameter, Variable, der, eq
+from flexlib.core.component import flag
 
 from .interfaces import INIT_TYPES, PartialSISO, check_choice
 from .limiter import limit
@@ -65,7 +66,7 @@ class RateLimiter(PartialSISO):
     def __init__(self, init_type: str = "steady_state", strict: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
         self.init_type = check_choice(self, "init_type", init_type, INIT_TYPES)
-        self.strict = bool(strict)
+        self.strict = flag(self, "strict", strict)
 
     def initial_equations(self) -> list:
         if self.init_type == "steady_state":

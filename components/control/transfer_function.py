@@ -8,6 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Parameter, Variable, der, eq, no_event
+from flexlib.core.variables import numeric_array
 from flexlib.errors import ParameterError
 
 from .interfaces import INIT_TYPES, PartialSISO, check_choice
@@ -73,8 +74,9 @@ class TransferFunction(PartialSISO):
                  init_type: str = "initial_state", init: dict | None = None, guess: dict | None = None,
                  state_select: dict | None = None, **kw: Any) -> None:
         super().__init__(**kw)  # x is declared below, so init/guess/state_select on it are applied afterwards
-        b, a = np.atleast_1d(np.asarray(b, dtype=float)), np.atleast_1d(np.asarray(a, dtype=float))
         name = type(self).__name__
+        b, a = (np.atleast_1d(numeric_array(v, f"{name}: {k}", "a vector of real numbers (highest power of s first)",
+                                            ParameterError)) for k, v in (("b", b), ("a", a)))
         if b.ndim != 1 or a.ndim != 1 or len(b) == 0 or len(a) == 0:
             raise ParameterError(f"{name}: b and a must be non-empty vectors, got {b!r} and {a!r}")
         if len(b) > len(a):
@@ -91,11 +93,15 @@ class TransferFunction(PartialSISO):
             self.x_scaled = Variable(unit="1", shape=self.nx, state_select="prefer", doc="Scaled states a_end * x")
         elif x_start is not None and np.size(x_start):
             raise ParameterError(f"{name}: x_start given, but a static gain (len(a) = 1) has no states")
-        for fixed, starts in ((True, init), (False, guess)):
+        for arg, fixed, starts in (("init", True, init), ("guess", False, guess), ("state_select", None, state_select)):
+            if starts is not None and not isinstance(starts, dict):
+                raise ParameterError(f"{name}: {arg} must be a dict {{'variable': value}}, got {type(starts).__name__} "
+                                     f"{starts!r}")
             for var, value in (starts or {}).items():
-                self.set_start(var, value, fixed=fixed)
-        for var, value in (state_select or {}).items():
-            self.set_state_select(var, value)
+                if fixed is None:
+                    self.set_state_select(var, value)
+                else:
+                    self.set_start(var, value, fixed=fixed)
 
     def check(self, values: dict) -> None:
         a = values.get("a")

@@ -14,11 +14,12 @@ from typing import Any
 
 import numpy as np
 
+from flexlib.core.component import flag
 from flexlib.errors import ParameterError
 
 from .fluid import Fluid
 
-__all__ = ["PositiveParameters", "store_fluid"]
+__all__ = ["PositiveParameters", "flag", "pressure_start", "store_fluid"]
 
 
 class PositiveParameters:
@@ -47,3 +48,22 @@ def store_fluid(node: Any, fluid: Fluid) -> None:
         raise ParameterError(f"{type(node).__name__}: fluid must be a Fluid record, got {fluid!r}")
     node.__dict__["fluid"] = fluid
     node.__dict__["fluid_record"] = dataclasses.astuple(fluid)
+
+
+def pressure_start(node: Any, value: Any) -> Any:
+    """``p_start`` of a chamber: None, or an absolute pressure [Pa] >= 0 (a gauge value such as ``-1e5`` is refused
+    naming the component class and the value; NaN is named later, at initialisation, with the instance path)."""
+    if value is None:
+        return None
+    from flexlib.core.variables import not_a_number
+
+    why = not_a_number(value)
+    if why is None and np.ndim(value) != 0:
+        why = "an array, not a number"
+    if why is not None:
+        raise ParameterError(f"{type(node).__name__}: p_start {'is None' if value is None else f'= {value!r} is {why}'}"
+                             "; give an absolute pressure [Pa]")
+    if float(value) < 0.0:
+        raise ParameterError(f"{type(node).__name__}: p_start = {value!r} Pa is negative; pressures are absolute "
+                             "[Pa], >= 0 (atmospheric: 1.01325e5 Pa)")
+    return value

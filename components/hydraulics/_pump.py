@@ -7,7 +7,7 @@ from typing import Any
 from flexlib import Component, Input, Variable, der, eq
 
 from ..mechanics.rotational.interfaces import Flange
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters, flag, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port
 
@@ -34,7 +34,7 @@ class PartialPump(PositiveParameters, Component):
     def __init__(self, use_flange: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
-        self.use_flange = bool(use_flange)
+        self.use_flange = flag(self, "use_flange", use_flange)
         if self.use_flange:
             self.flange = Flange(doc="Drive shaft; flange.tau is the driving torque into the pump")
             self.w = Variable(unit="rad/s", nominal=100.0, doc="Shaft angular velocity")

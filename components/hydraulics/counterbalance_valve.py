@@ -9,7 +9,7 @@ import casadi as ca
 
 from flexlib import Component, Parameter, Variable, der, eq
 
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters, flag, store_fluid
 from ._smooth import smooth_clamp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
@@ -164,9 +164,9 @@ class CounterbalanceValve(PositiveParameters, Component):
                  steady_start: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
-        self.use_dynamics = bool(use_dynamics)
-        self.steady_start = bool(steady_start) and self.use_dynamics
-        self.vented = bool(vented)
+        self.use_dynamics = flag(self, "use_dynamics", use_dynamics)
+        self.steady_start = flag(self, "steady_start", steady_start) and self.use_dynamics
+        self.vented = flag(self, "vented", vented)
         if (self.steady_start or not self.use_dynamics) and "p_c" not in self._starts:
             self.set_start("p_c", 0.0, fixed=False)  # a guess: p_c = p_open (algebraic) or der(p_c) = 0 fixes it
         # the openings are functions of pressures (nominal P_NOMINAL): weighted as the pressures are

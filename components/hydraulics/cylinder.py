@@ -11,7 +11,7 @@ from flexlib import Component, Parameter, Variable, der, eq, if_else
 from flexlib.components.mechanics.translational.interfaces import Flange
 from flexlib.errors import ParameterError
 
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters, flag, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
@@ -245,9 +245,9 @@ class DoubleActingCylinder(PositiveParameters, Component):
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
         self._physical_nominals()
-        self.x_fixed = bool(x_fixed)
-        self.p_fixed = bool(p_fixed)
-        self.use_drain = bool(use_drain)
+        self.x_fixed = flag(self, "x_fixed", x_fixed)
+        self.p_fixed = flag(self, "p_fixed", p_fixed)
+        self.use_drain = flag(self, "use_drain", use_drain)
         if self.use_drain:
             self.port_D = Port(doc="Drain of the rod seal")
 

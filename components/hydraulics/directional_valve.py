@@ -11,7 +11,7 @@ import numpy as np
 from flexlib import Component, Input, Parameter, Variable, assert_, der, eq, no_event
 from flexlib.errors import ModelError, ParameterError
 
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters, flag, store_fluid
 from ._smooth import smooth_ramp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
@@ -185,8 +185,8 @@ class DirectionalValve43(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.centre = centre
-        self.ideal_spool = bool(ideal_spool)
-        self.compensated = bool(compensated)
+        self.ideal_spool = flag(self, "ideal_spool", ideal_spool)
+        self.compensated = flag(self, "compensated", compensated)
         if self.ideal_spool:  # xs and vs follow from the command: no initial conditions of their own
             self.set_start("xs", 0.0, fixed=False)
             self.set_start("vs", 0.0, fixed=False)

@@ -26,14 +26,20 @@ MathWorks Simscape Fluids, *Isothermal Liquid Properties (IL)* block documentati
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import casadi as ca
+import numpy as np
 
-from flexlib.errors import ModelError
+from flexlib.core.variables import not_a_number
+from flexlib.errors import ParameterError
 
 __all__ = ["HLP46", "Fluid"]
+
+#: The numeric fields of :class:`Fluid` and their units (each checked when a record is made)
+_UNITS = {"rho_ref": "kg/m3", "p_ref": "Pa", "beta": "Pa", "nu": "m2/s", "x_air": "1", "n_air": "1", "p_min": "Pa"}
 
 
 @dataclass(frozen=True)
@@ -45,7 +51,8 @@ class Fluid:
     name : str
         Name used in reports.
     rho_ref : float
-        Density of the liquid at ``p_ref`` [kg/m3], > 0.
+        Density of the liquid at ``p_ref`` [kg/m3], > 0. Every numeric field must be a finite real number (not a
+        string, a bool or an array); a bad one raises :class:`~flexlib.ParameterError` naming the field.
     p_ref : float
         Reference (atmospheric) absolute pressure [Pa], > 0.
     beta : float
@@ -71,12 +78,25 @@ class Fluid:
     p_min: float = 1e3
 
     def __post_init__(self) -> None:
-        for field in ("rho_ref", "p_ref", "beta", "nu", "n_air", "p_min"):
+        if not isinstance(self.name, str):
+            raise ParameterError(f"Fluid: name must be a string, got {self.name!r}")
+        for field, unit in _UNITS.items():
             value = getattr(self, field)
-            if not value > 0:
-                raise ModelError(f"Fluid {self.name!r}: {field} must be > 0 (got {value!r})")
-        if not 0.0 <= self.x_air < 1.0:
-            raise ModelError(f"Fluid {self.name!r}: x_air must be in [0, 1) (got {self.x_air!r})")
+            label = f"Fluid {self.name!r}: {field}"
+            why = not_a_number(value)
+            if why is None and np.ndim(value) != 0:
+                why = "an array, not a number"
+            if why is not None:
+                raise ParameterError(f"{label} must be a real number [{unit}], got {value!r} ({why})")
+            v = float(value)
+            if not math.isfinite(v):
+                raise ParameterError(f"{label} must be finite, got {value!r} [{unit}]")
+            if field == "x_air":
+                if not 0.0 <= v < 1.0:
+                    raise ParameterError(f"{label} must be in [0, 1), got {value!r} [{unit}]")
+            elif not v > 0:
+                raise ParameterError(f"{label} must be > 0, got {value!r} [{unit}]")
+            object.__setattr__(self, field, v)  # a plain float: numpy scalars would leak into the equations
 
     @property
     def mu(self) -> float:

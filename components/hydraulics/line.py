@@ -7,7 +7,7 @@ from typing import Any
 
 from flexlib import Component, Parameter, Variable, der, eq
 
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters, flag, pressure_start, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
@@ -117,14 +117,15 @@ class Line(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
+        p_start = pressure_start(self, p_start)
         L, d = self.parameter_value("L"), self.parameter_value("d")
         if L is not None and d is not None:  # per-instance error weights (interfaces.P_NOMINAL)
             v_half = math.pi / 8.0 * float(d) ** 2 * float(L)
             for end in ("a", "b"):
                 set_nominal(self, f"m_{end}", fluid.rho_ref * v_half)
                 set_nominal(self, f"dm_{end}", chamber_mass_nominal(fluid, v_half))
-        self.use_turbulence = bool(use_turbulence)
-        self.use_inertance = bool(use_inertance)
+        self.use_turbulence = flag(self, "use_turbulence", use_turbulence)
+        self.use_inertance = flag(self, "use_inertance", use_inertance)
         for name in ("p_a", "p_b"):
             self.set_start(name, fluid.p_ref if p_start is None else p_start, fixed=p_start is not None)
         if use_inertance and p_start is not None:

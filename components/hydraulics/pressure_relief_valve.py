@@ -8,7 +8,7 @@ import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
 
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters, flag, store_fluid
 from ._smooth import smooth_ramp
 from .fluid import HLP46, Fluid
 from .interfaces import PartialTwoPort
@@ -103,7 +103,7 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
     def __init__(self, use_dynamics: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(fluid=fluid, **kw)
         store_fluid(self, fluid)
-        self.use_dynamics = bool(use_dynamics)
+        self.use_dynamics = flag(self, "use_dynamics", use_dynamics)
         if not self.use_dynamics and "dp_c" not in self._starts:
             self.set_start("dp_c", 0.0, fixed=False)  # algebraic (= dp) without dynamics
 

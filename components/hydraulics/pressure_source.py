@@ -6,7 +6,7 @@ from typing import Any
 
 from flexlib import Component, Input, Parameter, eq
 
-from ._checks import store_fluid
+from ._checks import flag, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port
 
@@ -44,7 +44,7 @@ class PressureSource(Component):
     def __init__(self, use_input: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
-        self.use_input = bool(use_input)
+        self.use_input = flag(self, "use_input", use_input)
         if self.use_input:
             self.p_in = Input(unit="Pa", doc="Imposed absolute pressure")
 

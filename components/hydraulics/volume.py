@@ -6,7 +6,7 @@ from typing import Any
 
 from flexlib import Component, Parameter, Variable, eq
 
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters, pressure_start, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
 
@@ -74,6 +74,7 @@ class Volume(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
+        p_start = pressure_start(self, p_start)
         V = self.parameter_value("V")
         if V is not None:  # per-instance error weights (interfaces.P_NOMINAL)
             set_nominal(self, "m", fluid.rho_ref * float(V))

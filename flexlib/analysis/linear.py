@@ -35,6 +35,8 @@ References
 from __future__ import annotations
 
 import difflib
+import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -45,6 +47,7 @@ import scipy.sparse.linalg as spla
 
 from flexlib.compile.cache import gather_values
 from flexlib.core.component import Component
+from flexlib.core.variables import not_a_number
 from flexlib.errors import LinearizationError
 from flexlib.results.result import Result
 
@@ -72,8 +75,68 @@ def _simulation(model: Any) -> Any:
     if isinstance(model, Simulation):
         return model
     if isinstance(model, Component):
+        if model._parent is not None:
+            raise LinearizationError(f"{model.path} is a sub-component of {type(model.root).__name__}; linearise the "
+                                     "top-level model")
         return Simulation(model)
-    raise TypeError(f"expected a flexlib Simulation or model, got {type(model).__name__}")
+    raise LinearizationError(f"expected a flexlib Simulation or model (Component), got {type(model).__name__} "
+                             f"{model!r:.60}")
+
+
+def names_argument(value: Any, what: str) -> list[str]:
+    """A list-of-names argument (``inputs``, ``outputs``, ``lock``) as a list of distinct strings.
+
+    A single string is one name (``inputs="src.k"`` is ``inputs=["src.k"]``), not a sequence of letters. Anything
+    else must be an iterable of strings without repeats; the error names the argument and the offending entry.
+    """
+    if value is None:
+        return []
+    if isinstance(value, str):
+        return [value]
+    if isinstance(value, (bytes, Mapping)) or not hasattr(value, "__iter__"):
+        raise LinearizationError(f"{what} must be a name or a list of names (str), got {type(value).__name__} "
+                                 f"{value!r:.80}")
+    names = list(value)
+    for name in names:
+        if not isinstance(name, str):
+            raise LinearizationError(f"{what}: entry {name!r} ({type(name).__name__}) is not a name; names are "
+                                     "strings such as 'src.k'")
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise LinearizationError(f"{what} names {', '.join(repr(n) for n in repeated)} more than once; give each "
+                                 "once")
+    return names
+
+
+def _real(value: Any, what: str, *, allow_inf: bool = False) -> float:
+    """A real-number argument (a time, a frequency bound), refusing strings, bools, NaN (and inf unless allowed)."""
+    why = not_a_number(value)
+    if why is None and np.ndim(value) != 0:
+        why = f"an array of shape {np.shape(value)}, not a number"
+    if why is not None:
+        raise LinearizationError(f"{what} = {value!r:.80} is {why}")
+    v = float(value)
+    if math.isnan(v) or (math.isinf(v) and not allow_inf):
+        raise LinearizationError(f"{what} = {value!r} is not finite")
+    return v
+
+
+def _flag(value: Any, what: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise LinearizationError(f"{what} must be True or False, got {value!r:.80}")
+    return bool(value)
+
+
+def _mapping(value: Any, what: str) -> dict[str, Any]:
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise LinearizationError(f"{what} must be a dict {{name: value}}, got {type(value).__name__} {value!r:.80}")
+    for key in value:
+        if not isinstance(key, str):
+            raise LinearizationError(f"{what}: key {key!r} ({type(key).__name__}) is not a name; keys are strings "
+                                     "such as 'joint1.phi'")
+    return dict(value)
 
 
 def operating_point(sim: Any, *, at: Result | None = None, t: float | None = None,
@@ -101,12 +164,27 @@ def operating_point(sim: Any, *, at: Result | None = None, t: float | None = Non
         model's, e.g. the pose of a static equilibrium.
     """
     m = sim.compiled
+    if at is not None and not isinstance(at, Result):
+        raise LinearizationError(f"at must be a flexlib Result (of a run of this model), got {type(at).__name__}")
+    t = None if t is None else _real(t, "t [s]")
+    steady_state = _flag(steady_state, "steady_state")
+    starts, params = _mapping(starts, "starts"), _mapping(params, "params")
     if at is None:
-        t0 = 0.0 if t is None else float(t)
+        t0 = 0.0 if t is None else t
         values, st = gather_values(sim.model)
-        for name, value in (starts or {}).items():
+        for name, value in starts.items():
             if name not in st:
-                raise LinearizationError(f"starts: {name!r} is not a variable of {m.name}")
+                if name in values or name in m.param_names:
+                    raise LinearizationError(f"starts: {name!r} is a parameter of {m.name}, not a variable; give "
+                                             f"it in params={{{name!r}: ...}}")
+                close = difflib.get_close_matches(name, list(st), n=3)
+                hint = f"; did you mean {', '.join(close)}?" if close else ""
+                raise LinearizationError(f"starts: {name!r} is not a variable of {m.name}{hint}")
+            why = not_a_number(value)
+            if why is None and np.ndim(value) != 0:
+                why = f"an array of shape {np.shape(value)}; give each element by name (e.g. 'body.r_0[1]')"
+            if why is not None:
+                raise LinearizationError(f"starts: {name} = {value!r:.80} is {why}")
             st[name] = (float(value), True)
         pvec = sim.parameter_vector(params, values)
         p = np.concatenate([pvec, np.zeros(m.n_relations)])
@@ -117,7 +195,9 @@ def operating_point(sim: Any, *, at: Result | None = None, t: float | None = Non
         raise LinearizationError("at=result needs the time t [s] of the operating point")
     if starts:
         raise LinearizationError("starts apply to the model's own initial point, not to at=result")
-    return result_point(sim, at, float(t), result_parameters(sim, at, params))
+    if steady_state:
+        raise LinearizationError("steady_state applies to the model's own initial point, not to at=result")
+    return result_point(sim, at, t, result_parameters(sim, at, params))
 
 
 def result_parameters(sim: Any, at: Result, params: dict[str, Any] | None = None) -> np.ndarray:
@@ -193,29 +273,89 @@ class LinearSystem:
         m = self._lin.m
         return np.asarray(m.nominal, dtype=float)[self._lin.diff]
 
-    def sensitivity(self, names: list[str]) -> tuple[np.ndarray, np.ndarray]:
+    def sensitivity(self, names: list[str] | str) -> tuple[np.ndarray, np.ndarray]:
         """``(C_n, D_n)``: the rows of ``C`` and ``D`` for other variables ``names`` at the same point."""
-        return self._lin.outputs(self.point, list(names))
+        return self._lin.outputs(self.point, names_argument(names, "names"))
 
     def frequency_response(self, f: Any, input: str | None = None, output: str | None = None) -> np.ndarray:
         """``H(j2πf) = C (j2πf I − A)⁻¹ B + D`` at frequencies ``f`` [Hz].
 
-        Returns an array ``(len(f), n_outputs, n_inputs)``, or ``(len(f),)`` for one ``input`` and ``output``.
+        Parameters
+        ----------
+        f : float or array_like
+            One frequency or a 1-D sequence of them [Hz], each finite and >= 0 (``f = 0``: the static gain). An
+            empty sequence gives an empty response.
+        input, output : str, optional
+            One input and one output of this system (default: all of them).
+
+        Returns
+        -------
+        ndarray of complex
+            ``(len(f), n_outputs, n_inputs)``, or ``(len(f),)`` for one ``input`` and ``output``.
+
+        Raises
+        ------
+        LinearizationError
+            A frequency that is not a finite number >= 0, a 2-D array, an unknown input or output name, or a
+            frequency at a pole of the system: ``j2πf`` an eigenvalue of ``A`` (``f = 0`` with a free rigid-body
+            mode or an integrator; the natural frequency of an undamped mode), where ``j2πf I − A`` is singular
+            and the response unbounded. The message names the frequency and the eigenvalue; leave that frequency
+            out (a grid that starts above 0 Hz for a free mechanism).
         """
-        freqs = np.atleast_1d(np.asarray(f, dtype=float))
+        freqs = self._frequencies(f)
         cols = [self._where(self.inputs, input, "input")] if input is not None else list(range(len(self.inputs)))
         rows = [self._where(self.outputs, output, "output")] if output is not None else list(range(len(self.outputs)))
         B, C, D = self.B[:, cols], self.C[rows], self.D[np.ix_(rows, cols)]
         n = self.A.shape[0]
         H = np.empty((len(freqs), len(rows), len(cols)), dtype=complex)
         for k, fk in enumerate(freqs):
-            H[k] = C @ np.linalg.solve(2j * np.pi * fk * np.eye(n) - self.A, B) + D
+            try:
+                X = np.linalg.solve(2j * np.pi * fk * np.eye(n) - self.A, B)
+            except np.linalg.LinAlgError:
+                X = None
+            if X is None or not np.all(np.isfinite(X)):
+                raise LinearizationError(self._at_pole(float(fk))) from None
+            H[k] = C @ X + D
         return H[:, 0, 0] if input is not None and output is not None else H
 
     @staticmethod
-    def _where(names: list[str], name: str, what: str) -> int:
-        if name not in names:
-            raise LinearizationError(f"{name!r} is not an {what} of this linear system ({', '.join(names)})")
+    def _frequencies(f: Any) -> np.ndarray:
+        """``f`` [Hz] as a 1-D float array, checked (:meth:`frequency_response`)."""
+        why = not_a_number(f)
+        if why is not None:
+            raise LinearizationError(f"frequency_response: f = {f!r:.80} is {why}; give frequencies in Hz (a number "
+                                     "or a 1-D sequence of numbers >= 0)")
+        freqs = np.atleast_1d(np.asarray(f, dtype=float))
+        if freqs.ndim != 1:
+            raise LinearizationError(f"frequency_response: f has shape {freqs.shape}; give a 1-D sequence of "
+                                     "frequencies [Hz] (flatten a grid first)")
+        bad = np.flatnonzero(~np.isfinite(freqs) | (freqs < 0.0))
+        if bad.size:
+            k = int(bad[0])
+            raise LinearizationError(f"frequency_response: f[{k}] = {float(freqs[k])!r} Hz is "
+                                     f"{'negative' if freqs[k] < 0 else 'not finite'}; frequencies are finite and "
+                                     f">= 0 Hz ({bad.size} such entr{'y' if bad.size == 1 else 'ies'})")
+        return freqs
+
+    def _at_pole(self, fk: float) -> str:
+        """Message for a frequency where ``j2πf I − A`` is singular: names the eigenvalue of ``A`` there."""
+        s = 2j * np.pi * fk
+        lam = np.linalg.eigvals(self.A) if self.A.size else np.zeros(0, complex)
+        near = lam[np.argmin(np.abs(lam - s))] if lam.size else s
+        if abs(near) <= 1e-9 * max(1.0, np.abs(lam).max(initial=0.0)):
+            what = "λ = 0: a free rigid-body mode or an integrator"
+        else:
+            what = f"λ = {near.real + 0.0:.6g}{near.imag:+.6g}j: an undamped mode of {abs(near) / (2 * np.pi):.6g} Hz"
+        return (f"frequency_response: f = {fk:g} Hz is at a pole of the system: j2πf is an eigenvalue of A "
+                f"({what}), where the response is unbounded; leave that frequency out")
+
+    @staticmethod
+    def _where(names: list[str], name: Any, what: str) -> int:
+        if not isinstance(name, str) or name not in names:
+            close = difflib.get_close_matches(name, names, n=3) if isinstance(name, str) else []
+            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            raise LinearizationError(f"{name!r} is not an {what} of this linear system ({', '.join(names) or 'none'})"
+                                     f"{hint}")
         return names.index(name)
 
 
@@ -253,6 +393,11 @@ class Linearizer:
         for name in inputs:
             k = self._pindex.get(name)
             if k is None:
+                if name in self._out_index:
+                    raise LinearizationError(
+                        f"input {name!r} is a variable of {self.m.name}, not a parameter: inputs are scalar "
+                        "parameters (a source's value such as 'src.k', a joint's tau_drive/f_drive); to drive a "
+                        "signal input, name the parameter of the source connected to it")
                 close = difflib.get_close_matches(name, self.m.param_names, n=3)
                 hint = f"; did you mean {', '.join(close)}?" if close else ""
                 raise LinearizationError(f"input {name!r} is not a parameter of {self.m.name}{hint} (inputs are "
@@ -355,7 +500,8 @@ class Linearizer:
         return LinearSystem(A, B, C, D, states, list(inputs), list(outputs), point, self)
 
 
-def linearize(model: Any, *, inputs: list[str] | tuple[str, ...] = (), outputs: list[str] | tuple[str, ...] = (),
+def linearize(model: Any, *, inputs: list[str] | tuple[str, ...] | str = (),
+              outputs: list[str] | tuple[str, ...] | str = (),
               at: Result | None = None, t: float | None = None, params: dict[str, Any] | None = None,
               steady_state: bool = False, starts: dict[str, float] | None = None) -> LinearSystem:
     """Linearise a model at an operating point (module docstring).
@@ -364,10 +510,10 @@ def linearize(model: Any, *, inputs: list[str] | tuple[str, ...] = (), outputs: 
     ----------
     model : Simulation or Component
         The model (a Component is built first).
-    inputs : list of str
-        Names of scalar parameters taken as inputs ``u``.
-    outputs : list of str
-        Names of variables taken as outputs.
+    inputs : list of str or str
+        Names of scalar parameters taken as inputs ``u`` (a single string is one name), each once.
+    outputs : list of str or str
+        Names of variables taken as outputs (a single string is one name), each once.
     at, t, params, steady_state, starts
         The operating point, as :func:`operating_point`: the model's initial point (``steady_state=True``: a
         static equilibrium; ``starts``: a pose), or the state of a result ``at`` at time ``t`` [s].
@@ -379,13 +525,18 @@ def linearize(model: Any, *, inputs: list[str] | tuple[str, ...] = (), outputs: 
     Raises
     ------
     LinearizationError
-        An unknown input or output name, or a DAE that is not index 1 at the point.
+        An unknown input or output name (with the closest names), a name given twice, an input that is not a
+        parameter, a bad operating-point argument (``t`` not a finite number, ``starts`` naming an unknown variable
+        or a parameter, or a non-numeric start value), or a DAE that is not index 1 at the point.
+    ParameterError
+        ``params`` naming an unknown parameter or giving a value its declaration refuses.
 
     Examples
     --------
     >>> lin = linearize(model, inputs=["force.k"], outputs=["mass.s"], steady_state=True)  # doctest: +SKIP
     >>> lin.frequency_response([1.0, 10.0], "force.k", "mass.s")                           # doctest: +SKIP
     """
+    inputs, outputs = names_argument(inputs, "inputs"), names_argument(outputs, "outputs")
     sim = _simulation(model)
     point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
-    return Linearizer(sim).linearize(point, list(inputs), list(outputs))
+    return Linearizer(sim).linearize(point, inputs, outputs)

@@ -25,7 +25,9 @@ not locked as if the loop were open.
 
 from __future__ import annotations
 
+import difflib
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -37,11 +39,16 @@ from flexlib.analysis.linear import (
     Linearizer,
     LinearSystem,
     OperatingPoint,
+    _flag,
+    _mapping,
+    _real,
     _simulation,
+    names_argument,
     operating_point,
     result_parameters,
     result_point,
 )
+from flexlib.core.variables import not_a_number
 from flexlib.errors import AnalysisWarning
 from flexlib.results.result import Result
 
@@ -111,6 +118,8 @@ class Modes:
 
         ``vibration_only`` (default) lists the oscillatory modes (complex eigenvalues) and counts the others
         (rigid-body and first-order modes: real eigenvalues of integrators, valves, over-damped motions)."""
+        if n is not None and (isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 0):
+            raise LinearizationError(f"Modes.table: n must be None or an integer >= 0, got {n!r:.60}")
         keep = np.flatnonzero(self.oscillatory) if vibration_only else np.arange(len(self.eigenvalues))
         lines = [f"{'mode':>4}  {'f [Hz]':>12}  {'zeta [%]':>9}  {'f_d [Hz]':>12}  dominant state"]
         for k in keep[:n]:
@@ -146,7 +155,10 @@ def _lock_channels(lin: Linearizer, joints: list[str]) -> tuple[list[str], list[
     known = {j: (par, coord) for j, par, coord in _joints(lin, False)}
     for j in joints:
         if j not in known:
-            raise LinearizationError(f"cannot lock {j!r}: not a Revolute or Prismatic joint of {lin.m.name} (a "
+            close = difflib.get_close_matches(j, list(known), n=3)
+            hint = f"did you mean {', '.join(close)}? " if close else (
+                f"lockable joints: {', '.join(list(known)[:8])}{' …' if len(known) > 8 else ''}; " if known else "")
+            raise LinearizationError(f"cannot lock {j!r}: not a Revolute or Prismatic joint of {lin.m.name} ({hint}a "
                                      "lockable joint has a coordinate phi/s and a drive parameter tau_drive/f_drive)")
     return [known[j][0] for j in joints], [known[j][1] for j in joints]
 
@@ -244,8 +256,6 @@ def mobility(model: Any, *, at: Result | None = None, t: float | None = None, pa
 def _locked_modes(lin: Linearizer, point: OperatingPoint, joints: list[str] | str
                   ) -> tuple[LinearSystem, np.ndarray, np.ndarray, list[str]]:
     auto = isinstance(joints, str)
-    if auto and joints != "rigid":
-        raise LinearizationError(f"lock={joints!r}: expected 'rigid' or a list of joint names")
     names = [j for j, _, _ in _joints(lin, True)] if auto else list(joints)
     if not names:
         raise LinearizationError(f"lock='rigid': {lin.m.name} has no revolute or prismatic joint")
@@ -285,9 +295,10 @@ def modal_analysis(model: Any, *, lock: list[str] | tuple[str, ...] | str | None
     ----------
     model : Simulation or Component
         The model.
-    lock : list of str or "rigid", optional
-        Joints (Revolute / Prismatic component names) held at their operating-point coordinate, or ``"rigid"``
-        for a largest independent set of them (the mechanism's rigid degrees of freedom). Default: free.
+    lock : list of str or str, optional
+        Joints (Revolute / Prismatic component names, each once) held at their operating-point coordinate (a
+        single name may be given as a string), or ``"rigid"`` for a largest independent set of them (the
+        mechanism's rigid degrees of freedom). Default: free.
     at, t, params, steady_state, starts
         The operating point (:func:`flexlib.analysis.operating_point`).
 
@@ -300,17 +311,25 @@ def modal_analysis(model: Any, *, lock: list[str] | tuple[str, ...] | str | None
     >>> modes = modal_analysis(model, steady_state=True)  # doctest: +SKIP
     >>> print(modes.table(6))                             # doctest: +SKIP
     """
+    lock = _lock_argument(lock)
     sim = _simulation(model)
     point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
     return _modes(Linearizer(sim), point, lock)
 
 
-def _modes(lin: Linearizer, point: OperatingPoint, lock: Any) -> Modes:
-    if lock is None or (not isinstance(lock, str) and not list(lock)):
+def _lock_argument(lock: Any) -> list[str] | str:
+    """``lock`` as ``"rigid"`` or a list of distinct joint names (a single other string is one joint name)."""
+    if isinstance(lock, str) and lock == "rigid":
+        return lock
+    return names_argument(lock, "lock")
+
+
+def _modes(lin: Linearizer, point: OperatingPoint, lock: list[str] | str) -> Modes:
+    if not lock:
         sys = lin.linearize(point, [], [])
         lam, V = _eig(sys.A, None)
         return Modes(lam, V, sys, [])
-    sys, lam, V, names = _locked_modes(lin, point, lock if isinstance(lock, str) else list(lock))
+    sys, lam, V, names = _locked_modes(lin, point, lock)
     return Modes(lam, V, sys, names)
 
 
@@ -353,27 +372,61 @@ def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, pose
     lock, params
         As :func:`modal_analysis`.
     n_modes : int
-        Oscillatory modes reported per point.
+        Oscillatory modes reported per point, >= 1.
     f_min, max_damping : float
         Report only vibration modes at or above ``f_min`` [Hz] with a damping ratio up to ``max_damping`` [1]
         (e.g. leave out slow closed-loop control modes and the well-damped valve-spool modes of a machine).
+
+    Raises
+    ------
+    LinearizationError
+        Both or neither of ``at`` and ``poses``; ``n_modes`` not an integer >= 1; ``f_min`` not a finite number
+        >= 0; ``max_damping`` not a number; ``times`` not a 1-D sequence of finite times within the result; a pose
+        that is not a dict; a bad ``lock`` (as :func:`modal_analysis`). An empty ``times`` or ``poses`` gives an
+        empty sweep.
     """
-    sim = _simulation(model)
+    if isinstance(n_modes, (bool, np.bool_)) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
+        raise LinearizationError(f"modal_sweep: n_modes must be an integer >= 1, got {n_modes!r:.60}")
+    f_min = _real(f_min, "modal_sweep: f_min [Hz]")
+    max_damping = _real(max_damping, "modal_sweep: max_damping [1]", allow_inf=True)
+    if f_min < 0.0:
+        raise LinearizationError(f"modal_sweep: f_min = {f_min!r} Hz is negative")
+    steady_state = _flag(steady_state, "modal_sweep: steady_state")
+    lock, params = _lock_argument(lock), _mapping(params, "modal_sweep: params")
     if (at is None) == (poses is None):
         raise LinearizationError("modal_sweep: give either at=result with times=[...] or poses=[{...}, ...]")
+    if at is not None and times is None:
+        raise LinearizationError("modal_sweep: at=result needs times=[...] [s]")
+    if at is not None:
+        why = not_a_number(times)
+        if why is not None or np.ndim(times) > 1:
+            raise LinearizationError(f"modal_sweep: times = {times!r:.80} is "
+                                     f"{why or 'not 1-D'}; give a 1-D sequence of times [s] within the result")
+        times = np.atleast_1d(np.asarray(times, dtype=float))
+        bad = np.flatnonzero(~np.isfinite(times))
+        if bad.size:
+            raise LinearizationError(f"modal_sweep: times[{int(bad[0])}] = {float(times[bad[0]])!r} s is not finite")
+    elif isinstance(poses, (str, Mapping)) or not hasattr(poses, "__iter__"):
+        raise LinearizationError(f"modal_sweep: poses must be a list of dicts {{name: value}}, got "
+                                 f"{type(poses).__name__} {poses!r:.60}")
+    sim = _simulation(model)
     lin = Linearizer(sim)
     points: list[OperatingPoint] = []
     if at is not None:
-        if times is None:
-            raise LinearizationError("modal_sweep: at=result needs times=[...] [s]")
+        if not isinstance(at, Result):
+            raise LinearizationError(f"modal_sweep: at must be a flexlib Result, got {type(at).__name__}")
         pvec = result_parameters(sim, at, params)
-        points = [result_point(sim, at, float(tk), pvec) for tk in np.atleast_1d(times)]
+        points = [result_point(sim, at, float(tk), pvec) for tk in times]
     else:
         pnames = set(sim.compiled.param_names)
-        for pose in poses or []:
-            pars = {**(params or {}), **{k: v for k, v in pose.items() if k in pnames}}
+        for j, pose in enumerate(poses or []):
+            pose = _mapping(pose, f"modal_sweep: poses[{j}]")
+            pars = {**params, **{k: v for k, v in pose.items() if k in pnames}}
             starts = {k: v for k, v in pose.items() if k not in pnames}
-            points.append(operating_point(sim, params=pars, steady_state=steady_state, starts=starts))
+            try:
+                points.append(operating_point(sim, params=pars, steady_state=steady_state, starts=starts))
+            except LinearizationError as exc:
+                raise LinearizationError(f"modal_sweep: poses[{j}]: {exc}") from None
     f = np.full((len(points), n_modes), np.nan)
     z = np.full((len(points), n_modes), np.nan)
     all_modes = []

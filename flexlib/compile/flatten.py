@@ -10,6 +10,7 @@ rule) and the whole model by maximum matching, naming the culprits.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -21,7 +22,7 @@ from flexlib.compile.structure import culprits, group_by_owner, incidence, match
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
 from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, Variable, lookup, render, render_many
-from flexlib.errors import BalanceError, FlexlibError, ModelError, StructuralSingularityError
+from flexlib.errors import BalanceError, FlexlibError, ModelError, ModelWarning, StructuralSingularityError
 
 __all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
 
@@ -135,6 +136,11 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
         Too many or too few equations (names the components involved).
     StructuralSingularityError
         As many equations as unknowns, but no perfect matching.
+
+    Warns
+    -----
+    ModelWarning
+        A component connected to nothing that has no effect on the model (:func:`unconnected_components`).
     """
     if root._parent is not None:
         raise ModelError(f"{root.path}: flatten the top-level model, not a sub-component")
@@ -227,6 +233,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
     _check_symbols(flat)
     if check:
         check_balance(flat.name, flat.variables, flat.equations)
+    _warn_unconnected(root, nodes, equations + initial)
     return flat
 
 
@@ -441,6 +448,67 @@ def _check_inputs(root: Component, nodes: list[Node]) -> None:
                     where = "top-level inputs are not supported; " if node is root else ""
                     raise ModelError(f"input {node._label(name)} [{decl.unit}] is not connected "
                                      f"({where}connect it to a signal source)")
+
+
+def unconnected_components(root: Component, nodes: list[Node], rows: list[FlatEquation]) -> list[Component]:
+    """The components that are connected to nothing and have no effect on the rest of the model.
+
+    The rule (Modelica tools check unconnected components; an unconnected flow is zero, so an open connector is
+    legal): a component below the root that has connectors of its own (:class:`Connector` children) is reported
+    when
+
+    - no connection made outside it reaches it: none of its connectors, signal inputs/outputs or those of its
+      sub-components is connected by an enclosing model;
+    - it has no dynamics of its own: no ``der()`` in its equations (a mass, an inertia or a free body left
+      unconnected is a free motion, which is a legitimate model);
+    - nothing else uses it: no equation outside it contains one of its parameters or variables (a World that
+      gives the bodies of its model their gravity is used even with its frame unconnected).
+
+    A component without connectors (a block of equations, a signal source whose output is recorded) is never
+    reported; neither is a component with a connector left open while another one is connected. Only the
+    outermost such component is reported, not its parts.
+    """
+    reached: set[int] = set()
+    for node in nodes:
+        if not isinstance(node, Component):
+            continue
+        for pair in node._connections:
+            for kind, item in pair:
+                holder = item if kind == "connector" else item.node
+                while holder is not None and holder is not node:
+                    reached.add(id(holder))
+                    holder = holder._parent
+    found: list[Component] = []
+    for node in nodes:
+        if (node is root or not isinstance(node, Component) or id(node) in reached
+                or not any(isinstance(c, Connector) for c in node._children.values())):
+            continue
+        if any(node.path.startswith(f.path + ".") for f in found):
+            continue
+        prefix = node.path + "."
+        own = [e.expr for e in rows if e.owner == node.path or e.owner.startswith(prefix)]
+        if own and any((info := lookup(sym)) is not None and info.kind == "der"
+                       for sym in ca.symvar(ca.vertcat(*own))):
+            continue  # a free motion of its own
+        syms = [info.sym for part in node.walk() for info in part._infos]
+        syms += [info._der.sym for part in node.walk() for info in part._infos if info._der is not None]
+        others = [e.expr for e in rows if not (e.owner == node.path or e.owner.startswith(prefix))]
+        if syms and others and ca.depends_on(ca.vertcat(*others), ca.vertcat(*syms)):
+            continue  # used by other components (World's gravity)
+        found.append(node)
+    return found
+
+
+def _warn_unconnected(root: Component, nodes: list[Node], rows: list[FlatEquation]) -> None:
+    """A :class:`~flexlib.errors.ModelWarning` naming each component connected to nothing
+    (:func:`unconnected_components`)."""
+    for node in unconnected_components(root, nodes, rows):
+        ports = [name for name, c in node._children.items() if isinstance(c, Connector)]
+        warnings.warn(
+            f"{node.path} ({type(node).__name__}) is connected to nothing: none of its connectors "
+            f"({', '.join(ports)}) is connected and nothing else in {type(root).__name__} uses it, so it has no "
+            f"effect on the model. Connect it (self.connect(self.{node.path}.{ports[0]}, ...)) or remove it",
+            ModelWarning, stacklevel=2)
 
 
 def _check_local_balance(nodes: list[Node], equations: list[FlatEquation]) -> None:

@@ -12,6 +12,7 @@ instance gets its own copy, built again from the template's constructor argument
 from __future__ import annotations
 
 import difflib
+from collections.abc import Mapping
 from typing import Any, ClassVar
 
 import casadi as ca
@@ -27,10 +28,11 @@ from flexlib.core.variables import (
     SymInfo,
     Variable,
     lookup,
+    numeric_array,
 )
 from flexlib.errors import ConnectError, ModelError, ParameterError
 
-__all__ = ["Component", "Connector", "Model", "Node"]
+__all__ = ["Component", "Connector", "Model", "Node", "flag"]
 
 
 #: Per class: its declarations and its sub-component templates in MRO order (one walk of the MRO per class,
@@ -43,6 +45,24 @@ _CLASS_MEMBERS: dict[type, tuple[tuple[int, ...], dict[str, Declaration], list[t
 
 #: Bumped whenever a node is attached to a parent: a path cached under an older generation is recomputed.
 _TREE_GENERATION = [0]
+
+
+def flag(node: Any, name: str, value: Any) -> bool:
+    """A structural on/off option of a component (``use_support``, ``strict``, ``use_flange``, ...) as a bool.
+
+    ``bool("False")`` is True, so a string, None or a number other than 0/1 given for a flag would silently switch the
+    option on: it is refused with a :class:`~flexlib.errors.ParameterError` naming the component class, the option and
+    the value.
+    """
+    import numpy as np
+
+    from flexlib.errors import ParameterError
+
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)) and value in (0, 1):
+        return bool(value)
+    raise ParameterError(f"{type(node).__name__}: {name} must be True or False, got {value!r}")
 
 
 def _class_members(cls: type) -> tuple[dict[str, Declaration], list[tuple[str, Node]]]:
@@ -107,15 +127,38 @@ class Node(metaclass=_NodeMeta):
                 self._add_child(name, value._clone())
         for name, value in params.items():
             self._assign(name, value)
-        for name, value in (init or {}).items():
-            self.set_start(name, value, fixed=True)
-        for name, value in (guess or {}).items():
-            self.set_start(name, value, fixed=False)
-        if state_select is not None and not isinstance(state_select, dict):
+        for what, given in (("init", init), ("guess", guess)):
+            if given is not None and not isinstance(given, Mapping):
+                raise ModelError(f"{type(self).__name__}: {what} must be a dict {{variable name: start value}}, "
+                                 f"got {type(given).__name__} {given!r}")
+            for name, value in (given or {}).items():
+                self._start_target(name, what).set_start(name.rpartition(".")[2], value, fixed=what == "init")
+        if state_select is not None and not isinstance(state_select, Mapping):
             raise ModelError(f"{type(self).__name__}: state_select must be a dict {{variable: 'always' | "
                              f"'prefer' | 'default' | 'avoid' | 'never'}}, got {state_select!r}")
         for name, value in (state_select or {}).items():
-            self.set_state_select(name, value)
+            self._start_target(name, "state_select").set_state_select(name.rpartition(".")[2], value)
+
+    def _start_target(self, name: Any, what: str) -> Node:
+        """The node that owns the variable ``name`` of an ``init``/``guess``/``state_select`` dict: this one, or for
+        a dotted name (``"flange.phi"``) the sub-component or connector it names."""
+        if not isinstance(name, str):
+            raise ModelError(f"{type(self).__name__}: {what} key {name!r} ({type(name).__name__}) is not a variable "
+                             "name; keys are strings such as 's' or 'flange.phi'")
+        node: Node = self
+        parts = name.split(".")
+        for k, part in enumerate(parts[:-1]):
+            child = node._children.get(part)
+            if child is None:
+                known = ", ".join(sorted(node._children)) or "none yet"
+                hint = sorted(difflib.get_close_matches(part, list(node._children), n=3))
+                raise ModelError(
+                    f"{type(self).__name__}: {what} key {name!r}: {type(node).__name__} has no sub-component or "
+                    f"connector {'.'.join(parts[:k + 1])!r}" + (f"; did you mean {', '.join(hint)}?" if hint else "")
+                    + f" (known: {known}; a sub-component assigned in the constructor after super().__init__() "
+                    "takes its own init=... instead)")
+            node = child
+        return node
 
     # -- construction -------------------------------------------------------------------------
     def _clone(self) -> Node:
@@ -270,11 +313,25 @@ class Node(metaclass=_NodeMeta):
             raise
 
     def _unknown(self, name: str, what: str) -> str:
-        pool = [n for n, d in self._decls.items() if (what != "parameter") or isinstance(d, Parameter)]
+        is_param = what == "parameter"
+        pool = [n for n, d in self._decls.items() if isinstance(d, Parameter) == is_param]
+        where = self.path or ("(model)" if self._connections else "(unnamed)")
+        head = f"{type(self).__name__} {where}: unknown {what} {name!r}"
+        if not isinstance(name, str):
+            return f"{head}: a {what} name is a string (known: {', '.join(sorted(pool)) or 'none'})"
+        decl = self._decls.get(name)
+        if decl is not None and not is_param:  # a parameter given as a start value / state choice
+            path = self.path or "<component path>"
+            return (f"{head}: {name} is a parameter [{decl.unit}], not a variable; set its value as "
+                    f"{type(self).__name__}({name}=...), or per run with params={{'{path}.{name}': ...}} "
+                    f"(variables: {', '.join(sorted(pool)) or 'none'})")
+        if decl is not None:  # a variable given as a parameter
+            return (f"{head}: {name} is a variable [{decl.unit}]; give its start value with init={{'{name}': ...}} "
+                    f"(an initial condition) or guess={{'{name}': ...}} "
+                    f"(parameters: {', '.join(sorted(pool)) or 'none'})")
         close = difflib.get_close_matches(name, pool, n=3)
         hint = f"; did you mean {', '.join(close)}?" if close else f"; known: {', '.join(sorted(pool)) or 'none'}"
-        where = self.path or ("(model)" if self._connections else "(unnamed)")
-        return f"{type(self).__name__} {where}: unknown {what} {name!r}{hint}"
+        return f"{head}{hint}"
 
     def set_start(self, name: str, value: Any, fixed: bool | str = True) -> None:
         """Set the start value of variable ``name``.
@@ -287,11 +344,15 @@ class Node(metaclass=_NodeMeta):
         decl = self._decls.get(name)
         if not isinstance(decl, Variable):
             raise ModelError(self._unknown(name, "variable"))
-        if isinstance(fixed, str) and fixed != DEFAULT_START:
+        if fixed != DEFAULT_START if isinstance(fixed, str) else not isinstance(fixed, (bool, np.bool_, int)):
             raise ModelError(f"{self._label(name)}: fixed must be True, False or {DEFAULT_START!r}, got {fixed!r}")
-        arr = np.array(value, dtype=float)
+        label = self.param_label(name)
+        wanted = (f"a real number [{decl.unit}]" if not decl.shape else
+                  f"an array of real numbers of shape {decl.shape} [{decl.unit}]")
+        arr = numeric_array(value, f"{label}: start value", wanted, ModelError)
         if arr.size != decl.size:
-            raise ModelError(f"{self._label(name)}: start value has {arr.size} elements, variable has {decl.size}")
+            raise ModelError(f"{label}: start value {value!r} has {arr.size} elements, the variable "
+                             f"{'is a scalar' if decl.size == 1 else f'has {decl.size} (shape {decl.shape})'}")
         self._starts[name] = (arr.reshape(decl.shape) if decl.shape else arr.reshape(()),
                               DEFAULT_START if fixed == DEFAULT_START else bool(fixed))
 
@@ -409,9 +470,13 @@ class Component(Node):
     Parameters
     ----------
     init : dict, optional
-        ``{variable: value}`` initial conditions (start value with ``fixed=True``).
+        ``{variable: value}`` initial conditions (start value with ``fixed=True``). A dotted name
+        (``"flange_a.s"``) reaches a variable of a connector or sub-component that exists when the constructor
+        runs (declared at class level). Values are real numbers (arrays for array variables): a string, a bool,
+        None or a complex number is refused naming the component, the variable and the value; a parameter named
+        here is refused with how to set it (``Mass(m=2)``, ``run(params={"mass.m": 2})``).
     guess : dict, optional
-        ``{variable: value}`` start values used only as initialisation guesses.
+        ``{variable: value}`` start values used only as initialisation guesses (checked as ``init``).
     state_select : dict, optional
         ``{variable: "never" | "avoid" | "default" | "prefer" | "always"}`` (or :class:`~flexlib.StateSelect`
         members): this instance's preference for choosing the variable as a state, overriding the declaration
@@ -419,7 +484,8 @@ class Component(Node):
     doc : str, optional
         Description of this instance.
     **params
-        Parameter values (SI), overriding declared defaults.
+        Parameter values (SI), overriding declared defaults: real numbers or arrays of them of the declared shape
+        (strings, bools, None and complex numbers are refused, see :meth:`Parameter.check`).
 
     Notes
     -----

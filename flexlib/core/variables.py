@@ -14,8 +14,10 @@ variables, and how the compiler names every equation and variable.
 
 from __future__ import annotations
 
+import decimal
 import enum
 import math
+import numbers
 import weakref
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -290,7 +292,12 @@ class Parameter(Declaration):
         return ", ".join(parts)
 
     def check(self, path: str, value: Any) -> np.ndarray:
-        """Return ``value`` as a float array of the declared shape, or raise naming ``path``."""
+        """Return ``value`` as a float array of the declared shape, or raise naming ``path``.
+
+        Raises :class:`~flexlib.ParameterError` for a value that is not a real number or an array of them (a
+        string such as ``'1.6e9'``, a bool, None, a complex number), of another shape (a vector of the declared
+        size is reshaped), not finite, or outside the declared bounds; the message names ``path`` and the value.
+        """
         from flexlib.errors import ParameterError
 
         if not self.shape and type(value) in (float, int):  # the usual scalar: plain float comparisons
@@ -298,15 +305,17 @@ class Parameter(Declaration):
             if (math.isfinite(v) and (self.min is None or v >= self.min) and (self.max is None or v <= self.max)
                     and (self.gt is None or v > self.gt) and (self.lt is None or v < self.lt)):
                 return np.array(v)
-        try:
-            arr = np.array(value, dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise ParameterError(f"{path}: parameter value {value!r} is not numeric") from exc
+        wanted = (f"a real number [{self.unit}]" if not self.shape else
+                  f"an array of real numbers of shape {self.shape} [{self.unit}]")
+        arr = numeric_array(value, f"{path}: parameter value", wanted, ParameterError)
         if arr.shape != self.shape:
             if arr.size == self.size and self.shape:
                 arr = arr.reshape(self.shape)
             else:
-                raise ParameterError(f"{path}: parameter has shape {self.shape}, got value of shape {arr.shape}")
+                what = " (a scalar)" if not self.shape else ""
+                shown = arr.tolist() if arr.size <= 12 else f"<{arr.size} values>"
+                raise ParameterError(f"{path}: parameter has shape {self.shape}{what}, got value of shape {arr.shape}: "
+                                     f"{shown!r} [{self.unit}]")
         shown = value if np.ndim(value) == 0 else arr.tolist()
         if not np.all(np.isfinite(arr)):
             raise ParameterError(f"{path}: parameter value {shown!r} is not finite")
@@ -322,6 +331,100 @@ class Parameter(Declaration):
 
 
 _STATE_SELECT = {s.name: s for s in StateSelect}
+
+
+def not_a_number(value: Any) -> str | None:
+    """Why ``value`` (a scalar or a nested list/array) is not a real number or array of them, or None if it is.
+
+    Refused: strings (``'1.6e9'`` would otherwise be parsed by numpy), booleans (``True`` would be 1.0), None,
+    complex numbers, and anything else numpy would only hold as an object.
+    """
+    if value is None:
+        return "None, not a number"
+    if isinstance(value, (str, bytes, np.str_, np.bytes_)):
+        return "a string, not a number"
+    if isinstance(value, (bool, np.bool_)):
+        return "a bool, not a number"
+    if isinstance(value, (numbers.Real, decimal.Decimal)):
+        return None
+    if isinstance(value, (complex, np.complexfloating)):
+        return "complex, not a real number"
+    if isinstance(value, (ca.SX, ca.MX)):
+        return "a symbolic expression, not a number"
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nested lists
+        return "not a number or a regular array of numbers"
+    kind = arr.dtype.kind
+    if kind in "iuf":
+        if isinstance(value, (list, tuple)) and _has_bool(value):  # numpy reads [1.0, True] as [1.0, 1.0]
+            return "a sequence with a bool entry, not only numbers"
+        return None
+    if kind == "b":
+        return "a bool, not a number" if arr.ndim == 0 else "an array of bools, not of numbers"
+    if kind in "USa":
+        return "a string, not a number" if arr.ndim == 0 else "an array of strings, not of numbers"
+    if kind == "c":
+        return "complex, not a real number"
+    if kind == "O":
+        if arr.ndim == 0:
+            return f"of type {type(value).__name__}, not a number"
+        for item in arr.flat:
+            why = not_a_number(item)
+            if why is not None:
+                return f"an array with an entry {item!r} ({why})"
+        return None
+    return f"of type {type(value).__name__}, not a number"
+
+
+def _plain_numbers(seq: list | tuple) -> bool:
+    """True if a nested list/tuple holds only Python floats and ints (not bools) and numpy reals."""
+    for x in seq:
+        t = type(x)
+        if t is float or t is int:
+            continue
+        if t in (list, tuple):
+            if not _plain_numbers(x):
+                return False
+        elif not isinstance(x, (np.floating, np.integer)):
+            return False
+    return True
+
+
+def _has_bool(seq: list | tuple) -> bool:
+    """True if a nested list/tuple holds a bool anywhere."""
+    return any(isinstance(x, (bool, np.bool_)) or (isinstance(x, (list, tuple)) and _has_bool(x)) for x in seq)
+
+
+def numeric_array(value: Any, what: str, accepted: str, error: type[Exception]) -> np.ndarray:
+    """``value`` as a float array, refusing strings, bools, None, complex and other non-numbers.
+
+    Parameters
+    ----------
+    value : Any
+        The value received (a number or a nested list/array of numbers).
+    what : str
+        How the message names it (``"mass.m: parameter value"``).
+    accepted : str
+        What is accepted, appended to the message (``"a real number [kg]"``).
+    error : type
+        The exception class to raise.
+    """
+    if (type(value) is np.ndarray and value.dtype.kind in "iuf") or type(value) in (float, int):
+        return np.array(value, dtype=float)  # the usual cases: nothing to refuse
+    if type(value) in (list, tuple) and _plain_numbers(value):  # a (nested) list of floats and ints
+        try:
+            return np.array(value, dtype=float)
+        except ValueError:  # ragged
+            pass
+    why = not_a_number(value)
+    if why is None:
+        try:
+            return np.array(value, dtype=float)
+        except (TypeError, ValueError, OverflowError) as exc:
+            why = f"not numeric ({exc})"
+    shown = "is None" if value is None else f"{value!r} is {why}"
+    raise error(f"{what} {shown}; give {accepted}")
 
 
 class Variable(Declaration):
@@ -372,10 +475,14 @@ class Variable(Declaration):
         self.derivative = derivative
         self.error_test = bool(error_test)
         self.intermediate = bool(intermediate)
-        if state_select not in _STATE_SELECT:
+        if not isinstance(state_select, str) or state_select not in _STATE_SELECT:
             raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)}, got {state_select!r}")
-        if not nominal > 0:
-            raise ModelError(f"nominal must be > 0, got {nominal!r}")
+        if not_a_number(nominal) is not None or np.ndim(nominal) != 0 or not float(nominal) > 0:
+            raise ModelError(f"nominal must be a number > 0, got {nominal!r}")
+        numeric_array(start, "Variable start value", "a real number (an array of them for an array variable)",
+                      ModelError)  # NaN is allowed here: it is named at initialisation with the variable's path
+        if not isinstance(fixed, (bool, np.bool_, int)):
+            raise ModelError(f"fixed must be True or False, got {fixed!r}")
         self.start = start
         self.fixed = bool(fixed)
         self.nominal = float(nominal)

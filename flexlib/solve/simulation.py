@@ -26,7 +26,7 @@ from flexlib.compile.constants import assumptions_hold, check_assumed
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.compile.pipeline import Build, build, build_key
 from flexlib.core.component import Component
-from flexlib.core.variables import Parameter
+from flexlib.core.variables import Parameter, numeric_array
 from flexlib.errors import (
     NativeSolverError,
     ParameterError,
@@ -210,11 +210,11 @@ class Simulation:
                 for (label, _), v in zip(decl.element_names(name), flat, strict=True):
                     vec[self._param_index[label]] = v
             else:  # one element of an array parameter: checked below with the rest of the array
-                try:
-                    v = float(np.asarray(value, dtype=float))
-                except (TypeError, ValueError) as exc:
-                    raise ParameterError(f"{name}: parameter value {value!r} is not a number") from exc
-                vec[self._param_index[name]] = v
+                arr = numeric_array(value, f"{name}: parameter value", f"a real number [{decl.unit}]", ParameterError)
+                if arr.ndim:
+                    raise ParameterError(f"{name}: parameter value {value!r} is an array; give one element as a real "
+                                         f"number [{decl.unit}]")
+                vec[self._param_index[name]] = float(arr)
             touched.setdefault(id(node), (node, set()))[1].add(decl_name)
         for node, names in touched.values():
             current: dict[str, np.ndarray] = {}

@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Component, Connector, Flow, Parameter, Potential, Variable, der, eq
+from flexlib.core.component import flag
 
 __all__ = [
     "Flange",
@@ -96,7 +97,7 @@ class PartialOneFlangeAndSupport(Component):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = bool(use_support)
+        self.use_support = flag(self, "use_support", use_support)
         if self.use_support:
             self.support = Flange(doc="Support (housing) flange")
 
