@@ -8,11 +8,12 @@ test's temporary directory. Regenerate deliberately: ``python -m models.pump_tru
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 import flexlib as fl
 from flexlib.errors import ResultFileError
-from flexlib.models.pump_truck.goldens import GOLDENS, compare, golden_path, make_golden, report
+from flexlib.models.pump_truck.goldens import GOLDENS, SPREAD, TWINS, compare, golden_path, make_golden, report
 from flexlib.registry import get_model
 
 
@@ -59,9 +60,31 @@ def test_a_perturbed_flow_fails_and_a_missing_golden_is_named(tmp_path, hold_run
 
 
 def test_goldens_record_how_they_were_made(tmp_path):
-    path = make_golden("hold", dt=5.0, directory=tmp_path)
+    path = make_golden("hold", dt=5.0, directory=tmp_path, twins=TWINS[:1])
     g = fl.load_result(path)
     assert g.metadata["golden_scenario"] == "hold"
     assert g.metadata["golden_command"].startswith("python -m models.pump_truck.goldens --regenerate")
     assert "rtol" in g.metadata["golden_run"] and g.metadata["golden_commit"]
     assert "joint2.F_hinge" in g.names and g.t[-1] == pytest.approx(30.0)
+    # the measured round-off spread of every signal: the hold scenario is determined to far below its tolerance
+    p = g["cylinder2.cylinder.p_A"]
+    assert SPREAD.format("cylinder2.cylinder.p_A") in g.names
+    assert np.all(g[SPREAD.format("cylinder2.cylinder.p_A")] < 1e-3 * (1e5 + 0.01 * np.ptp(p)))
+
+
+def test_the_measured_spread_widens_only_its_own_sample(hold_run):
+    """A golden sample 2 tolerances off fails; with a recorded round-off spread of 1.5 tolerances at that sample it
+    passes, and the same offset one sample later (no spread there) still fails, its report naming the spread."""
+    golden = fl.load_result(golden_path("hold"))
+    name = "cylinder1.cylinder.p_A"
+    k, ks = golden.names.index(name), golden.names.index(SPREAD.format(name))
+    tol = 1e5 + 0.01 * np.ptp(golden.values[:, k])
+    golden.values[40, k] += 2.0 * tol
+    assert [m.name for m in compare(hold_run, golden)] == [name]
+    golden.values[40, ks] = 1.5 * tol
+    assert compare(hold_run, golden) == []
+    golden.values[41, k] += 2.0 * tol
+    bad = compare(hold_run, golden)
+    assert [(m.name, m.t) for m in bad] == [(name, golden.t[41])]
+    golden.values[41, ks] = 0.5 * tol
+    assert "round-off spread" in compare(hold_run, golden)[0].line()
