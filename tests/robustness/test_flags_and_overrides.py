@@ -13,7 +13,7 @@ import pytest
 
 import flexlib as fl
 from flexlib import ParameterError, Variable, der, eq
-from flexlib.components.control import LimPID, Limiter, RateLimiter, TransferFunction
+from flexlib.components.control import Limiter, LimPID, RateLimiter, TransferFunction
 from flexlib.components.mechanics.rotational import Torque
 from flexlib.components.mechanics.translational import Force
 

@@ -216,7 +216,8 @@ def test_body_negative_mass_element_is_named(pendulum):
 
 
 def test_body_inertia_element_not_a_number(pendulum):
-    with pytest.raises(fl.ParameterError, match=r"^body\.I\[0,0\]: parameter value 'abc' is not a number"):
+    with pytest.raises(fl.ParameterError,
+                       match=r"^body\.I\[0,0\]: parameter value 'abc' is a string, not a number; give a real number"):
         pendulum.run(0.1, params={"body.I[0,0]": "abc"})
 
 
