@@ -88,9 +88,24 @@ def beam_modal_data(n_elements: int = 32, n_fixed_modes: int = 16, geometric_sti
                               title="seed-001 pinned-free beam")
 
 
+def _modal_data(what: str, data: Any) -> ModalData:
+    """``data`` checked to be a ModalData (a path or an FE model is named, with how to get modal data)."""
+    if not isinstance(data, ModalData):
+        raise RunArgumentError(f"{what}: argument 'data' must be the beam's ModalData (beam_modal_data(), or "
+                               f"ModalData.read(path) for a file), got {type(data).__name__} {data!r:.60}")
+    return data
+
+
 def bending_modes(data: ModalData) -> list[int]:
     """Indices of the in-plane (x–y) bending modes, lowest frequency first (no z translation, no x or y rotation,
-    more transverse than axial)."""
+    more transverse than axial).
+
+    Raises
+    ------
+    RunArgumentError
+        ``data`` is not a ModalData.
+    """
+    data = _modal_data("bending_modes", data)
     out = []
     for k in np.argsort(data.frequencies, kind="stable"):
         t, r = data.translational_modes[k], data.rotational_modes[k]
@@ -192,10 +207,11 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
     Raises
     ------
     RunArgumentError
-        ``n_modes`` not an int, negative, or more than the data's in-plane bending modes (a ``ValueError``).
+        ``n_modes`` not an int, negative, or more than the data's in-plane bending modes; ``data`` not a ModalData;
+        ``compiled`` not a bool (a ``ValueError``).
     """
     _check_count("simulate: n_modes", n_modes, RunArgumentError)
-    data = beam_modal_data() if data is None else data
+    data = beam_modal_data() if data is None else _modal_data("simulate", data)
     modes = _bending_subset("simulate: n_modes", n_modes, data, RunArgumentError)
     return simulate_modes(modes, data=data, geometric_stiffening=geometric_stiffening, rtol=rtol, atol=atol,
                           dt_fine=dt_fine, compiled=compiled)
@@ -204,6 +220,9 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
 def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: bool = True, rtol: float = 1e-7,
                    atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False) -> BeamRun:
     """Run the beam with the given modes (indices into ``data``); arguments as :func:`simulate`."""
+    data = _modal_data("simulate_modes", data)
+    if not isinstance(compiled, bool | np.bool_):
+        raise RunArgumentError(f"simulate_modes: argument 'compiled' must be True or False, got {compiled!r}")
     tip = int(data.node_ids[np.argmax(data.coordinates[:, 0])])
     pin = int(data.node_ids[np.argmin(data.coordinates[:, 0])])
     c0 = time.process_time()
@@ -245,24 +264,75 @@ def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: b
 
 
 def seed_error(z: np.ndarray, z_ref: np.ndarray) -> float:
-    """The seed's error [%]: mean of ``|z − z*|`` over the samples divided by ``max |z*|``, × 100 (its eq. 2)."""
-    z, z_ref = np.asarray(z, dtype=float), np.asarray(z_ref, dtype=float)
-    return float(np.mean(np.abs(z - z_ref)) / np.abs(z_ref).max() * 100.0)
+    """The seed's error [%]: mean of ``|z − z*|`` over the samples divided by ``max |z*|``, × 100 (its eq. 2).
+
+    Raises
+    ------
+    RunArgumentError
+        ``z`` or ``z_ref`` not finite real numbers (text is refused), not equal non-empty 1-D shapes, or a
+        reference that is identically zero (the error has no scale).
+    """
+    arrays = []
+    for name, value in (("z", z), ("z_ref", z_ref)):
+        try:
+            kind = "U" if isinstance(value, str | bytes) else np.asarray(value).dtype.kind
+        except (TypeError, ValueError):
+            kind = "O"
+        if kind not in "iuf":
+            raise RunArgumentError(f"seed_error: {name} must be an array of real numbers, got {value!r:.60}")
+        a = np.asarray(value, dtype=float)
+        if not np.all(np.isfinite(a)):
+            raise RunArgumentError(f"seed_error: {name} has a non-finite value at sample "
+                                   f"{int(np.flatnonzero(~np.isfinite(a.ravel()))[0])}")
+        arrays.append(a)
+    z, z_ref = arrays
+    if z.shape != z_ref.shape or z.ndim != 1 or z.size == 0:
+        raise RunArgumentError(f"seed_error: z {z.shape} and z_ref {z_ref.shape} must be equal non-empty 1-D shapes "
+                               "(the same samples)")
+    scale = float(np.abs(z_ref).max())
+    if not scale > 0:
+        raise RunArgumentError("seed_error: the reference z_ref is identically zero: the error has no scale")
+    return float(np.mean(np.abs(z - z_ref)) / scale * 100.0)
 
 
-def participation_table(data: ModalData | None = None, n_elements: int = 32, threshold: float = 0.01,
+def participation_table(data: ModalData | None = None, n_elements: int | None = None, threshold: float = 0.01,
                         ) -> tuple[ParticipationTable, float]:
     """The MPF method of seed 001 on the in-plane bending modes: a rigid-body run (analytic here: the pinned rigid
     beam, ``α = ±τ/J``, ``J = ρAL³/3``), its most critical instant (largest load, t = 1 s where the angular
     velocity peaks), the loads there on the FE DOFs — the d'Alembert forces of the rigid motion and the pin torque,
     in equilibrium — their static modal amplitudes and shares.
 
+    Parameters
+    ----------
+    data : ModalData, optional
+        The beam's modal data (default :func:`beam_modal_data` of ``n_elements``).
+    n_elements : int, optional
+        Elements of the beam's mesh: the FE model the loads are applied on; default that of ``data`` (its nodes
+        less one), else 32.
+    threshold : float
+        Keep modes whose share reaches this fraction of the largest [1] (0.01 for 1 %).
+
     Returns
     -------
     (ParticipationTable, float)
         The table (rows in :func:`bending_modes` order) and the critical instant [s].
+
+    Raises
+    ------
+    RunArgumentError
+        ``data`` not a ModalData, ``n_elements`` not the mesh of ``data``, ``threshold`` not in ``[0, 1]``.
     """
-    data = beam_modal_data(n_elements) if data is None else data
+    if data is None:
+        n_elements = 32 if n_elements is None else n_elements
+        data = beam_modal_data(n_elements)
+    else:
+        data = _modal_data("participation_table", data)
+        if n_elements is None:
+            n_elements = data.n_nodes - 1
+        elif n_elements != data.n_nodes - 1:
+            raise RunArgumentError(f"participation_table: n_elements={n_elements!r}, but the modal data "
+                                   f"{data.title!r} are of a mesh of {data.n_nodes - 1} elements ({data.n_nodes} "
+                                   "nodes): leave n_elements out, or pass the data of that mesh")
     attachment = data.provenance.get("attachment") or "clamped"
     held = ("ux", "uy", "uz") if attachment == "pinned" else ("ux", "uy", "uz", "rx", "ry", "rz")
     fe = beam_fe(n_elements).constrained([0], held)

@@ -88,6 +88,7 @@ import scipy.sparse as sp
 from scipy.linalg.lapack import dgbsv as _gbsv
 
 from flexlib.compile.cache import store_init
+from flexlib.errors import RunArgumentError
 
 DENSITY = 8000.0  # kg/m³
 YOUNG = 2e11  # Pa
@@ -371,10 +372,10 @@ def seed_error(z: np.ndarray, z_ref: np.ndarray) -> float:
     z = np.asarray(z, dtype=float)
     z_ref = np.asarray(z_ref, dtype=float)
     if z.shape != z_ref.shape or z.ndim != 1 or z.size == 0:
-        raise ValueError(f"seed_error: z {z.shape} and z_ref {z_ref.shape} must be equal 1-D shapes")
+        raise RunArgumentError(f"seed_error: z {z.shape} and z_ref {z_ref.shape} must be equal 1-D shapes")
     scale = np.max(np.abs(z_ref))
     if not scale > 0:
-        raise ValueError("seed_error: the reference z_ref is identically zero")
+        raise RunArgumentError("seed_error: the reference z_ref is identically zero")
     return float(100.0 * np.mean(np.abs(z - z_ref)) / scale)
 
 

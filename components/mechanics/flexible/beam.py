@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from collections.abc import Callable, Sequence
 from typing import Any, Literal
 
@@ -40,7 +41,7 @@ import scipy.sparse as sp
 
 from flexlib.errors import RunArgumentError
 
-from .fe_model import BeamElements, FEModel, MassPoints
+from .fe_model import BeamElements, FEModel, MassPoints, check_fields
 from .sections import Section
 
 __all__ = ["beam_mesh", "beam_stress_modes", "element_matrices", "section_force_modes"]
@@ -48,6 +49,17 @@ __all__ = ["beam_mesh", "beam_stress_modes", "element_matrices", "section_force_
 SectionLike = Section | Callable[[float], Section]
 _GAUSS_STIFFNESS = 8  # points for the flexibility integrals (exact for compliance polynomials of degree 13)
 _GAUSS_MASS = 6
+#: Peak memory [bytes] per element of the mesher (element stiffness, Gauss points, interpolation, assembly;
+#: a consistent mass), to refuse a mesh that cannot fit before allocating it.
+_BYTES_PER_ELEMENT = 24_000
+
+
+def _memory() -> float:
+    """Physical memory of the machine [bytes] (0 if unknown)."""
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE")) * float(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return 0.0
 
 
 def _section_at(section: SectionLike, s: float) -> Section:
@@ -144,6 +156,12 @@ def element_matrices(L: float, section: Callable[[float], Section], E: float, G:
     lumped : bool
         HRZ-lumped (diagonal) instead of consistent mass.
     """
+    if isinstance(L, bool | np.bool_) or not isinstance(L, numbers.Real) or not (math.isfinite(L) and L > 0):
+        raise RunArgumentError(f"element_matrices: the element length L must be a positive finite number [m], got "
+                               f"{L!r}")
+    if not callable(section):
+        raise RunArgumentError(f"element_matrices: argument 'section' must be a function of the element fraction "
+                               f"returning a Section, got {type(section).__name__}")
     # flexibility of the element clamped at node 1, loaded at node 2 (local axes)
     xg, wg = np.polynomial.legendre.leggauss(_GAUSS_STIFFNESS)
     xg, wg = (xg + 1) / 2, wg / 2
@@ -212,11 +230,11 @@ def _stations(length: float, n_elements: int, nodes_at: Sequence[float]) -> np.n
         raise RunArgumentError(f"beam_mesh: argument 'nodes_at' must be a sequence of distances [m] from start, got "
                                f"{nodes_at!r}" + (f" (for one node: [{nodes_at}])" if isinstance(nodes_at, numbers.Real)
                                                   else ""))
-    try:
-        at = np.asarray(list(nodes_at), dtype=float).ravel()
-    except (TypeError, ValueError):
+    items = list(nodes_at.ravel()) if isinstance(nodes_at, np.ndarray) else list(nodes_at)
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_) for v in items):
         raise RunArgumentError(f"beam_mesh: argument 'nodes_at' must be numbers (distances [m] from start), got "
-                               f"{list(nodes_at)!r}") from None
+                               f"{items!r}")
+    at = np.asarray(items, dtype=float).ravel()
     if at.size and (not np.all(np.isfinite(at)) or at.min() < 0 or at.max() > length * (1 + 1e-12)):
         raise RunArgumentError(f"beam_mesh: nodes_at must lie on the axis, 0 .. {length:g} m, got {at.tolist()}")
     cuts = np.unique(np.concatenate([[0.0, 1.0], np.clip(at / length, 0.0, 1.0)]))
@@ -299,6 +317,12 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     if isinstance(n_elements, bool | np.bool_) or not isinstance(n_elements, numbers.Integral) or n_elements < 1:
         raise RunArgumentError(f"beam_mesh: n_elements must be a positive integer (a whole number >= 1), got "
                                f"{n_elements!r}")
+    need = _BYTES_PER_ELEMENT * float(n_elements)
+    have = _memory()
+    if have and need > have:
+        raise RunArgumentError(f"beam_mesh: n_elements={n_elements} needs about {need / 2**30:.3g} GiB for the element "
+                               f"arrays, more than the {have / 2**30:.3g} GiB of this machine; a modal body needs far "
+                               "fewer elements (its modes converge with tens to hundreds)")
     p0, p1 = _point("start", start), _point("end", end)
     E = _real("E", E, "a positive finite number [Pa]")
     rho = _real("rho", rho, "a positive finite number [kg/m3]")
@@ -436,10 +460,8 @@ def section_force_modes(fe: FEModel, modes: np.ndarray) -> np.ndarray:
         the element's first and second node (static equilibrium of the element: ``k_local @ T d``; exact
         beam-theory resultants for nodal loading).
     """
-    if fe.beam is None:
-        raise ValueError("section_force_modes: the FE model has no frame-element data (not from beam_mesh)")
+    modes = check_fields("section_force_modes", fe, modes, beam=True)
     b = fe.beam
-    modes = np.asarray(modes, dtype=float)
     padded = np.vstack([modes, np.zeros((1, modes.shape[1]))])  # row -1: held DOFs
     d = padded[b.dofs]  # (E, 12, M)
     rot = np.einsum("eab,enbm->enam", b.rotation, d.reshape(d.shape[0], 4, 3, -1)).reshape(d.shape)
@@ -470,7 +492,12 @@ def beam_stress_modes(fe: FEModel, modes: np.ndarray, fibre: tuple[float, float]
     ndarray (M, N, 6)
         ``(sxx, syy, szz, sxy, syz, szx)`` [Pa per unit modal coordinate] at each node.
     """
-    y, z = (float(v) for v in fibre)
+    items = [fibre] if isinstance(fibre, str | bytes) or np.ndim(fibre) != 1 else list(fibre)
+    if len(items) != 2 or not all(isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_)
+                                  and math.isfinite(v) for v in items):
+        raise RunArgumentError(f"beam_stress_modes: argument 'fibre' must be two finite numbers (y, z) [m], got "
+                               f"{fibre!r}")
+    y, z = (float(v) for v in items)
     sf = section_force_modes(fe, modes)  # (M, E, 2, 6)
     b = fe.beam
     sigma = sf[..., 0] / b.A + sf[..., 4] * z / b.Iy - sf[..., 5] * y / b.Iz  # (M, E, 2)

@@ -83,6 +83,8 @@ _COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
 
 def frame_names(n: int) -> list[str]:
     """Connector names of ``n`` frames: ``frame_a``, ``frame_b``, … (``frame_z``, then ``frame_26``, …)."""
+    if not _is_int(n) or n < 0:
+        raise RunArgumentError(f"frame_names: n must be a number of frames (an int >= 0), got {n!r}")
     return [f"frame_{_LETTERS[i]}" if i < len(_LETTERS) else f"frame_{i}" for i in range(n)]
 
 
@@ -180,6 +182,13 @@ class FlexibleBody(Component):
                              f"Path), got {modal_data!r} ({type(modal_data).__name__})")
         data = _choose_modes(data, modes, max_frequency, source)
         deferred = {k: kwargs.pop(k) for k in ("zeta", "init", "guess", "state_select") if k in kwargs}
+        for kind in ("init", "guess", "state_select"):
+            given = deferred.get(kind)
+            if given is not None and not isinstance(given, Mapping):
+                accepted = ("{variable: 'always' | 'prefer' | 'default' | 'avoid' | 'never'}" if kind == "state_select"
+                            else "{variable name: start value}, e.g. {'q': np.zeros(n_modes)}")
+                raise ModelError(f"FlexibleBody: {kind} must be a dict {accepted}, got {type(given).__name__} "
+                                 f"{given!r:.60}")
         super().__init__(**kwargs)
         self._data = data
         self._source = source  # how messages name the data: "modal file 'arm.h5'" or "modal data 'arm'"
@@ -234,9 +243,10 @@ class FlexibleBody(Component):
             for name, value in (deferred.get(kind) or {}).items():
                 if name in ("q", "qd") and m:
                     value = _modal_start(kind, name, value, m)
-                self.set_start(name, value, fixed=fixed_start)
+                # a dotted name ("frame_b.r_0") sets a variable of a frame connector, as for any component
+                self._start_target(name, kind).set_start(name.rpartition(".")[2], value, fixed=fixed_start)
         for name, value in (deferred.get("state_select") or {}).items():
-            self.set_state_select(name, value)
+            self._start_target(name, "state_select").set_state_select(name.rpartition(".")[2], value)
         q0 = self.parameter_value("Q_start")
         if np.linalg.norm(q0) > 1e-12:
             self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)
@@ -260,7 +270,17 @@ class FlexibleBody(Component):
         return self._data.n_modes
 
     def frame_at(self, node: int) -> Frame:
-        """The frame connector at node id ``node``."""
+        """The frame connector at node id ``node`` (an int).
+
+        Raises
+        ------
+        ModelError
+            ``node`` is not a node id (text, a bool, a fractional number) or has no frame; the message lists the
+            frames' nodes.
+        """
+        if not _is_int(node) and not (_is_real(node) and float(node).is_integer()):
+            raise ModelError(f"{self.where}: frame_at: node must be a node id (an int), got {node!r} "
+                             f"({type(node).__name__}); frames at nodes {list(self.frame_nodes)}")
         if int(node) not in self.frame_nodes:
             raise ModelError(f"{self.where}: node {node} has no frame (frames at nodes {list(self.frame_nodes)})")
         return self._frames[self.frame_nodes.index(int(node))]
@@ -769,7 +789,7 @@ def _choose_modes(data: ModalData, modes: Any, max_frequency: Any, source: str) 
         if modes is not None and int(modes) < 0:
             raise ModelError(f"FlexibleBody: modes must be >= 0, got {modes} (a count of the lowest modes; 0 for the "
                              "rigid body)")
-        if modes is not None and max_frequency is None and int(modes) > n:
+        if modes is not None and int(modes) > n:
             raise ModelError(f"FlexibleBody: modes={int(modes)} asks for the {int(modes)} lowest modes, but the "
                              f"{source} has only {n}")
         if modes is None and max_frequency is None:
@@ -835,6 +855,13 @@ def cayley_rotation(theta: np.ndarray) -> np.ndarray:
     -------
     ndarray (..., 3, 3)
     """
+    try:
+        bad = isinstance(theta, str | bytes) or np.asarray(theta).dtype.kind not in "iuf"
+    except (TypeError, ValueError):
+        bad = True
+    if bad or np.ndim(theta) == 0 or np.shape(theta)[-1] != 3 or not np.all(np.isfinite(theta)):
+        raise RunArgumentError(f"cayley_rotation: argument 'theta' must be finite rotation vectors (..., 3) [rad], got "
+                               f"{type(theta).__name__} of shape {np.shape(theta)}: {theta!r:.60}")
     a = np.asarray(theta, dtype=float) / 2
     A = np.zeros((*a.shape[:-1], 3, 3))
     A[..., 0, 1], A[..., 0, 2], A[..., 1, 2] = -a[..., 2], a[..., 1], -a[..., 0]

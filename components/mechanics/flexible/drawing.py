@@ -28,7 +28,7 @@ import numpy as np
 from flexlib.errors import ResultFileError, RunArgumentError
 
 from .modal_data import ModalData
-from .output import _field_values, _name, _scale, _series
+from .output import FIELDS, _field_values, _name, _scale, _series
 
 __all__ = ["animate", "plot_frame", "write_model_vtk", "write_series", "write_vtk_series"]
 
@@ -36,7 +36,28 @@ _ELEMENT_CELLS = {2: "line", 3: "line3", 4: "tetra", 8: "hexahedron", 10: "tetra
 _FACE_CELLS = {3: "triangle", 4: "quad", 6: "triangle6", 8: "quad8"}
 
 
+def _cell_type(func: str, arg: str, value: Any) -> None:
+    """``element_type`` / ``face_type``: None or the name of a meshio cell type."""
+    try:
+        from meshio._mesh import topological_dimension as known
+    except ImportError:  # another meshio layout: its writer names an unknown type
+        known = None
+    if value is not None and (not isinstance(value, str) or (known is not None and value not in known)):
+        raise RunArgumentError(f"{func}: argument {arg!r} must be a meshio cell type (e.g. 'line', 'triangle', "
+                               f"'quad', 'tetra', 'hexahedron'), got {value!r}")
+
+
+def _path(func: str, path: Any) -> Path:
+    """An output path: a str or os.PathLike."""
+    if not isinstance(path, str | os.PathLike):
+        raise RunArgumentError(f"{func}: argument 'path' must be a file path (str or os.PathLike), got "
+                               f"{type(path).__name__} {path!r:.60}")
+    return Path(path)
+
+
 def _cells(data: ModalData, element_type: str | None, face_type: str | None, func: str) -> list[tuple[str, np.ndarray]]:
+    _cell_type(func, "element_type", element_type)
+    _cell_type(func, "face_type", face_type)
     cells: list[tuple[str, np.ndarray]] = []
     for arg, conn, given, table in (("element_type", data.elements, element_type, _ELEMENT_CELLS),
                                     ("face_type", data.faces, face_type, _FACE_CELLS)):
@@ -52,12 +73,12 @@ def _cells(data: ModalData, element_type: str | None, face_type: str | None, fun
     return cells
 
 
-def _collection_kind(path: Path) -> str:
+def _collection_kind(path: Path, func: str = "write_vtk_series") -> str:
     if path.suffix == ".pvd":
         return "pvd"
     if path.name.endswith(".vtu.series"):
         return "series"
-    raise RunArgumentError(f"write_vtk_series: argument 'path' {str(path)!r} must end in '.pvd' (ParaView data "
+    raise RunArgumentError(f"{func}: argument 'path' {str(path)!r} must end in '.pvd' (ParaView data "
                            "collection, XML) or '.vtu.series' (ParaView file series, JSON)")
 
 
@@ -115,7 +136,7 @@ def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, 
     import meshio
 
     func = "write_vtk_series"
-    path = Path(path)
+    path = _path(func, path)
     _collection_kind(path)  # checks the suffix before any work
     s = _series(func, data, times, q, r_0, T, scale)
     data = s["data"]
@@ -123,6 +144,10 @@ def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, 
         fields = ("displacement",) + (("von_mises",) if data.stress_modes is not None else ())
     elif isinstance(fields, str):
         fields = (fields,)
+    elif not isinstance(fields, Sequence) or not all(isinstance(f, str) for f in fields):
+        raise RunArgumentError(f"{func}: argument 'fields' must be a field name or a list of them, from "
+                               f"{list(FIELDS)}, got {fields!r}")
+    _cells(data, element_type, face_type, func)  # the cell types before any work
     point_fields: dict[str, np.ndarray] = {}
     for name in fields:
         values = _field_values(s, name, func)
@@ -165,8 +190,8 @@ def write_series(path: str | os.PathLike[str], times: np.ndarray, mesh: Any, fun
     """
     import meshio
 
-    path = Path(path)
-    kind = _collection_kind(path)
+    path = _path(func, path)
+    kind = _collection_kind(path, func)
     stem = path.name[: -len(".vtu.series")] if kind == "series" else path.stem
     frames_dir = path.name + ".d"
     names = [f"{frames_dir}/{stem}_{k:06d}.vtu" for k in range(len(times))]
@@ -219,10 +244,11 @@ def _write_pvd(path: Path, names: Sequence[str], times: np.ndarray) -> None:
 
 # ---------------------------------------------------------------------------------------------- matplotlib
 _LABELS = {"displacement": "elastic displacement |u| [m]", "von_mises": "von Mises stress [Pa]"}
+_MAX_PIXELS = 2**23  # matplotlib's Agg limit on an image's width and height [pixels]
 
 
 def _colour_values(s: dict[str, Any], color: str, func: str) -> np.ndarray:
-    if color not in _LABELS:
+    if not isinstance(color, str) or color not in _LABELS:
         raise RunArgumentError(f"{func}: argument 'color' must be one of {list(_LABELS)}, got {color!r}")
     v = _field_values(s, color, func)
     return np.linalg.norm(v, axis=-1) if color == "displacement" else v
@@ -243,6 +269,10 @@ def _figure_options(func: str, cmap: Any, figsize: Any, dpi: Any) -> None:
     if isinstance(dpi, bool) or not isinstance(dpi, int | float | np.integer | np.floating) or not (
             math.isfinite(dpi) and dpi > 0):
         raise RunArgumentError(f"{func}: argument 'dpi' must be a positive number [dots per inch], got {dpi!r}")
+    if max(size) * dpi >= _MAX_PIXELS:
+        raise RunArgumentError(f"{func}: figsize {tuple(size)!r} [inch] at dpi={dpi!r} makes an image of "
+                               f"{max(size) * dpi:.3g} pixels across; matplotlib draws fewer than {_MAX_PIXELS} "
+                               "(2^23): give a smaller figsize or dpi")
 
 
 def _frame_indices(nt: int, frames: int | Sequence[int] | None, func: str) -> np.ndarray:
@@ -323,7 +353,7 @@ class _Scene:
 
 
 def _check_output_path(path: str | os.PathLike[str], func: str, suffixes: Sequence[str]) -> Path:
-    p = Path(path)
+    p = _path(func, path)
     if p.suffix.lower() not in suffixes:
         raise RunArgumentError(f"{func}: argument 'path' {str(p)!r} must end in one of {list(suffixes)}")
     if not p.parent.is_dir():
@@ -543,10 +573,10 @@ def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
     from .output import deformed_positions, node_displacements
 
     func = "write_model_vtk"
-    path = Path(path)
-    _collection_kind(path)
+    path = _path(func, path)
+    _collection_kind(path, func)
     scale = _scale(func, scale)
-    if isinstance(stride, bool) or not isinstance(stride, int) or stride < 1:
+    if isinstance(stride, bool | np.bool_) or not isinstance(stride, int | np.integer) or stride < 1:
         raise RunArgumentError(f"{func}: stride must be a positive integer, got {stride!r}")
     if not isinstance(model, Component):
         raise RunArgumentError(f"{func}: argument 'model' must be the flexlib model the result belongs to, got "

@@ -18,6 +18,7 @@ References
 
 from __future__ import annotations
 
+import numbers
 import os
 import zipfile
 from collections.abc import Sequence
@@ -31,8 +32,8 @@ import scipy.sparse as sp
 
 from flexlib.errors import ModalFileError, RunArgumentError
 
-__all__ = ["COMPONENTS", "BeamElements", "FEModel", "MassPoints", "UnknownNodeError", "read_fe",
-           "read_matrix_market", "read_nodes"]
+__all__ = ["COMPONENTS", "BeamElements", "FEModel", "MassPoints", "UnknownNodeError", "check_fe",
+           "check_fields", "check_translational_mass", "read_fe", "read_matrix_market", "read_nodes"]
 
 #: Names of the six components of a node, in ``dof_map`` column order.
 COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -155,6 +156,7 @@ class FEModel:
     beam: BeamElements | None = None
 
     def __post_init__(self) -> None:
+        self._normalise()
         n = self.M.shape[0]
         problems = []
         if self.M.shape != (n, n) or self.K.shape != (n, n):
@@ -180,6 +182,38 @@ class FEModel:
             problems.append("node_ids must be one distinct id per node")
         if problems:
             raise RunArgumentError("FEModel: " + "; ".join(problems))
+
+    def _normalise(self) -> None:
+        """The fields as the methods use them: CSR matrices of floats, float node coordinates, integer maps and ids
+        (a dense matrix or a list of lists is taken as given); anything else is a
+        :class:`~flexlib.errors.RunArgumentError` naming the field."""
+        for name in ("M", "K"):
+            A = getattr(self, name)
+            if sp.issparse(A) and A.format == "csr" and A.dtype.kind == "f":
+                continue
+            kind = A.dtype.kind if sp.issparse(A) else _kind(A)
+            if kind not in "iuf":
+                raise RunArgumentError(f"FEModel: argument {name!r} must be a real matrix (scipy.sparse or a dense "
+                                       f"array of numbers), got {type(A).__name__} {A!r:.60}"
+                                       + ("; read matrix files with read_fe or read_matrix_market" if kind == "U"
+                                          else ""))
+            object.__setattr__(self, name, sp.csr_matrix(A, dtype=float))
+        for name, integer in (("nodes", False), ("dof_map", True), ("node_ids", True), ("elements", True)):
+            value = getattr(self, name)
+            kind = _kind(value)
+            if kind not in "iuf":
+                raise RunArgumentError(f"FEModel: argument {name!r} must be an array of "
+                                       f"{'whole ' if integer else ''}numbers, got {type(value).__name__} "
+                                       f"{value!r:.60}")
+            a = np.asarray(value)
+            if integer and kind == "f":
+                bad = ~np.isfinite(a) | (a != np.round(a))
+                if np.any(bad):
+                    raise RunArgumentError(f"FEModel: argument {name!r} must hold whole numbers, got "
+                                           f"{float(a[bad][0])!r}")
+            a = a.astype(np.int64 if integer else float, copy=False)
+            if a is not value:
+                object.__setattr__(self, name, a)
 
     def dof_label(self, row: int) -> str:
         """``"node 7 uz (row 44)"``: the node id and component of a matrix row (for messages)."""
@@ -212,7 +246,7 @@ class FEModel:
         """Indices into ``nodes`` of the given node ids; a clear error names an unknown id."""
         lookup = {int(i): k for k, i in enumerate(self.node_ids)}
         out = []
-        for i in np.atleast_1d(np.asarray(node_ids)).ravel():
+        for i in _node_id_list(node_ids, "FEModel: node ids"):
             if int(i) not in lookup:
                 raise UnknownNodeError(f"FEModel: no node with id {int(i)} (ids {self.node_ids.min()}.."
                                        f"{self.node_ids.max()}, {self.node_ids.size} nodes)")
@@ -221,7 +255,7 @@ class FEModel:
 
     def dofs(self, node_ids: Sequence[int] | np.ndarray, components: Sequence[str] = COMPONENTS) -> np.ndarray:
         """DOF rows of the given nodes (by id) and components (names from :data:`COMPONENTS`), skipping absent ones."""
-        cols = [COMPONENTS.index(c) for c in components]
+        cols = [COMPONENTS.index(c) for c in _component_list(components)]
         rows = self.dof_map[self.node_index(node_ids)][:, cols].ravel()
         return rows[rows >= 0]
 
@@ -265,13 +299,14 @@ class FEModel:
 
     def constrained(self, node_ids: Sequence[int] | np.ndarray, components: Sequence[str] = COMPONENTS) -> FEModel:
         """The model with the given node components held at zero (their DOFs removed), e.g. a clamped end."""
+        components = _component_list(components)
         fixed = set(self.dofs(node_ids, components).tolist())
         keep = np.array([i for i in range(self.n_dofs) if i not in fixed], dtype=np.int64)
         new_index = -np.ones(self.n_dofs, dtype=np.int64)
         new_index[keep] = np.arange(keep.size)
         dof_map = np.where(self.dof_map >= 0, new_index[np.maximum(self.dof_map, 0)], -1)
         info = dict(self.info)
-        info["constrained"] = [*info.get("constrained", []), {"nodes": [int(i) for i in np.atleast_1d(node_ids)],
+        info["constrained"] = [*info.get("constrained", []), {"nodes": [int(i) for i in _node_id_list(node_ids, "")],
                                                               "components": list(components)}]
         loads = self.gravity_loads()[keep]
         return replace(self, M=self.M[keep][:, keep].tocsr(), K=self.K[keep][:, keep].tocsr(), dof_map=dof_map,
@@ -307,26 +342,33 @@ class FEModel:
 
         Raises
         ------
-        ValueError
-            Unknown node, negative or non-finite mass, wrong shapes, an offset on a node without rotations.
+        RunArgumentError
+            (a ``ValueError``) Unknown node, a mass that is not a number >= 0 (text, a bool, NaN), ``offsets`` or
+            ``inertias`` of the wrong shape, an inertia that is not symmetric positive semidefinite, an offset on
+            a node without rotations; the message names the argument.
         """
+        func = "FEModel.with_point_masses"
         idx = self.node_index(node_ids)
         k = idx.size
-        m = np.asarray(masses, dtype=float).reshape(-1)
-        d = np.zeros((k, 3)) if offsets is None else np.asarray(offsets, dtype=float).reshape(k, 3)
-        J = np.zeros((k, 3, 3)) if inertias is None else np.asarray(inertias, dtype=float).reshape(k, 3, 3)
+        m = _real_array(func, "masses", masses, "masses [kg]").reshape(-1)
         if m.shape != (k,):
-            raise ValueError(f"FEModel.with_point_masses: {k} nodes but {m.size} masses")
-        for name, a in (("masses", m), ("offsets", d), ("inertias", J)):
-            if not np.all(np.isfinite(a)):
-                raise ValueError(f"FEModel.with_point_masses: argument {name!r} has non-finite values")
+            raise RunArgumentError(f"{func}: {k} nodes but {m.size} masses (nodes {self.node_ids[idx].tolist()}, "
+                                   f"masses {m.tolist()} [kg]): give one mass per node")
+        d = np.zeros((k, 3)) if offsets is None else _real_array(func, "offsets", offsets, "offsets [m]")
+        J = np.zeros((k, 3, 3)) if inertias is None else _real_array(func, "inertias", inertias, "inertias [kg m2]")
+        for name, a, shape in (("offsets", d, (k, 3)), ("inertias", J, (k, 3, 3))):
+            if a.shape != shape and a.size != int(np.prod(shape)):
+                raise RunArgumentError(f"{func}: argument {name!r} has shape {a.shape}, expected {shape} (one per "
+                                       f"mass)")
+        d, J = d.reshape(k, 3), J.reshape(k, 3, 3)
         if np.any(m < 0):
-            raise ValueError(f"FEModel.with_point_masses: negative mass {float(m[m < 0][0])!r} kg at node "
-                             f"{int(self.node_ids[idx[np.argmax(m < 0)]])}")
+            raise RunArgumentError(f"{func}: negative mass {float(m[m < 0][0])!r} kg at node "
+                                   f"{int(self.node_ids[idx[np.argmax(m < 0)]])}")
         if np.abs(J - J.transpose(0, 2, 1)).max(initial=0.0) > 1e-12 * max(np.abs(J).max(initial=0.0), 1.0) or \
                 np.any(np.linalg.eigvalsh((J + J.transpose(0, 2, 1)) / 2) < -1e-12 * max(np.abs(J).max(initial=0.0),
                                                                                          1.0)):
-            raise ValueError("FEModel.with_point_masses: inertias must be symmetric positive semidefinite")
+            raise RunArgumentError(f"{func}: argument 'inertias' must be symmetric positive semidefinite 3 x 3 "
+                                   "tensors [kg m2]")
         rows_t, rows_r, cols_t, cols_r, vals_t = [], [], [], [], []
         add = sp.lil_matrix((self.n_dofs, self.n_dofs))
         loads = np.zeros((self.n_dofs, 3))
@@ -334,9 +376,9 @@ class FEModel:
         for j in range(k):
             dof = self.dof_map[idx[j]]
             if np.any(dof[:3] < 0) or ((np.any(d[j]) or np.any(J[j])) and np.any(dof[3:] < 0)):
-                raise ValueError(f"FEModel.with_point_masses: node {int(self.node_ids[idx[j]])} lacks the DOFs the "
-                                 "mass needs (translations; rotations for an offset or inertia): attach it before "
-                                 "constraining the node")
+                raise RunArgumentError(f"{func}: node {int(self.node_ids[idx[j]])} lacks the DOFs the mass needs "
+                                       "(translations; rotations for an offset or inertia): attach it before "
+                                       "constraining the node")
             N = np.zeros((3, 6))
             N[:, :3] = np.eye(3)
             dx = np.array([[0.0, -d[j, 2], d[j, 1]], [d[j, 2], 0.0, -d[j, 0]], [-d[j, 1], d[j, 0], 0.0]])
@@ -374,6 +416,7 @@ class FEModel:
 
     def translation_field(self, vector: Sequence[float]) -> np.ndarray:
         """DOF vector of a uniform translation ``vector`` [m] of all nodes (rotations zero)."""
+        vector = _vector3("FEModel.translation_field", "vector", vector, "[m]")
         out = np.zeros(self.n_dofs)
         for a in range(3):
             rows = self.dof_map[:, a]
@@ -390,7 +433,7 @@ class FEModel:
         """Consistent nodal load vector [N, N m] of the body's weight in a uniform field ``g`` [m/s2]: ``M u_g``
         with ``u_g`` the uniform translation ``g`` of the unconstrained model (exact for shape functions that
         reproduce rigid translation), restricted to the remaining DOFs."""
-        return self.gravity_loads() @ np.asarray(g, dtype=float)
+        return self.gravity_loads() @ _vector3("FEModel.gravity_load", "g", g, "[m/s2]")
 
     def lumped_mass_points(self) -> MassPoints:
         """Lumped mass description from ``M``: each node's mass is the row sum of the translational block of
@@ -437,7 +480,19 @@ class FEModel:
 
     def write_npz(self, path: str | os.PathLike[str]) -> None:
         """Write ``M``, ``K`` (CSR parts), ``nodes``, ``dof_map``, ``node_ids`` and ``elements`` to a ``.npz``
-        readable by :func:`read_fe` (atomically: temporary file then ``os.replace``)."""
+        readable by :func:`read_fe` (atomically: temporary file then ``os.replace``).
+
+        Raises
+        ------
+        RunArgumentError
+            ``path`` is not a str or os.PathLike.
+        ModalFileError
+            The file cannot be written (a missing directory, no permission); the message names it and nothing is
+            left behind.
+        """
+        if not isinstance(path, str | os.PathLike):
+            raise RunArgumentError(f"FEModel.write_npz: argument 'path' must be a path (str or os.PathLike) of the "
+                                   f".npz to write, got {type(path).__name__} {path!r}")
         path = Path(path)
         tmp = path.with_name(path.name + ".tmp.npz")
         arrays: dict[str, np.ndarray] = {"nodes": self.nodes, "dof_map": self.dof_map, "node_ids": self.node_ids,
@@ -449,9 +504,99 @@ class FEModel:
         try:
             np.savez(tmp, **arrays)
             os.replace(tmp, path)
+        except OSError as exc:
+            raise ModalFileError(f"{path}: cannot write the FE model archive: {exc}") from None
         finally:
             if tmp.exists():
                 tmp.unlink()
+
+
+def _kind(value: Any) -> str:
+    """The numpy dtype kind of ``value`` as an array (``"U"`` for text, ``"O"`` for what is not a regular array)."""
+    if isinstance(value, str | bytes | os.PathLike):
+        return "U"
+    try:
+        return np.asarray(value).dtype.kind
+    except (TypeError, ValueError):
+        return "O"
+
+
+def _node_id_list(node_ids: Any, where: str) -> list[int]:
+    """Node ids as ints: whole numbers (ints, or floats without a fraction, as FE tables give them); a string, a bool
+    or a fractional number is a :class:`UnknownNodeError` naming it (``where``: the caller, for the message)."""
+    items = np.atleast_1d(np.asarray(node_ids, dtype=object)).ravel().tolist() if not isinstance(
+        node_ids, str | bytes) else [node_ids]
+    out = []
+    for i in items:
+        if isinstance(i, bool | np.bool_) or not isinstance(i, numbers.Real) or not float(i).is_integer():
+            digits = isinstance(i, str) and i.strip().lstrip("-").isdigit()
+            hint = f" (write {int(i)}, without quotes)" if digits else ""
+            raise UnknownNodeError(f"{where or 'FEModel'}: node id {i!r} ({type(i).__name__}) is not a node id: ids "
+                                   f"are whole numbers{hint}")
+        out.append(int(i))
+    return out
+
+
+def _component_list(components: Any) -> tuple[str, ...]:
+    """Component names, each one of :data:`COMPONENTS`; a single string is refused with a hint (it would be read
+    letter by letter)."""
+    if isinstance(components, str):
+        raise RunArgumentError(f"FEModel: components must be a list of names from {list(COMPONENTS)}, got the string "
+                               f"{components!r}" + (f" (for one component: [{components!r}])"
+                                                    if components in COMPONENTS else ""))
+    try:
+        names = tuple(components)
+    except TypeError:
+        raise RunArgumentError(f"FEModel: components must be a list of names from {list(COMPONENTS)}, got "
+                               f"{components!r}") from None
+    for c in names:
+        if c not in COMPONENTS:
+            hint = f" (did you mean {c.lower()!r}?)" if isinstance(c, str) and c.lower() in COMPONENTS else ""
+            raise RunArgumentError(f"FEModel: unknown component {c!r}; components are {list(COMPONENTS)}{hint}")
+    return names
+
+
+def _real_array(func: str, name: str, value: Any, what: str) -> np.ndarray:
+    """An array of finite real numbers (not text, bools or complex), naming the argument."""
+    if _kind(value) not in "iuf":
+        raise RunArgumentError(f"{func}: argument {name!r} must be {what}, numbers, got {value!r:.80}")
+    a = np.asarray(value, dtype=float)
+    if not np.all(np.isfinite(a)):
+        raise RunArgumentError(f"{func}: argument {name!r} has non-finite values: {a.ravel()[:6].tolist()}")
+    return a
+
+
+def check_fe(func: str, fe: Any, *, beam: bool = False) -> FEModel:
+    """``fe`` an :class:`FEModel` (from ``beam_mesh`` if ``beam``), else a :class:`~flexlib.errors.RunArgumentError`
+    naming the function."""
+    if not isinstance(fe, FEModel):
+        raise RunArgumentError(f"{func}: argument 'fe' must be an FEModel (beam_mesh, read_fe, read_matrix_market or "
+                               f"an importer), got {type(fe).__name__} {fe!r:.60}")
+    if beam and fe.beam is None:
+        raise RunArgumentError(f"{func}: the FE model has no frame-element data (not from beam_mesh)")
+    return fe
+
+
+def check_fields(func: str, fe: Any, fields: Any, name: str = "modes", *, ndim: tuple[int, ...] = (2,),
+                 beam: bool = False) -> np.ndarray:
+    """``fe`` an :class:`FEModel` (from ``beam_mesh`` if ``beam``) and ``fields`` finite numbers with one row per DOF
+    of it, of ``ndim`` dimensions: the arguments of the building blocks (section forces, static responses, geometric
+    stiffness), each error a :class:`~flexlib.errors.RunArgumentError` naming the function and the argument."""
+    check_fe(func, fe, beam=beam)
+    a = _real_array(func, name, fields, "displacement or load fields on the FE DOFs")
+    if a.ndim not in ndim or a.shape[0] != fe.n_dofs:
+        shapes = " or ".join(f"({fe.n_dofs},)" if k == 1 else f"({fe.n_dofs}, k)" for k in ndim)
+        raise RunArgumentError(f"{func}: argument {name!r} has shape {a.shape}, expected {shapes}: one row per DOF of "
+                               f"the FE model ({fe.n_dofs} DOFs)")
+    return a
+
+
+def _vector3(func: str, name: str, value: Any, unit: str) -> np.ndarray:
+    a = _real_array(func, name, value, f"three numbers (x, y, z) {unit}")
+    if a.shape != (3,):
+        raise RunArgumentError(f"{func}: argument {name!r} must be three numbers (x, y, z) {unit}, got shape "
+                               f"{a.shape}: {value!r}")
+    return a
 
 
 def _ranges(rows: np.ndarray, limit: int = 8) -> str:
@@ -576,6 +721,29 @@ def _check_matrices(path: str | tuple[str, str], M: sp.spmatrix, K: sp.spmatrix,
         why = check_semidefinite_pattern(A, name, label)
         if why is not None:
             raise ModalFileError(f"{file}: {why}")
+    why = check_translational_mass(M, dof_map, names[0])
+    if why is not None:
+        raise ModalFileError(f"{files[0]}: {why}")
+
+
+def check_translational_mass(M: sp.spmatrix, dof_map: np.ndarray, name: str = "M") -> str | None:
+    """Why ``M`` cannot be a mass matrix, or None: a rigid translation ``u`` (all nodes along x, y or z) must carry
+    mass, ``u^T M u > 0``; a free body's stiffness matrix gives it none (the mass and stiffness matrices swapped, or
+    the same matrix given twice)."""
+    M = sp.csr_matrix(M)
+    for a, axis in enumerate("xyz"):
+        rows = dof_map[:, a][dof_map[:, a] >= 0] if dof_map.ndim == 2 and dof_map.shape[1] == 6 else np.zeros(0)
+        if not rows.size:
+            continue
+        block = M[rows][:, rows]
+        scale = float(abs(block).sum())
+        mass = float(block.sum())
+        if scale > 0 and mass <= 1e-9 * scale:
+            return (f"matrix {name!r} gives a rigid translation along {axis} no mass (u^T M u = {mass:.3g}, against "
+                    f"{scale:.3g} for the sum of its terms' magnitudes): a mass matrix carries the body's mass in "
+                    "every rigid translation, a free body's stiffness matrix none. Are the mass and stiffness "
+                    "matrices swapped, or the same matrix given twice?")
+    return None
 
 
 def _text_table(path: str, label: str) -> np.ndarray:
@@ -617,6 +785,10 @@ def read_table(value: Any, label: str, dtype: type) -> np.ndarray:
         where = f"argument {label!r}"
         if isinstance(value, bool) or value is None:
             raise RunArgumentError(f"{where} must be an array or a path, got {value!r}")
+        kind = _kind(value)
+        if kind in "USb":  # numbers are not read out of strings: a table of text is a mistake (or a file's content)
+            raise RunArgumentError(f"{where} must be an array of numbers or a path to a table, got "
+                                   f"{'bools' if kind == 'b' else 'text'}: {value!r:.80}")
         try:
             table = np.asarray(value, dtype=float)
         except (TypeError, ValueError) as exc:
@@ -831,13 +1003,17 @@ def read_matrix_market(mass: str | os.PathLike[str], stiffness: str | os.PathLik
     ModalFileError
         A file is missing, empty, a directory or not Matrix Market; a matrix is complex, a pattern, not square,
         not symmetric, not finite or not positive semi-definite (a negative diagonal term); the matrices and
-        maps do not fit together (a row that belongs to no node). The message names the file at fault.
+        maps do not fit together (a row that belongs to no node); one file given as both, or a mass matrix without
+        mass in a rigid translation (the files swapped). The message names the file at fault.
     RunArgumentError
         ``nodes`` or ``dof_map`` given as an array that is not a table of numbers.
     """
     M = _read_mtx(mass, "M", "mass")
     K = _read_mtx(stiffness, "K", "stiffness")
     files = (os.fspath(mass), os.fspath(stiffness))
+    if os.path.samefile(*files):
+        raise ModalFileError(f"{files[0]}: given as both the mass and the stiffness file (arguments 'mass' and "
+                             "'stiffness'): M and K are two matrices, from two files")
     ids, xyz, where = read_nodes(nodes, "nodes")
     default = dof_map is None
     dmap = np.arange(6 * xyz.shape[0]).reshape(-1, 6) if default else read_table(dof_map, "dof_map", np.int64)

@@ -34,7 +34,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from .beam import section_force_modes
-from .fe_model import COMPONENTS, FEModel
+from .fe_model import COMPONENTS, FEModel, check_fe, check_fields
 
 __all__ = ["geometric_stiffness_matrix", "inertial_load_cases", "interface_load_cases", "modal_geometric_stiffness"]
 
@@ -72,10 +72,9 @@ def geometric_stiffness_matrix(fe: FEModel, displacement: np.ndarray) -> sp.csr_
     displacement : ndarray (n,)
         Static displacement field [m, rad] whose element axial forces load the elements.
     """
-    if fe.beam is None:
-        raise ValueError("geometric_stiffness_matrix: the FE model has no frame-element data (not from beam_mesh)")
+    displacement = check_fields("geometric_stiffness_matrix", fe, displacement, "displacement", ndim=(1,), beam=True)
     b = fe.beam
-    P = section_force_modes(fe, np.asarray(displacement, dtype=float)[:, None])[0, :, :, 0].mean(axis=1)
+    P = section_force_modes(fe, displacement[:, None])[0, :, :, 0].mean(axis=1)
     lengths = np.linalg.norm(fe.nodes[fe.elements[:, 1]] - fe.nodes[fe.elements[:, 0]], axis=1)
     kl = _local_kg(lengths, P, b.A.mean(axis=1), (b.Iy + b.Iz).mean(axis=1))
     T = np.einsum("ij,eab->eiajb", np.eye(4), b.rotation).reshape(-1, 12, 12)  # blockdiag(R, R, R, R)
@@ -100,6 +99,7 @@ def inertial_load_cases(fe: FEModel) -> dict[str, np.ndarray]:
         ``omega_xy, omega_yz, omega_zx``: the cross terms, per unit ``omega_a omega_b`` (``-rho (s_b e_a +
         s_a e_b)``). Integrated over the mass points (exact for the consistent beam description).
     """
+    check_fe("inertial_load_cases", fe)
     pts = fe.mass_points if fe.mass_points is not None else fe.lumped_mass_points()
     s = pts.positions
     eye = np.eye(3)
@@ -150,6 +150,7 @@ def modal_geometric_stiffness(fe: FEModel, modes: np.ndarray, support_nodes: Seq
     dict of str to ndarray (M, M)
         Symmetric modal geometric stiffness per case.
     """
+    modes = check_fields("modal_geometric_stiffness", fe, modes, beam=True)
     held = fe.constrained(support_nodes)
     keep = np.setdiff1d(np.arange(fe.n_dofs), fe.dofs(support_nodes))
     lu = sla.splu(held.K.tocsc())

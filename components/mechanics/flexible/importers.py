@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from flexlib.errors import ModalFileError
+from flexlib.errors import ModalFileError, RunArgumentError
 
 from .fe_model import COMPONENTS, FEModel, _check_file, _check_matrices, read_nodes, read_table
 
@@ -75,6 +75,17 @@ def _fe_model(source: str, M: sp.spmatrix, K: sp.spmatrix, nodes: np.ndarray, do
         return FEModel(M, K, nodes, dof_map, node_ids, info=info)
     except ValueError as exc:
         raise ModalFileError(f"{source}: {exc}") from None
+
+
+def _names(func: str, mass: tuple[str, Any], stiffness: tuple[str, Any]) -> None:
+    """The names of the mass and the stiffness matrix in a file: two different strings."""
+    for arg, value in (mass, stiffness):
+        if not isinstance(value, str) or not value:
+            raise RunArgumentError(f"{func}: argument {arg!r} must be the name of a matrix in the file (e.g. 'MAA', "
+                                   f"'KAA'), got {value!r}")
+    if mass[1] == stiffness[1]:
+        raise RunArgumentError(f"{func}: arguments {mass[0]!r} and {stiffness[0]!r} name the same matrix "
+                               f"{mass[1]!r}: the mass and the stiffness are two matrices")
 
 
 def _mirror_triangle(A: sp.spmatrix) -> sp.csr_matrix:
@@ -147,7 +158,12 @@ def read_ansys_full(path: str | os.PathLike[str], *,
     ModalFileError
         Unreadable or non-full file, a non-structural DOF label, nodes with different DOF sets, matrices that
         are not symmetric or finite, a node without coordinates; the message names the file.
+    RunArgumentError
+        ``path`` is not a str or os.PathLike.
     """
+    if not isinstance(path, str | os.PathLike):
+        raise RunArgumentError(f"read_ansys_full: argument 'path' must be a path (str or os.PathLike) to an ANSYS full "
+                               f"file, got {type(path).__name__} {path!r:.60}")
     reader = _optional("ansys.mapdl.reader", "ansys", "ansys-mapdl-reader", "read_ansys_full", path)
     from ansys.mapdl.reader.common import read_table as ansys_read_table
 
@@ -266,10 +282,15 @@ def read_nastran_op4(path: str | os.PathLike[str], *, mass: str = "MAA", stiffne
         ``pyNastran`` is not installed.
     ModalFileError
         Unreadable file, a missing or complex matrix, matrices that are not square, symmetric or finite, or a
-        DOF map that does not fit them; the message names the file and the matrix.
+        DOF map that does not fit them; a "mass" matrix without mass in a rigid translation (the matrices
+        swapped); the message names the file and the matrix.
+    RunArgumentError
+        ``path`` not a path; ``mass`` or ``stiffness`` not a name, or both the same matrix.
     """
     op4 = _optional("pyNastran.op4.op4", "nastran", "pyNastran", "read_nastran_op4", path)
-    name = os.fspath(path)
+    _names("read_nastran_op4", ("mass", mass), ("stiffness", stiffness))
+    name = _check_file(path, "a Nastran OUTPUT4 file", "path") if not isinstance(path, str | os.PathLike) \
+        else os.fspath(path)
     if not Path(name).is_file():
         raise ModalFileError(f"{name}: " + ("is a directory, not an OP4 file" if Path(name).is_dir() else
                                             "no such OP4 file"))
@@ -361,10 +382,19 @@ def read_nastran_dmig(bdf_path: str | os.PathLike[str], mass_name: str, stiffnes
         ``pyNastran`` is not installed.
     ModalFileError
         Unreadable file; a missing, complex, non-square or twice-given DMIG; a grid without a GRID card or with
-        a curvilinear ``CD``; matrices that are not symmetric or finite. The message names the file and the card.
+        a curvilinear ``CD``; matrices that are not symmetric or finite; a "mass" matrix without mass in a rigid
+        translation (the matrices swapped). The message names the file and the card.
+    RunArgumentError
+        ``bdf_path`` not a path; ``mass_name`` or ``stiffness_name`` not a name, or both the same DMIG; ``punch``
+        not True, False or None.
     """
     bdf = _optional("pyNastran.bdf.bdf", "nastran", "pyNastran", "read_nastran_dmig", bdf_path)
-    name = os.fspath(bdf_path)
+    _names("read_nastran_dmig", ("mass_name", mass_name), ("stiffness_name", stiffness_name))
+    if punch is not None and not isinstance(punch, bool | np.bool_):
+        raise RunArgumentError(f"read_nastran_dmig: argument 'punch' must be True (bulk data only), False (a full "
+                               f"input deck) or None (decided by a BEGIN BULK line), got {punch!r}")
+    name = _check_file(bdf_path, "a Nastran bulk data file", "bdf_path") if not isinstance(
+        bdf_path, str | os.PathLike) else os.fspath(bdf_path)
     try:
         text = Path(name).read_text(errors="replace")
     except OSError as exc:

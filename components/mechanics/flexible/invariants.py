@@ -35,6 +35,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from flexlib.errors import RunArgumentError
+
 from .fe_model import MassPoints
 
 __all__ = ["INVARIANT_NAMES", "inertia_invariants", "invariant_shapes"]
@@ -64,6 +66,18 @@ def inertia_invariants(points: MassPoints, modes: np.ndarray) -> dict[str, np.nd
     dict of str to ndarray
         ``I1`` .. ``I9`` in SI units (kg, kg m, kg m2 per power of the modal coordinates).
     """
+    if not isinstance(points, MassPoints):
+        raise RunArgumentError(f"inertia_invariants: argument 'points' must be MassPoints (FEModel.mass_points or "
+                               f"FEModel.lumped_mass_points()), got {type(points).__name__}")
+    n = points.Nt.shape[1]
+    try:
+        bad = isinstance(modes, str | bytes) or np.asarray(modes).dtype.kind not in "iuf"
+    except (TypeError, ValueError):
+        bad = True
+    if bad or np.ndim(modes) != 2 or np.shape(modes)[0] != n or not np.all(np.isfinite(modes)):
+        raise RunArgumentError(f"inertia_invariants: argument 'modes' must be finite mode shapes ({n}, M) on the DOFs "
+                               f"of the mass points, got {type(modes).__name__} of shape {np.shape(modes)}")
+    modes = np.asarray(modes, dtype=float)
     m = points.masses
     P = m.size
     M = modes.shape[1]

@@ -30,8 +30,9 @@ from typing import Any
 import h5py
 import numpy as np
 
-from flexlib.errors import ModalFileError
+from flexlib.errors import ModalFileError, RunArgumentError
 
+from .fe_model import UnknownNodeError, _node_id_list
 from .invariants import INVARIANT_NAMES, invariant_shapes
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "LOAD_CASE_NAMES", "SI_UNITS", "ModalData", "is_load_case_name"]
@@ -242,19 +243,46 @@ class ModalData:
         return self.damping_ratio if self.damping_ratio is not None else default_damping_ratio(self.frequencies)
 
     def node_index(self, node_id: int) -> int:
-        """Index into ``coordinates`` of a node id (clear error if absent)."""
-        hits = np.flatnonzero(self.node_ids == int(node_id))
+        """Index into ``coordinates`` of a node id.
+
+        Raises
+        ------
+        UnknownNodeError
+            (a :class:`~flexlib.errors.RunArgumentError` and a ``KeyError``) A node id the data do not have, or not
+            a node id (text, a bool, a fractional number); the message names it and the data's ids.
+        """
+        where = f"modal data {self.title!r}" if self.title else "modal data (untitled)"
+        if isinstance(node_id, str | bytes) or np.ndim(node_id) != 0:
+            raise UnknownNodeError(f"{where}: a node id is one whole number, got {node_id!r}")
+        (node,) = _node_id_list(node_id, where)
+        hits = np.flatnonzero(self.node_ids == node)
         if hits.size != 1:
-            raise KeyError(f"modal data {self.title!r}: no node with id {int(node_id)}")
+            raise UnknownNodeError(f"{where}: no node with id {node} (ids {int(self.node_ids.min())}.."
+                                   f"{int(self.node_ids.max())}, {self.n_nodes} nodes)")
         return int(hits[0])
 
     # ------------------------------------------------------------------ mode subsets
     def select(self, modes: Sequence[int] | np.ndarray) -> ModalData:
-        """The same body with a subset of its modes (indices into the current modes, in the given order)."""
-        idx = np.asarray(modes, dtype=np.int64).ravel()
+        """The same body with a subset of its modes (indices into the current modes, in the given order).
+
+        Raises
+        ------
+        RunArgumentError
+            (a ``ValueError``) ``modes`` not a list of distinct integer indices in ``0 .. n_modes - 1`` (a bool, a
+            float or text is refused, not read as an index).
+        """
+        where = f"modal data {self.title!r}" if self.title else "modal data (untitled)"
+        items = [modes] if isinstance(modes, str | bytes) or np.ndim(modes) == 0 else np.asarray(
+            modes, dtype=object).ravel().tolist()
+        bad = [v for v in items if isinstance(v, bool | np.bool_) or not isinstance(v, int | np.integer)]
+        if bad or np.ndim(modes) != 1:
+            item = f" (an item {bad[0]!r} of type {type(bad[0]).__name__})" if bad else ""
+            raise RunArgumentError(f"{where}.select: modes must be a list of mode indices (ints) in "
+                                   f"0..{self.n_modes - 1}, got {modes!r}{item}")
+        idx = np.asarray(items, dtype=np.int64)
         if idx.size and (idx.min() < 0 or idx.max() >= self.n_modes or len(np.unique(idx)) != idx.size):
-            raise ValueError(f"modal data {self.title!r}: mode indices must be distinct in 0..{self.n_modes - 1}, "
-                             f"got {idx.tolist()}")
+            raise RunArgumentError(f"{where}.select: mode indices must be distinct in 0..{self.n_modes - 1}, got "
+                                   f"{idx.tolist()}")
         inv = dict(self.invariants)
         inv["I3"] = inv["I3"][:, idx]
         inv["I4"] = inv["I4"][:, idx]
@@ -362,8 +390,12 @@ class ModalData:
         Raises
         ------
         ModalFileError
-            The file could not be written (the previous file, if any, is left untouched).
+            The file could not be written (the previous file, if any, is left untouched), or ``path`` is not a
+            str or os.PathLike.
         """
+        if not isinstance(path, str | os.PathLike):
+            raise ModalFileError(f"ModalData.write: path must be the path of the modal file to write (str or Path), "
+                                 f"got {path!r} ({type(path).__name__})")
         path = Path(path)
         try:
             fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
@@ -507,6 +539,9 @@ def _read_all(f: h5py.File, name: str) -> dict[str, Any]:
         out["provenance"] = json.loads(prov.decode() if isinstance(prov, bytes) else prov)
     except (TypeError, ValueError) as exc:
         raise ModalFileError(f"{name}: dataset '/' attribute 'provenance' is not JSON: {exc}") from None
+    if not isinstance(out["provenance"], dict):
+        raise ModalFileError(f"{name}: dataset '/' attribute 'provenance' must be a JSON object ({{...}}: how the "
+                             f"data were made), got {type(out['provenance']).__name__} {out['provenance']!r:.60}")
     return out
 
 
@@ -604,6 +639,10 @@ def _validate(d: ModalData) -> dict[str, Any]:
     unknown = sorted(set(iface.tolist()) - set(ids.tolist()))
     if unknown:
         raise _Invalid(p["interface_nodes"], f"node ids {unknown} are not in '/nodes/ids'")
+    if len(np.unique(iface)) != iface.size:
+        twice = sorted({int(k) for k in iface.tolist() if iface.tolist().count(k) > 1})
+        raise _Invalid(p["interface_nodes"], f"node {twice[0]} is given twice ({iface.tolist()}): each interface "
+                                             "node is one frame of the body")
     out["interface_nodes"] = iface
     freq = _numeric(p["frequencies"], d.frequencies, None)
     if freq.ndim != 1:

@@ -73,9 +73,10 @@ def _array(func: str, arg: str, value: Any) -> np.ndarray:
         kind = np.asarray(value).dtype.kind
     except (TypeError, ValueError):  # ragged nesting
         kind = "O"
-    if kind in "USb":  # text ('1e-3' stays text: numbers are not read out of strings) or bools
-        raise RunArgumentError(f"{func}: argument {arg!r} must be an array of real numbers, got "
-                               f"{'text' if kind != 'b' else 'bools'}: {value!r:.80}")
+    if kind in "USbc":  # text ('1e-3' stays text: numbers are not read out of strings), bools or complex numbers
+        what = {"b": "bools", "c": "complex numbers (the imaginary part would be dropped)"}.get(kind, "text")
+        raise RunArgumentError(f"{func}: argument {arg!r} must be an array of real numbers, got {what}: "
+                               f"{value!r:.80}")
     try:
         a = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -136,6 +137,11 @@ def _frame_motion(r_0: Any, T: Any, nt: int, func: str) -> tuple[np.ndarray, np.
         k = int(np.argmax(err))
         raise RunArgumentError(f"{func}: argument 'T' at index {k} is not orthogonal (max |T T^T - I| = "
                                f"{err[k]:.3g}): expected rotation matrices world -> body")
+    det = np.linalg.det(R) if nt else np.ones(0)
+    if np.any(det < 0):
+        k = int(np.argmax(det < 0))
+        raise RunArgumentError(f"{func}: argument 'T' at index {k} is a reflection (det T = {det[k]:.3g}), not a "
+                               "rotation: it would draw the body mirrored; expected rotation matrices world -> body")
     return r, R
 
 
@@ -195,7 +201,16 @@ def _superpose(func: str, data: Any, q: Any, nodes: Sequence[int] | np.ndarray |
     if loads is not None:
         R, amp = _residual(func, data, kind, loads, q2.shape[0], single)
         out = out + np.einsum("tc,cnk->tnk", amp, R[:, idx, :])
+    _overflow(func, out)
     return out[0] if single else out
+
+
+def _overflow(func: str, out: np.ndarray) -> None:
+    """Finite inputs whose superposition is not finite: values beyond the floating-point range."""
+    if not np.all(np.isfinite(out)):
+        raise RunArgumentError(f"{func}: the result overflows the floating-point range (largest finite "
+                               f"{np.finfo(float).max:.3g}): 'q' (or 'loads') is far beyond a small elastic "
+                               "deformation")
 
 
 def node_displacements(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | None = None, *,
@@ -295,6 +310,7 @@ def deformed_positions(data: ModalData, q: Any, r_0: Any, T: Any, nodes: Sequenc
     scale = _scale(func, scale)
     body = data.coordinates[idx][None, :, :] + scale * np.einsum("tm,mnk->tnk", q2, data.translational_modes[:, idx])
     out = r[:, None, :] + np.einsum("tji,tnj->tni", R, body)
+    _overflow(func, out)
     return out[0] if single else out
 
 
@@ -467,6 +483,9 @@ def energies(data: ModalData, q: Any, qd: Any, r_0: Any, v_0: Any, w: Any, T: An
     qa, _ = _modal_coordinates(data, q, func)
     qda, _ = _modal_coordinates(data, qd, func)
     nt = qa.shape[0]
+    if qda.shape != qa.shape:
+        raise RunArgumentError(f"{func}: argument 'qd' has shape {np.shape(qd)}, but 'q' {np.shape(q)}: one rate per "
+                               "modal coordinate and instant")
     r, R = _frame_motion(r_0, T, nt, func)
     vecs = {}
     for name, value in (("v_0", v_0), ("w", w)):

@@ -38,7 +38,13 @@ import scipy.sparse.linalg as sla
 
 from flexlib.errors import ModalFileError, RunArgumentError
 
-from .fe_model import FEModel, UnknownNodeError, check_semidefinite_pattern
+from .fe_model import (
+    FEModel,
+    UnknownNodeError,
+    check_fields,
+    check_semidefinite_pattern,
+    check_translational_mass,
+)
 from .invariants import inertia_invariants
 
 __all__ = ["CraigBamptonResult", "craig_bampton", "elastic_static_responses", "modal_data_from_fe"]
@@ -212,6 +218,8 @@ def _unheld(K: sp.csr_matrix, rows: np.ndarray, names: _Names) -> Exception | No
 def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body_modes: Any, orthogonalize: bool,
                    names: _Names) -> CraigBamptonResult:
     func = names.func
+    if not isinstance(orthogonalize, bool | np.bool_):
+        raise RunArgumentError(f"{func}: argument 'orthogonalize' must be True or False, got {orthogonalize!r}")
     mats = []
     for label, A in (("M", M), ("K", K)):
         try:
@@ -274,7 +282,16 @@ def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body
     n_modes = int(n_modes)
     R = None
     if rigid_body_modes is not None:
-        R = np.asarray(rigid_body_modes, dtype=float)
+        try:
+            if isinstance(rigid_body_modes, str | bytes) or np.asarray(rigid_body_modes).dtype.kind not in "iuf":
+                raise TypeError
+            R = np.asarray(rigid_body_modes, dtype=float)
+        except (TypeError, ValueError):
+            raise RunArgumentError(f"{func}: rigid_body_modes must be an array ({n}, r) of displacement fields "
+                                   f"(numbers; e.g. FEModel.rigid_body_modes()), got {rigid_body_modes!r:.60}"
+                                   ) from None
+        if not np.all(np.isfinite(R)):
+            raise RunArgumentError(f"{func}: rigid_body_modes has non-finite values")
         if R.ndim != 2 or R.shape[0] != n:
             raise RunArgumentError(f"{func}: rigid_body_modes must have shape ({n}, r), got {R.shape}")
         KR = K @ R
@@ -423,7 +440,8 @@ def craig_bampton(M: sp.spmatrix | np.ndarray, K: sp.spmatrix | np.ndarray, inte
     Raises
     ------
     RunArgumentError
-        Bad sizes, DOF indices or ``n_modes``; the interface does not restrain the body (``K_ii`` singular or
+        Bad sizes, DOF indices or ``n_modes``; ``orthogonalize`` not a bool; ``rigid_body_modes`` not an array of
+        numbers of the right shape; the interface does not restrain the body (``K_ii`` singular or
         with a zero-frequency mode, naming the DOF that moves); rigid-body fields that ``K`` does not annihilate;
         a matrix that is not finite, symmetric or positive semi-definite (a negative diagonal term, an
         off-diagonal term above its diagonal terms, a negative-stiffness or negative-mass mode), naming the DOF.
@@ -456,7 +474,8 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     title, creator : str
         Header text of the modal file.
     damping_ratio : ndarray, optional
-        Modal damping ratios [1] per kept mode; default: the frequency rule of
+        Modal damping ratios [1] per mode of the result, each a fraction of critical damping in ``[0, 1]``;
+        default: the frequency rule of
         :func:`~flexlib.components.mechanics.flexible.selection.default_damping_ratio` when used.
     stress_fibre : (float, float), optional
         Beam models: section fibre ``(y, z)`` [m] at which stress modes are recovered
@@ -466,7 +485,8 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         Beam models: add the modal geometric stiffness of the inertial and interface unit load cases
         (:func:`~flexlib.components.mechanics.flexible.geometric.modal_geometric_stiffness`).
     support_nodes : sequence of int, optional
-        Nodes held for those static load cases; default the first interface node (the reference node if given).
+        With ``geometric_stiffening``: nodes held for its static load cases; default the first interface node (the
+        reference node if given).
     reference_node : int, optional
         Attach the body's reference frame to this node (attached modes). The node becomes the first interface
         node and ``free`` does not apply; the other interface nodes give the constraint (static) modes, as in
@@ -490,6 +510,17 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     ModalData
         Body properties from the mass description: mass = I1 [kg], centre of mass = I2 / I1 [m], inertia about
         the body-frame origin = I7 [kg m2].
+
+    Raises
+    ------
+    RunArgumentError
+        An argument that is not what is accepted, named: ``fe`` not an FEModel; a flag not a bool; ``title`` or
+        ``creator`` not a string; node ids that are not whole numbers or not in the model (``reference_node`` one
+        id); ``n_modes`` not a whole number in range; ``attachment`` not one of its choices, or ``"pinned"``
+        without ``reference_node``; ``support_nodes`` without ``geometric_stiffening``; ``stress_fibre`` not two
+        numbers; ``damping_ratio`` not one ratio in ``[0, 1]`` per mode; an FE model that cannot be reduced as
+        asked (its mass matrix without mass in a rigid translation, an interface that does not hold it, ...).
+        For a model read from a file its faults are a :class:`~flexlib.errors.ModalFileError` naming the file.
     """
     from .beam import beam_stress_modes, section_force_modes
     from .modal_data import ModalData
@@ -503,14 +534,18 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     for flag, value in flags:
         if not isinstance(value, bool | np.bool_):
             raise RunArgumentError(f"{func}: argument {flag!r} must be True or False, got {value!r}")
+    for arg, text in (("title", title), ("creator", creator)):
+        if not isinstance(text, str):
+            raise RunArgumentError(f"{func}: argument {arg!r} must be a string (header text of the modal file), got "
+                                   f"{type(text).__name__} {text!r}")
     if (stress_fibre is not None or geometric_stiffening) and fe.beam is None:
         raise RunArgumentError(f"{func}: stress_fibre and geometric_stiffening need a beam model (beam_mesh)")
     if stress_fibre is not None:
-        try:
-            fibre = np.asarray(stress_fibre, dtype=float)
-        except (TypeError, ValueError):
-            fibre = np.zeros(0)
-        if fibre.shape != (2,) or not np.all(np.isfinite(fibre)):
+        items = [stress_fibre] if isinstance(stress_fibre, str | bytes) or np.ndim(stress_fibre) == 0 else \
+            np.asarray(stress_fibre, dtype=object).ravel().tolist()
+        numeric = all(isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_) for v in items)
+        fibre = np.asarray(items, dtype=float) if numeric else np.zeros(0)
+        if np.shape(stress_fibre) != (2,) or fibre.shape != (2,) or not np.all(np.isfinite(fibre)):
             raise RunArgumentError(f"{func}: argument 'stress_fibre' must be two finite numbers (y, z) [m], got "
                                    f"{stress_fibre!r}")
     interface_nodes = _node_ids(fe, interface_nodes, "interface_nodes")
@@ -518,8 +553,18 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         raise RunArgumentError(f"{func}: n_modes must be a whole number >= 0, got {n_modes!r}")
     if attachment not in ("clamped", "pinned"):
         raise RunArgumentError(f"{func}: attachment must be 'clamped' or 'pinned', got {attachment!r}")
+    if attachment == "pinned" and reference_node is None:
+        raise RunArgumentError(f"{func}: attachment='pinned' says how the reference frame is attached at "
+                               "reference_node, which is not given: pass reference_node=<the pin node> (a floating "
+                               "body, free=True, has no attachment)")
     if support_nodes is not None:
+        if not geometric_stiffening:
+            raise RunArgumentError(f"{func}: support_nodes={support_nodes!r} hold the body for the geometric "
+                                   "stiffness load cases, which are computed only with geometric_stiffening=True")
         support_nodes = _node_ids(fe, support_nodes, "support_nodes")
+    why = check_translational_mass(fe.M, fe.dof_map)
+    if why is not None:
+        raise (ModalFileError if fe.from_file else RunArgumentError)(f"{func}: {fe.source_label('M')}: {why}")
     given = fe
     rigid = fe.rigid_body_modes() if free else None
     rigid_names = _RIGID_NAMES
@@ -575,6 +620,8 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
                                                        "reference_node=" if reference_node is None else
                                                        f"attached at node {reference_node} it still has a "
                                                        "mechanism"))
+    if damping_ratio is not None:
+        damping_ratio = _damping_argument(damping_ratio, cb.omega.size)
     points = fe.mass_points if fe.mass_points is not None else fe.lumped_mass_points()
     inv = inertia_invariants(points, cb.modes)
     geometric = None
@@ -659,7 +706,10 @@ def elastic_static_responses(fe: FEModel, loads: np.ndarray, rigid: np.ndarray |
     ndarray (n, C)
         Displacement fields [m, rad].
     """
-    loads = np.asarray(loads, dtype=float).reshape(fe.n_dofs, -1)
+    func = "elastic_static_responses"
+    loads = check_fields(func, fe, loads, "loads", ndim=(1, 2)).reshape(fe.n_dofs, -1)
+    if rigid is not None:
+        rigid = check_fields(func, fe, rigid, "rigid")
     K = sp.csc_matrix(fe.K)
     if rigid is None or rigid.shape[1] == 0:
         A, rhs = K, loads
@@ -678,9 +728,35 @@ def elastic_static_responses(fe: FEModel, loads: np.ndarray, rigid: np.ndarray |
     return u
 
 
+def _damping_argument(value: Any, m: int) -> np.ndarray:
+    """``damping_ratio`` of :func:`modal_data_from_fe`: one ratio in [0, 1] (a number, not text or a bool) per mode."""
+    func = "modal_data_from_fe"
+    accepted = (f"one modal damping ratio per mode ({m} modes), each a fraction of critical damping in [0, 1] "
+                "(0.02 for 2 %)")
+    if isinstance(value, str | bytes) or np.ndim(value) == 0:
+        hint = (f"; for the same ratio on every mode pass np.full({m}, {value!r}), or leave the file's ratios to "
+                f"the default rule and give FlexibleBody(..., damping={value!r})") if isinstance(
+            value, numbers.Real) and not isinstance(value, bool | np.bool_) else ""
+        raise RunArgumentError(f"{func}: argument 'damping_ratio' must be {accepted}, got {value!r}{hint}")
+    items = np.asarray(value, dtype=object).ravel().tolist()
+    for k, v in enumerate(items):
+        if not isinstance(v, numbers.Real) or isinstance(v, bool | np.bool_) or not 0.0 <= float(v) <= 1.0:
+            pct = isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_) and 1.0 < float(v) <= 100.0
+            raise RunArgumentError(f"{func}: argument 'damping_ratio'[{k}] is {v!r}: damping_ratio must be "
+                                   f"{accepted}" + (f" (a percentage? {float(v):g} % is {float(v) / 100:g})"
+                                                    if pct else ""))
+    if np.ndim(value) != 1 or len(items) != m:
+        raise RunArgumentError(f"{func}: argument 'damping_ratio' has shape {np.shape(value)}, but the reduction "
+                               f"gives {m} modes: give {accepted}")
+    return np.asarray(items, dtype=float)
+
+
 def _node_ids(fe: FEModel, value: Any, argument: str, scalar: bool = False) -> list[int]:
     """Node ids given as an argument: whole numbers (not bools or strings), distinct, all in the FE model."""
     func = "modal_data_from_fe"
+    if scalar and len(value) == 1 and (isinstance(value[0], Sequence | np.ndarray | range) and
+                                       not isinstance(value[0], str | bytes)):
+        raise RunArgumentError(f"{func}: argument {argument!r} must be one node id (an int), got {value[0]!r}")
     if isinstance(value, str | bytes) or (not scalar and _is_int(value)) or \
             (not scalar and not isinstance(value, Sequence | np.ndarray | range)):
         raise RunArgumentError(f"{func}: argument {argument!r} must be a list of node ids, got {value!r}"

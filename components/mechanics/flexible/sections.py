@@ -51,6 +51,9 @@ class Section:
     name: str = "section"
 
     def __post_init__(self) -> None:
+        if not isinstance(self.name, str):
+            raise RunArgumentError(f"Section: name must be a string (the description in messages and provenance), "
+                                   f"got {type(self.name).__name__} {self.name!r}")
         for field in ("A", "Iy", "Iz", "J", "Asy", "Asz"):
             value = getattr(self, field)
             if isinstance(value, bool) or not isinstance(value, int | float) or math.isnan(value) or value <= 0:

@@ -21,10 +21,11 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from flexlib.errors import RunArgumentError
+from flexlib.errors import ModalFileError, RunArgumentError
 
 from .modal_data import ModalData
 
@@ -120,13 +121,24 @@ def modal_participation(modes: np.ndarray, stiffness: np.ndarray, loads: np.ndar
     Returns
     -------
     ParticipationTable
+
+    Raises
+    ------
+    RunArgumentError
+        (a ``ValueError``) An argument that is not an array of finite real numbers (text, bools, NaN are
+        refused), of the wrong shape, a stiffness that is not positive or not diagonal, ``threshold`` not a
+        fraction in ``[0, 1]``; the message names the argument.
     """
-    modes = np.asarray(modes, dtype=float)
-    F = np.asarray(loads, dtype=float)
+    func = "modal_participation"
+    modes = _numbers(func, "modes", modes)
+    F = _numbers(func, "loads", loads)
     F = F[:, None] if F.ndim == 1 else F
-    if modes.ndim != 2 or F.shape[0] != modes.shape[0]:
-        raise ValueError(f"modal_participation: loads have {F.shape[0]} rows, modes {modes.shape}")
-    return _table(modes.T @ F, stiffness, frequencies, threshold)
+    if modes.ndim != 2:
+        raise RunArgumentError(f"{func}: argument 'modes' must be a matrix (n DOFs, M modes), got shape {modes.shape}")
+    if F.ndim != 2 or F.shape[0] != modes.shape[0]:
+        raise RunArgumentError(f"{func}: argument 'loads' has shape {F.shape}: it must have one row per DOF of "
+                               f"'modes' {modes.shape} (n, or (n, k) for k load cases)")
+    return _table(modes.T @ F, stiffness, frequencies, threshold, func)
 
 
 def nodal_generalized_forces(data: ModalData, nodal_loads: Mapping[int, Sequence[float]]) -> np.ndarray:
@@ -138,35 +150,81 @@ def nodal_generalized_forces(data: ModalData, nodal_loads: Mapping[int, Sequence
         Modal data (mode shapes per node).
     nodal_loads : mapping of node id to 6 floats
         Force ``(fx, fy, fz)`` [N] and moment ``(mx, my, mz)`` [N m] in body axes at each loaded node.
+
+    Raises
+    ------
+    RunArgumentError
+        (a ``ValueError``) ``data`` not a ModalData, ``nodal_loads`` not a mapping, a node the data do not have
+        (or not a whole number), a load that is not six finite numbers (text is refused).
     """
+    func = "nodal_generalized_forces"
+    data = _modal_data(func, data)
+    if not isinstance(nodal_loads, Mapping):
+        raise RunArgumentError(f"{func}: argument 'nodal_loads' must be a mapping {{node id: (fx, fy, fz, mx, my, "
+                               f"mz)}} [N, N m], got {type(nodal_loads).__name__} {nodal_loads!r:.60}")
     out = np.zeros(data.n_modes)
     for node, load in nodal_loads.items():
-        f = np.asarray(load, dtype=float)
-        if f.shape != (6,) or not np.all(np.isfinite(f)):
-            raise ValueError(f"nodal load at node {node}: expected 6 finite values (fx, fy, fz, mx, my, mz), "
-                             f"got {load!r}")
+        f = _numbers(func, f"nodal_loads[{node!r}]", load)
+        if f.shape != (6,):
+            raise RunArgumentError(f"{func}: nodal load at node {node!r}: expected 6 finite values (fx, fy, fz, mx, "
+                                   f"my, mz) [N, N m], got {load!r}")
         p = data.node_index(node)
         out += data.translational_modes[:, p, :] @ f[:3] + data.rotational_modes[:, p, :] @ f[3:]
     return out
 
 
+def _numbers(func: str, name: str, value: Any) -> np.ndarray:
+    """An array of finite real numbers (not text, bools or complex), naming the argument."""
+    try:
+        kind = "U" if isinstance(value, str | bytes) else np.asarray(value).dtype.kind
+    except (TypeError, ValueError):
+        kind = "O"
+    if kind not in "iuf":
+        raise RunArgumentError(f"{func}: argument {name!r} must be an array of real numbers, got "
+                               f"{type(value).__name__} {value!r:.80}")
+    a = np.asarray(value, dtype=float)
+    if not np.all(np.isfinite(a)):
+        where = tuple(int(x) for x in np.argwhere(~np.isfinite(a))[0])
+        raise RunArgumentError(f"{func}: argument {name!r} has a non-finite value {a[where]} at index {where}")
+    return a
+
+
+def _modal_data(func: str, data: Any) -> ModalData:
+    if not isinstance(data, ModalData):
+        raise RunArgumentError(f"{func}: argument 'data' must be a ModalData (ModalData.read(path), "
+                               f"modal_data_from_fe(...) or body.modal_data), got {type(data).__name__} {data!r:.60}")
+    return data
+
+
+def _threshold(func: str, threshold: Any) -> float:
+    if not _real(threshold) or not 0.0 <= float(threshold) <= 1.0:
+        pct = _real(threshold) and 1.0 < float(threshold) <= 100.0
+        raise RunArgumentError(f"{func}: threshold must be a fraction in [0, 1] (0.01 for 1 %), got {threshold!r}"
+                               + (f" (a percentage? {float(threshold):g} % is {float(threshold) / 100:g})"
+                                  if pct else ""))
+    return float(threshold)
+
+
 def _table(Q: np.ndarray, stiffness: np.ndarray, frequencies: np.ndarray | None,
-           threshold: float) -> ParticipationTable:
-    if not 0 <= threshold <= 1:
-        raise ValueError(f"modal_participation: threshold must be a fraction in [0, 1], got {threshold!r}")
-    k = np.asarray(stiffness, dtype=float)
+           threshold: float, func: str = "modal_participation") -> ParticipationTable:
+    threshold = _threshold(func, threshold)
+    k = _numbers(func, "stiffness", stiffness)
     if k.ndim == 2:
         off = np.abs(k - np.diag(np.diag(k))).max(initial=0.0)
         if off > 1e-9 * np.abs(k).max(initial=1.0):
-            raise ValueError("modal_participation: the generalised stiffness is not diagonal (non-orthogonal modes)")
+            raise RunArgumentError(f"{func}: the generalised stiffness is not diagonal (non-orthogonal modes)")
         k = np.diag(k)
     if k.shape != (Q.shape[0],) or np.any(k <= 0):
-        raise ValueError("modal_participation: one positive generalised stiffness per mode is needed "
-                         "(rigid-body modes have no static amplitude)")
+        raise RunArgumentError(f"{func}: one positive generalised stiffness per mode is needed ({Q.shape[0]} modes, "
+                               f"got {np.shape(stiffness)} with smallest {float(k.min(initial=np.inf)):.3g}; "
+                               "rigid-body modes have no static amplitude)")
     q = np.abs(Q / k[:, None])
     top = q.max(axis=0)
     share = np.max(np.divide(q, top, out=np.zeros_like(q), where=top > 0), axis=1) * 100.0
-    f = np.full(k.shape, math.nan) if frequencies is None else np.asarray(frequencies, dtype=float)
+    f = np.full(k.shape, math.nan) if frequencies is None else _numbers(func, "frequencies", frequencies)
+    if f.shape != k.shape:
+        raise RunArgumentError(f"{func}: argument 'frequencies' has shape {f.shape}, expected ({k.size},): one "
+                               "frequency [Hz] per mode")
     rows = tuple(ParticipationRow(i, float(f[i]), float(q[i].max()), float(share[i]),
                                   bool(share[i] >= 100.0 * threshold)) for i in range(k.size))
     return ParticipationTable(rows, float(threshold))
@@ -195,17 +253,22 @@ def participation_from_load_cases(data: ModalData, amplitudes: np.ndarray, *,
 
     Raises
     ------
-    ValueError
-        The data hold no static load responses, or the amplitudes have the wrong shape.
+    ModalFileError
+        The data hold no static load responses (a ``ValueError``).
+    RunArgumentError
+        (a ``ValueError``) ``data`` not a ModalData; amplitudes that are not finite numbers or of the wrong shape;
+        ``threshold`` not a fraction in ``[0, 1]``.
     """
+    func = "participation_from_load_cases"
+    data = _modal_data(func, data)
     if data.load_cases is None:
-        raise ValueError(f"participation_from_load_cases: modal data {data.title!r} has no static load responses "
-                         "(make it with modal_data_from_fe(..., static_loads=True))")
-    A = np.atleast_2d(np.asarray(amplitudes, dtype=float))
-    if A.ndim != 2 or A.shape[1] != len(data.load_cases) or not np.all(np.isfinite(A)):
-        raise ValueError(f"participation_from_load_cases: amplitudes must be finite, shape (k, "
-                         f"{len(data.load_cases)}) (one per load case), got {np.shape(amplitudes)}")
-    return _table(data.static_modal_loads.T @ A.T, data.generalized_stiffness, data.frequencies, threshold)
+        raise ModalFileError(f"{func}: modal data {data.title!r} has no static load responses (dataset "
+                             "'/static_loads'; make it with modal_data_from_fe(..., static_loads=True))")
+    A = np.atleast_2d(_numbers(func, "amplitudes", amplitudes))
+    if A.ndim != 2 or A.shape[1] != len(data.load_cases):
+        raise RunArgumentError(f"{func}: amplitudes must be finite, shape (k, {len(data.load_cases)}) (one per load "
+                               f"case {list(data.load_cases[:4])}...), got {np.shape(amplitudes)}")
+    return _table(data.static_modal_loads.T @ A.T, data.generalized_stiffness, data.frequencies, threshold, func)
 
 
 def select_modes(data: ModalData, *, count: int | None = None, max_frequency: float | None = None,
@@ -226,8 +289,10 @@ def select_modes(data: ModalData, *, count: int | None = None, max_frequency: fl
     Raises
     ------
     RunArgumentError
-        ``count`` not an int >= 0 or ``max_frequency`` not a number >= 0 (a ``ValueError``).
+        ``data`` not a ModalData, ``count`` not an int >= 0, ``max_frequency`` not a number >= 0,
+        ``participation`` not a ParticipationTable or of another number of modes (a ``ValueError``).
     """
+    data = _modal_data("select_modes", data)
     if count is not None and (isinstance(count, bool | np.bool_) or not isinstance(count, int | np.integer)
                               or count < 0):
         raise RunArgumentError(f"select_modes: count must be an int >= 0 (the number of lowest modes kept), got "
@@ -240,9 +305,13 @@ def select_modes(data: ModalData, *, count: int | None = None, max_frequency: fl
     if max_frequency is not None:
         keep = [i for i in keep if data.frequencies[i] <= max_frequency]
     if participation is not None:
+        if not isinstance(participation, ParticipationTable):
+            raise RunArgumentError(f"select_modes: argument 'participation' must be a ParticipationTable (of "
+                                   "modal_participation or participation_from_load_cases), got "
+                                   f"{type(participation).__name__} {participation!r:.60}")
         if len(participation.rows) != data.n_modes:
-            raise ValueError(f"select_modes: the participation table has {len(participation.rows)} modes, "
-                             f"the modal data {data.n_modes}")
+            raise RunArgumentError(f"select_modes: the participation table has {len(participation.rows)} modes, "
+                                   f"the modal data {data.n_modes}: make the table from these data's modes")
         kept = set(participation.kept)
         keep = [i for i in keep if i in kept]
     if count is not None:
@@ -260,8 +329,15 @@ def default_damping_ratio(frequencies: np.ndarray | Sequence[float],
         Natural frequencies [Hz].
     overrides : mapping of mode index to float, optional
         Damping ratios [1] replacing the default for given modes.
+
+    Raises
+    ------
+    RunArgumentError
+        Frequencies that are not finite numbers >= 0 (a NaN would get the 100 % band), a bad override.
     """
-    f = np.asarray(frequencies, dtype=float)
+    f = _numbers("default_damping_ratio", "frequencies", frequencies)
+    if np.any(f < 0):
+        raise RunArgumentError(f"default_damping_ratio: frequencies must be >= 0 [Hz], got {float(f.min())!r}")
     zeta = np.where(f < 100.0, 0.01, np.where(f <= 1000.0, 0.10, 1.0))
     return _override(zeta, overrides, "default_damping_ratio")
 
@@ -293,6 +369,7 @@ def modal_damping_matrix(data: ModalData, overrides: Mapping[int, float] | None 
     overrides : mapping of mode index to float, optional
         Damping ratios [1] replacing the stored/default ones for given modes.
     """
+    data = _modal_data("modal_damping_matrix", data)
     zeta = _override(np.array(data.damping_ratios(), dtype=float), overrides, "modal_damping_matrix")
     omega = 2 * math.pi * data.frequencies
     return np.diag(2.0 * zeta * omega * np.diag(data.generalized_mass))
