@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Component, Input, Output, Parameter
+from flexlib.core.component import remember_option
 from flexlib.errors import ModelError
 
 __all__ = [
@@ -33,10 +34,16 @@ __all__ = [
 INIT_TYPES = ("no_init", "steady_state", "initial_state", "initial_output")
 
 
-def check_choice(block: Any, option: str, value: Any, choices: tuple) -> Any:
-    """Return ``value`` if it is one of ``choices``, else raise a ModelError naming the block."""
-    if value not in choices:
+def check_choice(block: Any, option: str, value: Any, choices: tuple, *, structural: bool = False) -> Any:
+    """Return ``value`` if it is one of the strings ``choices``, else raise a ModelError naming the block.
+
+    The option is remembered (:func:`flexlib.core.component.remember_option`): a later ``block.<option> = value`` is
+    checked the same way, and refused if ``structural`` (the value decided the block's variables when it was built).
+    """
+    if not isinstance(value, str) or value not in choices:
         raise ModelError(f"{type(block).__name__}: {option}={value!r} is not one of {', '.join(map(repr, choices))}")
+    remember_option(block, option, lambda v: check_choice(block, option, v, choices, structural=structural),
+                    structural=structural)
     return value
 
 

@@ -143,9 +143,12 @@ class LimPID(PartialSVcontrol):
             raise ModelError(f"LimPID: init_type='initial_output' needs an integrator (PI or PID), "
                              f"not controller_type={controller_type!r}")
         super().__init__(**kw)
-        self.controller_type, self.init_type = controller_type, init_type
+        # controller_type decides the integrator and derivative states (with_I, with_D): fixed once built
+        self.controller_type = check_choice(self, "controller_type", controller_type, CONTROLLER_TYPES,
+                                            structural=True)
+        self.init_type = check_choice(self, "init_type", init_type, INIT_TYPES)
         self.with_I, self.with_D = "I" in controller_type, "D" in controller_type
-        self.use_feed_forward = flag(self, "use_feed_forward", use_feed_forward)
+        self.use_feed_forward = flag(self, "use_feed_forward", use_feed_forward, structural=True)
         self.strict = flag(self, "strict", strict)
         if self.use_feed_forward:
             self.u_ff = Input(unit="1", doc="Feed-forward signal")

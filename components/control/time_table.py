@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 
 from flexlib import Parameter, eq, if_else, time
+from flexlib.core.variables import numeric_array
 from flexlib.errors import ParameterError
 
 from .interfaces import PartialSO, check_choice
@@ -98,14 +99,17 @@ class TimeTable(PartialSO):
     shift_time = Parameter(0.0, unit="s", doc="Shift of the table's time points")
 
     def __init__(self, t: Any, y: Any, smoothness: str = "linear", **kw: Any) -> None:
-        t_arr, y_arr = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
         name = type(self).__name__
+        t_arr, y_arr = (numeric_array(v, f"{name}: {k}", f"a vector of real numbers [{u}]", ParameterError)
+                        for k, v, u in (("t", t, "s"), ("y", y, "1")))
         if t_arr.ndim != 1 or y_arr.ndim != 1 or t_arr.size == 0:
             raise ParameterError(f"{name}: t and y must be non-empty vectors, got shapes {t_arr.shape}, {y_arr.shape}")
         if t_arr.size != y_arr.size:
             raise ParameterError(f"{name}: t has {t_arr.size} points but y has {y_arr.size}")
-        if not (np.all(np.isfinite(t_arr)) and np.all(np.isfinite(y_arr))):
-            raise ParameterError(f"{name}: t and y must be finite")
+        for k, arr in (("t", t_arr), ("y", y_arr)):
+            bad = np.flatnonzero(~np.isfinite(arr))
+            if bad.size:
+                raise ParameterError(f"{name}: t and y must be finite, but {k}[{int(bad[0])}] = {arr[bad[0]]}")
         bad = np.flatnonzero(np.diff(t_arr) <= 0)
         if bad.size:
             i = int(bad[0])

@@ -2,14 +2,30 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+import numpy as np
+
 from flexlib import Parameter, eq, if_else, time
+from flexlib.core.component import remember_option
 from flexlib.errors import ModelError
 
 from .interfaces import PartialSignalSource
 
 __all__ = ["Trapezoid"]
+
+
+def _count(block: Any, nperiod: Any) -> int:
+    """``nperiod`` as an int >= 0 (a whole float such as 2.0 is accepted); a string, a bool, NaN or a negative
+    count is refused naming the block (``int("1.0")`` and ``int(nan)`` raised Python's errors, ``True`` was 1)."""
+    ok = (isinstance(nperiod, (int, np.integer, float, np.floating)) and not isinstance(nperiod, (bool, np.bool_))
+          and math.isfinite(nperiod) and int(nperiod) == nperiod and nperiod >= 0)
+    if not ok:
+        raise ModelError(f"{type(block).__name__}: nperiod must be an integer >= 0, got {nperiod!r} (infinitely many "
+                         "periods, MSL's nperiod < 0, cannot be time events; give the number of periods)")
+    remember_option(block, "nperiod", lambda v: _count(block, v))
+    return int(nperiod)
 
 
 class Trapezoid(PartialSignalSource):
@@ -63,11 +79,9 @@ class Trapezoid(PartialSignalSource):
     period = Parameter(unit="s", gt=0.0, doc="Time for one period")
 
     def __init__(self, nperiod: int, **kw: Any) -> None:
-        if int(nperiod) != nperiod or nperiod < 0:
-            raise ModelError(f"Trapezoid: nperiod must be an integer >= 0, got {nperiod!r} (infinitely many "
-                             "periods, MSL's nperiod < 0, cannot be time events; give the number of periods)")
+        count = _count(self, nperiod)
         super().__init__(**kw)
-        self.nperiod = int(nperiod)
+        self.nperiod = count
 
     def equations(self) -> list:
         A, P = self.amplitude, self.period

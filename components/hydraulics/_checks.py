@@ -14,12 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.core.component import flag
+from flexlib.core.component import flag, remember_option
 from flexlib.errors import ParameterError
 
 from .fluid import Fluid
 
-__all__ = ["PositiveParameters", "flag", "pressure_start", "store_fluid"]
+__all__ = ["PositiveParameters", "flag", "pressure_start", "remember_option", "store_fluid"]
 
 
 class PositiveParameters:
@@ -48,6 +48,7 @@ def store_fluid(node: Any, fluid: Fluid) -> None:
         raise ParameterError(f"{type(node).__name__}: fluid must be a Fluid record, got {fluid!r}")
     node.__dict__["fluid"] = fluid
     node.__dict__["fluid_record"] = dataclasses.astuple(fluid)
+    remember_option(node, "fluid", lambda v: (store_fluid(node, v), v)[1])  # node.fluid = ... later: checked, recorded
 
 
 def pressure_start(node: Any, value: Any) -> Any:

@@ -34,7 +34,7 @@ class PartialPump(PositiveParameters, Component):
     def __init__(self, use_flange: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
-        self.use_flange = flag(self, "use_flange", use_flange)
+        self.use_flange = flag(self, "use_flange", use_flange, structural=True)
         if self.use_flange:
             self.flange = Flange(doc="Drive shaft; flange.tau is the driving torque into the pump")
             self.w = Variable(unit="rad/s", nominal=100.0, doc="Shaft angular velocity")

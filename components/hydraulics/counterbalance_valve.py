@@ -164,8 +164,8 @@ class CounterbalanceValve(PositiveParameters, Component):
                  steady_start: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
-        self.use_dynamics = flag(self, "use_dynamics", use_dynamics)
-        self.steady_start = flag(self, "steady_start", steady_start) and self.use_dynamics
+        self.use_dynamics = flag(self, "use_dynamics", use_dynamics, structural=True)
+        self.steady_start = flag(self, "steady_start", steady_start, structural=True) and self.use_dynamics
         self.vented = flag(self, "vented", vented)
         if (self.steady_start or not self.use_dynamics) and "p_c" not in self._starts:
             self.set_start("p_c", 0.0, fixed=False)  # a guess: p_c = p_open (algebraic) or der(p_c) = 0 fixes it

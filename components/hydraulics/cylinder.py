@@ -247,7 +247,7 @@ class DoubleActingCylinder(PositiveParameters, Component):
         self._physical_nominals()
         self.x_fixed = flag(self, "x_fixed", x_fixed)
         self.p_fixed = flag(self, "p_fixed", p_fixed)
-        self.use_drain = flag(self, "use_drain", use_drain)
+        self.use_drain = flag(self, "use_drain", use_drain, structural=True)
         if self.use_drain:
             self.port_D = Port(doc="Drain of the rod seal")
 

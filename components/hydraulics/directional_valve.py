@@ -11,7 +11,7 @@ import numpy as np
 from flexlib import Component, Input, Parameter, Variable, assert_, der, eq, no_event
 from flexlib.errors import ModelError, ParameterError
 
-from ._checks import PositiveParameters, flag, store_fluid
+from ._checks import PositiveParameters, flag, remember_option, store_fluid
 from ._smooth import smooth_ramp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
@@ -26,6 +26,14 @@ CENTRES = {
     "float": (0.0, 0.0, -0.1, -0.1),
     "tandem": (0.1, 0.1, 0.1, 0.1),
 }
+
+
+def _centre(valve: Any, centre: Any) -> str:
+    """``centre`` if it is one of :data:`CENTRES` (a list or dict was a TypeError from the dict lookup)."""
+    if not isinstance(centre, str) or centre not in CENTRES:
+        raise ModelError(f"{type(valve).__name__}: centre must be one of {sorted(CENTRES)}, got {centre!r}")
+    remember_option(valve, "centre", lambda v: _centre(valve, v), structural=True)
+    return centre
 
 
 class DirectionalValve43(PositiveParameters, Component):
@@ -178,14 +186,13 @@ class DirectionalValve43(PositiveParameters, Component):
 
     def __init__(self, centre: str = "closed", fluid: Fluid = HLP46, ideal_spool: bool = False,
                  compensated: bool = False, **kw: Any) -> None:
-        if centre not in CENTRES:
-            raise ModelError(f"{type(self).__name__}: centre must be one of {sorted(CENTRES)}, got {centre!r}")
+        _centre(self, centre)
         for name, lap in zip(("lap_PA", "lap_PB", "lap_AT", "lap_BT"), CENTRES[centre], strict=True):
             kw.setdefault(name, lap)
         super().__init__(**kw)
         store_fluid(self, fluid)
-        self.centre = centre
-        self.ideal_spool = flag(self, "ideal_spool", ideal_spool)
+        self.centre = _centre(self, centre)  # decided the laps' defaults and the tandem bypass: fixed once built
+        self.ideal_spool = flag(self, "ideal_spool", ideal_spool, structural=True)
         self.compensated = flag(self, "compensated", compensated)
         if self.ideal_spool:  # xs and vs follow from the command: no initial conditions of their own
             self.set_start("xs", 0.0, fixed=False)

@@ -26,6 +26,8 @@ MathWorks Simscape Fluids, *Isothermal Liquid Properties (IL)* block documentati
 
 from __future__ import annotations
 
+import difflib
+import functools
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -157,4 +159,24 @@ class Fluid:
 
 
 #: HLP46-like mineral oil at 40 °C, no entrained air (ISO VG 46: nu = 46 mm2/s at 40 °C).
+_dataclass_init = Fluid.__init__
+
+
+@functools.wraps(_dataclass_init)
+def _checked_init(self: Fluid, *args: Any, **kwargs: Any) -> None:
+    """The dataclass constructor, with a misspelt field named (``Fluid(bulk=1e9)`` was Python's TypeError, also from
+    ``dataclasses.replace``)."""
+    fields = ["name", *_UNITS]
+    for key in kwargs:
+        if key not in fields:
+            close = difflib.get_close_matches(key, fields, n=2)
+            hint = f"; did you mean {', '.join(close)}?" if close else ""
+            raise ParameterError(f"Fluid: unknown field {key!r}{hint} (fields: {', '.join(fields)})")
+    if len(args) > len(fields):
+        raise ParameterError(f"Fluid: {len(args)} positional values for {len(fields)} fields ({', '.join(fields)})")
+    _dataclass_init(self, *args, **kwargs)
+
+
+Fluid.__init__ = _checked_init  # type: ignore[method-assign]
+
 HLP46 = Fluid()

@@ -41,6 +41,24 @@ class Port(Connector):
     p = Potential(unit="Pa", nominal=1e7, doc="Absolute pressure at the port")
     m_flow = Flow(unit="kg/s", doc="Mass flow rate through the port, positive into the component")
 
+    def check_connection(self, members: list[Connector]) -> None:
+        """One fluid per connection set: ports of components built with different :class:`Fluid` records (a
+        circuit given ``fluid=water`` on some components and the default HLP46 on others) ran with mass flows
+        carried between two density laws without a word; refused naming the fluids and their components."""
+        users: dict[Fluid, list[str]] = {}
+        for port in members:
+            owner = port._parent
+            fluid = owner.__dict__.get("fluid") if owner is not None else None
+            if isinstance(fluid, Fluid):
+                users.setdefault(fluid, []).append(owner.path or type(owner).__name__)
+        if len(users) > 1:
+            from flexlib.errors import ConnectError
+
+            parts = [f"{fluid.name!r} ({', '.join(paths)})" for fluid, paths in users.items()]
+            raise ConnectError(f"ports {', '.join(p.path for p in members)} are connected but their components use "
+                               f"different fluids: {'; '.join(parts)}. Give every component of a circuit the same "
+                               "fluid=... record")
+
 
 class PartialTwoPort(Component):
     """Component with ports ``port_a`` and ``port_b`` that stores no mass.
@@ -199,9 +217,13 @@ def set_nominal(node: Any, name: str, value: Any) -> None:
 
 
 def check_chamber_form(node: Any, form: str) -> str:
-    """Validate a component's structural ``chamber_form`` option (error names the component)."""
-    if form not in CHAMBER_FORMS:
+    """Validate a component's structural ``chamber_form`` option (error names the component); a later
+    ``node.chamber_form = ...`` is checked the same way."""
+    if not isinstance(form, str) or form not in CHAMBER_FORMS:
         from flexlib.errors import ModelError
 
         raise ModelError(f"{type(node).__name__}: chamber_form must be one of {list(CHAMBER_FORMS)}, got {form!r}")
+    from flexlib.core.component import remember_option
+
+    remember_option(node, "chamber_form", lambda v: check_chamber_form(node, v))
     return form

@@ -125,7 +125,7 @@ class Line(PositiveParameters, Component):
                 set_nominal(self, f"m_{end}", fluid.rho_ref * v_half)
                 set_nominal(self, f"dm_{end}", chamber_mass_nominal(fluid, v_half))
         self.use_turbulence = flag(self, "use_turbulence", use_turbulence)
-        self.use_inertance = flag(self, "use_inertance", use_inertance)
+        self.use_inertance = flag(self, "use_inertance", use_inertance, structural=True)
         for name in ("p_a", "p_b"):
             self.set_start(name, fluid.p_ref if p_start is None else p_start, fixed=p_start is not None)
         if use_inertance and p_start is not None:

@@ -34,6 +34,7 @@ class LineCylinder(Component):
         Parameters of :class:`DoubleActingCylinder` (``d_bore``, ``d_rod``, ``stroke``, ``L0``, ``m``,
         ...), and its structural options ``p_fixed``, ``use_drain``, ``fluid``. They live on the
         sub-component ``cylinder``: run-time overrides are ``params={"<name>.cylinder.d_bore": ...}``.
+        ``init``, ``guess`` and ``state_select`` name the cylinder's variables (``init={"p_A": 2e6}``).
 
     Connectors
     ----------
@@ -59,10 +60,8 @@ class LineCylinder(Component):
         from flexlib.components.mechanics.multibody.interfaces import Frame
         from flexlib.components.mechanics.multibody.line_force import LineForce
 
-        init = cylinder.pop("init", None)
-        guess = cylinder.pop("guess", None)
         doc = cylinder.pop("doc", "")
-        super().__init__(doc=doc, init=init, guess=guess)
+        super().__init__(doc=doc)  # init/guess/state_select name the cylinder's variables: passed to it below
         self.frame_a = Frame(doc="Housing pin")
         self.frame_b = Frame(doc="Rod-end pin")
         self.port_A = Port(doc="Cap-side chamber")

@@ -119,8 +119,8 @@ class PressureCompensatedPump(PartialPump):
     def __init__(self, use_flange: bool = False, use_load_sensing: bool = False, use_dynamics: bool = False,
                  fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(use_flange=use_flange, fluid=fluid, **kw)
-        self.use_load_sensing = flag(self, "use_load_sensing", use_load_sensing)
-        self.use_dynamics = flag(self, "use_dynamics", use_dynamics)
+        self.use_load_sensing = flag(self, "use_load_sensing", use_load_sensing, structural=True)
+        self.use_dynamics = flag(self, "use_dynamics", use_dynamics, structural=True)
         if not self.use_dynamics and "eps" not in self._starts:
             self.set_start("eps", 1.0, fixed=False)  # algebraic (= eps_ss) without dynamics
         if self.use_load_sensing:

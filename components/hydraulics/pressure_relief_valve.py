@@ -103,7 +103,7 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
     def __init__(self, use_dynamics: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(fluid=fluid, **kw)
         store_fluid(self, fluid)
-        self.use_dynamics = flag(self, "use_dynamics", use_dynamics)
+        self.use_dynamics = flag(self, "use_dynamics", use_dynamics, structural=True)
         if not self.use_dynamics and "dp_c" not in self._starts:
             self.set_start("dp_c", 0.0, fixed=False)  # algebraic (= dp) without dynamics
 

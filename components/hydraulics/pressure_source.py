@@ -44,7 +44,7 @@ class PressureSource(Component):
     def __init__(self, use_input: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(**kw)
         store_fluid(self, fluid)
-        self.use_input = flag(self, "use_input", use_input)
+        self.use_input = flag(self, "use_input", use_input, structural=True)
         if self.use_input:
             self.p_in = Input(unit="Pa", doc="Imposed absolute pressure")
 

@@ -274,8 +274,9 @@ class LinearSystem:
         return np.asarray(m.nominal, dtype=float)[self._lin.diff]
 
     def sensitivity(self, names: list[str] | str) -> tuple[np.ndarray, np.ndarray]:
-        """``(C_n, D_n)``: the rows of ``C`` and ``D`` for other variables ``names`` at the same point."""
-        return self._lin.outputs(self.point, names_argument(names, "names"))
+        """``(C_n, D_n)``: the rows of ``C`` and ``D`` for other variables ``names`` at the same point (``D_n`` has a
+        column per input of this system; it had none)."""
+        return self._lin.outputs(self.point, names_argument(names, "names"), self.inputs)
 
     def frequency_response(self, f: Any, input: str | None = None, output: str | None = None) -> np.ndarray:
         """``H(j2πf) = C (j2πf I − A)⁻¹ B + D`` at frequencies ``f`` [Hz].

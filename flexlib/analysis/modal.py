@@ -105,6 +105,10 @@ class Modes:
 
     def dominant(self, k: int) -> str:
         """The state with the largest amplitude in mode ``k`` (states scaled by their nominal values)."""
+        n = len(self.eigenvalues)
+        if isinstance(k, (bool, np.bool_)) or not isinstance(k, (int, np.integer)) or not -n <= k < n:
+            raise LinearizationError(f"Modes.dominant: mode index k = {k!r:.60} is not an integer in 0 … {n - 1} "
+                                     f"({n} modes)")
         nominal = self.system.nominal
         return self.system.states[int(np.argmax(np.abs(self.vectors[:, k]) / nominal))]
 
@@ -120,6 +124,7 @@ class Modes:
         (rigid-body and first-order modes: real eigenvalues of integrators, valves, over-damped motions)."""
         if n is not None and (isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 0):
             raise LinearizationError(f"Modes.table: n must be None or an integer >= 0, got {n!r:.60}")
+        vibration_only = _flag(vibration_only, "Modes.table: vibration_only")
         keep = np.flatnonzero(self.oscillatory) if vibration_only else np.arange(len(self.eigenvalues))
         lines = [f"{'mode':>4}  {'f [Hz]':>12}  {'zeta [%]':>9}  {'f_d [Hz]':>12}  dominant state"]
         for k in keep[:n]:
@@ -156,7 +161,8 @@ def _lock_channels(lin: Linearizer, joints: list[str]) -> tuple[list[str], list[
     for j in joints:
         if j not in known:
             close = difflib.get_close_matches(j, list(known), n=3)
-            hint = f"did you mean {', '.join(close)}? " if close else (
+            hint = "did you mean lock='rigid' (a largest independent set of joints)? " if j.strip().lower() == "rigid" \
+                else f"did you mean {', '.join(close)}? " if close else (
                 f"lockable joints: {', '.join(list(known)[:8])}{' …' if len(known) > 8 else ''}; " if known else "")
             raise LinearizationError(f"cannot lock {j!r}: not a Revolute or Prismatic joint of {lin.m.name} ({hint}a "
                                      "lockable joint has a coordinate phi/s and a drive parameter tau_drive/f_drive)")
@@ -397,6 +403,9 @@ def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, pose
         raise LinearizationError("modal_sweep: give either at=result with times=[...] or poses=[{...}, ...]")
     if at is not None and times is None:
         raise LinearizationError("modal_sweep: at=result needs times=[...] [s]")
+    if poses is not None and times is not None:  # the times were ignored
+        raise LinearizationError("modal_sweep: times=[...] go with at=result; poses=[...] are static poses without "
+                                 "times: give one of the two")
     if at is not None:
         why = not_a_number(times)
         if why is not None or np.ndim(times) > 1:

@@ -11,7 +11,9 @@ rule) and the whole model by maximum matching, naming the culprits.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -211,12 +213,10 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             rel.text = rel.describe()
             rel.info.name = f"rel({rel.text})"
         relations.extend(sink)
-        for equ in _call(node, "initial_equations") or []:
+        for equ in _equation_list(node, "initial_equations", _call(node, "initial_equations")):
             for k in range(equ.residual.numel()):
                 initial.append(FlatEquation(equ.residual[k], node.path, equ.label or "initial equation", "initial"))
-        for equ in own or []:
-            if not hasattr(equ, "residual"):
-                raise ModelError(f"{node.path or type(node).__name__}.equations() returned {equ!r}; use eq(lhs, rhs)")
+        for equ in _equation_list(node, "equations", own):
             res = equ.residual
             if res.is_scalar() and res.is_dense():
                 equations.append(FlatEquation(res, path, equ.label, "equation"))
@@ -277,6 +277,25 @@ def _call(node: Component, method: str) -> list:
         raise ModelError(f"{where} failed: {type(exc).__name__}: {text}") from exc
     finally:
         ca.SX.__float__ = _SX_FLOAT
+
+
+def _equation_list(node: Component, method: str, got: Any) -> list:
+    """What ``node.equations()`` / ``node.initial_equations()`` returned, as a list of equations: None is none; one
+    equation (a missing ``[...]``: Python's "not iterable"), a string (iterated letter by letter), an expression or a
+    non-equation entry is refused naming the component and the method."""
+    if got is None:
+        return []
+    where = f"{node.path or type(node).__name__}.{method}()"
+    if hasattr(got, "residual"):
+        raise ModelError(f"{where} returned one equation, not a list; return [eq(...), ...]")
+    if isinstance(got, (str, bytes, ca.SX, ca.MX, ca.DM, Mapping)) or not hasattr(got, "__iter__"):
+        raise ModelError(f"{where} returned {type(got).__name__} {got!r:.80}; return a list of equations "
+                         "[eq(lhs, rhs), ...]")
+    items = list(got)
+    for equ in items:
+        if not hasattr(equ, "residual"):
+            raise ModelError(f"{where} returned {equ!r:.80} in its list; write each equation as eq(lhs, rhs)")
+    return items
 
 
 def _nonfinite_constant(expr: ca.SX) -> float | None:
@@ -364,6 +383,8 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
         owner = where.get(root_key, "")
         conns = [c for c, _ in elems]
         first = conns[0]
+        if len(conns) > 1:
+            first.check_connection(conns)
         for name, decl in first._decls.items():
             if decl.kind is Kind.flow:
                 terms = []
@@ -544,18 +565,36 @@ def _check_local_balance(nodes: list[Node], equations: list[FlatEquation]) -> No
 
 
 def _check_symbols(flat: FlatSystem) -> None:
-    if not flat.equations:
+    """Every symbol of the equations and initial equations is a variable, parameter, derivative or relation of this
+    model; the error names the equation that uses a foreign one (a ``ca.SX.sym``, a variable of a component that is
+    not part of the model) and its component (an initial equation's free symbol was CasADi's "variables are free"
+    error at run time)."""
+    rows = flat.equations + flat.initial
+    if not rows:
         return
-    exprs = ca.vertcat(*[e.expr for e in flat.equations])
+    exprs = ca.vertcat(*[e.expr for e in rows])
+
+    def where(s: ca.SX) -> str:  # the first row using s (only on the error path)
+        for e in rows:
+            if ca.depends_on(e.expr, s):
+                kind = "initial equation" if e.origin == "initial" else "equation"
+                label = f" ({e.label})" if e.label and e.label != "initial equation" else ""
+                return f"{e.owner or '(model)'}: {kind} '{render(e.expr, 110)} = 0'{label} uses"
+        return "an equation uses"
+
     for s in ca.symvar(exprs):
         info = lookup(s)
         if info is None:
-            raise ModelError(f"an equation uses symbol {s}, which is not a flexlib variable or parameter")
+            raise ModelError(f"{where(s)} symbol {s}, which is not a flexlib variable or parameter (a casadi "
+                             "symbol made with ca.SX.sym? declare it with Variable() or Parameter())")
         if info.kind == "variable" and s.element_hash() not in flat.by_hash:
-            raise ModelError(f"an equation uses {info.node._label(info.name)}, which is not part of this model")
+            raise ModelError(f"{where(s)} {info.node._label(info.name)} of {type(info.node).__name__} "
+                             f"{info.node.path or '(unnamed)'}, which is not part of this model")
         if info.kind == "der" and info.root.sym.element_hash() not in flat.by_hash:
-            raise ModelError(f"an equation uses {s}, a derivative of a variable that is not part of this model")
-        if info.kind == "der" and info.order > 1:
+            raise ModelError(f"{where(s)} {s}, a derivative of a variable that is not part of this model")
+    for s in ca.symvar(ca.vertcat(*[e.expr for e in flat.equations])) if flat.equations else []:
+        info = lookup(s)
+        if info is not None and info.kind == "der" and info.order > 1:
             raise ModelError(f"{s}: der(der(x)) is not supported; introduce a velocity variable")
 
 

@@ -12,7 +12,7 @@ instance gets its own copy, built again from the template's constructor argument
 from __future__ import annotations
 
 import difflib
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import casadi as ca
@@ -32,7 +32,7 @@ from flexlib.core.variables import (
 )
 from flexlib.errors import ConnectError, ModelError, ParameterError
 
-__all__ = ["Component", "Connector", "Model", "Node", "flag"]
+__all__ = ["Component", "Connector", "Model", "Node", "flag", "remember_option"]
 
 
 #: Per class: its declarations and its sub-component templates in MRO order (one walk of the MRO per class,
@@ -47,22 +47,40 @@ _CLASS_MEMBERS: dict[type, tuple[tuple[int, ...], dict[str, Declaration], list[t
 _TREE_GENERATION = [0]
 
 
-def flag(node: Any, name: str, value: Any) -> bool:
+def flag(node: Any, name: str, value: Any, *, structural: bool = False) -> bool:
     """A structural on/off option of a component (``use_support``, ``strict``, ``use_flange``, ...) as a bool.
 
     ``bool("False")`` is True, so a string, None or a number other than 0/1 given for a flag would silently switch the
     option on: it is refused with a :class:`~flexlib.errors.ParameterError` naming the component class, the option and
-    the value.
+    the value. The option is remembered (:func:`remember_option`): a later ``node.<name> = value`` is checked the same
+    way, and refused for a ``structural`` option (one that decided connectors, variables or start values in the
+    constructor, such as ``use_support``), which a later assignment could not change.
     """
-    import numpy as np
-
-    from flexlib.errors import ParameterError
-
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)) and value in (0, 1):
+    if isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, np.integer)) and value in (0, 1)):
+        remember_option(node, name, lambda v: flag(node, name, v, structural=structural), structural=structural)
         return bool(value)
     raise ParameterError(f"{type(node).__name__}: {name} must be True or False, got {value!r}")
+
+
+def remember_option(node: Any, name: str, check: Callable[[Any], Any], *, structural: bool = False) -> None:
+    """Record how constructor option ``name`` of ``node`` is checked, so that an assignment after construction
+    (``limiter.strict = "False"``, ``pid.controller_type = "PI"``) is checked too.
+
+    Parameters
+    ----------
+    node : Node
+        The component.
+    name : str
+        The attribute the option is stored in.
+    check : callable
+        ``check(value)`` returns the accepted value or raises an error naming the component class, the option and the
+        value (:func:`flag`, ``check_choice``).
+    structural : bool
+        True if the value decided the component's connectors, variables, start values or other attributes when it
+        was built (``use_support`` adds a flange, ``controller_type`` the integrator): assigning another value later
+        would be ignored in part, so it is refused, naming the constructor argument to use instead.
+    """
+    node.__dict__.setdefault("_options", {})[name] = (check, structural)
 
 
 def _class_members(cls: type) -> tuple[dict[str, Declaration], list[tuple[str, Node]]]:
@@ -105,9 +123,15 @@ class Node(metaclass=_NodeMeta):
         return obj
 
     def __init__(
-        self, *, doc: str = "", init: dict[str, Any] | None = None,
+        self, *args: Any, doc: str = "", init: dict[str, Any] | None = None,
         guess: dict[str, Any] | None = None, state_select: dict[str, Any] | None = None, **params: Any,
     ) -> None:
+        if args:  # Mass(1.0): Python's message names Node.__init__ and no parameter
+            names = [n for n, decl in _class_members(type(self))[0].items() if isinstance(decl, Parameter)]
+            example = f"{type(self).__name__}({names[0]}=...)" if names else f"{type(self).__name__}()"
+            raise ParameterError(f"{type(self).__name__}: got positional argument{'s' if len(args) > 1 else ''} "
+                                 f"{', '.join(repr(a) for a in args)}; give parameters by name, e.g. {example} "
+                                 f"(parameters: {', '.join(sorted(names)) or 'none'})")
         d = self.__dict__
         d["_parent"] = None
         d["_name"] = ""
@@ -131,6 +155,11 @@ class Node(metaclass=_NodeMeta):
             if given is not None and not isinstance(given, Mapping):
                 raise ModelError(f"{type(self).__name__}: {what} must be a dict {{variable name: start value}}, "
                                  f"got {type(given).__name__} {given!r}")
+        both = sorted(str(k) for k in (init or {}) if k in (guess or {}))
+        if both:  # the guess replaced the initial condition without a word
+            raise ModelError(f"{type(self).__name__}: {', '.join(repr(k) for k in both)} given in both init (an "
+                             "initial condition) and guess (a start guess only); give each variable in one of them")
+        for what, given in (("init", init), ("guess", guess)):
             for name, value in (given or {}).items():
                 self._start_target(name, what).set_start(name.rpartition(".")[2], value, fixed=what == "init")
         if state_select is not None and not isinstance(state_select, Mapping):
@@ -166,6 +195,10 @@ class Node(metaclass=_NodeMeta):
         return type(self)(*args, **kwargs)
 
     def _add_child(self, name: str, node: Node) -> None:
+        if not name.isidentifier():  # setattr(self, "a.b", ...): the path "a.b.x" would name another component
+            raise ModelError(f"{self._label(name)!r}: a sub-component name must be a Python identifier (letters, "
+                             f"digits and _, not starting with a digit), got {name!r}; it becomes part of the "
+                             "variable names ('mass1.s')")
         if hasattr(type(self), name) and not isinstance(getattr(type(self), name), Node):
             raise ModelError(f"{self._label(name)}: '{name}' is a method or attribute of {type(self).__name__}; "
                              "choose another name for the sub-component")
@@ -180,6 +213,8 @@ class Node(metaclass=_NodeMeta):
     def __setattr__(self, name: str, value: Any) -> None:
         if name.startswith("_") or "_children" not in self.__dict__:
             object.__setattr__(self, name, value)
+        elif name in self.__dict__.get("_options", ()) and self.__dict__.get("_constructed"):
+            self._set_option(name, value)
         elif isinstance(value, Node):
             old = self._children.get(name)
             if old is not None:
@@ -203,6 +238,20 @@ class Node(metaclass=_NodeMeta):
                              "same name would hide it (the component stays in the model). Choose another name")
         else:
             object.__setattr__(self, name, value)
+
+    def _set_option(self, name: str, value: Any) -> None:
+        """Assign constructor option ``name`` after construction, checked as the constructor checked it
+        (:func:`remember_option`)."""
+        check, structural = self.__dict__["_options"][name]
+        new = check(value)
+        old = self.__dict__.get(name)
+        if structural and not (new is old or (type(new) is type(old) and new == old)):
+            cls = type(self).__name__
+            raise ModelError(
+                f"{self.where}: {name} = {old!r} decided the structure of this {cls} when it was built (its "
+                f"connectors, variables or start values); assigning {value!r} afterwards would be ignored in part. "
+                f"Build it as {cls}({name}={value!r}, ...) instead")
+        object.__setattr__(self, name, new)
 
     def __getattr__(self, name: str) -> Any:
         decls = self.__dict__.get("_decls")
@@ -392,8 +441,11 @@ class Node(metaclass=_NodeMeta):
         if name in self._starts:
             return self._starts[name]
         decl = self._decls[name]
-        arr = np.broadcast_to(np.array(decl.start, dtype=float), decl.shape).copy() if decl.shape else \
-            np.array(float(decl.start))
+        arr = np.asarray(decl.start, dtype=float)  # one value, or one per element (checked by Variable)
+        if decl.shape:
+            arr = np.broadcast_to(arr.reshape(()) if arr.size == 1 else arr.reshape(decl.shape), decl.shape).copy()
+        else:
+            arr = arr.reshape(())
         return arr, decl.fixed
 
     # -- tree walk ----------------------------------------------------------------------------
@@ -428,6 +480,11 @@ class Connector(Node):
         """Residue (a short vector) that is zero when the over-determined records of ``self`` and
         ``other`` describe the same thing; used where a connection closes a loop."""
         raise NotImplementedError(f"{type(self).__name__} has over-determined variables but no equality_constraint")
+
+    def check_connection(self, members: list[Connector]) -> None:
+        """Hook called when the model is flattened, once per connection set of two or more connectors, on its
+        first member with all ``members``: raise :class:`~flexlib.ConnectError` if they cannot share the set
+        beyond their declarations (the hydraulic ``Port``: one fluid per circuit). Default: nothing."""
 
     def connection_set(self) -> list[Connector]:
         """The other connectors connected to this one, directly or through other connections, in the whole
@@ -628,7 +685,14 @@ class Component(Node):
         while n is not None and n is not self:
             n = n._parent
         if n is None:
-            raise ConnectError(f"{self.path or 'model'}: cannot connect {label}: it is not inside this model")
+            top = node.root
+            if top is self.root:
+                why = f"it is outside {self.path}; connect it in the model that contains both"
+            else:
+                why = (f"it belongs to a {type(top).__name__} that is not part of this model; assign the component "
+                       "to an attribute of this model first (self.name = ...; an attribute whose name starts with "
+                       "'_' is a plain attribute, not a sub-component)")
+            raise ConnectError(f"{self.path or 'model'}: cannot connect {label}: it is not inside this model: {why}")
 
     def _check_signal(self, a: SymInfo, b: SymInfo) -> None:
         da, db = a.node._decls[a.name], b.node._decls[b.name]

@@ -192,13 +192,35 @@ _TIME_INFO = SymInfo(time, "time", name="time")
 # ---------------------------------------------------------------------------------------------
 # Declarations
 # ---------------------------------------------------------------------------------------------
-def _shape(shape: int | tuple[int, ...]) -> tuple[int, ...]:
-    if isinstance(shape, int):
-        shape = (shape,)
-    shape = tuple(int(s) for s in shape)
-    if len(shape) > 2 or any(s < 1 for s in shape):
-        raise ModelError(f"shape {shape}: only scalars, vectors and matrices are supported")
-    return shape
+def _shape(shape: Any) -> tuple[int, ...]:
+    """A declaration's ``shape`` as a tuple of at most two positive ints (``()``, ``(n,)``, ``(n, m)``).
+
+    Only ints (Python or numpy, not bools) are sizes: ``shape="12"`` was read as ``(1, 2)``, ``shape=True`` as
+    ``(1,)`` and ``shape=2.5`` failed with a TypeError.
+    """
+    items = (shape,) if isinstance(shape, (int, np.integer)) and not isinstance(shape, (bool, np.bool_)) else shape
+    if not isinstance(items, (tuple, list)) or not all(
+            isinstance(s, (int, np.integer)) and not isinstance(s, (bool, np.bool_)) for s in items):
+        raise ModelError(f"shape {shape!r}: give () for a scalar, an int n or (n,) for a vector, (n, m) for a "
+                         "matrix (sizes are ints >= 1)")
+    out = tuple(int(s) for s in items)
+    if len(out) > 2 or any(s < 1 for s in out):
+        raise ModelError(f"shape {out}: only scalars, vectors and matrices are supported (sizes >= 1)")
+    return out
+
+
+def _text(value: Any, what: str) -> str:
+    """A declaration's ``unit`` or ``doc``: a string (a number there is a misplaced argument)."""
+    if not isinstance(value, str):
+        raise ModelError(f"{what} must be a string, got {type(value).__name__} {value!r:.60}")
+    return value
+
+
+def _switch(value: Any, what: str) -> bool:
+    """A declaration's on/off option (``fixed``, ``error_test``, ...): True/False (or 0/1), never a string."""
+    if isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, np.integer)) and value in (0, 1)):
+        return bool(value)
+    raise ModelError(f"{what} must be True or False, got {value!r:.60}")
 
 
 class Declaration:
@@ -211,8 +233,8 @@ class Declaration:
     kind: Kind = Kind.variable
 
     def __init__(self, *, unit: str = "1", doc: str = "", shape: int | tuple[int, ...] = ()) -> None:
-        self.unit = unit
-        self.doc = doc
+        self.unit = _text(unit, "unit")
+        self.doc = _text(doc, "doc")
         self.shape = _shape(shape)
         self.name = ""
 
@@ -280,10 +302,25 @@ class Parameter(Declaration):
     ) -> None:
         super().__init__(unit=unit, doc=doc, shape=shape)
         self.default = default
-        self.min = min
-        self.max = max
-        self.gt = gt
-        self.lt = lt
+        bounds = {}
+        for key, bound in (("min", min), ("max", max), ("gt", gt), ("lt", lt)):
+            if bound is not None:  # a string bound failed in the first comparison; NaN made the bound a no-op
+                why = not_a_number(bound)
+                if why is None and (np.ndim(bound) != 0 or math.isnan(float(bound))):
+                    why = "not a single number" if np.ndim(bound) else "NaN"
+                if why is not None:
+                    raise ModelError(f"Parameter {key}={bound!r:.60} is {why}; bounds are real numbers (or None)")
+                bounds[key] = float(bound)
+        lower = [(k, bounds[k]) for k in ("min", "gt") if k in bounds]
+        upper = [(k, bounds[k]) for k in ("max", "lt") if k in bounds]
+        for lk, lo in lower:
+            for uk, hi in upper:
+                if lo > hi or (lo == hi and (lk, uk) != ("min", "max")):
+                    raise ModelError(f"Parameter bounds {lk}={lo:g} and {uk}={hi:g} admit no value")
+        self.min = bounds.get("min")
+        self.max = bounds.get("max")
+        self.gt = bounds.get("gt")
+        self.lt = bounds.get("lt")
 
     def rules(self) -> str:
         """The bounds as text (``"> 0, <= 1"``; empty without bounds)."""
@@ -300,8 +337,8 @@ class Parameter(Declaration):
         """
         from flexlib.errors import ParameterError
 
-        if not self.shape and type(value) in (float, int):  # the usual scalar: plain float comparisons
-            v = float(value)
+        if not self.shape and (type(value) is float or (type(value) is int and abs(value) < 2**1000)):
+            v = float(value)  # the usual scalar: plain float comparisons (a huge int is named below)
             if (math.isfinite(v) and (self.min is None or v >= self.min) and (self.max is None or v <= self.max)
                     and (self.gt is None or v > self.gt) and (self.lt is None or v < self.lt)):
                 return np.array(v)
@@ -410,20 +447,20 @@ def numeric_array(value: Any, what: str, accepted: str, error: type[Exception]) 
     error : type
         The exception class to raise.
     """
-    if (type(value) is np.ndarray and value.dtype.kind in "iuf") or type(value) in (float, int):
-        return np.array(value, dtype=float)  # the usual cases: nothing to refuse
-    if type(value) in (list, tuple) and _plain_numbers(value):  # a (nested) list of floats and ints
-        try:
+    try:
+        if (type(value) is np.ndarray and value.dtype.kind in "iuf") or type(value) in (float, int):
+            return np.array(value, dtype=float)  # the usual cases: nothing to refuse
+        if type(value) in (list, tuple) and _plain_numbers(value):  # a (nested) list of floats and ints
             return np.array(value, dtype=float)
-        except ValueError:  # ragged
-            pass
+    except (ValueError, OverflowError):  # ragged, or an int beyond the float range (10**400): named below
+        pass
     why = not_a_number(value)
     if why is None:
         try:
             return np.array(value, dtype=float)
         except (TypeError, ValueError, OverflowError) as exc:
             why = f"not numeric ({exc})"
-    shown = "is None" if value is None else f"{value!r} is {why}"
+    shown = "is None" if value is None else f"{value!r:.80} is {why}"
     raise error(f"{what} {shown}; give {accepted}")
 
 
@@ -472,19 +509,27 @@ class Variable(Declaration):
         derivative: Any = None, error_test: bool = True, intermediate: bool = False,
     ) -> None:
         super().__init__(unit=unit, doc=doc, shape=shape)
+        if derivative is not None and not callable(derivative):
+            raise ModelError(f"derivative must be a function derivative(node) -> expression, got "
+                             f"{type(derivative).__name__} {derivative!r:.60}")
         self.derivative = derivative
-        self.error_test = bool(error_test)
-        self.intermediate = bool(intermediate)
+        self.error_test = _switch(error_test, "error_test")
+        self.intermediate = _switch(intermediate, "intermediate")
+        if isinstance(state_select, StateSelect):
+            state_select = state_select.name
         if not isinstance(state_select, str) or state_select not in _STATE_SELECT:
-            raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)}, got {state_select!r}")
+            raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)} (or a fl.StateSelect member), "
+                             f"got {state_select!r}")
         if not_a_number(nominal) is not None or np.ndim(nominal) != 0 or not float(nominal) > 0:
             raise ModelError(f"nominal must be a number > 0, got {nominal!r}")
-        numeric_array(start, "Variable start value", "a real number (an array of them for an array variable)",
-                      ModelError)  # NaN is allowed here: it is named at initialisation with the variable's path
-        if not isinstance(fixed, (bool, np.bool_, int)):
-            raise ModelError(f"fixed must be True or False, got {fixed!r}")
+        size = self.size
+        arr = numeric_array(start, "Variable start value", "a real number (an array of them for an array variable)",
+                            ModelError)  # NaN is allowed here: it is named at initialisation with the variable's path
+        if arr.size != 1 and (arr.size != size or not self.shape):  # one value for every element, or one each
+            raise ModelError(f"Variable start value {start!r:.80} has {arr.size} elements; give one number"
+                             + (f" or {size} (shape {self.shape})" if self.shape else " (the variable is a scalar)"))
         self.start = start
-        self.fixed = bool(fixed)
+        self.fixed = _switch(fixed, "fixed")
         self.nominal = float(nominal)
         self.state_select = _STATE_SELECT[state_select]
 
@@ -507,7 +552,7 @@ class Potential(Variable):
 
     def __init__(self, *, overdetermined: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.overdetermined = bool(overdetermined)
+        self.overdetermined = _switch(overdetermined, "overdetermined")
 
 
 class Flow(Variable):
@@ -531,12 +576,39 @@ class Output(Variable):
 # ---------------------------------------------------------------------------------------------
 # der and eq
 # ---------------------------------------------------------------------------------------------
-def _as_sx(x: Any) -> ca.SX:
+def _as_sx(x: Any, what: str = "an expression") -> ca.SX:
+    """``x`` as an SX expression: an SX, a DM or a real number / array of them.
+
+    A string (``eq(x, "b")``), None (``eq(None)`` became the constant NaN), a bool, a dict or another object is
+    refused with a :class:`~flexlib.ModelError` naming ``what`` (``"eq(): right side"``) and the value.
+    """
     if isinstance(x, ca.SX):
         return x
     if isinstance(x, (ca.MX,)):
         raise ModelError("flexlib equations are SX expressions; got an MX expression")
-    return ca.SX(np.asarray(x, dtype=float)) if not isinstance(x, ca.DM) else ca.SX(x)
+    if isinstance(x, ca.DM):
+        return ca.SX(x)
+    if type(x) is float or (type(x) is int and abs(x) < 2**1000):  # the usual constant (eq(x) has rhs 0.0)
+        return ca.SX(float(x))
+    why = not_a_number(x)
+    if why is None:
+        try:
+            return ca.SX(np.asarray(x, dtype=float))
+        except (TypeError, ValueError, OverflowError) as exc:  # 10**400; a ragged list
+            why = f"not numeric ({exc})"
+    if isinstance(x, (list, tuple)) or (isinstance(x, np.ndarray) and x.dtype == object and x.ndim in (1, 2)):
+        # numbers and symbols mixed ([x, 0.0], [[a, b], [c, d]]): a column, or a matrix of rows; a bad entry is
+        # named by itself
+        items = list(x)
+        try:
+            if items and all(isinstance(r, (list, tuple, np.ndarray)) for r in items):
+                return ca.vertcat(*[ca.horzcat(*[_as_sx(v, what) for v in r]) for r in items])
+            return ca.vertcat(*[_as_sx(v, what) for v in items]) if items else ca.SX(0, 1)
+        except RuntimeError as exc:  # CasADi: rows of different lengths
+            raise ModelError(f"{what}: {x!r:.80} is not a regular array (rows of different lengths)") from exc
+    shown = "got None" if x is None else f"{x!r:.80} is {why}"
+    raise ModelError(f"{what}: {shown}; give a symbolic expression (a variable, a parameter, an expression of them) "
+                     "or a real number")
 
 
 def der(expr: Any) -> ca.SX:
@@ -552,7 +624,7 @@ def der(expr: Any) -> ca.SX:
     casadi.SX
         ``der(x)`` symbols for variables; ``dexpr/dt`` by forward differentiation otherwise.
     """
-    e = _as_sx(expr)
+    e = _as_sx(expr, "der()")
     if e.is_scalar() and e.is_symbolic():  # one scalar symbol (the usual case): its der symbol
         info = lookup(e)
         if info is not None and info.kind not in ("time", "parameter", "relation"):
@@ -622,7 +694,10 @@ def eq(lhs: Any, rhs: Any = 0.0, label: str = "") -> Equation:
     label : str
         Optional short description used in diagnostics.
     """
-    a, b = _as_sx(lhs), _as_sx(rhs)
+    if type(label) is not str:
+        raise ModelError(f"eq(): label must be a string, got {type(label).__name__} {label!r:.60}")
+    a = lhs if type(lhs) is ca.SX else _as_sx(lhs, f"eq({label!r}): left side" if label else "eq(): left side")
+    b = rhs if type(rhs) is ca.SX else _as_sx(rhs, f"eq({label!r}): right side" if label else "eq(): right side")
     if a.is_scalar() and b.is_scalar():  # the usual scalar equation: a - b is already a column
         return Equation(a - b, label=label)
     if a.shape != b.shape:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from flexlib.core.component import remember_option
 from flexlib.errors import ModelError
 
 __all__ = ["check_resolve_in_frame"]
@@ -19,4 +20,5 @@ def check_resolve_in_frame(component: Any, value: Any, allowed: tuple[str, ...])
     if not isinstance(value, str) or value not in allowed:
         label = component.path or type(component).__name__
         raise ModelError(f"{label}: resolve_in_frame = {value!r} is not one of {', '.join(map(repr, allowed))}")
+    remember_option(component, "resolve_in_frame", lambda v: check_resolve_in_frame(component, v, allowed))
     return value

@@ -8,6 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Component, Parameter, Variable, der, eq
+from flexlib.core.component import flag
 from flexlib.errors import ParameterError
 
 from .frames import equality_constraint, resolve1, resolve2
@@ -80,8 +81,8 @@ class Body(Component):
 
     def __init__(self, orientation_fixed: bool = False, w_fixed: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.orientation_fixed = orientation_fixed
-        self.w_fixed = w_fixed
+        self.orientation_fixed = flag(self, "orientation_fixed", orientation_fixed)
+        self.w_fixed = flag(self, "w_fixed", w_fixed)
         self.potential_root(self.frame_a)
         q0 = self.parameter_value("Q_start")
         if np.linalg.norm(q0) > 1e-12:  # else check() names the zero quaternion

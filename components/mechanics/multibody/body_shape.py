@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from flexlib import Component
+from flexlib.core.variables import not_a_number, numeric_array
 from flexlib.errors import ParameterError
 
 from .body import Body
@@ -104,9 +105,7 @@ def _checked(owner: Component, factory: Callable[..., Any], **kwargs: Any) -> An
 
 
 def _unit(v: Any, what: str, owner: str) -> np.ndarray:
-    v = np.asarray(v, dtype=float).reshape(-1)
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ParameterError(f"{owner}: {what} must be a finite 3-vector, got {v.tolist()}")
+    v = _vector(v, what, owner)
     norm = np.linalg.norm(v)
     if not norm > 1e-12:
         raise ParameterError(f"{owner}: {what} = {v.tolist()} has zero length")
@@ -118,7 +117,7 @@ def _from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
     of ``n_x`` and ``n_y`` (MSL ``Frames.TransformationMatrices.from_nxy``, including its fallback when
     ``n_y`` is parallel to ``n_x``). Rows are the shape axes resolved in the frame."""
     e_x = _unit(n_x, "length_direction (default r − r_shape)", owner)
-    n_y = np.asarray(n_y, dtype=float).reshape(-1)
+    n_y = _vector(n_y, "width_direction", owner)
     aux = np.cross(e_x, n_y)
     if not aux @ aux > 1e-6:
         n_y = np.array([0.0, 1.0, 0.0]) if abs(e_x[0]) > 1e-6 else np.array([1.0, 0.0, 0.0])
@@ -128,10 +127,13 @@ def _from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
 
 
 def _positive(value: Any, what: str, owner: str, allow_zero: bool = False) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{owner}: {what} = {value!r} is not a number") from exc
+    """A size or density: a real number (not a string, a bool or an array: ``density="7800"`` was parsed), > 0."""
+    why = not_a_number(value)
+    if why is None and np.ndim(value) != 0:
+        why = "an array, not a number"
+    if why is not None:
+        raise ParameterError(f"{owner}: {what} = {value!r:.80} is not a number ({why})")
+    x = float(value)
     if not np.isfinite(x) or x < 0 or (x == 0 and not allow_zero):
         bound = "≥ 0" if allow_zero else "> 0"
         raise ParameterError(f"{owner}: {what} = {value!r} must be {bound}")
@@ -139,10 +141,8 @@ def _positive(value: Any, what: str, owner: str, allow_zero: bool = False) -> fl
 
 
 def _vector(v: Any, what: str, owner: str) -> np.ndarray:
-    try:
-        arr = np.asarray(v, dtype=float).reshape(-1)
-    except (TypeError, ValueError) as exc:
-        raise ParameterError(f"{owner}: {what} = {v!r} is not numeric") from exc
+    """A 3-vector of real numbers (strings, bools, None and dicts are refused naming ``what``)."""
+    arr = numeric_array(v, f"{owner}: {what} =", "a finite 3-vector of real numbers", ParameterError).reshape(-1)
     if arr.shape != (3,) or not np.all(np.isfinite(arr)):
         raise ParameterError(f"{owner}: {what} must be a finite 3-vector, got {v!r}")
     return arr

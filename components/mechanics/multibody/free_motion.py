@@ -8,6 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Parameter, Variable, der, eq
+from flexlib.core.component import flag
 from flexlib.errors import ParameterError
 
 from .frames import absolute_rotation, equality_constraint, resolve1
@@ -78,8 +79,8 @@ class FreeMotion(PartialTwoFrames):
 
     def __init__(self, orientation_fixed: bool = False, w_fixed: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.orientation_fixed = orientation_fixed
-        self.w_fixed = w_fixed
+        self.orientation_fixed = flag(self, "orientation_fixed", orientation_fixed)
+        self.w_fixed = flag(self, "w_fixed", w_fixed)
         q0 = self.parameter_value("Q_start")
         if np.linalg.norm(q0) > 1e-12:  # else check() names the zero quaternion
             self.set_start("Q", q0 / np.linalg.norm(q0), fixed=False)

@@ -9,6 +9,7 @@ import numpy as np
 
 from flexlib import Parameter, Variable, der, eq
 from flexlib.components.mechanics.translational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
+from flexlib.core.component import flag
 from flexlib.errors import ParameterError
 
 from .frames import resolve1
@@ -60,8 +61,8 @@ class Prismatic(PartialTwoFrames):
 
     def __init__(self, use_axis_flange: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.use_axis_flange = use_axis_flange
-        if use_axis_flange:
+        self.use_axis_flange = flag(self, "use_axis_flange", use_axis_flange, structural=True)
+        if self.use_axis_flange:
             self.axis = Flange(doc="Drive flange (s, f)")
             self.support = Flange(doc="Housing of the drive")
 

@@ -8,6 +8,7 @@ import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
 from flexlib.components.mechanics.rotational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
+from flexlib.core.component import flag
 
 from .frames import absolute_rotation, planar_rotation, resolve1
 from .interfaces import PartialTwoFrames, support_grounded
@@ -93,9 +94,9 @@ class Revolute(PartialTwoFrames):
 
     def __init__(self, use_axis_flange: bool = False, use_friction: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.use_axis_flange = use_axis_flange
-        self.use_friction = use_friction
-        if use_axis_flange:
+        self.use_axis_flange = flag(self, "use_axis_flange", use_axis_flange, structural=True)
+        self.use_friction = flag(self, "use_friction", use_friction)
+        if self.use_axis_flange:
             self.axis = Flange(doc="Drive flange (phi, tau)")
             self.support = Flange(doc="Housing of the drive, fixed to frame_a")
 

@@ -5,9 +5,10 @@ from __future__ import annotations
 from typing import Any
 
 import casadi as ca
+import numpy as np
 
 from flexlib import Component, Parameter, eq
-from flexlib.errors import ModelError
+from flexlib.errors import ModelError, ParameterError
 
 from .interfaces import Frame
 
@@ -48,6 +49,13 @@ class World(Component):
     def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.definite_root(self.frame_b)
+
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        n = values.get("n")
+        if n is not None and not np.linalg.norm(n) > 1e-12:  # g·n/|n| was NaN: "non-finite values" at initialisation
+            raise ParameterError(f"{self.where}: gravity direction n = {np.asarray(n).tolist()} has zero length "
+                                 "(for no gravity set g = 0)")
 
     def gravity(self) -> ca.SX:
         """Gravity acceleration resolved in world [m/s2]."""

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from flexlib import Parameter, Variable, eq
+from flexlib.errors import ParameterError
 
 from .interfaces import PartialTwoFlangesAndSupport
 
@@ -18,7 +21,8 @@ class IdealGear(PartialTwoFlangesAndSupport):
     Parameters
     ----------
     ratio : float
-        Transmission ratio, flange_a.phi/flange_b.phi [1].
+        Transmission ratio, flange_a.phi/flange_b.phi [1], != 0 (a zero ratio holds flange_a and leaves
+        flange_b free: a singular model).
     use_support : bool
         True if the ``support`` flange is enabled, otherwise implicitly grounded.
 
@@ -42,6 +46,13 @@ class IdealGear(PartialTwoFlangesAndSupport):
     ratio = Parameter(unit="1", doc="Transmission ratio (flange_a.phi/flange_b.phi)")
     phi_a = Variable(unit="rad", doc="Angle of flange_a relative to the support")
     phi_b = Variable(unit="rad", doc="Angle of flange_b relative to the support")
+
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        ratio = values.get("ratio")
+        if ratio is not None and float(ratio) == 0.0:  # was a singular initialisation ("dependent equations")
+            raise ParameterError(f"{self.param_label('ratio')} = 0: the transmission ratio flange_a.phi/flange_b.phi "
+                                 "must be != 0 (0 holds flange_a still and leaves flange_b free)")
 
     def equations(self) -> list:
         fa, fb = self.flange_a, self.flange_b

@@ -85,7 +85,7 @@ class PartialOneFlangeAndSupport(Component):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support)
+        self.use_support = flag(self, "use_support", use_support, structural=True)
         if self.use_support:
             self.support = Flange(doc="Support (housing) flange")
 
@@ -109,7 +109,7 @@ class PartialTwoFlangesAndSupport(PartialTwoFlanges):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support)
+        self.use_support = flag(self, "use_support", use_support, structural=True)
         if self.use_support:
             self.support = Flange(doc="Support (housing) flange")
 
