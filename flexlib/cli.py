@@ -21,6 +21,7 @@ import importlib
 import json
 import math
 import os
+import re
 import sys
 import tempfile
 from collections.abc import Callable
@@ -65,6 +66,20 @@ def _console() -> Console:
     return Console(highlight=False, markup=False)  # "[s]" in labels is text, not a style
 
 
+def _once(ctx: click.Context, param: click.Parameter, values: tuple[Any, ...]) -> Any:
+    """The value of an option that takes one (``None`` if not given); given twice with different values it is
+    refused, naming both (click would silently keep the last)."""
+    if len(set(values)) > 1:
+        shown = " and ".join(repr(v) for v in dict.fromkeys(values))
+        raise click.BadParameter(f"given {len(values)} times ({shown}); give it once", ctx=ctx, param=param)
+    return values[0] if values else None
+
+
+def _once_option(*decls: str, **kwargs: Any) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``click.option`` of an option that takes one value: repeating it with another value is an error."""
+    return click.option(*decls, multiple=True, callback=_once, **kwargs)
+
+
 def _say(kind: str, text: str) -> None:
     """A ``Warning:`` or ``Note:`` line on stderr, after what was printed on stdout (one line, not folded)."""
     sys.stdout.flush()
@@ -87,7 +102,10 @@ def cli(modules: tuple[str, ...]) -> None:
         try:
             importlib.import_module(module)
         except Exception as err:  # any failure of the user's module: one line naming it
-            raise click.ClickException(f"--models {module}: cannot import the module: {_one_line(err)}") from None
+            from flexlib.registry import module_hint
+
+            raise click.ClickException(f"--models {module}: cannot import the module: {_one_line(err)}"
+                                       f"{module_hint(module)}") from None
 
 
 # -- list ----------------------------------------------------------------------------------------------------------
@@ -148,6 +166,10 @@ def _option_value(value: Any) -> str:
 
 
 # -- run -----------------------------------------------------------------------------------------------------------
+#: ``a=1,b=2``: several NAME=VALUE in one --param / --option (each takes one).
+_SEVERAL = re.compile(r",\s*[A-Za-z_][\w.\[\]]*\s*=")
+
+
 def _parse_params(items: tuple[str, ...]) -> dict[str, float]:
     out: dict[str, float] = {}
     for item in items:
@@ -155,6 +177,9 @@ def _parse_params(items: tuple[str, ...]) -> dict[str, float]:
         name, value = name.strip(), value.strip()
         if not sep or not name:
             raise click.ClickException(f"--param {item!r}: expected NAME=VALUE (for example mass0.m=2.0)")
+        if _SEVERAL.search(value):
+            raise click.ClickException(f"--param {item!r}: one NAME=VALUE per --param (repeat it: --param "
+                                       f"{name}=... --param ...)")
         try:
             number = float(value)
         except ValueError:
@@ -175,6 +200,9 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
         name, value = name.strip(), value.strip()
         if not sep or not name:
             raise click.ClickException(f"--option {item!r}: expected NAME=VALUE (for example n=4 or flexible=true)")
+        if _SEVERAL.search(value):
+            raise click.ClickException(f"--option {item!r}: one NAME=VALUE per --option (repeat it: -O {name}=... "
+                                       "-O ...)")
         if name in out and out[name] != value:
             raise click.ClickException(f"--option {name} is given twice ({out[name]!r} and {value!r}); give it once")
         out[name] = value
@@ -183,23 +211,23 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
 
 @cli.command("run")
 @click.argument("model", required=False)
-@click.option("-s", "--scenario", help="Scenario name, or a JSON file with a scenario (default: the model's).")
-@click.option("-o", "--out", type=click.Path(dir_okay=False), help="Write the result (HDF5) to this file.")
+@_once_option("-s", "--scenario", help="Scenario name, or a JSON file with a scenario (default: the model's).")
+@_once_option("-o", "--out", type=click.Path(dir_okay=False), help="Write the result (HDF5) to this file.")
 @click.option("-p", "--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Parameter override in SI units (repeatable).")
-@click.option("--t-end", type=click.FloatRange(min=0.0, min_open=True), help="End time [s].")
-@click.option("--rtol", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True), help="Relative tolerance.")
-@click.option("--atol", type=click.FloatRange(min=0.0, min_open=True), help="Absolute tolerance.")
-@click.option("--dt-out", type=click.FloatRange(min=0.0, min_open=True), help="Output interval [s].")
-@click.option("--solver", type=click.Choice(SOLVERS), help="Solver backend.")
-@click.option("--from", "from_file", type=click.Path(dir_okay=False),
+@_once_option("--t-end", type=click.FloatRange(min=0.0, min_open=True), help="End time [s].")
+@_once_option("--rtol", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True), help="Relative tolerance.")
+@_once_option("--atol", type=click.FloatRange(min=0.0, min_open=True), help="Absolute tolerance.")
+@_once_option("--dt-out", type=click.FloatRange(min=0.0, min_open=True), help="Output interval [s].")
+@_once_option("--solver", type=click.Choice(SOLVERS), help="Solver backend.")
+@_once_option("--from", "from_file", type=click.Path(dir_okay=False),
               help="Repeat the run recorded in this result file (other options apply on top).")
 @click.option("-O", "--option", "model_options", multiple=True, metavar="NAME=VALUE",
               help="Model option on top of the scenario's, VALUE converted by the option's declared type "
                    "(bool: true/false/yes/no/1/0; repeatable).")
-@click.option("--flexible/--rigid", default=None, help="Shorthand for --option flexible=true / false.")
+@_once_option("--flexible/--rigid", help="Shorthand for --option flexible=true / false.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
-@click.option("--plots", "plots_dir", type=click.Path(file_okay=False),
+@_once_option("--plots", "plots_dir", type=click.Path(file_okay=False),
               help="Write the model's figures (PNG) of the run into this directory.")
 @click.option("--force", is_flag=True,
               help="Let --out replace a file that is not a flexlib result, or write a name without .h5.")
@@ -231,8 +259,15 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
         given = {**{k: v for k, v in record.run.items() if k != "t_end"}, **given}
     if model is None:
         raise click.ClickException("give a MODEL (see 'flexlib list') or --from FILE")
-    extra_options = registry.get_model(model).parse_options(_parse_options(model_options))  # by declared type
+    entry = registry.get_model(model)
+    if isinstance(scen, str) and scen not in entry.scenarios and ("/" in scen or os.sep in scen
+                                                                  or Path(scen).suffix):
+        raise click.ClickException(f"--scenario {scen}: no such file, and model {model!r} has no scenario of that "
+                                   f"name (its scenarios: {', '.join(sorted(entry.scenarios))}; a scenario file "
+                                   "is JSON, see docs/cli.md)")
+    extra_options = entry.parse_options(_parse_options(model_options))  # by declared type
     if flexible is not None:
+        entry.option("flexible", f"--{'flexible' if flexible else 'rigid'}: model {model!r}: ")
         if extra_options.get("flexible", flexible) != flexible:
             raise click.ClickException(f"--{'flexible' if flexible else 'rigid'} and --option "
                                        f"flexible={extra_options['flexible']} contradict each other; give one")
@@ -243,7 +278,7 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
     if out is not None:
         _check_out(out, force)  # before the build
     if plots_dir is not None:
-        _check_plots_dir(registry.get_model(model), plots_dir)
+        _check_plots_dir(entry, plots_dir)
     try:  # the CLI writes the file itself, so that a failed write still leaves the result somewhere
         done = registry.run_scenario(model, scen, params=overrides, t_end=t_end, progress=not no_progress, **given)
     except SolverError as err:
@@ -397,18 +432,32 @@ def _print_summary(done: Any, out: str | None) -> None:
     for row in rows:
         table.add_row(*row)
     console.print(table)
-    signals = done.entry.signals(done.model)
+    where = f"model {done.entry.name!r}: summary signals (register_model(..., summary_signals=...))"
+    try:
+        signals = done.entry.signals(done.model)
+    except Exception as err:  # a model's own summary_signals function: a warning naming it; the run is kept
+        _say("Warning", f"{where}: {type(err).__name__}: {_one_line(err)}; no summary table")
+        return
     if not signals or not len(res.t):
         return
     peaks = Table(title="summary signals")
     for col, justify in (("signal", "left"), ("unit", "left"), ("min", "right"), ("max", "right"),
                          ("peak |x|", "right"), ("at t [s]", "right")):
         peaks.add_column(col, justify=justify)
+    missing = []
     for name in signals:
-        values, unit = res.display(name)
-        k = int(np.argmax(np.abs(values)))
-        peaks.add_row(name, unit, _fmt(values.min()), _fmt(values.max()), _fmt(abs(values[k])), _fmt(res.t[k]))
+        try:
+            values, unit = res.display(name)
+        except ResultKeyError as err:
+            missing.append(_one_line(err))
+            continue
+        elems = [name] if values.ndim == 1 else [n for n in res.names if n.startswith(name + "[")]
+        for col, elem in zip(values.reshape(len(res.t), -1).T, elems, strict=True):  # an array: a row per element
+            k = int(np.argmax(np.abs(col)))
+            peaks.add_row(elem, unit, _fmt(col.min()), _fmt(col.max()), _fmt(abs(col[k])), _fmt(res.t[k]))
     console.print(peaks)
+    for text in missing:
+        _say("Warning", f"{where}: {text}; left out of the table")
 
 
 # -- compare -------------------------------------------------------------------------------------------------------
@@ -419,10 +468,10 @@ def _print_summary(done: Any, out: str | None) -> None:
               help="Compare only these variables: names, array names or patterns with * and ? (repeatable or "
                    "comma-separated).")
 @click.option("--top", type=click.IntRange(min=1), default=15, show_default=True, help="Rows shown.")
-@click.option("--plot", "plot_file", type=click.Path(dir_okay=False),
+@_once_option("--plot", "plot_file", type=click.Path(dir_okay=False),
               help="Write an overlay plot of the signals, format by the extension (.png, .pdf, .svg, ...; default "
                    "signals: the 4 that differ most).")
-@click.option("--fail-above", type=click.FloatRange(min=0.0), metavar="REL",
+@_once_option("--fail-above", type=click.FloatRange(min=0.0), metavar="REL",
               help="Exit with code 1 if the largest relative difference exceeds REL, or if the comparison does not "
                    "cover both runs (NaN or inf in one, different time spans, variables in one file only, "
                    "different units).")
@@ -435,8 +484,11 @@ def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int
     signals = [s.strip() for opt in signal_opts for s in opt.split(",") if s.strip()]
     if signal_opts and not signals:
         raise click.ClickException(f"--signals {signal_opts[0]!r}: no variable name given")
+    if fail_above is not None and math.isnan(fail_above):
+        raise click.ClickException("--fail-above nan: the threshold must be a number >= 0 (a relative difference "
+                                   "such as 1e-3); no difference is ever above NaN")
     if plot_file is not None:
-        _check_plot_file(plot_file)  # before the comparison
+        plot_path = _check_plot_file(plot_file)  # before the comparison
     a, b = load_result(file_a), load_result(file_b)
     try:
         cmp = compare(a, b, signals or None, labels=(f"A ({file_a})", f"B ({file_b})"))
@@ -461,7 +513,7 @@ def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int
     if plot_file is not None:
         names = [r["name"] for r in cmp.rows][: 12 if signals else 4]
         if names:
-            _plot_overlay(a, b, names, plot_file, file_a, file_b)
+            _plot_overlay(a, b, names, plot_path, file_a, file_b)
             more = f" (the {len(names)} that differ most of {len(cmp.rows)})" if len(cmp.rows) > len(names) else ""
             console.print(f"plot written to {plot_file}{more}")
         else:
@@ -488,8 +540,9 @@ def _same_file(a: str, b: str) -> bool:
         return False
 
 
-def _check_plot_file(plot_file: str) -> None:
-    """``--plot``: an extension matplotlib writes and a place that can be written."""
+def _check_plot_file(plot_file: str) -> str:
+    """``--plot``: an extension matplotlib writes and a place that can be written; returns the path to write
+    (``~`` expanded, as the check did)."""
     from matplotlib.backend_bases import FigureCanvasBase
 
     from flexlib.solve.run_options import check_result_path
@@ -500,7 +553,7 @@ def _check_plot_file(plot_file: str) -> None:
         what = "has no extension" if not suffix else f"has the extension .{suffix}, not an image format"
         raise click.ClickException(f"--plot {plot_file} {what}; the extension gives the format, one of "
                                    f"{', '.join('.' + f for f in formats)} (for example diff.png)")
-    check_result_path(plot_file, "--plot")
+    return str(check_result_path(plot_file, "--plot"))
 
 
 def _plot_overlay(a: Any, b: Any, names: list[str], path: str, label_a: str, label_b: str) -> None:
@@ -522,7 +575,10 @@ def _plot_overlay(a: Any, b: Any, names: list[str], path: str, label_a: str, lab
     axes[-1, 0].set_xlabel("time [s]")
     fig.tight_layout()
     try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)  # a directory the check found creatable
         fig.savefig(path, dpi=100)
+    except OSError as err:  # the place was checked; it can still fail (disk full, removed meanwhile)
+        raise click.ClickException(f"--plot {path}: cannot write the plot: {err.strerror or err}") from None
     finally:
         plt.close(fig)
 

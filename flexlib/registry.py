@@ -32,7 +32,7 @@ import sys
 import time as _time
 import traceback
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import MappingProxyType
@@ -41,7 +41,9 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import (
+    FlexlibError,
     InitializationError,
+    ModelError,
     ParameterError,
     RegistryError,
     ResultFileError,
@@ -85,6 +87,20 @@ def _check_params(params: Mapping[str, Any], who: str) -> dict[str, float]:
         if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real) or not math.isfinite(value):
             raise RunArgumentError(f"{who}: parameter {pname!r} must be a finite number (SI units), got {value!r}")
     return {k: v if isinstance(v, int) else float(v) for k, v in params.items()}
+
+
+class _DuplicateKey(ValueError):
+    """A JSON object with a key given twice (raised by :func:`_no_duplicate_keys`)."""
+
+
+def _no_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """``object_pairs_hook`` of :func:`json.load` refusing a key given twice in one object."""
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise _DuplicateKey(key)
+        out[key] = value
+    return out
 
 
 @dataclass(frozen=True)
@@ -143,7 +159,7 @@ class Scenario:
         if not isinstance(self.doc, str):
             raise RunArgumentError(f"{who}: doc must be a str, got {type(self.doc).__name__}")
         if self.t_end is not None:
-            if isinstance(self.t_end, bool) or not isinstance(self.t_end, (int, float)) \
+            if _is_bool(self.t_end) or not isinstance(self.t_end, numbers.Real) \
                     or not math.isfinite(self.t_end) or self.t_end <= 0:
                 raise RunArgumentError(f"{who}: t_end must be a positive finite number of seconds, got {self.t_end!r}")
             object.__setattr__(self, "t_end", float(self.t_end))
@@ -153,6 +169,8 @@ class Scenario:
         if unknown:
             close = difflib.get_close_matches(unknown[0], RUN_OPTIONS, n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
+            if unknown[0] == "t_end":
+                hint = "; the end time is the scenario's own field t_end, beside run"
             raise RunArgumentError(f"{who}: unknown run option {unknown[0]!r} (allowed: {', '.join(RUN_OPTIONS)})"
                                    f"{hint}")
         object.__setattr__(self, "params", MappingProxyType(_check_params(self.params, who)))
@@ -178,13 +196,29 @@ class Scenario:
 
     @classmethod
     def from_file(cls, path: str | os.PathLike) -> Scenario:
-        """Read a scenario from a JSON file (:meth:`from_dict`); errors name the file."""
+        """Read a scenario from a JSON file (:meth:`from_dict`); errors name the file.
+
+        The file is UTF-8 (a byte-order mark is allowed); a key given twice in one object (a hand edit that
+        JSON readers would resolve silently, keeping the last) is an error naming it.
+
+        Raises
+        ------
+        RunArgumentError
+            ``path`` is not a path, the file cannot be read, is not JSON, repeats a key or is not a scenario
+            (:meth:`from_dict`); the message names the file.
+        """
+        if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
+            raise RunArgumentError(f"Scenario.from_file: the path of a JSON scenario file must be a non-empty str "
+                                   f"or os.PathLike, got {path!r} ({type(path).__name__})")
         try:
-            with open(path, encoding="utf-8") as fh:
-                raw = json.load(fh)
+            with open(path, encoding="utf-8-sig") as fh:
+                raw = json.load(fh, object_pairs_hook=_no_duplicate_keys)
         except OSError as err:
             raise RunArgumentError(f"cannot read the scenario file {os.fspath(path)}: "
                                    f"{err.strerror or err}") from None
+        except _DuplicateKey as err:
+            raise RunArgumentError(f"the scenario file {os.fspath(path)}: the key {err.args[0]!r} is given twice "
+                                   "in one object; give it once") from None
         except ValueError as err:
             raise RunArgumentError(f"the scenario file {os.fspath(path)} is not valid JSON: {err}") from None
         try:
@@ -243,8 +277,9 @@ class ModelOption:
     Raises
     ------
     RegistryError
-        The declaration itself is malformed (a type other than those above, bounds on a non-number, a default
-        the declaration refuses).
+        The declaration itself is malformed (a type other than those above, bounds on a non-number or that leave
+        no value, ``choices`` that is not a sequence, ``doc``/``unit``/``accepts`` not a str, a flag not a bool, a
+        default the declaration refuses).
     """
 
     name: str
@@ -267,6 +302,15 @@ class ModelOption:
         who = f"ModelOption({self.name!r})"
         if self.type not in _OPTION_TYPES:
             raise RegistryError(f"{who}: type must be bool, int, float, str or None, got {self.type!r}")
+        for text in ("doc", "unit", "accepts"):
+            if not isinstance(getattr(self, text), str):
+                raise RegistryError(f"{who}: {text} must be a str, got {getattr(self, text)!r}")
+        for flag in ("low_open", "high_open", "allow_none"):
+            if not _is_bool(getattr(self, flag)):
+                raise RegistryError(f"{who}: {flag} must be True or False, got {getattr(self, flag)!r}")
+        if isinstance(self.choices, (str, bytes, Mapping)) or not isinstance(self.choices, Iterable):
+            raise RegistryError(f"{who}: choices must be a sequence of the accepted values (a list or tuple), got "
+                                f"{self.choices!r}")
         object.__setattr__(self, "choices", tuple(self.choices))
         if (self.low is not None or self.high is not None) and self.type not in (int, float):
             raise RegistryError(f"{who}: low/high bound an int or float option, not {self.type}")
@@ -274,6 +318,10 @@ class ModelOption:
             value = getattr(self, bound)
             if value is not None and (_is_bool(value) or not isinstance(value, numbers.Real) or math.isnan(value)):
                 raise RegistryError(f"{who}: {bound} must be a number, got {value!r}")
+        if self.low is not None and self.high is not None and (
+                self.low > self.high or (self.low == self.high and (self.low_open or self.high_open))):
+            raise RegistryError(f"{who}: the bounds low = {self.low!r} and high = {self.high!r} leave no value "
+                                "accepted")
         if self.check is not None and not callable(self.check):
             raise RegistryError(f"{who}: check must be callable, got {type(self.check).__name__}")
         if self.default is not None or not self.allow_none:
@@ -371,6 +419,9 @@ class ModelOption:
                 value = self.check(value)
             except (ValueError, TypeError) as err:
                 raise error(f"{where}{label} {err}") from None
+            except Exception as err:  # a check that fails otherwise: a bug of the declaration, named as such
+                raise error(f"{where}{label}: the option's check failed on {value!r}: {type(err).__name__}: "
+                            f"{err}") from err
         return value
 
     def parse(self, text: str, where: str = "", *, error: type[Exception] = RunArgumentError,
@@ -381,6 +432,9 @@ class ModelOption:
         text; type ``None``: JSON, else the text; ``none`` or ``null`` where ``allow_none``.
         """
         label = self.name if label is None else label
+        if not isinstance(text, str):
+            raise error(f"{where}{label}: parse reads the command line's text (a str), got {text!r} "
+                        f"({type(text).__name__}); a Python value is checked with validate()")
         s = text.strip()
         if self.allow_none and s.lower() in NONE_WORDS:
             return None
@@ -443,6 +497,8 @@ class ModelEntry:
         known = self.option_names
         close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
         hint = f"; did you mean {close[0]!r}?" if close else ""
+        if not close and "." in name:  # 'mass0.m': a parameter given where a model option goes
+            hint = f"; {name!r} looks like a parameter (component.parameter): give it as a parameter override"
         listed = "; ".join(f"{o.name} ({o.accepted()})" for o in self.options) or "none"
         raise RunArgumentError(f"{where}unknown model option {name!r}{hint} (options of {self.name}: {listed})")
 
@@ -455,6 +511,9 @@ class ModelEntry:
             An option the model does not declare (with the closest match) or a value its declaration refuses;
             the message names the model, the scenario (and its file), the option, the value and what is accepted.
         """
+        if not isinstance(scenario, Scenario):
+            raise RunArgumentError(f"model {self.name!r}: check_options takes a Scenario record, got "
+                                   f"{scenario!r} ({type(scenario).__name__})")
         where = f"model {self.name!r}, {scenario.label}: "
         return {key: self.option(key, where).validate(value, where, label=f"option {key!r}")
                 for key, value in scenario.options.items()}
@@ -489,6 +548,9 @@ class ModelEntry:
             An unknown option (with the closest match) or a value its declaration refuses, naming the option
             (as ``--option NAME=VALUE``), the model, the value and what is accepted.
         """
+        if not isinstance(items, Mapping):
+            raise RunArgumentError(f"model {self.name!r}: parse_options takes the option texts by name "
+                                   f"({{'n': '4'}}), got {items!r} ({type(items).__name__})")
         out: dict[str, Any] = {}
         for key, text in items.items():
             spec = self.option(key, f"{where}{key}={text}: model {self.name!r}: ")
@@ -496,8 +558,13 @@ class ModelEntry:
         return out
 
     def scenario(self, name: str | None = None) -> Scenario:
-        """The scenario ``name`` (default: the model's default scenario)."""
-        name = name or self.default_scenario
+        """The scenario ``name`` (``None``: the model's default scenario); :class:`RegistryError` naming an
+        unknown one, the known ones and the closest match."""
+        if name is None:
+            name = self.default_scenario
+        elif not isinstance(name, str) or not name.strip():
+            raise RegistryError(f"model {self.name!r}: a scenario is named by a non-empty str (known: "
+                                f"{', '.join(sorted(self.scenarios))}), got {name!r}")
         if name not in self.scenarios:
             raise RegistryError(_unknown(f"scenario {name!r} of model {self.name!r}", name, self.scenarios))
         return self.scenarios[name]
@@ -560,7 +627,9 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     ------
     RegistryError
         The name is taken by another factory, two scenarios or two options share a name, there is no scenario,
-        or an option declaration is malformed.
+        an option declaration is malformed, ``doc`` is not a str, ``scenarios``, ``options``, ``data`` or
+        ``summary_signals`` is not a sequence (a lone item, a str, a mapping), or ``default_scenario`` is not
+        one of the scenarios' names.
     RunArgumentError
         A scenario's model option or data key is unknown, or a value its declaration refuses.
     """
@@ -568,6 +637,22 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
         raise RegistryError(f"register_model: name must be a non-empty str, got {name!r}")
     if not callable(factory):
         raise RegistryError(f"register_model({name!r}): factory must be callable, got {type(factory).__name__}")
+    who = f"register_model({name!r})"
+    if not isinstance(doc, str):
+        raise RegistryError(f"{who}: doc must be a str (one line), got {doc!r}")
+    _check_sequence(scenarios, f"{who}: scenarios", "Scenario records")
+    _check_sequence(options, f"{who}: options", "ModelOption")
+    if data is not None:
+        _check_sequence(data, f"{who}: data", "key names (str)")
+    if not callable(summary_signals):
+        _check_sequence(summary_signals, f"{who}: summary_signals", "variable names (or a function of the built "
+                        "model returning them)")
+        bad = [x for x in summary_signals if not isinstance(x, str) or not x.strip()]
+        if bad:
+            raise RegistryError(f"{who}: summary_signals must be variable names (str), got {bad[0]!r}")
+    if default_scenario is not None and (not isinstance(default_scenario, str) or not default_scenario.strip()):
+        raise RegistryError(f"{who}: default_scenario must be the name of one of its scenarios (or None: the "
+                            f"first), got {default_scenario!r}")
     scen: dict[str, Scenario] = {}
     for s in scenarios:
         if not isinstance(s, Scenario):
@@ -578,9 +663,6 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     if not scen:
         raise RegistryError(f"register_model({name!r}): give at least one scenario")
     specs: dict[str, ModelOption] = {}
-    if isinstance(options, (str, Mapping)):
-        raise RegistryError(f"register_model({name!r}): options must be a sequence of ModelOption, got "
-                            f"{type(options).__name__}")
     for o in options:
         spec = ModelOption(o, None, doc="(untyped)") if isinstance(o, str) else o
         if not isinstance(spec, ModelOption):
@@ -596,7 +678,7 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     if old is not None and getattr(old.factory, "__qualname__", None) != getattr(factory, "__qualname__", None):
         raise RegistryError(f"register_model: the name {name!r} is already registered by "
                             f"{getattr(old.factory, '__module__', '?')}.{getattr(old.factory, '__qualname__', '?')}")
-    default = default_scenario or next(iter(scen))
+    default = next(iter(scen)) if default_scenario is None else default_scenario
     if default not in scen:
         raise RegistryError(f"register_model({name!r}): " + _unknown("default scenario " + repr(default), default,
                                                                         scen))
@@ -608,6 +690,13 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
         scen[key] = entry.checked(s)
     _MODELS[name] = entry
     return entry
+
+
+def _check_sequence(value: Any, what: str, items: str) -> None:
+    """:class:`RegistryError` unless ``value`` is a list, tuple or other iterable collection (a lone item, a str
+    or a mapping is refused: iterating it would register its characters or keys)."""
+    if isinstance(value, (str, bytes, Mapping, Scenario, ModelOption)) or not isinstance(value, Iterable):
+        raise RegistryError(f"{what} must be a sequence of {items}, got {type(value).__name__} {value!r}")
 
 
 def register_scenario(model: str, scenario: Scenario) -> None:
@@ -650,6 +739,16 @@ def _import_failure(err: BaseException) -> str:
     return f"{text} ({frames[-1].filename}:{frames[-1].lineno})" if frames else text
 
 
+def module_hint(module: str) -> str:
+    """A hint for a model module given as a file (``my_models.py``, ``./my_models``): what to give instead; ``""``
+    for a module name."""
+    if not (module.endswith(".py") or "/" in module or os.sep in module):
+        return ""
+    name = Path(module).name.removesuffix(".py")
+    return (f" (give the module's name, {name!r}, not its file: run from its directory or put that directory on "
+            "PYTHONPATH)")
+
+
 def _load() -> None:
     global _loaded
     if _loaded:
@@ -664,7 +763,7 @@ def _load() -> None:
             importlib.import_module(module)
         except Exception as err:  # any failure of the user's module: one message naming it, the error, file:line
             raise RegistryError(f"${MODULES_ENV}: cannot import the model module {module!r}: "
-                                f"{_import_failure(err)}") from None
+                                f"{_import_failure(err)}{module_hint(module)}") from None
     _loaded = True  # only once every module imported: a failed import is retried (and reported) next time
 
 
@@ -677,6 +776,12 @@ def models() -> dict[str, ModelEntry]:
 def get_model(name: str) -> ModelEntry:
     """The registered model ``name``; :class:`RegistryError` naming it and the known models otherwise."""
     _load()
+    if not isinstance(name, str) or not name.strip():
+        from flexlib.core.component import Component
+
+        hint = "; a model instance runs with flexlib.Simulation(model).run()" if isinstance(name, Component) else ""
+        raise RegistryError(f"a model is named by a non-empty str (known: {', '.join(sorted(_MODELS))}), got "
+                            f"{name!r} ({type(name).__name__}){hint}")
     if name not in _MODELS:
         raise RegistryError(_unknown(f"model {name!r}", name, _MODELS))
     return _MODELS[name]
@@ -709,7 +814,37 @@ class RunRecord:
     run: dict[str, Any]
 
     def to_json(self) -> str:
-        return json.dumps({"model": self.model, "scenario": self.scenario, "params": self.params, "run": self.run})
+        """The record as JSON (numpy arrays and scalars as lists and numbers); ``TypeError`` for a value JSON
+        cannot hold."""
+        return json.dumps({"model": self.model, "scenario": self.scenario, "params": self.params, "run": self.run},
+                          default=_json_value)
+
+
+def _json_value(value: Any) -> Any:
+    """``json.dumps(default=...)``: a numpy array as a list, a numpy scalar as a number; ``TypeError`` otherwise."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"{type(value).__name__} {value!r} cannot be written as JSON")
+
+
+def _record_json(record: RunRecord, scen: Scenario) -> str:
+    """``record.to_json()``, checked before the build: a scenario value JSON cannot hold (an object, a
+    function) is a :class:`RunArgumentError` naming the scenario and the field, not a failure after the run."""
+    try:
+        return record.to_json()
+    except (TypeError, ValueError) as err:
+        fields = {"options": scen.options, "data": scen.data, "run": scen.run}
+        for key, mapping in fields.items():
+            for name, value in mapping.items():
+                try:
+                    json.dumps(value, default=_json_value)
+                except (TypeError, ValueError) as sub:
+                    raise RunArgumentError(f"{scen.label}: {key}[{name!r}] cannot be recorded in the result (the "
+                                           f"run settings are JSON: lists, numbers, str, bool, None and dicts with "
+                                           f"str keys): {sub}") from None
+        raise RunArgumentError(f"{scen.label}: the run settings cannot be recorded as JSON: {err}") from None
 
 
 def run_settings(result: Any, source: str = "the result") -> RunRecord:
@@ -719,18 +854,35 @@ def run_settings(result: Any, source: str = "the result") -> RunRecord:
     ------
     ResultFileError
         The result holds no run record (it was not written by :func:`run_scenario` / ``flexlib run``) or the
-        record is damaged; names ``source``.
+        record is damaged (not JSON, a field missing or of the wrong type, named); names ``source``.
+    RunArgumentError
+        ``result`` is not a Result (a path: read it with ``flexlib.load_result``).
     """
-    raw = getattr(result, "metadata", {}).get("run")
+    metadata = getattr(result, "metadata", None)
+    if isinstance(result, (str, bytes, os.PathLike)) or not isinstance(metadata, Mapping):
+        raise RunArgumentError(f"run_settings takes a Result (read a file with flexlib.load_result(path)), got "
+                               f"{result!r} ({type(result).__name__})")
+    raw = metadata.get("run")
     if raw is None:
         raise ResultFileError(f"{source} holds no run settings (it was not written by 'flexlib run' or "
                               "flexlib.registry.run_scenario)")
+    damaged = f"{source}: the run settings (meta_run) are damaged"
     try:
         d = json.loads(raw)
-        return RunRecord(model=str(d["model"]), scenario=dict(d["scenario"]), params=dict(d["params"]),
-                         run=dict(d["run"]))
-    except (ValueError, KeyError, TypeError) as err:
-        raise ResultFileError(f"{source}: the run settings (meta_run) are damaged: {err}") from None
+    except (ValueError, TypeError) as err:
+        raise ResultFileError(f"{damaged}: not JSON ({err})") from None
+    if not isinstance(d, dict):
+        raise ResultFileError(f"{damaged}: a JSON object with model, scenario, params and run is expected, got "
+                              f"{type(d).__name__}")
+    missing = [k for k in ("model", "scenario", "params", "run") if k not in d]
+    if missing:
+        raise ResultFileError(f"{damaged}: the field {missing[0]!r} is missing")
+    if not isinstance(d["model"], str):
+        raise ResultFileError(f"{damaged}: the field 'model' must be a model name (str), got {d['model']!r}")
+    for key in ("scenario", "params", "run"):
+        if not isinstance(d[key], dict):
+            raise ResultFileError(f"{damaged}: the field {key!r} must be a JSON object, got {d[key]!r}")
+    return RunRecord(model=d["model"], scenario=d["scenario"], params=d["params"], run=d["run"])
 
 
 def _overrides_note(scen: Scenario, params: Mapping[str, float] | None) -> str:
@@ -793,9 +945,14 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     RunArgumentError
         An option is not one of :data:`RUN_OPTIONS`, a model option or data key the model does not declare, a
         model option's value its declaration refuses (:class:`ModelOption`), a parameter override that is not a
-        finite number, or ``result_file`` cannot be written (all checked before the build).
+        finite number or is a model option's name, a scenario value the run record (JSON) cannot hold,
+        ``result_file`` cannot be written, or a value of ``t_end`` or a run option the run refuses (named with the
+        scenario when it comes from there); all checked before the build.
     ParameterError
         Unknown parameter or value out of bounds; a bad value in the scenario's data (named with the scenario).
+    ModelError
+        The model's factory failed otherwise, or returned something other than a flexlib model (named with the
+        model and the scenario; the cause chained).
     InitializationError
         No consistent start; with parameter overrides the message names them (a value that changes a loop's
         geometry can make the loop impossible to close or change its rank).
@@ -807,7 +964,7 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     ResultSaveWarning
         ``result_file`` could not be written after the run; the result is returned (or on ``err.result``).
     """
-    from flexlib.solve.run_options import check_result_path
+    from flexlib.solve.run_options import check_result_target
     from flexlib.solve.simulation import Simulation
 
     entry = get_model(model)
@@ -820,23 +977,25 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     unknown = [k for k in run if k not in RUN_OPTIONS]
     if unknown:
         raise RunArgumentError(f"run_scenario: unknown run option {unknown[0]!r} (allowed: {', '.join(RUN_OPTIONS)})")
-    out = check_result_path(result_file, "result_file") if result_file is not None else None
+    out = check_result_target(result_file, "result_file") if result_file is not None else None
     given = {k: v for k, v in run.items() if v is not None}
     if t_end is not None:
         given["t_end"] = t_end
+    overrides = {**dict(scen.params), **dict(params or {})}
+    options_as_params = [k for k in overrides if k in entry.option_names]
+    if options_as_params:
+        k = options_as_params[0]
+        raise RunArgumentError(f"model {entry.name!r}: {k!r} is given as a parameter override, but it is a model "
+                               f"option ({entry.option(k).accepted()}): give it as an option (--option {k}=VALUE, "
+                               f"or in the scenario's options)")
     record = RunRecord(model=entry.name, scenario=scen.to_dict(), params=dict(params or {}), run=given)
+    recorded = _record_json(record, scen)  # before the build: a value JSON cannot hold must not fail after the run
     opts = {**dict(scen.run), **{k: v for k, v in given.items() if k != "t_end"}}
     c0 = _time.process_time()
-    try:
-        instance = entry.factory(scen)
-    except ParameterError as err:  # a bad value in the scenario's data (or an undeclared option): name the scenario
-        raise ParameterError(f"model {entry.name!r}, {scen.label}: {err}") from None
-    except TypeError as err:  # an undeclared option that does not fit the factory, or a value of the wrong type
-        raise RunArgumentError(f"model {entry.name!r}, {scen.label}: the model could not be built from the options "
-                               f"{dict(scen.options)} and the data {sorted(scen.data)}: {err}") from None
+    instance = _build_instance(entry, scen)
+    _check_run_values(entry, scen, instance, given, opts, overrides, progress)  # before the build
     sim = Simulation(instance)
     c1 = _time.process_time()
-    overrides = {**dict(scen.params), **dict(params or {})}
     try:
         result = sim.run(given.get("t_end", scen.t_end), params=overrides, progress=progress, **opts)
     except InitializationError as err:
@@ -845,13 +1004,71 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
         raise InitializationError(f"{err}\n{_overrides_note(scen, params)}") from None
     except SolverError as err:
         if err.result is not None:
-            err.result.metadata["run"] = record.to_json()
+            err.result.metadata["run"] = recorded
             _save_kept(err.result, out, "the partial result")
         raise
     c2 = _time.process_time()
-    result.metadata["run"] = record.to_json()
+    result.metadata["run"] = recorded
     _save_kept(result, out, "the result")
     return ScenarioRun(result, instance, entry, scen, c1 - c0, c2 - c1)
+
+
+def _build_instance(entry: ModelEntry, scen: Scenario) -> Any:
+    """``entry.factory(scen)``; every failure names the model and the scenario (a model's own error keeps its
+    class, any other failure of the factory is a :class:`ModelError`), and so does a factory that returns
+    something other than a flexlib model."""
+    from flexlib.core.component import Component
+
+    where = f"model {entry.name!r}, {scen.label}"
+    try:
+        instance = entry.factory(scen)
+    except ParameterError as err:  # a bad value in the scenario's data (or an undeclared option): name the scenario
+        raise ParameterError(f"{where}: {err}") from None
+    except TypeError as err:  # an undeclared option that does not fit the factory, or a value of the wrong type
+        raise RunArgumentError(f"{where}: the model could not be built from the options {dict(scen.options)} and "
+                               f"the data {sorted(scen.data)}: {err}") from None
+    except FlexlibError:
+        raise
+    except Exception as err:  # the factory's own failure: one message naming the model, the cause chained
+        raise ModelError(f"{where}: its factory failed: {type(err).__name__}: {err}") from err
+    if not isinstance(instance, Component):
+        raise ModelError(f"{where}: its factory returned {type(instance).__name__} {instance!r:.60}, not a flexlib "
+                         "model (a Component)")
+    return instance
+
+
+def _check_run_values(entry: ModelEntry, scen: Scenario, instance: Any, given: Mapping[str, Any],
+                      opts: Mapping[str, Any], overrides: Mapping[str, Any], progress: Any) -> None:
+    """The run's own argument checks (:func:`~flexlib.solve.run_options.check_run_arguments`), done before the
+    build; a value that comes from the scenario (its ``t_end`` or ``run``) is named with the scenario (and its
+    file)."""
+    import inspect
+
+    from flexlib.solve.run_options import check_run_arguments
+    from flexlib.solve.simulation import Experiment, Simulation
+
+    defaults = {k: p.default for k, p in inspect.signature(Simulation.run).parameters.items()
+                if p.default is not inspect.Parameter.empty}
+    args = {**defaults, **opts, "t_end": given.get("t_end", scen.t_end), "params": dict(overrides),
+            "progress": progress, "result_file": None}
+    names = [k for k in inspect.signature(check_run_arguments).parameters if k not in ("experiment", "source")]
+    if any(k not in args for k in names):  # Simulation.run's defaults not found (a wrapped run): the run checks
+        return
+    exp = getattr(instance, "experiment", None)
+    if not isinstance(exp, Experiment):  # none, or not a record: the run names it (Simulation._experiment)
+        if exp is not None:
+            return
+        exp = Experiment()
+    try:
+        check_run_arguments(exp, f"{type(instance).__name__}.experiment", **{k: args[k] for k in names})
+    except RunArgumentError as err:
+        arg = getattr(err, "argument", None)
+        from_scenario = arg not in given and (arg in scen.run or (arg == "t_end" and scen.t_end is not None))
+        if not from_scenario:
+            raise
+        field_ = "t_end" if arg == "t_end" else f"run option {arg}"
+        raise RunArgumentError(f"model {entry.name!r}, {scen.label}: {err} (the value is the scenario's "
+                               f"{field_})") from None
 
 
 def _save_kept(result: Any, out: Path | None, what: str) -> None:

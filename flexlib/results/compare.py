@@ -11,7 +11,9 @@ units, runs with different status — and *notes* that are worth a line but do n
 from __future__ import annotations
 
 import fnmatch
+import os
 import re
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -89,6 +91,31 @@ def _elements(res: Any, name: str) -> list[str]:
     return [n for n in res.names if n.startswith(name + "[")]
 
 
+def _signal_list(signals: Any, who: str) -> list[str]:
+    """``signals`` as a list: one name (str) or a non-empty list, tuple (or set) of names; a mapping, a number, an
+    empty list (which would silently mean "every variable" or nothing) are refused naming them."""
+    if isinstance(signals, str):
+        return [signals]
+    if isinstance(signals, (bytes, Mapping)) or not isinstance(signals, Iterable):
+        raise RunArgumentError(f"{who}: signals must be a variable name or a list of names (str), got "
+                               f"{type(signals).__name__} {signals!r:.80}")
+    out = list(signals)
+    if not out:
+        raise RunArgumentError(f"{who}: signals is empty; give variable names or patterns, or None for every "
+                               "variable")
+    return out
+
+
+def _check_result(res: Any, label: str, who: str) -> None:
+    """:class:`RunArgumentError` unless ``res`` is a :class:`~flexlib.results.result.Result` (a path is named
+    with how to read it)."""
+    from flexlib.results.result import Result
+
+    if not isinstance(res, Result):
+        how = " (read a result file with flexlib.load_result(path))" if isinstance(res, (str, os.PathLike)) else ""
+        raise RunArgumentError(f"{who}: {label} must be a Result{how}, got {type(res).__name__} {res!r:.80}")
+
+
 def select(res: Any, signals: list[str] | str, label: str = "the result") -> list[str]:
     """The variables of one result named by ``signals``: names, array names (their elements) and patterns with
     ``*`` and ``?`` (``"mass?.s"``; ``"*"`` is every variable), each once, in the order asked.
@@ -98,9 +125,12 @@ def select(res: Any, signals: list[str] | str, label: str = "the result") -> lis
     ResultKeyError
         A name that is not in the result (with close matches), or a pattern that matches nothing; names
         ``label``.
+    RunArgumentError
+        ``res`` is not a Result (a path, for example), or ``signals`` is neither a name nor a non-empty list of
+        names.
     """
-    if isinstance(signals, str):
-        signals = [signals]
+    _check_result(res, label, "select")
+    signals = _signal_list(signals, "select")
     names: list[str] = []
     for s in signals:
         if not isinstance(s, str) or not s.strip():
@@ -220,10 +250,19 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
     EmptyResultError
         A result has no rows (names it and its status).
     RunArgumentError
-        The results have no common time span (gives both).
+        The results have no common time span (gives both); ``a`` or ``b`` is not a Result (a path: read it with
+        ``flexlib.load_result``); ``signals`` is neither a name, a non-empty list of names nor None; ``labels``
+        is not two str.
     """
-    if isinstance(signals, str):
-        signals = [signals]
+    pair = tuple(labels) if isinstance(labels, (tuple, list)) else ()
+    if len(pair) != 2 or not all(isinstance(x, str) for x in pair):
+        raise RunArgumentError(f"compare: labels must be two str, how messages name the results (for example "
+                               f"('A (run1.h5)', 'B (run2.h5)')), got {labels!r}")
+    labels = (pair[0], pair[1])
+    _check_result(a, f"a ({labels[0]})", "compare")
+    _check_result(b, f"b ({labels[1]})", "compare")
+    if signals is not None:
+        signals = _signal_list(signals, "compare")
     for label, res in zip(labels, (a, b), strict=True):
         if not len(res.t):
             why = f": {' '.join(res.message.split())}" if res.message else ""

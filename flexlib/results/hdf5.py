@@ -120,6 +120,9 @@ def save_result(result: Result, path: str | os.PathLike) -> None:
     path = _as_path(path, "save_result")
     if path.is_dir():
         raise ResultFileError(f"cannot write the result to {path}: it is a directory")
+    if path.exists() and not path.is_file():  # the atomic replace would put a regular file in place of a device
+        raise ResultFileError(f"cannot write the result to {path}: it exists and is not a regular file (a device, "
+                              "pipe or socket); give the name of a file")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as err:
@@ -173,8 +176,23 @@ def _write(result: Result, tmp: str) -> None:
         f.attrs["solver_stats"] = json.dumps(result.stats, default=float)
 
 
+class _NotText(ValueError):
+    """A dataset that should hold text holds something else (numbers)."""
+
+
 def _strings(ds: h5py.Dataset) -> list[str]:
-    return [s.decode() if isinstance(s, bytes) else str(s) for s in ds[()]]
+    if ds.dtype.kind not in "OSU" or (ds.dtype.kind == "O" and h5py.check_string_dtype(ds.dtype) is None):
+        raise _NotText(f"{ds.name} holds {ds.dtype} values, not text")
+    return [s.decode() if isinstance(s, bytes) else str(s) for s in np.atleast_1d(ds[()])]
+
+
+def _first_duplicate(names: list[str]) -> str | None:
+    seen: set[str] = set()
+    for name in names:
+        if name in seen:
+            return name
+        seen.add(name)
+    return None
 
 
 def _what_is(path: Path) -> str:
@@ -293,21 +311,41 @@ def _read(f: h5py.File, path: Path) -> Result:
         raise bad(f"incomplete flexlib result, missing {', '.join(missing)}")
     t = np.asarray(f["time"][()], dtype=float)
     g, pg, eg = f["variables"], f["parameters"], f["events"]
-    names = _strings(g["names"])
+    try:
+        names = _strings(g["names"])
+    except _NotText as err:
+        raise bad(str(err)) from None
     values = np.asarray(g["values"][()], dtype=float)
     if t.ndim != 1:
         raise bad(f"/time has shape {t.shape}, expected one dimension")
+    if not np.all(np.isfinite(t)):
+        raise bad(f"/time holds NaN or inf (first at row {int(np.argmax(~np.isfinite(t)))}); times must be finite")
+    if np.any(np.diff(t) < 0):
+        k = int(np.argmax(np.diff(t) < 0))
+        raise bad(f"/time decreases at row {k + 1} ({t[k]:g} s, then {t[k + 1]:g} s); times must not decrease "
+                  "(an event repeats its time once)")
+    dup = _first_duplicate(names)
+    if dup is not None:
+        raise bad(f"/variables/names holds {dup!r} twice; each variable is named once (a column could not be "
+                  "told from the other)")
     if values.shape != (len(t), len(names)):
         raise bad(f"/variables/values has shape {values.shape}, expected {(len(t), len(names))} "
                   "(time points × variable names)")
-    meta_lists = {k: _strings(g[k]) for k in ("units", "docs", "kinds")}
+    try:
+        meta_lists = {k: _strings(g[k]) for k in ("units", "docs", "kinds")}
+        pnames, punits, ev_text = _strings(pg["names"]), _strings(pg["units"]), _strings(eg["text"])
+    except _NotText as err:
+        raise bad(str(err)) from None
     for key, lst in meta_lists.items():
         if len(lst) != len(names):
             raise bad(f"/variables/{key} has {len(lst)} entries for {len(names)} variables")
-    pnames, pvalues, punits = _strings(pg["names"]), np.asarray(pg["values"][()], dtype=float), _strings(pg["units"])
+    pvalues = np.asarray(pg["values"][()], dtype=float)
     if not len(pnames) == len(pvalues) == len(punits):
         raise bad(f"/parameters has {len(pnames)} names, {len(pvalues)} values and {len(punits)} units")
-    ev_t, ev_text = np.asarray(eg["time"][()], dtype=float), _strings(eg["text"])
+    dup = _first_duplicate(pnames)
+    if dup is not None:
+        raise bad(f"/parameters/names holds {dup!r} twice; each parameter is named once")
+    ev_t = np.asarray(eg["time"][()], dtype=float)
     if len(ev_t) != len(ev_text):
         raise bad(f"/events has {len(ev_t)} times and {len(ev_text)} texts")
     status = str(f.attrs["status"])
@@ -317,6 +355,9 @@ def _read(f: h5py.File, path: Path) -> Result:
         stats = json.loads(f.attrs["solver_stats"])
     except (TypeError, ValueError) as err:
         raise bad(f"the attribute 'solver_stats' is not JSON ({err})") from None
+    if not isinstance(stats, dict):
+        raise bad(f"the attribute 'solver_stats' must be a JSON object (statistics by name), got "
+                  f"{type(stats).__name__} {stats!r:.60}")
     meta = {k[5:]: str(v) for k, v in f.attrs.items() if k.startswith("meta_")}
     return Result(
         model=str(f.attrs["model"]), t=t, names=names, values=values, units=meta_lists["units"],

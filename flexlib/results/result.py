@@ -129,13 +129,15 @@ class Result:
             raise EmptyResultError(f"{what}: the result of {self.model} has no rows; the run is {self.status}{why}")
 
     def __contains__(self, name: str) -> bool:
-        return name in self._index
+        return isinstance(name, str) and name in self._index
 
     def unit(self, name: str) -> str:
         """Unit of a variable (of its first element for an array variable)."""
+        if not isinstance(name, str):
+            raise self._unknown(name)
         if name in ("time", "t"):
             return "s"
-        if isinstance(name, str) and name not in self._index:
+        if name not in self._index:
             elem = next((n for n in self.names if n.startswith(name + "[")), None)
             if elem is not None:
                 return self.units[self._index[elem]]
@@ -163,7 +165,8 @@ class Result:
         return tt
 
     def value(self, name: str, t: float | np.ndarray) -> float | np.ndarray:
-        """Linear interpolation of variable ``name`` at time(s) ``t`` [s] (right value at events).
+        """Linear interpolation of variable ``name`` at time(s) ``t`` [s] (right value at events); for an array
+        variable (``"frame.r"``) each element, along the last axis (``(3,)`` at one time, ``(len(t), 3)``).
 
         Raises
         ------
@@ -179,13 +182,20 @@ class Result:
         self._require_rows(f"value({name!r}, t)")
         self._check_times(f"value({name!r}, t)", t)
         keep = self._right_rows()
-        return np.interp(t, self.t[keep], x[keep])
+        if x.ndim == 1:
+            return np.interp(t, self.t[keep], x[keep])
+        return np.stack([np.interp(t, self.t[keep], col) for col in x[keep].T], axis=-1)
 
     def row(self, t: float) -> np.ndarray:
-        """Every variable (columns of :attr:`values`) interpolated linearly at time ``t`` [s] (right value at
-        events); :class:`RunArgumentError` for a ``t`` outside the result's span, as :meth:`value`."""
+        """Every variable (columns of :attr:`values`) interpolated linearly at one time ``t`` [s] (right value at
+        events); :class:`RunArgumentError` for a ``t`` outside the result's span, as :meth:`value`, or for several
+        times."""
         self._require_rows(f"row({t!r})")
         self._check_times(f"row({t!r})", t)
+        if np.ndim(t):
+            raise RunArgumentError(f"row(t): t must be one time [s] (a number), got {t!r}; for several times "
+                                   "call row once per time, or value(name, times) per variable")
+        t = float(t)
         keep = self._right_rows()
         tk, vals = self.t[keep], self.values[keep]
         if len(tk) == 1:
@@ -201,11 +211,12 @@ class Result:
         keep[:-1] = self.t[1:] != self.t[:-1]
         return keep
 
-    def final(self, name: str) -> float:
-        """Value of ``name`` at the end of the run (:class:`EmptyResultError` if the result has no rows)."""
+    def final(self, name: str) -> float | np.ndarray:
+        """Value of ``name`` at the end of the run (an array variable: its elements); :class:`EmptyResultError` if
+        the result has no rows."""
         x = self[name]
         self._require_rows(f"final({name!r})")
-        return float(x[-1])
+        return float(x[-1]) if x.ndim == 1 else np.array(x[-1], dtype=float)
 
     def display(self, name: str) -> tuple[np.ndarray, str]:
         """Values of ``name`` in its display unit (:data:`DISPLAY_UNITS`: L/min, bar, rpm) and that unit."""
@@ -214,9 +225,25 @@ class Result:
         return self[name] * factor, shown
 
     def plot(self, *names: str, ax: Any = None, title: str | None = None, si: bool = False) -> Any:
-        """Plot variables against time with matplotlib (display units unless ``si``); returns the Axes."""
+        """Plot variables against time with matplotlib (display units unless ``si``); returns the Axes.
+
+        Raises
+        ------
+        ResultKeyError
+            A name that is not in the result, or a list given where the names go (``plot(*names)``).
+        RunArgumentError
+            ``ax`` is not an Axes, ``si`` not a bool, ``title`` not a str.
+        """
         import matplotlib.pyplot as plt
 
+        self._check_names("plot", names)
+        if ax is not None and not callable(getattr(ax, "plot", None)):
+            raise RunArgumentError(f"plot: ax must be a matplotlib Axes (or None: a new figure), got {ax!r} "
+                                   f"({type(ax).__name__})")
+        if not isinstance(si, (bool, np.bool_)):
+            raise RunArgumentError(f"plot: si must be True (SI units) or False (display units), got {si!r}")
+        if title is not None and not isinstance(title, str):
+            raise RunArgumentError(f"plot: title must be a str (or None: the model's name), got {title!r}")
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 4.5))
         for name in names:
@@ -234,6 +261,7 @@ class Result:
 
         A result without rows (a run that failed at its start) gives the table with ``-`` and a line saying
         why; a result that did not succeed says so in its last line."""
+        self._check_names("summary", names)
         rows = [f"{'variable':<36} {'unit':>7} {'final':>12} {'min':>12} {'max':>12}"]
         for name in names:
             values, unit = self.display(name)
@@ -246,6 +274,16 @@ class Result:
             message = " ".join(self.message.split())
             rows.append(f"({self.status}: {message})" if message else f"({self.status})")
         return "\n".join(rows)
+
+    def _check_names(self, what: str, names: tuple[Any, ...]) -> None:
+        """The variable names given to :meth:`plot` or :meth:`summary`, each a str (a list is named with how to
+        pass it: ``summary(*names)``); unknown names raise as indexing does."""
+        for name in names:
+            if isinstance(name, (list, tuple)):
+                raise ResultKeyError(f"{what}: give the variable names as separate arguments, "
+                                     f"{what}('a', 'b') or {what}(*names), got the {type(name).__name__} {name!r}")
+            if not isinstance(name, str):
+                raise self._unknown(name)
 
     @staticmethod
     def _summary_row(name: str, values: np.ndarray, unit: str) -> str:

@@ -24,7 +24,10 @@ JOINTS = ("slew", "joint1", "joint2", "joint3", "joint4", "joint5")
 
 def check_modes_form(modes: Any) -> str | int | dict[int, list[int]]:
     """The form of ``modes`` (``"mpf"``, a count >= 1, or a list of mode indices for every section 1–5), normalised;
-    ``ValueError`` completing "modes ..." otherwise (the check of the ``modes`` option's declaration)."""
+    ``ValueError`` completing "modes ..." otherwise (the check of the ``modes`` option's declaration).
+
+    A mapping gives every section 1–5 once (``1`` and ``"01"`` are the same section) a non-empty list of distinct
+    mode indices >= 0; whether an index exists is the modal data's check (:class:`FlexibleBody`)."""
     if isinstance(modes, str) and modes == "mpf":
         return modes
     if isinstance(modes, int | np.integer) and not isinstance(modes, bool | np.bool_):
@@ -33,15 +36,23 @@ def check_modes_form(modes: Any) -> str | int | dict[int, list[int]]:
         return int(modes)
     if not isinstance(modes, Mapping):
         raise ValueError(f"must be 'mpf', a count or a mapping of section to mode indices, got {modes!r}")
-    try:
-        out = {}
-        for k, v in modes.items():
+    out: dict[int, list[int]] = {}
+    keys: dict[int, Any] = {}
+    for k, v in modes.items():
+        try:
             if isinstance(v, str | bytes | Mapping) or isinstance(k, bool) \
                     or any(isinstance(i, bool | float) for i in v):
                 raise TypeError
-            out[int(k)] = [int(i) for i in v]
-    except (TypeError, ValueError):
-        raise ValueError(f"must map section numbers 1-5 to lists of mode indices, got {modes!r}") from None
+            section, indices = int(k), [int(i) for i in v]
+        except (TypeError, ValueError):
+            raise ValueError(f"must map section numbers 1-5 to lists of mode indices, got {modes!r}") from None
+        if section in out:
+            raise ValueError(f"must give section {section} once, got it twice (keys {keys[section]!r} and {k!r})")
+        if not indices:
+            raise ValueError(f"must give section {section} at least one mode index, got an empty list")
+        if min(indices) < 0 or len(set(indices)) != len(indices):
+            raise ValueError(f"of section {section} must be distinct mode indices >= 0, got {list(v)!r}")
+        out[section], keys[section] = indices, k
     if sorted(out) != [1, 2, 3, 4, 5]:
         missing = sorted(set(range(1, 6)) - set(out))
         extra = sorted(set(out) - set(range(1, 6)))

@@ -205,7 +205,8 @@ class PumpTruck(fl.Model):
     modes : "mpf", int or mapping
         Modes of the flexible sections: ``"mpf"`` (default) the modal participation factor selection
         (:func:`~models.pump_truck.flexible.mpf_modes`: 1 % threshold, at most 8 per section), a count (the lowest
-        in-plane modes) or ``{section: [mode indices]}``.
+        in-plane modes) or ``{section: [mode indices]}``; only with ``flexible=True`` (a rigid boom given other
+        modes than the default is refused, not run without them).
     slewing : bool
         ``True`` (default): the slewing bearing (a revolute about world ``y`` under the turret) and its drive
         (motor, gear, valve, control); ``False``: the turret fixed to the ground, no slewing drive.
@@ -249,6 +250,9 @@ class PumpTruck(fl.Model):
         filled, flexible, slewing = option("filled", filled), option("flexible", flexible), option("slewing", slewing)
         link_plate = option("link_plate", link_plate)
         modes = option("modes", modes)
+        if not flexible and modes != "mpf":  # not ignored silently: the rigid boom has no modes to select
+            raise ParameterError(f"PumpTruck: modes = {modes!r} selects the modes of the flexible sections, but the "
+                                 "boom is rigid (flexible=False); give flexible=True as well, or leave modes out")
         if filled is not None:
             record = replace(record, pipe=replace(record.pipe, filled=filled))
         self.record = record
