@@ -18,6 +18,7 @@ __all__ = [
     "LinearizationError",
     "ModalFileError",
     "ModelError",
+    "ModelTypeError",
     "ModelWarning",
     "ParameterError",
     "ResultFileError",
@@ -37,6 +38,11 @@ class FlexlibError(Exception):
 
 class ModelError(FlexlibError):
     """A model is ill-formed: bad declaration, bad equation, bad parameter value."""
+
+
+class ModelTypeError(ModelError, TypeError):
+    """Something other than a model instance where flexlib expects one: a model class instead of an instance, a
+    name, None (``Simulation(Osc)``, ``sim.with_model("Osc")``, ``flexlib.build(...)``); a ``TypeError`` too."""
 
 
 class ParameterError(ModelError):

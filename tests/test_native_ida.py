@@ -253,8 +253,9 @@ def test_failure_keeps_rows_and_names_the_variable():
     with pytest.raises(fl.SolverError, match=r"underflow at t = 0\.99.*local error estimates: x \(") as exc:
         sim.run(2.0, dt_out=0.05, solver="ida-native", progress=False)
     r = exc.value.result
-    assert r.status == "failed" and 0.9 < r.t[-1] < 1.0 and len(r.t) == 20
-    np.testing.assert_allclose(r["x"], 1.0 / (1.0 - r.t), rtol=1e-3)
+    assert r.status == "failed" and 0.9 < r.t[-1] < 1.0 and len(r.t) == 21  # 20 grid rows and the failure point
+    assert f"at t = {r.t[-1]:.10g} s" in str(exc.value)
+    np.testing.assert_allclose(r["x"][:-1], 1.0 / (1.0 - r.t[:-1]), rtol=1e-3)
 
 
 def test_ida_flags_are_named():
@@ -308,6 +309,8 @@ def test_sigterm_while_in_the_c_loop_keeps_the_result(tmp_path):
         timer.cancel()
     res = err.value.result
     assert res.status == "interrupted" and 100 < res.t[-1] < 1e5
-    np.testing.assert_array_equal(res.t, np.arange(len(res.t)))  # the 1 s grid, no row lost or repeated
+    # the 1 s grid, no row lost or repeated, then the point where the run stopped
+    np.testing.assert_array_equal(res.t[:-1], np.arange(len(res.t) - 1))
+    assert res.t[-2] < res.t[-1] < res.t[-2] + 1.0
     np.testing.assert_allclose(res["x"][:100], np.cos(res.t[:100]), atol=1e-4)  # phase error grows with t
     assert fl.load_result(path).status == "interrupted"

@@ -74,8 +74,16 @@ class CacheEntryError(Exception):
 
 
 def cache_dir() -> Path:
-    """Cache directory: ``$FLEXLIB_CACHE_DIR`` or ``~/.cache/flexlib``."""
-    return Path(os.environ.get("FLEXLIB_CACHE_DIR", Path.home() / ".cache" / "flexlib"))
+    """Cache directory: ``$FLEXLIB_CACHE_DIR`` or ``~/.cache/flexlib``, as an absolute path.
+
+    ``~`` and ``$VARIABLE`` in the value are expanded (a value written in a file that no shell expanded, such as
+    ``~/cache``, made a directory named ``~`` in the working directory), a relative path is taken from the working
+    directory at the time of the call (a later ``chdir`` does not move the cache of a running build), and an empty
+    value counts as unset (it put the cache, ``lib/`` and every entry into the working directory)."""
+    raw = os.environ.get("FLEXLIB_CACHE_DIR", "")
+    if not raw.strip():
+        return Path.home() / ".cache" / "flexlib"
+    return Path(os.path.expandvars(os.path.expanduser(raw))).absolute()
 
 
 def warn_once(where: Path | str, reason: str) -> None:
@@ -272,6 +280,53 @@ def _digest_function(h: Any, fn: types.FunctionType, seen: set[int], module: str
                     h.update(f"\nglobal {name}={plain!r}".encode())
 
 
+def _data_digest(cls: type) -> str:
+    """Hash of the data the methods of ``cls`` (and its bases) read that no source file holds: the contents of their
+    closure cells and the plain-data module globals they name.
+
+    A class made inside a factory function (``def make(k): class M(fl.Model): ... -k * x ...``) has the same source
+    for every ``k``, and a module constant computed at import (``K = float(open("k.txt").read())``) is not in the
+    source either: without this, a model built with ``k = 5`` found the cached build of ``k = 1`` and ran it. Not
+    cached: a module global may be reassigned between builds (a notebook).
+    """
+    h = hashlib.sha256()
+    seen: set[int] = set()
+    for klass in cls.__mro__:
+        if klass in (object, Node, Component) or klass.__module__ == "builtins":
+            continue
+        for name, value in sorted(vars(klass).items()):
+            fn = value.__func__ if isinstance(value, (staticmethod, classmethod)) else value
+            parts = (fn.fget, fn.fset, fn.fdel) if isinstance(fn, property) else (fn,)
+            for part in parts:
+                if isinstance(part, types.FunctionType):
+                    h.update(f"\n{klass.__qualname__}.{name}:".encode())
+                    _digest_data(h, part, seen)
+    return h.hexdigest()[:16]
+
+
+def _digest_data(h: Any, fn: types.FunctionType, seen: set[int]) -> None:
+    if id(fn) in seen:
+        return
+    seen.add(id(fn))
+    for cell in fn.__closure__ or ():
+        try:
+            content = cell.cell_contents
+        except ValueError:  # an empty cell
+            continue
+        if isinstance(content, types.FunctionType):
+            _digest_data(h, content, seen)
+            continue
+        plain = _plain(content)
+        h.update(repr(plain if plain is not _SKIP else f"<{type(content).__qualname__}>").encode())
+    for name in sorted(_global_names(fn.__code__)):
+        g = fn.__globals__.get(name, _SKIP)
+        if g is _SKIP or isinstance(g, (types.ModuleType, type, types.FunctionType, types.BuiltinFunctionType)):
+            continue
+        plain = _plain(g)
+        if plain is not _SKIP:
+            h.update(f"\nglobal {name}={plain!r}".encode())
+
+
 def _global_names(code: types.CodeType) -> set[str]:
     names = set(code.co_names)
     for const in code.co_consts:
@@ -348,11 +403,14 @@ def model_key(root: Component, options: dict[str, Any]) -> str | None:
     h.update(_engine_hash().encode())
     h.update(f"format {FORMAT}; casadi {ca.__version__}".encode())
     h.update(repr(sorted(options.items())).encode())
+    data: dict[type, str] = {}
     for node in root.walk():
         ch = _class_hash(type(node))
         if ch is None:
             return None
-        h.update(f"{node.path}|{ch}".encode())
+        if type(node) not in data:
+            data[type(node)] = _data_digest(type(node))
+        h.update(f"{node.path}|{ch}|{data[type(node)]}".encode())
         if isinstance(node, Component):
             extra = node.structure_key()
             pv = _plain(extra)

@@ -37,13 +37,13 @@ the row (N-link pendulum: ``benchmarks/README.md``).
 from __future__ import annotations
 
 import dataclasses
-import os
 from collections.abc import Iterable
 
 import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
+from flexlib.compile.environment import env_switch
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import matching
 from flexlib.core.component import Component
@@ -238,8 +238,9 @@ def _propagate(simple: SimpleSystem, param_values: dict[int, float],
 
 
 def zero_geometry() -> bool:
-    """The default of ``assume_zero_geometry``: True unless ``FLEXLIB_ZERO_GEOMETRY=0`` (see the module doc)."""
-    return os.environ.get("FLEXLIB_ZERO_GEOMETRY", "1").strip() != "0"
+    """The default of ``assume_zero_geometry``: True unless ``FLEXLIB_ZERO_GEOMETRY=0`` (or ``false``, ``no``,
+    ``off``; see the module doc and :func:`flexlib.compile.environment.env_switch`)."""
+    return bool(env_switch("FLEXLIB_ZERO_GEOMETRY", True))
 
 
 def _frame_parameters(simple: SimpleSystem) -> set[int]:

@@ -60,11 +60,11 @@ I. S. Duff, A. M. Erisman, J. K. Reid, *Direct Methods for Sparse Matrices*, 2nd
 from __future__ import annotations
 
 import heapq
-import os
 
 import casadi as ca
 import numpy as np
 
+from flexlib.compile.environment import env_switch
 from flexlib.core.variables import time
 
 __all__ = ["MAX_NET_FILL", "eliminate_explicit_algebraics", "explicit_enabled", "explicit_mode", "explicit_scope"]
@@ -74,8 +74,10 @@ MAX_NET_FILL = 0
 
 
 def explicit_enabled() -> bool:
-    """True unless ``FLEXLIB_EXPLICIT=0`` (or ``off``): the stage is on by default (see the module docstring)."""
-    return os.environ.get("FLEXLIB_EXPLICIT", "1").strip().lower() not in ("0", "off", "false", "no")
+    """True unless ``FLEXLIB_EXPLICIT=0`` (or ``off``, ``false``, ``no``): the stage is on by default (see the module
+    docstring); a value other than those, ``1``/``on``/``true``/``yes`` and ``all`` is a
+    :class:`~flexlib.errors.RunArgumentError` (:func:`flexlib.compile.environment.env_switch`)."""
+    return env_switch("FLEXLIB_EXPLICIT", True, ("all",)) is not False
 
 
 def explicit_mode() -> str:
@@ -86,7 +88,7 @@ def explicit_mode() -> str:
 def explicit_scope() -> str:
     """Which algebraic unknowns may be eliminated: ``"error-test"`` (default) only those already outside IDA's
     error test (derivative level), ``"all"`` (``FLEXLIB_EXPLICIT=all``, for measurements) any."""
-    return "all" if os.environ.get("FLEXLIB_EXPLICIT", "") == "all" else "error-test"
+    return "all" if env_switch("FLEXLIB_EXPLICIT", True, ("all",)) == "all" else "error-test"
 
 
 def _patterns(rows: list[ca.SX], y: ca.SX, yp: ca.SX) -> list[set[int]]:

@@ -198,6 +198,14 @@ class _Row:
     pred: int = -1    # row this one is the derivative of
 
 
+class _Unterminated(Exception):
+    """Pantelides' algorithm kept differentiating: the source equations and variables of the last failed search."""
+
+    def __init__(self, sources: list[int], variables: list[int]) -> None:
+        super().__init__(sources, variables)
+        self.sources, self.variables = sources, variables
+
+
 class _Pantelides:
     """Pantelides' algorithm on the structural incidence (iterative augmenting paths)."""
 
@@ -249,7 +257,10 @@ class _Pantelides:
                     via.pop()
         return False
 
-    def run(self, n_orig: int, max_rounds: int = 10000) -> None:
+    def run(self, n_orig: int, max_rounds: int = 200) -> None:
+        """Pantelides: differentiate until every original row is matched; a row still unmatched after ``max_rounds``
+        rounds (a differentiation index far beyond any physical model's, which stays below ten) is a structurally
+        singular subsystem (:class:`_Unterminated`)."""
         cols, rows = self.cols, self.rows
         defining = set()
         for c, r in self.defined_by.items():
@@ -267,7 +278,8 @@ class _Pantelides:
                     break
                 rounds += 1
                 if rounds > max_rounds:
-                    raise StructuralSingularityError("index reduction did not terminate (structurally singular model)")
+                    raise _Unterminated(sorted({rows[r].source for r in vrow | {i}}),
+                                        sorted({cols[c].var for c in vcol}))
                 for c in sorted(vcol):
                     self._derive_col(c)
                 for r in sorted(vrow):
@@ -366,7 +378,18 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
                 rows[r].inc.add(c)
     rules = {col_of[h]: e for h, e in simple.der_rules.items() if h in col_of}
     pant = _Pantelides(cols, rows, col_of, rules)
-    pant.run(len(equations))
+    try:
+        pant.run(len(equations))
+    except _Unterminated as err:
+        eqs = [equations[k] for k in err.sources]
+        lines = [f"  {e.owner or '(model)'}: {text}" for e, text in zip(eqs[:8], describe_all(eqs[:8]), strict=True)]
+        names = sorted({simple.variables[v].name for v in err.variables})
+        more = f" (and {len(eqs) - 8} more)" if len(eqs) > 8 else ""
+        raise StructuralSingularityError(
+            "index reduction did not terminate: these equations" + more + "\n" + "\n".join(lines)
+            + "\ndo not determine " + ", ".join(names[:8]) + (", ..." if len(names) > 8 else "")
+            + " at any derivative order (a structurally singular subsystem: a component connected to itself, or "
+            "constraints that leave an unknown without an equation)") from None
     structure = Structure(simple, rows, cols, param_values)
     dummies, levels = structure.select()
     return structure.assemble(dummies, levels)

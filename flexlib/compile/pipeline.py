@@ -32,8 +32,43 @@ from flexlib.compile.redundancy import remove_redundant
 from flexlib.compile.simplify import SimpleSystem, simplify
 from flexlib.compile.tearing import tear_or_keep_frames, tree_frames_mode
 from flexlib.core.component import Component
+from flexlib.errors import ModelTypeError, RunArgumentError
 
-__all__ = ["Build", "analyse", "build", "build_key", "prepare"]
+__all__ = ["Build", "analyse", "build", "build_key", "check_build_options", "check_model", "prepare"]
+
+
+def check_model(model: Any, where: str) -> Component:
+    """``model`` if it is a model instance; otherwise :class:`~flexlib.errors.ModelTypeError` naming what was given
+    (a model class gets the hint to instantiate it)."""
+    if isinstance(model, Component):
+        return model
+    if isinstance(model, type) and issubclass(model, Component):
+        raise ModelTypeError(f"{where}: model = {model.__name__} is a model class, not a model instance; give an "
+                             f"instance such as {model.__name__}() (with its parameters and start values)")
+    shown = " ".join(repr(model).split())
+    shown = shown if len(shown) <= 60 else shown[:57] + "..."
+    raise ModelTypeError(f"{where}: model = {shown} (a {type(model).__name__}) is not a flexlib model instance; give "
+                         "an instance of a Model or Component subclass")
+
+
+def _bool_option(where: str, name: str, value: Any, allowed: str, allow_none: bool = False) -> None:
+    import numpy as np
+
+    if (value is None and allow_none) or isinstance(value, (bool, np.bool_)):
+        return
+    raise RunArgumentError(f"{where}: {name} = {value!r} is invalid: must be {allowed} (got a {type(value).__name__}; "
+                           "a string such as 'False' would count as true)")
+
+
+def check_build_options(codegen: Any, use_cache: Any, assume_zero_geometry: Any, where: str = "build()") -> None:
+    """Check the build options of :func:`build` / ``Simulation(...)``: ``codegen`` True, False or ``"auto"``,
+    ``use_cache`` True or False, ``assume_zero_geometry`` True, False or None. A string such as ``"no"`` or
+    ``"False"`` is refused (it is true in Python: ``codegen="no"`` compiled C, ``use_cache="False"`` used the
+    cache). Raises :class:`~flexlib.errors.RunArgumentError` naming the option and the value."""
+    if not (isinstance(codegen, str) and codegen == "auto"):
+        _bool_option(where, "codegen", codegen, "True, False or 'auto'")
+    _bool_option(where, "use_cache", use_cache, "True or False")
+    _bool_option(where, "assume_zero_geometry", assume_zero_geometry, "True, False or None", allow_none=True)
 
 
 @dataclass
@@ -183,7 +218,18 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     -------
     Build
         Every stage's product (unpacks as ``compiled, timings`` like earlier versions).
+
+    Raises
+    ------
+    ModelTypeError
+        ``root`` is not a model instance (a model class, a name).
+    RunArgumentError
+        ``codegen``, ``use_cache`` or ``assume_zero_geometry`` is not one of its accepted values (a string
+        such as ``"False"`` is refused, not taken as true).
     """
+    check_model(root, "build()")
+    check_build_options(codegen, use_cache, assume_zero_geometry)
+    codegen = "auto" if isinstance(codegen, str) else bool(codegen)
     timings: dict[str, Any] = {"cached": False}
     t0 = _time.perf_counter()
     directory = cache.usable_cache_dir() if use_cache else None
@@ -223,7 +269,7 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     flat, simple, dae, times = analyse(root, assume_zero_geometry=assume_zero_geometry)
     timings.update(times)
     t = _time.perf_counter()
-    use_c: bool | str = "auto" if codegen == "auto" else bool(codegen)
+    use_c: bool | str = codegen
     model = compile_dae(flat, simple, dae, codegen=use_c, build_dir=directory / "lib" if entry else None)
     timings["compile"] = _time.perf_counter() - t
     model.stats = {"n_flat_equations": len(flat.equations), "n_aliases": simple.n_eliminated,

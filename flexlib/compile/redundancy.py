@@ -37,6 +37,7 @@ from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import matching, unit_coefficients
 from flexlib.core.component import Connector
 from flexlib.core.variables import Kind
+from flexlib.errors import ConnectError
 
 __all__ = ["BRANCH_SUFFIX", "CHECK_PREFIX", "explicit_definitions", "frame_variables", "remove_redundant"]
 
@@ -242,8 +243,21 @@ def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, fl
             qs.append(s)
             qv.append(v.start)
             qn.append(v.nominal)
-    if not qs:
-        return 0, np.arange(len(loop))
+    if not qs:  # rows of parameters only (two frames fixed in the world connected): rank 0 on and off the manifold
+        psyms = [lookup_sym(h) for h in param_values]
+        pairs = [(p, param_values[h]) for h, p in zip(param_values, psyms, strict=True) if p is not None]
+        if pairs:
+            L = ca.substitute([L], [ca.vertcat(*[p for p, _ in pairs])], [ca.DM([v for _, v in pairs])])[0]
+        if L.is_constant():
+            values = np.asarray(ca.evalf(L).full(), dtype=float).ravel()
+            off = [(simple.equations[r], float(v)) for r, v in zip(loop, values, strict=True) if abs(v) > 1e-9]
+            if off:
+                rows = "; ".join(f"{e.owner + ': ' if e.owner else ''}{e.label or 'a connection row'} is off by {v:.6g}"
+                                 for e, v in off[:4])
+                raise ConnectError(f"frames fixed in the world are connected but do not coincide ({rows}); connect "
+                                   "only one of them to the other part, or give them the same position and "
+                                   "orientation")
+        return (0, np.arange(len(loop))), (0, np.arange(len(loop)))
     q = ca.vertcat(*qs)
     psyms = [lookup_sym(h) for h in param_values]
     point_syms = ca.vertcat(q, *[p for p in psyms if p is not None])

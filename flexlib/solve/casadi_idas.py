@@ -653,15 +653,18 @@ def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                 # IDAS names only its flag: add what failed at the last accepted point, as the other backends do
                 # (a non-finite equation with its variables, a singular iteration matrix, the fastest unknowns)
                 err.args = (failure_message(str(err), model, p, t, y, yp, traj, rtol, atol),)
+            traj.close(t, y, yp, p[n_par:].copy())  # the last accepted point (after the grid's last row)
             traj.status, traj.message = "failed", str(err) if isinstance(err, SolverError) else \
                 f"error at t = {t:.10g} s: {err}"
             if isinstance(err, SolverError):
                 err.result = traj
                 raise
             raise SolverError(traj.message, traj) from err
+        traj.close(t, y, yp, p[n_par:].copy())
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
     except KeyboardInterrupt:
+        traj.close(t, y, yp, p[n_par:].copy())
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
     finally:

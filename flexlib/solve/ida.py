@@ -34,6 +34,7 @@ import scipy.sparse as sps
 import sksundae as sun
 
 from flexlib.compile.codegen import CompiledModel
+from flexlib.compile.environment import env_switch
 from flexlib.errors import SimulationInterrupted, SolverError
 from flexlib.solve.initialization import Initializer
 
@@ -70,6 +71,17 @@ class Trajectory:
         self.y.append(np.array(y, dtype=float))
         self.yp.append(np.array(yp, dtype=float))
         self.rel.append(np.array(rel, dtype=float))
+
+    def close(self, t: float, y: Any, yp: Any, rel: np.ndarray) -> None:
+        """End the rows of a failed or interrupted run at its last accepted point ``(t, y, yp)`` when that is after
+        the last row: a run recorded on an output grid kept only the grid times before the failure (``dt_out=0.1``
+        and a failure at 0.99998 s ended at 0.9 s). Nothing is added without rows, at or before the last row's
+        time (every step recorded, or an event's rows at ``t``) or for non-finite values."""
+        if y is None or not self.t or not t > self.t[-1]:
+            return
+        y, yp = np.array(y, dtype=float), np.array(yp, dtype=float)
+        if y.shape == yp.shape == self.y[-1].shape and np.all(np.isfinite(y)) and np.all(np.isfinite(yp)):
+            self.add(t, y, yp, rel)
 
     def add_owned(self, t: float, y: np.ndarray, yp: np.ndarray, rel: np.ndarray) -> None:
         """Append one row without copying: ``y`` and ``yp`` are fresh arrays nobody else writes to (a
@@ -300,6 +312,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
     ind_fn = model.function("ind")
     last_event_t, burst = -np.inf, 0
     t_event, which = next_time_event(model, p, t, t_end)
+    last: Any = None  # the last accepted step (its t, y, yp end the rows of a failed or interrupted run)
     try:
         while t < t_end:
             tstop = min(t_end, t_event)
@@ -312,6 +325,7 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                 interpolated = False
                 continue  # after an interpolated output IDA first returns its current point, no new step
             stats["steps"] += 1
+            last = r
             # output points passed by this step (IDA interpolation)
             if t_out is not None:
                 while out_idx < n_out and outs[out_idx] < r.t:
@@ -406,13 +420,19 @@ def integrate(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.nda
                     _cb.bind(model)
                     stats["compiled_at"] = t
     except KeyboardInterrupt:
+        if last is not None:
+            traj.close(last.t, last.y, last.yp, rel_now)
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
     except SolverError as err:
+        if last is not None:
+            traj.close(last.t, last.y, last.yp, rel_now)
         traj.status, traj.message = "failed", str(err)
         err.result = traj
         raise
     except Exception as err:  # an exception inside a callback (e.g. a NaN check) aborts the step
+        if last is not None:
+            traj.close(last.t, last.y, last.yp, rel_now)
         traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
         raise SolverError(traj.message, traj) from err
     finally:
@@ -427,7 +447,7 @@ def absolute_tolerances(model: CompiledModel, atol: float) -> np.ndarray:
     derivative-level unknowns kept out of the error test (``structure.derivative_level``; both
     backends) unless ``FLEXLIB_ERROR_TEST_ALL=1``."""
     atol_vec = atol * np.asarray(model.nominal, dtype=float)
-    if os.environ.get("FLEXLIB_ERROR_TEST_ALL", "0") != "1":
+    if not env_switch("FLEXLIB_ERROR_TEST_ALL", False):
         atol_vec = np.where(model.derivative_level, 1e20, atol_vec)
     return atol_vec
 

@@ -293,13 +293,16 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
                 raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
     except KeyboardInterrupt:
         _trim(traj)  # the interrupt may have come in the middle of a block copy
+        t = max(t, _close(traj, drv, p[n_par:].copy(), (T, Y, YP)))  # rows the interrupt kept from being copied
         traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
         raise SimulationInterrupted(traj.message, traj) from None
     except SolverError as err:
+        _close(traj, drv, p[n_par:].copy())
         traj.status, traj.message = "failed", str(err)
         err.result = traj
         raise
     except Exception as err:  # e.g. an event iteration that raises
+        _close(traj, drv, p[n_par:].copy())
         traj.status, traj.message = "failed", f"error at t = {t:.10g} s: {err}"
         raise SolverError(traj.message, traj) from err
     finally:
@@ -307,6 +310,28 @@ def integrate_native(model: CompiledModel, init: Initializer, p: np.ndarray, y0:
         bar.close()
     stats["wall_integrate"] = clock() - wall0
     return traj
+
+
+def _close(traj: Trajectory, drv: Driver, rel: np.ndarray,
+           buffers: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> float:
+    """End the rows of a failed or interrupted run at the driver's last accepted point (its time and solution as of
+    its last return; :meth:`Trajectory.close` adds it only after the last row) and return the time of the last row.
+
+    ``buffers``: the row buffers of the last :meth:`Driver.advance`. An interrupt that arrives as the call returns,
+    before its rows are copied, would lose them (a SIGTERM after 51 155 s of a 1 s grid ended the rows there while
+    the driver stood at 51 172 s); its rows after the last copied one are copied here."""
+    try:
+        if buffers is not None and traj.t:
+            T, Y, YP = buffers
+            k = min(int(drv._nrows.value), len(T))
+            for i in range(k):
+                if T[i] > traj.t[-1] and Y[i].shape == traj.y[-1].shape:
+                    traj.add(T[i], Y[i], YP[i], rel)
+        y, yp = drv.state()
+        traj.close(float(drv._tnow.value), y, yp, rel)
+    except Exception:  # never let the extra rows hide the failure itself
+        pass
+    return traj.t[-1] if traj.t else float(drv._tnow.value)
 
 
 def _zc_function(model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> ca.Function | None:

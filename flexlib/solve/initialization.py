@@ -191,6 +191,10 @@ class Initializer:
                 continue
             have = float(np.asarray(cond_fn(t0, y_guess, np.zeros(m.n), p)).ravel()[k])
             if abs(have - cond_vals[k]) > 1e-9 * max(1.0, abs(have)):
+                if ": " in name and " #" in name:  # an initial equation of time and parameters only
+                    raise InitializationError(
+                        f"initial equation {name.rsplit(' #', 1)[0]} involves no unknown (only time and parameters) "
+                        f"and does not hold at the start t = {t0:g} s: its residual there is {have:g}")
                 raise InitializationError(
                     f"initial condition {name} = {cond_vals[k]:g} contradicts the model, which fixes it to {have:g}")
         steady: list[int] = []

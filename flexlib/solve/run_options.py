@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import stat
 import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -21,7 +22,8 @@ import numpy as np
 
 from flexlib.errors import RunArgumentError
 
-__all__ = ["MAX_OUTPUT_POINTS", "SOLVERS", "RunOptions", "check_result_path", "check_run_arguments"]
+__all__ = ["MAX_OUTPUT_POINTS", "MIN_ATOL", "MIN_RTOL", "SOLVERS", "RunOptions", "check_params", "check_result_path",
+           "check_result_target", "check_run_arguments"]
 
 #: Shortest run span [s], and at least 1e-12 of |t| (about 4500 units in the last place): below it IDA's first
 #: step and error norms underflow, or the times cannot be told apart
@@ -29,6 +31,19 @@ MIN_SPAN = 1e-100
 #: Largest output grid accepted (points); a larger one is almost certainly a unit mistake in ``dt_out``
 #: (10 million rows of a 500-variable model are 40 GB).
 MAX_OUTPUT_POINTS = 10_000_000
+
+#: Smallest ``rtol``: machine epsilon (a relative error below it cannot be met in double precision; IDA ran on as if
+#: it could, and the result claimed it).
+MIN_RTOL = float(np.finfo(float).eps)
+#: Smallest ``atol`` (scaled by each variable's nominal): far below the resolution of any physical quantity. Below
+#: about 1e-100 IDA's error weights overflow or its first step underflows, and the failure did not name ``atol``.
+MIN_ATOL = 1e-50
+
+#: File name endings of other formats: a result file is HDF5, and ``run(result_file="out.csv")`` wrote HDF5 into
+#: ``out.csv`` without a word.
+OTHER_FORMATS = (".csv", ".tsv", ".txt", ".dat", ".json", ".yaml", ".yml", ".toml", ".mat", ".npz", ".npy", ".pkl",
+                 ".pickle", ".parquet", ".xlsx", ".xls", ".png", ".pdf", ".svg", ".jpg", ".jpeg", ".py", ".ipynb",
+                 ".mo", ".md", ".html", ".log", ".zip", ".gz")
 
 #: Integrator back ends accepted by ``run(solver=...)``.
 SOLVERS = ("ida", "casadi-idas", "ida-native", "ida-sksundae")
@@ -80,11 +95,11 @@ class RunOptions:
     result_file: Path | None
 
 
-def _bad(name: str, value: Any, allowed: str, hint: str = "") -> RunArgumentError:
+def _bad(name: str, value: Any, allowed: str, hint: str = "", caller: str = "run") -> RunArgumentError:
     shown = f"<array of shape {value.shape}>" if isinstance(value, np.ndarray) else " ".join(repr(value).split())
     if len(shown) > 80:
         shown = shown[:77] + "..."
-    err = RunArgumentError(f"run(): {name} = {shown} is invalid: {allowed}{'; ' + hint if hint else ''}")
+    err = RunArgumentError(f"{caller}(): {name} = {shown} is invalid: {allowed}{'; ' + hint if hint else ''}")
     err.argument = name  # type: ignore[attr-defined]
     return err
 
@@ -106,21 +121,31 @@ def _flag(name: str, value: Any, allow_none: bool = False) -> bool | None:
 
 
 def check_result_path(result_file: Any, name: str = "result_file") -> Path:
-    """Check that ``result_file`` names a file that can be written: a ``str`` or path-like, not a directory,
-    inside a directory that exists and is writable or can be created. Writes and removes a probe file in
-    the nearest existing directory. Raises :class:`RunArgumentError` otherwise."""
+    """Check that ``result_file`` names a file that can be written: a ``str`` or path-like, not a directory (nor a
+    name ending in a path separator), without a NUL character, a name the file system accepts (not too long), inside
+    a directory that exists and is writable or can be created. Writes and removes a probe file in the nearest
+    existing directory. Raises :class:`RunArgumentError` otherwise."""
     if isinstance(result_file, bytes) or not isinstance(result_file, (str, os.PathLike)):
         raise _bad(name, result_file, f"must be a file path (str or os.PathLike), got a {type(result_file).__name__}")
-    if not os.fspath(result_file).strip():
+    text = os.fspath(result_file)
+    if not str(text).strip():
         raise _bad(name, result_file, "must be a file path, got an empty string")
-    path = Path(os.fspath(result_file)).expanduser()
-    if path.is_dir():
-        raise _bad(name, result_file, f"{path} is a directory; give a file name such as {path / 'run.h5'}")
-    existing = path.parent.absolute()
-    while not existing.exists() and existing != existing.parent:
-        existing = existing.parent
-    if not existing.is_dir():
-        raise _bad(name, result_file, f"its directory cannot be created: {existing} is a file, not a directory")
+    if "\x00" in str(text):
+        raise _bad(name, result_file, "contains a NUL character, which no file name can hold")
+    if str(text).endswith(("/", os.sep)) or (os.altsep and str(text).endswith(os.altsep)):
+        raise _bad(name, result_file, f"ends with a path separator, so it names a directory; give a file name such "
+                   f"as {os.path.join(text, 'run.h5')}")
+    path = Path(text).expanduser()
+    try:
+        if path.is_dir():
+            raise _bad(name, result_file, f"{path} is a directory; give a file name such as {path / 'run.h5'}")
+        existing = path.parent.absolute()
+        while not existing.exists() and existing != existing.parent:
+            existing = existing.parent
+        if not existing.is_dir():
+            raise _bad(name, result_file, f"its directory cannot be created: {existing} is a file, not a directory")
+    except OSError as err:  # a name too long for the file system, a parent that cannot be read
+        raise _bad(name, result_file, f"cannot be used as a file name: {err.strerror or err}") from None
     try:
         with tempfile.NamedTemporaryFile(dir=existing, prefix=".flexlib-probe-"):
             pass
@@ -130,14 +155,86 @@ def check_result_path(result_file: Any, name: str = "result_file") -> Path:
     return path
 
 
+def _kind(mode: int) -> str:
+    for test, what in ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISFIFO, "a named pipe"), (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return what
+    return "not a regular file"
+
+
+def check_result_target(result_file: Any, name: str = "result_file") -> Path:
+    """:func:`check_result_path`, and a place a result file may replace: not an existing device, pipe or socket (the
+    atomic replace of the write would put a regular file in its place: ``result_file="/dev/null"`` run as root
+    replaced the system's ``/dev/null``), not an existing file that is not a flexlib result (a user's CSV, notes or
+    source file was overwritten without a word), and not a name ending in another format's extension (``out.csv``
+    got HDF5). Raises :class:`RunArgumentError` naming the file and what it is."""
+    path = check_result_path(result_file, name)
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        mode = None
+    except OSError as err:
+        raise _bad(name, result_file, f"cannot be examined: {err.strerror or err}") from None
+    if mode is not None and not stat.S_ISREG(mode):
+        raise _bad(name, result_file, f"{path} exists and is {_kind(mode)}; a result file replaces the file at its "
+                   "path, so give the name of a regular file")
+    if mode is not None:
+        from flexlib.results.hdf5 import not_a_result
+
+        what = not_a_result(path)
+        if what is not None:
+            raise _bad(name, result_file, f"{path} exists and is {what}, not a flexlib result file; it is not replaced "
+                       "(give another name, or remove the file first)")
+    if path.suffix.lower() in OTHER_FORMATS:
+        raise _bad(name, result_file, f"a result file is HDF5 (read back with flexlib.load_result), not "
+                   f"{path.suffix.lower()}; give a name ending in .h5 such as {path.with_suffix('.h5')}")
+    return path
+
+
+def check_params(params: Any, caller: str = "run") -> dict[str, Any]:
+    """``params`` as a dict (None: empty): a mapping with parameter names (str) as keys, else
+    :class:`RunArgumentError`. The values are checked by the parameter declarations."""
+    if params is None:
+        return {}
+    if not isinstance(params, Mapping):
+        raise _bad("params", params, f"must be a dict {{'component.parameter': value}}, got a {type(params).__name__}",
+                   caller=caller)
+    wrong = [k for k in params if not isinstance(k, str)]
+    if wrong:
+        raise _bad("params", params, f"keys must be parameter names (str) such as 'mass.m', got {wrong[0]!r}",
+                   caller=caller)
+    return dict(params)
+
+
 def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.ndarray | None:
     if dt_out is not None and output_times is not None:
         raise _bad("dt_out", dt_out, "give either dt_out or output_times, not both")
     if output_times is not None:
         try:
-            grid = np.array(output_times, dtype=float)
+            given = np.asarray(output_times)
+        except (TypeError, ValueError):  # ragged nesting
+            raise _bad("output_times", output_times, "must be a 1-D sequence of times [s]") from None
+        if given.dtype.kind in "US" or (given.dtype.kind == "O" and given.ndim == 1 and any(
+                isinstance(v, (str, bytes)) for v in given)):
+            raise _bad("output_times", output_times, "must be a 1-D sequence of times [s] given as numbers, not "
+                       "text (numbers as strings are not converted)")
+        if given.dtype.kind == "b" or (given.dtype.kind == "O" and given.ndim == 1 and any(
+                isinstance(v, (bool, np.bool_)) for v in given)):
+            raise _bad("output_times", output_times, "must be times [s], not True/False")
+        if given.dtype.kind == "O" and given.ndim == 0:  # a set, a dict, a generator: no order or no length
+            raise _bad("output_times", output_times, f"must be a 1-D sequence of times [s] (a list or an array), got "
+                       f"a {type(output_times).__name__}")
+        if given.dtype.kind not in "iufO" or (given.dtype.kind == "O" and not all(
+                isinstance(v, numbers.Real) for v in given.ravel())):
+            raise _bad("output_times", output_times, f"must be real numbers [s] (got {given.dtype.name} values)")
+        try:
+            grid = np.array(given, dtype=float)
         except (TypeError, ValueError):
             raise _bad("output_times", output_times, "must be a 1-D sequence of times [s]") from None
+        if grid.ndim == 0:
+            raise _bad("output_times", output_times, f"must be a 1-D sequence of times [s], got a single number; "
+                       f"give [{float(grid):g}] for one output time, or dt_out for a regular grid")
         if grid.ndim != 1:
             raise _bad("output_times", output_times, f"must be 1-D, got shape {grid.shape}")
         if grid.size == 0:
@@ -160,6 +257,13 @@ def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.nda
             k = int(np.flatnonzero(step <= 0)[0])
             raise _bad("output_times", output_times, f"must be strictly increasing; output_times[{k}] = "
                        f"{grid[k]:g} s and output_times[{k + 1}] = {grid[k + 1]:g} s (sort them, drop duplicates)")
+        # the run always ends with a row at t_end (as with dt_out, or without a grid): a last time within round-off
+        # of t_end is t_end, and t_end is added when the times stop before it (the state at the end was integrated
+        # and then dropped; the integration itself does not depend on the output times)
+        if t1 - grid[-1] <= slack:
+            grid[-1] = t1
+        else:
+            grid = np.append(grid, t1)
         return grid
     if dt_out is None:
         return None
@@ -168,7 +272,8 @@ def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.nda
         raise _bad("dt_out", dt_out, "must be a positive finite number [s]; omit it to record every solver step")
     points = (t1 - t0) / dt + 1.0
     if not points <= MAX_OUTPUT_POINTS:
-        raise _bad("dt_out", dt_out, f"gives {points:.0f} output points over [{t0:g}, {t1:g}] s, more than "
+        count = f"{points:.0f}" if points < 1e15 else f"{points:.3g}"  # (t_end = 1e300: not 300 digits)
+        raise _bad("dt_out", dt_out, f"gives {count} output points over [{t0:g}, {t1:g}] s, more than "
                    f"{MAX_OUTPUT_POINTS}",
                    "use a larger dt_out, give the times you need as output_times, or omit dt_out to record "
                    "every solver step")
@@ -212,6 +317,8 @@ dynamic_states, progress, solver, result_file, max_order
     if dt_out is None and output_times is None and t_end is None and experiment.dt_out is not None:
         dt_out = experiment.dt_out
         defaulted.add("dt_out")
+    if max_order is None and getattr(experiment, "max_order", None) is not None:
+        defaulted.add("max_order")
     try:
         return _check(
             t_start=experiment.t_start if t_start is None else t_start,
@@ -221,9 +328,18 @@ dynamic_states, progress, solver, result_file, max_order
             dynamic_states=dynamic_states, progress=progress, solver=solver, result_file=result_file,
             max_order=getattr(experiment, "max_order", None) if max_order is None else max_order)
     except RunArgumentError as err:
-        if getattr(err, "argument", None) in defaulted:
-            raise RunArgumentError(f"{err} (the value comes from {source})") from None
-        raise
+        argument = getattr(err, "argument", None)
+        message = str(err)
+        if argument in defaulted:
+            message += f" (the value comes from {source})"
+        elif argument in ("t_end", "output_times", "dt_out", "max_step") and "t_start" in defaulted \
+                and experiment.t_start != 0:
+            message += f" (t_start = {experiment.t_start!r} s comes from {source})"
+        if message == str(err):
+            raise
+        new = RunArgumentError(message)
+        new.argument = argument  # type: ignore[attr-defined]
+        raise new from None
 
 
 def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: Any, atol: Any, max_step: Any,
@@ -246,9 +362,15 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
     r = _real("rtol", rtol, "must be a number with 0 < rtol < 1")
     if not (math.isfinite(r) and 0.0 < r < 1.0):
         raise _bad("rtol", rtol, "must satisfy 0 < rtol < 1 (typical 1e-6)")
+    if r < MIN_RTOL:
+        raise _bad("rtol", rtol, f"is below the machine epsilon {MIN_RTOL:.3g}: no relative accuracy beyond double "
+                   "precision can be met (typical 1e-6; 1e-12 for a reference solution)")
     a = _real("atol", atol, "must be a positive finite number")
     if not (math.isfinite(a) and a > 0.0):
         raise _bad("atol", atol, "must be a positive finite number (typical 1e-8; scaled by each nominal)")
+    if a < MIN_ATOL:
+        raise _bad("atol", atol, f"must be at least {MIN_ATOL:g} (typical 1e-8; it is scaled by each variable's "
+                   "nominal): below that IDA's error weights overflow or its first step underflows")
     if isinstance(max_steps, (bool, np.bool_)) or not isinstance(max_steps, numbers.Real) \
             or not float(max_steps).is_integer() or max_steps <= 0:
         raise _bad("max_steps", max_steps, "must be a positive integer")
@@ -260,13 +382,7 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
         raise _bad("max_step", max_step,
                    f"reaching t_end = {t1:g} s from t_start = {t0:g} s needs at least {(t1 - t0) / h:.3g} steps, "
                    f"more than max_steps = {n_steps}", "raise max_step or max_steps")
-    if params is None:
-        params = {}
-    if not isinstance(params, Mapping):
-        raise _bad("params", params, f"must be a dict {{'component.parameter': value}}, got a {type(params).__name__}")
-    wrong = [k for k in params if not isinstance(k, str)]
-    if wrong:
-        raise _bad("params", params, f"keys must be parameter names (str) such as 'mass.m', got {wrong[0]!r}")
+    params = check_params(params)
     if not isinstance(solver, str) or solver not in SOLVERS:
         close = ""
         if isinstance(solver, str):
@@ -281,8 +397,8 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
     steady = _flag("steady_state", steady_state)
     dynamic = _flag("dynamic_states", dynamic_states)
     bar = _flag("progress", progress, allow_none=True)
-    path = None if result_file is None else check_result_path(result_file)
+    path = None if result_file is None else check_result_target(result_file)
     return RunOptions(t_start=t0, t_end=t1, grid=grid, rtol=r, atol=a, max_step=h, max_steps=n_steps,
                       max_order=5 if max_order is None else int(max_order),
-                      params=dict(params), steady_state=bool(steady), dynamic_states=bool(dynamic), progress=bar,
+                      params=params, steady_state=bool(steady), dynamic_states=bool(dynamic), progress=bar,
                       solver=solver, result_file=path)

@@ -9,10 +9,12 @@ from __future__ import annotations
 import copy
 import difflib
 import hashlib
+import math
 import os
 import platform
 import time as _time
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,15 +26,17 @@ from flexlib.compile.cache import gather_values
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.constants import assumptions_hold, check_assumed
 from flexlib.compile.index_reduction import IndexReport
-from flexlib.compile.pipeline import Build, build, build_key
+from flexlib.compile.pipeline import Build, build, build_key, check_build_options, check_model
 from flexlib.core.component import Component
 from flexlib.core.variables import Parameter, numeric_array
 from flexlib.errors import (
+    ModelError,
     NativeSolverError,
     ParameterError,
     ResultCheckWarning,
     ResultFileError,
     ResultSaveWarning,
+    RunArgumentError,
     SimulationInterrupted,
     SolverError,
     StructureChangedError,
@@ -45,7 +49,7 @@ from flexlib.solve.ida_native import integrate_native
 from flexlib.solve.initialization import Initializer
 from flexlib.solve.native import native_available
 from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
-from flexlib.solve.run_options import check_run_arguments
+from flexlib.solve.run_options import check_params, check_run_arguments
 from flexlib.solve.signals import sigterm_as_interrupt
 from flexlib.solve.static import integrate_static
 
@@ -68,6 +72,12 @@ class Experiment:
         Start time [s].
     max_order : int or None
         Highest BDF order of IDA (1–5); None: 5 (:meth:`Simulation.run`).
+
+    Raises
+    ------
+    RunArgumentError
+        An unknown field (Modelica's names ``StopTime``, ``Interval``, ``Tolerance``, ``StartTime`` are named with
+        flexlib's). The values are checked when a run uses them, naming the experiment.
     """
 
     t_end: float = 1.0
@@ -77,13 +87,33 @@ class Experiment:
     t_start: float = 0.0
     max_order: int | None = None
 
+    def __new__(cls, *args: Any, **kwargs: Any) -> Experiment:
+        unknown = [k for k in kwargs if k not in _EXPERIMENT_FIELDS]
+        if unknown:
+            name = unknown[0]
+            meant = _MODELICA_NAMES.get(name.replace("_", "").lower()) or next(
+                iter(difflib.get_close_matches(name, _EXPERIMENT_FIELDS, n=1)), None)
+            hint = f" (did you mean {meant}?)" if meant else ""
+            raise RunArgumentError(f"Experiment(): unknown field {name!r}{hint}; the fields are "
+                                   f"{', '.join(_EXPERIMENT_FIELDS)}")
+        return super().__new__(cls)
+
+
+_EXPERIMENT_FIELDS = ("t_end", "dt_out", "rtol", "atol", "t_start", "max_order")
+#: Modelica's ``experiment`` annotation names (and common spellings, lower case without ``_``) -> flexlib's fields.
+_MODELICA_NAMES = {"stoptime": "t_end", "tend": "t_end", "tstop": "t_end", "interval": "dt_out", "dt": "dt_out",
+                   "tolerance": "rtol", "starttime": "t_start", "tstart": "t_start", "t0": "t_start",
+                   "maxorder": "max_order"}
+
 
 def _span_end(t0: Any) -> Any:
-    """``t0 + 1`` for a finite number (anything else is passed on for the argument check to report)."""
+    """A time after ``t0`` by a span the argument check accepts (``t0 + 1``, more for a large ``|t0|``) for a finite
+    number; anything else is passed on for the argument check to report."""
     try:
-        return float(t0) + 1.0
+        start = float(t0)
     except (TypeError, ValueError):
         return t0
+    return start + max(1.0, 1e-9 * abs(start)) if math.isfinite(start) else start + 1.0
 
 
 class Simulation:
@@ -104,6 +134,14 @@ class Simulation:
         whose ``params`` make one of them non-zero raises :class:`~flexlib.errors.StructureChangedError`
         naming it; pass ``False`` to sweep such a parameter. See :func:`flexlib.build`.
 
+    Raises
+    ------
+    ModelTypeError
+        ``model`` is not a model instance (a model class: ``Simulation(Osc)``; a name); a ``TypeError``.
+    RunArgumentError
+        ``codegen``, ``use_cache`` or ``assume_zero_geometry`` is not one of its values (``"False"`` is refused,
+        not taken as true).
+
     Attributes
     ----------
     build : Build
@@ -123,11 +161,12 @@ class Simulation:
 
     def __init__(self, model: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
                  assume_zero_geometry: bool | None = None) -> None:
-        if not isinstance(model, Component):
-            raise TypeError(f"Simulation expects a flexlib Component, got {type(model).__name__}")
+        check_model(model, "Simulation()")
+        check_build_options(codegen, use_cache, assume_zero_geometry, "Simulation()")
+        codegen = "auto" if isinstance(codegen, str) else bool(codegen)
         self.model = model
         self._codegen = codegen
-        self._use_cache = use_cache
+        self._use_cache = bool(use_cache)
         self.build: Build = build(model, codegen=codegen, use_cache=use_cache,
                                   assume_zero_geometry=assume_zero_geometry)
         self._zero_geometry = self.build.assume_zero_geometry
@@ -156,9 +195,13 @@ class Simulation:
         Returns
         -------
         Simulation
+
+        Raises
+        ------
+        ModelTypeError
+            ``model`` is not a model instance (a model class, a name); a ``TypeError``.
         """
-        if not isinstance(model, Component):
-            raise TypeError(f"Simulation expects a flexlib Component, got {type(model).__name__}")
+        check_model(model, "Simulation.with_model()")
         options = {"codegen": self._codegen, "assume_zero_geometry": self._zero_geometry}
         key = self.build.key or build_key(self.model, **options)
         same = (type(model) is type(self.model) and build_key(model, **options) == key
@@ -191,17 +234,41 @@ class Simulation:
         the declared bounds of its parameter and the component's cross-parameter rules
         (:meth:`~flexlib.Component.check`) with the overridden values of that instance. An element
         override (``"body.I[0,0]"``) is checked together with the rest of its array.
+
+        Parameters
+        ----------
+        params : dict, optional
+            Overrides ``{"component.parameter": value}`` (as ``run(params=...)``).
+        values : dict, optional
+            Parameter values by name to start from (default: the model instance's).
+
+        Returns
+        -------
+        ndarray
+            One value per name of ``sim.compiled.param_names``.
+
+        Raises
+        ------
+        RunArgumentError
+            ``params`` is not a mapping with names (str) as keys, or ``values`` is not a mapping.
+        ParameterError
+            An unknown name (the message says what the name is instead: a variable, a component, an element of a
+            scalar) or a value its declaration refuses.
         """
+        params = check_params(params, caller="parameter_vector")
         if values is None:
             values, _ = gather_values(self.model)
+        elif not isinstance(values, Mapping):
+            raise RunArgumentError(f"parameter_vector(): values = {values!r:.80} is invalid: must be a dict "
+                                   f"{{'component.parameter': value}}, got a {type(values).__name__}")
         m = self.compiled
         vec = np.array([values.get(n, d) for n, d in zip(m.param_names, m.param_defaults, strict=True)])
         touched: dict[int, tuple[Any, set[str]]] = {}
-        for name, value in (params or {}).items():
+        for name, value in params.items():
             found = self._find_decl(name)
             if found is None:
                 close = difflib.get_close_matches(name, m.param_names, n=3)
-                hint = f"; did you mean {', '.join(close)}?" if close else ""
+                hint = self._not_a_parameter(name) or (f"; did you mean {', '.join(close)}?" if close else "")
                 raise ParameterError(f"unknown parameter {name!r} in model {m.name}{hint}")
             node, decl, elem = found
             decl_name = name.rpartition(".")[2].split("[")[0]
@@ -234,14 +301,51 @@ class Simulation:
         check_assumed(m.assumed, m.param_names, vec, m.name)
         return vec
 
-    def _find_decl(self, name: str) -> tuple[Any, Parameter, Any] | None:
-        path, _, leaf = name.rpartition(".")
-        base = leaf.split("[")[0]
+    def _node(self, path: str) -> Any:
+        """The component at the dotted ``path`` below the model (``""``: the model), or None."""
         node = self.model
         for part in path.split(".") if path else []:
-            node = node._children.get(part)
+            node = node._children.get(part) if part else None  # "", ".k", "a..k": an empty part names nothing
             if node is None:
                 return None
+        return node
+
+    def _not_a_parameter(self, name: str) -> str:
+        """What ``name`` (not a run-time parameter) is instead, as a hint for the error: a variable, a component,
+        an element of a scalar, a name with a stray ``.``; ``""`` otherwise."""
+        parts = name.split(".")
+        if not all(parts):  # a stray "." (".k", "a..k", "a.k."): the name without the empty parts, if it is one
+            joined = ".".join(part for part in parts if part)
+            return (f"; the name has an empty part (a stray '.'): did you mean {joined!r}?"
+                    if joined in self._param_index else "")
+        path, _, leaf = name.rpartition(".")
+        base = leaf.split("[")[0]
+        node = self._node(path)
+        if node is None or not base:
+            return ""
+        if base in node._children:
+            inner = [n for n in self.compiled.param_names if n.startswith(f"{name}.")]
+            listed = f" such as {', '.join(inner[:3])}" if inner else ""
+            return f"; {name!r} is a component, not a parameter: name one of its parameters{listed}"
+        decl = node._decls.get(base)
+        if decl is None:
+            return ""
+        full = f"{path}.{base}" if path else base
+        if not isinstance(decl, Parameter):
+            return (f"; {full!r} is a {type(decl).__name__.lower()}, not a parameter: its start value is set with "
+                    f"init={{{base!r}: ...}} on the component (or set_start), not with params")
+        if "[" in leaf and [label for label, _ in decl.element_names(full)] == [full]:
+            return f"; {full!r} is a scalar parameter: give {full!r} without an index"
+        return ""  # an element outside an array: the close matches name its elements
+
+    def _find_decl(self, name: str) -> tuple[Any, Parameter, Any] | None:
+        if not all(name.split(".")):  # ".k", "a..k", "k.": an empty part names nothing
+            return None
+        path, _, leaf = name.rpartition(".")
+        base = leaf.split("[")[0]
+        node = self._node(path)
+        if node is None:
+            return None
         decl = node._decls.get(base)
         if not isinstance(decl, Parameter):
             return None
@@ -251,6 +355,21 @@ class Simulation:
         return node, decl, elem
 
     # -- running -----------------------------------------------------------------------------------
+    def _experiment(self) -> Experiment:
+        """The model's ``experiment`` (Experiment() without one); :class:`~flexlib.errors.ModelError` naming it if it
+        is something else (a dict, a number, the class ``Experiment`` itself), which failed with an AttributeError."""
+        exp = getattr(self.model, "experiment", None)
+        if exp is None:
+            return Experiment()
+        if not isinstance(exp, Experiment):
+            shown = " ".join(repr(exp).split())
+            shown = shown if len(shown) <= 80 else shown[:77] + "..."
+            what = "the class itself, not an instance" if exp is Experiment else f"a {type(exp).__name__}"
+            raise ModelError(f"{type(self.model).__name__}.experiment = {shown} is {what}; write experiment = "
+                             "flexlib.Experiment(t_end=..., dt_out=..., rtol=..., atol=..., t_start=..., "
+                             "max_order=...) (every field optional)")
+        return exp
+
     def run(
         self, t_end: float | None = None, *, t_start: float | None = None, dt_out: float | None = None,
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
@@ -269,9 +388,11 @@ class Simulation:
         dt_out : float, optional
             Output interval [s]; without it (and without ``output_times``) every step is recorded.
         output_times : array_like, optional
-            Explicit output times [s].
+            Explicit output times [s] (numbers, strictly increasing, inside the span). The result also has a row at
+            the start and one at ``t_end`` (added when the times stop before it), as with ``dt_out``.
         rtol, atol : float, optional
-            Relative and absolute tolerance (``atol`` scaled by each variable's ``nominal``).
+            Relative and absolute tolerance (``atol`` scaled by each variable's ``nominal``); machine epsilon
+            ``<= rtol < 1``, ``atol >= 1e-50``.
         max_step : float
             Maximum step size [s]; 0 means unlimited.
         max_steps : int
@@ -283,7 +404,9 @@ class Simulation:
         progress : bool, optional
             Progress bar (default: shown for runs longer than about 2 s).
         result_file : str or os.PathLike, optional
-            Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM).
+            Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM). An
+            earlier result file is replaced; an existing file of another kind (text, another program's HDF5, a
+            device), a name ending in a path separator or in another format's extension (``.csv``) is refused.
         solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"}
             ``"ida"`` (default): SUNDIALS IDA with its step loop in C and the model evaluated in C, Python only
             at outputs, events and due state-selection checks (``"ida-native"``, see
@@ -314,16 +437,19 @@ class Simulation:
         RunArgumentError
             An argument is invalid (checked before any work; a ``ValueError``). See docs/results.md.
         SolverError
-            The integration failed; ``err.result`` holds the result up to the failure.
+            The integration failed; ``err.result`` holds the result up to the failure, its last row at the last
+            point the solver accepted (also on an output grid).
         SimulationInterrupted
-            Ctrl-C or SIGTERM; ``err.result`` holds the result up to the interrupt.
+            Ctrl-C or SIGTERM; ``err.result`` holds the result up to the interrupt, likewise.
+        ModelError
+            The model's ``experiment`` is not an :class:`Experiment`.
 
         Warns
         -----
         ResultSaveWarning
             ``result_file`` could not be written; the result is returned (or attached to the error) anyway.
         """
-        exp = getattr(self.model, "experiment", None) or Experiment()
+        exp = self._experiment()
         opts = check_run_arguments(
             exp, f"{type(self.model).__name__}.experiment", t_start=t_start, t_end=t_end, dt_out=dt_out,
             output_times=output_times, rtol=rtol, atol=atol, max_step=max_step, max_steps=max_steps, params=params,
@@ -422,14 +548,23 @@ class Simulation:
         InitializationError
             No consistent start was found (the error names the equations and variables that fail).
         """
-        exp = getattr(self.model, "experiment", None) or Experiment()
+        exp = self._experiment()
         t0 = exp.t_start if t_start is None else t_start
-        # the run's own argument checks (a one-second span stands in for the end time, which is not used)
-        opts = check_run_arguments(
-            exp, f"{type(self.model).__name__}.experiment", t_start=t0, t_end=_span_end(t0), dt_out=None,
-            output_times=None, rtol=None, atol=None, max_step=0.0, max_steps=1, params=params,
-            steady_state=steady_state, dynamic_states=False, progress=False, solver="ida", result_file=None,
-            max_order=None)
+        # the run's own argument checks (a one-second span stands in for the end time, which is not used), named
+        # as this method's
+        try:
+            opts = check_run_arguments(
+                exp, f"{type(self.model).__name__}.experiment", t_start=t0, t_end=_span_end(t0), dt_out=None,
+                output_times=None, rtol=None, atol=None, max_step=0.0, max_steps=1, params=params,
+                steady_state=steady_state, dynamic_states=False, progress=False, solver="ida", result_file=None,
+                max_order=None)
+        except RunArgumentError as err:
+            message = str(err)
+            if not message.startswith("run(): "):
+                raise
+            renamed = RunArgumentError("initialize(): " + message[len("run(): "):])
+            renamed.argument = getattr(err, "argument", None)  # type: ignore[attr-defined]
+            raise renamed from None
         m = self.compiled
         starts, pvec, p = self._parameters(opts.params)
         wall = _time.perf_counter()

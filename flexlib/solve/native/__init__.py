@@ -34,6 +34,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from flexlib.compile.environment import env_switch
 from flexlib.errors import FlexlibError, NativeSolverError
 
 __all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "LINEAR_SOLVERS", "Driver", "NativeUnavailable",
@@ -118,7 +119,7 @@ def native_available() -> bool:
     and loads; False without a C compiler, when the build or the load fails, or with ``FLEXLIB_NATIVE=0`` in
     the environment (then the default backend steps scikit-sundae's IDA from Python, with no error). The
     answer is kept for the process (the environment variable is read on every call)."""
-    if os.environ.get("FLEXLIB_NATIVE", "1") == "0":
+    if not env_switch("FLEXLIB_NATIVE", True):  # 0, false, no, off (another word is a RunArgumentError)
         return False
     if not _AVAILABLE:
         try:
