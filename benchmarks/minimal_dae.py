@@ -2,7 +2,7 @@
 
 Two formulations of the same :class:`~flexlib.models.planar_mechanisms.PlanarSpec`, written by hand in
 CasADi SX and integrated by SUNDIALS through scikit-sundae, with residual/Jacobian (or right-hand side)
-called through CasADi ``FunctionBuffer`` (``docs``: ``/work/shared/notes/casadi-ida-brief.md`` §2):
+called through CasADi ``FunctionBuffer`` (``docs/casadi_ida.md``, "Wiring a CasADi residual into IDA"):
 
 * :class:`MinimalDAE` — the minimal index-1 dummy-derivative DAE in absolute link angles ``q`` (one per
   moving link). Loops are cut at the cut joints: ``Φ(q) = r_cut,a(q) − r_cut,b(q) = 0`` (2 rows per loop).

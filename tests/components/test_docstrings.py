@@ -1,6 +1,6 @@
 """Docs lint: every public component documents its parameters with their units.
 
-House style (``/work/shared/notes/house-style-anchors.md`` §5): numpydoc sections; each
+House style (``docs/house_style.md``, "Docstrings"): numpydoc sections; each
 ``Parameter`` is listed under *Parameters* with its SI unit in brackets, and the unit equals
 the declaration's ``unit=`` (the descriptor is the source of truth). Every public component
 names its reference under *References* (the MSL class for the MSL-shaped libraries;
