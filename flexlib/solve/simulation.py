@@ -462,16 +462,10 @@ class Simulation:
             wall = _time.perf_counter()
             t_init = 0.0
             try:
-                y0, yp0 = self._initialize(t0, p, starts, opts.steady_state)
+                starts, pvec, p, y0, yp0 = self._start_on_fitting_build(t0, starts, pvec, p, opts.params,
+                                                                      opts.steady_state)
                 t_init = _time.perf_counter() - wall
-                if self._stale_cached_build(t0, y0, yp0, p, opts.params):
-                    # the cached entry was built at another instance's values (the key holds structure, not
-                    # values): rebuild at this instance's own values, without touching the entry, and start again
-                    self._rebuild_uncached()
-                    return self.run(t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol,
-                                    atol=atol, max_step=max_step, max_steps=max_steps, params=params,
-                                    steady_state=steady_state, progress=progress, result_file=result_file,
-                                    solver=solver, dynamic_states=dynamic_states, max_order=max_order)
+                m = self.compiled  # (another build if the cached one did not fit this instance)
                 extra: dict[str, Any] = {}
                 if opts.solver in ("ida", "ida-native", "ida-sksundae"):
                     native = opts.solver == "ida-native" or (opts.solver == "ida" and native_available())
@@ -565,14 +559,12 @@ class Simulation:
             renamed = RunArgumentError("initialize(): " + message[len("run(): "):])
             renamed.argument = getattr(err, "argument", None)  # type: ignore[attr-defined]
             raise renamed from None
-        m = self.compiled
         starts, pvec, p = self._parameters(opts.params)
         wall = _time.perf_counter()
-        y0, yp0 = self._initialize(opts.t_start, p, starts, opts.steady_state)
+        starts, pvec, p, y0, yp0 = self._start_on_fitting_build(opts.t_start, starts, pvec, p, opts.params,
+                                                                opts.steady_state)
         t_init = _time.perf_counter() - wall
-        if self._stale_cached_build(opts.t_start, y0, yp0, p, opts.params):
-            self._rebuild_uncached()
-            return self.initialize(t_start=t_start, params=params, steady_state=steady_state)
+        m = self.compiled
         check_assertions(m, p, opts.t_start)
         traj = Trajectory(models=[m])
         traj.stats = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
@@ -586,6 +578,24 @@ class Simulation:
         values, starts = gather_values(self.model)
         pvec = self.parameter_vector(params, values)
         return starts, pvec, np.concatenate([pvec, np.zeros(self.compiled.n_relations)])
+
+    def _start_on_fitting_build(self, t0: float, starts: dict, pvec: np.ndarray, p: np.ndarray,
+                                params: dict[str, Any] | None, steady_state: bool
+                                ) -> tuple[dict, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The consistent start ``y0, yp0`` at ``t0`` (with the start values and parameter vectors it used).
+
+        A cached entry is keyed by structure, not values: one built at another instance's values may have dropped
+        loop rows that do not hold for this one (:meth:`_stale_cached_build`). Then the model is built again at this
+        instance's own values, without touching the entry, and the start is sought once more on that build, where
+        violated rows are the user's override (:class:`~flexlib.errors.StructureChangedError`).
+        """
+        y0, yp0 = self._initialize(t0, p, starts, steady_state)
+        if self._stale_cached_build(t0, y0, yp0, p, params):
+            self._rebuild_uncached()
+            starts, pvec, p = self._parameters(params)
+            y0, yp0 = self._initialize(t0, p, starts, steady_state)
+            self._stale_cached_build(t0, y0, yp0, p, params)  # a fresh build: raises if the rows still fail
+        return starts, pvec, p, y0, yp0
 
     def _stale_cached_build(self, t0: float, y0: np.ndarray, yp0: np.ndarray, p: np.ndarray,
                             params: dict[str, Any] | None) -> bool:
