@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import importlib
 import json
 import math
 import os
@@ -96,13 +95,12 @@ def _fmt(x: float) -> str:
 @click.version_option(package_name="flexlib")
 def cli(modules: tuple[str, ...]) -> None:
     """flexlib: acausal multibody, flexible-body and hydraulic models, from the command line."""
-    if modules and "" not in sys.path:
-        sys.path.insert(0, "")  # a user's module in the working directory
+    from flexlib.registry import import_user_module, module_hint
+
     for module in modules:
         try:
-            importlib.import_module(module)
+            import_user_module(module)
         except Exception as err:  # any failure of the user's module: one line naming it
-            from flexlib.registry import module_hint
 
             raise click.ClickException(f"--models {module}: cannot import the module: {_one_line(err)}"
                                        f"{module_hint(module)}") from None

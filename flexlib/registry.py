@@ -53,7 +53,8 @@ from flexlib.errors import (
 )
 
 __all__ = ["RUN_OPTIONS", "ModelEntry", "ModelOption", "RunRecord", "Scenario", "ScenarioRun", "get_model",
-           "get_scenario", "models", "register_model", "register_scenario", "run_scenario", "run_settings"]
+           "get_scenario", "import_user_module", "models", "register_model", "register_scenario", "run_scenario",
+           "run_settings"]
 
 #: Keyword arguments of :meth:`flexlib.Simulation.run` a scenario may set in ``run``.
 RUN_OPTIONS = ("t_start", "dt_out", "rtol", "atol", "max_step", "max_steps", "max_order", "solver",
@@ -749,18 +750,24 @@ def module_hint(module: str) -> str:
             "PYTHONPATH)")
 
 
+def import_user_module(module: str) -> None:
+    """Import a user's model module (``$FLEXLIB_MODELS``, ``flexlib --models``), also from the working directory;
+    its errors propagate (the callers name the module and the source of the name)."""
+    if "" not in sys.path:
+        sys.path.insert(0, "")
+    importlib.import_module(module)
+
+
 def _load() -> None:
     global _loaded
     if _loaded:
         return
     extra = [m.strip() for m in os.environ.get(MODULES_ENV, "").split(",") if m.strip()]
-    if extra and "" not in sys.path:
-        sys.path.insert(0, "")  # a user's module in the working directory, as with ``flexlib --models``
     for module in builtin_modules():
         importlib.import_module(module)
     for module in extra:
         try:
-            importlib.import_module(module)
+            import_user_module(module)
         except Exception as err:  # any failure of the user's module: one message naming it, the error, file:line
             raise RegistryError(f"${MODULES_ENV}: cannot import the model module {module!r}: "
                                 f"{_import_failure(err)}{module_hint(module)}") from None

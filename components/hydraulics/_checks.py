@@ -56,11 +56,9 @@ def pressure_start(node: Any, value: Any) -> Any:
     naming the component class and the value; NaN is named later, at initialisation, with the instance path)."""
     if value is None:
         return None
-    from flexlib.core.variables import not_a_number
+    from flexlib.core.variables import not_a_scalar
 
-    why = not_a_number(value)
-    if why is None and np.ndim(value) != 0:
-        why = "an array, not a number"
+    why = not_a_scalar(value)
     if why is not None:
         raise ParameterError(f"{type(node).__name__}: p_start {'is None' if value is None else f'= {value!r} is {why}'}"
                              "; give an absolute pressure [Pa]")

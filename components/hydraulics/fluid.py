@@ -33,9 +33,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import casadi as ca
-import numpy as np
 
-from flexlib.core.variables import not_a_number
+from flexlib.core.variables import not_a_scalar
 from flexlib.errors import ParameterError
 
 __all__ = ["HLP46", "Fluid"]
@@ -85,9 +84,7 @@ class Fluid:
         for field, unit in _UNITS.items():
             value = getattr(self, field)
             label = f"Fluid {self.name!r}: {field}"
-            why = not_a_number(value)
-            if why is None and np.ndim(value) != 0:
-                why = "an array, not a number"
+            why = not_a_scalar(value)
             if why is not None:
                 raise ParameterError(f"{label} must be a real number [{unit}], got {value!r} ({why})")
             v = float(value)

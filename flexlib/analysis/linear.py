@@ -47,7 +47,7 @@ import scipy.sparse.linalg as spla
 
 from flexlib.compile.cache import gather_values
 from flexlib.core.component import Component
-from flexlib.core.variables import not_a_number
+from flexlib.core.variables import as_bool, not_a_number, not_a_scalar
 from flexlib.errors import LinearizationError
 from flexlib.results.result import Result
 
@@ -110,9 +110,7 @@ def names_argument(value: Any, what: str) -> list[str]:
 
 def _real(value: Any, what: str, *, allow_inf: bool = False) -> float:
     """A real-number argument (a time, a frequency bound), refusing strings, bools, NaN (and inf unless allowed)."""
-    why = not_a_number(value)
-    if why is None and np.ndim(value) != 0:
-        why = f"an array of shape {np.shape(value)}, not a number"
+    why = not_a_scalar(value)
     if why is not None:
         raise LinearizationError(f"{what} = {value!r:.80} is {why}")
     v = float(value)
@@ -122,9 +120,7 @@ def _real(value: Any, what: str, *, allow_inf: bool = False) -> float:
 
 
 def _flag(value: Any, what: str) -> bool:
-    if not isinstance(value, (bool, np.bool_)):
-        raise LinearizationError(f"{what} must be True or False, got {value!r:.80}")
-    return bool(value)
+    return as_bool(value, what, LinearizationError, ints=False)
 
 
 def _mapping(value: Any, what: str) -> dict[str, Any]:

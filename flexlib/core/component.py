@@ -27,6 +27,7 @@ from flexlib.core.variables import (
     StateSelect,
     SymInfo,
     Variable,
+    as_bool,
     lookup,
     numeric_array,
 )
@@ -56,10 +57,9 @@ def flag(node: Any, name: str, value: Any, *, structural: bool = False) -> bool:
     way, and refused for a ``structural`` option (one that decided connectors, variables or start values in the
     constructor, such as ``use_support``), which a later assignment could not change.
     """
-    if isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, np.integer)) and value in (0, 1)):
-        remember_option(node, name, lambda v: flag(node, name, v, structural=structural), structural=structural)
-        return bool(value)
-    raise ParameterError(f"{type(node).__name__}: {name} must be True or False, got {value!r}")
+    on = as_bool(value, f"{type(node).__name__}: {name}", ParameterError)
+    remember_option(node, name, lambda v: flag(node, name, v, structural=structural), structural=structural)
+    return on
 
 
 def remember_option(node: Any, name: str, check: Callable[[Any], Any], *, structural: bool = False) -> None:

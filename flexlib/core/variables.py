@@ -216,11 +216,18 @@ def _text(value: Any, what: str) -> str:
     return value
 
 
-def _switch(value: Any, what: str) -> bool:
-    """A declaration's on/off option (``fixed``, ``error_test``, ...): True/False (or 0/1), never a string."""
-    if isinstance(value, (bool, np.bool_)) or (isinstance(value, (int, np.integer)) and value in (0, 1)):
+def as_bool(value: Any, what: str, error: type[Exception], *, ints: bool = True) -> bool:
+    """An on/off option as a bool: True or False (numpy bools too; with ``ints`` also 0 and 1), never a string, None or
+    another number — ``bool("False")`` is True, so such a value would silently switch the option on. Otherwise
+    ``error`` naming ``what`` and the value."""
+    if isinstance(value, (bool, np.bool_)) or (ints and isinstance(value, (int, np.integer)) and value in (0, 1)):
         return bool(value)
-    raise ModelError(f"{what} must be True or False, got {value!r:.60}")
+    raise error(f"{what} must be True or False, got {value!r:.80}")
+
+
+def _switch(value: Any, what: str) -> bool:
+    """A declaration's on/off option (``fixed``, ``error_test``, ...)."""
+    return as_bool(value, what, ModelError)
 
 
 class Declaration:
@@ -368,6 +375,14 @@ class Parameter(Declaration):
 
 
 _STATE_SELECT = {s.name: s for s in StateSelect}
+
+
+def not_a_scalar(value: Any) -> str | None:
+    """Why ``value`` is not one real number (:func:`not_a_number`, or an array), or None if it is."""
+    why = not_a_number(value)
+    if why is None and np.ndim(value) != 0:
+        why = f"an array of shape {np.shape(value)}, not a number"
+    return why
 
 
 def not_a_number(value: Any) -> str | None:

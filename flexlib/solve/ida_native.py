@@ -320,18 +320,18 @@ def _close(traj: Trajectory, drv: Driver, rel: np.ndarray,
     ``buffers``: the row buffers of the last :meth:`Driver.advance`. An interrupt that arrives as the call returns,
     before its rows are copied, would lose them (a SIGTERM after 51 155 s of a 1 s grid ended the rows there while
     the driver stood at 51 172 s); its rows after the last copied one are copied here."""
+    rows, t_now = drv.last_advance()
     try:
         if buffers is not None and traj.t:
             T, Y, YP = buffers
-            k = min(int(drv._nrows.value), len(T))
-            for i in range(k):
+            for i in range(min(rows, len(T))):
                 if T[i] > traj.t[-1] and Y[i].shape == traj.y[-1].shape:
                     traj.add(T[i], Y[i], YP[i], rel)
         y, yp = drv.state()
-        traj.close(float(drv._tnow.value), y, yp, rel)
+        traj.close(t_now, y, yp, rel)
     except Exception:  # never let the extra rows hide the failure itself
         pass
-    return traj.t[-1] if traj.t else float(drv._tnow.value)
+    return traj.t[-1] if traj.t else t_now
 
 
 def _zc_function(model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> ca.Function | None:

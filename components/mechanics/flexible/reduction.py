@@ -36,6 +36,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from flexlib.core.variables import as_bool
 from flexlib.errors import ModalFileError, RunArgumentError
 
 from .fe_model import (
@@ -218,8 +219,7 @@ def _unheld(K: sp.csr_matrix, rows: np.ndarray, names: _Names) -> Exception | No
 def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body_modes: Any, orthogonalize: bool,
                    names: _Names) -> CraigBamptonResult:
     func = names.func
-    if not isinstance(orthogonalize, bool | np.bool_):
-        raise RunArgumentError(f"{func}: argument 'orthogonalize' must be True or False, got {orthogonalize!r}")
+    as_bool(orthogonalize, f"{func}: argument 'orthogonalize'", RunArgumentError, ints=False)
     mats = []
     for label, A in (("M", M), ("K", K)):
         try:
@@ -532,8 +532,7 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     flags = (("free", free), ("orthogonalize", orthogonalize), ("geometric_stiffening", geometric_stiffening),
              ("static_loads", static_loads))
     for flag, value in flags:
-        if not isinstance(value, bool | np.bool_):
-            raise RunArgumentError(f"{func}: argument {flag!r} must be True or False, got {value!r}")
+        as_bool(value, f"{func}: argument {flag!r}", RunArgumentError, ints=False)
     for arg, text in (("title", title), ("creator", creator)):
         if not isinstance(text, str):
             raise RunArgumentError(f"{func}: argument {arg!r} must be a string (header text of the modal file), got "

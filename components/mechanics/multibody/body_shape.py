@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from flexlib import Component
-from flexlib.core.variables import not_a_number, numeric_array
+from flexlib.core.variables import not_a_scalar, numeric_array
 from flexlib.errors import ParameterError
 
 from .body import Body
@@ -128,9 +128,7 @@ def _from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
 
 def _positive(value: Any, what: str, owner: str, allow_zero: bool = False) -> float:
     """A size or density: a real number (not a string, a bool or an array: ``density="7800"`` was parsed), > 0."""
-    why = not_a_number(value)
-    if why is None and np.ndim(value) != 0:
-        why = "an array, not a number"
+    why = not_a_scalar(value)
     if why is not None:
         raise ParameterError(f"{owner}: {what} = {value!r:.80} is not a number ({why})")
     x = float(value)

@@ -408,6 +408,11 @@ class Driver:
                                     ctypes.byref(self._steps))
         return code, self._nrows.value, self._tnow.value, self._steps.value
 
+    def last_advance(self) -> tuple[int, float]:
+        """Rows written and the solver time of the last :meth:`advance` call, also when the call's return values were
+        lost to an interrupt that arrived as it returned."""
+        return int(self._nrows.value), float(self._tnow.value)
+
     def state(self) -> tuple[np.ndarray, np.ndarray]:
         """The solver's solution at its current time."""
         y, yp = np.empty(self.n), np.empty(self.n)
