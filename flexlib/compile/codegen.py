@@ -11,11 +11,10 @@ From the index-1 DAE this builds
 
 ``p`` holds the model parameters followed by the discrete values of the event relations, so
 a parameter change never needs a recompile. With ``codegen=True`` the functions are written
-as C, compiled with ``gcc`` and loaded with ``casadi.external`` (the route the notes measured
-at 3.6× faster residuals for large models).
+as C, compiled with ``gcc`` and loaded with ``casadi.external``.
 
-When C pays, which gcc level, and how ``codegen="auto"`` avoids waiting for gcc: see
-``flexlib/compile/gcc.py`` (measured table).
+When C pays, which gcc level, and how ``codegen="auto"`` avoids waiting for gcc: ``flexlib/compile/gcc.py`` and
+``docs/decisions/012-generated-c-gcc-level-and-background-compile.md``.
 """
 
 from __future__ import annotations
@@ -450,20 +449,16 @@ _ADOPTED: dict[str, tuple[str, str, int]] = {}
 #: solver (re)start after gcc has finished (later runs and cached builds use C from the start).
 AUTO_C_MIN_UNKNOWNS = 300
 #: ... or at least this many operations in the residual and Jacobian together, at any size: the SX
-#: VM costs ~10–30 ns per operation against well under 1 ns in C (four-bar of four Revolutes, 125
-#: unknowns, 16 000 operations: 124 / 230 µs per residual / Jacobian on the VM, 0.5 / 1.3 µs in C
-#: after 7.8 s of gcc; hydraulic servo, 1 500 operations: 3.9 / 6.3 µs against 0.4 / 0.6 µs).
+#: VM costs ~10–30 ns per operation against well under 1 ns in C (``docs/decisions/012-*``).
 AUTO_C_MIN_OPERATIONS = 5000
 
 
 #: IDA's iteration matrix ``dF/dy + cj·dF/dyp``: its dense rows are differentiated one by one, in reverse mode
 #: (:func:`~flexlib.compile.structure.row_jacobian`). If the result has at most ``CSE_MAX_OPS`` operations, the
 #: matrix is built as before instead, all rows at once (CasADi picks forward mode with column colouring), and
-#: merged by CasADi's common-subexpression pass (``cse``: 15–20 % fewer operations, ~7 µs of build time per
-#: operation); on the torn rigid chains and linkages below the limit that gives the fewest operations. Above the
-#: limit the pass would cost more build time than it saves over a run of typical length. Operations (build time):
-#: flexible pump truck, 993 unknowns, rows of up to 115 nonzeros: 320 k at once and merged (2.4 s), 275 k row by
-#: row (0.2 s); flexible POLYCRANK, 1 648 unknowns: 529 k (5.4 s), 500 k (0.6 s).
+#: merged by CasADi's common-subexpression pass (``cse``); on the torn rigid chains and linkages below the limit
+#: that gives the fewest operations. Above the limit the pass would cost more build time than it saves over a run
+#: of typical length (``docs/decisions/006-*``, ``007-*``).
 CSE_MAX_OPS = 100_000
 
 

@@ -26,12 +26,12 @@ normalised as ``n_z/|n_z|`` is made exact by assuming the sign of ``n_z``. The c
 (``SimpleSystem.assumed``, ``CompiledModel.assumed``): a run whose parameters violate one fails with
 :class:`~flexlib.errors.StructureChangedError` naming the parameter (:func:`check_assumed`; a ``params``
 override never recompiles silently), and a cached build made under other values is rebuilt
-(:func:`assumptions_hold`). Four-bar 107 → 43 unknowns, 7-body 3-loop chain 269 → 115 (``docs/engine.md``,
-"Constant unknowns", also for the tests that moved when this became the default and why).
+(:func:`assumptions_hold`). Why, with the sizes it saves and the tests that moved when it became the default:
+``docs/decisions/003-planar-geometry-assumed.md``.
 
 Cost: one vectorised substitution and one sparsity pass screen the rows; a parameter is tried for release
 symbolically only when a numeric sample does not already show that releasing it brings another unknown into
-the row (N-link pendulum: ``benchmarks/README.md``).
+the row.
 """
 
 from __future__ import annotations
@@ -305,8 +305,7 @@ def _zero_solve(solver: _Solver, rows: list[ca.SX], zero_syms: dict[int, ca.SX],
     All rows are substituted in one call and screened by one sparsity pass; only the rows that become
     solvable are examined one by one. There, releasing a parameter that brings another unknown into the row
     is recognised numerically (the row's derivative with respect to that unknown is non-zero at a sample
-    point: the trial would fail), so the symbolic trial runs only for the parameters that may be released —
-    on a 50-link pendulum most of them are needed, and one symbolic trial per parameter took 12 of 18 s."""
+    point: the trial would fail), so the symbolic trial runs only for the parameters that may be released."""
     if not rows:
         return []
     zs = list(zero_syms.values())

@@ -3,8 +3,7 @@
 
 Each switch takes ``1``/``true``/``yes``/``on`` or ``0``/``false``/``no``/``off`` (any case; unset or empty: its
 default). Anything else is refused with a :class:`~flexlib.errors.RunArgumentError` naming the variable, its value
-and the accepted words: before, only the exact text ``0`` (or ``1``) was recognised, so ``FLEXLIB_NATIVE=false``
-kept the C driver on and ``FLEXLIB_ERROR_TEST_ALL=yes`` kept the error test as it was, without a word.
+and the accepted words, so that ``FLEXLIB_NATIVE=false`` is never read as "on".
 """
 
 from __future__ import annotations

@@ -18,15 +18,13 @@ Pairs are taken greedily, smallest net change first (a lazy heap re-evaluates a 
 and only while the net change of the Jacobian's nonzeros (the pattern of ``∂F/∂y + c_j ∂F/∂y'``) is
 ``≤ 0``: the Jacobian never becomes denser. On a long serial chain (``models/n_link_pendulum.py``) this
 stops where eliminating everything would make the Jacobian dense (``tearing.eliminate_explicit``, the
-older pre-index-reduction attempt, measured 350 k Jacobian instructions at N = 10).
+older pre-index-reduction attempt).
 
 **Definitions free of derivatives.** Only rows without ``y'`` define an unknown (``f(t, y, p)``), and a row
 that can fail on finite values (``sqrt``, ``log``, ``pow``, ``exp``, ``acos``, a division by a variable: see
 ``_SAFE_OPS``) defines nothing and keeps its unknowns, so a fault still names that equation and its
-variables. Substituting a definition that contains ``y'`` would put derivatives into rows that had none:
-measured on a four-bar closed by a stiff bushing (``tests/components/mechanics/multibody/test_bushing.py``)
-IDA's step size then collapsed at t = 0.016 s (20 000 steps), against 877 steps for the whole run without the
-stage and 946 with this rule; a Coulomb/Stribeck bearing torque read between steps lost an order of accuracy.
+variables. Substituting a definition that contains ``y'`` would put derivatives into rows that had none, which
+collapses IDA's step size on stiff loops (``docs/decisions/004-explicit-algebraics-eliminated.md``).
 
 **Dependency order.** A definition is read from the row as it stands (``v = −f/c``, other eliminated
 unknowns still symbolic in ``f``) and the definitions are then resolved in dependency order; a pair is
@@ -41,13 +39,9 @@ test, so the test checks exactly what it checked before (``post_simplify`` passe
 :func:`flexlib.compile.codegen.compile_dae`.
 
 **On by default** (``FLEXLIB_EXPLICIT=0`` turns it off; ``FLEXLIB_EXPLICIT=all`` also eliminates unknowns
-inside IDA's error test, for measurements only: it costs accuracy, ``benchmarks/README.md``; the setting is part of
-the cache key). It was opt-in while ``test_forces_sensors.py::test_line_force_in_a_mechanism`` — two identical
-pendulums, one pulled by a 3D spring and one by a line force with a 1D spring — agreed in tension to 1.03e-8 N
-against its 1e-8 N at rtol 1e-10: the two formulations' own errors (each ~3e-7 N off an rtol 1e-12 run) happened
-to be identical without the stage and decorrelate with it; since planar geometry is assumed by default the test
-runs at rtol 1e-12 and both builds pass it. Eliminated unknowns leave IDA's Newton iteration, so the corrections,
-and with them the step sequence, differ at the level of the Newton tolerance.
+inside IDA's error test, for measurements only: it costs accuracy; the setting is part of the cache key; why:
+``docs/decisions/004-explicit-algebraics-eliminated.md``). Eliminated unknowns leave IDA's Newton iteration, so the
+corrections, and with them the step sequence, differ at the level of the Newton tolerance.
 
 References
 ----------

@@ -132,7 +132,7 @@ class Build:
 
 #: Background gcc runs this process started, by cache entry: a cached load of the same entry before its library
 #: is stored shares that compile (``CompiledModel.library_pending``) instead of writing the C again and starting a
-#: second gcc beside it — on the boom proxy 1.8 s of cached build and a second compiler competing for the cores.
+#: second gcc beside it, competing for the cores.
 _COMPILING: dict[str, str] = {}
 
 

@@ -1,7 +1,7 @@
 """Stage 3b — simplification after index reduction.
 
 Known state derivatives are substituted (where ``c·yp_s + f(y) = 0`` defines ``yp_s`` explicitly, it
-replaces ``yp_s`` in the other rows: the notes measured 1.6–8× fewer steps), and trivial algebraic
+replaces ``yp_s`` in the other rows; ``docs/decisions/005-known-derivatives-substituted.md``), and trivial algebraic
 aliases left by the differentiation (``der(y) = v``) are eliminated. Then algebraic unknowns that
 one row gives explicitly with a constant coefficient are eliminated where that does not make the
 Jacobian denser (:mod:`flexlib.compile.explicit`).

@@ -82,9 +82,8 @@ def matching(inc: sp.spmatrix, in_order: bool = False, fast: bool = False) -> tu
     """Maximum bipartite matching of rows (equations) to columns (unknowns).
 
     A greedy pass followed by depth-first augmenting paths with one-step lookahead (Duff's
-    MC21, Duff, Kaya & Uçar, ACM TOMS 38(3), 2011). scipy's Hopcroft–Karp was measured to take
-    14–21 s on the 2085×2085 flat incidence of a 16-link pendulum (6165 non-zeros), whereas the
-    long alternating chains of multibody models are what the DFS search handles in milliseconds.
+    MC21, Duff, Kaya & Uçar, ACM TOMS 38(3), 2011): the long alternating chains of multibody models are
+    what the depth-first search handles well (``docs/decisions/001-mc21-matching.md``).
 
     With ``in_order`` the rows are matched strictly one after the other (no greedy pass ahead);
     an augmenting path never unmatches a row, so every row left unmatched depends on earlier
@@ -92,9 +91,9 @@ def matching(inc: sp.spmatrix, in_order: bool = False, fast: bool = False) -> tu
 
     With ``fast`` the initial matching is Karp–Sipser's instead of the greedy pass: some maximum matching,
     found in near-linear time on the flat system of a large model, where the greedy pass leaves hundreds of
-    rows whose augmenting paths run along whole alias chains (chain of 1000 masses, 11 000 rows: 15 s →
-    0.1 s). For callers that need only the matching's size or the Dulmage–Mendelsohn culprits (balance
-    checks); the other callers keep the greedy pass, whose particular matching fixes the DAE they build.
+    rows whose augmenting paths run along whole alias chains. For callers that need only the matching's size or the
+    Dulmage–Mendelsohn culprits (balance checks); the other callers keep the greedy pass, whose particular
+    matching fixes the DAE they build.
 
     Returns
     -------
@@ -206,14 +205,13 @@ def derivative_level(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
     Derivative-level unknowns are the algebraic unknowns whose value depends on an acceleration: joint and body
     accelerations, the cut forces and reactions they determine, and whatever is computed from those. Their local
     error behaves like that of the index-2 variables of a Hessenberg DAE, one order lower than BDF's estimate
-    assumes, and the error test on them can collapse the step size: a point mass on a universal joint took 27 600
-    steps for 0.01 s, a reversed FreeMotion failed after 0.15 s; excluded, they run 2 s in 1 321 steps with the
-    orbit's tilt held to 3e-10 rad. They are excluded by an infinite absolute tolerance, which is what SUNDIALS'
-    ``IDASetSuppressAlg`` does for all algebraic variables (it is not exposed by scikit-sundae); positions and
-    velocities stay in the test. The infinite tolerance also leaves them out of IDA's Newton convergence test, so
-    constraints are held to the requested tolerance rather than below it (a Cartesian pendulum's |x²+y²−L²| ≤ 6e-9
-    at rtol 1e-8, was 4e-10). Computed once at compile time (``CompiledModel.derivative_level``); the solvers
-    apply it unless ``FLEXLIB_ERROR_TEST_ALL=1``.
+    assumes, and the error test on them can collapse the step size
+    (``docs/decisions/008-error-test-excludes-derivative-level-unknowns.md``). They are excluded by an infinite
+    absolute tolerance, which is what SUNDIALS' ``IDASetSuppressAlg`` does for all algebraic variables (it is not
+    exposed by scikit-sundae); positions and velocities stay in the test. The infinite tolerance also leaves them out
+    of IDA's Newton convergence test, so constraints are held to the requested tolerance rather than below it.
+    Computed once at compile time (``CompiledModel.derivative_level``); the solvers apply it unless
+    ``FLEXLIB_ERROR_TEST_ALL=1``.
 
     Found structurally. The equations free of ``yp`` are matched to the algebraic unknowns (Dulmage–Mendelsohn);
     the columns left in the under-determined part are those only ``yp`` determines: accelerations that are
@@ -224,9 +222,7 @@ def derivative_level(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
     excluded, a row containing it is not free of ``yp``, and the cut forces it determines fall into the
     under-determined part with it — unless positions and velocities alone determine it
     (:func:`_kinematically_known`: gravity carried out from the World, a rod's centripetal terms), which are tested
-    like any algebraic unknown. Measured: with every frame acceleration excluded, a bearing's friction torque,
-    computed from its gravity-only reaction, drifted 2e-8 N·m from its law; with none, a point mass on a universal
-    joint took 22 000 steps instead of 1 040 (only one of its accelerations was left out of the test).
+    like any algebraic unknown.
     """
     n = len(differential)
     differential = np.asarray(differential, dtype=bool)
@@ -322,9 +318,9 @@ def row_jacobian(expr: ca.SX, x: ca.SX) -> ca.SX:
     few times its operations. CasADi's Jacobian of many rows at once picks one mode for all, with column colouring
     in forward mode, which sweeps a shared expression once per column: where a row deep in a torn tree depends on
     many coordinates through shared kinematics (a flexible section's modal coordinates all move the frames
-    downstream through its tip frame), that is many sweeps. Flexible pump truck, dummy-derivative level of 202 rows
-    and 312 candidates: 97 k operations in 0.37 s at once, 23 k in 0.09 s row by row. Rows with at most
-    :data:`DENSE_ROW_NNZ` nonzeros stay together, where the colouring compresses well.
+    downstream through its tip frame), that is many sweeps
+    (``docs/decisions/007-dense-rows-differentiated-row-by-row.md``). Rows with at most :data:`DENSE_ROW_NNZ`
+    nonzeros stay together, where the colouring compresses well.
     """
     if expr.numel() == 0 or x.numel() == 0:
         return ca.jacobian(expr, x)

@@ -11,12 +11,12 @@ still report every eliminated variable through its expression.
 Angular velocities stay unknowns (they are integrated quantities of bodies); their tree
 equations remain and are differentiated where needed.
 
-**Deep open trees keep their frames** (:func:`tear_or_keep_frames`, issue 9). Substituted along a
+**Deep open trees keep their frames** (:func:`tear_or_keep_frames`). Substituted along a
 tree, link k's rows involve all k joint coordinates above it: the residual and its Jacobian grow as
-N² along a chain of N joints, and CasADi's symbolic AD as ~N^2.5 (N-link chain, N = 50: 45 s of
-build). A model without loop-closure rows whose deepest chain of frame definitions exceeds
-:data:`KEEP_DEPTH` therefore keeps ``T`` and ``r_0`` as unknowns (Pantelides differentiates the tree
-equations instead; every row stays local, the Jacobian O(N)). Their start values are the torn
+N² along a chain of N joints, and CasADi's symbolic AD as ~N^2.5
+(``docs/decisions/002-tree-frames-torn-or-kept.md``). A model without loop-closure rows whose deepest chain of
+frame definitions exceeds :data:`KEEP_DEPTH` therefore keeps ``T`` and ``r_0`` as unknowns (Pantelides
+differentiates the tree equations instead; every row stays local, the Jacobian O(N)). Their start values are the torn
 definitions evaluated at the start values of the remaining unknowns, so ``T`` starts as the rotation of
 the start angles. Models with loops are always torn (the loop rows must be in joint coordinates).
 ``FLEXLIB_TREE_FRAMES=tear`` / ``keep`` forces either choice; the choice is recorded in
@@ -25,7 +25,8 @@ the start angles. Models with loops are always torn (the loop rows must be in jo
 **Rows between frames are written relative to their common frame** before the tree is torn
 (:func:`_localize_rows`): a loop closure, a line's length or force between two frames deep in a tree is
 invariant under a rigid motion of the subtree they share, so it is written in the coordinates below their
-lowest common frame instead of every coordinate from the root (checked numerically row by row).
+lowest common frame instead of every coordinate from the root (checked numerically row by row;
+``docs/decisions/023-rows-relative-to-common-frame.md``).
 """
 
 from __future__ import annotations
@@ -45,8 +46,7 @@ __all__ = ["KEEP_DEPTH", "eliminate_explicit", "eliminate_frame_kinematics", "te
            "tree_frames_mode"]
 
 #: Depth (longest chain of frame definitions ``T``/``r_0`` that depend on each other) above which a model
-#: without loops keeps its tree frames as unknowns. Measured on N-link chains (``benchmarks/multibody.py
-#: --tree-frames-crossover``, see "Build time at scale" in ``benchmarks/README.md``).
+#: without loops keeps its tree frames as unknowns (``docs/decisions/002-tree-frames-torn-or-kept.md``).
 KEEP_DEPTH = 12
 
 
@@ -132,9 +132,7 @@ def _localize_rows(simple: SimpleSystem, vs: ca.SX, defs: ca.SX,
     (parameters at their values, event relations false and then true, every other symbol random, so the torn
     ``T_F`` is a product of rotations), and a row that does not match — a world-resolved loop row, a body's
     gravity, a base frame whose orientation is not a rotation of the coordinates — is kept as built. Rows with
-    derivatives are left alone (their frame derivatives follow the chain rule of the torn definitions). Measured
-    on the pump truck (``benchmarks/pump_truck.py``): the flexible boom's Jacobian 494 k → 320 k operations, the
-    rigid one's 58 k → 31 k.
+    derivatives are left alone (their frame derivatives follow the chain rule of the torn definitions).
 
     Returns the system and the number of rows rewritten.
     """
@@ -270,9 +268,8 @@ def eliminate_explicit(simple: SimpleSystem) -> SimpleSystem:
     velocities along a tree, sensor outputs); a maximum matching picks one defining equation per
     unknown, definitions in a cycle (an algebraic loop) are kept as equations.
 
-    Not in the default pipeline: measured on an N-link chain (benchmarks/multibody.py) it cuts the
-    unknowns 2.5× but makes the residual and Jacobian deep and dense (N = 10: 350 k Jacobian
-    instructions, 1.1 ms per evaluation), so IDA with sparse LU is faster on the larger, local system.
+    Not in the default pipeline: on a long chain it makes the residual and Jacobian deep and dense, and IDA with
+    sparse LU is faster on the larger, local system (``docs/decisions/004-explicit-algebraics-eliminated.md``).
     """
     present: set[int] = set()
     for e in simple.equations:

@@ -162,7 +162,7 @@ def render_many(exprs: list[ca.SX], limit: int = 160) -> list[str]:
     """:func:`render` of each expression, with one substitution of names over all of them.
 
     The same strings as ``[render(e, limit) for e in exprs]``; each symbol is named once rather than once per
-    expression it occurs in (the row labels of an N-link chain's DAE: 0.26 s → 0.05 s at N = 20).
+    expression it occurs in (``docs/decisions/030-row-labels-named-once.md``).
     """
     out = [""] * len(exprs)
     small = []
