@@ -35,9 +35,8 @@ def fill_reducing_order(model: CompiledModel, sx: ca.Function) -> tuple[np.ndarr
     structure is built here from the residual's patterns (``∂F/∂y``, ``∂F/∂y'``) and ordered by COLAMD
     (SuperLU's, through ``scipy.sparse.linalg.splu`` on random values); the differential entries of ``x`` and
     the entries of ``z`` (derivatives ``w`` and algebraic ``y``, interleaved) keep the order COLAMD gives their
-    columns, the residual rows the order of SuperLU's row pivots. Measured on the boom proxy with linkages
-    (831 × 831, 4570 non-zeros): 55 565 non-zeros in L + U in the natural order of ``[T; y_d; w; y_a]``,
-    16 316 in this order (COLAMD with free column order: 14 811).
+    columns, the residual rows the order of SuperLU's row pivots (fill-in measured:
+    ``docs/decisions/019-casadi-idas-backend.md``).
 
     Returns
     -------

@@ -22,8 +22,8 @@ Parameters and relation values are the integrator's ``p`` input (run-time, no re
 CasADi stops IDAS (``tstop``) wherever ``u`` changes, and since ``dx/dτ`` jumps there, IDAS's step
 history no longer fits: a uniform grid costs nothing, every change of spacing a few rejected
 steps (round-off differences of ``np.diff(grid)`` are removed first). Grids are therefore never
-padded to a common size: padding with ``u = 0`` cost 450 ms at 3000 unknowns (38 extra
-factorisations), far more than building an integrator for the exact size (~80 ms, once).
+padded to a common size: padding with ``u = 0`` costs extra factorisations, building an integrator for the
+exact size costs ~80 ms once at 3000 unknowns.
 *Model evaluation*: where the model has a compiled library (generated C, ``CompiledModel.library``), the
 residual is the library's ``flexlib_res`` and its Jacobian comes from ``flexlib_jac`` through a small
 companion library (:func:`compiled_residual`); otherwise CasADi's SX virtual machine evaluates the symbolic
@@ -34,9 +34,8 @@ Linear solver: ``csparse`` (sparse LU with partial pivoting, no fill-reducing or
 entries of ``x`` and ``z`` and the rows of ``F`` are ordered once by COLAMD on the structure of the iteration
 matrix (:func:`flexlib.solve.casadi_dae.fill_reducing_order`; ``w`` and the algebraic entries interleave in
 ``z``). CasADi's ``qr``
-plugin was measured as well: faster on the boom proxy with linkages (2.4 s against 6.5 s in the old order),
-but round-off of QR leaves ~1e-35 where LU gives exact zeros (a contact force at rest in
-``tests/test_casadi_idas.py``) and the hydraulic servo needs 4× the Jacobians with it. Error control: ``w``
+plugin is not used: round-off of QR leaves ~1e-35 where LU gives exact zeros (a contact force at rest in
+``tests/test_casadi_idas.py``). Error control: ``w``
 (the derivatives added by the implicit trick) is excluded from IDA's local error test (absolute tolerance
 1e10), so the test covers ``y`` exactly as in the default backend; ``atol`` is scaled by each variable's
 ``nominal``.
@@ -44,8 +43,7 @@ but round-off of QR leaves ~1e-35 where LU gives exact zeros (a contact force at
 *Start of a call*: every integrator call is a fresh IDAS start (``IDAReInit`` + ``IDACalcIC``); a call that
 fails is repeated with the fall-backs of :data:`START_VARIANTS` (without ``IDACalcIC``, then with ``w`` in the
 error test) before it counts as failed. Without ``IDACalcIC`` CasADi starts from ``dx/dτ = 0`` (its
-``init_xdot``), so that variant is a fall-back only: as the default it failed the servo at its 3.5 s time
-event.
+``init_xdot``), so that variant is a fall-back only.
 
 *Time events* are hit exactly: the run is cut into segments ending at
 :func:`~flexlib.solve.ida.next_time_event`; each segment is one or more integrator calls
@@ -54,10 +52,8 @@ whose last grid point is the event time.
 *State events*: CasADi 3.8.2's own event support (DAE ``zero`` output) was not used: it only
 detects crossings from positive to negative, checks them only at output times, handles the
 event inside C (a ``transition`` function, which cannot run flexlib's event iteration or
-switch the relation values in ``p``), prints "Event support is experimental", and failed in a
-test with one output interval spanning several steps (a free fall located with ``zero = h``:
-``IDA_ILL_INPUT``, "tout too far back", when its secant iteration interpolated outside the last
-step; fine with 10 or 100 output intervals). Instead the
+switch the relation values in ``p``), prints "Event support is experimental", and fails when one output
+interval spans several steps (``IDA_ILL_INPUT``, "tout too far back"). Instead the
 indicators of the state relations are evaluated at every grid point after a call; the first
 point where a relation would change value brackets the event, and the bracket is narrowed by
 re-running the integrator from its left end with :data:`SUB_GRID` uniform sub-points, until it
@@ -79,23 +75,14 @@ the run fails with the first error.
 are not accessible through ``casadi.integrator``, so ``t_out=None`` (every step) is replaced
 by a uniform grid of :data:`DENSE_POINTS` intervals (plus the event instants).
 
-Measured trade-offs (2-core VM shared with other jobs; ``benchmarks/README.md`` has the tables)
--------------------------------------------------------------------------------------------
-* No Python in the integration loop. Against the default backend, which since issue 9 steps IDA in C as
-  well (``flexlib/solve/native``), it costs 0.9–1.4× the CPU time on the chain, four-bar, servo and boom
-  proxy of ``benchmarks/casadi_idas.py``; against the scikit-sundae fallback it was 4–8× faster on small
-  models (chain of 10 masses: 12 ms vs 55 ms; index-3 pendulum at rtol 1e-8: 25 ms vs 190 ms).
-* With the compiled library and the COLAMD order (``python benchmarks/casadi_idas.py``, CPU time, same process):
-  the boom proxy with linkages (794 unknowns, 20 s) went from 14.1 s (SX virtual machine, reverse
-  Cuthill–McKee order, 55 565 non-zeros in L + U) to 2.4 s, 0.89× the default backend; the four-bar (107
-  unknowns) from 0.39 s to 0.17 s. The generated C alone, in the old order, gave 6.5 s on the boom: the LU
-  fill-in was the larger cost once the model was compiled.
+Trade-offs (measurements: ``docs/decisions/019-casadi-idas-backend.md``)
+-----------------------------------------------------------------------
+* No Python in the integration loop; the default backend steps IDA in C as well (``flexlib/solve/native``),
+  so the two cost about the same, and this one needs no C compiler for its loop.
 * Every integrator call is a cold IDAS start (``IDAReInit`` + ``IDACalcIC``, order 1, small first
-  step). A call covers the output grid up to :data:`MAX_GRID` points (without events the boom proxy's 20 s
-  run takes 6 calls for 11 500 steps), so restarts cost only at events: a state event costs the call that
-  passes it plus 3–4 locating calls (the servo: 123 calls for 31 events, against 31 restarts of the default
-  backend). CasADi's ``Function`` interface keeps no IDAS memory between calls, so a restart after an event
-  cannot be avoided here; the default backend restarts there too.
+  step). A call covers the output grid up to :data:`MAX_GRID` points, so restarts cost only at events: a state event
+  costs the call that passes it plus 3–4 locating calls. CasADi's ``Function`` interface keeps no IDAS memory between
+  calls, so a restart after an event cannot be avoided here; the default backend restarts there too.
 * Integrator construction (symbolic Jacobian): ~1 ms at 30 unknowns, ~10 ms at 300, ~80 ms at
   3000, per grid size and options, once per process.
 * A failing integrator call raises inside CasADi without partial results. The failing call is
@@ -160,10 +147,8 @@ RETRY_STEPS = 500
 #: An indicator within this (relative) distance of zero where IDAS cannot proceed is taken as an event.
 STUCK_TOL = 1e-6
 #: Start variants tried in turn when an integrator call fails (:meth:`_Backend.integrator`): the same call is
-#: repeated without ``IDACalcIC``, then with the derivatives ``w`` in the error test. Measured on the hydraulic
-#: servo: refining the end-stop contact at 5.79 s, a call over 1e-5 s in 1024 sub-intervals failed its first step
-#: (``IDA_ERR_FAIL``, error test failing down to h = 7e-9 in normalised time) after ``IDACalcIC`` while the
-#: same call with 32 sub-intervals, without ``IDACalcIC`` or with ``w`` in the error test passed (20–870 steps).
+#: repeated without ``IDACalcIC``, then with the derivatives ``w`` in the error test (a short call with a fine grid
+#: at an end-stop contact can fail its first step after ``IDACalcIC``; ``docs/decisions/019-casadi-idas-backend.md``).
 START_VARIANTS = (0, 1, 2)
 #: Integrators kept per model (one per grid size and options).
 MAX_INTEGRATORS = 64

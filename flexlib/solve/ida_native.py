@@ -355,9 +355,8 @@ def _settled(model: CompiledModel, ind_fn: Any, p: np.ndarray, t: float, y: np.n
 
     A root located by IDA lies within its interpolation error (order ``rtol``) of the true crossing: after the
     event iteration the indicator can still be on the old side by that much, and in the first steps after the
-    restart its sign follows the Newton corrector's noise. (A limiter at rtol 1e-9: the input was 4e-11 short of
-    its limit at the restart, IDA's first step was 1e-15 s, and a re-check by sign switched the relation back,
-    after which IDA could not take a step.) Such a relation is still heading across, and IDA's root finding
+    restart its sign follows the Newton corrector's noise (``docs/decisions/018-relation-recheck-after-restart.md``).
+    Such a relation is still heading across, and IDA's root finding
     watches it from the restart (a root function that is exactly zero there becomes active once it leaves zero).
     A relation whose indicator turns back at once (a contact that bounces, sliding) is left to the check by sign.
     """

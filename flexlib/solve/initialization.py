@@ -730,14 +730,12 @@ class Initializer:
 class _StatesHeld:
     """The event re-initialisation problem ``F(t, y, y') = 0`` with the states held, for :meth:`Initializer._reinit`.
 
-    Unknowns ``w = (y_alg, y'_states)``, parameters ``par = (t, p, y_states)``; the rates of the algebraic
-    unknowns are zero (they do not enter the residual). Evaluated with the model's own ``res`` and ``jac``
-    functions — generated C when the model has it — instead of a symbolic Jacobian built for it: building that
-    (``ca.jacobian`` of the whole residual) and evaluating it interpreted took 0.4 s at the one time event of
-    the 794-unknown boom proxy (``benchmarks/boom_proxy.py``), more than the 2 s integration's monitor, events
-    and result assembly together. ``jac`` is ``∂F/∂y + c·∂F/∂y'``, so the algebraic columns are those of
-    ``jac(c = 0)`` and the state columns are ``(jac(c) − jac(0))/c`` with ``c = 2**20``: the cancellation error
-    ``eps·|∂F/∂y|/c`` is far below what Newton needs, and the solve is checked on ``F`` itself. Used for models
+    Unknowns ``w = (y_alg, y'_states)``, parameters ``par = (t, p, y_states)``; the rates of the algebraic unknowns are
+    zero (they do not enter the residual). Evaluated with the model's own ``res`` and ``jac`` functions — generated C
+    when the model has it — instead of a symbolic Jacobian built for it
+    (``docs/decisions/028-event-reinitialisation-cost.md``). ``jac`` is ``∂F/∂y + c·∂F/∂y'``, so the algebraic columns
+    are those of ``jac(c = 0)`` and the state columns are ``(jac(c) − jac(0))/c`` with ``c = 2**20``: the cancellation
+    error ``eps·|∂F/∂y|/c`` is far below what Newton needs, and the solve is checked on ``F`` itself. Used for models
     with more than ``AUTO_C_MIN_UNKNOWNS`` unknowns; smaller ones keep the exact symbolic Jacobian, which takes
     milliseconds to build there.
     """

@@ -3,8 +3,8 @@
 A function ``f(t, y, yp, p)`` of the compiled model is evaluated for rows ``T, Y, YP, P`` (one row per
 point, row-major) through FunctionBuffers straight into a preallocated C-ordered buffer: ``f`` mapped over
 :data:`CHUNK` rows per call (row-major stacks of rows are exactly the column-major matrices the map takes,
-so no copy or conversion), the remainder row by row. 18–40× cheaper than one DM call of ``f.map(rows)``
-(measured in ``benchmarks/engine_speed.py``). The mapped buffers are kept per model and function.
+so no copy or conversion), the remainder row by row (``docs/decisions/031-rows-evaluated-through-mapped-buffers.md``).
+The mapped buffers are kept per model and function.
 """
 
 from __future__ import annotations
@@ -115,19 +115,18 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
                             P: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
     """Recorded rows with their derivative-level unknowns checked, and made consistent where they are off.
 
-    The derivative-level unknowns (cut forces, reactions, accelerations: ``CompiledModel.derivative_level``) are
-    out of IDA's error test and, with their infinite tolerance, out of its Newton convergence test too
-    (``docs/engine.md``, "Error-test policy"). Nothing then stops them from drifting: with a stale iteration
-    matrix the corrector can leave them wrong, and the predictor's extrapolation of wrong values can grow them
-    geometrically (measured: a hinged flexible beam's pin reaction reached 3e14 N for 80 ms while every state was
-    right). Each recorded row is therefore checked. With ``F0_i(t)`` the residual of equation ``i`` with the
-    derivative-level unknowns set to zero (the terms IDA does control) and ``p_i = |F_i − F0_i|`` their terms, the
-    equation's scale over the run is ``S_i = max(max_t |F0_i|, median_t p_i)`` and the row is off when some
-    ``|F_i(t)| > SETTLE_TOL (p_i(t) + S_i) + 1e-6 max_i S_i``: more than 0.1 % of the equation's scale (below a
-    millionth of the model's largest scale a residual is round-off of a quantity that is physically zero, e.g. an
-    out-of-plane reaction of a planar motion). In such a row the states are kept and everything else is
-    solved again from ``F(t, y, y') = 0`` — the states' derivatives and all algebraic unknowns (Newton on the
-    index-1 system, at most four iterations), as a consistent initialisation would.
+    The derivative-level unknowns (cut forces, reactions, accelerations: ``CompiledModel.derivative_level``) are out of
+    IDA's error test and, with their infinite tolerance, out of its Newton convergence test too (``docs/engine.md``,
+    "Error-test policy"). Nothing then stops them from drifting: with a stale iteration matrix the corrector can leave
+    them wrong, and the predictor's extrapolation of wrong values can grow them geometrically while every state stays
+    right (``docs/decisions/009-derivative-level-unknowns-settled-in-results.md``). Each recorded row is therefore
+    checked. With ``F0_i(t)`` the residual of equation ``i`` with the derivative-level unknowns set to zero (the terms
+    IDA does control) and ``p_i = |F_i − F0_i|`` their terms, the equation's scale over the run is ``S_i = max(max_t
+    |F0_i|, median_t p_i)`` and the row is off when some ``|F_i(t)| > SETTLE_TOL (p_i(t) + S_i) + 1e-6 max_i S_i``: more
+    than 0.1 % of the equation's scale (below a millionth of the model's largest scale a residual is round-off of a
+    quantity that is physically zero, e.g. an out-of-plane reaction of a planar motion). In such a row the states are
+    kept and everything else is solved again from ``F(t, y, y') = 0`` — the states' derivatives and all algebraic
+    unknowns (Newton on the index-1 system, at most four iterations), as a consistent initialisation would.
 
     Returns
     -------

@@ -38,8 +38,7 @@ def _smallest_sv(A: np.ndarray) -> float:
     return float(np.linalg.svd(A, compute_uv=False)[-1]) if A.size else np.inf
 
 #: Levels with at least this many rows solve for the exchange ratio with a sparse LU (SuperLU) instead of a dense
-#: one: the flexible pump truck's 202-row level takes 0.15 instead of 0.28 ms (its selected block has 1 393 of
-#: 40 804 entries nonzero); below it LAPACK's dense solve is faster.
+#: one; below it LAPACK's dense solve is faster (``docs/decisions/027-state-selection-check-sparse.md``).
 SPARSE_LEVEL_ROWS = 60
 
 

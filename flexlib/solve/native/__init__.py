@@ -46,8 +46,7 @@ LINEAR_SOLVERS = {"dense": 0, "superlumt": 1, "klu": 2}
 _KLU_FUNCTIONS = ("defaults", "analyze", "factor", "solve", "free_symbolic", "free_numeric", "refactor", "rcond")
 #: From this many unknowns KLU refactorises with the pivots of its last full factorisation (``klu_refactor``, as
 #: SUNDIALS' own KLU module does) while ``klu_rcond`` stays above :data:`KLU_REUSE_RCOND` times that factorisation's;
-#: below it, where the factorisation is cheap, every setup pivots afresh. Pump truck, 150 s of expand-fold: 25 %
-#: less CPU for the rigid (742 unknowns) and the flexible boom (993), the same steps to 2 %.
+#: below it, where the factorisation is cheap, every setup pivots afresh (``docs/decisions/014-*``).
 KLU_REUSE_MIN_UNKNOWNS = 300
 #: Share of the last full factorisation's reciprocal condition estimate below which a setup pivots afresh.
 KLU_REUSE_RCOND = 1e-3
