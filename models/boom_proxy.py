@@ -1,4 +1,4 @@
-"""A concrete-pump-like boom of five rigid sections, hydraulically driven and position-controlled (issue 9).
+"""A concrete-pump-like boom of five rigid sections, hydraulically driven and position-controlled.
 
 Built from ordinary library components only: 3D multibody (World, Fixed, Revolute, FixedTranslation, Body),
 hydraulics (FixedDisplacementPump, PressureReliefValve, Volume, Tank, DirectionalValve43, LineCylinder),

@@ -1,8 +1,7 @@
-"""Registration of the boom proxy (``models/boom_proxy.py``, issue 9) for ``flexlib list`` / ``flexlib run``.
+"""Registration of the boom proxy (``models/boom_proxy.py``) for ``flexlib list`` / ``flexlib run``.
 
-Kept beside the model in its own module because ``boom_proxy.py`` itself is frozen (issue 11 builds the
-pump truck on it). Model option ``linkages`` (bool): joints 2–5 through four-bar linkages (default) or
-driven directly.
+Kept beside the model in its own module because ``boom_proxy.py`` itself is a fixed benchmark model. Model option
+``linkages`` (bool): joints 2–5 through four-bar linkages (default) or driven directly.
 """
 
 from __future__ import annotations

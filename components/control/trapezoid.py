@@ -18,7 +18,8 @@ __all__ = ["Trapezoid"]
 
 def _count(block: Any, nperiod: Any) -> int:
     """``nperiod`` as an int >= 0 (a whole float such as 2.0 is accepted); a string, a bool, NaN or a negative
-    count is refused naming the block (``int("1.0")`` and ``int(nan)`` raised Python's errors, ``True`` was 1)."""
+    count is refused naming the block (not left to ``int()``, which fails on ``"1.0"`` and NaN and reads ``True``
+    as 1)."""
     ok = (isinstance(nperiod, (int, np.integer, float, np.floating)) and not isinstance(nperiod, (bool, np.bool_))
           and math.isfinite(nperiod) and int(nperiod) == nperiod and nperiod >= 0)
     if not ok:

@@ -53,13 +53,9 @@ class DoubleActingCylinder(PositiveParameters, Component):
         m·der(v_rod) = F_hyd − F_fric + F_stop + flange_b.f,   v_rod = der(flange_b.s),   flange_a.f = F
         F = m·der(v_rod) − flange_b.f   (= F_hyd − F_fric + F_stop),   F_hyd = p_A·A_p − p_B·A_r − p_amb·(A_p − A_r)
 
-    The net force ``F`` is written through Newton's law rather than as the sum of its parts: the value is the
-    same, but ``F``, like the accelerations it drives, is then a derivative-level unknown that stays out of IDA's
-    local error test (``docs/engine.md``, error-test policy). ``F`` is a small difference of large pressure forces
-    and, with the stored mass as state, its error estimate carries the hydraulic stiffness times the local error
-    of the piston position (``beta·(A_p²/V_A + A_r²/V_B)·δx``, a real pressure error of an exactly conserving
-    discretization); tested against its own small weight it took 2–6× the steps of the pressure-state form at
-    tight absolute tolerances (``benchmarks/hydraulic_chamber.py``).
+    The net force ``F`` is written through Newton's law rather than as the sum of its parts: the value is the same, but
+    ``F``, like the accelerations it drives, is then a derivative-level unknown that stays out of IDA's local error test
+    (``docs/engine.md``, "Error-test policy"; why: ``docs/decisions/011-cylinder-force-through-newtons-law.md``).
 
     (absolute pressures: the ambient pressure ``p_amb`` acts on the rod cross-section ``A_p − A_r`` outside
     the cylinder and pulls the rod in. Its default is the fluid's reference pressure ``fluid.p_ref``

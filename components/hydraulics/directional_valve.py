@@ -29,7 +29,7 @@ CENTRES = {
 
 
 def _centre(valve: Any, centre: Any) -> str:
-    """``centre`` if it is one of :data:`CENTRES` (a list or dict was a TypeError from the dict lookup)."""
+    """``centre`` if it is one of :data:`CENTRES` (a list or dict is refused too, not a TypeError)."""
     if not isinstance(centre, str) or centre not in CENTRES:
         raise ModelError(f"{type(valve).__name__}: centre must be one of {sorted(CENTRES)}, got {centre!r}")
     remember_option(valve, "centre", lambda v: _centre(valve, v), structural=True)

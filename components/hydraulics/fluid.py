@@ -161,8 +161,8 @@ _dataclass_init = Fluid.__init__
 
 @functools.wraps(_dataclass_init)
 def _checked_init(self: Fluid, *args: Any, **kwargs: Any) -> None:
-    """The dataclass constructor, with a misspelt field named (``Fluid(bulk=1e9)`` was Python's TypeError, also from
-    ``dataclasses.replace``)."""
+    """The dataclass constructor, with a misspelt field named (``Fluid(bulk=1e9)``, also through
+    ``dataclasses.replace``) instead of Python's TypeError."""
     fields = ["name", *_UNITS]
     for key in kwargs:
         if key not in fields:

@@ -119,13 +119,11 @@ def chamber_equations(fluid: Fluid, m: Any, p: Any, V: Any, m_flow_in: Any, *, d
         mc = (rho(p) − rho_0)·V,    dm = rho_0·dV + mc,    m = m_0 + dm
 
     ``dm`` is then a linear combination of states (``mc`` and the position in ``dV``), so BDF keeps the mass balance
-    exact as before, and the discretization is the same up to round-off (BDF is invariant under linear changes of
-    state). What changes is round-off: once the piston has moved, ``dm`` is mostly displaced mass (0.55 kg after
-    0.3 m in a 63/36 mm cylinder) while the pressure lives in ``mc`` (5e-7 kg at 1 bar in a 10 cm3 dead volume),
-    so with ``dm`` as state the pressure of a chamber squeezed to its dead volume was a six-digit cancellation; its
-    round-off (~3e-5 Pa) amplified into the valve flows stopped the hydraulic servo at its rod-end stop with
-    steps of 6e-14 s at ``atol = 1e-4·rtol``. With ``mc`` round-off scales with the compression mass, and
-    ``rtol·|mc|`` is ``rtol·p`` in pressure units in any piston position.
+    exact, and the discretization is the same up to round-off (BDF is invariant under linear changes of state).
+    What changes is round-off: once the piston has moved, ``dm`` is mostly displaced mass while the pressure lives
+    in ``mc``, so with ``dm`` as state the pressure of a chamber squeezed to its dead volume is a cancellation of
+    many digits. With ``mc`` round-off scales with the compression mass, and ``rtol·|mc|`` is ``rtol·p`` in pressure
+    units in any piston position.
 
     ``form="mass_total"``: the state is the stored mass itself, ``der(m) = Σ m_flow_in``, ``m = rho(p)·V``.
     ``form="pressure"``: the pressure is the state, ``der(rho(p)·V) = Σ m_flow_in`` (i.e.
@@ -142,8 +140,8 @@ def chamber_equations(fluid: Fluid, m: Any, p: Any, V: Any, m_flow_in: Any, *, d
     ``dm`` the state, ``dV`` and ``rho − rho_0`` computed directly (``expm1``), round-off scales with the
     deviation, and since ``dm ≈ rho_0·V·p/beta`` (at the reference volume) its error weight ``rtol·|dm|`` is
     ``rtol·p`` in pressure units — the weight of a pressure state; the linear invariant survives. (A
-    deviation from the mass at ``p_ref`` instead would make ``rtol·|dm|`` vanish near atmospheric pressure:
-    measured 4.3× the steps of the pressure state at rtol 1e-8, atol 1e-12.)
+    deviation from the mass at ``p_ref`` instead would make ``rtol·|dm|`` vanish near atmospheric pressure.)
+    Measurements: ``docs/decisions/010-hydraulic-chamber-compression-mass-state.md``.
 
     Parameters
     ----------

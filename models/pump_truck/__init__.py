@@ -1,4 +1,4 @@
-"""The concrete-pump truck boom of issue 11: design record, linkage kinematics and hand statics.
+"""The concrete-pump truck boom: design record, linkage kinematics and hand statics.
 
 :mod:`.parameters` holds the record (``PumpTruckParameters``), :mod:`.kinematics` the planar cylinder-drive
 kinematics and :mod:`.statics` the mass properties, holding torques and the cylinder sizing; :mod:`.model` the rigid

@@ -22,7 +22,7 @@ rigid offset in the model (``FixedTranslation``), as a stiff bracket would carry
 
 References
 ----------
-R. R. Craig, M. C. C. Bampton, *AIAA J.* 6 (1968) 1313–1319; seed 000 of issue 10 (the boom's flexible sections
+R. R. Craig, M. C. C. Bampton, *AIAA J.* 6 (1968) 1313–1319; seed 000 (the boom's flexible sections
 as Craig–Bampton bodies); MSC Nastran Quick Reference Guide, ``CONM2`` (offset concentrated mass).
 """
 
@@ -339,7 +339,7 @@ MPF_POSES_DEG = (
 
 def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes: int = 8,
               poses: Sequence[Sequence[float]] = MPF_POSES_DEG, cache: bool = True) -> dict[int, list[int]]:
-    """Each section's modes chosen by the modal participation factor method (seed 001; issue 10).
+    """Each section's modes chosen by the modal participation factor method (seed 001).
 
     The loads on each section in the rigid boom's static equilibrium at ``poses`` (:func:`rigid_section_loads` of
     a rigid :class:`~models.pump_truck.model.PumpTruck` at rest there, filled as the record says) give each mode's

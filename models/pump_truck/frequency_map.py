@@ -1,4 +1,4 @@
-"""The boom's lowest natural frequencies over its working poses (issue 12): a modal sweep along the unfolding.
+"""The boom's lowest natural frequencies over its working poses: a modal sweep along the unfolding.
 
 The expand scenario moves the boom from the transport fold to the working pose one joint after the other; at
 ``n_poses`` instants of that run the boom is linearised (:func:`flexlib.modal_sweep`) and its lowest vibration

@@ -1,4 +1,4 @@
-"""The simulation model's own geometry, masses and statics (issue 11): pin positions and masses in a pose, lever
+"""The simulation model's own geometry, masses and statics: pin positions and masses in a pose, lever
 and link masses, the sections as built, holding forces by virtual work, and the cylinder-length references.
 
 The design statics of the record (:mod:`models.pump_truck.statics`) neglect levers and links; these functions work

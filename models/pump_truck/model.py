@@ -1,4 +1,4 @@
-"""Simulation model of the 42 m pump-truck boom (issue 11), rigid or flexible, built on the design record.
+"""Simulation model of the 42 m pump-truck boom, rigid or flexible, built on the design record.
 
 Built from library components only (3D multibody, hydraulics, control), with the numbers of
 :class:`~models.pump_truck.parameters.PumpTruckParameters`:
@@ -169,7 +169,7 @@ CBV_A_LEAK = 1e-11  # counterbalance: leakage area of both paths [m2]
 D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
 OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
 T_I = 2.0  # integral time [s]
-T_D = 0.0  # derivative time [s]; 0: PI (a D part at Td = 0.05 s excites the boom's hydraulic modes: 10x steps)
+T_D = 0.0  # derivative time [s]; 0: PI (a D part excites the boom's hydraulic modes; docs/decisions/024-*)
 T_CMD = 0.16  # valve amplifier command filter (ramp) [s]: 1 Hz; keeps the loops off the boom's 5-6 Hz oil modes
 SLEW_D = 50e-6 / (2 * math.pi)  # slewing motor 50 cm3/rev [m3/rad]
 SLEW_RATIO = 300.0  # motor / turret speed (planetary gearbox and slewing ring)
@@ -178,7 +178,7 @@ SLEW_ROTOR_J = 0.02  # motor rotor and gearbox input inertia [kg.m2]
 # slewing-ring friction torque [N.m]: Rothe Erde's estimate mu/2 (4.4 M_k + F_a D_L) with mu = 0.005, tilting moment
 # M_k = 1.5 MN.m, axial load F_a = 150 kN, raceway diameter D_L = 1.5 m (42 m boom, filled, working pose)
 SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
-SLEW_W_REG = 1e-2  # regularisation speed of the slewing-ring friction [rad/s] (1e-3: Newton failed holding at 361 s)
+SLEW_W_REG = 1e-2  # regularisation speed of the slewing-ring friction [rad/s] (smaller fails Newton; decision 024)
 
 
 class PumpTruck(fl.Model):

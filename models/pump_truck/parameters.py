@@ -1,4 +1,4 @@
-"""Parameter record of the 42 m-class concrete-pump truck boom (issue 11): every number, its unit, its source.
+"""Parameter record of the 42 m-class concrete-pump truck boom: every number, its unit, its source.
 
 The record is a frozen dataclass: copy it with :func:`dataclasses.replace` and change any number, e.g.
 ``replace(PumpTruckParameters(), pipe=replace(PIPE, filled=False))``. Construction checks every field and the

@@ -16,7 +16,7 @@ Rigid and flexible runs overlaid (Fig. 13): ``flexlib compare rigid.h5 flexible.
 
 References
 ----------
-Seed 000 of issue 11 (MWorks boom library: Figs. 11, 13–17).
+Seed 000 (MWorks boom library: Figs. 11, 13–17).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Scenarios of the pump-truck boom (issue 11) as data, and its registration as ``pump-truck``.
+"""Scenarios of the pump-truck boom as data, and its registration as ``pump-truck``.
 
 A scenario is a :class:`flexlib.registry.Scenario` (a frozen dataclass): ``data`` holds the start ``pose`` [deg],
 the joint ``targets`` (a time table in degrees, see :class:`~models.pump_truck.model.PumpTruck`) and open-loop

@@ -127,7 +127,7 @@ def _from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
 
 
 def _positive(value: Any, what: str, owner: str, allow_zero: bool = False) -> float:
-    """A size or density: a real number (not a string, a bool or an array: ``density="7800"`` was parsed), > 0."""
+    """A size or density: a real number (not a string such as ``density="7800"``, a bool or an array), > 0."""
     why = not_a_scalar(value)
     if why is not None:
         raise ParameterError(f"{owner}: {what} = {value!r:.80} is not a number ({why})")

@@ -78,7 +78,7 @@ class Bushing(Component):
     ``|φ2| = π/2`` (``det E = cos φ2``) and φ1, φ3 jump by 2π at ±π (harmless when that direction has no
     stiffness). Stiff directions add fast modes ``√(c/m)``: give them damping and mind the step size.
     Known engine limit: closing a loop with stiffness around 1e8 N/m keeps the element's force in IDA's
-    error test and the run crawls (see docs/engine.md, *Error test*); 1e6 N/m runs well (tested).
+    error test and the run crawls (``docs/engine.md``, "Error-test policy"); 1e6 N/m runs well (tested).
 
     Unlike a joint, a bushing closes a kinematic loop without constraints, so nothing is dropped as
     redundant and the reactions of statically indeterminate supports follow from the stiffnesses.
