@@ -66,7 +66,7 @@ def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike 
     ``gcc.log`` in that directory.
 
     ``serialized``: ``res`` and ``jac`` already serialized (the source file's name is their hash), so a build
-    that stores them in the cache serializes them once (1 s of a flexible boom's cold build).
+    that stores them in the cache serializes them once.
 
     Returns
     -------

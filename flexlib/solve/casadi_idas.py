@@ -260,9 +260,8 @@ _COUNTERS = ("n_call_daeF", "n_call_jacF")
 
 def _evaluate(f: ca.Function, args: list[np.ndarray]) -> tuple[list[np.ndarray], dict[str, Any]]:
     """``f(*args)`` through a FunctionBuffer kept per function: dense inputs and outputs are read and written
-    straight from and into numpy arrays (converting a 60 × 1024 ``DM`` to numpy costs 2–3 ms; on the servo these
-    conversions, mostly of the mapped indicators, were 60 % of the run's CPU time). Raises ``RuntimeError`` as the
-    ordinary call does.
+    straight from and into numpy arrays, without converting ``DM`` results (``docs/decisions/019-*``). Raises
+    ``RuntimeError`` as the ordinary call does.
 
     Returns the outputs (2-D arrays, rows × columns) and the statistics of this call (the buffer's call
     counters ``n_call_*`` accumulate over its lifetime: the differences are returned).
@@ -405,8 +404,8 @@ class _Runner:
         Each call has a uniform sub-grid of ``SUB_GRID`` points (uniform: a change of the interval
         length ``u`` would stop IDAS and break its step history) and keeps the first sub-interval
         where a relation switches, so the earliest of several crossings is found; about
-        ``log(width/tol)/log(SUB_GRID)`` calls. (Points clustered around a secant estimate were
-        tried: the non-uniform ``u`` cost ~200 steps per call, ten times a uniform call.)
+        ``log(width/tol)/log(SUB_GRID)`` calls (a non-uniform ``u``, such as points clustered around a
+        secant estimate, costs far more steps per call than a uniform one).
         Returns the event time (the first point where a relation has switched), the state there
         and the switching relations.
         """

@@ -318,8 +318,7 @@ def _close(traj: Trajectory, drv: Driver, rel: np.ndarray,
     its last return; :meth:`Trajectory.close` adds it only after the last row) and return the time of the last row.
 
     ``buffers``: the row buffers of the last :meth:`Driver.advance`. An interrupt that arrives as the call returns,
-    before its rows are copied, would lose them (a SIGTERM after 51 155 s of a 1 s grid ended the rows there while
-    the driver stood at 51 172 s); its rows after the last copied one are copied here."""
+    before its rows are copied, would otherwise lose them; its rows after the last copied one are copied here."""
     rows, t_now = drv.last_advance()
     try:
         if buffers is not None and traj.t:

@@ -165,10 +165,9 @@ def _kind(mode: int) -> str:
 
 def check_result_target(result_file: Any, name: str = "result_file") -> Path:
     """:func:`check_result_path`, and a place a result file may replace: not an existing device, pipe or socket (the
-    atomic replace of the write would put a regular file in its place: ``result_file="/dev/null"`` run as root
-    replaced the system's ``/dev/null``), not an existing file that is not a flexlib result (a user's CSV, notes or
-    source file was overwritten without a word), and not a name ending in another format's extension (``out.csv``
-    got HDF5). Raises :class:`RunArgumentError` naming the file and what it is."""
+    atomic replace of the write would put a regular file in its place, e.g. ``result_file="/dev/null"`` run as root),
+    not an existing file that is not a flexlib result (a user's CSV, notes or source file), and not a name ending in
+    another format's extension (``out.csv``). Raises :class:`RunArgumentError` naming the file and what it is."""
     path = check_result_path(result_file, name)
     try:
         mode = os.stat(path).st_mode

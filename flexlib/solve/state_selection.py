@@ -222,7 +222,7 @@ class StateSelectionMonitor:
         # schedule: the reciprocal g = 1/e falls towards the bar near a singular selection, about linearly in time
         # per level: a tie that never moves must not hide a level that approaches the bar
         # (clamped at 4/bar: far below the bar, changes of a small ratio do not call for checks)
-        # (plain floats: a model has a few levels, and numpy's per-call overhead was a third of a check)
+        # (plain floats: a model has a few levels, and numpy's per-call overhead would dominate a check)
         g_trig = 1.0 / self._e_ref
         g_raw = [1.0 / max(e, 1e-12) for e in es]
         g = [min(x, 4.0 * g_trig) for x in g_raw]

@@ -25,17 +25,16 @@ angle      1e-4 rad     1 %     (``tests/models/test_pump_truck_goldens.py`` che
 Each golden sample may be matched anywhere within ±``TIME_SHIFT`` (a quarter) of the sampling interval of its time:
 the short correction bursts of a joint holding its pose move by a few steps with round-off.
 
-Some samples the run does not determine at all: a joint holding its pose drifts slowly (leakage) until its
-controller makes a short correction burst, and when the burst starts depends on round-off (the flexible
-expand-fold with ``rtol`` changed by one part in 10¹², which changes nothing but round-off, starts one of cylinder 2's
-bursts 0.7 s later; another host's libm and BLAS, or the step sequence of another machine, do the same). A golden
-sample that falls on such a burst, or on the flow spike right after a valve switch, differs between two correct runs
-by up to the tolerance or more. So each golden also holds, per sample, the **measured round-off spread** of its
-scenario: :func:`make_golden` runs the scenario again with its tolerances changed by one part in 10¹² (``TWINS``) and
-records, per sample, ``SPREAD_FACTOR`` times the largest deviation of a twin from the golden run (measured as the
-comparison measures it). :func:`compare` allows that spread on top of the tolerance. Where the run is determined —
-nearly everywhere: pressures, forces and angles throughout, flows outside the bursts — the spread is at round-off
-level and the tolerance is the table's.
+Some samples the run does not determine at all: a joint holding its pose drifts slowly (leakage) until its controller
+makes a short correction burst, and when the burst starts depends on round-off (changing ``rtol`` by one part in 10¹²
+moves it, as do another host's libm and BLAS; ``docs/decisions/025-goldens-hold-round-off-spread.md``). A golden sample
+that falls on such a burst, or on the flow spike right after a valve switch, differs between two correct runs by up to
+the tolerance or more. So each golden also holds, per sample, the **measured round-off spread** of its scenario:
+:func:`make_golden` runs the scenario again with its tolerances changed by one part in 10¹² (``TWINS``) and records, per
+sample, ``SPREAD_FACTOR`` times the largest deviation of a twin from the golden run (measured as the comparison measures
+it). :func:`compare` allows that spread on top of the tolerance. Where the run is determined — nearly everywhere:
+pressures, forces and angles throughout, flows outside the bursts — the spread is at round-off level and the tolerance
+is the table's.
 
 A failure names each failing signal, the time of its largest excess, golden and new values, the difference and
 the tolerance, and (with ``plot_dir``) writes an overlay PNG of the failing signals there.
