@@ -54,8 +54,8 @@ class CounterbalanceValve(PositiveParameters, Component):
     ``p_c`` then starts at 0 (closed valve; override with ``init={"p_c": ...}``), or with ``steady_start`` at
     rest, ``der(p_c) = 0`` (``p_c = p_open``: a valve that has been holding its load). No events anywhere.
     The openings are weighted in the error test as the pressures they follow (nominal ``1e7 Pa / dp_check`` and
-    ``1e7 Pa / dp_open``, at least 1): with nominal 1 a check valve hovering at its cracking pressure in a line at
-    tank pressure set the step size 100 times below what the pressures themselves need.
+    ``1e7 Pa / dp_open``, at least 1), so that a check valve hovering at its cracking pressure does not set the step
+    size (``docs/decisions/032-hydraulic-nominals-follow-the-states.md``).
 
     Counterbalance circuits are prone to oscillation: the pilot pressure, fed by a pump, integrates the
     speed error, and a high pilot ratio or a restriction downstream of the non-vented valve (the meter-out
@@ -179,9 +179,8 @@ class CounterbalanceValve(PositiveParameters, Component):
     def _flow_nominals(self) -> None:
         """The path and port flows weighted as the pressures they follow: each path's flow rises by
         ``rho_ref·Q·P_NOMINAL/dp_span·sqrt(dp_span/dp_nom)`` for a pressure change of ``P_NOMINAL`` through its
-        opening range (the steepest part of its law). With nominal 1 kg/s a check path in its opening range set IDA's
-        error test and Newton convergence test 2000 times tighter than the pressures behind it, and IDA failed to
-        converge where a boom joint held its load on a just-open check valve."""
+        opening range (the steepest part of its law), so that a check path in its opening range is tested no tighter
+        than the pressures behind it (``docs/decisions/032-hydraulic-nominals-follow-the-states.md``)."""
         val = {n: self.parameter_value(n) for n in ("Q_nom", "Q_nom_check", "dp_nom", "dp_check", "dp_open")}
         if any(v is None or not float(v) > 0 for v in val.values()):
             return

@@ -162,8 +162,8 @@ class DoubleActingCylinder(PositiveParameters, Component):
     mid-stroke, per instance); volumes ``A_p·stroke``; mass flows 1 kg/s. Functions of ``v`` are weighted as ``v``
     is: the port flows ``A_p·stroke`` and ``A_r·stroke`` [m3/s] (the flows at the nominal velocity), the friction
     force its slope at ``v = 0`` times the nominal velocity, ``(F_c·stribeck/v_reg + d)·stroke`` (at least
-    1e3 N): with a tight class nominal a holding cylinder's friction force, steep around ``v = 0``, set the step
-    size instead of ``v`` (a boom cylinder with 1 % Coulomb friction: a third of the steps of a pump-truck run).
+    1e3 N), so that a holding cylinder's friction force, steep around ``v = 0``, does not set the step size instead of
+    ``v`` (``docs/decisions/032-hydraulic-nominals-follow-the-states.md``).
 
     Notes
     -----
