@@ -1,4 +1,4 @@
-"""Benchmark: the boom proxy of ``models/boom_proxy.py`` (issue 9, deliverable 1).
+"""Benchmark: the boom proxy of ``models/boom_proxy.py``, with and without linkages, on both backends.
 
 Five sections on revolute joints, joints 2–5 driven through four-bar linkages (or, ``linkages=False``, by
 cylinders directly), one cylinder, 4/3 valve and PI loop per joint, one pump with a relief valve, joint ramps
@@ -58,6 +58,7 @@ def main(argv: list[str]) -> None:
           "| IDA steps | res evals | jac evals | max tracking error (deg) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     print("(times: wall / CPU incl. gcc children; real-time factor = simulated time / run time, wall / CPU)")
+    table = []
     for linkages in variants:
         os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
         t0, c0 = time.perf_counter(), _cpu()
@@ -103,6 +104,24 @@ def main(argv: list[str]) -> None:
                   f"{cached:.3f} / {cached_c:.3f} | {label} | {run:.2f} / {run_c:.2f} | {args.t_end / run:.2f} / "
                   f"{args.t_end / run_c:.2f} | {s['steps']} | {s['nfev']} | {s['njev']} | {np.degrees(err):.3f} |",
                   flush=True)
+            table.append((name, sim.compiled.n, int(sim.compiled.differential.sum()), cold, cold_c, cached, cached_c,
+                          label, run, run_c, args.t_end / run, args.t_end / run_c, s["steps"], s["nfev"], s["njev"],
+                          np.degrees(err)))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures = []
+    for r in table:
+        if r[7] == "ida (C ready)":
+            figures += [(f"{r[0]}: real-time factor (C ready, CPU)", r[11], ""), ("build cold CPU", r[4], "s"),
+                        ("cached CPU", r[6], "s")]
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Boom proxy, {args.t_end:g} s, rtol {exp.rtol:g}, atol {exp.atol:g}, output every {exp.dt_out:g} s; one run "
+        "per cell; CPU includes gcc children", ["variant", "unknowns", "states", "build cold [s]", "build cold CPU [s]",
+                                               "build cached [s]", "build cached CPU [s]", "solver", "run [s]",
+                                               "run CPU [s]", "real-time factor (wall)", "real-time factor (CPU)",
+                                               "IDA steps", "res evals",
+                                               "jac evals", "max tracking error [deg]"], table)])
 
 
 if __name__ == "__main__":

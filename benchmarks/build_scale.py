@@ -1,4 +1,4 @@
-"""Benchmark: front-end build time at scale (issue 9, deliverables 7 and 9), before/after in one run.
+"""Benchmark: front-end build time at scale, this tree and optionally another checkout in one run.
 
 For the N-link chain (``models/n_link_pendulum.py``) and the mass chain (``models/n_mass_chain.py``) it measures
 the process CPU time of stages 1–3 (flatten, simplify, index reduction: ``pipeline.analyse``) and of stage 5's
@@ -70,6 +70,7 @@ def main(argv: list[str]) -> None:
     print(f"| model | N | unknowns | Jacobian nnz | {names} |")
     print("|---|---|---|---|" + "---|" * len(trees))
     totals: dict[tuple[str, str], list[tuple[int, float]]] = {}
+    rows = []
     for kind, n in cases:
         cells, info = [], None
         for label, tree in trees:
@@ -80,11 +81,24 @@ def main(argv: list[str]) -> None:
             cells.append(f"{r['analyse']:.2f} / {r['compile']:.2f} / **{total:.2f}**")
         name = "N-link chain" if kind == "link" else "mass chain"
         print(f"| {name} | {n} | {info['n']} | {info['jac_nnz']} | " + " | ".join(cells) + " |", flush=True)
+        rows.append((name, n, info["n"], info["jac_nnz"], *cells))
+    figures = []
     for (kind, label), pts in totals.items():
+        if label == "this tree":
+            figures.append((f"{kind} N = {pts[-1][0]}: build", pts[-1][1], "s"))
         if len(pts) >= 3:
             n, t = (np.array(c, dtype=float) for c in zip(*pts, strict=True))
-            print(f"\n{kind} ({label}): build CPU ~ N^{np.polyfit(np.log(n), np.log(t), 1)[0]:.2f} "
-                  f"over N = {int(n[0])}…{int(n[-1])}")
+            slope = np.polyfit(np.log(n), np.log(t), 1)[0]
+            print(f"\n{kind} ({label}): build CPU ~ N^{slope:.2f} over N = {int(n[0])}…{int(n[-1])}")
+            if label == "this tree":
+                figures.append(("growth", f"N^{slope:.2f}", ""))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    report.write_results(__file__, figures, tables=[report.table(
+        "Front-end build CPU per model size (fresh interpreter per cell; no C); cells: stages 1–3 / compile / total "
+        "[s]",
+        ["model", "N", "unknowns", "Jacobian nnz", *(label for label, _ in trees)], rows)])
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Benchmark: the ``casadi-idas`` backend before and after compiled evaluation (issue 9, deliverable 5).
+"""Benchmark: the ``casadi-idas`` backend (SX virtual machine, compiled C, an older revision) against the default.
 
 For each model it runs, in one process and on the same compiled model (C library in use, ``wait_for_library``):
 
@@ -23,7 +23,9 @@ import os
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
 import argparse
+import functools
 import importlib.util
+import inspect
 import subprocess
 import sys
 import tempfile
@@ -73,6 +75,11 @@ def _model(name: str) -> tuple[fl.Model, float, float, float, float, str]:
     return BoomProxy(linkages=name == "boomlink"), 20.0, e.dt_out, e.rtol, e.atol, "angle2.phi"
 
 
+def _known_options(fn, known, *args, **kwargs):
+    """Call ``fn`` with the keyword arguments it declares (an older module's signature)."""
+    return fn(*args, **{k: v for k, v in kwargs.items() if k in known})
+
+
 def _on_grid(r: fl.Result, name: str, dt: float) -> np.ndarray:
     keep = np.abs(r.t / dt - np.round(r.t / dt)) < 1e-7
     _, first = np.unique(r.t[keep], return_index=True)
@@ -90,6 +97,7 @@ def main(argv: list[str]) -> None:
     print("| model | unknowns | C library | route | CPU (s) | × ida | steps | Jacobians | integrator calls "
           "| state events | max diff to ida |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
+    rows = []
     for name in args.models:
         os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
         model, t_end, dt, rtol, atol, watch = _model(name)
@@ -103,8 +111,9 @@ def main(argv: list[str]) -> None:
         for label, how in routes:
             sim.compiled._functions.pop("casadi_idas", None)
             solver = "ida" if how is None else "casadi-idas"
-            if isinstance(how, types.ModuleType):
-                backend = how.integrate_casadi
+            if isinstance(how, types.ModuleType):  # the old signature: run options it did not know are dropped
+                known = inspect.signature(how.integrate_casadi).parameters
+                backend = functools.partial(_known_options, how.integrate_casadi, known)
             else:
                 backend = casadi_idas.integrate_casadi
                 casadi_idas.USE_LIBRARY = bool(how) if how is not None else True
@@ -134,6 +143,16 @@ def main(argv: list[str]) -> None:
             s = res.stats
             print(f"| {name} | {n} | {lib} | {label} | {cpu:.3f} | {cpu / floor:.2f} | {s['steps']} | {s['njev']} | "
                   f"{s.get('integrator_calls', '')} | {s.get('state_events', 0)} | {diff:.1e} |", flush=True)
+            rows.append((name, n, lib, label, cpu, cpu / floor, s["steps"], s["njev"], s.get("integrator_calls", ""),
+                         s.get("state_events", 0), diff))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    report.write_results(__file__, [(f"{r[0]}: casadi-idas C / ida", r[5], "") for r in rows
+                                    if r[3] == "casadi-idas C"], tables=[report.table(
+        f"casadi-idas before ({args.before}) / SX / C against the default backend (the floor); process CPU, one run "
+        "each after a warm-up run", ["model", "unknowns", "C library", "route", "CPU [s]", "× ida", "steps",
+                                     "Jacobians", "integrator calls", "state events", "max diff to ida"], rows)])
 
 
 if __name__ == "__main__":

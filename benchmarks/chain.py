@@ -196,6 +196,26 @@ def main(sizes: list[int]) -> None:
         print(f"  N = {r['N']}: {ms(r['cas']['build'])} / {ms(r['cas_default']['build'])}; "
               f"{ms(r['backend']['first'])}; {ms(r['run_first'])}")
 
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures = []
+    for r in rows:
+        figures += [(f"N = {r['N']}: run", r["run"], "s"), ("flexlib / CasADi-IDAS", r["integrate"] / r["cas"]["run"],
+                                                                ""), ("build cached", r["build_cached"], "s")]
+    report.write_results(__file__, figures, tables=[
+        report.table(f"Chain of N masses, {T_END:g} s, rtol {RTOL:g}, atol {ATOL:g}, {N_OUT} output points; runs best "
+                     f"of {REPEAT}", ["N", "unknowns", "states", "codegen", "build cold [s]", "build cached [s]",
+                                      "run [s]", "integrate [s]", "IDA steps", "res evals", "jac evals"],
+                     [[r[k] for k in ("N", "unknowns", "states", "codegen", "build_cold", "build_cached", "run",
+                                      "integrate", "steps", "nfev", "njev")] for r in rows]),
+        report.table("Same DAE, integration only: flexlib against CasADi's IDAS (y-only error test, defaults) and the "
+                     "casadi_idas backend; diff = largest relative difference of the positions",
+                     ["N", "flexlib [s]", "CasADi-IDAS y-only [s]", "ratio", "diff", "CasADi-IDAS defaults [s]",
+                      "ratio", "diff", "casadi_idas backend [s]", "ratio", "diff"],
+                     [[r["N"], r["integrate"]] + [v for k in ("cas", "cas_default", "backend") for v in
+                                                  (r[k]["run"], r["integrate"] / r[k]["run"], r[k]["diff"])]
+                      for r in rows])])
+
 
 if __name__ == "__main__":
     main([int(a) for a in sys.argv[1:]] or [10, 100, 1000])

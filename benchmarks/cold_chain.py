@@ -1,4 +1,4 @@
-"""Benchmark: cold build + first run of the N-mass chain (issue 9, deliverable 7), before and after.
+"""Benchmark: cold build + first run of the N-mass chain, this tree and optionally a git revision before.
 
 For each N (default 100 and 1000) and each source tree, a fresh Python process (imports and the native driver
 warmed on a 5-mass chain first) measures, as **process CPU time** (``time.process_time``: the background gcc
@@ -9,14 +9,13 @@ is another process and is not counted; this 2-core machine is shared, so CPU tim
   CasADi's VM while gcc compiles in the background);
 * ``cached``: ``fl.Simulation(NMassChain(N))`` again on the filled cache (instantiation included);
 
-best of ``--repeat`` (default 3) for each figure. "before" is the tree of git revision ``--before``
-(default ``8ee10ca``, where branch ``coldchain`` started), exported with ``git archive``; "after" is this
-working tree. Targets (issue 9): build + run <= 0.5 s at N = 100, <= 10 s at N = 1000; cached <= 0.1 s at
-N = 100. No timing is asserted.
+best of ``--repeat`` (default 3) for each figure. "before" is the tree of git revision ``--before``, exported
+with ``git archive``; "after" is this working tree. Targets: build + run <= 0.5 s at N = 100, <= 10 s at N = 1000;
+cached <= 0.1 s at N = 100. No timing is asserted.
 
 Run (from the repository root)::
 
-    python benchmarks/cold_chain.py                  # N = 100, 1000; before and after (~3 min)
+    python benchmarks/cold_chain.py                  # N = 100, 1000; before (8ee10ca) and after (~3 min)
     python benchmarks/cold_chain.py 100 --no-before  # this tree only
 """
 
@@ -94,10 +93,21 @@ def main() -> None:
         trees.insert(0, (f"before ({args.before})", export(args.before)))
     print(f"process CPU [s], best of {args.repeat}; 10 s run at rtol 1e-6, atol 1e-8, dt_out 0.1")
     print(f"{'N':>5}  {'tree':<18} {'build cold':>10} {'first run':>10} {'build+run':>10} {'cached':>8}")
+    rows = []
     for n in args.sizes:
         for label, root in trees:
             r = run_worker(root, n, args.repeat)
+            rows.append((n, label, r["build"], r["run"], r["total"], r["cached"]))
             print(f"{n:>5}  {label:<18} {r['build']:>10.3f} {r['run']:>10.3f} {r['total']:>10.3f} {r['cached']:>8.3f}")
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures = []
+    for n, _, build, _, total, cached in (r for r in rows if r[1] == "after"):
+        figures += [(f"N = {n}: build + first run", total, "s"), ("build", build, "s"), ("cached", cached, "s")]
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Mass chain, process CPU, best of {args.repeat}; 10 s run at rtol 1e-6, atol 1e-8, dt_out 0.1; 'after' is "
+        "this tree", ["N", "tree", "build cold [s]", "first run [s]", "build + run [s]", "cached [s]"], rows)])
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Benchmark: where the default run path spends its time, before and after issue 9 (same process).
+"""Benchmark: where the default run path spends its time, against older routes reproduced in the same process.
 
 Four tables, each timed in one process with ratios against a floor measured in the same run:
 
@@ -14,7 +14,7 @@ Models whose generated C is compiled in the background (``codegen="auto"``) are 
 2. **Split of one step** (four-bar, servo; monitor off): model evaluation (callback bodies × calls),
    IDA + SuperLU + scikit-sundae (time inside scikit-sundae's ``step()`` minus the bodies) and
    flexlib's per-step Python (``integrate`` minus the time inside ``step()``), for the current
-   ``integrate`` and for ``flexlib/solve/ida.py`` before issue 9 (from git), interleaved.
+   ``integrate`` and for ``flexlib/solve/ida.py`` of commit fee99d3 (from git), interleaved.
 3. **Result assembly** per row: one DM call of ``out.map(rows)`` (before) against the mapped
    FunctionBuffer of ``Simulation._assemble`` (after).
 4. **Cold build + 10 s run of the 100-mass chain** with ``codegen=True`` (waits for gcc, as
@@ -378,15 +378,26 @@ def main(argv: list[str]) -> None:
     if argv and argv[0].startswith("--only="):
         tables = set(argv[0].split("=", 1)[1].split(","))
         argv = argv[1:]
-    print(f"flexlib engine speed (issue 9); scikit-sundae {sun.__version__}, OMP_NUM_THREADS=1\n")
-    if "monitor" in tables:
-        monitor_table()
-    if "split" in tables:
-        split_table()
-    if "assembly" in tables:
-        assembly_table()
-    if "chain" in tables:
-        chain_table([100] + [int(a) for a in argv])
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    print(f"flexlib engine speed; scikit-sundae {sun.__version__}, OMP_NUM_THREADS=1\n")
+    with report.printed() as out:
+        if "monitor" in tables:
+            monitor_table()
+        if "split" in tables:
+            split_table()
+        if "assembly" in tables:
+            assembly_table()
+        if "chain" in tables:
+            chain_table([100] + [int(a) for a in argv])
+    found = report.markdown_tables(out.getvalue())
+    figures = []
+    for t in found:  # the first row's "after" figures of each table
+        cols, first = t["columns"], t["rows"][0]
+        for col in cols:
+            if col.startswith(("after", "speed-up", "build + first run")) and "/" not in col[:6]:
+                figures.append((f"{first[0]}: {col}", first[cols.index(col)], ""))
+    report.write_results(__file__, figures[:6], tables=found)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Check: a run does not depend on when the compiled model library arrives (issue 26).
+"""Check: a run does not depend on when the compiled model library arrives.
 
 A model above the size where C pays is compiled by gcc in the background while its first run starts on CasADi's
 SX virtual machine; the run adopts the library mid-run when gcc has finished (``flexlib/compile/codegen.py``). A
@@ -73,6 +73,7 @@ def main() -> None:
         child(args.child[0], args.child[1] == "1", args.child[2])
         return
     kinds = [False] if args.rigid_only else [True] if args.flexible_only else [False, True]
+    table = []
     with tempfile.TemporaryDirectory() as work:
         for flexible in kinds:
             cache = Path(work) / f"cache-{int(flexible)}"  # empty: the first 'auto' build compiles in the background
@@ -96,6 +97,16 @@ def main() -> None:
                     f"{at:.1f}" if at is not None else "start"
                 whole = "identical" if info["sha256"] == ref_info["sha256"] else "DIFFERS"
                 print(f"{variant:8s} {info['steps']:8d} {when:>13s} {info['cpu']:8.1f} {diff:26.3g}  {whole}")
+                table.append(("flexible" if flexible else "rigid", variant, info["steps"], when, info["cpu"], diff,
+                              whole))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    report.write_results(__file__, [(f"{r[0]}, {r[1]}", r[6], "") for r in table if r[1] != "absent"],
+                         tables=[report.table("Pump-truck expand-fold with the compiled library absent, arriving late "
+                                              "and ready; differences from 'absent'",
+                                              ["variant", "library", "steps", "C from t [s]", "CPU [s]",
+                                               "max |diff|", "whole result"], table)])
 
 
 if __name__ == "__main__":

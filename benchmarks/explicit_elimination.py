@@ -1,4 +1,4 @@
-"""Explicit algebraics eliminated after index reduction (``flexlib/compile/explicit.py``): before / after.
+"""Explicit algebraics eliminated after index reduction (``flexlib/compile/explicit.py``): off, on and all.
 
 Every system is built three times in this one process, with the stage off (``FLEXLIB_EXPLICIT=0``), on (``1``, the
 default: only unknowns outside IDA's error test eliminated) and ``FLEXLIB_EXPLICIT=all``, without the disk cache,
@@ -104,6 +104,7 @@ def main(argv: list[str]) -> None:
     print("| system | stage | unknowns | states | residual ops (unmerged) | Jacobian ops (unmerged) | Jacobian nnz | "
           "build CPU (s) | run CPU (s) | IDA steps | Jacobians | C | max output difference to 'off' |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    rows, runs = [], {}
     for name in args.systems.split(","):
         factory, run, refs = systems[name]
         grid = np.linspace(0.0, run["t_end"], 501)
@@ -118,7 +119,22 @@ def main(argv: list[str]) -> None:
                   f"{r['jac']} ({r['jac_raw']}) | "
                   f"{r['nnz']} | {r['build']:.2f} | {r['run']:.2f} | {r['steps']} | {r['njev']} | "
                   f"{'yes' if r['C'] else 'no'} | {d} |", flush=True)
+            rows.append((name, label, r["n"], r["states"], r["res"], r["res_raw"], r["jac"], r["jac_raw"], r["nnz"],
+                         r["build"], r["run"], r["steps"], r["njev"], r["C"], d))
+            runs[name, label] = r
     os.environ.pop("FLEXLIB_EXPLICIT", None)
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures = []
+    for name in args.systems.split(","):
+        off, on = runs[name, "off"], runs[name, "1"]
+        figures += [(f"{name}: unknowns", f"{off['n']} → {on['n']}", ""), ("run / off", on["run"] / off["run"], "")]
+    report.write_results(__file__, figures, tables=[report.table(
+        "Explicit algebraics eliminated: off (FLEXLIB_EXPLICIT=0), 1 (default), all; process CPU, one run per cell",
+        ["system", "stage", "unknowns", "states", "residual ops", "unmerged", "Jacobian ops", "unmerged",
+         "Jacobian nnz", "build CPU [s]", "run CPU [s]", "IDA steps", "Jacobians", "C", "max output diff to off"],
+        rows)])
 
 
 if __name__ == "__main__":

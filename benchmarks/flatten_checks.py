@@ -1,4 +1,4 @@
-"""Benchmark: cost of the flatten-time model checks of issue 8 on the N-link pendulum chain.
+"""Benchmark: cost of the flatten-time model checks on the N-link pendulum chain.
 
 * the parameter hook (``Node.validate`` → ``Component.check``) on every instance;
 * the scan of all equations for NaN/inf constants (``flatten._check_finite``, one CasADi function over the
@@ -34,6 +34,7 @@ def _best(fn, reps: int = 3) -> float:
 
 def main(sizes: list[int]) -> None:
     print(f"{'N':>4} {'equations':>9} {'flatten [ms]':>12} {'NaN scan [ms]':>13} {'validate [ms]':>13} {'share':>6}")
+    rows = []
     for n in sizes:
         model = NLinkPendulum(n)
         flat = flatten_mod.flatten(model)
@@ -41,8 +42,17 @@ def main(sizes: list[int]) -> None:
         t_flat = _best(lambda n=n: flatten_mod.flatten(NLinkPendulum(n)), reps=2)
         t_nan = _best(lambda nodes=nodes, flat=flat: flatten_mod._check_finite(nodes, flat.equations, flat.initial))
         t_val = _best(lambda nodes=nodes: [node.validate() for node in nodes])
+        rows.append((n, len(flat.equations), t_flat, t_nan, t_val, (t_nan + t_val) / t_flat))
         print(f"{n:>4} {len(flat.equations):>9} {t_flat * 1e3:>12.1f} {t_nan * 1e3:>13.1f} {t_val * 1e3:>13.1f} "
               f"{(t_nan + t_val) / t_flat:>6.1%}")
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    n, _, t_flat, _, _, share = rows[-1]
+    report.write_results(__file__, [(f"N = {n}: flatten", t_flat, "s"), ("checks / flatten", share, "")],
+                         tables=[report.table("N-link pendulum: flatten-time checks against one flatten (the floor)",
+                                              ["N", "equations", "flatten [s]", "NaN scan [s]", "validate [s]",
+                                               "checks / flatten"], rows)])
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Pinned-free flexible beam of seed 001 (issue 10): flexlib beside Exudyn's ``ObjectFFRFreducedOrder``.
+"""Pinned-free flexible beam of seed 001: flexlib beside Exudyn's ``ObjectFFRFreducedOrder``.
 
 The beam (density 8000 kg/m³, E = 2e11 Pa, L = 1.5 m, A = 1e-4 m², I = 1e-10 m⁴, no gravity) is pinned to the
 world at one end (rotation about z free), at rest along world x, and driven by a torque about z on the pin:
@@ -106,7 +106,7 @@ FLEXLIB_RUNNER["flexlib MA"] = lambda n: run_flexlib(n, recovered=True)
 FLEXLIB_RUNNER["flexlib clamped"] = lambda n: run_flexlib(n, attachment="clamped", geometric_stiffening=False)
 #: Step sizes [s] of Exudyn's convergence study, largest first (each divides the 10 ms sampling and the 1 s switch).
 STEPS = tuple(1e-2 / 2**k for k in range(9))  # 10 ms … 39 µs
-#: Steps chosen by that study on this machine (used by ``--quick``); see benchmarks/README.md.
+#: Steps chosen by that study on this machine (used by ``--quick``); see docs/decisions/116.
 QUICK_STEPS = {1: 1.25e-3, 2: 6.25e-4, 4: 7.8125e-5}
 
 
@@ -297,8 +297,11 @@ def load_reference(path: Path = REFERENCE_FILE) -> tuple[dict[str, np.ndarray] |
 
 
 def table(runners: dict[str, Callable[[int], dict[str, Any]]], reference: dict[str, np.ndarray],
-          modes: Sequence[int] = MODES) -> list[str]:
-    """One row per runner and mode count: wall/CPU time of the solve, setup time, seed errors [%]."""
+          modes: Sequence[int] = MODES, rows: list[tuple] | None = None) -> list[str]:
+    """One row per runner and mode count: wall/CPU time of the solve, setup time, seed errors [%].
+
+    The same figures are appended to ``rows`` (when given) as tuples for the results file.
+    """
     lines = [f"{'runner':<12}{'n':>3}{'wall s':>9}{'cpu s':>9}{'setup s':>9}{'tip y %':>9}{'defl %':>9}"
              f"{'M avg %':>9}  info"]
     for n in modes:
@@ -313,6 +316,9 @@ def table(runners: dict[str, Callable[[int], dict[str, Any]]], reference: dict[s
             detail = ", ".join(f"{k}={v}" for k, v in info.items() if k in ("dt", "steps", "solver"))
             lines.append(f"{name:<12}{n:>3}{run['wall_time']:>9.3f}{run['cpu_time']:>9.3f}{run['setup_time']:>9.3f}"
                          f"{e['tip_y']:>9.2f}{e['tip_deflection']:>9.2f}{e['moment_mid_avg']:>9.2f}  {detail}")
+            if rows is not None:
+                rows.append((name, n, run["wall_time"], run["cpu_time"], run["setup_time"], e["tip_y"],
+                             e["tip_deflection"], e["moment_mid_avg"], detail))
     return lines
 
 
@@ -349,7 +355,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("no runners: flexlib's runner is not registered yet (FLEXLIB_RUNNER) and Exudyn is missing")
         return 0
     print(f"errors (seed 001 eq. 2, 201 samples) against {source}")
-    print("\n".join(table(runners, reference)))
+    rows: list[tuple] = []
+    print("\n".join(table(runners, reference, rows=rows)))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    wall = {(r[0], r[1]): r[2] for r in rows}
+    figures = [(f"{name}, n = 4: wall", wall[name, 4], "s") for name in runners if (name, 4) in wall]
+    figures += [(f"{name}, n = 4: tip deflection", r[6], "%") for r in rows for name in runners
+                if r[:2] == (name, 4)]
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Pinned-free beam, 2 s; errors (seed eq. 2, 201 samples) against {source}",
+        ["runner", "n", "wall [s]", "CPU [s]", "setup [s]", "tip y [%]", "tip deflection [%]", "moment avg [%]",
+         "info"], rows)])
     return 0
 
 

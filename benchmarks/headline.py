@@ -1,4 +1,4 @@
-"""Headline figures of issue 9 (deliverable 9), one run, one machine.
+"""Headline figures: the four-bar, the hydraulic servo and the chains, one run, one machine, against floors.
 
 * four-bar (``models/planar_mechanisms.py``), 10 s at rtol 1e-6 / atol 1e-8: build, default backend,
   ``solver="casadi-idas"``; floors timed in the same run: the minimal-coordinate ODE in CVODE and the
@@ -62,10 +62,14 @@ def fresh_cache() -> None:
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
 
 
+ROWS: list[tuple] = []  # every printed row, for the results file
+
+
 def row(name: str, wall: float, cpu: float, extra: str = "", floor: float | None = None) -> None:
     """One table row; ``floor`` is the floor's CPU time (the ratio is taken on CPU time, steadier under load)."""
     ratio = f"{cpu / floor:.1f}" if floor else ""
     print(f"| {name} | {wall:.3f} | {cpu:.3f} | {ratio} | {extra} |", flush=True)
+    ROWS.append((name, wall, cpu, cpu / floor if floor else None, extra))
 
 
 def main(argv: list[str]) -> None:
@@ -139,6 +143,20 @@ def main(argv: list[str]) -> None:
             f"{sim.compiled.n} unknowns, {res.stats['steps']} steps")
         _, w, c = timed(lambda n=n: fl.Simulation(NMassChain(n)))
         row(f"mass chain N = {n}: cached build", w, c)
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    cpu = {r[0]: r[2] for r in ROWS}
+    ratio = {r[0]: r[3] for r in ROWS}
+    figures = [("four-bar run (ida) / ODE floor", ratio["four-bar 10 s: run, ida"], ""),
+               ("servo run (ida)", cpu.get("hydraulic servo 20 s: run, ida", "failed"), "s"),
+               (f"N-link chain N = {sizes[-1]}: build", cpu[f"N-link chain N = {sizes[-1]}: build (cold)"], "s"),
+               ("run", cpu[f"N-link chain N = {sizes[-1]}: run 10 s"], "s"),
+               ("growth: build CPU", f"N^{fit['build CPU']:.2f}", ""), ("run CPU", f"N^{fit['run CPU']:.2f}", ""),
+               ("mass chain N = 100: cold build + run", cpu["mass chain N = 100: cold build + 10 s run"], "s")]
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Headline figures, rtol {RTOL:g}, atol {ATOL:g}; ratios to the floor timed in this run (CPU)",
+        ["figure", "wall [s]", "CPU [s]", "× floor (CPU)", "notes"], ROWS)])
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Benchmark: hydraulic chamber formulations and physical error weights (issue 9, deliverables 4 and 6).
+"""Benchmark: hydraulic chamber formulations and physical error weights.
 
 Part 1 — chamber formulations. A pump–relief–valve–cylinder circuit (the circuit of
 ``tests/components/hydraulics/test_cylinder_valves.py::test_mass_balance_pump_valve_cylinder``: 10 cm3/rev pump at
@@ -9,7 +9,7 @@ formulation (``chamber_form`` of the cylinder and the supply volume, see
 
 * ``mass``       — the default: state = deviation of the stored mass from rho_ref·V_ref (exact mass balance);
 * ``pressure``   — pressure as state (mass conserved only to the integration tolerance);
-* ``mass_total`` — the stored mass itself as state (the formulation before this change).
+* ``mass_total`` — the stored mass itself as state (the earlier formulation, kept for comparison).
 
 For rtol 1e-6 … 1e-9 it prints IDA steps, process CPU time, the largest errors of the piston position and of the
 cap-side pressure against a reference run (rtol 1e-11, atol 1e-13) and the mass-balance error (pumped − returned −
@@ -20,7 +20,7 @@ Part 1b — the same comparison (default backend, 4 s) on variants of the circui
 slow large travel, a start near the cap-end stop, a 2000 kg load.
 
 Part 2 — error weights. The hydraulic servo of ``benchmarks/hydraulic_servo.py`` (read, not changed) at rtol
-1e-5 … 1e-7 with the nominal values the hydraulics library declared before this change ("before": spool speed,
+1e-5 … 1e-7 with the nominal values the hydraulics library declared earlier ("before": spool speed,
 relief flow, pump torque, chamber masses and volumes at nominal 1 or 0.1) and with today's physical ones
 ("after"), against a reference run at rtol 1e-10: IDA steps, wall time and the largest piston-position error on a
 2001-point grid, i.e. steps at equal accuracy.
@@ -227,14 +227,21 @@ def part2(rtols: list[float]) -> None:
 
 
 def main() -> None:
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
     quick = "--quick" in sys.argv
     solvers = ("ida",) if "--ida-only" in sys.argv else ("ida", "casadi-idas")
-    if "--no-chambers" not in sys.argv:
-        part1([1e-6, 1e-8] if quick else [1e-6, 1e-7, 1e-8, 1e-9], solvers)
-        variants()
-    if "--no-servo" not in sys.argv:
-        part2([1e-6] if quick else [1e-5, 1e-6, 1e-7])
+    with report.printed() as out:
+        if "--no-chambers" not in sys.argv:
+            part1([1e-6, 1e-8] if quick else [1e-6, 1e-7, 1e-8, 1e-9], solvers)
+            variants()
+        if "--no-servo" not in sys.argv:
+            part2([1e-6] if quick else [1e-5, 1e-6, 1e-7])
+    tables = report.markdown_tables(out.getvalue())
+    figures = [(f"{t['title']}, rtol {t['rows'][-1][0]}: steps mass / pressure form", t["rows"][-1][-1], "")
+               for t in tables if t["columns"][-1] == "steps mass / pressure"]
+    report.write_results(__file__, figures, tables=tables)
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Benchmark: hydraulic position servo driven into its end stops (issue 4).
+"""Benchmark: hydraulic position servo driven into its end stops.
 
 Fixed-displacement pump (20 cm3/rev at 1500 rpm = 30 L/min) with a relief valve (160 bar) and a 0.5 L
 supply volume → proportional 4/3 valve (40 L/min at 35 bar per edge, 30 Hz spool) → 63/36 × 400 mm
@@ -94,7 +94,7 @@ def main() -> None:
     print("| solver | unknowns | states | build cold (s) | run (s, best of 2) | IDA steps | res evals | jac evals "
           "| state events | time events |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    runs = {}
+    runs, rows = {}, []
     for solver in ("ida", "casadi-idas"):
         best, res = math.inf, None
         try:
@@ -108,6 +108,8 @@ def main() -> None:
         assert res is not None
         runs[solver] = res
         s = res.stats
+        rows.append((solver, sim.compiled.n, n_states, build, best, s["steps"], s["nfev"], s["njev"], s["state_events"],
+                     s["time_events"]))
         print(f"| {solver} | {sim.compiled.n} | {n_states} | {build:.2f} | {best:.2f} | {s['steps']} | {s['nfev']} "
               f"| {s['njev']} | {s['state_events']} | {s['time_events']} |")
     res = runs["ida"]
@@ -133,6 +135,17 @@ def main() -> None:
           f"relief valve open {np.mean(res['relief.q'] > 1e-6) * 100:.0f} %; "
           f"supply pressure max {res['supply.p'].max() / 1e5:.0f} bar")
     print(f"  valve command within [-1, 1]: yes (max |u| - 1 = {np.abs(res['valve.u']).max() - 1:.1e})")
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    report.write_results(__file__, [
+        ("build cold", build, "s"), *((f"{r[0]}: run", r[4], "s") for r in rows), ("steps (ida)", rows[0][5], ""),
+        ("tracking error max", err.max(), "m"), ("rms", rms, "m")], tables=[report.table(
+            f"Hydraulic servo into the end stops, {T_END:g} s, rtol {RTOL:g}, atol {ATOL:g} (runs best of 2)",
+            ["solver", "unknowns", "states", "build [s]", "run [s]", "IDA steps", "res evals", "jac evals",
+             "state events", "time events"], rows)],
+        notes=[f"tracking error inside the stroke: max {err.max():.3g} m, rms {rms:.3g} m; end stops: x in "
+               f"[{x.min():.3g} m, stroke + {x.max() - STROKE:.3g} m]"])
 
 
 if __name__ == "__main__":

@@ -46,14 +46,14 @@ from models.n_mass_chain import NMassChain
 REPEAT, RTOL, ATOL, T_END = 5, 1e-6, 1e-8, 10.0
 
 
-def measure(n: int) -> None:
+def measure(n: int) -> dict:
     sim = fl.Simulation(NMassChain(n))
     m = sim.compiled
     p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
     _, starts = gather_values(sim.model)
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     grid = np.linspace(0.0, T_END, 101)
-    cb = ida._Callbacks(m, p.copy(), np.zeros(0, dtype=int))
+    cb = ida._Callbacks(m, p.copy(), np.zeros(0, dtype=int), dense=False)
     opts = dict(rtol=RTOL, atol=ATOL * m.nominal, algebraic_idx=[int(i) for i in np.flatnonzero(~m.differential)],
                 linsolver="sparse", sparsity=cb.pattern, jacfn=cb.jacfn, max_num_steps=100000)
     with warnings.catch_warnings():
@@ -115,9 +115,22 @@ def measure(n: int) -> None:
           f"callback bodies: {1e3 * body:.1f} ms ({1e6 * t_res:.1f} µs per residual, "
           f"{1e6 * t_jac:.1f} µs per Jacobian); IDA + SuperLU_MT + scikit-sundae callback wrapping "
           f"(3 − bodies): {1e3 * (n_ - body):.1f} ms")
+    return {"N": n, "unknowns": m.n, "steps": steps, **{k: v / steps for k, v in med.items()},
+            "CasADi IDAS": ref["run"] / ref["steps"], "bookkeeping": (f_ - o_) / steps,
+            "step() call": (o_ - n_) / steps, "callback bodies": body / steps, "IDA + wrapping": (n_ - body) / steps}
 
 
 if __name__ == "__main__":
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
     os.environ.setdefault("FLEXLIB_CACHE_DIR", tempfile.mkdtemp(prefix="flexlib_bench_"))
-    for n in [int(a) for a in sys.argv[1:]] or [10, 100]:
-        measure(n)
+    found = [measure(n) for n in [int(a) for a in sys.argv[1:]] or [10, 100]]
+    columns = [k for k in found[0] if k not in ("N", "unknowns", "steps")]
+    figures = []
+    for f in found:
+        figures += [(f"N = {f['N']}: flexlib", f["flexlib ida.integrate"], "s/step"),
+                    ("bookkeeping", f["bookkeeping"], "s/step"), ("CasADi IDAS", f["CasADi IDAS"], "s/step")]
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Mass chain, {T_END:g} s, rtol {RTOL:g}: time per IDA step by route and part (median of {REPEAT})",
+        ["N", "unknowns", "steps", *(f"{c} [s/step]" for c in columns)],
+        [[f[k] for k in ("N", "unknowns", "steps", *columns)] for f in found])])

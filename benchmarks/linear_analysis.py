@@ -1,4 +1,4 @@
-"""Benchmark: the cost of a 50-pose modal sweep of the pump-truck boom (issue 12), rigid and flexible.
+"""Benchmark: the cost of a 50-pose modal sweep of the pump-truck boom, rigid and flexible.
 
 For each variant in one process: one run of the ``expand`` scenario (the poses), then ``modal_sweep`` at 50
 instants of it, free (oil compliance, valves, controllers) and with the rigid degrees of freedom locked
@@ -29,11 +29,20 @@ def main() -> None:
     parser.add_argument("--variant", choices=("rigid", "flexible", "both"), default="both")
     parser.add_argument("--poses", type=int, default=50)
     args = parser.parse_args()
+    rows = []
     for flexible in {"rigid": (False,), "flexible": (True,), "both": (False, True)}[args.variant]:
-        bench(flexible, args.poses)
+        rows += bench(flexible, args.poses)
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    report.write_results(__file__, [(f"{v}, {held}: per pose", cpu / n, "s") for v, held, n, cpu, *_ in rows] + [
+        (f"{v}, {held}: / floor", ratio, "") for v, held, _, _, _, ratio, *_ in rows], tables=[report.table(
+            "Pump-truck boom: modal sweep over the poses of the expand scenario (process CPU)",
+            ["variant", "held", "poses", "sweep [s]", "sweep / expand run", "sweep / floor", "floor per pose [s]",
+             "lowest modes, transport fold [Hz]", "lowest modes, working pose [Hz]"], rows)])
 
 
-def bench(flexible: bool, n_poses: int) -> None:
+def bench(flexible: bool, n_poses: int) -> list[tuple]:
     from dataclasses import replace
 
     import numpy as np
@@ -64,6 +73,7 @@ def bench(flexible: bool, n_poses: int) -> None:
         jac(pt.t, pt.y, pt.yp, pt.p, 0.0)
         np.linalg.eig(lin.A)
     floor = time.process_time() - c0
+    rows = []
     for lock in (None, "rigid"):
         c0 = time.process_time()
         fmap = frequency_map(flexible=flexible, n_poses=n_poses, lock=lock, result=res, sim=sim)
@@ -74,6 +84,8 @@ def bench(flexible: bool, n_poses: int) -> None:
         print(f"  {n_poses}-pose sweep, {held}: {cpu:.2f} s CPU ({1e3 * cpu / n_poses:.1f} ms per pose; "
               f"{cpu / run_cpu:.2f} x the expand run, {cpu / floor:.1f} x the floor of {1e3 * floor / n_poses:.2f} "
               f"ms per pose); lowest modes [Hz]: transport fold {first}; working pose {last}")
+        rows.append((variant, held, n_poses, cpu, cpu / run_cpu, cpu / floor, floor / n_poses, first, last))
+    return rows
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
-"""Benchmark: the C driver's linear solvers on the models' own iteration matrices (issue 9; the size rule of
-``flexlib.solve.ida_native.linear_solver``).
+"""Benchmark: the C driver's linear solvers on the models' own iteration matrices.
 
+The measurement behind the size rule of ``flexlib.solve.ida_native.linear_solver``.
 Each model runs on the default backend (the C driver, generated C once gcc has finished) with each linear solver
 forced through ``FLEXLIB_LINSOL``: SUNDIALS' dense LU (up to 350 unknowns), SUNDIALS' SuperLU_MT (COLAMD ordering
 computed at the first setup, then ``refact = YES``; one thread) and KLU (kvxopt's SuiteSparse: BTF + AMD ordering
@@ -57,10 +57,11 @@ def main(argv: list[str]) -> None:
           "(thread CPU), steps, run CPU (s)\n")
     print("| model | unknowns | nonzeros | " + " | ".join(solvers) + " |")
     print("|---|---|---|" + "---|" * len(solvers))
+    rows, runs = [], {}
     for name, factory, t_end in models:
         sim = fl.Simulation(factory())
         sim.compiled.wait_for_library(1200.0)
-        cells = []
+        cells, run_cpu = [], {}
         for ls in solvers:
             if ls == "dense" and sim.compiled.n > DENSE_LIMIT:
                 cells.append("–")
@@ -75,9 +76,20 @@ def main(argv: list[str]) -> None:
                     best = (c, r.stats)
             os.environ.pop("FLEXLIB_LINSOL", None)
             c, s = best
+            run_cpu[ls] = c
             cells.append(f"{s['n_lsetup']}: {1e6 * s['wall_lsetup'] / max(s['n_lsetup'], 1):.0f} / "
                          f"{1e6 * s['wall_lsolve'] / max(s['n_lsolve'], 1):.1f} µs, {s['steps']} steps, {c:.3f} s")
         print(f"| {name} | {sim.compiled.n} | {len(sim.compiled.jac_row)} | " + " | ".join(cells) + " |", flush=True)
+        rows.append((name, sim.compiled.n, len(sim.compiled.jac_row), *cells))
+        runs[name] = run_cpu
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures = [(f"{name}: run, {ls}", cpu, "s") for name, by_solver in runs.items() for ls, cpu in by_solver.items()
+               if name in ("hydraulic servo", "7-body three-loop", "boom proxy, linkages")]
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Linear solvers of the C driver, best of {REPEAT} by CPU; rtol 1e-6, atol 1e-8; cells: setups: per setup / "
+        "per solve (thread CPU), steps, run CPU", ["model", "unknowns", "nonzeros", *solvers], rows)])
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Hand-written references for the planar mechanisms of ``models/planar_mechanisms.py`` (issue 9).
+"""Hand-written references for the planar mechanisms of ``models/planar_mechanisms.py``, and their size.
 
 Two formulations of the same :class:`~flexlib.models.planar_mechanisms.PlanarSpec`, written by hand in
 CasADi SX and integrated by SUNDIALS through scikit-sundae, with residual/Jacobian (or right-hand side)
@@ -22,7 +22,7 @@ called through CasADi ``FunctionBuffer`` (``docs/casadi_ida.md``, "Wiring a CasA
   ``M θ'' + ½ M'(θ) θ'² = −∂V/∂θ``, integrated by CVODE (BDF, Newton, dense). At rtol 1e-12 it is the
   tight reference of ``benchmarks/work_precision.py``.
 
-Run ``python benchmarks/minimal_dae.py`` (repository root) for the size comparison asked by issue 9:
+Run ``python benchmarks/minimal_dae.py`` (repository root) for the size comparison:
 unknowns and residual/Jacobian operation counts (``Function.n_instructions()``) of the component-built
 model vs the hand-written DAE, and one 10 s run of each at rtol 1e-8.
 
@@ -308,6 +308,7 @@ def main() -> None:
     print("| mechanism | model | unknowns | states | residual ops | Jacobian ops | run CPU (s) | max angle diff vs "
           "minimal ODE (rad) |")
     print("|---|---|---|---|---|---|---|---|")
+    rows, figures = [], []
     for label, make, spec in (("four-bar", FourBarLinkage, fourbar_spec()),
                               ("7-body 3-loop", ThreeLoopLinkage, three_loop_spec())):
         ref = MinimalODE(spec).solve(grid, rtol=1e-12)
@@ -326,11 +327,25 @@ def main() -> None:
             err_fl = max(np.abs(np.interp(grid, res.t, q_fl[n]) - ref["q"][n]).max() for n in ref["q"])
             print(f"| {label} | {what} | {sizes['unknowns'][0]} | {int(sim.compiled.differential.sum())} | "
                   f"{sizes['residual ops'][0]} | {sizes['Jacobian ops'][0]} | {cpu_fl:.2f} | {err_fl:.1e} |")
+            rows.append((label, what, sizes["unknowns"][0], int(sim.compiled.differential.sum()),
+                         sizes["residual ops"][0], sizes["Jacobian ops"][0], cpu_fl, err_fl))
         print(f"| {label} | hand-written DAE | {sizes['unknowns'][1]} | 2 | {sizes['residual ops'][1]} | "
               f"{sizes['Jacobian ops'][1]} | {out['cpu']:.3f} | {err_min:.1e} |")
         print(f"| {label} | ratio default / hand-written | {sizes['unknowns'][0] / sizes['unknowns'][1]:.1f} | | "
               f"{sizes['residual ops'][0] / sizes['residual ops'][1]:.1f} | "
               f"{sizes['Jacobian ops'][0] / sizes['Jacobian ops'][1]:.1f} | {cpu_fl / out['cpu']:.0f} | |")
+        rows.append((label, "hand-written DAE", sizes["unknowns"][1], 2, sizes["residual ops"][1],
+                     sizes["Jacobian ops"][1], out["cpu"], err_min))
+        figures += [(f"{label}: unknowns default / hand-written", sizes["unknowns"][0] / sizes["unknowns"][1], ""),
+                    ("Jacobian ops", sizes["Jacobian ops"][0] / sizes["Jacobian ops"][1], ""),
+                    ("run CPU", cpu_fl / out["cpu"], "")]
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Planar mechanisms, component-built vs hand-written minimal DAE; {t_end:g} s at rtol {rtol:g}, "
+        "atol = rtol/100; process CPU", ["mechanism", "model", "unknowns", "states", "residual ops", "Jacobian ops",
+                                          "run CPU [s]", "max angle diff vs minimal ODE [rad]"], rows)])
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Benchmark: multibody build and run times (issue 3).
+"""Benchmark: multibody build and run times: the N-link pendulum chain, the four-bar and the slider-crank.
 
 * N-link pendulum chain (N = 2, 5, 10, 20, 50), 10 s, rtol 1e-6: build time (cold), unknowns and
   states, run time, steps — and how both grow with N. Build times exclude the generated C, which
@@ -9,13 +9,13 @@ Run: ``python benchmarks/multibody.py`` (from the repository root; ``python benc
 for chosen chain sizes). No timing is asserted. Times are wall (best of 2 for runs) and process CPU; on a shared
 machine compare the CPU columns.
 
-``--tree-frames=tear|keep|auto`` (issue 9): sets ``FLEXLIB_TREE_FRAMES`` — tear the tree's frame kinematics
+``--tree-frames=tear|keep|auto``: sets ``FLEXLIB_TREE_FRAMES`` — tear the tree's frame kinematics
 (substituted forward kinematics, the behaviour before the rule), keep frame orientations ``T`` and origins ``r_0``
 as unknowns in models without loops, or let the rule of ``compile/tearing.py`` choose by depth (default).
 ``--keep-tree-frames`` is the old spelling of ``--tree-frames=keep``.
 
 ``--crossover N...``: for each N, build + 10 s run of the chain torn and kept, process CPU, alternating — the
-measurement behind ``tearing.KEEP_DEPTH``. See "Build time at scale" in ``benchmarks/README.md``.
+measurement behind ``tearing.KEEP_DEPTH`` (``docs/decisions/``).
 """
 
 from __future__ import annotations
@@ -98,12 +98,14 @@ def main(argv: list[str]) -> None:
     print("| N | unknowns | states | jac nnz | build (s) | build CPU (s) | run (s) | run CPU (s) | IDA steps | "
           "res evals | jac evals | state switches |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    rows = []
+    rows, chain, mechanisms = [], [], []
     for n in sizes:
         CPU.clear()
         sim, build, res, run = _run(NLinkPendulum(n))
         s = res.stats
         rows.append((n, CPU["build"], CPU["run"]))
+        chain.append((n, sim.compiled.n, int(sim.compiled.differential.sum()), len(sim.compiled.jac_row), build,
+                      CPU["build"], run, CPU["run"], s["steps"], s["nfev"], s["njev"], s["state_switches"]))
         print(f"<!-- N = {n}: {sim.report.tree_frames} -->", flush=True)
         print(f"| {n} | {sim.compiled.n} | {int(sim.compiled.differential.sum())} | {len(sim.compiled.jac_row)} | "
               f"{build:.2f} | {CPU['build']:.2f} | {run:.2f} | {CPU['run']:.2f} | "
@@ -126,6 +128,22 @@ def main(argv: list[str]) -> None:
         s = res.stats
         print(f"| {name} | {sim.compiled.n} | {int(sim.compiled.differential.sum())} | {len(sim.report.redundant)} | "
               f"{build:.2f} | {run:.2f} | {s['steps']} | {s['state_switches']} |")
+        mechanisms.append((name, sim.compiled.n, int(sim.compiled.differential.sum()), len(sim.report.redundant),
+                           build, run, s["steps"], s["state_switches"]))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    last = chain[-1]
+    figures = [(f"N = {last[0]}: build CPU", last[5], "s"), ("run CPU", last[7], "s"), ("steps", last[8], "")]
+    if len(rows) >= 3:
+        figures += [("growth: build", f"N^{kb:.2f}", ""), ("run", f"N^{kr:.2f}", "")]
+    figures += [(f"{m[0]}: run", m[5], "s") for m in mechanisms]
+    report.write_results(__file__, figures, tables=[
+        report.table("N-link pendulum chain, 10 s, rtol 1e-6, 1001 output points (runs best of 2)",
+                     ["N", "unknowns", "states", "jac nnz", "build [s]", "build CPU [s]", "run [s]", "run CPU [s]",
+                      "IDA steps", "res evals", "jac evals", "state switches"], chain),
+        report.table("Closed loops, 10 s", ["mechanism", "unknowns", "states", "redundant rows", "build [s]",
+                                            "run [s]", "IDA steps", "switches"], mechanisms)])
 
 
 if __name__ == "__main__":

@@ -1,14 +1,14 @@
-"""Benchmark: the default backend before (IDA stepped from Python) and after (the C driver) it became ``ida-native``.
+"""Benchmark: the default backend's C driver against IDA stepped from Python, SuperLU_MT and casadi-idas.
 
 Four-bar linkage (``models/planar_mechanisms.py``, 10 s) and hydraulic servo (``benchmarks/hydraulic_servo.py``,
 20 s), rtol 1e-6 / atol 1e-8, 0.01 s grid, dynamic state selection on (the default), both models compiled once in
 this process. Each backend runs the same compiled model, best of ``REPEAT`` runs (the machine is shared: read the
 ratios, not the absolute times):
 
-* ``ida-sksundae``: the default before (and its fallback without gcc): scikit-sundae's IDA stepped from Python;
-* ``ida (SuperLU_MT)``: the C driver as it was before KLU (``FLEXLIB_LINSOL=superlumt``: SUNDIALS' SuperLU_MT above
-  40 unknowns, dense LU below);
-* ``ida``: the default now: the C driver with its linear-solver rule (dense LU up to 40 unknowns, KLU above),
+* ``ida-sksundae``: the fallback without gcc: scikit-sundae's IDA stepped from Python;
+* ``ida (SuperLU_MT)``: the C driver with SUNDIALS' SuperLU_MT above 40 unknowns, dense LU below
+  (``FLEXLIB_LINSOL=superlumt``; what it runs without kvxopt);
+* ``ida``: the default: the C driver with its linear-solver rule (dense LU up to 40 unknowns, KLU above),
   Python only at outputs, events and due monitor checks;
 * ``casadi-idas``: for reference.
 
@@ -72,6 +72,7 @@ def main() -> None:
         c_only = ("ida (SuperLU_MT)", "ida")
         models.append(("boom proxy, direct cylinders, 20 s", lambda: BoomProxy(linkages=False), 20.0, c_only))
         models.append(("boom proxy, linkages, 20 s", lambda: BoomProxy(linkages=True), 20.0, c_only))
+    rows = []
     for name, factory, t_end, solvers in models:
         sim = fl.Simulation(factory())
         deadline = time.monotonic() + 600.0
@@ -117,6 +118,23 @@ def main() -> None:
                 label = f"{label} (failed at t = {res.t[-1]:.3g} s)"
             print(f"| {name} | {label} | {cpu:.3f} / {wall:.3f} | {t_end / cpu:.1f} | {st['steps']} | "
                   f"{st.get('state_switches', 0)} | {mon} | {la} | {split} | {deviation(res, ref):.1e} |", flush=True)
+            rows.append((name, label, cpu, wall, t_end / cpu, st["steps"], st.get("state_switches", 0), mon, la,
+                         split, deviation(res, ref)))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    cpu = {(r[0], r[1]): r[2] for r in rows}
+    figures = []
+    for name, *_ in models:
+        if (name, "ida") in cpu:
+            figures.append((f"{name}: ida run", cpu[name, "ida"], "s"))
+        if (name, "ida-sksundae") in cpu:
+            figures.append(("ida-sksundae / ida", cpu[name, "ida-sksundae"] / cpu[name, "ida"], ""))
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Default backend routes, best of {REPEAT} by CPU; rtol 1e-6, atol 1e-8, dt_out 0.01 s",
+        ["model", "backend", "run CPU [s]", "run wall [s]", "× real time (CPU)", "steps", "switches",
+         "monitor checks / full", "setups: each / per solve [µs]", "model / IDA / Python CPU [ms]",
+         "max |Δ| / range"], rows)])
 
 
 if __name__ == "__main__":

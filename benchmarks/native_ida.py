@@ -14,7 +14,7 @@ split of the integration time into
 * **Python**: the rest (callbacks' glue, the step loop, events, result rows).
 
 For ida-native the split is measured (clock in C around each model call and around the C step loop). For the
-default backend (before) it is estimated from the same run: model = nfev × (C cost of one residual) + njev × (C
+``ida`` route it is estimated from the same run: model = nfev × (C cost of one residual) + njev × (C
 cost of one Jacobian) as measured in the ida-native run of the same model, IDA = ida-native's IDA time × the ratio
 of steps (same SUNDIALS, same options), Python = the remainder.
 
@@ -101,6 +101,7 @@ def main() -> None:
     print("| model | n | backend | run (ms) | steps | µs/step | × vs ida | model | IDA | Python | max |Δ| vs ida |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     chosen = [c for c in cases() if not sys.argv[1:] or any(a in c[0] for a in sys.argv[1:])]
+    rows = []
     for name, model, kw, codegen in chosen:
         sim = fl.Simulation(model(), use_cache=False, codegen=codegen)
         out = {s: best_run(sim, s, kw) for s in SOLVERS}
@@ -124,6 +125,16 @@ def main() -> None:
             print(f"| {name} | {sim.compiled.n} | {s} | {ms(run)} | {steps} | "
                   f"{1e6 * st['wall_integrate'] / max(steps, 1):.1f} | {out['ida'][0] / run:.2f} | {split} | "
                   f"{deviation(r, ref):.1e} |", flush=True)
+            rows.append((name, sim.compiled.n, s, run, steps, st["wall_integrate"] / max(steps, 1), out["ida"][0] / run,
+                         *(parts or ("–",) * 3), deviation(r, ref)))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    report.write_results(__file__, [(f"{r[0]}: {r[2]} / ida", 1 / r[6], "") for r in rows if r[2] != "ida"],
+                         tables=[report.table(
+                             f"Backends on the same compiled model, run best of {REPEAT}; split of the integration",
+                             ["model", "n", "backend", "run [s]", "steps", "integrate per step [s]", "ida / this",
+                              "model [s]", "IDA [s]", "Python [s]", "max |Δ| / range vs ida"], rows)])
 
 
 def deviation(r: fl.Result, ref: fl.Result) -> float:

@@ -122,6 +122,19 @@ def main() -> None:
         print(f"| {name} | {1e3 * run:.1f} | {1e3 * integ:.1f} | {st['steps']} | {st['nfev']} | {st['njev']} | "
               f"{nrows} | {q['g']:.1e} | {q['g1']:.1e} | {q['dE']:.1e} | {q['dE_end']:.1e} |")
 
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    default, casadi = rows[0], rows[-1]
+    report.write_results(__file__, figures=[
+        ("build cold", build_cold, "s"), ("run, every step", default[1], "s"), ("steps", default[3]["steps"], ""),
+        ("max |x²+y²−1|", default[5]["g"], "m²"), ("max |E−E0|", default[5]["dE"], "J/kg"),
+        ("casadi-idas run", casadi[1], "s")], tables=[report.table(
+            f"Cartesian pendulum, {T_END:g} s, rtol {RTOL:g}, atol {ATOL:g}",
+            ["route", "run [s]", "integrate [s]", "steps", "res evals", "jac evals", "rows", "max |x²+y²−1| [m²]",
+             "max |x·u+y·v| [m²/s]", "max |E−E0| [J/kg]", "|E−E0| at t_end [J/kg]"],
+            [(name, run, integ, st["steps"], st["nfev"], st["njev"], nrows, q["g"], q["g1"], q["dE"], q["dE_end"])
+             for name, run, integ, st, nrows, q in rows])])
+
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -1,4 +1,4 @@
-"""Issue 10: the seed-001 pinned-free beam study, beside the paper's Table 1 (errors, CPU time) and Table 2 (MPF).
+"""The seed-001 pinned-free beam study, beside the paper's Table 1 (errors, CPU time) and Table 2 (MPF).
 
 flexlib's FlexibleBody (``models/pinned_free_beam.py``: hinged-beam modes from the built-in mesher, 32 elements,
 Craig–Bampton with the tip as interface node) for n = 0…6 in-plane bending modes, with and without geometric
@@ -46,6 +46,7 @@ def main() -> None:
     print(f"Reference: {str(ref['provenance'])[:160]}...")
     print("convergence of the reference (seed metric, %): " + ", ".join(
         f"{k} {float(ref['convergence_error_' + k]):.2f}" for k in SERIES))
+    rows = []
     for attachment in ("pinned", "clamped"):
         data = beam_modal_data(attachment=attachment)
         print(f"\nflexlib FlexibleBody, {attachment} attachment at the pin; errors in % (seed eq. 2)")
@@ -68,6 +69,8 @@ def main() -> None:
                         seed_error(r.moment_mid_avg_ma, ref["moment_mid_avg"])]
                 print(f"{n:>2} {'on' if stiffening else 'off':>10} {e[0]:>8.3f} {e[1]:>7.2f} {e_ma[0]:>8.2f} "
                       f"{e[2]:>7.2f} {e_ma[1]:>8.2f} {r.build_time:>6.2f}s {r.run_time:>6.2f}s   {seed_txt}")
+                rows.append((attachment, n, stiffening, e[0], e[1], e_ma[0], e[2], e_ma[1], r.build_time, r.run_time,
+                             seed_txt))
     table, t_crit = participation_table(beam_modal_data())
     print(f"\nMPF at the rigid run's critical instant t = {t_crit:g} s (hinged-beam modes; seed Table 2 used "
           "clamped-pinned modes plus a static mode)")
@@ -75,6 +78,16 @@ def main() -> None:
     print(lines[0] + "   seed Table 2 MPF [%]")
     for k, line in enumerate(lines[1:]):
         print(line + (f"   {SEED_TABLE2[k]}" if k < len(SEED_TABLE2) else ""))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    four = next(r for r in rows if r[:3] == ("pinned", 4, True))
+    report.write_results(__file__, [("hinged-beam modes, n = 4: tip y", four[3], "%"), ("tip deflection", four[4], "%"),
+                                    ("moment avg", four[6], "%"), ("run", four[9], "s")], tables=[report.table(
+        "FlexibleBody beside the seed's Table 1; errors in % (seed eq. 2), MA = mode-acceleration recovery; process "
+        "CPU", ["attachment", "n", "stiffening", "tip y [%]", "deflection [%]", "deflection MA [%]", "moment avg [%]",
+                "moment avg MA [%]", "build [s]", "run [s]", "seed Table 1 best (m, CPU, displ., moment)"], rows)],
+        notes=[f"MPF at the rigid run's critical instant t = {t_crit:g} s: see the printed table"])
 
 
 if __name__ == "__main__":

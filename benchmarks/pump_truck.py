@@ -1,4 +1,4 @@
-"""Benchmark: the pump-truck boom (``models/pump_truck/``, issue 11), rigid and flexible, in a registered scenario.
+"""Benchmark: the pump-truck boom (``models/pump_truck/``), rigid and flexible, in a registered scenario.
 
 For each variant (``--variant rigid``, ``flexible`` or ``both``, the default) in one process: the unknowns and
 states, the cold build (fresh cache directory; for the flexible boom this includes the five sections' beam meshes
@@ -7,7 +7,7 @@ run, its C library then compiles in the background) and the cached build (a new 
 in CPU time (this process and its gcc children), then one run of the cached instance over the scenario (default
 ``expand-fold``, optionally cut at ``--t-end``): CPU time, real-time factor (simulated time / CPU time of the
 run), IDA steps, residual evaluations and events; with both, the flexible/rigid CPU ratio of the runs, timed in the
-same process. Targets of issue 11 on this machine: rigid ≥ 20× real time, flexible (five sections × ~8 modes) ≥ 5×,
+same process. Targets on this machine: rigid ≥ 20× real time, flexible (five sections × ~8 modes) ≥ 5×,
 flexible/rigid ≤ 2, cold build ≤ 10 s, cached ≤ 1 s. No timing is asserted; on a shared machine compare CPU times
 and step counts.
 
@@ -41,15 +41,31 @@ def main() -> None:
     parser.add_argument("--scenario", default="expand-fold")
     parser.add_argument("--t-end", type=float, default=None, help="cut the scenario at this time [s]")
     args = parser.parse_args()
-    cpu = {}
+    found = {}
     for flexible in {"rigid": (False,), "flexible": (True,), "both": (False, True)}[args.variant]:
-        cpu[flexible] = bench(args.scenario, args.t_end, flexible)
-    if len(cpu) == 2:
-        print(f"flexible / rigid CPU time of the run: {cpu[True] / cpu[False]:.2f}")
+        found[flexible] = bench(args.scenario, args.t_end, flexible)
+    if len(found) == 2:
+        print(f"flexible / rigid CPU time of the run: {found[True]['run'] / found[False]['run']:.2f}")
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures = []
+    for r in found.values():
+        figures += [(f"{r['variant']}: run", r["run"], "s"), ("real-time factor", r["rtf"], ""),
+                    ("cold build", r["cold"], "s")]
+    if len(found) == 2:
+        figures.append(("flexible / rigid run", found[True]["run"] / found[False]["run"], ""))
+    columns = ["variant", "unknowns", "states", "cold [s]", "C ready after [s]", "cached [s]", "simulated [s]",
+               "run [s]", "rtf", "steps", "nfev", "events"]
+    keys = ["variant", "unknowns", "states", "cold", "background", "cached", "t_sim", "run", "rtf", "steps", "nfev",
+            "events"]
+    report.write_results(__file__, figures, tables=[report.table(
+        f"Pump truck, scenario {args.scenario}; CPU of this process and its gcc children", columns,
+        [[r[k] for k in keys] for r in found.values()])])
 
 
-def bench(name: str, t_end: float | None, flexible: bool) -> float:
-    """Build (cold, cached) and run one variant in a fresh cache; print the figures; return the run's CPU time."""
+def bench(name: str, t_end: float | None, flexible: bool) -> dict:
+    """Build (cold, cached) and run one variant in a fresh cache; print the figures; return them."""
     from dataclasses import replace
 
     with tempfile.TemporaryDirectory() as cache:
@@ -87,7 +103,9 @@ def bench(name: str, t_end: float | None, flexible: bool) -> float:
     print(f"run: {t_sim:g} s simulated in {cpu:.2f} s CPU, real-time factor {t_sim / cpu:.2f}, "
           f"{res.stats.get('steps')} steps, {res.stats.get('nfev')} residual evaluations, {len(res.events)} events, "
           f"status {res.status}")
-    return cpu
+    return {"variant": variant, "unknowns": res.stats.get("n_unknowns"), "states": res.stats.get("n_states"),
+            "cold": cold, "background": background, "cached": cached, "t_sim": t_sim, "run": cpu, "rtf": t_sim / cpu,
+            "steps": res.stats.get("steps"), "nfev": res.stats.get("nfev"), "events": len(res.events)}
 
 
 if __name__ == "__main__":

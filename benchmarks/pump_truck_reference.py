@@ -67,6 +67,17 @@ def main() -> None:
     for _, new_dev, gold_dev, name in sorted(rows, reverse=True)[:args.show]:
         print(f"{name:40s} {new_dev:10.3g} {gold_dev:10.3g}")
 
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    shown = sorted(rows, reverse=True)[:args.show]
+    variant = "flexible" if args.flexible else "rigid"
+    report.write_results(__file__, [
+        (f"{variant}: largest deviation, this run", max(r[1] for r in rows), "tolerances"),
+        ("golden", max(r[2] for r in rows), "tolerances"), ("reference steps", runs["reference"].stats["steps"], "")],
+        tables=[report.table(f"Pump truck {args.scenario} ({variant}): largest deviation from the rtol {args.rtol:g} "
+                             "reference over the golden grid, in golden tolerances",
+                             ["signal", "this run", "golden"], [(n, a, b) for _, a, b, n in shown])])
+
 
 if __name__ == "__main__":
     main()

@@ -1,4 +1,4 @@
-"""Benchmark: build and run times of the seed-002 robots (issue 12), rigid and flexible.
+"""Benchmark: build and run times of the seed-002 robots, rigid and flexible.
 
 Cartesian manipulator (``models/robots/cartesian.py``): the three drives on trapezoidal speed profiles for 0.6 s
 (the default profiles of ``CartesianRobot``), rigid and flexible arms (default record: 12 beam elements, 6 constraint
@@ -35,7 +35,7 @@ def _cpu() -> float:
     return t.user + t.system + t.children_user + t.children_system
 
 
-def bench(flexible: bool, t_end: float = 0.6) -> tuple[float, float]:
+def bench(flexible: bool, t_end: float = 0.6) -> dict:
     with tempfile.TemporaryDirectory() as cache:
         os.environ["FLEXLIB_CACHE_DIR"] = cache
         import flexlib as fl
@@ -56,10 +56,11 @@ def bench(flexible: bool, t_end: float = 0.6) -> tuple[float, float]:
           f"cached {cached:.2f} s CPU; run {t_end} s simulated in {run:.2f} s CPU "
           f"(real-time factor {t_end / run:.2f}), "
           f"{res.stats['steps']} steps, status {res.status}")
-    return cold, run
+    return {"model": f"cartesian / {variant}", "unknowns": sim.compiled.n, "states": len(sim.states), "cold": cold,
+            "cached": cached, "t_sim": t_end, "run": run, "steps": res.stats["steps"]}
 
 
-def bench_polycrank(t_end: float = 0.5) -> None:
+def bench_polycrank(t_end: float = 0.5) -> dict:
     """The POLYCRANK fragment, rigid links, released from rest in its pose with the drive torques set off by 10 %."""
     with tempfile.TemporaryDirectory() as cache:
         os.environ["FLEXLIB_CACHE_DIR"] = cache
@@ -82,9 +83,11 @@ def bench_polycrank(t_end: float = 0.5) -> None:
           f"{len(sim.compiled.report.redundant)} redundant rows dropped; build cold {cold:.2f} s, "
           f"cached {cached:.2f} s CPU; run {t_end} s simulated in {run:.2f} s CPU, {res.stats['steps']} steps, "
           f"status {res.status}")
+    return {"model": "polycrank / rigid", "unknowns": sim.compiled.n, "states": len(sim.states), "cold": cold,
+            "cached": cached, "t_sim": t_end, "run": run, "steps": res.stats["steps"]}
 
 
-def bench_polycrank_flexible(t_end: float = 1.0) -> None:
+def bench_polycrank_flexible(t_end: float = 1.0) -> dict:
     """The POLYCRANK fragment with flexible pull rods: the torque-pulse study run (friction, 500 N preload)."""
     with tempfile.TemporaryDirectory() as cache:
         os.environ["FLEXLIB_CACHE_DIR"] = cache
@@ -115,14 +118,27 @@ def bench_polycrank_flexible(t_end: float = 1.0) -> None:
           f"{run:.1f} s CPU "
           f"(real-time factor {t_end / run:.2f}), {res.stats['steps']} steps, status {res.status}; locked modal "
           f"analysis {modal:.1f} s CPU (lowest {modes.frequencies[modes.oscillatory].min():.1f} Hz)")
+    return {"model": "polycrank / flexible rods", "unknowns": sim.compiled.n, "states": len(sim.states), "cold": cold,
+            "cached": cached, "t_sim": t_end, "run": run, "steps": res.stats["steps"], "modal": modal}
 
 
 def main() -> None:
     rigid = bench(False)
     flexible = bench(True)
-    print(f"flexible / rigid: cold build {flexible[0] / rigid[0]:.1f}, run {flexible[1] / rigid[1]:.1f}")
-    bench_polycrank()
-    bench_polycrank_flexible()
+    print(f"flexible / rigid: cold build {flexible['cold'] / rigid['cold']:.1f}, run "
+          f"{flexible['run'] / rigid['run']:.1f}")
+    rows = [rigid, flexible, bench_polycrank(), bench_polycrank_flexible()]
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    keys = ["model", "unknowns", "states", "cold", "cached", "t_sim", "run", "steps"]
+    report.write_results(__file__, [
+        *((f"{r['model']}: run / simulated time", r["run"] / r["t_sim"], "") for r in rows),
+        ("cartesian: flexible / rigid run", flexible["run"] / rigid["run"], "")], tables=[report.table(
+            "Seed-002 robots, rtol 1e-6; CPU of this process and its gcc children",
+            ["model", "unknowns", "states", "cold [s]", "cached [s]", "simulated [s]", "run [s]", "steps"],
+            [[r[k] for k in keys] for r in rows])],
+        notes=[f"polycrank / flexible rods: locked modal analysis {rows[-1]['modal']:.3g} s CPU"])
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Work–precision benchmark (issue 9, deliverable 8): error against a tight reference vs CPU time.
+"""Work–precision benchmark: error against a tight reference vs CPU time.
 
 Systems, tolerances rtol = 1e-5 … 1e-10 (atol = rtol/100 for the mechanisms, atol = rtol for the servo:
 with atol = rtol/100 the servo fails at t ≈ 1e-15 s for rtol ≤ 1e-10 on both backends, step-size underflow in
@@ -133,7 +133,8 @@ def _servo(rtols: list[float], t_end: float, budget: float) -> list[dict]:
     return rows
 
 
-def _table(rows: list[dict], unit: str) -> None:
+def _table(rows: list[dict], unit: str) -> float | None:
+    """Print the work–precision table; return the default backend's geometric-mean CPU ratio at equal accuracy."""
     print(f"| route | rtol | error ({unit}) | CPU (s) | IDA steps |")
     print("|---|---|---|---|---|")
     for r in rows:
@@ -142,7 +143,8 @@ def _table(rows: list[dict], unit: str) -> None:
     ref_route = "hand-written" if by["hand-written"] else "casadi-idas"
     base = by[ref_route]
     if len(base) < 2:
-        return
+        return None
+    mean = None
     eb, cb = np.array([r["err"] for r in base]), np.array([r["cpu"] for r in base])
     for route in ("ida", "casadi-idas"):
         if route == ref_route or not by[route]:
@@ -152,7 +154,10 @@ def _table(rows: list[dict], unit: str) -> None:
         text = ", ".join(f"{r['rtol']:.0e}: {x:.1f}" for r, x in zip(by[route], ratios, strict=True) if x is not None)
         valid = [x for x in ratios if x is not None]
         gm = f"; geometric mean {np.exp(np.mean(np.log(valid))):.1f}" if valid else ""
+        if route == "ida" and valid:
+            mean = float(np.exp(np.mean(np.log(valid))))
         print(f"\n{route} CPU / {ref_route} CPU at equal accuracy (by {route} rtol): {text or 'no overlap'}{gm}")
+    return mean
 
 
 def main(argv: list[str]) -> None:
@@ -168,13 +173,29 @@ def main(argv: list[str]) -> None:
     print(f"Work–precision, rtol {rtols[0]:g} … {rtols[-1]:g}, atol = rtol/100 (servo: rtol); "
           "CPU = process time of the run (build excluded); OMP_NUM_THREADS=1; machine shared with other jobs")
     systems = args.systems.split(",")
+    found = {}  # name -> (rows, unit, geometric-mean CPU ratio at equal accuracy)
     if "fourbar" in systems:
-        _table(_mechanism("four-bar", FourBarLinkage(), fourbar_spec(), rtols, args.t_end, args.budget), "rad")
+        rows = _mechanism("four-bar", FourBarLinkage(), fourbar_spec(), rtols, args.t_end, args.budget)
+        found["four-bar"] = (rows, "rad", _table(rows, "rad"))
     if "threeloop" in systems:
-        _table(_mechanism("7-body 3-loop mechanism", ThreeLoopLinkage(), three_loop_spec(), rtols, args.t_end,
-                          args.budget), "rad")
+        rows = _mechanism("7-body 3-loop mechanism", ThreeLoopLinkage(), three_loop_spec(), rtols, args.t_end,
+                          args.budget)
+        found["7-body 3-loop"] = (rows, "rad", _table(rows, "rad"))
     if "servo" in systems:
-        _table(_servo(rtols, args.servo_t_end, args.budget), "m")
+        rows = _servo(rtols, args.servo_t_end, args.budget)
+        found["hydraulic servo"] = (rows, "m", _table(rows, "m"))
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures, tables = [], []
+    for name, (rows, unit, mean) in found.items():
+        peer = "hand-written" if any(r["route"] == "hand-written" for r in rows) else "casadi-idas"
+        if mean is not None:
+            figures.append((f"{name}: default / {peer} CPU at equal accuracy", mean, ""))
+        tables.append(report.table(f"{name}: error against a tight reference vs process CPU of the run",
+                                   ["route", "rtol", f"error [{unit}]", "CPU [s]", "IDA steps"],
+                                   [(r["route"], r["rtol"], r["err"], r["cpu"], r["steps"]) for r in rows]))
+    report.write_results(__file__, figures, tables=tables)
 
 
 if __name__ == "__main__":

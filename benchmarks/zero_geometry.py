@@ -56,10 +56,22 @@ def main() -> None:
     print("CPU = process time; one build per cell (machine shared: compare within a row)\n")
     print("| model | build | unknowns after tearing | after constants | constants CPU (s) | whole build CPU (s) |")
     print("|---|---|---|---|---|---|")
+    rows = []
     for label, make in cases:
         for zero, what in ((False, "assume_zero_geometry=False"), (True, "default (assumed)")):
             n0, n1, c_const, c_build = measure(make, zero)
+            rows.append((label, what, n0, n1, c_const, c_build))
             print(f"| {label} | {what} | {n0} | {n1} | {c_const:.2f} | {c_build:.2f} |", flush=True)
+
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
+
+    figures = []
+    for off, on in zip(rows[::2], rows[1::2], strict=True):
+        figures += [(f"{on[0]}: unknowns", f"{off[3]} → {on[3]}", ""), ("build", on[5], "s"),
+                    ("build / opt-out", on[5] / off[5], "")]
+    report.write_results(__file__, figures, tables=[report.table(
+        "Planar geometry assumed (default) or not, one uncached build without C per cell (process CPU)",
+        ["model", "build", "unknowns after tearing", "after constants", "constants [s]", "whole build [s]"], rows)])
 
 
 if __name__ == "__main__":
