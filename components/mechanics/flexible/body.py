@@ -65,15 +65,16 @@ import numpy as np
 
 from flexlib import Component, Parameter, Variable, der, eq
 from flexlib.errors import EmptyResultError, ModalFileError, ModelError, ParameterError, RunArgumentError
+from flexlib.fe.geometric import inertial_load_amplitudes
+from flexlib.fe.modal_data import LOAD_CASE_NAMES, ModalData
+from flexlib.fe.selection import default_damping_ratio, select_modes
 
 from ..multibody.frames import equality_constraint, skew
 from ..multibody.interfaces import Frame
 from ..multibody.quaternions import floating_frame_equations, quaternion_to_T
 from ..multibody.world import World, gravity_of
-from .modal_data import LOAD_CASE_NAMES, ModalData
-from .selection import default_damping_ratio, select_modes
 
-__all__ = ["FlexibleBody", "cayley_rotation", "frame_names", "inertial_load_amplitudes"]
+__all__ = ["FlexibleBody", "cayley_rotation", "frame_names"]
 
 _LETTERS = "abcdefghijklmnopqrstuvwxyz"
 #: Mode-shape entries at a frame below this fraction of the mode's largest entry are round-off (set to zero).
@@ -822,22 +823,6 @@ def _choose_modes(data: ModalData, modes: Any, max_frequency: Any, source: str) 
         raise ModelError(f"FlexibleBody: max_frequency={max_frequency:g} Hz keeps no mode of the {source} (lowest "
                          f"{float(data.frequencies.min()):.4g} Hz); pass modes=0 for a rigid body")
     return out
-
-
-def inertial_load_amplitudes(alpha: np.ndarray, z: np.ndarray, w: np.ndarray) -> dict[str, np.ndarray]:
-    """Amplitudes of the inertial unit load cases (:func:`~.geometric.inertial_load_cases`) of a reference frame
-    with origin acceleration less gravity ``alpha`` [m/s2], angular acceleration ``z`` [rad/s2] and angular
-    velocity ``w`` [rad/s], all (nt, 3) in body axes: ``acc_*``, ``alpha_*``, ``omega_aa`` = ``w_a²``,
-    ``omega_ab`` = ``w_a w_b``."""
-    axes = "xyz"
-    values: dict[str, np.ndarray] = {}
-    for a in range(3):
-        values[f"acc_{axes[a]}"] = alpha[:, a]
-        values[f"alpha_{axes[a]}"] = z[:, a]
-        values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
-    for a, b in ((0, 1), (1, 2), (2, 0)):
-        values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
-    return values
 
 
 def cayley_rotation(theta: np.ndarray) -> np.ndarray:

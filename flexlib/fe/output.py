@@ -1,6 +1,6 @@
 """Flexible-body output: nodal deformation and stress from modal coordinates.
 
-Given a body's :class:`~flexlib.components.mechanics.flexible.ModalData` and the time series of its motion —
+Given a body's :class:`~flexlib.fe.ModalData` and the time series of its motion —
 modal coordinates ``q(t)`` (nt, M), the floating frame's origin ``r_0(t)`` (nt, 3) [m, world axes] and its
 orientation ``T(t)`` (nt, 3, 3), world to body (``v_body = T @ v_world``, as in flexlib's ``Frame``) — this
 module recovers, at any node ``p`` with undeformed position ``s_p`` and mode shapes ``Phi_p``, ``Phi*_p``,

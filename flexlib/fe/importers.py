@@ -1,8 +1,8 @@
 """FE mass and stiffness matrices from commercial FE codes: ANSYS full files and Nastran OP4 / DMIG.
 
-Each reader returns a validated :class:`~flexlib.components.mechanics.flexible.fe_model.FEModel` (symmetric,
-finite, consistent node/DOF map) from which :func:`~flexlib.components.mechanics.flexible.reduction.craig_bampton`
-and :func:`~flexlib.components.mechanics.flexible.reduction.modal_data_from_fe` build the modal data. The file
+Each reader returns a validated :class:`~flexlib.fe.fe_model.FEModel` (symmetric,
+finite, consistent node/DOF map) from which :func:`~flexlib.fe.reduction.craig_bampton`
+and :func:`~flexlib.fe.reduction.modal_data_from_fe` build the modal data. The file
 formats are read by the FE community's open-source readers, installed as optional extras:
 
 - ANSYS (MAPDL) ``.full`` files through ``ansys-mapdl-reader`` (``pip install flexlib[ansys]``);

@@ -140,7 +140,7 @@ class ModalData:
         ``"consistent"`` or ``"lumped"``: how the invariants were computed.
     damping_ratio : ndarray (M,), optional
         Modal damping ratios [1], each in ``[0, 1]`` (fractions of critical); ``None``: the frequency rule of
-        :func:`~flexlib.components.mechanics.flexible.selection.default_damping_ratio`.
+        :func:`~flexlib.fe.selection.default_damping_ratio`.
     stress_modes : ndarray (M, N, 6), optional
         Stress per unit modal coordinate at each node [Pa] (sxx, syy, szz, sxy, syz, szx).
     faces : ndarray of int (F, k), optional

@@ -6,7 +6,7 @@ and stiffness ``K`` [N/m, N, N m/rad] over a set of DOFs, the undeformed node co
 [m], small rotations [rad], in the body frame) to the row of ``M`` and ``K`` (``-1``: the node has no such DOF,
 e.g. a constrained one or a solid element's rotation). Any FE code can supply these through
 :func:`read_fe` (``.npz``) or :func:`read_matrix_market`; the built-in beam mesher
-(:func:`~flexlib.components.mechanics.flexible.beam.beam_mesh`) produces them directly.
+(:func:`~flexlib.fe.beam.beam_mesh`) produces them directly.
 
 References
 ----------
@@ -58,7 +58,7 @@ class MassPoints:
 
     For a *lumped* description the points are the FE nodes with their nodal masses and inertias; for a
     *consistent* one they are the Gauss points of the elements, weighted so that the sums integrate the
-    element's density exactly (see :func:`~flexlib.components.mechanics.flexible.invariants.inertia_invariants`).
+    element's density exactly (see :func:`~flexlib.fe.invariants.inertia_invariants`).
 
     Parameters
     ----------

@@ -476,14 +476,14 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     damping_ratio : ndarray, optional
         Modal damping ratios [1] per mode of the result, each a fraction of critical damping in ``[0, 1]``;
         default: the frequency rule of
-        :func:`~flexlib.components.mechanics.flexible.selection.default_damping_ratio` when used.
+        :func:`~flexlib.fe.selection.default_damping_ratio` when used.
     stress_fibre : (float, float), optional
         Beam models: section fibre ``(y, z)`` [m] at which stress modes are recovered
-        (:func:`~flexlib.components.mechanics.flexible.beam.beam_stress_modes`); beam models always get their
+        (:func:`~flexlib.fe.beam.beam_stress_modes`); beam models always get their
         section-force modes.
     geometric_stiffening : bool
         Beam models: add the modal geometric stiffness of the inertial and interface unit load cases
-        (:func:`~flexlib.components.mechanics.flexible.geometric.modal_geometric_stiffness`).
+        (:func:`~flexlib.fe.geometric.modal_geometric_stiffness`).
     support_nodes : sequence of int, optional
         With ``geometric_stiffening``: nodes held for its static load cases; default the first interface node (the
         reference node if given).

@@ -1,7 +1,7 @@
 """Drawing a flexible body: the deformed mesh over time as a VTK series for ParaView, and matplotlib stills and
 animations coloured by displacement or von Mises stress (the "nephogram" of commercial codes).
 
-The fields come from :mod:`.output` (a body's :class:`~flexlib.components.mechanics.flexible.ModalData` and the
+The fields come from :mod:`.output` (a body's :class:`~flexlib.fe.ModalData` and the
 time series of its motion, ``q(t)``, ``r_0(t)``, ``T(t)``; ``FlexibleBody.motion(result)`` gives them).
 
 References
@@ -566,10 +566,10 @@ def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
     """
     import meshio
 
+    from flexlib.components.mechanics.flexible.body import FlexibleBody
     from flexlib.core.component import Component
     from flexlib.results.result import Result
 
-    from .body import FlexibleBody
     from .output import deformed_positions, node_displacements
 
     func = "write_model_vtk"
