@@ -4,9 +4,10 @@ reduction, inertia invariants, the open HDF5 modal file, mode selection and defa
 stiffening data, and deformation/stress output and drawing. The component that uses them is
 :class:`flexlib.components.mechanics.flexible.FlexibleBody`."""
 
+from .arguments import COMPONENTS
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
 from .drawing import animate, plot_frame, write_model_vtk, write_vtk_series
-from .fe_model import COMPONENTS, BeamElements, FEModel, MassPoints, read_fe, read_matrix_market
+from .fe_model import BeamElements, FEModel, MassPoints
 from .geometric import (
     geometric_stiffness_matrix,
     inertial_load_amplitudes,
@@ -16,6 +17,7 @@ from .geometric import (
 )
 from .importers import read_ansys_full, read_nastran_dmig, read_nastran_op4  # optional extras: ansys, nastran
 from .invariants import INVARIANT_NAMES, inertia_invariants
+from .matrix_files import read_fe, read_matrix_market
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
 from .output import (
     deformed_positions,

@@ -1,49 +1,38 @@
-"""Finite-element mass and stiffness matrices with their node/DOF map, and their files (``.npz``, Matrix Market).
+"""Finite-element mass and stiffness matrices with their node/DOF map: the :class:`FEModel` record.
 
 An :class:`FEModel` is what a producer of modal data starts from: scipy.sparse mass ``M`` [kg, kg m, kg m2]
 and stiffness ``K`` [N/m, N, N m/rad] over a set of DOFs, the undeformed node coordinates [m] and a map
 ``dof_map[node, component]`` from a node and one of its six components ``(ux, uy, uz, rx, ry, rz)`` (translations
 [m], small rotations [rad], in the body frame) to the row of ``M`` and ``K`` (``-1``: the node has no such DOF,
 e.g. a constrained one or a solid element's rotation). Any FE code can supply these through
-:func:`read_fe` (``.npz``) or :func:`read_matrix_market`; the built-in beam mesher
+:func:`~flexlib.fe.matrix_files.read_fe` (``.npz``), :func:`~flexlib.fe.matrix_files.read_matrix_market` or the
+importers (:mod:`flexlib.fe.importers`); the built-in beam mesher
 (:func:`~flexlib.fe.beam.beam_mesh`) produces them directly.
 
 References
 ----------
 - R. D. Cook, D. S. Malkus, M. E. Plesha, R. J. Witt, *Concepts and Applications of Finite Element Analysis*,
   4th ed., Wiley 2002, §2.8 (DOF numbering, assembly) and §11.3 (consistent and lumped mass).
-- Matrix Market exchange format: R. F. Boisvert, R. Pozo, K. Remington, *The Matrix Market Exchange Formats:
-  Initial Design*, NISTIR 5935, 1996 (read with :func:`scipy.io.mmread`).
 """
 
 from __future__ import annotations
 
 import numbers
 import os
-import zipfile
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import scipy.io
 import scipy.sparse as sp
 
 from flexlib.errors import ModalFileError, RunArgumentError
 
-__all__ = ["COMPONENTS", "BeamElements", "FEModel", "MassPoints", "UnknownNodeError", "check_fe",
-           "check_fields", "check_translational_mass", "read_fe", "read_matrix_market", "read_nodes"]
+from .arguments import COMPONENTS, array_kind, component_list, real_array, row_ranges, vector3
 
-#: Names of the six components of a node, in ``dof_map`` column order.
-COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
-
-#: What :func:`read_fe` reads, and the readers of the other FE matrix formats (for error messages).
-_FORMATS = ("read_fe reads a .npz archive (FEModel.write_npz: CSR parts M_data/M_indices/M_indptr/M_shape and "
-            "the same for K, or dense M and K, with nodes and dof_map); Matrix Market .mtx files: "
-            "read_matrix_market(mass, stiffness, nodes, dof_map); Nastran: read_nastran_op4 / read_nastran_dmig; "
-            "ANSYS .full: read_ansys_full")
-
+__all__ = ["BeamElements", "FEModel", "MassPoints", "UnknownNodeError", "check_fe", "check_fields",
+           "node_id_list"]
 
 class UnknownNodeError(RunArgumentError, KeyError):
     """A node id that the FE model does not have (a :class:`~flexlib.errors.RunArgumentError` and a ``KeyError``)."""
@@ -176,7 +165,7 @@ class FEModel:
                 problems.append("dof_map rows must be distinct and below the matrix size")
             elif used.size != n and not (self.M.shape != (n, n) or self.K.shape != (n, n)):
                 free = np.setdiff1d(np.arange(n), used)
-                problems.append(f"rows {_ranges(free)} of the {n}-row matrices belong to no node (dof_map maps "
+                problems.append(f"rows {row_ranges(free)} of the {n}-row matrices belong to no node (dof_map maps "
                                 f"{used.size} rows): their mass and stiffness would be lost from the body")
         if self.node_ids.shape != (self.nodes.shape[0],) or len(np.unique(self.node_ids)) != self.node_ids.size:
             problems.append("node_ids must be one distinct id per node")
@@ -191,7 +180,7 @@ class FEModel:
             A = getattr(self, name)
             if sp.issparse(A) and A.format == "csr" and A.dtype.kind == "f":
                 continue
-            kind = A.dtype.kind if sp.issparse(A) else _kind(A)
+            kind = A.dtype.kind if sp.issparse(A) else array_kind(A)
             if kind not in "iuf":
                 raise RunArgumentError(f"FEModel: argument {name!r} must be a real matrix (scipy.sparse or a dense "
                                        f"array of numbers), got {type(A).__name__} {A!r:.60}"
@@ -200,7 +189,7 @@ class FEModel:
             object.__setattr__(self, name, sp.csr_matrix(A, dtype=float))
         for name, integer in (("nodes", False), ("dof_map", True), ("node_ids", True), ("elements", True)):
             value = getattr(self, name)
-            kind = _kind(value)
+            kind = array_kind(value)
             if kind not in "iuf":
                 raise RunArgumentError(f"FEModel: argument {name!r} must be an array of "
                                        f"{'whole ' if integer else ''}numbers, got {type(value).__name__} "
@@ -246,7 +235,7 @@ class FEModel:
         """Indices into ``nodes`` of the given node ids; a clear error names an unknown id."""
         lookup = {int(i): k for k, i in enumerate(self.node_ids)}
         out = []
-        for i in _node_id_list(node_ids, "FEModel: node ids"):
+        for i in node_id_list(node_ids, "FEModel: node ids"):
             if int(i) not in lookup:
                 raise UnknownNodeError(f"FEModel: no node with id {int(i)} (ids {self.node_ids.min()}.."
                                        f"{self.node_ids.max()}, {self.node_ids.size} nodes)")
@@ -255,7 +244,7 @@ class FEModel:
 
     def dofs(self, node_ids: Sequence[int] | np.ndarray, components: Sequence[str] = COMPONENTS) -> np.ndarray:
         """DOF rows of the given nodes (by id) and components (names from :data:`COMPONENTS`), skipping absent ones."""
-        cols = [COMPONENTS.index(c) for c in _component_list(components)]
+        cols = [COMPONENTS.index(c) for c in component_list(components)]
         rows = self.dof_map[self.node_index(node_ids)][:, cols].ravel()
         return rows[rows >= 0]
 
@@ -299,14 +288,14 @@ class FEModel:
 
     def constrained(self, node_ids: Sequence[int] | np.ndarray, components: Sequence[str] = COMPONENTS) -> FEModel:
         """The model with the given node components held at zero (their DOFs removed), e.g. a clamped end."""
-        components = _component_list(components)
+        components = component_list(components)
         fixed = set(self.dofs(node_ids, components).tolist())
         keep = np.array([i for i in range(self.n_dofs) if i not in fixed], dtype=np.int64)
         new_index = -np.ones(self.n_dofs, dtype=np.int64)
         new_index[keep] = np.arange(keep.size)
         dof_map = np.where(self.dof_map >= 0, new_index[np.maximum(self.dof_map, 0)], -1)
         info = dict(self.info)
-        info["constrained"] = [*info.get("constrained", []), {"nodes": [int(i) for i in _node_id_list(node_ids, "")],
+        info["constrained"] = [*info.get("constrained", []), {"nodes": [int(i) for i in node_id_list(node_ids, "")],
                                                               "components": list(components)}]
         loads = self.gravity_loads()[keep]
         return replace(self, M=self.M[keep][:, keep].tocsr(), K=self.K[keep][:, keep].tocsr(), dof_map=dof_map,
@@ -349,13 +338,46 @@ class FEModel:
         """
         func = "FEModel.with_point_masses"
         idx = self.node_index(node_ids)
+        m, d, J = self._point_mass_arguments(func, idx, masses, offsets, inertias)
         k = idx.size
-        m = _real_array(func, "masses", masses, "masses [kg]").reshape(-1)
+        add = sp.lil_matrix((self.n_dofs, self.n_dofs))
+        loads = np.zeros((self.n_dofs, 3))
+        base = 0 if self.mass_points is None else self.mass_points.masses.size
+        selectors: dict[str, list] = {"rows_t": [], "cols_t": [], "vals_t": [], "rows_r": [], "cols_r": []}
+        for j in range(k):
+            dof = self.dof_map[idx[j]]
+            if np.any(dof[:3] < 0) or ((np.any(d[j]) or np.any(J[j])) and np.any(dof[3:] < 0)):
+                raise RunArgumentError(f"{func}: node {int(self.node_ids[idx[j]])} lacks the DOFs the mass needs "
+                                       "(translations; rotations for an offset or inertia): attach it before "
+                                       "constraining the node")
+            N = _rigid_offset_map(d[j])
+            block = m[j] * N.T @ N
+            block[3:, 3:] += J[j]
+            live = np.flatnonzero(dof >= 0)
+            add[np.ix_(dof[live], dof[live])] += block[np.ix_(live, live)]
+            loads[dof[live]] += (m[j] * N.T)[live]
+            _point_selector_entries(selectors, 3 * (base + j), N, dof, live)
+        M = (self.M + add.tocsr()).tocsr()
+        points = self.mass_points
+        if points is not None:
+            points = _appended_mass_points(points, self.nodes[idx] + d, m, J, selectors, self.n_dofs)
+        info = dict(self.info)
+        info["point_masses"] = [*info.get("point_masses", []),
+                                {"count": k, "total_kg": float(m.sum())}]
+        unit_loads = None if self.unit_loads is None else self.unit_loads + loads
+        return replace(self, M=M, mass_points=points, info=info, unit_loads=unit_loads)
+
+    def _point_mass_arguments(self, func: str, idx: np.ndarray, masses: Any, offsets: Any,
+                              inertias: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The masses (k,) [kg], offsets (k, 3) [m] and inertias (k, 3, 3) [kg m2] of :meth:`with_point_masses`,
+        checked: one per node, masses >= 0, inertias symmetric positive semidefinite."""
+        k = idx.size
+        m = real_array(func, "masses", masses, "masses [kg]").reshape(-1)
         if m.shape != (k,):
             raise RunArgumentError(f"{func}: {k} nodes but {m.size} masses (nodes {self.node_ids[idx].tolist()}, "
                                    f"masses {m.tolist()} [kg]): give one mass per node")
-        d = np.zeros((k, 3)) if offsets is None else _real_array(func, "offsets", offsets, "offsets [m]")
-        J = np.zeros((k, 3, 3)) if inertias is None else _real_array(func, "inertias", inertias, "inertias [kg m2]")
+        d = np.zeros((k, 3)) if offsets is None else real_array(func, "offsets", offsets, "offsets [m]")
+        J = np.zeros((k, 3, 3)) if inertias is None else real_array(func, "inertias", inertias, "inertias [kg m2]")
         for name, a, shape in (("offsets", d, (k, 3)), ("inertias", J, (k, 3, 3))):
             if a.shape != shape and a.size != int(np.prod(shape)):
                 raise RunArgumentError(f"{func}: argument {name!r} has shape {a.shape}, expected {shape} (one per "
@@ -369,54 +391,11 @@ class FEModel:
                                                                                          1.0)):
             raise RunArgumentError(f"{func}: argument 'inertias' must be symmetric positive semidefinite 3 x 3 "
                                    "tensors [kg m2]")
-        rows_t, rows_r, cols_t, cols_r, vals_t = [], [], [], [], []
-        add = sp.lil_matrix((self.n_dofs, self.n_dofs))
-        loads = np.zeros((self.n_dofs, 3))
-        base = 0 if self.mass_points is None else self.mass_points.masses.size
-        for j in range(k):
-            dof = self.dof_map[idx[j]]
-            if np.any(dof[:3] < 0) or ((np.any(d[j]) or np.any(J[j])) and np.any(dof[3:] < 0)):
-                raise RunArgumentError(f"{func}: node {int(self.node_ids[idx[j]])} lacks the DOFs the mass needs "
-                                       "(translations; rotations for an offset or inertia): attach it before "
-                                       "constraining the node")
-            N = np.zeros((3, 6))
-            N[:, :3] = np.eye(3)
-            dx = np.array([[0.0, -d[j, 2], d[j, 1]], [d[j, 2], 0.0, -d[j, 0]], [-d[j, 1], d[j, 0], 0.0]])
-            N[:, 3:] = -dx
-            block = m[j] * N.T @ N
-            block[3:, 3:] += J[j]
-            live = np.flatnonzero(dof >= 0)
-            add[np.ix_(dof[live], dof[live])] += block[np.ix_(live, live)]
-            loads[dof[live]] += (m[j] * N.T)[live]
-            for a in range(3):
-                for c in live:
-                    if N[a, c] != 0.0:
-                        rows_t.append(3 * (base + j) + a)
-                        cols_t.append(dof[c])
-                        vals_t.append(N[a, c])
-                if dof[3 + a] >= 0:
-                    rows_r.append(3 * (base + j) + a)
-                    cols_r.append(dof[3 + a])
-        M = (self.M + add.tocsr()).tocsr()
-        points = self.mass_points
-        if points is not None:
-            shape = (3 * (base + k), self.n_dofs)
-            Nt = sp.vstack([points.Nt, sp.csr_matrix((3 * k, self.n_dofs))]).tocsr() + sp.csr_matrix(
-                (vals_t, (rows_t, cols_t)), shape=shape)
-            Nr = sp.vstack([points.Nr, sp.csr_matrix((3 * k, self.n_dofs))]).tocsr() + sp.csr_matrix(
-                (np.ones(len(rows_r)), (rows_r, cols_r)), shape=shape)
-            points = MassPoints(np.vstack([points.positions, self.nodes[idx] + d]),
-                                np.concatenate([points.masses, m]), np.concatenate([points.inertias, J]),
-                                Nt.tocsr(), Nr.tocsr(), points.description + f" + {k} point masses")
-        info = dict(self.info)
-        info["point_masses"] = [*info.get("point_masses", []),
-                                {"count": k, "total_kg": float(m.sum())}]
-        unit_loads = None if self.unit_loads is None else self.unit_loads + loads
-        return replace(self, M=M, mass_points=points, info=info, unit_loads=unit_loads)
+        return m, d, J
 
     def translation_field(self, vector: Sequence[float]) -> np.ndarray:
         """DOF vector of a uniform translation ``vector`` [m] of all nodes (rotations zero)."""
-        vector = _vector3("FEModel.translation_field", "vector", vector, "[m]")
+        vector = vector3("FEModel.translation_field", "vector", vector, "[m]")
         out = np.zeros(self.n_dofs)
         for a in range(3):
             rows = self.dof_map[:, a]
@@ -433,7 +412,7 @@ class FEModel:
         """Consistent nodal load vector [N, N m] of the body's weight in a uniform field ``g`` [m/s2]: ``M u_g``
         with ``u_g`` the uniform translation ``g`` of the unconstrained model (exact for shape functions that
         reproduce rigid translation), restricted to the remaining DOFs."""
-        return self.gravity_loads() @ _vector3("FEModel.gravity_load", "g", g, "[m/s2]")
+        return self.gravity_loads() @ vector3("FEModel.gravity_load", "g", g, "[m/s2]")
 
     def lumped_mass_points(self) -> MassPoints:
         """Lumped mass description from ``M``: each node's mass is the row sum of the translational block of
@@ -480,7 +459,7 @@ class FEModel:
 
     def write_npz(self, path: str | os.PathLike[str]) -> None:
         """Write ``M``, ``K`` (CSR parts), ``nodes``, ``dof_map``, ``node_ids`` and ``elements`` to a ``.npz``
-        readable by :func:`read_fe` (atomically: temporary file then ``os.replace``).
+        readable by :func:`~flexlib.fe.matrix_files.read_fe` (atomically: temporary file then ``os.replace``).
 
         Raises
         ------
@@ -511,17 +490,46 @@ class FEModel:
                 tmp.unlink()
 
 
-def _kind(value: Any) -> str:
-    """The numpy dtype kind of ``value`` as an array (``"U"`` for text, ``"O"`` for what is not a regular array)."""
-    if isinstance(value, str | bytes | os.PathLike):
-        return "U"
-    try:
-        return np.asarray(value).dtype.kind
-    except (TypeError, ValueError):
-        return "O"
+def _rigid_offset_map(d: np.ndarray) -> np.ndarray:
+    """``N = [I, -[d x]]`` (3 x 6): a point at offset ``d`` [m] from a node moves by ``u + theta x d``."""
+    N = np.zeros((3, 6))
+    N[:, :3] = np.eye(3)
+    dx = np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]], [-d[1], d[0], 0.0]])
+    N[:, 3:] = -dx
+    return N
 
 
-def _node_id_list(node_ids: Any, where: str) -> list[int]:
+def _point_selector_entries(selectors: dict[str, list], row0: int, N: np.ndarray, dof: np.ndarray,
+                            live: np.ndarray) -> None:
+    """Append a point mass's rows (from ``row0``) of the translational (``N`` on the node's DOFs) and rotational
+    (the node's rotations) selectors of :class:`MassPoints`."""
+    for a in range(3):
+        for c in live:
+            if N[a, c] != 0.0:
+                selectors["rows_t"].append(row0 + a)
+                selectors["cols_t"].append(dof[c])
+                selectors["vals_t"].append(N[a, c])
+        if dof[3 + a] >= 0:
+            selectors["rows_r"].append(row0 + a)
+            selectors["cols_r"].append(dof[3 + a])
+
+
+def _appended_mass_points(points: MassPoints, positions: np.ndarray, m: np.ndarray, J: np.ndarray,
+                          selectors: dict[str, list], n_dofs: int) -> MassPoints:
+    """``points`` with ``k`` point masses at ``positions`` [m] (masses ``m`` [kg], inertias ``J`` [kg m2]) added,
+    their selector rows from :func:`_point_selector_entries`."""
+    k = m.size
+    shape = (3 * (points.masses.size + k), n_dofs)
+    Nt = sp.vstack([points.Nt, sp.csr_matrix((3 * k, n_dofs))]).tocsr() + sp.csr_matrix(
+        (selectors["vals_t"], (selectors["rows_t"], selectors["cols_t"])), shape=shape)
+    Nr = sp.vstack([points.Nr, sp.csr_matrix((3 * k, n_dofs))]).tocsr() + sp.csr_matrix(
+        (np.ones(len(selectors["rows_r"])), (selectors["rows_r"], selectors["cols_r"])), shape=shape)
+    return MassPoints(np.vstack([points.positions, positions]), np.concatenate([points.masses, m]),
+                      np.concatenate([points.inertias, J]), Nt.tocsr(), Nr.tocsr(),
+                      points.description + f" + {k} point masses")
+
+
+def node_id_list(node_ids: Any, where: str) -> list[int]:
     """Node ids as ints: whole numbers (ints, or floats without a fraction, as FE tables give them); a string, a bool
     or a fractional number is a :class:`UnknownNodeError` naming it (``where``: the caller, for the message)."""
     items = np.atleast_1d(np.asarray(node_ids, dtype=object)).ravel().tolist() if not isinstance(
@@ -535,35 +543,6 @@ def _node_id_list(node_ids: Any, where: str) -> list[int]:
                                    f"are whole numbers{hint}")
         out.append(int(i))
     return out
-
-
-def _component_list(components: Any) -> tuple[str, ...]:
-    """Component names, each one of :data:`COMPONENTS`; a single string is refused with a hint (it would be read
-    letter by letter)."""
-    if isinstance(components, str):
-        raise RunArgumentError(f"FEModel: components must be a list of names from {list(COMPONENTS)}, got the string "
-                               f"{components!r}" + (f" (for one component: [{components!r}])"
-                                                    if components in COMPONENTS else ""))
-    try:
-        names = tuple(components)
-    except TypeError:
-        raise RunArgumentError(f"FEModel: components must be a list of names from {list(COMPONENTS)}, got "
-                               f"{components!r}") from None
-    for c in names:
-        if c not in COMPONENTS:
-            hint = f" (did you mean {c.lower()!r}?)" if isinstance(c, str) and c.lower() in COMPONENTS else ""
-            raise RunArgumentError(f"FEModel: unknown component {c!r}; components are {list(COMPONENTS)}{hint}")
-    return names
-
-
-def _real_array(func: str, name: str, value: Any, what: str) -> np.ndarray:
-    """An array of finite real numbers (not text, bools or complex), naming the argument."""
-    if _kind(value) not in "iuf":
-        raise RunArgumentError(f"{func}: argument {name!r} must be {what}, numbers, got {value!r:.80}")
-    a = np.asarray(value, dtype=float)
-    if not np.all(np.isfinite(a)):
-        raise RunArgumentError(f"{func}: argument {name!r} has non-finite values: {a.ravel()[:6].tolist()}")
-    return a
 
 
 def check_fe(func: str, fe: Any, *, beam: bool = False) -> FEModel:
@@ -583,7 +562,7 @@ def check_fields(func: str, fe: Any, fields: Any, name: str = "modes", *, ndim: 
     of it, of ``ndim`` dimensions: the arguments of the building blocks (section forces, static responses, geometric
     stiffness), each error a :class:`~flexlib.errors.RunArgumentError` naming the function and the argument."""
     check_fe(func, fe, beam=beam)
-    a = _real_array(func, name, fields, "displacement or load fields on the FE DOFs")
+    a = real_array(func, name, fields, "displacement or load fields on the FE DOFs")
     if a.ndim not in ndim or a.shape[0] != fe.n_dofs:
         shapes = " or ".join(f"({fe.n_dofs},)" if k == 1 else f"({fe.n_dofs}, k)" for k in ndim)
         raise RunArgumentError(f"{func}: argument {name!r} has shape {a.shape}, expected {shapes}: one row per DOF of "
@@ -591,434 +570,3 @@ def check_fields(func: str, fe: Any, fields: Any, name: str = "modes", *, ndim: 
     return a
 
 
-def _vector3(func: str, name: str, value: Any, unit: str) -> np.ndarray:
-    a = _real_array(func, name, value, f"three numbers (x, y, z) {unit}")
-    if a.shape != (3,):
-        raise RunArgumentError(f"{func}: argument {name!r} must be three numbers (x, y, z) {unit}, got shape "
-                               f"{a.shape}: {value!r}")
-    return a
-
-
-def _ranges(rows: np.ndarray, limit: int = 8) -> str:
-    """``"24..29, 31"``: sorted integers as runs (for messages)."""
-    rows = np.unique(np.asarray(rows, dtype=np.int64))
-    runs: list[str] = []
-    start = prev = None
-    for r in [*rows.tolist(), None]:
-        if r is not None and prev is not None and r == prev + 1:
-            prev = r
-            continue
-        if start is not None:
-            runs.append(str(start) if start == prev else f"{start}..{prev}")
-        start = prev = r
-    return ", ".join(runs[:limit]) + (" ..." if len(runs) > limit else "")
-
-
-def _label_rows(dof_map: np.ndarray, node_ids: np.ndarray | None = None) -> Any:
-    """A function giving ``"node 7 uz (row 44)"`` for a matrix row, from a DOF map (for messages)."""
-    def label(row: int) -> str:  # only called to write a message: search then
-        hit = np.argwhere(dof_map == int(row)) if dof_map.ndim == 2 and dof_map.shape[1] == 6 else np.zeros((0, 2))
-        if hit.size == 0:
-            return f"row {int(row)}"
-        p, c = (int(v) for v in hit[0])
-        ok = node_ids is not None and p < len(node_ids)
-        return f"node {int(node_ids[p]) if ok else p} {COMPONENTS[c]} (row {int(row)})"
-
-    return label
-
-
-def check_semidefinite_pattern(A: sp.spmatrix, name: str, label: Any) -> str | None:
-    """Why a symmetric ``A`` (mass or stiffness) cannot be positive semi-definite, or None: a negative diagonal
-    term, or an off-diagonal term larger than the geometric mean of its two diagonal terms (a 2 x 2 principal
-    minor below zero), naming the DOFs through ``label(row)``. Necessary conditions only (cheap: one pass over
-    the nonzeros); the reduction finds what these miss."""
-    A = sp.coo_matrix(A)
-    d = np.asarray(A.diagonal(), dtype=float)
-    scale = float(np.abs(d).max(initial=0.0)) or 1.0
-    neg = np.flatnonzero(d < -1e-12 * scale)
-    if neg.size:
-        r = int(neg[np.argmin(d[neg])])
-        kind = "mass" if name[:1] in "Mm" else "stiffness"
-        more = "" if neg.size == 1 else f"; {neg.size} such DOFs"
-        return (f"matrix {name!r} has a negative diagonal term {d[r]:.6g} at {label(r)}: a {kind} matrix is positive "
-                f"semi-definite (its diagonal >= 0){more}")
-    off = A.row != A.col
-    if np.any(off):
-        i, j, v = A.row[off], A.col[off], np.abs(A.data[off])
-        bound = np.sqrt(np.maximum(d[i], 0.0) * np.maximum(d[j], 0.0))
-        bad = np.flatnonzero(v > bound * (1 + 1e-8) + 1e-12 * scale)
-        if bad.size:
-            k = bad[np.argmax(v[bad] - bound[bad])]
-            return (f"matrix {name!r} is not positive semi-definite: the term {A.data[off][k]:.6g} at ({label(i[k])}, "
-                    f"{label(j[k])}) exceeds the geometric mean {bound[k]:.6g} of their diagonal terms "
-                    "(a 2 x 2 principal minor is negative)")
-    return None
-
-
-def _check_matrices(path: str | tuple[str, str], M: sp.spmatrix, K: sp.spmatrix, n_nodes: int,
-                    dof_map: np.ndarray, names: tuple[str, str] = ("M", "K"), nodes_source: str = "nodes",
-                    node_ids: np.ndarray | None = None, default_map: bool = False) -> None:
-    """Square, finite, symmetric, positive semi-definite (necessary conditions) matrices of equal size, and a DOF map
-    that covers every row once; errors name the file of the matrix at fault (``path``: one file, or the mass and
-    stiffness files), the DOF and the node list."""
-    files = (path, path) if isinstance(path, str) else path
-    both = files[0] if files[0] == files[1] else f"{files[0]}, {files[1]}"
-    for name, A, file in zip(names, (M, K), files):
-        if A.shape[0] != A.shape[1]:
-            raise ModalFileError(f"{file}: matrix {name!r} is not square: shape {A.shape}")
-    if M.shape != K.shape:
-        raise ModalFileError(f"{both}: matrices {names[0]!r} {M.shape} and {names[1]!r} {K.shape} differ in size")
-    dof_map = np.asarray(dof_map)
-    label = _label_rows(dof_map, node_ids)
-    for name, A, file in zip(names, (M, K), files):
-        if not np.all(np.isfinite(A.data)):
-            coo = sp.coo_matrix(A)
-            k = int(np.flatnonzero(~np.isfinite(coo.data))[0])
-            raise ModalFileError(f"{file}: matrix {name!r} has non-finite entries (NaN or inf): {coo.data[k]} at "
-                                 f"({label(coo.row[k])}, {label(coo.col[k])})")
-        asym = abs(A - A.T).max() if A.nnz else 0.0
-        scale = abs(A).max() if A.nnz else 1.0
-        if asym > 1e-9 * scale:
-            D = sp.coo_matrix(abs(A - A.T))
-            k = int(np.argmax(D.data))
-            raise ModalFileError(f"{file}: matrix {name!r} is not symmetric (max |A - A^T| = {asym:.3g} at "
-                                 f"({label(D.row[k])}, {label(D.col[k])}), max |A| = {scale:.3g})")
-    n = M.shape[0]
-    if dof_map.ndim != 2 or dof_map.shape != (n_nodes, 6):
-        raise ModalFileError(f"{both}: 'dof_map' must have shape ({n_nodes}, 6) (one row per node of {nodes_source}, "
-                             f"one column per component {' '.join(COMPONENTS)}), got {dof_map.shape}")
-    if dof_map.max(initial=-1) >= n:
-        p, c = (int(v) for v in np.argwhere(dof_map == dof_map.max())[0])
-        raise ModalFileError(f"{both}: 'dof_map' refers to row {dof_map.max()} of a {n}-row matrix (node {p} "
-                             f"{COMPONENTS[c]}): {n_nodes} nodes in {nodes_source}" +
-                             (f", but {n} rows = {n / 6:g} x 6 (six DOFs per node by the default dof_map): is "
-                              "a node too many in the node list, or the matrices' DOF set not six per node "
-                              "(pass dof_map)?" if default_map else ""))
-    if dof_map.min(initial=-1) < -1:
-        p, c = (int(v) for v in np.argwhere(dof_map < -1)[0])
-        raise ModalFileError(f"{both}: 'dof_map' holds {int(dof_map[p, c])} at node {p} {COMPONENTS[c]}: rows are "
-                             ">= 0, or -1 for a DOF the node does not have")
-    used = dof_map[dof_map >= 0]
-    values, counts = np.unique(used, return_counts=True)
-    if np.any(counts > 1):
-        r = int(values[np.argmax(counts > 1)])
-        owners = [f"node {int(node_ids[p]) if node_ids is not None else int(p)} {COMPONENTS[c]}"
-                  for p, c in np.argwhere(dof_map == r)]
-        raise ModalFileError(f"{both}: 'dof_map' gives row {r} to {' and '.join(owners)}: each row is one DOF")
-    if values.size != n:
-        free = np.setdiff1d(np.arange(n), values)
-        hint = ""
-        if default_map and n % 6 == 0 and n // 6 > n_nodes:
-            hint = (f": by the default dof_map (six rows per node) these are nodes "
-                    f"{_ranges(np.arange(n_nodes, n // 6))}"
-                    f" — {n // 6} nodes for the matrices, {n_nodes} in the node list: is a node missing from it?")
-        elif default_map:
-            hint = f": {n} rows are not six per node — pass dof_map"
-        raise ModalFileError(f"{both}: matrix rows {_ranges(free)} (of {n}) belong to no node in the node list "
-                             f"{nodes_source} ({n_nodes} nodes); their mass and stiffness would drop out of the "
-                             f"body{hint}")
-    for name, A, file in zip(names, (M, K), files):
-        why = check_semidefinite_pattern(A, name, label)
-        if why is not None:
-            raise ModalFileError(f"{file}: {why}")
-    why = check_translational_mass(M, dof_map, names[0])
-    if why is not None:
-        raise ModalFileError(f"{files[0]}: {why}")
-
-
-def check_translational_mass(M: sp.spmatrix, dof_map: np.ndarray, name: str = "M") -> str | None:
-    """Why ``M`` cannot be a mass matrix, or None: a rigid translation ``u`` (all nodes along x, y or z) must carry
-    mass, ``u^T M u > 0``; a free body's stiffness matrix gives it none (the mass and stiffness matrices swapped, or
-    the same matrix given twice)."""
-    M = sp.csr_matrix(M)
-    for a, axis in enumerate("xyz"):
-        rows = dof_map[:, a][dof_map[:, a] >= 0] if dof_map.ndim == 2 and dof_map.shape[1] == 6 else np.zeros(0)
-        if not rows.size:
-            continue
-        block = M[rows][:, rows]
-        scale = float(abs(block).sum())
-        mass = float(block.sum())
-        if scale > 0 and mass <= 1e-9 * scale:
-            return (f"matrix {name!r} gives a rigid translation along {axis} no mass (u^T M u = {mass:.3g}, against "
-                    f"{scale:.3g} for the sum of its terms' magnitudes): a mass matrix carries the body's mass in "
-                    "every rigid translation, a free body's stiffness matrix none. Are the mass and stiffness "
-                    "matrices swapped, or the same matrix given twice?")
-    return None
-
-
-def _text_table(path: str, label: str) -> np.ndarray:
-    """A whitespace/comma separated table of numbers from a text file (``#`` comments), as float."""
-    p = Path(path)
-    if p.is_dir():
-        raise ModalFileError(f"{path}: {label!r} is a directory, not a table file")
-    try:
-        text = p.read_text().replace(",", " ")
-    except FileNotFoundError:
-        raise ModalFileError(f"{path}: cannot read {label!r}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ModalFileError(f"{path}: cannot read {label!r}: {exc}") from None
-    lines = [ln.split("#", 1)[0] for ln in text.splitlines()]
-    rows = [(k + 1, ln.split()) for k, ln in enumerate(lines) if ln.strip()]
-    if not rows:
-        raise ModalFileError(f"{path}: {label!r} is empty (no rows of numbers)")
-    width = len(rows[0][1])
-    for line, fields in rows:
-        if len(fields) != width:
-            raise ModalFileError(f"{path}: {label!r} line {line} has {len(fields)} columns, line {rows[0][0]} has "
-                                 f"{width}")
-        for f in fields:
-            try:
-                float(f)
-            except ValueError:
-                raise ModalFileError(f"{path}: {label!r} line {line}: {f!r} is not a number (a header line? start "
-                                     "it with #)") from None
-    return np.array([[float(f) for f in fields] for _, fields in rows], dtype=float)
-
-
-def read_table(value: Any, label: str, dtype: type) -> np.ndarray:
-    """An array given directly, or read from a whitespace/comma separated text file (``label`` names it in errors);
-    integer tables must hold whole numbers."""
-    if isinstance(value, str | os.PathLike):
-        where = os.fspath(value)
-        table = _text_table(where, label)
-    else:
-        where = f"argument {label!r}"
-        if isinstance(value, bool) or value is None:
-            raise RunArgumentError(f"{where} must be an array or a path, got {value!r}")
-        kind = _kind(value)
-        if kind in "USb":  # numbers are not read out of strings: a table of text is a mistake (or a file's content)
-            raise RunArgumentError(f"{where} must be an array of numbers or a path to a table, got "
-                                   f"{'bools' if kind == 'b' else 'text'}: {value!r:.80}")
-        try:
-            table = np.asarray(value, dtype=float)
-        except (TypeError, ValueError) as exc:
-            raise RunArgumentError(f"{where} must be an array of numbers or a path to a table: {exc}") from None
-        if table.ndim == 1 and table.size in (3, 4, 6) and label != "node_ids":
-            table = table[None, :]
-    error = ModalFileError if isinstance(value, str | os.PathLike) else RunArgumentError
-    if np.issubdtype(dtype, np.integer):
-        bad = ~np.isfinite(table) | (table != np.round(table))
-        if np.any(bad):
-            at = tuple(int(v) for v in np.argwhere(bad)[0])
-            raise error(f"{where}: {label!r} must hold whole numbers, got {float(table[at])!r} at (row, column) "
-                        f"{at if len(at) > 1 else at[0]}")
-        return table.astype(np.int64)
-    return table.astype(dtype)
-
-
-def read_nodes(value: Any, label: str = "nodes",
-               node_ids: Sequence[int] | np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, str]:
-    """Node coordinates [m] as an array or text table ``(N, 3)`` ``[x, y, z]`` or ``(N, 4)`` ``[id, x, y, z]``:
-    ``(ids, xyz, description)``; finite coordinates and distinct whole-number ids, each error naming the node and
-    the table (a file: :class:`~flexlib.errors.ModalFileError`; an array: :class:`~flexlib.errors.RunArgumentError`).
-    ``node_ids`` gives the ids of an ``(N, 3)`` table (default ``0 .. N-1``)."""
-    table = read_table(value, label, float)
-    file = isinstance(value, str | os.PathLike)
-    where = os.fspath(value) if file else f"argument {label!r}"
-    error = ModalFileError if file else RunArgumentError
-    if table.ndim != 2 or table.shape[1] not in (3, 4) or table.shape[0] == 0:
-        raise error(f"{where}: {label!r} must be a table (N, 3) [x, y, z] or (N, 4) [id, x, y, z] [m], got shape "
-                    f"{table.shape}")
-    xyz = table[:, -3:]
-    if table.shape[1] == 4:
-        if node_ids is not None:
-            raise RunArgumentError(f"{where}: {label!r} has an id column and node_ids is given too: give one")
-        raw = table[:, 0]
-        bad = ~np.isfinite(raw) | (raw != np.round(raw))
-        if np.any(bad):
-            k = int(np.argmax(bad))
-            raise error(f"{where}: {label!r} row {k}: node id {float(raw[k])!r} is not a whole number (columns: id, "
-                        "x, y, z)")
-        ids = raw.astype(np.int64)
-    elif node_ids is None:
-        ids = np.arange(xyz.shape[0], dtype=np.int64)
-    else:
-        ids = read_table(node_ids, "node_ids", np.int64).ravel()
-        if ids.size != xyz.shape[0]:
-            raise RunArgumentError(f"argument 'node_ids' has {ids.size} ids for the {xyz.shape[0]} nodes of {where}")
-    values, counts = np.unique(ids, return_counts=True)
-    if np.any(counts > 1):
-        dup = int(values[np.argmax(counts > 1)])
-        rows = np.flatnonzero(ids == dup).tolist()
-        raise error(f"{where}: node id {dup} appears {len(rows)} times (rows {rows}): ids must be distinct")
-    bad = ~np.isfinite(xyz)
-    if np.any(bad):
-        k = int(np.argwhere(bad)[0, 0])
-        raise error(f"{where}: node {int(ids[k])} (row {k}) has a non-finite coordinate {xyz[k].tolist()} [m]")
-    return ids, xyz, where
-
-
-def _check_file(path: Any, what: str, argument: str) -> str:
-    """The path as a string, checked to be an existing, non-empty regular file (errors name it)."""
-    if not isinstance(path, str | os.PathLike):
-        raise RunArgumentError(f"argument {argument!r} must be a path (str or os.PathLike) to {what}, got "
-                               f"{type(path).__name__} {path!r}")
-    name = os.fspath(path)
-    p = Path(name)
-    if p.is_dir():
-        raise ModalFileError(f"{name}: is a directory, not {what} (argument {argument!r})")
-    if not p.exists():
-        raise ModalFileError(f"{name}: no such file ({what}, argument {argument!r})")
-    if p.stat().st_size == 0:
-        raise ModalFileError(f"{name}: the file is empty ({what}, argument {argument!r})")
-    return name
-
-
-def read_fe(path: str | os.PathLike[str]) -> FEModel:
-    """Read an FE model from a ``.npz`` with arrays ``M_data, M_indices, M_indptr, M_shape`` (and the same for
-    ``K``; CSR parts as written by :meth:`FEModel.write_npz`) or dense ``M`` and ``K``, plus ``nodes`` (N, 3) [m],
-    ``dof_map`` (N, 6) and optionally ``node_ids`` and ``elements``.
-
-    Raises
-    ------
-    ModalFileError
-        Missing, unreadable or inconsistent file, or another format (a ``.npy`` array, Matrix Market, ...: the
-        message says which reader takes it); the message names the file and the array.
-    """
-    name = _check_file(path, "an FE model .npz archive", "path")
-    with open(name, "rb") as f:
-        magic = f.read(6)
-    if not zipfile.is_zipfile(name):
-        kind = ("a single numpy array (.npy)" if magic == b"\x93NUMPY" else
-                "a Matrix Market file" if magic.startswith(b"%%Matr") else "not a .npz (zip) archive")
-        raise ModalFileError(f"{name}: {kind}, not an FE model archive: {_FORMATS}")
-    try:
-        data = np.load(name, allow_pickle=False)
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-        raise ModalFileError(f"{name}: cannot read FE matrices: {exc}") from None
-    with data:
-        def get(key: str) -> np.ndarray:
-            if key not in data.files:
-                raise ModalFileError(f"{name}: array {key!r} is missing (has {sorted(data.files)}); {_FORMATS}")
-            try:
-                value = data[key]
-            except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
-                raise ModalFileError(f"{name}: array {key!r} cannot be read: {exc}") from None
-            if not np.issubdtype(value.dtype, np.number) or np.issubdtype(value.dtype, np.complexfloating):
-                raise ModalFileError(f"{name}: array {key!r} must be real numbers, got dtype {value.dtype}")
-            return value
-
-        def whole(key: str, value: np.ndarray) -> np.ndarray:
-            if not np.issubdtype(value.dtype, np.integer):
-                bad = ~np.isfinite(value) | (value != np.round(value))
-                if np.any(bad):
-                    raise ModalFileError(f"{name}: array {key!r} must hold whole numbers, got "
-                                         f"{float(value.ravel()[np.argmax(bad.ravel())])!r}")
-            return value.astype(np.int64)
-
-        mats = {}
-        for key in ("M", "K"):
-            if key in data.files:
-                dense = get(key)
-                if dense.ndim != 2:
-                    raise ModalFileError(f"{name}: array {key!r} must be a 2-D matrix, got shape {dense.shape}")
-                mats[key] = sp.csr_matrix(dense.astype(float))
-            else:
-                shape = whole(f"{key}_shape", get(f"{key}_shape")).ravel()
-                if shape.size != 2 or np.any(shape < 0):
-                    raise ModalFileError(f"{name}: array '{key}_shape' must be two sizes (rows, columns), got "
-                                         f"{shape.tolist()}")
-                try:
-                    mats[key] = sp.csr_matrix((get(f"{key}_data").astype(float),
-                                               whole(f"{key}_indices", get(f"{key}_indices")),
-                                               whole(f"{key}_indptr", get(f"{key}_indptr"))),
-                                              shape=(int(shape[0]), int(shape[1])))
-                    mats[key].check_format(full_check=True)
-                except (ValueError, TypeError, IndexError) as exc:
-                    raise ModalFileError(f"{name}: the CSR arrays {key}_data, {key}_indices, {key}_indptr, "
-                                         f"{key}_shape do not form a matrix: {exc}") from None
-        nodes = get("nodes").astype(float)
-        dof_map = whole("dof_map", get("dof_map"))
-        node_ids = whole("node_ids", get("node_ids")).ravel() if "node_ids" in data.files else None
-        elements = whole("elements", get("elements")) if "elements" in data.files else np.zeros((0, 2), np.int64)
-    if nodes.ndim != 2 or nodes.shape[1] != 3:
-        raise ModalFileError(f"{name}: 'nodes' must have shape (N, 3) [m], got {nodes.shape}")
-    if node_ids is None:
-        node_ids = np.arange(nodes.shape[0])
-    elif node_ids.size != nodes.shape[0]:
-        raise ModalFileError(f"{name}: 'node_ids' has {node_ids.size} ids for {nodes.shape[0]} nodes")
-    values, counts = np.unique(node_ids, return_counts=True)
-    if np.any(counts > 1):
-        raise ModalFileError(f"{name}: 'node_ids' gives id {int(values[np.argmax(counts > 1)])} to "
-                             f"{int(counts.max())} nodes: ids must be distinct")
-    if not np.all(np.isfinite(nodes)):
-        k = int(np.argwhere(~np.isfinite(nodes))[0, 0])
-        raise ModalFileError(f"{name}: 'nodes': node {int(node_ids[k])} (row {k}) has a non-finite coordinate "
-                             f"{nodes[k].tolist()} [m]")
-    if elements.size and (elements.ndim != 2 or elements.min() < 0 or elements.max() >= nodes.shape[0]):
-        raise ModalFileError(f"{name}: 'elements' must be rows of node indices 0..{nodes.shape[0] - 1}, got "
-                             f"shape {elements.shape} with values {elements.min()}..{elements.max()}")
-    _check_matrices(name, mats["M"], mats["K"], nodes.shape[0], dof_map, nodes_source=f"{name} 'nodes'",
-                    node_ids=node_ids)
-    try:
-        return FEModel(mats["M"], mats["K"], nodes, dof_map, node_ids, elements, info={"source": name})
-    except ValueError as exc:
-        raise ModalFileError(f"{name}: {exc}") from None
-
-
-def _read_mtx(path: Any, label: str, argument: str) -> sp.csr_matrix:
-    """One real matrix from a Matrix Market file (coordinate or array; general or symmetric)."""
-    name = _check_file(path, f"a Matrix Market file of matrix {label!r}", argument)
-    try:
-        field_, symmetry = scipy.io.mminfo(name)[4:]
-    except (OSError, ValueError, UnicodeDecodeError) as exc:
-        raise ModalFileError(f"{name}: cannot read matrix {label!r} as Matrix Market (argument {argument!r}): "
-                             f"{exc}") from None
-    if field_ not in ("real", "integer", "double"):
-        raise ModalFileError(f"{name}: matrix {label!r} is a Matrix Market {field_!r} matrix"
-                             + (" (a sparsity pattern without values)" if field_ == "pattern" else "")
-                             + "; a real matrix is needed")
-    if symmetry not in ("general", "symmetric"):
-        raise ModalFileError(f"{name}: matrix {label!r} is declared {symmetry!r}; a mass or stiffness matrix is "
-                             "symmetric ('general' or 'symmetric')")
-    try:
-        A = scipy.io.mmread(name)
-    except (OSError, ValueError, IndexError, UnicodeDecodeError) as exc:
-        raise ModalFileError(f"{name}: cannot read matrix {label!r} as Matrix Market (argument {argument!r}): "
-                             f"{exc}") from None
-    return sp.csr_matrix(A, dtype=float)
-
-
-def read_matrix_market(mass: str | os.PathLike[str], stiffness: str | os.PathLike[str],
-                       nodes: np.ndarray | str | os.PathLike[str],
-                       dof_map: np.ndarray | str | os.PathLike[str] | None = None) -> FEModel:
-    """Read ``M`` and ``K`` from Matrix Market files (any FE code can export them) with the node coordinates
-    [m] and DOF map as arrays or whitespace/comma separated text files.
-
-    Parameters
-    ----------
-    mass, stiffness : path
-        ``.mtx`` files of the mass [kg, kg m, kg m2] and stiffness [N/m, N, N m/rad] matrices (coordinate or
-        array format, real or integer, general or symmetric). A lumped (diagonal) mass matrix may leave
-        rotational DOFs without mass (no rotary inertia): the reduction condenses them statically.
-    nodes : array or path
-        Undeformed node coordinates [m]: a table ``(N, 3)`` ``[x, y, z]`` (node ids ``0 .. N-1``) or ``(N, 4)``
-        ``[id, x, y, z]`` (``#`` starts a comment in a file).
-    dof_map : array (N, 6) or path, optional
-        Matrix row of each node's ``(ux, uy, uz, rx, ry, rz)``, ``-1`` if absent; default six DOFs per node in
-        node order (``6 i + c``). Every matrix row must belong to one node's component.
-
-    Raises
-    ------
-    ModalFileError
-        A file is missing, empty, a directory or not Matrix Market; a matrix is complex, a pattern, not square,
-        not symmetric, not finite or not positive semi-definite (a negative diagonal term); the matrices and
-        maps do not fit together (a row that belongs to no node); one file given as both, or a mass matrix without
-        mass in a rigid translation (the files swapped). The message names the file at fault.
-    RunArgumentError
-        ``nodes`` or ``dof_map`` given as an array that is not a table of numbers.
-    """
-    M = _read_mtx(mass, "M", "mass")
-    K = _read_mtx(stiffness, "K", "stiffness")
-    files = (os.fspath(mass), os.fspath(stiffness))
-    if os.path.samefile(*files):
-        raise ModalFileError(f"{files[0]}: given as both the mass and the stiffness file (arguments 'mass' and "
-                             "'stiffness'): M and K are two matrices, from two files")
-    ids, xyz, where = read_nodes(nodes, "nodes")
-    default = dof_map is None
-    dmap = np.arange(6 * xyz.shape[0]).reshape(-1, 6) if default else read_table(dof_map, "dof_map", np.int64)
-    _check_matrices(files, M, K, xyz.shape[0], dmap, nodes_source=where, node_ids=ids, default_map=default)
-    try:
-        return FEModel(M, K, xyz, dmap, ids, info={"source": list(files)})
-    except ValueError as exc:
-        raise ModalFileError(f"{files[1]}: {exc}") from None

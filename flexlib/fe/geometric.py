@@ -33,8 +33,9 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from .arguments import COMPONENTS
 from .beam import section_force_modes
-from .fe_model import COMPONENTS, FEModel, check_fe, check_fields
+from .fe_model import FEModel, check_fe, check_fields
 
 __all__ = [
     "geometric_stiffness_matrix",

@@ -11,7 +11,7 @@ formats are read by the FE community's open-source readers, installed as optiona
 FE codes are unit-agnostic: flexlib takes the matrices and coordinates as SI (kg, m, N, rad), so a model built
 in another consistent unit system (e.g. t, mm, N) must be converted first (scale ``M`` by the mass unit and
 ``K`` and the coordinates by the length unit). DOF components map as ANSYS ``UX UY UZ ROTX ROTY ROTZ`` and Nastran
-components ``1 2 3 4 5 6`` to flexlib's ``ux uy uz rx ry rz`` (:data:`~.fe_model.COMPONENTS`).
+components ``1 2 3 4 5 6`` to flexlib's ``ux uy uz rx ry rz`` (:data:`~.arguments.COMPONENTS`).
 
 References
 ----------
@@ -38,7 +38,10 @@ import scipy.sparse as sp
 
 from flexlib.errors import ModalFileError, RunArgumentError
 
-from .fe_model import COMPONENTS, FEModel, _check_file, _check_matrices, read_nodes, read_table
+from .arguments import COMPONENTS
+from .fe_model import FEModel
+from .matrix_checks import check_matrices
+from .matrix_files import check_file, read_nodes, read_table
 
 __all__ = ["read_ansys_full", "read_nastran_dmig", "read_nastran_op4"]
 
@@ -69,7 +72,7 @@ def _fe_model(source: str, M: sp.spmatrix, K: sp.spmatrix, nodes: np.ndarray, do
         k = int(np.argwhere(~np.isfinite(nodes))[0, 0])
         raise ModalFileError(f"{source}: node {int(node_ids[k])} has a non-finite coordinate {nodes[k].tolist()} "
                              f"[m] ({nodes_source})")
-    _check_matrices(source, M, K, nodes.shape[0], dof_map, names, nodes_source=nodes_source,
+    check_matrices(source, M, K, nodes.shape[0], dof_map, names, nodes_source=nodes_source,
                     node_ids=np.asarray(node_ids), default_map=default_map)
     try:
         return FEModel(M, K, nodes, dof_map, node_ids, info=info)
@@ -289,12 +292,12 @@ def read_nastran_op4(path: str | os.PathLike[str], *, mass: str = "MAA", stiffne
     """
     op4 = _optional("pyNastran.op4.op4", "nastran", "pyNastran", "read_nastran_op4", path)
     _names("read_nastran_op4", ("mass", mass), ("stiffness", stiffness))
-    name = _check_file(path, "a Nastran OUTPUT4 file", "path") if not isinstance(path, str | os.PathLike) \
+    name = check_file(path, "a Nastran OUTPUT4 file", "path") if not isinstance(path, str | os.PathLike) \
         else os.fspath(path)
     if not Path(name).is_file():
         raise ModalFileError(f"{name}: " + ("is a directory, not an OP4 file" if Path(name).is_dir() else
                                             "no such OP4 file"))
-    _check_file(name, "a Nastran OUTPUT4 file", "path")
+    check_file(name, "a Nastran OUTPUT4 file", "path")
     try:
         matrices = op4.OP4(debug=False).read_op4(name, precision="double")
     except Exception as exc:  # pyNastran raises assorted errors on malformed files
@@ -393,7 +396,7 @@ def read_nastran_dmig(bdf_path: str | os.PathLike[str], mass_name: str, stiffnes
     if punch is not None and not isinstance(punch, bool | np.bool_):
         raise RunArgumentError(f"read_nastran_dmig: argument 'punch' must be True (bulk data only), False (a full "
                                f"input deck) or None (decided by a BEGIN BULK line), got {punch!r}")
-    name = _check_file(bdf_path, "a Nastran bulk data file", "bdf_path") if not isinstance(
+    name = check_file(bdf_path, "a Nastran bulk data file", "bdf_path") if not isinstance(
         bdf_path, str | os.PathLike) else os.fspath(bdf_path)
     try:
         text = Path(name).read_text(errors="replace")

@@ -32,7 +32,7 @@ import numpy as np
 
 from flexlib.errors import ModalFileError, RunArgumentError
 
-from .fe_model import UnknownNodeError, _node_id_list
+from .fe_model import UnknownNodeError, node_id_list
 from .invariants import INVARIANT_NAMES, invariant_shapes
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "LOAD_CASE_NAMES", "SI_UNITS", "ModalData", "is_load_case_name"]
@@ -254,7 +254,7 @@ class ModalData:
         where = f"modal data {self.title!r}" if self.title else "modal data (untitled)"
         if isinstance(node_id, str | bytes) or np.ndim(node_id) != 0:
             raise UnknownNodeError(f"{where}: a node id is one whole number, got {node_id!r}")
-        (node,) = _node_id_list(node_id, where)
+        (node,) = node_id_list(node_id, where)
         hits = np.flatnonzero(self.node_ids == node)
         if hits.size != 1:
             raise UnknownNodeError(f"{where}: no node with id {node} (ids {int(self.node_ids.min())}.."

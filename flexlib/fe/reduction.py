@@ -39,14 +39,9 @@ import scipy.sparse.linalg as sla
 from flexlib.core.variables import as_bool
 from flexlib.errors import ModalFileError, RunArgumentError
 
-from .fe_model import (
-    FEModel,
-    UnknownNodeError,
-    check_fields,
-    check_semidefinite_pattern,
-    check_translational_mass,
-)
+from .fe_model import FEModel, UnknownNodeError, check_fields
 from .invariants import inertia_invariants
+from .matrix_checks import check_semidefinite_pattern, check_translational_mass
 
 __all__ = ["CraigBamptonResult", "craig_bampton", "elastic_static_responses", "modal_data_from_fe"]
 
