@@ -19,6 +19,7 @@ from .importers import read_ansys_full, read_nastran_dmig, read_nastran_op4  # o
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .matrix_files import read_fe, read_matrix_market
 from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
+from .modal_from_fe import modal_data_from_fe
 from .output import (
     deformed_positions,
     energies,
@@ -28,7 +29,7 @@ from .output import (
     section_forces,
     von_mises,
 )
-from .reduction import CraigBamptonResult, craig_bampton, elastic_static_responses, modal_data_from_fe
+from .reduction import CraigBamptonResult, craig_bampton, elastic_static_responses
 from .sections import Section, box, circle, i_section, rectangle, tube
 from .selection import (
     ParticipationRow,

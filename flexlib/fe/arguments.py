@@ -4,6 +4,7 @@ naming the function and the argument."""
 
 from __future__ import annotations
 
+import numbers
 import os
 from typing import Any
 
@@ -11,7 +12,7 @@ import numpy as np
 
 from flexlib.errors import RunArgumentError
 
-__all__ = ["COMPONENTS", "array_kind", "component_list", "real_array", "row_ranges", "vector3"]
+__all__ = ["COMPONENTS", "array_kind", "component_list", "is_int", "real_array", "row_ranges", "vector3"]
 
 #: Names of the six components of a node, in ``dof_map`` column order.
 COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
@@ -77,3 +78,8 @@ def row_ranges(rows: np.ndarray, limit: int = 8) -> str:
             runs.append(str(start) if start == prev else f"{start}..{prev}")
         start = prev = r
     return ", ".join(runs[:limit]) + (" ..." if len(runs) > limit else "")
+
+
+def is_int(value: Any) -> bool:
+    """An integer (Python or numpy), not a bool."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool)

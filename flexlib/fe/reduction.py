@@ -1,4 +1,4 @@
-"""Craig–Bampton reduction with the improved (orthonormalised) mode set, and modal data from FE matrices.
+"""Craig–Bampton reduction with the improved (orthonormalised) mode set, and exact elastic static responses.
 
 The DOFs are split into interface (boundary) DOFs ``b`` and interior DOFs ``i``. The Craig–Bampton basis
 
@@ -18,18 +18,16 @@ References
   1313-1319.
 - R. R. Craig, A. J. Kurdila, *Fundamentals of Structural Dynamics*, 2nd ed., Wiley 2006, §14.5-14.6.
 - MSC Software, *Adams/Flex* documentation, "Craig-Bampton orthonormalization" (the modes of the modal
-  neutral file); Z. Zhou et al., MWorks FlexibleBody (seed 000 of issue 10).
+  neutral file); Z. Zhou et al., MWorks FlexibleBody.
 """
 
 from __future__ import annotations
 
-import datetime as _dt
 import math
-import numbers
 import re
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
-from typing import Any, Literal
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.linalg as la
@@ -37,17 +35,18 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
 from flexlib.core.variables import as_bool
-from flexlib.errors import ModalFileError, RunArgumentError
+from flexlib.errors import RunArgumentError
 
-from .fe_model import FEModel, UnknownNodeError, check_fields
-from .invariants import inertia_invariants
-from .matrix_checks import check_semidefinite_pattern, check_translational_mass
+from .arguments import is_int
+from .fe_model import FEModel, check_fields
+from .matrix_checks import check_semidefinite_pattern
 
-__all__ = ["CraigBamptonResult", "craig_bampton", "elastic_static_responses", "modal_data_from_fe"]
+__all__ = ["RIGID_NAMES", "CraigBamptonResult", "ReductionMessages", "craig_bampton", "craig_bampton_named",
+           "elastic_static_responses", "rotations_about"]
 
 _DENSE_LIMIT = 400  # massive interior DOFs up to which the fixed-interface eigenproblem is solved densely
 _MASSLESS = 1e-14  # a diagonal mass term below this fraction of the largest one is no mass (a lumped export's 0)
-_RIGID_NAMES = ("translation along x", "translation along y", "translation along z", "rotation about x",
+RIGID_NAMES = ("translation along x", "translation along y", "translation along z", "rotation about x",
                 "rotation about y", "rotation about z")
 
 
@@ -100,7 +99,7 @@ class CraigBamptonResult:
 
 
 @dataclass(frozen=True)
-class _Names:
+class ReductionMessages:
     """How errors of a reduction name things: the function, the DOF rows, the matrices' source and the class."""
 
     func: str = "craig_bampton"
@@ -108,7 +107,7 @@ class _Names:
     source: Callable[[str], str] = lambda matrix: f"argument {matrix!r}"
     error: type[Exception] = RunArgumentError
     interface: str = "interface_dofs"
-    rigid_names: tuple[str, ...] = _RIGID_NAMES
+    rigid_names: tuple[str, ...] = RIGID_NAMES
     rigid_hint: str = "pass rigid_body_modes=None"
     hold_hint: str = "hold the body (FEModel.constrained) or give rigid_body_modes"
 
@@ -119,12 +118,8 @@ class _Names:
         return self.label(int(np.argmax(np.abs(fieldv))))
 
 
-def _is_int(value: Any) -> bool:
-    return isinstance(value, numbers.Integral) and not isinstance(value, bool)
-
-
 def _fixed_interface_modes(K: sp.csr_matrix, M: sp.csr_matrix, i: np.ndarray, massless: np.ndarray, lu: Any,
-                           n_modes: int, names: _Names) -> tuple[np.ndarray, np.ndarray]:
+                           n_modes: int, names: ReductionMessages) -> tuple[np.ndarray, np.ndarray]:
     """Lowest ``n_modes`` modes of ``K_ii phi = omega^2 M_ii phi`` (interface held), mass-normalised, as fields on the
     interior DOFs ``i``. Interior DOFs without mass are condensed statically (exactly: their rows of the
     eigenproblem have no inertia, ``K_zm phi_m + K_zz phi_z = 0``), leaving ``(K_mm - K_mz K_zz^-1 K_zm) phi_m =
@@ -199,7 +194,7 @@ def _embed(v: np.ndarray, rows: np.ndarray, n: int) -> np.ndarray:
     return out
 
 
-def _unheld(K: sp.csr_matrix, rows: np.ndarray, names: _Names) -> Exception | None:
+def _unheld(K: sp.csr_matrix, rows: np.ndarray, names: ReductionMessages) -> Exception | None:
     """The error for DOFs among ``rows`` without any stiffness (an unconnected DOF: a file problem), or None."""
     diag = np.abs(K.diagonal())[rows]
     scale = float(np.abs(K.diagonal()).max(initial=0.0)) or 1.0
@@ -211,10 +206,10 @@ def _unheld(K: sp.csr_matrix, rows: np.ndarray, names: _Names) -> Exception | No
                                    "DOF — leave it out of the DOF map (-1), or connect it")
 
 
-def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body_modes: Any, orthogonalize: bool,
-                   names: _Names) -> CraigBamptonResult:
+def _checked_matrices(M: Any, K: Any, names: ReductionMessages) -> tuple[sp.csr_matrix, sp.csr_matrix]:
+    """``M`` and ``K`` as CSR matrices of floats: square, of equal size, finite, symmetric, and positive
+    semi-definite as far as :func:`~.matrix_checks.check_semidefinite_pattern` tells."""
     func = names.func
-    as_bool(orthogonalize, f"{func}: argument 'orthogonalize'", RunArgumentError, ints=False)
     mats = []
     for label, A in (("M", M), ("K", K)):
         try:
@@ -243,6 +238,12 @@ def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body
         why = check_semidefinite_pattern(A, label, names.label)
         if why is not None:
             raise names.matrix_error(label, why)
+    return M, K
+
+
+def _interface_rows(interface_dofs: Any, n: int, names: ReductionMessages) -> np.ndarray:
+    """The interface DOF rows: whole numbers in ``0..n-1``, each once."""
+    func = names.func
     try:
         b = np.asarray(interface_dofs).ravel()
         if b.size and not (np.issubdtype(b.dtype, np.integer) or
@@ -259,6 +260,12 @@ def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body
         values, counts = np.unique(b, return_counts=True)
         raise RunArgumentError(f"{func}: {names.interface} give {names.label(int(values[np.argmax(counts > 1)]))} "
                                "more than once")
+    return b
+
+
+def _without_massless(M: sp.csr_matrix, names: ReductionMessages) -> tuple[sp.csr_matrix, np.ndarray]:
+    """``M`` with the rows and columns of its massless DOFs (diagonal below ``_MASSLESS`` of the largest) set to
+    exact zeros, and the mask of those DOFs."""
     diag_m = np.asarray(M.diagonal())
     if not np.any(diag_m > 0):
         raise names.matrix_error("M", "the mass matrix has no mass at all (zero diagonal)")
@@ -267,50 +274,110 @@ def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body
         keep = sp.diags((~massless).astype(float))
         M = (keep @ M @ keep).tocsr()
         M.eliminate_zeros()
+    return M, massless
+
+
+def _rigid_modes(rigid_body_modes: Any, K: sp.csr_matrix, b: np.ndarray, orthogonalize: bool,
+                 names: ReductionMessages) -> np.ndarray:
+    """The rigid-body fields ``(n, r)``: numbers, annihilated by ``K``, each moving some interface DOF."""
+    func, n = names.func, K.shape[0]
+    try:
+        if isinstance(rigid_body_modes, str | bytes) or np.asarray(rigid_body_modes).dtype.kind not in "iuf":
+            raise TypeError
+        R = np.asarray(rigid_body_modes, dtype=float)
+    except (TypeError, ValueError):
+        raise RunArgumentError(f"{func}: rigid_body_modes must be an array ({n}, r) of displacement fields "
+                               f"(numbers; e.g. FEModel.rigid_body_modes()), got {rigid_body_modes!r:.60}"
+                               ) from None
+    if not np.all(np.isfinite(R)):
+        raise RunArgumentError(f"{func}: rigid_body_modes has non-finite values")
+    if R.ndim != 2 or R.shape[0] != n:
+        raise RunArgumentError(f"{func}: rigid_body_modes must have shape ({n}, r), got {R.shape}")
+    KR = K @ R
+    residual = np.abs(KR).max() / max(abs(K).max() * np.abs(R).max(), 1e-300)
+    if residual > 1e-8:
+        row, col = np.unravel_index(int(np.argmax(np.abs(KR))), KR.shape)
+        what = names.rigid_names[col] if col < len(names.rigid_names) else f"rigid mode {col}"
+        raise names.matrix_error("K", f"K does not annihilate the rigid-body modes: the {what} leaves a "
+                                      f"relative residual {residual:.2e}, largest at {names.label(int(row))}; "
+                                      "either the FE model "
+                                      f"is held there (constrained), then {names.rigid_hint}, or K is damaged "
+                                      "at that DOF")
+    if np.linalg.matrix_rank(R[b], tol=1e-9 * max(np.abs(R).max(), 1.0)) < R.shape[1]:
+        loose = la.null_space(R[b]) if b.size else np.eye(R.shape[1])
+        coeff = np.abs(loose[:, 0])
+        k = int(np.argmax(coeff))
+        what = names.rigid_names[k] if k < len(names.rigid_names) else "a rigid motion"
+        raise RunArgumentError(f"{func}: the interface DOFs do not restrain all rigid-body motions of the free "
+                               f"body ({names.interface}: {b.size} DOFs; the {what} moves none of them), so K_ii "
+                               "is singular: the "
+                               "constraint modes need interface DOFs that fix the body — one node with its six "
+                               "DOFs, or three nodes not on a line; add interface nodes")
+    if not orthogonalize:
+        raise RunArgumentError(f"{func}: rigid_body_modes are removed only with orthogonalize=True")
+    return R
+
+
+def _check_fixed_interface_stiffness(w: np.ndarray, Phi: np.ndarray, Kii: sp.csc_matrix, M: sp.csr_matrix,
+                                     i: np.ndarray, names: ReductionMessages) -> None:
+    """Every fixed-interface mode has positive stiffness: a negative one is a damaged ``K``, a zero one an
+    interface that does not restrain the body."""
+    if not np.any(w <= 0):
+        return
+    k = int(np.argmax(w <= 0))
+    fieldv = _embed(Phi[:, k], i, M.shape[0])
+    scale = float(np.abs(Kii.diagonal()).max()) / float(max(np.asarray(M.diagonal())[i].max(initial=0.0), 1e-300))
+    if w[k] < -1e-9 * scale:
+        raise names.matrix_error("K", f"K is not positive semi-definite: a fixed-interface mode has negative "
+                                      f"stiffness (omega^2 = {w[k]:.3g} rad2/s2), largest at "
+                                      f"{names.largest(fieldv)} — a negative or mis-signed stiffness term there")
+    raise RunArgumentError(f"{names.func}: K_ii is not positive definite: a fixed-interface mode has zero stiffness "
+                           f"(omega^2 = {w[k]:.3g}), moving most at {names.largest(fieldv)}: the "
+                           f"{names.interface} do not restrain the body (a mechanism); add interface DOFs, or "
+                           f"{names.hold_hint}")
+
+
+def _orthonormalised(Mr: np.ndarray, Kr: np.ndarray, T: np.ndarray, M: sp.csr_matrix, R: np.ndarray | None,
+                     names: ReductionMessages) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, int]:
+    """The improved Craig–Bampton modes of the reduced ``(Mr, Kr)`` on basis ``T``: massless directions condensed,
+    rigid fields ``R`` projected out, the reduced eigenproblem solved. Returns the modes, their generalised mass
+    and stiffness, and the numbers of rigid modes removed and massless directions condensed."""
+    P, n_condensed = _massive_subspace(Mr, Kr, T, R, names)
+    T2, Mr2, Kr2 = T @ P, P.T @ Mr @ P, P.T @ Kr @ P
+    Mr2, Kr2 = (Mr2 + Mr2.T) / 2, (Kr2 + Kr2.T) / 2
+    Q = np.eye(T2.shape[1])
+    n_rigid = 0
+    if R is not None:
+        X = np.linalg.solve(Mr2, T2.T @ (M @ R))  # rigid fields in the reduced coordinates
+        Q = la.null_space(X.T @ Mr2)  # the mass-orthogonal complement: deformation only
+        n_rigid = T2.shape[1] - Q.shape[1]
+    try:
+        _, Y = la.eigh(Q.T @ Kr2 @ Q, Q.T @ Mr2 @ Q)
+    except la.LinAlgError as exc:
+        raise names.matrix_error("M", f"the reduced mass matrix is not positive definite ({exc})") from None
+    X = Q @ Y
+    Mg, Kg = X.T @ Mr2 @ X, X.T @ Kr2 @ X
+    return T2 @ X, (Mg + Mg.T) / 2, (Kg + Kg.T) / 2, n_rigid, n_condensed
+
+
+def craig_bampton_named(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body_modes: Any,
+                        orthogonalize: bool, names: ReductionMessages) -> CraigBamptonResult:
+    """:func:`craig_bampton`, its errors naming things as ``names`` says (the function, DOFs, file, class)."""
+    func = names.func
+    as_bool(orthogonalize, f"{func}: argument 'orthogonalize'", RunArgumentError, ints=False)
+    M, K = _checked_matrices(M, K, names)
+    n = K.shape[0]
+    b = _interface_rows(interface_dofs, n, names)
+    M, massless = _without_massless(M, names)
     i = np.setdiff1d(np.arange(n), b)
     n_massive = int(np.count_nonzero(~massless[i]))
-    if not _is_int(n_modes) or not 0 <= n_modes <= n_massive:
+    if not is_int(n_modes) or not 0 <= n_modes <= n_massive:
         extra = f" (of the {i.size} interior DOFs, {i.size - n_massive} have no mass and no modes)" \
             if n_massive < i.size else " (interior DOFs)"
         raise RunArgumentError(f"{func}: n_modes must be an integer in 0..{n_massive}{extra}, got "
                                f"{n_modes!r}")
     n_modes = int(n_modes)
-    R = None
-    if rigid_body_modes is not None:
-        try:
-            if isinstance(rigid_body_modes, str | bytes) or np.asarray(rigid_body_modes).dtype.kind not in "iuf":
-                raise TypeError
-            R = np.asarray(rigid_body_modes, dtype=float)
-        except (TypeError, ValueError):
-            raise RunArgumentError(f"{func}: rigid_body_modes must be an array ({n}, r) of displacement fields "
-                                   f"(numbers; e.g. FEModel.rigid_body_modes()), got {rigid_body_modes!r:.60}"
-                                   ) from None
-        if not np.all(np.isfinite(R)):
-            raise RunArgumentError(f"{func}: rigid_body_modes has non-finite values")
-        if R.ndim != 2 or R.shape[0] != n:
-            raise RunArgumentError(f"{func}: rigid_body_modes must have shape ({n}, r), got {R.shape}")
-        KR = K @ R
-        residual = np.abs(KR).max() / max(abs(K).max() * np.abs(R).max(), 1e-300)
-        if residual > 1e-8:
-            row, col = np.unravel_index(int(np.argmax(np.abs(KR))), KR.shape)
-            what = names.rigid_names[col] if col < len(names.rigid_names) else f"rigid mode {col}"
-            raise names.matrix_error("K", f"K does not annihilate the rigid-body modes: the {what} leaves a "
-                                          f"relative residual {residual:.2e}, largest at {names.label(int(row))}; "
-                                          "either the FE model "
-                                          f"is held there (constrained), then {names.rigid_hint}, or K is damaged "
-                                          "at that DOF")
-        if np.linalg.matrix_rank(R[b], tol=1e-9 * max(np.abs(R).max(), 1.0)) < R.shape[1]:
-            loose = la.null_space(R[b]) if b.size else np.eye(R.shape[1])
-            coeff = np.abs(loose[:, 0])
-            k = int(np.argmax(coeff))
-            what = names.rigid_names[k] if k < len(names.rigid_names) else "a rigid motion"
-            raise RunArgumentError(f"{func}: the interface DOFs do not restrain all rigid-body motions of the free "
-                                   f"body ({names.interface}: {b.size} DOFs; the {what} moves none of them), so K_ii "
-                                   "is singular: the "
-                                   "constraint modes need interface DOFs that fix the body — one node with its six "
-                                   "DOFs, or three nodes not on a line; add interface nodes")
-        if not orthogonalize:
-            raise RunArgumentError(f"{func}: rigid_body_modes are removed only with orthogonalize=True")
+    R = None if rigid_body_modes is None else _rigid_modes(rigid_body_modes, K, b, orthogonalize, names)
     Kii = K[i][:, i].tocsc()
     try:
         lu = sla.splu(Kii) if i.size else None
@@ -321,18 +388,7 @@ def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body
             f"{names.hold_hint}") from None
     Psi = -lu.solve(K[i][:, b].toarray()) if b.size and i.size else np.zeros((i.size, b.size))
     w, Phi = _fixed_interface_modes(K, M, i, massless, lu, n_modes, names)
-    if np.any(w <= 0):
-        k = int(np.argmax(w <= 0))
-        fieldv = _embed(Phi[:, k], i, n)
-        scale = float(np.abs(Kii.diagonal()).max()) / float(max(np.asarray(M.diagonal())[i].max(initial=0.0), 1e-300))
-        if w[k] < -1e-9 * scale:
-            raise names.matrix_error("K", f"K is not positive semi-definite: a fixed-interface mode has negative "
-                                          f"stiffness (omega^2 = {w[k]:.3g} rad2/s2), largest at "
-                                          f"{names.largest(fieldv)} — a negative or mis-signed stiffness term there")
-        raise RunArgumentError(f"{func}: K_ii is not positive definite: a fixed-interface mode has zero stiffness "
-                               f"(omega^2 = {w[k]:.3g}), moving most at {names.largest(fieldv)}: the "
-                               f"{names.interface} do not restrain the body (a mechanism); add interface DOFs, or "
-                               f"{names.hold_hint}")
+    _check_fixed_interface_stiffness(w, Phi, Kii, M, i, names)
     T = np.zeros((n, b.size + Phi.shape[1]))
     T[b, np.arange(b.size)] = 1.0
     T[np.ix_(i, np.arange(b.size))] = Psi
@@ -340,27 +396,10 @@ def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body
     Mr = T.T @ (M @ T)
     Kr = T.T @ (K @ T)
     Mr, Kr = (Mr + Mr.T) / 2, (Kr + Kr.T) / 2
-    n_rigid = 0
-    n_condensed = 0
     if orthogonalize:
-        P, n_condensed = _massive_subspace(Mr, Kr, T, R, names)
-        T2, Mr2, Kr2 = T @ P, P.T @ Mr @ P, P.T @ Kr @ P
-        Mr2, Kr2 = (Mr2 + Mr2.T) / 2, (Kr2 + Kr2.T) / 2
-        Q = np.eye(T2.shape[1])
-        if R is not None:
-            X = np.linalg.solve(Mr2, T2.T @ (M @ R))  # rigid fields in the reduced coordinates
-            Q = la.null_space(X.T @ Mr2)  # the mass-orthogonal complement: deformation only
-            n_rigid = T2.shape[1] - Q.shape[1]
-        try:
-            _, Y = la.eigh(Q.T @ Kr2 @ Q, Q.T @ Mr2 @ Q)
-        except la.LinAlgError as exc:
-            raise names.matrix_error("M", f"the reduced mass matrix is not positive definite ({exc})") from None
-        X = Q @ Y
-        modes = T2 @ X
-        Mg, Kg = X.T @ Mr2 @ X, X.T @ Kr2 @ X
-        Mg, Kg = (Mg + Mg.T) / 2, (Kg + Kg.T) / 2
+        modes, Mg, Kg, n_rigid, n_condensed = _orthonormalised(Mr, Kr, T, M, R, names)
     else:
-        modes, Mg, Kg = T, Mr, Kr
+        modes, Mg, Kg, n_rigid, n_condensed = T, Mr, Kr, 0, 0
     d = np.diag(Mg)
     omega = np.sqrt(np.maximum(np.diag(Kg), 0.0) / np.where(d > 0, d, np.inf))
     return CraigBamptonResult(modes, Mg, Kg, omega, T, np.sqrt(w), b, n_rigid, np.flatnonzero(massless),
@@ -368,7 +407,7 @@ def _craig_bampton(M: Any, K: Any, interface_dofs: Any, n_modes: Any, rigid_body
 
 
 def _massive_subspace(Mr: np.ndarray, Kr: np.ndarray, T: np.ndarray, R: np.ndarray | None,
-                      names: _Names) -> tuple[np.ndarray, int]:
+                      names: ReductionMessages) -> tuple[np.ndarray, int]:
     """A basis ``P`` of the reduced coordinates without the massless directions, condensed statically (Guyan on
     the reduced matrices: a direction ``z`` without mass follows the others through ``Z^T Kr (P q) = 0``, which
     is exact for it), and how many were condensed; ``P = I`` if ``Mr`` is positive definite."""
@@ -441,239 +480,7 @@ def craig_bampton(M: sp.spmatrix | np.ndarray, K: sp.spmatrix | np.ndarray, inte
         a matrix that is not finite, symmetric or positive semi-definite (a negative diagonal term, an
         off-diagonal term above its diagonal terms, a negative-stiffness or negative-mass mode), naming the DOF.
     """
-    return _craig_bampton(M, K, interface_dofs, n_modes, rigid_body_modes, orthogonalize, _Names())
-
-
-def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int, *, free: bool = True,
-                       orthogonalize: bool = True, title: str = "", creator: str = "flexlib",
-                       damping_ratio: np.ndarray | None = None,
-                       stress_fibre: tuple[float, float] | None = None,
-                       geometric_stiffening: bool = False, support_nodes: Sequence[int] | None = None,
-                       reference_node: int | None = None,
-                       attachment: Literal["clamped", "pinned"] = "clamped", static_loads: bool = True) -> Any:
-    """Reduce an FE model by Craig–Bampton and assemble a :class:`ModalData` (modes per node, generalised
-    matrices, frequencies, the nine inertia invariants, body properties and provenance).
-
-    Parameters
-    ----------
-    fe : FEModel
-        FE matrices with node coordinates [m] and DOF map.
-    interface_nodes : sequence of int
-        Node ids whose six (or fewer) DOFs are the interface (the flexible body's frames).
-    n_modes : int
-        Number of fixed-interface normal modes.
-    free : bool
-        The body is unconstrained (floating frame): its six rigid-body modes are removed.
-    orthogonalize : bool
-        Improved Craig–Bampton (orthonormal modes) rather than the raw basis.
-    title, creator : str
-        Header text of the modal file.
-    damping_ratio : ndarray, optional
-        Modal damping ratios [1] per mode of the result, each a fraction of critical damping in ``[0, 1]``;
-        default: the frequency rule of
-        :func:`~flexlib.fe.selection.default_damping_ratio` when used.
-    stress_fibre : (float, float), optional
-        Beam models: section fibre ``(y, z)`` [m] at which stress modes are recovered
-        (:func:`~flexlib.fe.beam.beam_stress_modes`); beam models always get their
-        section-force modes.
-    geometric_stiffening : bool
-        Beam models: add the modal geometric stiffness of the inertial and interface unit load cases
-        (:func:`~flexlib.fe.geometric.modal_geometric_stiffness`).
-    support_nodes : sequence of int, optional
-        With ``geometric_stiffening``: nodes held for its static load cases; default the first interface node (the
-        reference node if given).
-    reference_node : int, optional
-        Attach the body's reference frame to this node (attached modes). The node becomes the first interface
-        node and ``free`` does not apply; the other interface nodes give the constraint (static) modes, as in
-        Craig–Bampton. Default: a floating reference frame (``free``).
-    attachment : {"clamped", "pinned"}
-        With ``reference_node``: ``"clamped"`` — the reduction runs on the model clamped there, every mode has
-        zero translation and rotation at the node, and the reference frame *is* the node's frame (the "tangent
-        frame" of seed 001); ``"pinned"`` — only the node's translations are held, the three rigid rotations
-        about it are removed (the modes are mass-orthogonal to them: the reference frame turns with the body's
-        mean rotation about the node, its mean axes), and the node turns elastically. For a body on a hinge,
-        pinned modes are the hinged body's own modes: the modal equations decouple from the rotation, fewer
-        modes converge, and the reference frame's angular velocity is the body's gross rotation (what the
-        centrifugal geometric stiffening needs).
-    static_loads : bool
-        Store the body's exact elastic static response to the unit load cases (inertial: ``acc_*``,
-        ``alpha_*``, ``omega_**``; interface: ``F{node}_{ux..rz}``) with their modal loads, so that outputs can be
-        recovered by the mode-acceleration method (:meth:`ModalData.residual_fields`).
-
-    Returns
-    -------
-    ModalData
-        Body properties from the mass description: mass = I1 [kg], centre of mass = I2 / I1 [m], inertia about
-        the body-frame origin = I7 [kg m2].
-
-    Raises
-    ------
-    RunArgumentError
-        An argument that is not what is accepted, named: ``fe`` not an FEModel; a flag not a bool; ``title`` or
-        ``creator`` not a string; node ids that are not whole numbers or not in the model (``reference_node`` one
-        id); ``n_modes`` not a whole number in range; ``attachment`` not one of its choices, or ``"pinned"``
-        without ``reference_node``; ``support_nodes`` without ``geometric_stiffening``; ``stress_fibre`` not two
-        numbers; ``damping_ratio`` not one ratio in ``[0, 1]`` per mode; an FE model that cannot be reduced as
-        asked (its mass matrix without mass in a rigid translation, an interface that does not hold it, ...).
-        For a model read from a file its faults are a :class:`~flexlib.errors.ModalFileError` naming the file.
-    """
-    from .beam import beam_stress_modes, section_force_modes
-    from .modal_data import ModalData
-
-    func = "modal_data_from_fe"
-    if not isinstance(fe, FEModel):
-        raise RunArgumentError(f"{func}: argument 'fe' must be an FEModel (from beam_mesh, read_fe, "
-                               f"read_matrix_market or an importer), got {type(fe).__name__} {fe!r:.80}")
-    flags = (("free", free), ("orthogonalize", orthogonalize), ("geometric_stiffening", geometric_stiffening),
-             ("static_loads", static_loads))
-    for flag, value in flags:
-        as_bool(value, f"{func}: argument {flag!r}", RunArgumentError, ints=False)
-    for arg, text in (("title", title), ("creator", creator)):
-        if not isinstance(text, str):
-            raise RunArgumentError(f"{func}: argument {arg!r} must be a string (header text of the modal file), got "
-                                   f"{type(text).__name__} {text!r}")
-    if (stress_fibre is not None or geometric_stiffening) and fe.beam is None:
-        raise RunArgumentError(f"{func}: stress_fibre and geometric_stiffening need a beam model (beam_mesh)")
-    if stress_fibre is not None:
-        items = [stress_fibre] if isinstance(stress_fibre, str | bytes) or np.ndim(stress_fibre) == 0 else \
-            np.asarray(stress_fibre, dtype=object).ravel().tolist()
-        numeric = all(isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_) for v in items)
-        fibre = np.asarray(items, dtype=float) if numeric else np.zeros(0)
-        if np.shape(stress_fibre) != (2,) or fibre.shape != (2,) or not np.all(np.isfinite(fibre)):
-            raise RunArgumentError(f"{func}: argument 'stress_fibre' must be two finite numbers (y, z) [m], got "
-                                   f"{stress_fibre!r}")
-    interface_nodes = _node_ids(fe, interface_nodes, "interface_nodes")
-    if not _is_int(n_modes) or n_modes < 0:
-        raise RunArgumentError(f"{func}: n_modes must be a whole number >= 0, got {n_modes!r}")
-    if attachment not in ("clamped", "pinned"):
-        raise RunArgumentError(f"{func}: attachment must be 'clamped' or 'pinned', got {attachment!r}")
-    if attachment == "pinned" and reference_node is None:
-        raise RunArgumentError(f"{func}: attachment='pinned' says how the reference frame is attached at "
-                               "reference_node, which is not given: pass reference_node=<the pin node> (a floating "
-                               "body, free=True, has no attachment)")
-    if support_nodes is not None:
-        if not geometric_stiffening:
-            raise RunArgumentError(f"{func}: support_nodes={support_nodes!r} hold the body for the geometric "
-                                   "stiffness load cases, which are computed only with geometric_stiffening=True")
-        support_nodes = _node_ids(fe, support_nodes, "support_nodes")
-    why = check_translational_mass(fe.M, fe.dof_map)
-    if why is not None:
-        raise (ModalFileError if fe.from_file else RunArgumentError)(f"{func}: {fe.source_label('M')}: {why}")
-    given = fe
-    rigid = fe.rigid_body_modes() if free else None
-    rigid_names = _RIGID_NAMES
-    rigid_hint = "pass free=False"
-    if reference_node is not None:
-        reference_node = _node_ids(fe, [reference_node], "reference_node", scalar=True)[0]
-        centre = fe.nodes[fe.node_index([reference_node])[0]]
-        if fe.mass_points is None:  # lumped from the whole M: the held node's mass stays in the invariants
-            fe = replace(fe, mass_points=fe.lumped_mass_points())
-        if attachment == "clamped":
-            fe = fe.constrained([reference_node])
-            rigid = None
-        else:
-            fe = fe.constrained([reference_node], ("ux", "uy", "uz"))
-            rigid = _rotations_about(fe, centre)
-            rigid_names = tuple(f"rotation about {a} through node {reference_node}" for a in "xyz")
-            rigid_hint = "use attachment='clamped'"
-        interface_nodes = [reference_node] + [k for k in interface_nodes if k != reference_node]
-        free = False
-    elif free and not interface_nodes:
-        raise RunArgumentError(f"{func}: interface_nodes is empty, but a free body (free=True) needs interface nodes "
-                               "that fix its rigid-body motion for the Craig–Bampton constraint modes (one node with "
-                               "its six DOFs, or three nodes not on a line); give interface_nodes, or attach the body "
-                               "with reference_node=")
-    # messages name the node, component and the row of the model as given (before any attachment constraint)
-    has = fe.dof_map >= 0
-    given_row = np.full(fe.n_dofs, -1, dtype=np.int64)
-    given_row[fe.dof_map[has]] = given.dof_map[has]
-    names = _Names(func=func, label=lambda row: given.dof_label(int(given_row[int(row)])),
-                   source=lambda m: fe.source_label(m), error=ModalFileError if fe.from_file else RunArgumentError,
-                   interface="interface_nodes" + (f" (with reference_node {reference_node})"
-                                                  if reference_node is not None else ""),
-                   rigid_names=rigid_names, rigid_hint=rigid_hint,
-                   hold_hint="pass free=True for a floating body, or reference_node=" if not free and
-                   reference_node is None else "hold the body (reference_node=)")
-    dofs = fe.dofs(interface_nodes)
-    cb = _craig_bampton(fe.M, fe.K, dofs, n_modes, rigid, orthogonalize, names)
-    if not orthogonalize:
-        e, U = la.eigh(cb.generalized_mass)
-        if e.size and e.min() <= 1e-12 * max(float(e.max()), 1e-300):
-            raise RunArgumentError(f"{func}: orthogonalize=False keeps the raw Craig–Bampton basis, and a combination "
-                                   f"of its modes carries no mass (moving most at {names.largest(cb.modes @ U[:, 0])}: "
-                                   "interface DOFs without mass whose constraint modes move no mass, e.g. rotations of "
-                                   "a lumped mass without rotary inertia); pass orthogonalize=True, which condenses "
-                                   "them statically")
-    if rigid is None and orthogonalize and cb.omega.size:
-        top = float(np.max(cb.omega)) ** 2
-        zero = np.flatnonzero(cb.omega**2 <= 1e-10 * top)
-        if zero.size:
-            raise RunArgumentError(f"{func}: {zero.size} mode(s) have zero frequency (omega^2 <= 1e-10 x the "
-                                   f"largest), moving most at {names.largest(cb.modes[:, zero[0]])}: the FE model is "
-                                   "not held, but " + ("free=False: pass free=True (floating frame) or "
-                                                       "reference_node=" if reference_node is None else
-                                                       f"attached at node {reference_node} it still has a "
-                                                       "mechanism"))
-    if damping_ratio is not None:
-        damping_ratio = _damping_argument(damping_ratio, cb.omega.size)
-    points = fe.mass_points if fe.mass_points is not None else fe.lumped_mass_points()
-    inv = inertia_invariants(points, cb.modes)
-    geometric = None
-    if geometric_stiffening:
-        from .geometric import inertial_load_cases, interface_load_cases, modal_geometric_stiffness
-
-        support = list(interface_nodes[:1] if support_nodes is None else support_nodes)
-        if not support:
-            raise RunArgumentError(f"{func}: geometric_stiffening needs a support node (no interface nodes and no "
-                                   "support_nodes)")
-        cases = inertial_load_cases(fe) | interface_load_cases(fe, [k for k in interface_nodes if k not in support])
-        geometric = modal_geometric_stiffness(fe, cb.modes, support, cases)
-    trans, rot = fe.nodal_fields(cb.modes)
-    static: dict[str, Any] = {}
-    if static_loads:
-        from .geometric import inertial_load_cases, interface_load_cases
-
-        cases = inertial_load_cases(fe) | interface_load_cases(fe, interface_nodes)
-        names = list(cases)
-        loads = np.column_stack([cases[k] for k in names])
-        try:
-            u = elastic_static_responses(fe, loads, rigid)
-        except RunArgumentError as exc:
-            raise RunArgumentError(f"{func}: {exc}; free={free}" + (": pass free=True (floating frame) or "
-                                                                   "reference_node=" if not free else "")) from None
-        s_trans, s_rot = fe.nodal_fields(u)
-        static = {"load_cases": tuple(names), "static_translations": s_trans, "static_rotations": s_rot,
-                  "static_modal_loads": loads.T @ cb.modes,
-                  "static_section_forces": None if fe.beam is None else section_force_modes(fe, u),
-                  "static_stress": None if stress_fibre is None else beam_stress_modes(fe, u, stress_fibre)}
-    provenance = {
-        "method": "improved Craig-Bampton (orthonormalised)" if orthogonalize else "Craig-Bampton",
-        "interface_nodes": interface_nodes,
-        "n_interface_dofs": int(dofs.size),
-        "n_fixed_interface_modes": int(n_modes),
-        "fixed_interface_frequencies_Hz": [float(x) for x in cb.fixed_interface_omega / (2 * math.pi)],
-        "n_rigid_modes_removed": int(cb.n_rigid_removed),
-        "n_massless_dofs_condensed": int(cb.massless_dofs.size),
-        "n_massless_reduced_directions_condensed": int(cb.n_massless_condensed),
-        "reference_node": reference_node,
-        "attachment": None if reference_node is None else attachment,
-        "n_fe_dofs": int(fe.n_dofs),
-        "mass_description": points.description,
-        "fe": fe.info,
-        "stress_fibre_m": None if stress_fibre is None else [float(v) for v in stress_fibre],
-        "geometric_stiffness_support_nodes": None if geometric is None else [int(k) for k in support],
-        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-    }
-    return ModalData(
-        title=title, creator=creator, mass=float(inv["I1"]), center_of_mass=inv["I2"] / inv["I1"],
-        inertia=inv["I7"], node_ids=fe.node_ids, coordinates=fe.nodes, elements=fe.elements,
-        interface_nodes=np.asarray(interface_nodes, dtype=np.int64), translational_modes=trans,
-        rotational_modes=rot, generalized_mass=cb.generalized_mass, generalized_stiffness=cb.generalized_stiffness,
-        frequencies=cb.frequencies, invariants=inv, mass_description=points.description.split(" ")[0],
-        damping_ratio=damping_ratio, provenance=provenance,
-        section_forces=None if fe.beam is None else section_force_modes(fe, cb.modes),
-        stress_modes=None if stress_fibre is None else beam_stress_modes(fe, cb.modes, stress_fibre),
-        geometric_stiffness=geometric, **static)
+    return craig_bampton_named(M, K, interface_dofs, n_modes, rigid_body_modes, orthogonalize, ReductionMessages())
 
 
 def elastic_static_responses(fe: FEModel, loads: np.ndarray, rigid: np.ndarray | None = None) -> np.ndarray:
@@ -722,60 +529,7 @@ def elastic_static_responses(fe: FEModel, loads: np.ndarray, rigid: np.ndarray |
     return u
 
 
-def _damping_argument(value: Any, m: int) -> np.ndarray:
-    """``damping_ratio`` of :func:`modal_data_from_fe`: one ratio in [0, 1] (a number, not text or a bool) per mode."""
-    func = "modal_data_from_fe"
-    accepted = (f"one modal damping ratio per mode ({m} modes), each a fraction of critical damping in [0, 1] "
-                "(0.02 for 2 %)")
-    if isinstance(value, str | bytes) or np.ndim(value) == 0:
-        hint = (f"; for the same ratio on every mode pass np.full({m}, {value!r}), or leave the file's ratios to "
-                f"the default rule and give FlexibleBody(..., damping={value!r})") if isinstance(
-            value, numbers.Real) and not isinstance(value, bool | np.bool_) else ""
-        raise RunArgumentError(f"{func}: argument 'damping_ratio' must be {accepted}, got {value!r}{hint}")
-    items = np.asarray(value, dtype=object).ravel().tolist()
-    for k, v in enumerate(items):
-        if not isinstance(v, numbers.Real) or isinstance(v, bool | np.bool_) or not 0.0 <= float(v) <= 1.0:
-            pct = isinstance(v, numbers.Real) and not isinstance(v, bool | np.bool_) and 1.0 < float(v) <= 100.0
-            raise RunArgumentError(f"{func}: argument 'damping_ratio'[{k}] is {v!r}: damping_ratio must be "
-                                   f"{accepted}" + (f" (a percentage? {float(v):g} % is {float(v) / 100:g})"
-                                                    if pct else ""))
-    if np.ndim(value) != 1 or len(items) != m:
-        raise RunArgumentError(f"{func}: argument 'damping_ratio' has shape {np.shape(value)}, but the reduction "
-                               f"gives {m} modes: give {accepted}")
-    return np.asarray(items, dtype=float)
-
-
-def _node_ids(fe: FEModel, value: Any, argument: str, scalar: bool = False) -> list[int]:
-    """Node ids given as an argument: whole numbers (not bools or strings), distinct, all in the FE model."""
-    func = "modal_data_from_fe"
-    if scalar and len(value) == 1 and (isinstance(value[0], Sequence | np.ndarray | range) and
-                                       not isinstance(value[0], str | bytes)):
-        raise RunArgumentError(f"{func}: argument {argument!r} must be one node id (an int), got {value[0]!r}")
-    if isinstance(value, str | bytes) or (not scalar and _is_int(value)) or \
-            (not scalar and not isinstance(value, Sequence | np.ndarray | range)):
-        raise RunArgumentError(f"{func}: argument {argument!r} must be a list of node ids, got {value!r}"
-                               + (f" (for one node: [{value}])" if _is_int(value) else ""))
-    ids = []
-    for v in np.asarray(value, dtype=object).ravel():
-        if _is_int(v) or (isinstance(v, float | np.floating) and float(v).is_integer()):
-            ids.append(int(v))
-        else:
-            raise RunArgumentError(f"{func}: argument {argument!r}: node id {v!r} is not a whole number")
-    seen = set()
-    for k in ids:
-        if k in seen:
-            raise RunArgumentError(f"{func}: argument {argument!r} gives node {k} more than once ({ids})")
-        seen.add(k)
-    known = set(int(k) for k in fe.node_ids)
-    missing = [k for k in ids if k not in known]
-    if missing:
-        raise UnknownNodeError(f"{func}: argument {argument!r}: node {missing[0]} is not in the FE model ("
-                               f"{fe.node_ids.size} nodes, ids {int(fe.node_ids.min())}..{int(fe.node_ids.max())}, "
-                               f"{fe.source_label()})")
-    return ids
-
-
-def _rotations_about(fe: FEModel, centre: np.ndarray) -> np.ndarray:
+def rotations_about(fe: FEModel, centre: np.ndarray) -> np.ndarray:
     """The three rigid rotation fields ``(n, 3)`` about ``centre`` [m] (unit small rotations about x, y, z)."""
     R = np.zeros((fe.n_dofs, 3))
     arm = fe.nodes - centre
