@@ -18,8 +18,9 @@ from .geometric import (
 from .importers import read_ansys_full, read_nastran_dmig, read_nastran_op4  # optional extras: ansys, nastran
 from .invariants import INVARIANT_NAMES, inertia_invariants
 from .matrix_files import read_fe, read_matrix_market
-from .modal_data import FORMAT_VERSION, SI_UNITS, ModalData
+from .modal_data import ModalData
 from .modal_from_fe import modal_data_from_fe
+from .modal_schema import FORMAT_VERSION, SI_UNITS
 from .output import (
     deformed_positions,
     energies,

@@ -66,7 +66,8 @@ import numpy as np
 from flexlib import Component, Parameter, Variable, der, eq
 from flexlib.errors import EmptyResultError, ModalFileError, ModelError, ParameterError, RunArgumentError
 from flexlib.fe.geometric import inertial_load_amplitudes
-from flexlib.fe.modal_data import LOAD_CASE_NAMES, ModalData
+from flexlib.fe.modal_data import ModalData
+from flexlib.fe.modal_schema import LOAD_CASE_NAMES
 from flexlib.fe.selection import default_damping_ratio, select_modes
 
 from ..multibody.frames import equality_constraint, skew
