@@ -371,7 +371,8 @@ class ModalData:
             a wrong dtype (e.g. a string where a number belongs), shape, non-finite value, non-symmetric or
             indefinite mass/stiffness, units other than SI, invariants that contradict the body properties,
             damping ratios outside [0, 1], load-case names a flexible body does not know
-            (:data:`~.modal_schema.LOAD_CASE_NAMES`), a directory or a path that is not a str/PathLike. The message names the file and the dataset.
+            (:data:`~.modal_schema.LOAD_CASE_NAMES`), a directory or a path that is not a str/PathLike. The
+            message names the file and the dataset.
         """
         if not isinstance(path, str | os.PathLike):
             raise ModalFileError(f"ModalData.read: path must be the path of a modal file (str or Path), got "
