@@ -6,7 +6,7 @@ stiffening data, and deformation/stress output and drawing. The component that u
 
 from .arguments import COMPONENTS
 from .beam import beam_mesh, beam_stress_modes, element_matrices, section_force_modes
-from .drawing import animate, plot_frame, write_model_vtk, write_vtk_series
+from .drawing import animate, plot_frame
 from .fe_model import BeamElements, FEModel, MassPoints
 from .geometric import (
     geometric_stiffness_matrix,
@@ -42,6 +42,7 @@ from .selection import (
     participation_from_load_cases,
     select_modes,
 )
+from .vtk_series import write_model_vtk, write_vtk_series
 
 __all__ = [
     "COMPONENTS",
