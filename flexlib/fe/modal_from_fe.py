@@ -1,7 +1,17 @@
 """Modal data from an FE model: :func:`modal_data_from_fe` reduces it by Craig–Bampton (:mod:`.reduction`) for a
 floating body or one attached at a node, and assembles the :class:`~.modal_data.ModalData` — modes per node,
 generalised matrices, frequencies, the inertia invariants, section forces and stresses of beam models, geometric
-stiffness and static load responses on request, and the provenance of the reduction (SI units)."""
+stiffness and static load responses on request, and the provenance of the reduction (SI units).
+
+A body attached at ``reference_node`` is reduced in one of two ways. ``attachment="clamped"``: the reduction runs
+on the model clamped there, every mode has zero translation and rotation at the node, and the reference frame
+*is* the node's frame (the "tangent frame"). ``attachment="pinned"``: only the node's translations are held, the
+three rigid rotations about it are removed (the modes are mass-orthogonal to them: the reference frame turns with
+the body's mean rotation about the node, its mean axes), and the node turns elastically. For a body on a hinge,
+pinned modes are the hinged body's own modes: the modal equations decouple from the rotation, fewer modes
+converge, and the reference frame's angular velocity is the body's gross rotation (what the centrifugal
+geometric stiffening needs).
+"""
 
 from __future__ import annotations
 
@@ -80,14 +90,9 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         node and ``free`` does not apply; the other interface nodes give the constraint (static) modes, as in
         Craig–Bampton. Default: a floating reference frame (``free``).
     attachment : {"clamped", "pinned"}
-        With ``reference_node``: ``"clamped"`` — the reduction runs on the model clamped there, every mode has
-        zero translation and rotation at the node, and the reference frame *is* the node's frame (the "tangent
-        frame"); ``"pinned"`` — only the node's translations are held, the three rigid rotations
-        about it are removed (the modes are mass-orthogonal to them: the reference frame turns with the body's
-        mean rotation about the node, its mean axes), and the node turns elastically. For a body on a hinge,
-        pinned modes are the hinged body's own modes: the modal equations decouple from the rotation, fewer
-        modes converge, and the reference frame's angular velocity is the body's gross rotation (what the
-        centrifugal geometric stiffening needs).
+        With ``reference_node``: the node clamped (the reference frame is the node's frame) or pinned (its
+        translations held, the rigid rotations about it removed: the frame follows the body's mean axes); see
+        the module docstring.
     static_loads : bool
         Store the body's exact elastic static response to the unit load cases (inertial: ``acc_*``,
         ``alpha_*``, ``omega_**``; interface: ``F{node}_{ux..rz}``) with their modal loads, so that outputs can be
@@ -110,8 +115,25 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
         asked (its mass matrix without mass in a rigid translation, an interface that does not hold it, ...).
         For a model read from a file its faults are a :class:`~flexlib.errors.ModalFileError` naming the file.
     """
-    func = "modal_data_from_fe"
     _check_options(fe, free, orthogonalize, geometric_stiffening, static_loads, title, creator, stress_fibre)
+    interface_nodes, support_nodes = _check_nodes(fe, interface_nodes, n_modes, attachment, reference_node,
+                                                  support_nodes, geometric_stiffening)
+    held, rigid, interface_nodes, reference_node = _attached(fe, interface_nodes, free, reference_node, attachment)
+    names = _messages(held, fe, free and reference_node is None, reference_node, attachment)
+    cb = craig_bampton_named(held.M, held.K, held.dofs(interface_nodes), n_modes, rigid, orthogonalize, names)
+    _check_reduced(cb, rigid, orthogonalize, reference_node, names)
+    settings = {"orthogonalize": orthogonalize, "n_modes": int(n_modes), "reference_node": reference_node,
+                "attachment": attachment, "stress_fibre": stress_fibre, "support_nodes": support_nodes,
+                "geometric_stiffening": geometric_stiffening, "static_loads": static_loads,
+                "free": free and reference_node is None, "damping_ratio": damping_ratio}
+    return _assembled(held, cb, interface_nodes, rigid, settings, title, creator)
+
+
+def _check_nodes(fe: FEModel, interface_nodes: Any, n_modes: Any, attachment: Any, reference_node: Any,
+                 support_nodes: Any, geometric_stiffening: bool) -> tuple[list[int], list[int] | None]:
+    """The interface and support node ids checked (with ``n_modes`` and the attachment), and a mass matrix that
+    carries mass in every rigid translation."""
+    func = "modal_data_from_fe"
     interface_nodes = _node_ids(fe, interface_nodes, "interface_nodes")
     if not is_int(n_modes) or n_modes < 0:
         raise RunArgumentError(f"{func}: n_modes must be a whole number >= 0, got {n_modes!r}")
@@ -129,38 +151,42 @@ def modal_data_from_fe(fe: FEModel, interface_nodes: Sequence[int], n_modes: int
     why = check_translational_mass(fe.M, fe.dof_map)
     if why is not None:
         raise (ModalFileError if fe.from_file else RunArgumentError)(f"{func}: {fe.source_label('M')}: {why}")
-    given = fe
-    fe, rigid, interface_nodes, free, reference_node = _attached(fe, interface_nodes, free, reference_node,
-                                                                 attachment)
-    names = _messages(fe, given, free, reference_node, attachment)
-    dofs = fe.dofs(interface_nodes)
-    cb = craig_bampton_named(fe.M, fe.K, dofs, n_modes, rigid, orthogonalize, names)
-    _check_reduced(cb, rigid, orthogonalize, reference_node, names)
+    return interface_nodes, support_nodes
+
+
+def _assembled(fe: FEModel, cb: CraigBamptonResult, interface_nodes: list[int], rigid: np.ndarray | None,
+               settings: dict[str, Any], title: str, creator: str) -> ModalData:
+    """The :class:`ModalData` of a reduction ``cb`` of ``fe``: modes per node, invariants and body properties,
+    beam section forces and stresses, geometric stiffness and static load data as ``settings`` ask, the damping
+    ratios checked, provenance."""
+    stress_fibre, damping_ratio = settings["stress_fibre"], settings["damping_ratio"]
     if damping_ratio is not None:
         damping_ratio = _damping_argument(damping_ratio, cb.omega.size)
     points = fe.mass_points if fe.mass_points is not None else fe.lumped_mass_points()
     inv = inertia_invariants(points, cb.modes)
     geometric, support = None, None
-    if geometric_stiffening:
-        support = list(interface_nodes[:1] if support_nodes is None else support_nodes)
+    if settings["geometric_stiffening"]:
+        support = list(interface_nodes[:1] if settings["support_nodes"] is None else settings["support_nodes"])
         if not support:
-            raise RunArgumentError(f"{func}: geometric_stiffening needs a support node (no interface nodes and no "
-                                   "support_nodes)")
+            raise RunArgumentError("modal_data_from_fe: geometric_stiffening needs a support node (no interface "
+                                   "nodes and no support_nodes)")
         cases = inertial_load_cases(fe) | interface_load_cases(fe, [k for k in interface_nodes if k not in support])
         geometric = modal_geometric_stiffness(fe, cb.modes, support, cases)
     trans, rot = fe.nodal_fields(cb.modes)
-    static = _static_load_data(fe, cb, interface_nodes, rigid, free, stress_fibre) if static_loads else {}
+    static = (_static_load_data(fe, cb, interface_nodes, rigid, settings["free"], stress_fibre)
+              if settings["static_loads"] else {})
+    reference_node = settings["reference_node"]
     provenance = {
-        "method": "improved Craig-Bampton (orthonormalised)" if orthogonalize else "Craig-Bampton",
+        "method": "improved Craig-Bampton (orthonormalised)" if settings["orthogonalize"] else "Craig-Bampton",
         "interface_nodes": interface_nodes,
-        "n_interface_dofs": int(dofs.size),
-        "n_fixed_interface_modes": int(n_modes),
+        "n_interface_dofs": int(fe.dofs(interface_nodes).size),
+        "n_fixed_interface_modes": settings["n_modes"],
         "fixed_interface_frequencies_Hz": [float(x) for x in cb.fixed_interface_omega / (2 * math.pi)],
         "n_rigid_modes_removed": int(cb.n_rigid_removed),
         "n_massless_dofs_condensed": int(cb.massless_dofs.size),
         "n_massless_reduced_directions_condensed": int(cb.n_massless_condensed),
         "reference_node": reference_node,
-        "attachment": None if reference_node is None else attachment,
+        "attachment": None if reference_node is None else settings["attachment"],
         "n_fe_dofs": int(fe.n_dofs),
         "mass_description": points.description,
         "fe": fe.info,
@@ -209,10 +235,9 @@ def _check_options(fe: Any, free: Any, orthogonalize: Any, geometric_stiffening:
 
 
 def _attached(fe: FEModel, interface_nodes: list[int], free: bool, reference_node: Any,
-              attachment: str) -> tuple[FEModel, np.ndarray | None, list[int], bool, int | None]:
-    """The model the reduction runs on, its rigid-body fields, the interface nodes (the reference node first),
-    whether the body floats, and the reference node's id, for a floating body or one attached at
-    ``reference_node``."""
+              attachment: str) -> tuple[FEModel, np.ndarray | None, list[int], int | None]:
+    """The model the reduction runs on, its rigid-body fields, the interface nodes (the reference node first) and
+    the reference node's id, for a floating body or one attached at ``reference_node``."""
     func = "modal_data_from_fe"
     rigid = fe.rigid_body_modes() if free else None
     if reference_node is not None:
@@ -227,13 +252,12 @@ def _attached(fe: FEModel, interface_nodes: list[int], free: bool, reference_nod
             fe = fe.constrained([reference_node], ("ux", "uy", "uz"))
             rigid = rotations_about(fe, centre)
         interface_nodes = [reference_node] + [k for k in interface_nodes if k != reference_node]
-        free = False
     elif free and not interface_nodes:
         raise RunArgumentError(f"{func}: interface_nodes is empty, but a free body (free=True) needs interface nodes "
                                "that fix its rigid-body motion for the Craig–Bampton constraint modes (one node with "
                                "its six DOFs, or three nodes not on a line); give interface_nodes, or attach the body "
                                "with reference_node=")
-    return fe, rigid, interface_nodes, free, reference_node
+    return fe, rigid, interface_nodes, reference_node
 
 
 def _messages(fe: FEModel, given: FEModel, free: bool, reference_node: int | None,
