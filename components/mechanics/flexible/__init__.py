@@ -2,6 +2,8 @@
 units). Its modal data — the beam mesher, FE importers, Craig–Bampton reduction, the HDF5 modal file, mode
 selection, output and drawing — come from :mod:`flexlib.fe`."""
 
-from .body import FlexibleBody, cayley_rotation, frame_names
+from .arguments import frame_names
+from .body import FlexibleBody
+from .results import cayley_rotation
 
 __all__ = ["FlexibleBody", "cayley_rotation", "frame_names"]
