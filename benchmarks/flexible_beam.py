@@ -47,7 +47,7 @@ import scipy.sparse as sp
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from components.mechanics.flexible import FEModel, Section, beam_mesh, craig_bampton, section_force_modes  # noqa: E402
+from flexlib.fe import FEModel, Section, beam_mesh, craig_bampton, section_force_modes  # noqa: E402
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
 from references.pinned_free_beam import (  # noqa: E402  (the reference's constants and metrics)

@@ -31,8 +31,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import flexlib as fl
-from flexlib.components.mechanics.flexible import FlexibleBody, ModalData, beam_mesh, box, modal_data_from_fe
+from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.multibody import Body, Revolute, World
+from flexlib.fe import ModalData, beam_mesh, box, modal_data_from_fe
 
 N_NODES = 500
 

@@ -21,7 +21,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import numpy as np
 import scipy.linalg as la
 
-from flexlib.components.mechanics.flexible import (
+from flexlib.fe import (
     ModalData,
     Section,
     beam_mesh,

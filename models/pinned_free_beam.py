@@ -34,13 +34,15 @@ import numpy as np
 
 import flexlib as fl
 from flexlib.components.control import Step
-from flexlib.components.mechanics.flexible import (
-    FlexibleBody,
+from flexlib.components.mechanics.flexible import FlexibleBody, cayley_rotation
+from flexlib.components.mechanics.multibody import Revolute, World
+from flexlib.components.mechanics.rotational import Torque
+from flexlib.errors import ModelError, RunArgumentError
+from flexlib.fe import (
     ModalData,
     ParticipationTable,
     Section,
     beam_mesh,
-    cayley_rotation,
     inertial_load_cases,
     modal_data_from_fe,
     modal_participation,
@@ -48,9 +50,6 @@ from flexlib.components.mechanics.flexible import (
     node_rotations,
     section_forces,
 )
-from flexlib.components.mechanics.multibody import Revolute, World
-from flexlib.components.mechanics.rotational import Torque
-from flexlib.errors import ModelError, RunArgumentError
 from flexlib.registry import ModelOption, Scenario, register_model
 
 __all__ = ["DENSITY", "LENGTH", "N_BENDING_MODES", "OPTIONS", "TORQUE", "BeamRun", "PinnedFreeBeam", "beam_fe",
@@ -160,7 +159,7 @@ class BeamRun:
     build_time, run_time : float [s] (process CPU time); n_modes : int; run_wall : float [s] (wall time of the run)
     tip_deflection_ma : ndarray [m]; moment_mid_ma, moment_mid_avg_ma : ndarray [N m]
         The same outputs recovered by the mode-acceleration method (the left-out modes' static response to the
-        run's loads added to the modal superposition: :mod:`flexlib.components.mechanics.flexible.output`) from
+        run's loads added to the modal superposition: :mod:`flexlib.fe.output`) from
         the same run; ``None`` if the modal data hold no static load responses.
     """
 

@@ -30,7 +30,7 @@ import pytest
 import scipy.linalg as la
 import scipy.sparse as sp
 
-from flexlib.components.mechanics.flexible import (
+from flexlib.fe import (
     beam_mesh,
     craig_bampton,
     modal_data_from_fe,

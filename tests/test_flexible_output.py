@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from flexlib.components.mechanics.flexible import (
+from flexlib.fe import (
     ModalData,
     animate,
     beam_mesh,
@@ -358,8 +358,9 @@ def test_model_vtk_series_draws_flexible_meshes_and_rigid_sticks(tmp_path):
     followed by the stick figure's frame origins from the result (1e-15 m), with part ids 0 / 1, the arm's line
     cells and one line per stick segment, and the arm's elastic displacement magnitude as point data."""
     import flexlib as fl
-    from flexlib.components.mechanics.flexible import FlexibleBody, write_model_vtk
+    from flexlib.components.mechanics.flexible import FlexibleBody
     from flexlib.components.mechanics.multibody import FixedTranslation, Revolute, World
+    from flexlib.fe import write_model_vtk
 
     fe = beam_mesh((0, 0, 0), (1.0, 0, 0), 16, rectangle(0.02, 0.01), E=2.1e11, rho=7850.0)
     arm_data = modal_data_from_fe(fe, [16], 4, reference_node=0)

@@ -21,9 +21,10 @@ import flexlib as fl
 from flexlib.components.control import Constant
 from flexlib.components.hydraulics import DoubleActingCylinder
 from flexlib.components.hydraulics.fluid import Fluid
-from flexlib.components.mechanics.flexible import FlexibleBody, beam_mesh, modal_data_from_fe, rectangle
+from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 from flexlib.components.mechanics.translational import Damper, Fixed, Force, Mass, Spring
+from flexlib.fe import beam_mesh, modal_data_from_fe, rectangle
 
 M1, M2, K1, K2, D12 = 2.0, 0.5, 3.0e4, 1.2e4, 15.0
 
@@ -235,8 +236,8 @@ def test_rigid_dof_count_on_a_loop_closed_through_a_flexible_body_warns():
     degrees of freedom (none here) are counted with those coordinates held, a count that can miss some in an
     over-constrained mechanism with flexible links, so mobility (and lock="rigid") say so with an AnalysisWarning
     that names the count."""
-    from flexlib.components.mechanics.flexible import circle
     from flexlib.errors import AnalysisWarning
+    from flexlib.fe import circle
 
     data = modal_data_from_fe(beam_mesh((0, 0, 0), (0.3, 0, 0), 4, circle(0.006), E=2.1e11, rho=7850.0), [0, 4], 1,
                               reference_node=0, title="rod")

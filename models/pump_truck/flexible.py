@@ -1,11 +1,11 @@
 """Flexible boom sections: each section's beam mesh, its Craig–Bampton modal data, and modal files cached by content.
 
 A section ``j`` (1–5) is a uniform steel box (the record's ``b``, ``h`` and wall thickness) meshed along its
-axis by :func:`~flexlib.components.mechanics.flexible.beam_mesh` from its root pin (x = 0) to the next pin
+axis by :func:`~flexlib.fe.beam_mesh` from its root pin (x = 0) to the next pin
 (x = length), with nodes at every station where something attaches (:func:`attachment_points`). The delivery
 pipe rides on top as non-structural mass: point masses on the nodes (each node's share of ``mass_per_m`` times its
 tributary length), offset ``h/2 + pipe.offset`` above the axis
-(:meth:`~flexlib.components.mechanics.flexible.FEModel.with_point_masses`; Nastran's ``CONM2``); its mass, centre
+(:meth:`~flexlib.fe.FEModel.with_point_masses`; Nastran's ``CONM2``); its mass, centre
 of mass and inertia are those of :func:`models.pump_truck.statics.mass_properties` (the pipe lumped at the nodes).
 The end hose is a point mass at section 5's tip pin, as in the rigid model.
 The reduction is Craig–Bampton with the attachment nodes as interface
@@ -38,8 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.components.mechanics.flexible import FEModel, ModalData, beam_mesh, box, modal_data_from_fe
-from flexlib.components.mechanics.flexible.body import inertial_load_amplitudes
+from flexlib.fe import FEModel, ModalData, beam_mesh, box, modal_data_from_fe
+from flexlib.fe.geometric import inertial_load_amplitudes
 
 from .parameters import PumpTruckParameters
 
@@ -344,7 +344,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     The loads on each section in the rigid boom's static equilibrium at ``poses`` (:func:`rigid_section_loads` of
     a rigid :class:`~models.pump_truck.model.PumpTruck` at rest there, filled as the record says) give each mode's
     static amplitude ``q_i = φ_iᵀ F / k_i``; a mode is kept if at some pose it reaches ``threshold`` of the largest
-    (:func:`~flexlib.components.mechanics.flexible.participation_from_load_cases`) and moves the section in its
+    (:func:`~flexlib.fe.participation_from_load_cases`) and moves the section in its
     plane (:func:`in_plane_modes`); of those, the ``max_modes`` with the largest shares, in frequency order.
 
     Parameters
@@ -366,7 +366,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
         Section number (1–5) to mode indices into :func:`section_modal_data`.
     """
     import flexlib as fl
-    from flexlib.components.mechanics.flexible import participation_from_load_cases
+    from flexlib.fe import participation_from_load_cases
 
     from .model import PumpTruck
 

@@ -146,7 +146,7 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
 
 def write_boom_vtk(model: Any, result: Any, path: Path, dt: float = VTK_DT) -> Path:
     """The boom over time as a VTK series for ParaView (module docstring), one frame per ``dt`` [s]."""
-    from flexlib.components.mechanics.flexible.drawing import write_model_vtk
+    from flexlib.fe.vtk_series import write_model_vtk
 
     lines: dict[str, list[str]] = {}
     for n in _JOINTS:

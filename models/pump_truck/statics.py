@@ -22,8 +22,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from flexlib.components.mechanics.flexible.beam import beam_mesh
-from flexlib.components.mechanics.flexible.sections import box
+from flexlib.fe.beam import beam_mesh
+from flexlib.fe.sections import box
 
 from .kinematics import rot
 from .parameters import CYLINDER_BORES, CYLINDER_RODS, PumpTruckParameters

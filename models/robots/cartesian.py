@@ -34,8 +34,9 @@ import numpy as np
 import flexlib as fl
 from flexlib.components.control import Constant, TimeTable, Trapezoid, Trim
 from flexlib.components.mechanics import translational
-from flexlib.components.mechanics.flexible import FlexibleBody, beam_mesh, box, modal_data_from_fe
+from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.multibody import Body, FixedRotation, FixedTranslation, Prismatic, Revolute, World
+from flexlib.fe import beam_mesh, box, modal_data_from_fe
 
 from .statics import energy_gradient
 

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 import flexlib as fl
-from flexlib.components.mechanics.flexible import node_displacements
+from flexlib.fe import node_displacements
 
 from .cartesian import CartesianRobot
 

@@ -35,16 +35,9 @@ import numpy as np
 import flexlib as fl
 from flexlib.components.control import Constant, TimeTable, Trapezoid, Trim
 from flexlib.components.mechanics import rotational
-from flexlib.components.mechanics.flexible import (
-    FlexibleBody,
-    beam_mesh,
-    circle,
-    energies,
-    modal_data_from_fe,
-    nodal_stress,
-    von_mises,
-)
+from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
+from flexlib.fe import beam_mesh, circle, energies, modal_data_from_fe, nodal_stress, von_mises
 
 from .statics import energy_gradient
 
@@ -211,7 +204,7 @@ def preload_params(model: PolycrankFragment, preload: float) -> dict[str, list[f
 def rod_stress(model: PolycrankFragment, result: fl.Result) -> dict[str, np.ndarray]:
     """Von Mises stress [Pa] of every pull rod of a flexible ``model`` over a result: the largest over the rod's
     nodes at its in-plane surface fibre (stress modes superposed with the run's modal coordinates,
-    :func:`~flexlib.components.mechanics.flexible.nodal_stress`), by rod path (``o4_rod1`` …), each (nt,)."""
+    :func:`~flexlib.fe.nodal_stress`), by rod path (``o4_rod1`` …), each (nt,)."""
     if not model.flexible:
         raise fl.ParameterError("rod_stress: the model has rigid links (flexible=False)")
     out = {}
@@ -224,7 +217,7 @@ def rod_stress(model: PolycrankFragment, result: fl.Result) -> dict[str, np.ndar
 
 def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray:
     """Kinetic plus gravitational energy of every body, plus the strain energy of the flexible pull rods
-    (:func:`~flexlib.components.mechanics.flexible.energies`), minus the work potential of the constant drive
+    (:func:`~flexlib.fe.energies`), minus the work potential of the constant drive
     torques (``−Σ τ_drive φ``, with ``drive="trim"`` ``−Σ b φ`` of the trims) [J], over a result: constant
     without friction, damping, interval torques and driven motion."""
     n = len(result.t)

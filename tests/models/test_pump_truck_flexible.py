@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from flexlib.components.mechanics.flexible import box
+from flexlib.fe import box
 from models.pump_truck.flexible import attachment_points, section_fe, section_modal_data
 from models.pump_truck.model import section_mass_properties
 from models.pump_truck.parameters import PumpTruckParameters
@@ -103,7 +103,8 @@ def test_flexible_section_on_a_clamp_sags_as_the_fe_model():
     recovery of the tip relative to the root pin's frame restores it to 5e-5 (the FE reference is linear; the
     body's mean-axis frame turns by ~5e-4 rad under the load, so gravity's components in it, and the sag, differ
     at second order: 1.2e-5 measured)."""
-    from flexlib.components.mechanics.flexible import cayley_rotation, node_displacements, node_rotations
+    from flexlib.components.mechanics.flexible import cayley_rotation
+    from flexlib.fe import node_displacements, node_rotations
 
     fe, nodes = section_fe(RECORD, 1)
     held = fe.constrained([0])
@@ -136,7 +137,7 @@ def test_rigid_section_loads_balance_and_select_in_plane_modes():
     sum of the node forces' and moments' moment plus -m c x (a - g) within 1e-4 of the moment; the MPF method fed
     with them keeps only in-plane modes (no out-of-plane translation) and the lowest in-plane mode at 100 %."""
     import flexlib as fl
-    from flexlib.components.mechanics.flexible import participation_from_load_cases
+    from flexlib.fe import participation_from_load_cases
     from models.pump_truck.flexible import rigid_section_loads
     from models.pump_truck.model import WORKING_POSE_DEG, PumpTruck
 

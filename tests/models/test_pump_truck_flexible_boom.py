@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.mechanics.flexible.output import node_displacements, node_rotations
+from flexlib.fe.output import node_displacements, node_rotations
 from flexlib.models.pump_truck.flexible import in_plane_modes, mpf_modes, section_modal_data
 from flexlib.models.pump_truck.model import EXTENDED_POSE_DEG, PumpTruck
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
@@ -34,7 +34,7 @@ RECORD = PumpTruckParameters()
 
 
 def test_mpf_selection_keeps_participating_in_plane_modes():
-    from flexlib.components.mechanics.flexible import participation_from_load_cases  # noqa: F401  (the method)
+    from flexlib.fe import participation_from_load_cases  # noqa: F401  (the method)
 
     chosen = mpf_modes(RECORD)
     assert sorted(chosen) == [1, 2, 3, 4, 5]

@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.mechanics.flexible import FlexibleBody, circle, nodal_stress, von_mises
+from flexlib.components.mechanics.flexible import FlexibleBody
+from flexlib.fe import circle, nodal_stress, von_mises
 from models.robots.polycrank import PolycrankParameters, drive_torques, mechanical_energy, preload_params
 from models.robots.polycrank_study import (
     LOCKED,

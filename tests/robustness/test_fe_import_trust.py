@@ -36,7 +36,7 @@ import scipy.sparse as sp
 from scipy.integrate import quad
 
 from flexlib import ModalFileError, RunArgumentError
-from flexlib.components.mechanics.flexible import (
+from flexlib.fe import (
     Section,
     beam_mesh,
     box,
@@ -201,7 +201,7 @@ def test_free_free_beam_with_lumped_translations_and_polar_inertia():
 
 def test_lumped_sparse_eigensolver_path_matches_dense(monkeypatch):
     """Above 400 massive interior DOFs the condensed eigenproblem runs by shift-invert Lanczos on operators."""
-    import flexlib.components.mechanics.flexible.reduction as reduction
+    import flexlib.fe.reduction as reduction
 
     fe = mesh(140)
     model = replace(plain(fe), M=lumped(fe))

@@ -14,13 +14,7 @@ import pytest
 import scipy.sparse as sp
 
 from flexlib import ModalFileError
-from flexlib.components.mechanics.flexible import (
-    beam_mesh,
-    read_ansys_full,
-    read_nastran_dmig,
-    read_nastran_op4,
-    rectangle,
-)
+from flexlib.fe import beam_mesh, read_ansys_full, read_nastran_dmig, read_nastran_op4, rectangle
 
 
 @pytest.fixture(scope="module")

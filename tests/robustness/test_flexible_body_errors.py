@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from flexlib import ModalFileError, ModelError, ParameterError
-from flexlib.components.mechanics.flexible import FlexibleBody, beam_mesh, modal_data_from_fe, rectangle
+from flexlib.components.mechanics.flexible import FlexibleBody
+from flexlib.fe import beam_mesh, modal_data_from_fe, rectangle
 
 
 @pytest.fixture(scope="module")

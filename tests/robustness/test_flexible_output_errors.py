@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from flexlib import FlexlibError, ModalFileError, ResultFileError, RunArgumentError
-from flexlib.components.mechanics.flexible import (
+from flexlib.fe import (
     ModalData,
     animate,
     beam_mesh,

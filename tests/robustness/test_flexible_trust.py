@@ -15,8 +15,9 @@ import pytest
 
 import flexlib as fl
 from flexlib import EmptyResultError, ModalFileError, ModelError, ParameterError, RunArgumentError
-from flexlib.components.mechanics.flexible import (
-    FlexibleBody,
+from flexlib.components.mechanics.flexible import FlexibleBody
+from flexlib.components.mechanics.multibody import Revolute, World
+from flexlib.fe import (
     ModalData,
     animate,
     beam_mesh,
@@ -27,7 +28,6 @@ from flexlib.components.mechanics.flexible import (
     rectangle,
     write_model_vtk,
 )
-from flexlib.components.mechanics.multibody import Revolute, World
 
 
 @pytest.fixture(scope="module")
@@ -155,7 +155,7 @@ def test_damping_for_a_rigid_body(data):
     ({"max_frequency": float("nan")}, r"max_frequency must be a frequency \[Hz\] >= 0, got nan"),
 ])
 def test_select_modes_arguments(data, kwargs, pattern):
-    from flexlib.components.mechanics.flexible import select_modes
+    from flexlib.fe import select_modes
 
     with pytest.raises(RunArgumentError, match=r"select_modes: " + pattern):
         select_modes(data, **kwargs)
@@ -166,7 +166,7 @@ def test_select_modes_arguments(data, kwargs, pattern):
     ({0: "0.1"}, r"damping ratio of mode 0 must be a number >= 0, got '0\.1'"),
 ])
 def test_default_damping_overrides(overrides, pattern):
-    from flexlib.components.mechanics.flexible import default_damping_ratio
+    from flexlib.fe import default_damping_ratio
 
     with pytest.raises(RunArgumentError, match=r"default_damping_ratio: " + pattern):
         default_damping_ratio([10.0, 200.0], overrides)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from flexlib import FlexlibError, ModalFileError
-from flexlib.components.mechanics.flexible import ModalData, beam_mesh, modal_data_from_fe, read_fe, rectangle
+from flexlib.fe import ModalData, beam_mesh, modal_data_from_fe, read_fe, rectangle
 
 
 @pytest.fixture(scope="module")
@@ -156,7 +156,7 @@ def test_fe_npz_missing_array_and_unsymmetric_matrix(tmp_path):
 
 def test_reduction_and_mesher_input_errors():
     """Bad reduction/mesher arguments: ValueError naming the argument or the cause."""
-    from flexlib.components.mechanics.flexible import craig_bampton
+    from flexlib.fe import craig_bampton
 
     fe = beam_mesh((0, 0, 0), (1.0, 0, 0), 4, rectangle(0.02, 0.03), E=2.1e11, rho=7850.0)
     with pytest.raises(ValueError, match="interface DOFs do not restrain all rigid-body motions"):

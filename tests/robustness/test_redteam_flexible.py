@@ -16,21 +16,19 @@ import pytest
 import scipy.io
 
 from flexlib import ModalFileError, ModelError, RunArgumentError
-from flexlib.components.mechanics.flexible import (
+from flexlib.components.mechanics.flexible import FlexibleBody, cayley_rotation, frame_names
+from flexlib.fe import (
     FEModel,
-    FlexibleBody,
     ModalData,
     Section,
     beam_mesh,
     beam_stress_modes,
-    cayley_rotation,
     craig_bampton,
     default_damping_ratio,
     deformed_positions,
     elastic_static_responses,
     element_matrices,
     energies,
-    frame_names,
     geometric_stiffness_matrix,
     inertia_invariants,
     inertial_load_cases,
@@ -51,7 +49,7 @@ from flexlib.components.mechanics.flexible import (
     write_model_vtk,
     write_vtk_series,
 )
-from flexlib.components.mechanics.flexible.fe_model import UnknownNodeError
+from flexlib.fe.fe_model import UnknownNodeError
 
 
 @pytest.fixture(scope="module")

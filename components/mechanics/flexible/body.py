@@ -3,9 +3,9 @@ SID body, DLR's ``FlexibleBodies`` library and Modelica's seed-000 ``FlexibleBod
 
 The body's material points move with a floating reference frame ``R`` (origin ``r_0`` in the world, orientation
 ``T`` world → body, angular velocity ``w`` resolved in ``R``) plus a small elastic displacement in body axes,
-``u_p = Φ_p q``, spanned by the modes of a :class:`~.modal_data.ModalData` (translational ``Φ_p``, rotational
+``u_p = Φ_p q``, spanned by the modes of a :class:`~flexlib.fe.modal_data.ModalData` (translational ``Φ_p``, rotational
 ``Φ*_p`` per node) with modal coordinates ``q``. With the nine inertia invariants ``I1 … I9`` (see
-:mod:`.invariants`), the first moment ``c(q) = I2 + I3 q``, the inertia tensor about the reference origin
+:mod:`flexlib.fe.invariants`), the first moment ``c(q) = I2 + I3 q``, the inertia tensor about the reference origin
 ``J(q) = I7 + Σ_j q_j (I8_j + I8_jᵀ) + Σ_j q_j B_j``, ``B_j = Σ_k q_k I9_jk``, the rotation–mode coupling
 ``C(q) = I4 + Σ_j q_j I5_j`` and ``α = T (a_0 − g)`` (origin acceleration minus gravity, body axes), the
 Newton–Euler equations of the reference frame and the modal equations read (all in body axes; Lagrange's
@@ -19,7 +19,7 @@ fixed in body axes)::
 with the centrifugal modal forces ``h_ω,j = −wᵀ (I8_jᵀ + B_j) w``, the Coriolis ones
 ``h_c,j = 2 wᵀ (Σ_k q̇_k I5_k)[:, j]``, the modal damping ``D = diag(2 ζ_j ω_j I6_jj)`` and, with
 ``geometric_stiffening=True``, the geometric stiffness ``K_G = Σ_c λ_c G_c`` of the file's unit load cases
-(:mod:`.geometric`) weighted by the current loads ``λ``: ``α`` (cases ``acc_*``), ``ż`` (``alpha_*``), the
+(:mod:`flexlib.fe.geometric`) weighted by the current loads ``λ``: ``α`` (cases ``acc_*``), ``ż`` (``alpha_*``), the
 products ``w_a w_b`` (``omega_*``) and the frame loads ``F_k, M_k`` (``F<node>_*``). The centrifugal cases are
 kept energy-consistent: their stiffening is the ``q``-derivative of the kinetic-energy term ``−½ wᵀ S(q) w``
 (the foreshortening of the bent body, ``S_aa = qᵀ G_ωaa q``, ``S_ab = ½ qᵀ G_ωab q``), so the rotation equation
@@ -64,28 +64,37 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Component, Parameter, Variable, der, eq
-from flexlib.errors import EmptyResultError, ModalFileError, ModelError, ParameterError, RunArgumentError
+from flexlib.errors import ModelError, ParameterError
+from flexlib.fe.geometric import inertial_load_amplitudes
+from flexlib.fe.modal_data import ModalData
+from flexlib.fe.selection import default_damping_ratio
 
 from ..multibody.frames import equality_constraint, skew
 from ..multibody.interfaces import Frame
 from ..multibody.quaternions import floating_frame_equations, quaternion_to_T
-from ..multibody.world import World, gravity_of
-from .modal_data import LOAD_CASE_NAMES, ModalData
-from .selection import default_damping_ratio, select_modes
+from ..multibody.world import gravity_of
+from .arguments import (
+    check_stiffening_data,
+    check_zeta,
+    choose_modes,
+    damping_ratios,
+    deferred_arguments,
+    flag,
+    frame_names,
+    frame_nodes,
+    is_int,
+    is_real,
+    modal_nominals,
+    modal_source,
+    modal_start,
+)
+from .results import cayley_rotation, check_result, frame_load_amplitudes, result_gravity
 
-__all__ = ["FlexibleBody", "cayley_rotation", "frame_names", "inertial_load_amplitudes"]
+__all__ = ["FlexibleBody"]
 
-_LETTERS = "abcdefghijklmnopqrstuvwxyz"
 #: Mode-shape entries at a frame below this fraction of the mode's largest entry are round-off (set to zero).
 SHAPE_ZERO = 1e-9
 _COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
-
-
-def frame_names(n: int) -> list[str]:
-    """Connector names of ``n`` frames: ``frame_a``, ``frame_b``, … (``frame_z``, then ``frame_26``, …)."""
-    if not _is_int(n) or n < 0:
-        raise RunArgumentError(f"frame_names: n must be a number of frames (an int >= 0), got {n!r}")
-    return [f"frame_{_LETTERS[i]}" if i < len(_LETTERS) else f"frame_{i}" for i in range(n)]
 
 
 def _cayley(theta: Any, theta_dot: Any) -> tuple[Any, Any]:
@@ -172,41 +181,29 @@ class FlexibleBody(Component):
                  damping: Mapping[int, float] | None = None, geometric_stiffening: bool = False,
                  q_fixed: bool | None = None, orientation_fixed: bool = False, w_fixed: bool = False,
                  **kwargs: Any) -> None:
-        if isinstance(modal_data, ModalData):
-            title = modal_data.title
-            data, source = modal_data, f"modal data {title!r}" if title else "modal data (untitled)"
-        elif isinstance(modal_data, str | os.PathLike):
-            data, source = ModalData.read(modal_data), f"modal file {os.fspath(modal_data)!r}"
-        else:
-            raise ModelError(f"FlexibleBody: modal_data must be a ModalData or the path of a modal file (str or "
-                             f"Path), got {modal_data!r} ({type(modal_data).__name__})")
-        data = _choose_modes(data, modes, max_frequency, source)
-        deferred = {k: kwargs.pop(k) for k in ("zeta", "init", "guess", "state_select") if k in kwargs}
-        for kind in ("init", "guess", "state_select"):
-            given = deferred.get(kind)
-            if given is not None and not isinstance(given, Mapping):
-                accepted = ("{variable: 'always' | 'prefer' | 'default' | 'avoid' | 'never'}" if kind == "state_select"
-                            else "{variable name: start value}, e.g. {'q': np.zeros(n_modes)}")
-                raise ModelError(f"FlexibleBody: {kind} must be a dict {accepted}, got {type(given).__name__} "
-                                 f"{given!r:.60}")
+        data, source = modal_source(modal_data)
+        data = choose_modes(data, modes, max_frequency, source)
+        deferred = deferred_arguments(kwargs)
         super().__init__(**kwargs)
         self._data = data
         self._source = source  # how messages name the data: "modal file 'arm.h5'" or "modal data 'arm'"
-        self.orientation_fixed = _flag("orientation_fixed", orientation_fixed)
-        self.w_fixed = _flag("w_fixed", w_fixed)
-        self.geometric_stiffening = _flag("geometric_stiffening", geometric_stiffening)
-        q_fixed = None if q_fixed is None else _flag("q_fixed", q_fixed, "True, False or None")
-        nodes = _frame_nodes(data, frames, source)
+        self.orientation_fixed = flag("orientation_fixed", orientation_fixed)
+        self.w_fixed = flag("w_fixed", w_fixed)
+        self.geometric_stiffening = flag("geometric_stiffening", geometric_stiffening)
+        q_fixed = None if q_fixed is None else flag("q_fixed", q_fixed, "True, False or None")
+        nodes = frame_nodes(data, frames, source)
         self.frame_nodes = tuple(nodes)
         if self.geometric_stiffening:
-            if data.geometric_stiffness is None:
-                raise ModelError(f"{type(self).__name__}: geometric_stiffening=True, but the {source} has no "
-                                 "'/geometric_stiffness' (build it with modal_data_from_fe(..., "
-                                 "geometric_stiffening=True))")
-            if not data.geometric_stiffness:
-                raise ModelError(f"{type(self).__name__}: geometric_stiffening=True, but the group "
-                                 f"'/geometric_stiffness' of the {source} holds no load case (expected "
-                                 f"{LOAD_CASE_NAMES}): no stiffening term could be added")
+            check_stiffening_data(type(self).__name__, data, source)
+        self._declare_frames(nodes)
+        if "zeta" in deferred and damping is not None:
+            raise ModelError(f"{type(self).__name__}: both damping={damping!r} and zeta are given: damping sets the "
+                             "parameter zeta (the modal damping ratios); give one of them")
+        self._declare_modes(damping, q_fixed)
+        self._apply_starts(deferred)
+
+    def _declare_frames(self, nodes: list[int]) -> None:
+        """One frame connector per node, ``frame_a`` the root of the body's frames."""
         names = frame_names(len(nodes))
         for name in names:
             setattr(self, name, Frame(doc=f"Frame at node {nodes[names.index(name)]}"))
@@ -214,35 +211,42 @@ class FlexibleBody(Component):
         for other in self._frames[1:]:
             self.branch(self._frames[0], other)
         self.potential_root(self._frames[0])
+
+    def _declare_modes(self, damping: Any, q_fixed: bool | None) -> None:
+        """The modal damping ratios ``zeta`` and the modal coordinates ``q``, ``qd``, ``qdd`` of the kept modes
+        (none for a rigid body, whose ``damping`` is checked all the same)."""
+        data = self._data
         m = data.n_modes
-        if "zeta" in deferred and damping is not None:
-            raise ModelError(f"{type(self).__name__}: both damping={damping!r} and zeta are given: damping sets the "
-                             "parameter zeta (the modal damping ratios); give one of them")
-        if m:
-            zeta = default_damping_ratio(data.frequencies) if data.damping_ratio is None else data.damping_ratio
-            zeta = _damping_ratios(np.array(zeta, dtype=float), damping)
-            self.zeta = Parameter(zeta, unit="1", shape=m, min=0.0, max=1.0,
-                                  doc="Modal damping ratios (fractions of critical)")
-            q_nom, qd_nom = _modal_nominals(data)
-            self.q = Variable(unit="1", shape=m, start=np.zeros(m), state_select="prefer", nominal=q_nom,
-                              doc="Modal coordinates")
-            self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer", nominal=qd_nom,
-                               doc="Modal velocities der(q)")
-            self.qdd = Variable(unit="1/s2", shape=m, error_test=False, doc="Modal accelerations der(qd)")
-            fixed = "default" if q_fixed is None else q_fixed
-            self.set_start("q", np.zeros(m), fixed=fixed)
-            self.set_start("qd", np.zeros(m), fixed=fixed)
-        else:
-            _damping_ratios(np.zeros(0), damping)  # checks the value; {mode: ratio} names a mode not kept
+        if not m:
+            damping_ratios(np.zeros(0), damping)  # checks the value; {mode: ratio} names a mode not kept
+            return
+        zeta = default_damping_ratio(data.frequencies) if data.damping_ratio is None else data.damping_ratio
+        zeta = damping_ratios(np.array(zeta, dtype=float), damping)
+        self.zeta = Parameter(zeta, unit="1", shape=m, min=0.0, max=1.0,
+                              doc="Modal damping ratios (fractions of critical)")
+        q_nom, qd_nom = modal_nominals(data)
+        self.q = Variable(unit="1", shape=m, start=np.zeros(m), state_select="prefer", nominal=q_nom,
+                          doc="Modal coordinates")
+        self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer", nominal=qd_nom,
+                           doc="Modal velocities der(q)")
+        self.qdd = Variable(unit="1/s2", shape=m, error_test=False, doc="Modal accelerations der(qd)")
+        fixed = "default" if q_fixed is None else q_fixed
+        self.set_start("q", np.zeros(m), fixed=fixed)
+        self.set_start("qd", np.zeros(m), fixed=fixed)
+
+    def _apply_starts(self, deferred: dict[str, Any]) -> None:
+        """The ``zeta``, ``init``, ``guess`` and ``state_select`` arguments (applied once the variables exist), and
+        the start orientation from ``Q_start``."""
+        m = self._data.n_modes
         if "zeta" in deferred:
-            _check_zeta(deferred["zeta"], m)
+            check_zeta(deferred["zeta"], m)
             zeta_given = deferred.pop("zeta")
             if m or np.size(zeta_given):  # an empty zeta fits a body without modes
                 self._assign("zeta", zeta_given)
         for kind, fixed_start in (("init", True), ("guess", False)):
             for name, value in (deferred.get(kind) or {}).items():
                 if name in ("q", "qd") and m:
-                    value = _modal_start(kind, name, value, m)
+                    value = modal_start(kind, name, value, m)
                 # a dotted name ("frame_b.r_0") sets a variable of a frame connector, as for any component
                 self._start_target(name, kind).set_start(name.rpartition(".")[2], value, fixed=fixed_start)
         for name, value in (deferred.get("state_select") or {}).items():
@@ -278,7 +282,7 @@ class FlexibleBody(Component):
             ``node`` is not a node id (text, a bool, a fractional number) or has no frame; the message lists the
             frames' nodes.
         """
-        if not _is_int(node) and not (_is_real(node) and float(node).is_integer()):
+        if not is_int(node) and not (is_real(node) and float(node).is_integer()):
             raise ModelError(f"{self.where}: frame_at: node must be a node id (an int), got {node!r} "
                              f"({type(node).__name__}); frames at nodes {list(self.frame_nodes)}")
         if int(node) not in self.frame_nodes:
@@ -286,7 +290,7 @@ class FlexibleBody(Component):
         return self._frames[self.frame_nodes.index(int(node))]
 
     def motion(self, result: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """The body's motion in a simulation result, for :mod:`.output` (deformation, stress, VTK, animation).
+        """The body's motion in a simulation result, for :mod:`flexlib.fe.output` (deformation, stress, VTK, animation).
 
         Parameters
         ----------
@@ -312,7 +316,7 @@ class FlexibleBody(Component):
         EmptyResultError
             The result has no rows.
         """
-        nt = self._check_result(result, "motion")
+        nt = check_result(self, result, "motion", self._source)
         t = np.asarray(result.t, dtype=float)
         q = (np.asarray(result[f"{self.path}.q"], dtype=float).reshape(nt, self.n_modes) if self.n_modes
              else np.zeros((nt, 0)))
@@ -321,41 +325,6 @@ class FlexibleBody(Component):
         T_rel = cayley_rotation(q @ Psi.T if self.n_modes else np.zeros((nt, 3)))
         T = np.einsum("kji,kjl->kil", T_rel, T_a)  # T_rel^T T_a
         return t, q, np.asarray(result[f"{self.path}.r_0"], dtype=float).reshape(nt, 3), T
-
-    def _check_result(self, result: Any, func: str) -> int:
-        """The number of rows of ``result``, after checking it holds this body as built: its modal coordinates
-        (as many as the body keeps) and its frames."""
-        from flexlib.results.result import Result
-
-        where = f"{self.where}.{func}"
-        if not isinstance(result, Result):
-            raise RunArgumentError(f"{where}: argument 'result' must be a flexlib Result (of Simulation.run or "
-                                   f"Result.load), got {type(result).__name__}")
-        if not self.path:
-            raise RunArgumentError(f"{where}: this FlexibleBody is not part of a model; use the body of the model "
-                                   f"that made the result of {result.model}")
-        prefix = f"{self.path}."
-        own = [n for n in result.names if n.startswith(prefix)]
-        if not own:
-            raise RunArgumentError(f"{where}: the result of {result.model} holds no variables of {self.path} "
-                                   f"({prefix}*): it belongs to another model")
-        n_q = sum(1 for n in own if n == f"{prefix}q" or n.startswith(f"{prefix}q["))
-        if n_q != self.n_modes:
-            raise RunArgumentError(f"{where}: the result of {result.model} holds {n_q} modal coordinates for "
-                                   f"{self.path} ({prefix}q), but the body has {self.n_modes} (modes kept from the "
-                                   f"{self._source}): the result belongs to another model (another build of "
-                                   "this body); use the body of the model that made it")
-        held = {n[len(prefix):].split(".")[0] for n in own if n.startswith(f"{prefix}frame_")}
-        names = frame_names(len(self.frame_nodes))
-        if set(names) != held:
-            raise RunArgumentError(f"{where}: the result of {result.model} holds the frames {sorted(held)} of "
-                                   f"{self.path}, but the body has {names} (at nodes {list(self.frame_nodes)}): "
-                                   "the result belongs to another model")
-        nt = int(np.size(result.t))
-        if not nt:
-            raise EmptyResultError(f"{where}: the result of {result.model} has no rows; the run is "
-                                   f"{result.status}" + (f" ({result.message})" if result.message else ""))
-        return nt
 
     def load_amplitudes(self, result: Any) -> np.ndarray:
         """Amplitudes of the modal data's unit load cases over a result, for mode-acceleration recovery.
@@ -386,30 +355,15 @@ class FlexibleBody(Component):
         d = self._data
         if d.load_cases is None:
             d.residual_fields()  # raises the explanatory error
-        self._check_result(result, "load_amplitudes")
+        check_result(self, result, "load_amplitudes", self._source)
         t, _q, _r0, T = self.motion(result)
         nt = t.size
-        g = _result_gravity(self, result)
+        g = result_gravity(self, result)
         a_0 = np.asarray(result[f"{self.path}.a_0"], dtype=float).reshape(nt, 3)
         w = np.asarray(result[f"{self.path}.w"], dtype=float).reshape(nt, 3)
         z = np.asarray(result[f"{self.path}.z"], dtype=float).reshape(nt, 3)
         values = inertial_load_amplitudes(np.einsum("kij,kj->ki", T, a_0 - g), z, w)
-        for node, frame in zip(self.frame_nodes, frame_names(len(self.frame_nodes)), strict=True):
-            Tf = np.asarray(result[f"{self.path}.{frame}.T"], dtype=float).reshape(nt, 3, 3, order="F")
-            to_body = np.einsum("kij,klj->kil", T, Tf)  # T_body T_frame^T = T_rel^T
-            for kind, offset in (("f", 0), ("t", 3)):
-                load = np.einsum("kij,kj->ki", to_body, np.asarray(result[f"{self.path}.{frame}.{kind}"],
-                                                                      dtype=float).reshape(nt, 3))
-                for i in range(3):
-                    values[f"F{node}_{_COMPONENTS[offset + i]}"] = load[:, i]
-        carried = {int(k) for k in d.interface_nodes}  # the reduction made load cases for all their free DOFs
-        for node, frame in zip(self.frame_nodes, frame_names(len(self.frame_nodes)), strict=True):
-            if node not in carried and np.abs(np.column_stack(
-                    [values[f"F{node}_{c}"] for c in _COMPONENTS])).max(initial=0.0) > 0.0:
-                raise ModalFileError(f"{self.path}.{frame}: loads at node {node}, but the modal data {d.title!r} "
-                                     f"hold no static responses for loads there (its load cases cover the interface "
-                                     f"nodes {sorted(carried)}): make node {node} an interface node of the "
-                                     "reduction for mode-acceleration recovery")
+        values.update(frame_load_amplitudes(self, result, T))
         zero = np.zeros(nt)
         return np.column_stack([values.get(c, zero) for c in d.load_cases]) if d.load_cases else np.zeros((nt, 0))
 
@@ -614,277 +568,3 @@ class FlexibleBody(Component):
         return out, S
 
 
-def _modal_nominals(data: ModalData) -> tuple[float, float]:
-    """Nominal sizes of the modal coordinates [1] and rates [1/s]: the ``q`` that deflects the body by 1e-3 of its
-    size (small elastic deformation), and that ``q`` oscillating at the lowest modal frequency. They scale the
-    integrator's absolute tolerance and the loop-redundancy rank test (``flexlib.compile.redundancy``)."""
-    size = float(np.linalg.norm(np.ptp(data.coordinates, axis=0))) or 1.0
-    shape = float(np.abs(data.translational_modes).max())
-    if not shape > 0:  # rotation-only modes
-        shape = float(np.abs(data.rotational_modes).max()) * size
-    q_nom = 1e-3 * size / shape if shape > 0 else 1.0
-    f = data.frequencies[data.frequencies > 0]
-    return q_nom, q_nom * 2 * np.pi * (float(f.min()) if f.size else 1.0)
-
-
-def _is_int(value: Any) -> bool:
-    """A Python or numpy integer, not a bool."""
-    return isinstance(value, int | np.integer) and not isinstance(value, bool | np.bool_)
-
-
-def _is_real(value: Any) -> bool:
-    """A Python or numpy real number, not a bool."""
-    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool | np.bool_)
-
-
-def _flag(name: str, value: Any, accepted: str = "True or False") -> bool:
-    if isinstance(value, bool | np.bool_):
-        return bool(value)
-    raise ModelError(f"FlexibleBody: {name} must be {accepted}, got {value!r} ({type(value).__name__})")
-
-
-def _int_list(name: str, value: Any, what: str, example: str) -> list[int]:
-    """``value`` as a list of ints: a list, tuple, range or 1-D integer array whose items are all integers."""
-    if isinstance(value, str | bytes | Mapping) or not isinstance(value, Sequence | np.ndarray | range):
-        raise ModelError(f"FlexibleBody: {name} must be {what}, got {value!r} ({type(value).__name__}); "
-                         f"for example {example}")
-    if isinstance(value, np.ndarray):
-        if value.ndim != 1:
-            raise ModelError(f"FlexibleBody: {name} must be a flat list of {what}, got an array of shape "
-                             f"{value.shape}")
-        items = value.tolist()
-    else:
-        items = list(value)
-    for k, item in enumerate(items):
-        if not _is_int(item):
-            hint = ""
-            if isinstance(item, float | np.floating) and float(item).is_integer():
-                hint = f" (write {int(item)})"
-            elif isinstance(item, str) and item.strip().lstrip("-").isdigit():
-                hint = f" (write {int(item)}, without quotes)"
-            raise ModelError(f"FlexibleBody: {name}[{k}] is {item!r} ({type(item).__name__}): {name} must be "
-                             f"{what}{hint}")
-    return [int(i) for i in items]
-
-
-def _frame_nodes(data: ModalData, frames: Any, source: str) -> list[int]:
-    """The node ids of the frames: given, else the file's interface nodes; at least one, distinct, in the file."""
-    if frames is None:
-        nodes = [int(n) for n in data.interface_nodes]
-        if not nodes:
-            raise ModelError(f"FlexibleBody: no frames: the {source} has no interface nodes ('/interface/node_ids' "
-                             f"is empty); pass frames=[node ids] (nodes {int(data.node_ids.min())}.."
-                             f"{int(data.node_ids.max())})")
-        return nodes
-    nodes = _int_list("frames", frames, "a list of node ids (ints)", "frames=[0, 6]")
-    if not nodes:
-        iface = [int(n) for n in data.interface_nodes]
-        raise ModelError(f"FlexibleBody: frames is empty: a flexible body needs at least one frame (frame_a) to be "
-                         f"connected; pass node ids, e.g. frames={iface or [int(data.node_ids[0])]}, or leave "
-                         f"frames out for the interface nodes of the {source} {iface}")
-    if len(set(nodes)) != len(nodes):
-        twice = sorted({n for n in nodes if nodes.count(n) > 1})
-        raise ModelError(f"FlexibleBody: frames {nodes} name a node twice (node {twice[0]}); each node gets at most "
-                         "one frame")
-    for node in nodes:
-        try:
-            data.node_index(node)
-        except KeyError:
-            raise ModelError(f"FlexibleBody: frames: node {node} is not in the {source} (nodes "
-                             f"{int(data.node_ids.min())}..{int(data.node_ids.max())})") from None
-    return nodes
-
-
-def _ratio(where: str, value: Any) -> float:
-    """A modal damping ratio: a real number in [0, 1]."""
-    accepted = "a modal damping ratio in [0, 1] (a fraction of critical damping: 0.02 for 2 %)"
-    if not _is_real(value):
-        raise ModelError(f"FlexibleBody: {where} must be {accepted}, got {value!r} ({type(value).__name__})")
-    v = float(value)
-    if not 0.0 <= v <= 1.0:  # NaN fails too
-        hint = f" (a percentage? {v:g} % is {v / 100:g})" if 1.0 < v <= 100.0 else ""
-        raise ModelError(f"FlexibleBody: {where} must be {accepted}, got {v!r}{hint}")
-    return v
-
-
-def _damping_ratios(zeta: np.ndarray, damping: Any) -> np.ndarray:
-    """The modal damping ratios of the kept modes: ``zeta`` (file or default rule) with ``damping`` applied."""
-    m = zeta.size
-    if damping is None:
-        return zeta
-    if isinstance(damping, np.ndarray) and damping.ndim == 0:
-        damping = damping.item()
-    if isinstance(damping, Mapping):
-        if damping and not m:
-            raise ModelError(f"FlexibleBody: damping given for modes {sorted(damping, key=str)}, but no modes are "
-                             "kept")
-        for mode, value in damping.items():
-            if not _is_int(mode):
-                raise ModelError(f"FlexibleBody: damping: key {mode!r} ({type(mode).__name__}) must be the index "
-                                 f"(int) of a kept mode, 0..{m - 1}")
-            if not 0 <= mode < m:
-                raise ModelError(f"FlexibleBody: damping given for mode {mode}, but {m} modes are kept (indices "
-                                 f"0..{m - 1} into the kept modes)")
-            zeta[int(mode)] = _ratio(f"damping[{mode}]", value)
-        return zeta
-    if _is_real(damping):
-        zeta[:] = _ratio("damping", damping)
-        return zeta
-    if isinstance(damping, str | bytes) or not isinstance(damping, Sequence | np.ndarray):
-        raise ModelError(f"FlexibleBody: damping must be a modal damping ratio for every kept mode (e.g. 0.02), one "
-                         f"per kept mode ({m}) or {{mode: ratio}}, got {damping!r} ({type(damping).__name__})")
-    values = list(damping.tolist() if isinstance(damping, np.ndarray) else damping)
-    nested = any(isinstance(v, Sequence | np.ndarray) and not isinstance(v, str) for v in values)
-    if nested or len(values) != m:
-        raise ModelError(f"FlexibleBody: damping has {len(values)} {'nested ' if nested else ''}values, but {m} "
-                         "modes are kept: give one ratio per kept mode, one number for all, or {mode: ratio}")
-    for k, value in enumerate(values):
-        zeta[k] = _ratio(f"damping[{k}]", value)
-    return zeta
-
-
-def _check_zeta(value: Any, m: int) -> None:
-    """``zeta`` given directly: numbers (not text or bools), one per kept mode (the parameter checks the bounds)."""
-    items = np.asarray(value, dtype=object).ravel().tolist() if not isinstance(value, str | bytes) else [value]
-    for item in items:
-        if not _is_real(item):
-            raise ParameterError(f"FlexibleBody: zeta must be modal damping ratios (numbers in [0, 1]), one per kept "
-                                 f"mode ({m}), got {value!r} (an item {item!r} of type {type(item).__name__})")
-    if not m and items:
-        raise ParameterError(f"FlexibleBody: zeta has {len(items)} values, but no modes are kept (zeta is absent "
-                             "for the rigid body)")
-
-
-def _modal_start(kind: str, name: str, value: Any, m: int) -> np.ndarray:
-    """A start value of the modal coordinates ``q`` [1] or rates ``qd`` [1/s]: finite numbers, one per kept mode."""
-    where = f"FlexibleBody: {kind}[{name!r}]"
-    items = [value] if isinstance(value, str | bytes) or np.ndim(value) == 0 else np.asarray(
-        value, dtype=object).ravel().tolist()
-    for item in items:
-        if not _is_real(item):
-            raise ModelError(f"{where} must be numbers, one per kept mode ({m}), got {value!r} (an item {item!r} of "
-                             f"type {type(item).__name__})")
-    if np.ndim(value) != 1 or len(items) != m:
-        raise ModelError(f"{where} has shape {np.shape(value)}, but {m} modes are kept: give one value per kept "
-                         f"mode, e.g. {kind}={{{name!r}: np.zeros({m})}}")
-    out = np.array(items, dtype=float)
-    if not np.all(np.isfinite(out)):
-        raise ModelError(f"{where} has a non-finite value {float(out[~np.isfinite(out)][0])!r} at index "
-                         f"{int(np.flatnonzero(~np.isfinite(out))[0])}")
-    return out
-
-
-def _choose_modes(data: ModalData, modes: Any, max_frequency: Any, source: str) -> ModalData:
-    """The kept modes: ``modes`` (None, an int count or a list of indices) and ``max_frequency`` (module rules)."""
-    n = data.n_modes
-    accepted = ("an int count of the lowest modes (e.g. modes=4) or a list of mode indices into the file's "
-                f"modes 0..{n - 1} (e.g. modes=[0, 2])")
-    if max_frequency is not None:
-        if not _is_real(max_frequency) or not float(max_frequency) >= 0.0:
-            raise ModelError(f"FlexibleBody: max_frequency must be a frequency [Hz] >= 0, got {max_frequency!r} "
-                             f"({type(max_frequency).__name__})")
-        max_frequency = float(max_frequency)
-    idx: list[int] = []
-    if modes is None or _is_int(modes):
-        if modes is not None and int(modes) < 0:
-            raise ModelError(f"FlexibleBody: modes must be >= 0, got {modes} (a count of the lowest modes; 0 for the "
-                             "rigid body)")
-        if modes is not None and int(modes) > n:
-            raise ModelError(f"FlexibleBody: modes={int(modes)} asks for the {int(modes)} lowest modes, but the "
-                             f"{source} has only {n}")
-        if modes is None and max_frequency is None:
-            return data
-        out = select_modes(data, count=None if modes is None else int(modes), max_frequency=max_frequency)
-    else:
-        if isinstance(modes, bool | np.bool_):
-            raise ModelError(f"FlexibleBody: modes={modes!r} is a bool; modes must be {accepted}")
-        if isinstance(modes, str):
-            hint = ""
-            if modes.strip().isdigit():
-                k = int(modes)
-                hint = f"; write modes={k} for the {k} lowest modes, or modes=[{k}] for the mode of index {k}"
-            raise ModelError(f"FlexibleBody: modes={modes!r} is a string; modes must be {accepted}{hint}")
-        if isinstance(modes, float | np.floating):
-            hint = f"; write modes={int(modes)}" if float(modes).is_integer() else ""
-            raise ModelError(f"FlexibleBody: modes={modes!r} is a float; modes must be {accepted}{hint}")
-        idx = _int_list("modes", modes, accepted, "modes=[0, 2]")
-        twice = sorted({i for i in idx if idx.count(i) > 1})
-        if twice:
-            raise ModelError(f"FlexibleBody: modes {idx} name mode {twice[0]} twice; each mode is kept once")
-        bad = [i for i in idx if not 0 <= i < n]
-        if bad:
-            raise ModelError(f"FlexibleBody: modes {bad} are not in the {source} ({n} modes: 0..{n - 1})")
-        out = data.select(idx)
-        if max_frequency is not None:
-            out = select_modes(out, max_frequency=max_frequency)
-    rigid_asked = modes is not None and (int(modes) == 0 if _is_int(modes) else not idx)
-    if max_frequency is not None and n and not out.n_modes and not rigid_asked:
-        raise ModelError(f"FlexibleBody: max_frequency={max_frequency:g} Hz keeps no mode of the {source} (lowest "
-                         f"{float(data.frequencies.min()):.4g} Hz); pass modes=0 for a rigid body")
-    return out
-
-
-def inertial_load_amplitudes(alpha: np.ndarray, z: np.ndarray, w: np.ndarray) -> dict[str, np.ndarray]:
-    """Amplitudes of the inertial unit load cases (:func:`~.geometric.inertial_load_cases`) of a reference frame
-    with origin acceleration less gravity ``alpha`` [m/s2], angular acceleration ``z`` [rad/s2] and angular
-    velocity ``w`` [rad/s], all (nt, 3) in body axes: ``acc_*``, ``alpha_*``, ``omega_aa`` = ``w_a²``,
-    ``omega_ab`` = ``w_a w_b``."""
-    axes = "xyz"
-    values: dict[str, np.ndarray] = {}
-    for a in range(3):
-        values[f"acc_{axes[a]}"] = alpha[:, a]
-        values[f"alpha_{axes[a]}"] = z[:, a]
-        values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
-    for a, b in ((0, 1), (1, 2), (2, 0)):
-        values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
-    return values
-
-
-def cayley_rotation(theta: np.ndarray) -> np.ndarray:
-    """The exact rotation ``T_rel`` (body → node axes) a frame gets from its node's elastic rotation vector.
-
-    The Cayley map of ``a = theta / 2``: ``T_rel = I + 2 (A² − A) / (1 + |a|²)`` with ``A = [a×]``; orthogonal
-    for any ``theta`` and ``I − [theta×]`` to first order (the frame equations of :class:`FlexibleBody`).
-
-    Parameters
-    ----------
-    theta : ndarray (..., 3)
-        Small-rotation vectors [rad] in body axes.
-
-    Returns
-    -------
-    ndarray (..., 3, 3)
-    """
-    try:
-        bad = isinstance(theta, str | bytes) or np.asarray(theta).dtype.kind not in "iuf"
-    except (TypeError, ValueError):
-        bad = True
-    if bad or np.ndim(theta) == 0 or np.shape(theta)[-1] != 3 or not np.all(np.isfinite(theta)):
-        raise RunArgumentError(f"cayley_rotation: argument 'theta' must be finite rotation vectors (..., 3) [rad], got "
-                               f"{type(theta).__name__} of shape {np.shape(theta)}: {theta!r:.60}")
-    a = np.asarray(theta, dtype=float) / 2
-    A = np.zeros((*a.shape[:-1], 3, 3))
-    A[..., 0, 1], A[..., 0, 2], A[..., 1, 2] = -a[..., 2], a[..., 1], -a[..., 0]
-    A -= np.swapaxes(A, -1, -2)
-    k = (2 / (1 + np.einsum("...a,...a->...", a, a)))[..., None, None]
-    return np.eye(3) + k * (A @ A - A)
-
-
-def _result_gravity(body: Any, result: Any) -> np.ndarray:
-    """The World's gravity vector [m/s2] used in ``result`` (its recorded parameters, else the model's)."""
-    worlds = [n for n in body.root.walk() if isinstance(n, World)]
-    if len(worlds) != 1:
-        raise ModelError(f"{body.path}: the model needs exactly one World (found {len(worlds)})")
-    world = worlds[0]
-    params = getattr(result, "parameters", {}) or {}
-
-    def value(name: str, shape: int | None) -> np.ndarray:
-        default = np.asarray(world.parameter_value(name), dtype=float)
-        if shape is None:
-            key = f"{world.path}.{name}"
-            return np.asarray(params[key][0], dtype=float) if key in params else default
-        keys = [f"{world.path}.{name}[{i}]" for i in range(shape)]
-        return np.array([params[k][0] for k in keys], dtype=float) if all(k in params for k in keys) else default
-
-    g, n = float(value("g", None)), value("n", 3)
-    return g * n / np.linalg.norm(n)

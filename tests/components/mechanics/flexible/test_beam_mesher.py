@@ -19,16 +19,7 @@ import scipy.io
 import scipy.linalg as la
 import scipy.sparse.linalg as sla
 
-from flexlib.components.mechanics.flexible import (
-    beam_mesh,
-    box,
-    circle,
-    i_section,
-    read_fe,
-    read_matrix_market,
-    rectangle,
-    tube,
-)
+from flexlib.fe import beam_mesh, box, circle, i_section, read_fe, read_matrix_market, rectangle, tube
 
 E, RHO, L = 2.1e11, 7850.0, 2.0
 SEC = rectangle(0.02, 0.03)  # b along z, h along y: Iz (x-y bending) > Iy
@@ -104,7 +95,7 @@ def test_clamped_frequencies_vs_euler_bernoulli(mass):
     """Clamped-free: first three x-y bending frequencies within 0.5 % of (beta_n L)^2 sqrt(E I/(rho A L^4)),
     beta_n L = 1.8751, 4.6941, 7.8548, at 32 elements (consistent and HRZ-lumped mass), from the full FE model
     and from its improved Craig–Bampton reduction (interface at the tip, 12 fixed-interface modes)."""
-    from flexlib.components.mechanics.flexible import craig_bampton
+    from flexlib.fe import craig_bampton
 
     fe = beam_mesh((0, 0, 0), (L, 0, 0), 32, SEC, E=E, rho=RHO, mass=mass).constrained([0])
     ref = np.array([1.8751, 4.6941, 7.8548]) ** 2 * math.sqrt(E * SEC.Iz / (RHO * SEC.A * L**4))
@@ -232,7 +223,7 @@ def test_section_forces_and_fibre_stress_of_cantilever():
     """Cantilever (Timoshenko, 4 elements) under tip forces (Fx, Fy, Fz) = (1000, 100, 30) N: section forces at
     every element end N = Fx, Vy = Fy, Mz = Fy (L - x), My = -Fz (L - x) (statics), and the corner-fibre
     stress N/A + My z/Iy - Mz y/Iz at every node, exact to 1e-9 relative."""
-    from flexlib.components.mechanics.flexible import beam_stress_modes, section_force_modes
+    from flexlib.fe import beam_stress_modes, section_force_modes
 
     b, h = 0.02, 0.03
     sec = rectangle(b, h)
@@ -259,7 +250,7 @@ def test_nodes_at_given_stations_keep_the_beam_exact():
     mass is ρAL (1e-12), a tip load still deflects the cantilever by PL³/3EI (Euler–Bernoulli elements are exact
     for nodal loads, 1e-9) and the first three clamped frequencies stay within 0.05 % of Euler–Bernoulli
     (40 elements)."""
-    from flexlib.components.mechanics.flexible import rectangle
+    from flexlib.fe import rectangle
 
     b, h, L, E, rho = 0.02, 0.04, 2.0, 2.1e11, 7850.0
     fe = beam_mesh((0, 0, 0), (L, 0, 0), 40, rectangle(b, h), E=E, rho=rho, nodes_at=[0.333, 1.5, 1.93])
@@ -281,7 +272,7 @@ def test_nodes_at_given_stations_keep_the_beam_exact():
 
 
 def test_bad_nodes_at_are_named():
-    from flexlib.components.mechanics.flexible import rectangle
+    from flexlib.fe import rectangle
 
     with pytest.raises(ValueError, match=r"nodes_at must lie on the axis, 0 \.\. 2 m"):
         beam_mesh((0, 0, 0), (2, 0, 0), 8, rectangle(0.02, 0.04), E=2e11, rho=7850.0, nodes_at=[2.5])

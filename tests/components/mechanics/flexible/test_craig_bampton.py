@@ -17,7 +17,7 @@ import scipy.linalg as la
 import scipy.optimize as so
 import scipy.sparse.linalg as sla
 
-from flexlib.components.mechanics.flexible import (
+from flexlib.fe import (
     ModalData,
     Section,
     beam_mesh,
@@ -222,8 +222,8 @@ def test_mpf_of_seed_beam_against_analytic_modes():
 def test_sparse_shift_invert_matches_dense(monkeypatch):
     """Fixed-interface modes of a 121-node Timoshenko box beam: scipy eigsh shift-invert on the sparse LU of
     K_ii (used above 400 interior DOFs) equals the dense solution to 1e-9 relative."""
-    import flexlib.components.mechanics.flexible.reduction as reduction
-    from flexlib.components.mechanics.flexible import box
+    import flexlib.fe.reduction as reduction
+    from flexlib.fe import box
 
     fe = beam_mesh((0, 0, 0), (5.0, 0, 0), 120, box(0.2, 0.3, 0.01), E=E, rho=RHO, theory="timoshenko")
     fe = fe.constrained([0])
@@ -255,7 +255,7 @@ def test_external_fe_model_gets_lumped_invariants(tmp_path):
     """An FE model read from a file (no element data) gets the lumped description from M: nodal masses are the
     translational row sums (total mass rho A L exact, 1e-12; centre of mass L/2 exact for a uniform beam, whose
     row sums are symmetric), and the invariants are marked "lumped"; frequencies equal those of the beam model."""
-    from flexlib.components.mechanics.flexible import read_fe
+    from flexlib.fe import read_fe
 
     fe = beam_mesh((0, 0, 0), (L, 0, 0), 16, SEC, E=E, rho=RHO)
     fe.write_npz(tmp_path / "beam.npz")

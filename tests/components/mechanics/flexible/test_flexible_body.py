@@ -20,9 +20,10 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.mechanics.flexible import FlexibleBody, Section, beam_mesh, modal_data_from_fe, rectangle
+from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.flexible.body import _cayley
 from flexlib.components.mechanics.multibody import Body, Revolute, World, WorldForce
+from flexlib.fe import Section, beam_mesh, modal_data_from_fe, rectangle
 
 # the seed-001 beam: steel-like, very slender
 E, RHO, L, A, I_AREA = 2e11, 8000.0, 1.5, 1e-4, 1e-10
@@ -377,7 +378,7 @@ def test_stress_and_drawing_from_a_simulation(tmp_path):
     initialisation: the von Mises stress at the clamped root's outer fibre from the body's stress modes equals
     beam theory's P·L·(h/2)/Iz within 1e-6, the tip deflects by PL³/3EIz, and the motion writes a VTK series whose
     collection lists every output instant."""
-    from flexlib.components.mechanics.flexible import nodal_stress, von_mises, write_vtk_series
+    from flexlib.fe import nodal_stress, von_mises, write_vtk_series
 
     b, h, L, P, Ey = 0.02, 0.04, 1.0, 500.0, 2.1e11
     fe = beam_mesh((0, 0, 0), (L, 0, 0), 16, rectangle(b, h), E=Ey, rho=7850.0)
@@ -416,8 +417,8 @@ def test_kane_spin_up_beam():
     import scipy.sparse as sp
     import scipy.sparse.linalg as sla
 
-    from flexlib.components.mechanics.flexible import geometric_stiffness_matrix, inertial_load_cases
     from flexlib.components.mechanics.rotational import Position
+    from flexlib.fe import geometric_stiffness_matrix, inertial_load_cases
 
     L, rhoA, EI, Ey = 10.0, 1.2, 14000.0, 7e10
     A, Iz = 4e-4, EI / Ey

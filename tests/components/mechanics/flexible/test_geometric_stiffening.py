@@ -17,7 +17,7 @@ import pytest
 import scipy.integrate as si
 import scipy.linalg as la
 
-from flexlib.components.mechanics.flexible import ModalData, beam_mesh, modal_data_from_fe, rectangle
+from flexlib.fe import ModalData, beam_mesh, modal_data_from_fe, rectangle
 
 E, RHO, L = 2.1e11, 7850.0, 2.0
 B, H = 0.02, 0.03  # Iy = H B^3/12 < Iz: the lowest bending mode is along z (flapwise for rotation about z)

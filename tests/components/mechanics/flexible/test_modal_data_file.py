@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from flexlib import ModalFileError
-from flexlib.components.mechanics.flexible import (
+from flexlib.fe import (
     ModalData,
     beam_mesh,
     default_damping_ratio,

@@ -17,8 +17,9 @@ import scipy.sparse.linalg as spla
 
 import flexlib as fl
 from flexlib import ModalFileError
-from flexlib.components.mechanics.flexible import (
-    FlexibleBody,
+from flexlib.components.mechanics.flexible import FlexibleBody
+from flexlib.components.mechanics.multibody import World, WorldForce
+from flexlib.fe import (
     ModalData,
     Section,
     beam_mesh,
@@ -30,8 +31,7 @@ from flexlib.components.mechanics.flexible import (
     rectangle,
     von_mises,
 )
-from flexlib.components.mechanics.flexible.geometric import inertial_load_cases, interface_load_cases
-from flexlib.components.mechanics.multibody import World, WorldForce
+from flexlib.fe.geometric import inertial_load_cases, interface_load_cases
 
 QUIET = {"progress": False}
 
@@ -64,9 +64,9 @@ def test_static_responses_equal_the_sum_over_all_elastic_modes(attachment):
         rigid = fe.rigid_body_modes()
     elif attachment == "pinned":
         fe = fe.constrained([0], ("ux", "uy", "uz"))
-        from flexlib.components.mechanics.flexible.reduction import _rotations_about
+        from flexlib.fe.reduction import rotations_about
 
-        rigid = _rotations_about(fe, fe.nodes[0])
+        rigid = rotations_about(fe, fe.nodes[0])
     else:
         fe = fe.constrained([0])
         rigid = None
@@ -190,7 +190,7 @@ def test_participation_from_load_cases_equals_the_fe_loads_route():
     """MPF from load-case amplitudes (a tip force, a root torque and gravity at one instant; the same at twice
     the size at another) equals the MPF of the same loads assembled on the FE DOFs and projected on the modes
     (modal_participation), to 1e-9 in every share."""
-    from flexlib.components.mechanics.flexible import modal_participation, participation_from_load_cases
+    from flexlib.fe import modal_participation, participation_from_load_cases
 
     fe = beam_mesh((0, 0, 0), (2.0, 0, 0), 16, rectangle(0.02, 0.04), E=2.1e11, rho=7850.0)
     data = modal_data_from_fe(fe, [16], 6, reference_node=0, attachment="pinned")

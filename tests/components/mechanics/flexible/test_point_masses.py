@@ -16,7 +16,7 @@ import pytest
 import scipy.linalg as la
 from scipy.optimize import brentq
 
-from flexlib.components.mechanics.flexible import beam_mesh, box, modal_data_from_fe, rectangle
+from flexlib.fe import beam_mesh, box, modal_data_from_fe, rectangle
 
 E, RHO, L = 2.1e11, 7850.0, 2.0
 

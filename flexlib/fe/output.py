@@ -1,6 +1,6 @@
 """Flexible-body output: nodal deformation and stress from modal coordinates.
 
-Given a body's :class:`~flexlib.components.mechanics.flexible.ModalData` and the time series of its motion —
+Given a body's :class:`~flexlib.fe.ModalData` and the time series of its motion —
 modal coordinates ``q(t)`` (nt, M), the floating frame's origin ``r_0(t)`` (nt, 3) [m, world axes] and its
 orientation ``T(t)`` (nt, 3, 3), world to body (``v_body = T @ v_world``, as in flexlib's ``Frame``) — this
 module recovers, at any node ``p`` with undeformed position ``s_p`` and mode shapes ``Phi_p``, ``Phi*_p``,
@@ -18,8 +18,8 @@ module recovers, at any node ``p`` with undeformed position ``s_p`` and mode sha
   each, and quantities near the load (the slope at a driven pin, the stress at a joint) converge slowly with
   the number of modes in plain modal superposition; the residual term restores their static part exactly;
 
-and gives the drawing functions of :mod:`.drawing` (VTK series for ParaView, matplotlib stills and animations)
-their fields.
+and gives the VTK series for ParaView (:mod:`.vtk_series`) and the matplotlib stills and animations
+(:mod:`.drawing`) their fields.
 
 References
 ----------
@@ -43,15 +43,17 @@ from flexlib.errors import ModalFileError, RunArgumentError
 
 from .modal_data import ModalData
 
-__all__ = ["deformed_positions", "energies", "nodal_stress", "node_displacements", "node_rotations",
-           "section_forces", "von_mises"]
+__all__ = ["FIELDS", "check_scale", "data_label", "deformed_positions", "energies", "field_values", "motion_series",
+           "nodal_stress", "node_displacements", "node_rotations", "section_forces", "von_mises"]
 
+#: Nodal fields that can be drawn or written (:func:`field_values`).
 FIELDS = ("displacement", "rotation", "von_mises", "stress")
 _ORTHO_TOL = 1e-6  # |T T^T - I| above which an orientation is refused
 
 
 # ---------------------------------------------------------------------------------------------- argument checks
-def _name(data: ModalData) -> str:
+def data_label(data: ModalData) -> str:
+    """``"modal data 'arm'"``: how messages name modal data."""
     return f"modal data {data.title!r}" if data.title else "modal data (untitled)"
 
 
@@ -85,7 +87,8 @@ def _array(func: str, arg: str, value: Any) -> np.ndarray:
     return a
 
 
-def _scale(func: str, scale: Any) -> float:
+def check_scale(func: str, scale: Any) -> float:
+    """A drawing magnification: one finite real number."""
     a = _array(func, "scale", scale)
     if a.ndim != 0:
         raise RunArgumentError(f"{func}: argument 'scale' must be a number, got shape {a.shape}")
@@ -101,7 +104,7 @@ def _modal_coordinates(data: ModalData, q: Any, func: str) -> tuple[np.ndarray, 
     if a.ndim == 2 and a.shape[1] == M:
         return a, False
     raise RunArgumentError(f"{func}: argument 'q' has shape {a.shape}, expected (nt, {M}) or ({M},): "
-                           f"{_name(data)} has {M} modes (pass the modal data a body was built with, "
+                           f"{data_label(data)} has {M} modes (pass the modal data a body was built with, "
                            "body.modal_data, with the q of body.motion(result))")
 
 
@@ -114,7 +117,7 @@ def _node_indices(data: ModalData, nodes: Sequence[int] | np.ndarray | None, fun
     lookup = {int(k): i for i, k in enumerate(data.node_ids.tolist())}
     missing = [int(k) for k in ids.tolist() if int(k) not in lookup]
     if missing:
-        raise RunArgumentError(f"{func}: argument 'nodes': {_name(data)} has no node with id {missing[:5]} "
+        raise RunArgumentError(f"{func}: argument 'nodes': {data_label(data)} has no node with id {missing[:5]} "
                                f"(node ids {int(data.node_ids.min())}..{int(data.node_ids.max())})")
     return np.array([lookup[int(k)] for k in ids.tolist()], dtype=np.int64)
 
@@ -158,7 +161,7 @@ def _times(times: Any, nt: int, func: str) -> np.ndarray:
 
 def _stress_modes(data: ModalData, func: str) -> np.ndarray:
     if data.stress_modes is None:
-        raise ModalFileError(f"{func}: {_name(data)} has no stress modes (dataset '/modes/stress'): von Mises "
+        raise ModalFileError(f"{func}: {data_label(data)} has no stress modes (dataset '/modes/stress'): von Mises "
                              "stress needs them; beam models get them from modal_data_from_fe(..., "
                              "stress_fibre=(y, z))")
     return data.stress_modes
@@ -178,7 +181,7 @@ def _residual(func: str, data: ModalData, kind: str, loads: Any, nt: int,
         raise ModalFileError(f"{func}: {exc}") from None
     key = _RESIDUAL[kind]
     if key not in fields:
-        raise ModalFileError(f"{func}: {_name(data)} has no static load responses for {key} "
+        raise ModalFileError(f"{func}: {data_label(data)} has no static load responses for {key} "
                              f"(dataset '/static_loads/{key}')")
     C = len(fields["cases"])
     a = _array(func, "loads", loads)
@@ -186,7 +189,7 @@ def _residual(func: str, data: ModalData, kind: str, loads: Any, nt: int,
         a = a[None, :]
     if a.ndim != 2 or a.shape != (nt, C):
         raise RunArgumentError(f"{func}: argument 'loads' has shape {a.shape}, expected ({nt}, {C}): one amplitude "
-                               f"per load case {list(fields['cases'][:4])}... of {_name(data)} and instant")
+                               f"per load case {list(fields['cases'][:4])}... of {data_label(data)} and instant")
     return fields[key], a
 
 
@@ -307,7 +310,7 @@ def deformed_positions(data: ModalData, q: Any, r_0: Any, T: Any, nodes: Sequenc
     idx = _node_indices(data, nodes, func)
     nt = q2.shape[0]
     r, R = _frame_motion(r_0, T, nt, func)
-    scale = _scale(func, scale)
+    scale = check_scale(func, scale)
     body = data.coordinates[idx][None, :, :] + scale * np.einsum("tm,mnk->tnk", q2, data.translational_modes[:, idx])
     out = r[:, None, :] + np.einsum("tji,tnj->tni", R, body)
     _overflow(func, out)
@@ -372,7 +375,7 @@ def section_forces(data: ModalData, q: Any, *, loads: Any = None) -> np.ndarray:
     func = "section_forces"
     data = _check_data(data, func)
     if data.section_forces is None:
-        raise ModalFileError(f"{func}: {_name(data)} has no section forces (dataset '/modes/section_forces'): "
+        raise ModalFileError(f"{func}: {data_label(data)} has no section forces (dataset '/modes/section_forces'): "
                              "only beam models made by beam_mesh have them")
     q2, single = _modal_coordinates(data, q, func)
     out = np.einsum("tm,mekl->tekl", q2, data.section_forces)
@@ -412,7 +415,7 @@ def von_mises(stress: Any) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------- drawing data
-def _series(func: str, data: Any, times: Any, q: Any, r_0: Any, T: Any, scale: float = 1.0) -> dict[str, Any]:
+def motion_series(func: str, data: Any, times: Any, q: Any, r_0: Any, T: Any, scale: float = 1.0) -> dict[str, Any]:
     """Checked time series and the world positions and elastic displacement (world axes) of every node."""
     data = _check_data(data, func)
     q2, _ = _modal_coordinates(data, q, func)
@@ -421,14 +424,14 @@ def _series(func: str, data: Any, times: Any, q: Any, r_0: Any, T: Any, scale: f
         raise RunArgumentError(f"{func}: argument 'q' has no samples (shape {q2.shape})")
     t = _times(times, nt, func)
     r, R = _frame_motion(r_0, T, nt, func)
-    scale = _scale(func, scale)
+    scale = check_scale(func, scale)
     u_body = np.einsum("tm,mnk->tnk", q2, data.translational_modes)
     u_world = np.einsum("tji,tnj->tni", R, u_body)
     points = r[:, None, :] + np.einsum("tji,tnj->tni", R, data.coordinates[None]) + scale * u_world
     return {"data": data, "q": q2, "t": t, "R": R, "points": points, "u": u_world}
 
 
-def _field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
+def field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
     """(nt, N) or (nt, N, k) values of one drawable field."""
     data: ModalData = s["data"]
     if field == "displacement":

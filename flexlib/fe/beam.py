@@ -314,6 +314,24 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     ----------
     Przemieniecki 1968 ch. 5 and 11; Friedman & Kosmatka 1993; Cook et al. 2002 §11.3 (see the module).
     """
+    p0, p1, E, rho, G = _checked_arguments(n_elements, start, end, E, rho, G, nu, theory, mass, rotary_inertia,
+                                           section)
+    timoshenko = theory == "timoshenko"
+    rotary = timoshenko if rotary_inertia is None else bool(rotary_inertia)
+    axis, length, R, fractions = _axis_and_stations(p0, p1, y_axis, int(n_elements), nodes_at)
+    mesh = _BeamAssembly(section, fractions, length, bool(len(nodes_at)), p0, axis, R)
+    mesh.assemble(E, G, rho, timoshenko, rotary, mass)
+    info = {"producer": "flexlib beam_mesh", "theory": theory, "mass": mass, "rotary_inertia": rotary,
+            "n_elements": int(mesh.n_elements), "length_m": length, "E_Pa": float(E), "G_Pa": float(G),
+            "rho_kg_m3": float(rho), "section_start": _section_at(section, 0.0).name,
+            "section_end": _section_at(section, 1.0).name}
+    return mesh.model(info, mass)
+
+
+def _checked_arguments(n_elements: Any, start: Any, end: Any, E: Any, rho: Any, G: Any, nu: Any, theory: Any,
+                       mass: Any, rotary_inertia: Any, section: Any) -> tuple[np.ndarray, np.ndarray, float, float,
+                                                                             float]:
+    """The arguments of :func:`beam_mesh` checked: the end points, ``E``, ``rho`` and ``G`` (default from ``nu``)."""
     if isinstance(n_elements, bool | np.bool_) or not isinstance(n_elements, numbers.Integral) or n_elements < 1:
         raise RunArgumentError(f"beam_mesh: n_elements must be a positive integer (a whole number >= 1), got "
                                f"{n_elements!r}")
@@ -351,8 +369,13 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
         G = _real("G", G, "a positive finite number [Pa]")
     if G <= 0:
         raise RunArgumentError(f"beam_mesh: G must be a positive finite number [Pa], got {G!r}")
-    timoshenko = theory == "timoshenko"
-    rotary = timoshenko if rotary_inertia is None else bool(rotary_inertia)
+    return p0, p1, E, rho, G
+
+
+def _axis_and_stations(p0: np.ndarray, p1: np.ndarray, y_axis: Any, n_elements: int,
+                       nodes_at: Sequence[float]) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
+    """The beam axis ``p1 - p0`` [m], its length [m], the element frame (rows: local x, y, z) and the node
+    stations as fractions of the length."""
     axis = p1 - p0
     length = float(np.linalg.norm(axis))
     if length == 0 or not math.isfinite(length):
@@ -362,85 +385,119 @@ def beam_mesh(start: Sequence[float], end: Sequence[float], n_elements: int, sec
     if y_axis is not None:
         y_axis = _point("y_axis", y_axis, nonzero=True)
     R = _frame(axis, y_axis)
-    T = np.kron(np.eye(4), R)
-    fractions = _stations(length, int(n_elements), nodes_at)
-    n_elements = fractions.size - 1
-    n_nodes = n_elements + 1
-    nodes = p0 + fractions[:, None] * axis
-    dof_map = np.arange(6 * n_nodes).reshape(n_nodes, 6)
-    n = 6 * n_nodes
-    rows, cols, kvals, mvals = [], [], [], []
-    xg, wg = np.polynomial.legendre.leggauss(_GAUSS_MASS)
-    xg, wg = (xg + 1) / 2, wg / 2
-    P = n_elements * _GAUSS_MASS
-    positions, masses, inertias = np.zeros((P, 3)), np.zeros(P), np.zeros((P, 3, 3))
-    nt_rows, nt_cols, nt_vals, nr_vals = [], [], [], []
-    k_local = np.zeros((n_elements, 12, 12))
-    ends = np.zeros((3, n_elements, 2))  # A, Iy, Iz at the two ends
-    uniform: tuple | None = None
-    shapes: dict[tuple[int, float, float], tuple[np.ndarray, np.ndarray]] = {}
-    for e in range(n_elements):
-        s0, s1 = float(fractions[e]), float(fractions[e + 1])
-        L = length * (s1 - s0) if len(nodes_at) else length / n_elements
+    return axis, length, R, _stations(length, n_elements, nodes_at)
 
-        def local(xi: float, s0: float = s0, s1: float = s1) -> Section:
-            return _section_at(section, s0 + xi * (s1 - s0))
 
-        if uniform is None or callable(section) or abs(uniform[0] - L) > 1e-12 * L:  # equal elements: the same
-            Ke, Me = element_matrices(L, local, E, G, rho, timoshenko=timoshenko, rotary_inertia=rotary,
-                                      lumped=mass == "lumped")
-            uniform = (L, Ke, Me, T.T @ Ke @ T, T.T @ Me @ T)
-        Ke, Me, Kg, Mg = uniform[1:]
-        k_local[e] = Ke
-        for end, xi in enumerate((0.0, 1.0)):
-            sec = local(xi)
-            ends[:, e, end] = sec.A, sec.Iy, sec.Iz
-        idx = np.arange(6 * e, 6 * e + 12)
-        rows.append(np.repeat(idx, 12))
-        cols.append(np.tile(idx, 12))
-        kvals.append(Kg.ravel())
-        mvals.append(Mg.ravel())
-        if mass == "consistent":
-            mid = local(0.5)
-            phi_y = 12 * E * mid.Iz / (G * mid.Asy * L**2) if timoshenko else 0.0
-            phi_z = 12 * E * mid.Iy / (G * mid.Asz * L**2) if timoshenko else 0.0
-            for g, (xi, w) in enumerate(zip(xg, wg)):
-                p = e * _GAUSS_MASS + g
+class _BeamAssembly:
+    """The global matrices, frame-element data and consistent mass points of a straight beam mesh, element by
+    element (:func:`beam_mesh`)."""
+
+    def __init__(self, section: SectionLike, fractions: np.ndarray, length: float, split: bool, p0: np.ndarray,
+                 axis: np.ndarray, R: np.ndarray) -> None:
+        self.section, self.fractions, self.length, self.split = section, fractions, length, split
+        self.p0, self.axis, self.R = p0, axis, R
+        self.T = np.kron(np.eye(4), R)
+        self.n_elements = fractions.size - 1
+        n_nodes = self.n_elements + 1
+        self.nodes = p0 + fractions[:, None] * axis
+        self.dof_map = np.arange(6 * n_nodes).reshape(n_nodes, 6)
+        self.n = 6 * n_nodes
+        self.rows: list[np.ndarray] = []
+        self.cols: list[np.ndarray] = []
+        self.kvals: list[np.ndarray] = []
+        self.mvals: list[np.ndarray] = []
+        P = self.n_elements * _GAUSS_MASS
+        self.positions, self.masses, self.inertias = np.zeros((P, 3)), np.zeros(P), np.zeros((P, 3, 3))
+        self.nt_rows: list[np.ndarray] = []
+        self.nt_cols: list[np.ndarray] = []
+        self.nt_vals: list[np.ndarray] = []
+        self.nr_vals: list[np.ndarray] = []
+        self.k_local = np.zeros((self.n_elements, 12, 12))
+        self.ends = np.zeros((3, self.n_elements, 2))  # A, Iy, Iz at the two ends
+        self.shapes: dict[tuple[int, float, float], tuple[np.ndarray, np.ndarray]] = {}
+        xg, wg = np.polynomial.legendre.leggauss(_GAUSS_MASS)
+        self.gauss = (xg + 1) / 2, wg / 2  # points and weights on [0, 1]
+
+    def assemble(self, E: float, G: float, rho: float, timoshenko: bool, rotary: bool, mass: str) -> None:
+        """Add every element's matrices [N/m, kg] (equal elements computed once) and, for a consistent mass, its
+        Gauss points."""
+        T = self.T
+        uniform: tuple | None = None
+        for e in range(self.n_elements):
+            s0, s1 = float(self.fractions[e]), float(self.fractions[e + 1])
+            L = self.length * (s1 - s0) if self.split else self.length / self.n_elements
+
+            def local(xi: float, s0: float = s0, s1: float = s1) -> Section:
+                return _section_at(self.section, s0 + xi * (s1 - s0))
+
+            if uniform is None or callable(self.section) or abs(uniform[0] - L) > 1e-12 * L:  # equal elements
+                Ke, Me = element_matrices(L, local, E, G, rho, timoshenko=timoshenko, rotary_inertia=rotary,
+                                          lumped=mass == "lumped")
+                uniform = (L, Ke, Me, T.T @ Ke @ T, T.T @ Me @ T)
+            Ke, Me, Kg, Mg = uniform[1:]
+            self.k_local[e] = Ke
+            for end, xi in enumerate((0.0, 1.0)):
                 sec = local(xi)
-                key = (g, phi_y, phi_z)
-                if key not in shapes:
-                    Nt, Nr = _shape(xi, L, phi_y, phi_z)
-                    shapes[key] = ((R.T @ Nt @ T).ravel(), (R.T @ Nr @ T).ravel())
-                positions[p] = p0 + (s0 + xi * (s1 - s0)) * axis
-                masses[p] = rho * sec.A * w * L
-                r = 1.0 if rotary else 0.0
-                inertias[p] = R.T @ (rho * w * L * np.diag([sec.Ip, r * sec.Iy, r * sec.Iz])) @ R
-                nt_rows.append(np.repeat(np.arange(3 * p, 3 * p + 3), 12))
-                nt_cols.append(np.tile(idx, 3))
-                nt_vals.append(shapes[key][0])
-                nr_vals.append(shapes[key][1])
-    K = sp.csr_matrix((np.concatenate(kvals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
-    M = sp.csr_matrix((np.concatenate(mvals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
-    K, M = (K + K.T) / 2, (M + M.T) / 2
-    K.eliminate_zeros()
-    M.eliminate_zeros()
-    info = {"producer": "flexlib beam_mesh", "theory": theory, "mass": mass, "rotary_inertia": rotary,
-            "n_elements": int(n_elements), "length_m": length, "E_Pa": float(E), "G_Pa": float(G),
-            "rho_kg_m3": float(rho), "section_start": _section_at(section, 0.0).name,
-            "section_end": _section_at(section, 1.0).name}
-    elements = np.column_stack([np.arange(n_elements), np.arange(1, n_nodes)]).astype(np.int64)
-    model = FEModel(M.tocsr(), K.tocsr(), nodes, dof_map, np.arange(n_nodes), elements, None, info)
-    if mass == "consistent":
-        shape = (3 * P, n)
-        Nt = sp.csr_matrix((np.concatenate(nt_vals), (np.concatenate(nt_rows), np.concatenate(nt_cols))), shape)
-        Nr = sp.csr_matrix((np.concatenate(nr_vals), (np.concatenate(nt_rows), np.concatenate(nt_cols))), shape)
-        points = MassPoints(positions, masses, inertias, Nt, Nr,
-                            f"consistent (element Gauss points, {_GAUSS_MASS} per element)")
-    else:
-        points = model.lumped_mass_points()
-    beam = BeamElements(k_local, np.repeat(R[None], n_elements, axis=0),
-                        6 * np.arange(n_elements)[:, None] + np.arange(12)[None, :], *ends)
-    return FEModel(model.M, model.K, nodes, dof_map, model.node_ids, elements, points, info, beam=beam)
+                self.ends[:, e, end] = sec.A, sec.Iy, sec.Iz
+            idx = np.arange(6 * e, 6 * e + 12)
+            self.rows.append(np.repeat(idx, 12))
+            self.cols.append(np.tile(idx, 12))
+            self.kvals.append(Kg.ravel())
+            self.mvals.append(Mg.ravel())
+            if mass == "consistent":
+                mid = local(0.5)
+                phi_y = 12 * E * mid.Iz / (G * mid.Asy * L**2) if timoshenko else 0.0
+                phi_z = 12 * E * mid.Iy / (G * mid.Asz * L**2) if timoshenko else 0.0
+                self._gauss_points(e, idx, local, (s0, s1, L), rho, rotary, (phi_y, phi_z))
+
+    def _gauss_points(self, e: int, idx: np.ndarray, local: Callable[[float], Section],
+                      span: tuple[float, float, float], rho: float, rotary: bool,
+                      phi: tuple[float, float]) -> None:
+        """Element ``e``'s mass points: position [m], mass [kg], rotary inertia [kg m2] and shape functions at its
+        Gauss points (``span``: start and end fractions and length [m]; ``phi``: shear parameters)."""
+        s0, s1, L = span
+        R, T = self.R, self.T
+        for g, (xi, w) in enumerate(zip(*self.gauss)):
+            p = e * _GAUSS_MASS + g
+            sec = local(xi)
+            key = (g, *phi)
+            if key not in self.shapes:
+                Nt, Nr = _shape(xi, L, *phi)
+                self.shapes[key] = ((R.T @ Nt @ T).ravel(), (R.T @ Nr @ T).ravel())
+            self.positions[p] = self.p0 + (s0 + xi * (s1 - s0)) * self.axis
+            self.masses[p] = rho * sec.A * w * L
+            r = 1.0 if rotary else 0.0
+            self.inertias[p] = R.T @ (rho * w * L * np.diag([sec.Ip, r * sec.Iy, r * sec.Iz])) @ R
+            self.nt_rows.append(np.repeat(np.arange(3 * p, 3 * p + 3), 12))
+            self.nt_cols.append(np.tile(idx, 3))
+            self.nt_vals.append(self.shapes[key][0])
+            self.nr_vals.append(self.shapes[key][1])
+
+    def model(self, info: dict[str, Any], mass: str) -> FEModel:
+        """The assembled :class:`FEModel`, with its mass points and frame-element data."""
+        n, n_elements = self.n, self.n_elements
+        rows, cols = np.concatenate(self.rows), np.concatenate(self.cols)
+        K = sp.csr_matrix((np.concatenate(self.kvals), (rows, cols)), shape=(n, n))
+        M = sp.csr_matrix((np.concatenate(self.mvals), (rows, cols)), shape=(n, n))
+        K, M = (K + K.T) / 2, (M + M.T) / 2
+        K.eliminate_zeros()
+        M.eliminate_zeros()
+        n_nodes = n_elements + 1
+        elements = np.column_stack([np.arange(n_elements), np.arange(1, n_nodes)]).astype(np.int64)
+        model = FEModel(M.tocsr(), K.tocsr(), self.nodes, self.dof_map, np.arange(n_nodes), elements, None, info)
+        if mass == "consistent":
+            shape = (3 * n_elements * _GAUSS_MASS, n)
+            nt_rows, nt_cols = np.concatenate(self.nt_rows), np.concatenate(self.nt_cols)
+            Nt = sp.csr_matrix((np.concatenate(self.nt_vals), (nt_rows, nt_cols)), shape)
+            Nr = sp.csr_matrix((np.concatenate(self.nr_vals), (nt_rows, nt_cols)), shape)
+            points = MassPoints(self.positions, self.masses, self.inertias, Nt, Nr,
+                                f"consistent (element Gauss points, {_GAUSS_MASS} per element)")
+        else:
+            points = model.lumped_mass_points()
+        beam = BeamElements(self.k_local, np.repeat(self.R[None], n_elements, axis=0),
+                            6 * np.arange(n_elements)[:, None] + np.arange(12)[None, :], *self.ends)
+        return FEModel(model.M, model.K, self.nodes, self.dof_map, model.node_ids, elements, points, info,
+                       beam=beam)
 
 
 def section_force_modes(fe: FEModel, modes: np.ndarray) -> np.ndarray:

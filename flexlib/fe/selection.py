@@ -1,12 +1,12 @@
 """Mode selection (by count, frequency cut-off, modal participation factors) and default modal damping.
 
-The modal participation factor (MPF) method of Cuadrado, Dopico, González and Naya (seed 001 of issue 10):
+The modal participation factor (MPF) method of Cuadrado, Dopico, González and Naya:
 take the loads acting on the body at the most critical instant of a rigid-body run, solve the static problem
 in modal coordinates, ``q_i = phi_i^T F / k_i`` (``k_i = omega_i^2`` for mass-normalised modes), and express
 each ``|q_i|`` as a percentage of the largest one (the convention of the paper's Table 2, where the dominant
 mode has 100 %); modes above the threshold (1 % by default) are kept.
 
-The default modal damping follows the rule of the modal neutral file workflow (seed 000, after Adams/Flex):
+The default modal damping follows the rule of the modal neutral file workflow (after Adams/Flex):
 1 % of critical below 100 Hz, 10 % from 100 Hz to 1000 Hz, 100 % above 1000 Hz.
 
 References

@@ -17,14 +17,11 @@ from __future__ import annotations
 import datetime as _dt
 import hashlib
 import json
-import math
 import os
-import re
 import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from types import MappingProxyType
 from typing import Any
 
 import h5py
@@ -32,77 +29,11 @@ import numpy as np
 
 from flexlib.errors import ModalFileError, RunArgumentError
 
-from .fe_model import UnknownNodeError, _node_id_list
-from .invariants import INVARIANT_NAMES, invariant_shapes
+from .fe_model import UnknownNodeError, node_id_list
+from .invariants import INVARIANT_NAMES
+from .modal_schema import DATASETS, FORMAT, FORMAT_VERSION, SI_UNITS, InvalidDataset, validate
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "LOAD_CASE_NAMES", "SI_UNITS", "ModalData", "is_load_case_name"]
-
-FORMAT = "flexlib-modal"
-FORMAT_VERSION = 1
-#: Units of every quantity in the file (fixed: the file is SI only).
-SI_UNITS: dict[str, str] = {"length": "m", "mass": "kg", "time": "s", "force": "N", "angle": "rad",
-                            "frequency": "Hz", "stress": "Pa"}
-
-# attribute -> (dataset path, required, integer?)
-_DATASETS: dict[str, tuple[str, bool, bool]] = {
-    "mass": ("body/mass", True, False),
-    "center_of_mass": ("body/center_of_mass", True, False),
-    "inertia": ("body/inertia", True, False),
-    "node_ids": ("nodes/ids", True, True),
-    "coordinates": ("nodes/coordinates", True, False),
-    "elements": ("nodes/elements", True, True),
-    "faces": ("nodes/faces", False, True),
-    "interface_nodes": ("interface/node_ids", True, True),
-    "translational_modes": ("modes/translational", True, False),
-    "rotational_modes": ("modes/rotational", True, False),
-    "generalized_mass": ("modes/generalized_mass", True, False),
-    "generalized_stiffness": ("modes/generalized_stiffness", True, False),
-    "frequencies": ("modes/frequencies", True, False),
-    "damping_ratio": ("modes/damping_ratio", False, False),
-    "stress_modes": ("modes/stress", False, False),
-    "section_forces": ("modes/section_forces", False, False),
-    "static_translations": ("static_loads/translations", False, False),
-    "static_rotations": ("static_loads/rotations", False, False),
-    "static_modal_loads": ("static_loads/modal_loads", False, False),
-    "static_section_forces": ("static_loads/section_forces", False, False),
-    "static_stress": ("static_loads/stress", False, False),
-}
-#: The unit load cases a flexible body knows (geometric stiffness and static responses): the grammar of their names.
-LOAD_CASE_NAMES = ("acc_x|y|z, alpha_x|y|z, omega_xx|yy|zz|xy|yz|zx, F<node id>_ux|uy|uz|rx|ry|rz "
-                   "(a node of '/nodes/ids')")
-_CASE = re.compile(r"(acc|alpha)_[xyz]|omega_(xx|yy|zz|xy|yz|zx)|F(-?\d+)_(ux|uy|uz|rx|ry|rz)")
-
-
-def is_load_case_name(name: Any, node_ids: Sequence[int] | np.ndarray) -> bool:
-    """True if ``name`` is a unit load case a flexible body applies (:data:`LOAD_CASE_NAMES`): an inertial case or a
-    load ``F<node>_<component>`` at one of ``node_ids``."""
-    match = _CASE.fullmatch(name) if isinstance(name, str) else None
-    if match is None:
-        return False
-    return match.group(3) is None or int(match.group(3)) in {int(k) for k in node_ids}
-
-
-def _unknown_cases(dataset: str, what: str, names: Sequence[Any], node_ids: np.ndarray) -> None:
-    unknown = [k for k in names if not is_load_case_name(k, node_ids)]
-    if unknown:
-        raise _Invalid(dataset, f"{what} {unknown} unknown: a flexible body applies only the load cases "
-                                f"{LOAD_CASE_NAMES}; no term of theirs would enter its equations")
-
-
-_STATIC = ("static_translations", "static_rotations", "static_modal_loads", "static_section_forces", "static_stress")
-_REL = 1e-9  # relative tolerance of the symmetry and consistency checks
-
-
-class _Invalid(Exception):
-    def __init__(self, dataset: str, message: str) -> None:
-        super().__init__(message)
-        self.dataset = dataset
-
-
-def _freeze(a: np.ndarray) -> np.ndarray:
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
+__all__ = ["ModalData"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -140,7 +71,7 @@ class ModalData:
         ``"consistent"`` or ``"lumped"``: how the invariants were computed.
     damping_ratio : ndarray (M,), optional
         Modal damping ratios [1], each in ``[0, 1]`` (fractions of critical); ``None``: the frequency rule of
-        :func:`~flexlib.components.mechanics.flexible.selection.default_damping_ratio`.
+        :func:`~flexlib.fe.selection.default_damping_ratio`.
     stress_modes : ndarray (M, N, 6), optional
         Stress per unit modal coordinate at each node [Pa] (sxx, syy, szz, sxy, syz, szx).
     faces : ndarray of int (F, k), optional
@@ -151,7 +82,8 @@ class ModalData:
     geometric_stiffness : mapping of str to ndarray (M, M), optional
         Modal geometric stiffness per unit load case [N/m per unit coordinate and unit load] (see
         :mod:`.geometric`): ``acc_x..z``, ``alpha_x..z``, ``omega_xx..zx``, ``F{node}_{ux..rz}`` (a node of
-        ``node_ids``); other names are refused (:data:`LOAD_CASE_NAMES`: a flexible body would apply none of them).
+        ``node_ids``); other names are refused (:data:`~.modal_schema.LOAD_CASE_NAMES`: a flexible body would
+        apply none of them).
     load_cases : tuple of str, optional
         Names of the unit load cases of the static responses (as for ``geometric_stiffness``, the same names
         only); stored as the JSON attribute ``cases`` of the group ``/static_loads``.
@@ -165,9 +97,9 @@ class ModalData:
     provenance : dict
         How the data were made (reduction, FE source, settings); JSON-serialisable.
     units : dict
-        Must equal :data:`SI_UNITS`.
+        Must equal :data:`~.modal_schema.SI_UNITS`.
     format_version : int
-        File format version (:data:`FORMAT_VERSION`).
+        File format version (:data:`~.modal_schema.FORMAT_VERSION`).
 
     Raises
     ------
@@ -213,8 +145,8 @@ class ModalData:
 
     def _check(self, source: str) -> None:
         try:
-            values = _validate(self)
-        except _Invalid as exc:
+            values = validate(self)
+        except InvalidDataset as exc:
             raise ModalFileError(f"{source}: dataset '/{exc.dataset}': {exc}") from None
         for name, value in values.items():
             object.__setattr__(self, name, value)
@@ -254,7 +186,7 @@ class ModalData:
         where = f"modal data {self.title!r}" if self.title else "modal data (untitled)"
         if isinstance(node_id, str | bytes) or np.ndim(node_id) != 0:
             raise UnknownNodeError(f"{where}: a node id is one whole number, got {node_id!r}")
-        (node,) = _node_id_list(node_id, where)
+        (node,) = node_id_list(node_id, where)
         hits = np.flatnonzero(self.node_ids == node)
         if hits.size != 1:
             raise UnknownNodeError(f"{where}: no node with id {node} (ids {int(self.node_ids.min())}.."
@@ -372,7 +304,7 @@ class ModalData:
     def _arrays(self) -> list[tuple[str, np.ndarray | None]]:
         out: list[tuple[str, np.ndarray | None]] = [
             (path, np.asarray(self.mass, dtype=np.float64) if attr == "mass" else getattr(self, attr))
-            for attr, (path, _, _) in _DATASETS.items()]
+            for attr, (path, _, _) in DATASETS.items()]
         out += [(f"invariants/{k}", self.invariants[k]) for k in INVARIANT_NAMES]
         if self.geometric_stiffness is not None:
             out += [(f"geometric_stiffness/{k}", v) for k, v in sorted(self.geometric_stiffness.items())]
@@ -438,8 +370,9 @@ class ModalData:
             Missing or truncated file, not a flexlib modal file, a future format version, a missing dataset,
             a wrong dtype (e.g. a string where a number belongs), shape, non-finite value, non-symmetric or
             indefinite mass/stiffness, units other than SI, invariants that contradict the body properties,
-            damping ratios outside [0, 1], load-case names a flexible body does not know (:data:`LOAD_CASE_NAMES`),
-            a directory or a path that is not a str/PathLike. The message names the file and the dataset.
+            damping ratios outside [0, 1], load-case names a flexible body does not know
+            (:data:`~.modal_schema.LOAD_CASE_NAMES`), a directory or a path that is not a str/PathLike. The
+            message names the file and the dataset.
         """
         if not isinstance(path, str | os.PathLike):
             raise ModalFileError(f"ModalData.read: path must be the path of a modal file (str or Path), got "
@@ -516,7 +449,7 @@ def _read_all(f: h5py.File, name: str) -> dict[str, Any]:
                                  f"({value.ravel()[:1]!r}...)")
         return value
 
-    for attr, (path, required, _) in _DATASETS.items():
+    for attr, (path, required, _) in DATASETS.items():
         out[attr] = array(path, required)
     out["invariants"] = {k: array(f"invariants/{k}", True) for k in INVARIANT_NAMES}
     if "geometric_stiffness" in f:
@@ -545,204 +478,3 @@ def _read_all(f: h5py.File, name: str) -> dict[str, Any]:
     return out
 
 
-def _numeric(dataset: str, value: Any, shape: tuple[int, ...] | None, integer: bool = False) -> np.ndarray:
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError) as exc:
-        raise _Invalid(dataset, f"not an array: {exc}") from None
-    if not np.issubdtype(a.dtype, np.number) or np.issubdtype(a.dtype, np.complexfloating):
-        raise _Invalid(dataset, f"must be real numbers, got dtype {a.dtype}")
-    if shape is not None and a.shape != shape:
-        raise _Invalid(dataset, f"wrong shape {a.shape}, expected {shape}")
-    if integer:
-        if not np.issubdtype(a.dtype, np.integer):
-            if not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
-                raise _Invalid(dataset, "must be integers")
-        return _freeze(a.astype(np.int64))
-    a = a.astype(np.float64)
-    bad = ~np.isfinite(a)
-    if bad.any():
-        where = tuple(int(x) for x in np.argwhere(bad)[0])
-        raise _Invalid(dataset, f"non-finite value {a[where]} at index {where}")
-    return _freeze(a)
-
-
-def _symmetric(dataset: str, A: np.ndarray, definite: bool | None) -> None:
-    """Symmetry; with ``definite`` True/False also positive definiteness/semidefiniteness (None: symmetry only)."""
-    scale = max(np.abs(A).max(initial=0.0), 1e-300)
-    asym = np.abs(A - A.T).max(initial=0.0)
-    if asym > _REL * scale:
-        raise _Invalid(dataset, f"not symmetric: max |A - A^T| = {asym:.3g} (max |A| = {scale:.3g})")
-    if A.size == 0 or definite is None:
-        return
-    eig = np.linalg.eigvalsh((A + A.T) / 2)
-    if definite and eig.min() <= _REL * scale:
-        raise _Invalid(dataset, f"not positive definite: smallest eigenvalue {eig.min():.3g}")
-    if not definite and eig.min() < -_REL * scale:
-        raise _Invalid(dataset, f"not positive semidefinite: smallest eigenvalue {eig.min():.3g}")
-
-
-def _close(dataset: str, a: np.ndarray, b: np.ndarray, what: str, scale: float) -> None:
-    err = np.abs(np.asarray(a) - np.asarray(b)).max(initial=0.0)
-    if err > 1e-9 * max(scale, 1e-300):
-        raise _Invalid(dataset, f"contradicts {what} (difference {err:.3g})")
-
-
-def _validate(d: ModalData) -> dict[str, Any]:
-    """Check every field; return the normalised (float64/int64, read-only) arrays. Raises ``_Invalid``."""
-    out: dict[str, Any] = {}
-    if not isinstance(d.format_version, int | np.integer) or not 1 <= d.format_version <= FORMAT_VERSION:
-        raise _Invalid("", f"attribute 'format_version' {d.format_version!r} is not supported (1..{FORMAT_VERSION})")
-    if dict(d.units) != SI_UNITS:
-        wrong = {k: v for k, v in dict(d.units).items() if SI_UNITS.get(k) != v}
-        missing = sorted(set(SI_UNITS) - set(d.units))
-        raise _Invalid("units", f"must be SI {SI_UNITS}; wrong {wrong}, missing {missing}")
-    for key in ("title", "creator", "date", "mass_description"):
-        if not isinstance(getattr(d, key), str):
-            raise _Invalid("header", f"attribute {key!r} must be a string")
-    if d.mass_description not in ("consistent", "lumped"):
-        raise _Invalid("invariants", f"attribute 'mass_description' must be 'consistent' or 'lumped', "
-                                     f"got {d.mass_description!r}")
-    p = {attr: path for attr, (path, _, _) in _DATASETS.items()}
-    mass = _numeric(p["mass"], d.mass, ())
-    if mass <= 0:
-        raise _Invalid(p["mass"], f"must be positive, got {float(mass)!r} kg")
-    out["mass"] = float(mass)
-    out["center_of_mass"] = _numeric(p["center_of_mass"], d.center_of_mass, (3,))
-    out["inertia"] = _numeric(p["inertia"], d.inertia, (3, 3))
-    _symmetric(p["inertia"], out["inertia"], definite=False)
-    coords = _numeric(p["coordinates"], d.coordinates, None)
-    if coords.ndim != 2 or coords.shape[1] != 3:
-        raise _Invalid(p["coordinates"], f"wrong shape {coords.shape}, expected (N, 3)")
-    out["coordinates"] = coords
-    N = coords.shape[0]
-    ids = _numeric(p["node_ids"], d.node_ids, (N,), integer=True)
-    if len(np.unique(ids)) != N:
-        raise _Invalid(p["node_ids"], "node ids must be distinct")
-    out["node_ids"] = ids
-    for attr in ("elements", "faces"):
-        value = getattr(d, attr)
-        if value is None:
-            if attr == "elements":
-                raise _Invalid(p[attr], "is missing")
-            out[attr] = None
-            continue
-        conn = _numeric(p[attr], value, None, integer=True)
-        if conn.ndim != 2:
-            raise _Invalid(p[attr], f"wrong shape {conn.shape}, expected (count, nodes per {attr[:-1]})")
-        if conn.size and (conn.min() < 0 or conn.max() >= N):
-            raise _Invalid(p[attr], f"node index out of range 0..{N - 1}")
-        out[attr] = conn
-    iface = _numeric(p["interface_nodes"], d.interface_nodes, None, integer=True)
-    if iface.ndim != 1:
-        raise _Invalid(p["interface_nodes"], f"wrong shape {iface.shape}, expected (B,)")
-    unknown = sorted(set(iface.tolist()) - set(ids.tolist()))
-    if unknown:
-        raise _Invalid(p["interface_nodes"], f"node ids {unknown} are not in '/nodes/ids'")
-    if len(np.unique(iface)) != iface.size:
-        twice = sorted({int(k) for k in iface.tolist() if iface.tolist().count(k) > 1})
-        raise _Invalid(p["interface_nodes"], f"node {twice[0]} is given twice ({iface.tolist()}): each interface "
-                                             "node is one frame of the body")
-    out["interface_nodes"] = iface
-    freq = _numeric(p["frequencies"], d.frequencies, None)
-    if freq.ndim != 1:
-        raise _Invalid(p["frequencies"], f"wrong shape {freq.shape}, expected (M,)")
-    m = freq.shape[0]
-    out["frequencies"] = freq
-    for attr in ("translational_modes", "rotational_modes"):
-        out[attr] = _numeric(p[attr], getattr(d, attr), (m, N, 3))
-    Mg = _numeric(p["generalized_mass"], d.generalized_mass, (m, m))
-    Kg = _numeric(p["generalized_stiffness"], d.generalized_stiffness, (m, m))
-    _symmetric(p["generalized_mass"], Mg, definite=True)
-    _symmetric(p["generalized_stiffness"], Kg, definite=False)
-    out["generalized_mass"], out["generalized_stiffness"] = Mg, Kg
-    if m:
-        expected = np.sqrt(np.maximum(np.diag(Kg), 0.0) / np.diag(Mg)) / (2 * math.pi)
-        err = np.abs(freq - expected)
-        if np.any(err > 1e-6 * np.maximum(expected, expected.max() * 1e-6)):
-            j = int(np.argmax(err))
-            raise _Invalid(p["frequencies"], f"mode {j}: {freq[j]:.6g} Hz contradicts sqrt(K_jj/M_jj)/(2 pi) = "
-                                             f"{expected[j]:.6g} Hz from the generalised matrices")
-    if d.damping_ratio is None:
-        out["damping_ratio"] = None
-    else:
-        zeta = _numeric(p["damping_ratio"], d.damping_ratio, (m,))
-        if np.any(zeta < 0):
-            raise _Invalid(p["damping_ratio"], f"negative damping ratio at mode {int(np.argmin(zeta))}")
-        if np.any(zeta > 1):
-            j = int(np.argmax(zeta))
-            raise _Invalid(p["damping_ratio"], f"damping ratio {zeta[j]:g} at mode {j} is above 1: ratios are "
-                                               "fractions of critical damping in [0, 1] (0.02 for 2 %)")
-        out["damping_ratio"] = zeta
-    out["stress_modes"] = None if d.stress_modes is None else _numeric(p["stress_modes"], d.stress_modes, (m, N, 6))
-    n_el = out["elements"].shape[0]
-    out["section_forces"] = (None if d.section_forces is None
-                             else _numeric(p["section_forces"], d.section_forces, (m, n_el, 2, 6)))
-    if d.geometric_stiffness is None:
-        out["geometric_stiffness"] = None
-    else:
-        geo = {}
-        for k, v in dict(d.geometric_stiffness).items():
-            if not isinstance(k, str) or not k or "/" in k:
-                raise _Invalid("geometric_stiffness", f"load case names must be non-empty strings without '/', "
-                                                      f"got {k!r}")
-            geo[k] = _numeric(f"geometric_stiffness/{k}", v, (m, m))
-            _symmetric(f"geometric_stiffness/{k}", geo[k], definite=None)
-        _unknown_cases("geometric_stiffness", "load cases", sorted(geo), ids)
-        out["geometric_stiffness"] = MappingProxyType(geo)
-    out.update(_validate_static(d, p, m, N, n_el, ids))
-    if not isinstance(d.invariants, Mapping):
-        raise _Invalid("invariants", "must map I1..I9 to arrays")
-    inv = {}
-    for k, shape in invariant_shapes(m).items():
-        if k not in d.invariants:
-            raise _Invalid(f"invariants/{k}", "is missing")
-        inv[k] = _numeric(f"invariants/{k}", d.invariants[k], shape)
-    _symmetric("invariants/I6", inv["I6"], definite=False)
-    _symmetric("invariants/I7", inv["I7"], definite=False)
-    _close("invariants/I1", inv["I1"], out["mass"], "'/body/mass'", out["mass"])
-    _close("invariants/I2", inv["I2"], out["mass"] * out["center_of_mass"], "'/body/mass' x '/body/center_of_mass'",
-           out["mass"] * max(np.abs(out["center_of_mass"]).max(), np.abs(coords).max(initial=0.0), 1e-300))
-    _close("invariants/I7", inv["I7"], out["inertia"], "'/body/inertia'", np.abs(out["inertia"]).max())
-    out["invariants"] = MappingProxyType(inv)
-    try:
-        out["provenance"] = MappingProxyType(json.loads(json.dumps(dict(d.provenance), sort_keys=True, default=str)))
-    except (TypeError, ValueError) as exc:
-        raise _Invalid("", f"attribute 'provenance' is not JSON-serialisable: {exc}") from None
-    out["units"] = MappingProxyType(dict(d.units))
-    out["format_version"] = int(d.format_version)
-    return out
-
-
-
-def _validate_static(d: ModalData, p: dict[str, str], m: int, N: int, n_el: int,
-                     out_ids: np.ndarray) -> dict[str, Any]:
-    """The static load responses: all or none, names unique, shapes consistent with the cases and modes."""
-    out: dict[str, Any] = {attr: None for attr in _STATIC}
-    cases = d.load_cases
-    if cases is None:
-        present = [p[a] for a in _STATIC if getattr(d, a) is not None]
-        if present:
-            raise _Invalid(present[0], "is given without the load case names (attribute 'cases' of "
-                                       "'/static_loads')")
-        out["load_cases"] = None
-        return out
-    if (isinstance(cases, str) or not isinstance(cases, Sequence)
-            or not all(isinstance(c, str) and c and "/" not in c for c in cases)):
-        raise _Invalid("static_loads", f"attribute 'cases' must be a list of non-empty names without '/', "
-                                       f"got {cases!r}")
-    if len(set(cases)) != len(cases):
-        raise _Invalid("static_loads", "attribute 'cases' names a load case twice")
-    _unknown_cases("static_loads", "attribute 'cases': load cases", list(cases), out_ids)
-    C = len(cases)
-    out["load_cases"] = tuple(cases)
-    shapes = {"static_translations": (C, N, 3), "static_rotations": (C, N, 3), "static_modal_loads": (C, m),
-              "static_section_forces": (C, n_el, 2, 6), "static_stress": (C, N, 6)}
-    for attr, shape in shapes.items():
-        value = getattr(d, attr)
-        if value is None:
-            if attr in ("static_translations", "static_rotations", "static_modal_loads"):
-                raise _Invalid(p[attr], "is missing (the file has '/static_loads' cases)")
-            continue
-        out[attr] = _numeric(p[attr], value, shape)
-    return out

@@ -33,10 +33,17 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from .arguments import COMPONENTS
 from .beam import section_force_modes
-from .fe_model import COMPONENTS, FEModel, check_fe, check_fields
+from .fe_model import FEModel, check_fe, check_fields
 
-__all__ = ["geometric_stiffness_matrix", "inertial_load_cases", "interface_load_cases", "modal_geometric_stiffness"]
+__all__ = [
+    "geometric_stiffness_matrix",
+    "inertial_load_amplitudes",
+    "inertial_load_cases",
+    "interface_load_cases",
+    "modal_geometric_stiffness",
+]
 
 _AXES = "xyz"
 
@@ -68,7 +75,7 @@ def geometric_stiffness_matrix(fe: FEModel, displacement: np.ndarray) -> sp.csr_
     Parameters
     ----------
     fe : FEModel
-        A model from :func:`~flexlib.components.mechanics.flexible.beam.beam_mesh` (possibly constrained).
+        A model from :func:`~flexlib.fe.beam.beam_mesh` (possibly constrained).
     displacement : ndarray (n,)
         Static displacement field [m, rad] whose element axial forces load the elements.
     """
@@ -166,3 +173,19 @@ def modal_geometric_stiffness(fe: FEModel, modes: np.ndarray, support_nodes: Seq
         G = modes.T @ (geometric_stiffness_matrix(fe, u) @ modes)
         out[name] = (G + G.T) / 2
     return out
+
+
+def inertial_load_amplitudes(alpha: np.ndarray, z: np.ndarray, w: np.ndarray) -> dict[str, np.ndarray]:
+    """Amplitudes of the inertial unit load cases (:func:`inertial_load_cases`) of a reference frame
+    with origin acceleration less gravity ``alpha`` [m/s2], angular acceleration ``z`` [rad/s2] and angular
+    velocity ``w`` [rad/s], all (nt, 3) in body axes: ``acc_*``, ``alpha_*``, ``omega_aa`` = ``w_a²``,
+    ``omega_ab`` = ``w_a w_b``."""
+    axes = "xyz"
+    values: dict[str, np.ndarray] = {}
+    for a in range(3):
+        values[f"acc_{axes[a]}"] = alpha[:, a]
+        values[f"alpha_{axes[a]}"] = z[:, a]
+        values[f"omega_{axes[a]}{axes[a]}"] = w[:, a] ** 2
+    for a, b in ((0, 1), (1, 2), (2, 0)):
+        values[f"omega_{axes[a]}{axes[b]}"] = w[:, a] * w[:, b]
+    return values

@@ -1,8 +1,8 @@
 """FE mass and stiffness matrices from commercial FE codes: ANSYS full files and Nastran OP4 / DMIG.
 
-Each reader returns a validated :class:`~flexlib.components.mechanics.flexible.fe_model.FEModel` (symmetric,
-finite, consistent node/DOF map) from which :func:`~flexlib.components.mechanics.flexible.reduction.craig_bampton`
-and :func:`~flexlib.components.mechanics.flexible.reduction.modal_data_from_fe` build the modal data. The file
+Each reader returns a validated :class:`~flexlib.fe.fe_model.FEModel` (symmetric,
+finite, consistent node/DOF map) from which :func:`~flexlib.fe.reduction.craig_bampton`
+and :func:`~flexlib.fe.reduction.modal_data_from_fe` build the modal data. The file
 formats are read by the FE community's open-source readers, installed as optional extras:
 
 - ANSYS (MAPDL) ``.full`` files through ``ansys-mapdl-reader`` (``pip install flexlib[ansys]``);
@@ -11,7 +11,7 @@ formats are read by the FE community's open-source readers, installed as optiona
 FE codes are unit-agnostic: flexlib takes the matrices and coordinates as SI (kg, m, N, rad), so a model built
 in another consistent unit system (e.g. t, mm, N) must be converted first (scale ``M`` by the mass unit and
 ``K`` and the coordinates by the length unit). DOF components map as ANSYS ``UX UY UZ ROTX ROTY ROTZ`` and Nastran
-components ``1 2 3 4 5 6`` to flexlib's ``ux uy uz rx ry rz`` (:data:`~.fe_model.COMPONENTS`).
+components ``1 2 3 4 5 6`` to flexlib's ``ux uy uz rx ry rz`` (:data:`~.arguments.COMPONENTS`).
 
 References
 ----------
@@ -38,7 +38,10 @@ import scipy.sparse as sp
 
 from flexlib.errors import ModalFileError, RunArgumentError
 
-from .fe_model import COMPONENTS, FEModel, _check_file, _check_matrices, read_nodes, read_table
+from .arguments import COMPONENTS
+from .fe_model import FEModel
+from .matrix_checks import check_matrices
+from .matrix_files import check_file, read_nodes, read_table
 
 __all__ = ["read_ansys_full", "read_nastran_dmig", "read_nastran_op4"]
 
@@ -69,7 +72,7 @@ def _fe_model(source: str, M: sp.spmatrix, K: sp.spmatrix, nodes: np.ndarray, do
         k = int(np.argwhere(~np.isfinite(nodes))[0, 0])
         raise ModalFileError(f"{source}: node {int(node_ids[k])} has a non-finite coordinate {nodes[k].tolist()} "
                              f"[m] ({nodes_source})")
-    _check_matrices(source, M, K, nodes.shape[0], dof_map, names, nodes_source=nodes_source,
+    check_matrices(source, M, K, nodes.shape[0], dof_map, names, nodes_source=nodes_source,
                     node_ids=np.asarray(node_ids), default_map=default_map)
     try:
         return FEModel(M, K, nodes, dof_map, node_ids, info=info)
@@ -165,9 +168,33 @@ def read_ansys_full(path: str | os.PathLike[str], *,
         raise RunArgumentError(f"read_ansys_full: argument 'path' must be a path (str or os.PathLike) to an ANSYS full "
                                f"file, got {type(path).__name__} {path!r:.60}")
     reader = _optional("ansys.mapdl.reader", "ansys", "ansys-mapdl-reader", "read_ansys_full", path)
-    from ansys.mapdl.reader.common import read_table as ansys_read_table
-
     name = os.fspath(path)
+    full = _open_full_file(name, reader)
+    dof_ref, k, m, constrained, labels = _full_file_matrices(name, full)
+    _check_dof_labels(name, dof_ref, labels)
+    component = labels[dof_ref[:, 1]] - 1
+    held = {(int(n), int(d)) for n, d in constrained}
+    free = np.array([(int(n), int(d)) not in held for n, d in dof_ref], dtype=bool)
+    keep = np.flatnonzero(free)
+    K = _mirror_triangle(k)[keep][:, keep]
+    M = _mirror_triangle(m)[keep][:, keep]
+
+    node_ids = np.unique(dof_ref[:, 0])
+    coordinates, source = _full_file_coordinates(name, nodes, reader, node_ids)
+    index = np.searchsorted(node_ids, dof_ref[:, 0])
+    dof_map = -np.ones((node_ids.size, 6), dtype=np.int64)
+    dof_map[index[keep], component[keep]] = np.arange(keep.size)
+    header = full._standard_header if hasattr(full, "_standard_header") else {}
+    info = {"source": name, "format": "ANSYS full file", "ansys_version": str(header.get("verstring", "")),
+            "jobname": str(header.get("jobname", "")), "units_in_file": str(header.get("units", "")),
+            "coordinates": source,
+            "constrained": _constraint_groups(constrained, labels)}
+    return _fe_model(name, M, K, coordinates, dof_map, node_ids, info, nodes_source=source)
+
+
+def _open_full_file(name: str, reader: ModuleType) -> Any:
+    """The ANSYS full file at ``name`` opened by ``ansys-mapdl-reader``, after checking its record pointers fit
+    the file (the reader's compiled parser reads past the end of a truncated file and can abort the process)."""
     if not Path(name).is_file():
         raise ModalFileError(f"{name}: " + ("is a directory, not an ANSYS full file" if Path(name).is_dir() else
                                             "no such ANSYS full file"))
@@ -177,8 +204,7 @@ def read_ansys_full(path: str | os.PathLike[str], *,
         raise ModalFileError(f"{name}: not readable as an ANSYS binary file: {exc}") from None
     if type(full).__name__ != "FullFile":
         raise ModalFileError(f"{name}: an ANSYS {type(full).__name__}, not a full file (.full)")
-    # the reader's compiled record parser reads past the end of a truncated file (it can abort the process):
-    # check the header's record pointers (in 4-byte words) against the file's size first
+    # the header's record pointers are in 4-byte words
     header = getattr(full, "_header", {})
     pointers = {key: int(header[key]) for key in ("ptrSTF", "ptrMAS", "ptrDOF", "ptrEND") if key in header}
     size = Path(name).stat().st_size
@@ -186,6 +212,14 @@ def read_ansys_full(path: str | os.PathLike[str], *,
             or 4 * pointers["ptrEND"] > size:
         raise ModalFileError(f"{name}: truncated or damaged full file: record pointers {pointers} (4-byte words) "
                              f"do not fit its {size} bytes")
+    return full
+
+
+def _full_file_matrices(name: str, full: Any) -> tuple[np.ndarray, Any, Any, np.ndarray, np.ndarray]:
+    """The full file's DOF reference (node, DOF index) pairs, upper triangles of ``K`` and ``M``, constrained
+    (node, DOF index) pairs and the model's DOF labels (its third record)."""
+    from ansys.mapdl.reader.common import read_table as ansys_read_table
+
     with warnings.catch_warnings():  # the reader only warns when a matrix is missing: make that an error here
         warnings.filterwarnings("error", message="Missing (stiffness|mass) matrix")
         try:
@@ -197,7 +231,11 @@ def read_ansys_full(path: str | os.PathLike[str], *,
                 labels = np.asarray(ansys_read_table(f), dtype=np.int64)
         except Exception as exc:
             raise ModalFileError(f"{name}: cannot read the stiffness and mass matrices: {exc}") from None
-    dof_ref = np.asarray(dof_ref, dtype=np.int64)
+    return np.asarray(dof_ref, dtype=np.int64), k, m, constrained, labels
+
+
+def _check_dof_labels(name: str, dof_ref: np.ndarray, labels: np.ndarray) -> None:
+    """Every node carries the model's DOF set, and it holds structural displacements and rotations only."""
     per_node = np.bincount(np.unique(dof_ref[:, 0], return_inverse=True)[1])
     if np.any(per_node != labels.size) or dof_ref[:, 1].max(initial=0) >= labels.size:
         raise ModalFileError(f"{name}: nodes carry different DOF sets ({sorted(set(per_node.tolist()))} DOFs per "
@@ -208,14 +246,12 @@ def read_ansys_full(path: str | os.PathLike[str], *,
     if bad:
         raise ModalFileError(f"{name}: DOF labels {[ANSYS_DOF_LABELS.get(v, v) for v in bad]} are not structural "
                              "displacements or rotations (UX UY UZ ROTX ROTY ROTZ)")
-    component = labels[dof_ref[:, 1]] - 1
-    held = {(int(n), int(d)) for n, d in constrained}
-    free = np.array([(int(n), int(d)) not in held for n, d in dof_ref], dtype=bool)
-    keep = np.flatnonzero(free)
-    K = _mirror_triangle(k)[keep][:, keep]
-    M = _mirror_triangle(m)[keep][:, keep]
 
-    node_ids = np.unique(dof_ref[:, 0])
+
+def _full_file_coordinates(name: str, nodes: Any, reader: ModuleType,
+                           node_ids: np.ndarray) -> tuple[np.ndarray, str]:
+    """The coordinates [m] of the full file's nodes ``node_ids`` (from ``nodes``, see :func:`read_ansys_full`) and a
+    description of their source."""
     ids, xyz, source = _ansys_nodes(name, nodes, reader)
     if ids.size == 0:  # (N, 3) in ascending node number
         if xyz.shape[0] != node_ids.size:
@@ -226,16 +262,7 @@ def read_ansys_full(path: str | os.PathLike[str], *,
     if missing:
         raise ModalFileError(f"{name}: nodes {missing[:10]}{' ...' if len(missing) > 10 else ''} have no "
                              f"coordinates in {source}")
-    coordinates = xyz[[lookup[int(i)] for i in node_ids]]
-    index = np.searchsorted(node_ids, dof_ref[:, 0])
-    dof_map = -np.ones((node_ids.size, 6), dtype=np.int64)
-    dof_map[index[keep], component[keep]] = np.arange(keep.size)
-    header = full._standard_header if hasattr(full, "_standard_header") else {}
-    info = {"source": name, "format": "ANSYS full file", "ansys_version": str(header.get("verstring", "")),
-            "jobname": str(header.get("jobname", "")), "units_in_file": str(header.get("units", "")),
-            "coordinates": source,
-            "constrained": _constraint_groups(constrained, labels)}
-    return _fe_model(name, M, K, coordinates, dof_map, node_ids, info, nodes_source=source)
+    return xyz[[lookup[int(i)] for i in node_ids]], source
 
 
 def _constraint_groups(constrained: np.ndarray, labels: np.ndarray) -> list[dict[str, list[Any]]]:
@@ -289,12 +316,12 @@ def read_nastran_op4(path: str | os.PathLike[str], *, mass: str = "MAA", stiffne
     """
     op4 = _optional("pyNastran.op4.op4", "nastran", "pyNastran", "read_nastran_op4", path)
     _names("read_nastran_op4", ("mass", mass), ("stiffness", stiffness))
-    name = _check_file(path, "a Nastran OUTPUT4 file", "path") if not isinstance(path, str | os.PathLike) \
+    name = check_file(path, "a Nastran OUTPUT4 file", "path") if not isinstance(path, str | os.PathLike) \
         else os.fspath(path)
     if not Path(name).is_file():
         raise ModalFileError(f"{name}: " + ("is a directory, not an OP4 file" if Path(name).is_dir() else
                                             "no such OP4 file"))
-    _check_file(name, "a Nastran OUTPUT4 file", "path")
+    check_file(name, "a Nastran OUTPUT4 file", "path")
     try:
         matrices = op4.OP4(debug=False).read_op4(name, precision="double")
     except Exception as exc:  # pyNastran raises assorted errors on malformed files
@@ -393,8 +420,37 @@ def read_nastran_dmig(bdf_path: str | os.PathLike[str], mass_name: str, stiffnes
     if punch is not None and not isinstance(punch, bool | np.bool_):
         raise RunArgumentError(f"read_nastran_dmig: argument 'punch' must be True (bulk data only), False (a full "
                                f"input deck) or None (decided by a BEGIN BULK line), got {punch!r}")
-    name = _check_file(bdf_path, "a Nastran bulk data file", "bdf_path") if not isinstance(
+    name = check_file(bdf_path, "a Nastran bulk data file", "bdf_path") if not isinstance(
         bdf_path, str | os.PathLike) else os.fspath(bdf_path)
+    model = _read_bulk_data(name, bdf, punch)
+    entries = {}
+    for label, key in (("mass", mass_name), ("stiffness", stiffness_name)):
+        if key not in model.dmig:
+            raise ModalFileError(f"{name}: no DMIG {label} matrix {key!r} (DMIG cards: {sorted(model.dmig)})")
+        entries[key] = _dmig_entries(name, model.dmig[key])
+    dofs = np.unique(np.vstack([gc for rows, cols, _ in entries.values() for gc in (rows, cols)]), axis=0)
+    grids = np.unique(dofs[:, 0])
+    missing = [int(g) for g in grids if int(g) not in model.nodes]
+    if missing:
+        raise ModalFileError(f"{name}: DMIG grids {missing[:10]} have no GRID card")
+    n = dofs.shape[0]
+    index = {(int(g), int(c)): i for i, (g, c) in enumerate(dofs)}
+    node_of = np.searchsorted(grids, dofs[:, 0])
+    dof_map = -np.ones((grids.size, 6), dtype=np.int64)
+    dof_map[node_of, dofs[:, 1] - 1] = np.arange(n)
+    nodes = np.array([model.nodes[int(g)].get_position() for g in grids], dtype=float)
+
+    mats = _dmig_matrices(model, entries, index, n)
+    T = _cd_rotation(name, model, grids, dof_map)
+    if T is not None:
+        mats = [(T.T @ A @ T).tocsr() for A in mats]
+    info = {"source": name, "format": "Nastran DMIG", "matrices": [mass_name, stiffness_name]}
+    return _fe_model(name, mats[0], mats[1], nodes, dof_map, grids.astype(np.int64), info, (mass_name, stiffness_name))
+
+
+def _read_bulk_data(name: str, bdf: ModuleType, punch: bool | None) -> Any:
+    """The Nastran deck at ``name`` read by pyNastran (bulk data only if ``punch``; default: unless it has a
+    ``BEGIN BULK`` line), its grids and coordinate systems cross-referenced."""
     try:
         text = Path(name).read_text(errors="replace")
     except OSError as exc:
@@ -413,23 +469,13 @@ def read_nastran_dmig(bdf_path: str | os.PathLike[str], mass_name: str, stiffnes
                                   xref_sets=False, xref_optimization=False)
         except Exception as exc:  # pyNastran raises assorted errors on malformed decks
             raise ModalFileError(f"{name}: not readable as Nastran bulk data: {type(exc).__name__}: {exc}") from None
-    entries = {}
-    for label, key in (("mass", mass_name), ("stiffness", stiffness_name)):
-        if key not in model.dmig:
-            raise ModalFileError(f"{name}: no DMIG {label} matrix {key!r} (DMIG cards: {sorted(model.dmig)})")
-        entries[key] = _dmig_entries(name, model.dmig[key])
-    dofs = np.unique(np.vstack([gc for rows, cols, _ in entries.values() for gc in (rows, cols)]), axis=0)
-    grids = np.unique(dofs[:, 0])
-    missing = [int(g) for g in grids if int(g) not in model.nodes]
-    if missing:
-        raise ModalFileError(f"{name}: DMIG grids {missing[:10]} have no GRID card")
-    n = dofs.shape[0]
-    index = {(int(g), int(c)): i for i, (g, c) in enumerate(dofs)}
-    node_of = np.searchsorted(grids, dofs[:, 0])
-    dof_map = -np.ones((grids.size, 6), dtype=np.int64)
-    dof_map[node_of, dofs[:, 1] - 1] = np.arange(n)
-    nodes = np.array([model.nodes[int(g)].get_position() for g in grids], dtype=float)
+    return model
 
+
+def _dmig_matrices(model: Any, entries: dict[str, tuple[Any, Any, np.ndarray]], index: dict[tuple[int, int], int],
+                   n: int) -> list[sp.csr_matrix]:
+    """The DMIG matrices (in the order of ``entries``) on the ``n`` DOF rows of ``index`` (grid, component);
+    symmetric ones (``IFO = 6``) mirrored."""
     mats = []
     for key, (rows, cols, values) in entries.items():
         r = np.array([index[(int(g), int(c))] for g, c in rows], dtype=np.int64)
@@ -439,11 +485,7 @@ def read_nastran_dmig(bdf_path: str | os.PathLike[str], mass_name: str, stiffnes
             r, c = np.concatenate([r, c[off]]), np.concatenate([c, r[off]])
             values = np.concatenate([values, values[off]])
         mats.append(sp.csr_matrix((values, (r, c)), shape=(n, n)))
-    T = _cd_rotation(name, model, grids, dof_map)
-    if T is not None:
-        mats = [(T.T @ A @ T).tocsr() for A in mats]
-    info = {"source": name, "format": "Nastran DMIG", "matrices": [mass_name, stiffness_name]}
-    return _fe_model(name, mats[0], mats[1], nodes, dof_map, grids.astype(np.int64), info, (mass_name, stiffness_name))
+    return mats
 
 
 def _cd_rotation(source: str, model: Any, grids: np.ndarray, dof_map: np.ndarray) -> sp.csr_matrix | None:
