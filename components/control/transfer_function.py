@@ -8,7 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Parameter, Variable, der, eq, no_event
-from flexlib.core.variables import numeric_array
+from flexlib.core.values import numeric_array
 from flexlib.errors import ParameterError
 
 from .interfaces import INIT_TYPES, PartialSISO, check_choice

@@ -47,7 +47,7 @@ import scipy.sparse.linalg as spla
 
 from flexlib.compile.cache import gather_values
 from flexlib.core.component import Component
-from flexlib.core.variables import as_bool, not_a_number, not_a_scalar
+from flexlib.core.values import as_bool, not_a_number, not_a_scalar
 from flexlib.errors import LinearizationError
 from flexlib.results.result import Result
 

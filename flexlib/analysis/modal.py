@@ -48,7 +48,7 @@ from flexlib.analysis.linear import (
     result_parameters,
     result_point,
 )
-from flexlib.core.variables import not_a_number
+from flexlib.core.values import not_a_number
 from flexlib.errors import AnalysisWarning
 from flexlib.results.result import Result
 

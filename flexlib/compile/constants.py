@@ -505,9 +505,9 @@ def lookup_param(h: int) -> ca.SX | None:
 
 
 def lookup_info(h: int):
-    from flexlib.core.variables import _REGISTRY
+    from flexlib.core.variables import lookup_hash
 
-    return _REGISTRY.get(h)
+    return lookup_hash(h)
 
 
 def _holds(condition: str, value: float) -> bool:

@@ -18,18 +18,17 @@ from typing import Any, ClassVar
 import casadi as ca
 import numpy as np
 
+from flexlib.core.equations import Equation
+from flexlib.core.values import as_bool, numeric_array
 from flexlib.core.variables import (
-    _STATE_SELECT,
+    STATE_SELECT,
     Declaration,
-    Equation,
     Kind,
     Parameter,
     StateSelect,
     SymInfo,
     Variable,
-    as_bool,
     lookup,
-    numeric_array,
 )
 from flexlib.errors import ConnectError, ModelError, ParameterError
 
@@ -415,10 +414,10 @@ class Node(metaclass=_NodeMeta):
         if isinstance(value, StateSelect):
             self._state_select[name] = value
             return
-        choice = _STATE_SELECT.get(value) if isinstance(value, str) else None
+        choice = STATE_SELECT.get(value) if isinstance(value, str) else None
         if choice is None:
             raise ModelError(f"{self._label(name) if self._parent else type(self).__name__ + ': ' + name}: "
-                             f"state_select {value!r} is not one of {', '.join(_STATE_SELECT)} (or fl.StateSelect)")
+                             f"state_select {value!r} is not one of {', '.join(STATE_SELECT)} (or fl.StateSelect)")
         self._state_select[name] = choice
 
     def state_select_of(self, name: str) -> StateSelect:

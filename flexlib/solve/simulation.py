@@ -28,7 +28,8 @@ from flexlib.compile.constants import assumptions_hold, check_assumed
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.compile.pipeline import Build, build, build_key, check_build_options, check_model
 from flexlib.core.component import Component
-from flexlib.core.variables import Parameter, numeric_array
+from flexlib.core.values import numeric_array
+from flexlib.core.variables import Parameter
 from flexlib.errors import (
     ModelError,
     NativeSolverError,
