@@ -42,8 +42,6 @@ class RateLimiter(PartialSISO):
 
     Connectors
     ----------
-    u : Input [1]
-        Input signal.
     y : Output [1]
         Rate-limited signal (the state).
 

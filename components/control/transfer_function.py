@@ -43,13 +43,6 @@ class TransferFunction(PartialSISO):
         ``"initial_state"`` (default): ``x = x_start``; ``"steady_state"``: ``der(x) = 0``;
         ``"initial_output"``: ``y = y_start`` and ``der(x[1:]) = 0``; ``"no_init"``: none.
 
-    Connectors
-    ----------
-    u : Input [1]
-        Input signal.
-    y : Output [1]
-        Output signal.
-
     Variables
     ---------
     x : 1

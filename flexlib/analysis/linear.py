@@ -45,7 +45,6 @@ import numpy as np
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
-from flexlib.compile.cache import gather_values
 from flexlib.core.component import Component
 from flexlib.core.values import as_bool, not_a_number, not_a_scalar
 from flexlib.errors import LinearizationError
@@ -167,7 +166,7 @@ def operating_point(sim: Any, *, at: Result | None = None, t: float | None = Non
     starts, params = _mapping(starts, "starts"), _mapping(params, "params")
     if at is None:
         t0 = 0.0 if t is None else t
-        values, st = gather_values(sim.model)
+        values, st = sim.model.values()
         for name, value in starts.items():
             if name not in st:
                 if name in values or name in m.param_names:

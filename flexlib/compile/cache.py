@@ -54,7 +54,7 @@ from flexlib.core.component import Component, Node
 from flexlib.core.variables import Declaration, Parameter
 from flexlib.errors import CacheWarning, ModelError
 
-__all__ = ["CacheEntryError", "cache_dir", "code_digest", "gather_values", "load", "model_key", "store",
+__all__ = ["CacheEntryError", "cache_dir", "code_digest", "load", "model_key", "store",
            "usable_cache_dir"]
 
 #: version of the on-disk format (part of every entry's metadata)
@@ -440,37 +440,6 @@ def _conn_label(item: tuple) -> str:
     if item[0] == "connector":
         return item[1].path
     return item[1].node._label(item[1].name)
-
-
-def gather_values(root: Component) -> tuple[dict[str, float], dict[str, tuple[float, bool]]]:
-    """Current parameter values and start values of every scalar, by hierarchical name."""
-    params: dict[str, float] = {}
-    starts: dict[str, tuple[float, bool]] = {}
-    for node in root.walk():
-        for name, decl in node._decls.items():
-            if not decl.shape:  # a scalar (the usual case): one label, one float
-                if isinstance(decl, Parameter):
-                    value = node.parameter_value(name)
-                    if value is not None:
-                        params[node._label(name)] = float(value)
-                else:
-                    value, fixed = node.start_of(name)
-                    starts[node._label(name)] = (float(value), fixed)
-                continue
-            labels = decl.element_names(node._label(name))
-            if isinstance(decl, Parameter):
-                value = node.parameter_value(name)
-                if value is None:
-                    continue
-                flat = np.asarray(value, dtype=float).flatten(order="F")
-                params.update({lab: float(flat[k]) for k, (lab, _) in enumerate(labels)})
-            else:
-                value, fixed = node.start_of(name)
-                flat = np.asarray(value, dtype=float).flatten(order="F")
-                starts.update({lab: (float(flat[k]), fixed) for k, (lab, _) in enumerate(labels)})
-    return params, starts
-
-
 
 
 # -- entries: load and store ---------------------------------------------------------------------------------

@@ -518,9 +518,7 @@ def assumptions_hold(assumed: dict[str, str], root: Component) -> bool:
     """True if every parameter condition a (cached) build assumed holds for the values of model ``root``."""
     if not assumed:
         return True
-    from flexlib.compile.cache import gather_values
-
-    values, _ = gather_values(root)
+    values, _ = root.values()
     return all(_holds(cond, values[name]) for name, cond in assumed.items() if name in values)
 
 

@@ -16,13 +16,6 @@ class AccSensor(PartialAbsoluteSensor):
     ----------
     flange : Flange
         Measured flange (no torque is exerted on it).
-    a : Output [rad/s2]
-        Absolute angular acceleration of the flange.
-
-    Variables
-    ---------
-    w : rad/s
-        Absolute angular velocity of the flange.
 
     References
     ----------

@@ -16,8 +16,6 @@ class AngleSensor(PartialAbsoluteSensor):
     ----------
     flange : Flange
         Measured flange (no torque is exerted on it).
-    phi : Output [rad]
-        Absolute angle of the flange.
 
     References
     ----------

@@ -19,11 +19,6 @@ class RelativeSpeedSensor(PartialRelativeSensor):
     w_rel : Output [rad/s]
         Relative angular velocity.
 
-    Variables
-    ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.RelSpeedSensor``.

@@ -22,21 +22,10 @@ class Speed(PartialOneFlangeAndSupport):
 
     Connectors
     ----------
-    w_ref : Input [rad/s]
-        Reference angular velocity of the flange relative to the support.
     flange : Flange
         Driven flange; ``flange.tau`` is the torque needed to move it.
     support : Flange
         Housing (only if ``use_support``); takes ``-flange.tau``.
-
-    Variables
-    ---------
-    phi : rad
-        Flange angle relative to the support.
-    w : rad/s
-        Relative angular velocity.
-    a : rad/s2
-        Relative angular acceleration.
 
     References
     ----------

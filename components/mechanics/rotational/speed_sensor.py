@@ -16,8 +16,6 @@ class SpeedSensor(PartialAbsoluteSensor):
     ----------
     flange : Flange
         Measured flange (no torque is exerted on it).
-    w : Output [rad/s]
-        Absolute angular velocity of the flange.
 
     References
     ----------

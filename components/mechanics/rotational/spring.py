@@ -12,13 +12,6 @@ __all__ = ["Spring"]
 class Spring(PartialCompliant):
     """Linear 1D rotational spring: ``tau = c * (phi_rel - phi_rel0)``.
 
-    Parameters
-    ----------
-    c : float
-        Spring constant [N.m/rad], >= 0.
-    phi_rel0 : float
-        Unstretched spring angle [rad].
-
     Connectors
     ----------
     flange_a, flange_b : Flange

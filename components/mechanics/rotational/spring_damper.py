@@ -14,15 +14,6 @@ class SpringDamper(PartialCompliantWithRelativeStates):
 
     ``tau = c * (phi_rel - phi_rel0) + d * w_rel``.
 
-    Parameters
-    ----------
-    c : float
-        Spring constant [N.m/rad], >= 0.
-    d : float
-        Damping constant [N.m.s/rad], >= 0.
-    phi_rel0 : float
-        Unstretched spring angle [rad].
-
     Connectors
     ----------
     flange_a, flange_b : Flange
@@ -32,8 +23,6 @@ class SpringDamper(PartialCompliantWithRelativeStates):
     ---------
     phi_rel : rad
         Relative angle ``flange_b.phi - flange_a.phi``.
-    w_rel : rad/s
-        Relative angular velocity ``der(phi_rel)``.
     tau : N.m
         Total torque.
     tau_c, tau_d : N.m

@@ -22,10 +22,6 @@ class Torque(PartialOneFlangeAndSupport):
 
     Connectors
     ----------
-    tau : Input [N.m]
-        Accelerating torque acting at the flange.
-    flange : Flange
-        Driven flange.
     support : Flange
         Housing (only if ``use_support``); takes ``-flange.tau``.
 

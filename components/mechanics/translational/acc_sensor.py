@@ -16,13 +16,6 @@ class AccSensor(PartialAbsoluteSensor):
     ----------
     flange : Flange
         Measured flange (no force is exerted on it).
-    a : Output [m/s2]
-        Absolute acceleration of the flange.
-
-    Variables
-    ---------
-    v : m/s
-        Absolute velocity of the flange.
 
     References
     ----------

@@ -12,11 +12,6 @@ __all__ = ["Damper"]
 class Damper(PartialCompliantWithRelativeStates):
     """Linear 1D translational damper: ``f = d * v_rel``.
 
-    Parameters
-    ----------
-    d : float
-        Damping constant [N.s/m], >= 0.
-
     Connectors
     ----------
     flange_a, flange_b : Flange
@@ -24,10 +19,6 @@ class Damper(PartialCompliantWithRelativeStates):
 
     Variables
     ---------
-    s_rel : m
-        Relative distance ``flange_b.s - flange_a.s``.
-    v_rel : m/s
-        Relative velocity ``der(s_rel)``.
     f : N
         Damper force.
 

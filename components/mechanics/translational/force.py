@@ -22,10 +22,6 @@ class Force(PartialOneFlangeAndSupport):
 
     Connectors
     ----------
-    f : Input [N]
-        Driving force acting at the flange.
-    flange : Flange
-        Driven flange.
     support : Flange
         Housing (only if ``use_support``); takes ``-flange.f``.
 

@@ -23,21 +23,10 @@ class Position(PartialOneFlangeAndSupport):
 
     Connectors
     ----------
-    s_ref : Input [m]
-        Reference position of the flange relative to the support.
     flange : Flange
         Driven flange; ``flange.f`` is the force needed to move it.
     support : Flange
         Housing (only if ``use_support``); takes ``-flange.f``.
-
-    Variables
-    ---------
-    s : m
-        Flange position relative to the support.
-    v : m/s
-        Relative velocity.
-    a : m/s2
-        Relative acceleration.
 
     References
     ----------

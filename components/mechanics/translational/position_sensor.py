@@ -16,8 +16,6 @@ class PositionSensor(PartialAbsoluteSensor):
     ----------
     flange : Flange
         Measured flange (no force is exerted on it).
-    s : Output [m]
-        Absolute position of the flange.
 
     References
     ----------

@@ -19,11 +19,6 @@ class RelativeSpeedSensor(PartialRelativeSensor):
     v_rel : Output [m/s]
         Relative velocity.
 
-    Variables
-    ---------
-    s_rel : m
-        Relative position ``flange_b.s - flange_a.s``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sensors.RelSpeedSensor``.

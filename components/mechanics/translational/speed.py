@@ -22,21 +22,10 @@ class Speed(PartialOneFlangeAndSupport):
 
     Connectors
     ----------
-    v_ref : Input [m/s]
-        Reference velocity of the flange relative to the support.
     flange : Flange
         Driven flange; ``flange.f`` is the force needed to move it.
     support : Flange
         Housing (only if ``use_support``); takes ``-flange.f``.
-
-    Variables
-    ---------
-    s : m
-        Flange position relative to the support.
-    v : m/s
-        Relative velocity.
-    a : m/s2
-        Relative acceleration.
 
     References
     ----------

@@ -16,8 +16,6 @@ class SpeedSensor(PartialAbsoluteSensor):
     ----------
     flange : Flange
         Measured flange (no force is exerted on it).
-    v : Output [m/s]
-        Absolute velocity of the flange.
 
     References
     ----------
