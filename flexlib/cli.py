@@ -95,7 +95,7 @@ def _fmt(x: float) -> str:
 @click.version_option(package_name="flexlib")
 def cli(modules: tuple[str, ...]) -> None:
     """flexlib: acausal multibody, flexible-body and hydraulic models, from the command line."""
-    from flexlib.registry import import_user_module, module_hint
+    from flexlib.model_modules import import_user_module, module_hint
 
     for module in modules:
         try:
