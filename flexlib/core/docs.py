@@ -10,9 +10,10 @@ each parameter, variable and connector is (``doc=``, ``unit=``, bounds, shape, d
         Time constant of the integrator [s], > 0.
 
 An entry the author wrote by hand (a richer description, a constructor option such as ``use_support``, a connector
-made in the constructor) is kept as written and not generated again; a constructor option or a connector documented
-in a base class (``PartialOneFlangeAndSupport``) is carried into the subclass's table. A declaration without
-``doc=`` gets no entry: it is documented by hand or not at all (the docs lint then names it).
+made in the constructor) is kept as written and not generated again; a constructor option, a connector or a
+variable documented by hand in a base class (``PartialOneFlangeAndSupport``) is carried into the subclass's
+table. A declaration without ``doc=`` gets no entry: it is documented by hand or not at all (the docs lint then
+names it).
 """
 
 from __future__ import annotations
@@ -114,7 +115,7 @@ def _inherited(cls: type, title: str, names: Any = None) -> dict[str, list[str]]
         doc = _HAND.get(base)
         if not doc:
             continue
-        for t, body in parse_sections(doc)[1]:
+        for t, body in parse_sections(inspect.cleandoc(doc))[1]:
             if t == title:
                 for n, lines in _entries(body).items():
                     if (names is None or n in names) and n not in out:
@@ -129,15 +130,21 @@ def _generated(cls: type, decls: dict[str, Declaration], templates: list[tuple[s
                    if n != "self" and p.kind not in (p.VAR_POSITIONAL, p.VAR_KEYWORD)]
     except (TypeError, ValueError):  # pragma: no cover - a C-level __init__
         options = []
-    params = _inherited(cls, "Parameters", set(options))
-    params.update({n: _parameter(n, d) for n, d in decls.items() if isinstance(d, Parameter) and d.doc})
-    connectors = _inherited(cls, "Connectors")
-    connectors.update({n: _signal(n, d) for n, d in decls.items()
-                       if d.kind in (Kind.input, Kind.output) and d.doc})
     from flexlib.core.component import Connector
 
-    connectors.update({n: _connector(n, t) for n, t in templates if isinstance(t, Connector) and t.doc})
-    variables = {n: _variable(n, d) for n, d in decls.items() if d.kind is Kind.variable and d.doc}
+    params = _inherited(cls, "Parameters", set(options))
+    connectors = _inherited(cls, "Connectors")
+    variables = _inherited(cls, "Variables")
+    for n, d in decls.items():  # an entry written by hand in a base says more than the declaration
+        if d.doc and isinstance(d, Parameter):
+            params.setdefault(n, _parameter(n, d))
+        elif d.doc and d.kind in (Kind.input, Kind.output):
+            connectors.setdefault(n, _signal(n, d))
+        elif d.doc and d.kind is Kind.variable:
+            variables.setdefault(n, _variable(n, d))
+    for n, t in templates:
+        if isinstance(t, Connector) and t.doc:
+            connectors.setdefault(n, _connector(n, t))
     return {"Parameters": params, "Connectors": connectors, "Variables": variables}
 
 

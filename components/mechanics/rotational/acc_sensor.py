@@ -12,11 +12,6 @@ __all__ = ["AccSensor"]
 class AccSensor(PartialAbsoluteSensor):
     """Ideal sensor of the absolute angular acceleration: ``w = der(flange.phi)``, ``a = der(w)``.
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no torque is exerted on it).
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.AccSensor``.

@@ -12,11 +12,6 @@ __all__ = ["Damper"]
 class Damper(PartialCompliantWithRelativeStates):
     """Linear 1D rotational damper: ``tau = d * w_rel``.
 
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
-
     Variables
     ---------
     phi_rel : rad

@@ -45,6 +45,11 @@ class PartialCompliant(PartialTwoFlanges):
     """Compliant connection of two flanges: ``tau = flange_b.tau = -flange_a.tau``.
 
     A subclass adds one equation for ``tau`` (MSL Rotational.Interfaces.PartialCompliant).
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
     """
 
     phi_rel = Variable(unit="rad", doc="Relative rotation angle, flange_b.phi - flange_a.phi")
@@ -78,6 +83,13 @@ class PartialOneFlangeAndSupport(Component):
     ----------
     use_support : bool
         True if the ``support`` flange is enabled, otherwise implicitly grounded.
+
+    Connectors
+    ----------
+    flange : Flange
+        Driven flange; ``flange.tau`` is the torque needed to move it.
+    support : Flange
+        Housing (only if ``use_support``); takes ``-flange.tau``.
     """
 
     phi_support = Variable(unit="rad", doc="Absolute rotation angle of the support (0 if not used)")
@@ -122,7 +134,13 @@ class PartialTwoFlangesAndSupport(PartialTwoFlanges):
 
 
 class PartialAbsoluteSensor(Component):
-    """Sensor measuring an absolute flange quantity; it exerts no torque on the flange."""
+    """Sensor measuring an absolute flange quantity; it exerts no torque on the flange.
+
+    Connectors
+    ----------
+    flange : Flange
+        Measured flange (no torque is exerted on it).
+    """
 
     flange = Flange(doc="Flange whose motion is measured")
 
@@ -131,7 +149,13 @@ class PartialAbsoluteSensor(Component):
 
 
 class PartialRelativeSensor(PartialTwoFlanges):
-    """Sensor between two flanges; its torques balance: ``flange_a.tau + flange_b.tau = 0``."""
+    """Sensor between two flanges; its torques balance: ``flange_a.tau + flange_b.tau = 0``.
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        Measured flanges (no torque is exerted on them).
+    """
 
     def equations(self) -> list:
         return [eq(self.flange_a.tau + self.flange_b.tau, 0.0)]

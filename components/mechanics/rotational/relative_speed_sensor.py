@@ -14,8 +14,6 @@ class RelativeSpeedSensor(PartialRelativeSensor):
 
     Connectors
     ----------
-    flange_a, flange_b : Flange
-        Measured flanges (no torque is exerted on them).
     w_rel : Output [rad/s]
         Relative angular velocity.
 

@@ -15,18 +15,6 @@ class Speed(PartialOneFlangeAndSupport):
     ``w = der(flange.phi - phi_support) = w_ref``; the angle is the integral of the
     reference and needs an initial condition (e.g. ``init={"phi": 0.0}``).
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    flange : Flange
-        Driven flange; ``flange.tau`` is the torque needed to move it.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.tau``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sources.Speed``

@@ -12,11 +12,6 @@ __all__ = ["Spring"]
 class Spring(PartialCompliant):
     """Linear 1D rotational spring: ``tau = c * (phi_rel - phi_rel0)``.
 
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
-
     Variables
     ---------
     phi_rel : rad

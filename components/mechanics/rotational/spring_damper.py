@@ -14,11 +14,6 @@ class SpringDamper(PartialCompliantWithRelativeStates):
 
     ``tau = c * (phi_rel - phi_rel0) + d * w_rel``.
 
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
-
     Variables
     ---------
     phi_rel : rad

@@ -12,11 +12,6 @@ __all__ = ["Damper"]
 class Damper(PartialCompliantWithRelativeStates):
     """Linear 1D translational damper: ``f = d * v_rel``.
 
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.f = f``, ``flange_a.f = -f``.
-
     Variables
     ---------
     f : N

@@ -15,16 +15,6 @@ class Force(PartialOneFlangeAndSupport):
     A positive ``f`` accelerates the flange in the positive direction; the reaction acts on
     the support.
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.f``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sources.Force``.

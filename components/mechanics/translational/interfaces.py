@@ -58,6 +58,11 @@ class PartialCompliant(PartialTwoFlanges):
     """Compliant connection of two flanges: ``f = flange_b.f = -flange_a.f``.
 
     A subclass adds one equation for ``f`` (MSL Translational.Interfaces.PartialCompliant).
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        ``flange_b.f = f``, ``flange_a.f = -f``.
     """
 
     s_rel = Variable(unit="m", doc="Relative distance, flange_b.s - flange_a.s")
@@ -90,6 +95,13 @@ class PartialOneFlangeAndSupport(Component):
     ----------
     use_support : bool
         True if the ``support`` flange is enabled, otherwise implicitly grounded.
+
+    Connectors
+    ----------
+    flange : Flange
+        Driven flange; ``flange.f`` is the force needed to move it.
+    support : Flange
+        Housing (only if ``use_support``); takes ``-flange.f``.
     """
 
     s_support = Variable(unit="m", doc="Absolute position of the support (0 if not used)")
@@ -109,7 +121,13 @@ class PartialOneFlangeAndSupport(Component):
 
 
 class PartialAbsoluteSensor(Component):
-    """Sensor measuring an absolute flange quantity; it exerts no force on the flange."""
+    """Sensor measuring an absolute flange quantity; it exerts no force on the flange.
+
+    Connectors
+    ----------
+    flange : Flange
+        Measured flange (no force is exerted on it).
+    """
 
     flange = Flange(doc="Flange whose motion is measured")
 
@@ -118,7 +136,13 @@ class PartialAbsoluteSensor(Component):
 
 
 class PartialRelativeSensor(PartialTwoFlanges):
-    """Sensor between two flanges; its forces balance: ``flange_a.f + flange_b.f = 0``."""
+    """Sensor between two flanges; its forces balance: ``flange_a.f + flange_b.f = 0``.
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        Measured flanges (no force is exerted on them).
+    """
 
     def equations(self) -> list:
         return [eq(self.flange_a.f + self.flange_b.f, 0.0)]

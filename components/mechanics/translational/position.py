@@ -16,18 +16,6 @@ class Position(PartialOneFlangeAndSupport):
     first and second derivatives of the reference, so the compiler differentiates the
     equations that produce ``s_ref`` (the reference must be twice differentiable).
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    flange : Flange
-        Driven flange; ``flange.f`` is the force needed to move it.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.f``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sources.Position``

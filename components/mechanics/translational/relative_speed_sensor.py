@@ -14,8 +14,6 @@ class RelativeSpeedSensor(PartialRelativeSensor):
 
     Connectors
     ----------
-    flange_a, flange_b : Flange
-        Measured flanges (no force is exerted on them).
     v_rel : Output [m/s]
         Relative velocity.
 

@@ -15,18 +15,6 @@ class Speed(PartialOneFlangeAndSupport):
     ``v = der(flange.s - s_support) = v_ref``; the position is the integral of the
     reference and needs an initial condition (e.g. ``init={"s": 0.0}``).
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    flange : Flange
-        Driven flange; ``flange.f`` is the force needed to move it.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.f``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sources.Speed``

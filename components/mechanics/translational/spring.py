@@ -12,11 +12,6 @@ __all__ = ["Spring"]
 class Spring(PartialCompliant):
     """Linear 1D translational spring: ``f = c * (s_rel - s_rel0)``.
 
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.f = f``, ``flange_a.f = -f``.
-
     Variables
     ---------
     f : N

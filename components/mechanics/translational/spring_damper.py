@@ -14,11 +14,6 @@ class SpringDamper(PartialCompliantWithRelativeStates):
 
     ``f = c * (s_rel - s_rel0) + d * v_rel``.
 
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.f = f``, ``flange_a.f = -f``.
-
     Variables
     ---------
     f : N
