@@ -119,16 +119,23 @@ def _option_value(value: Any) -> str:
 _SEVERAL = re.compile(r",\s*[A-Za-z_][\w.\[\]]*\s*=")
 
 
+def _name_value(item: str, option: str, example: str, repeat: str) -> tuple[str, str]:
+    """``NAME=VALUE`` of one ``--param``/``--option`` as ``(name, value text)``; one pair per option."""
+    name, sep, value = item.partition("=")
+    name, value = name.strip(), value.strip()
+    if not sep or not name:
+        raise click.ClickException(f"{option} {item!r}: expected NAME=VALUE (for example {example})")
+    if _SEVERAL.search(value):
+        raise click.ClickException(f"{option} {item!r}: one NAME=VALUE per {option} (repeat it: {repeat} "
+                                   f"{name}=... {repeat} ...)")
+    return name, value
+
+
 def _parse_params(items: tuple[str, ...]) -> dict[str, float]:
+    """``NAME=VALUE`` parameter overrides by name, each a finite number."""
     out: dict[str, float] = {}
     for item in items:
-        name, sep, value = item.partition("=")
-        name, value = name.strip(), value.strip()
-        if not sep or not name:
-            raise click.ClickException(f"--param {item!r}: expected NAME=VALUE (for example mass0.m=2.0)")
-        if _SEVERAL.search(value):
-            raise click.ClickException(f"--param {item!r}: one NAME=VALUE per --param (repeat it: --param "
-                                       f"{name}=... --param ...)")
+        name, value = _name_value(item, "--param", "mass0.m=2.0", "--param")
         try:
             number = float(value)
         except ValueError:
@@ -145,13 +152,7 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
     """``NAME=VALUE`` texts by name; the registry converts each by the model's declaration of the option."""
     out: dict[str, str] = {}
     for item in items:
-        name, sep, value = item.partition("=")
-        name, value = name.strip(), value.strip()
-        if not sep or not name:
-            raise click.ClickException(f"--option {item!r}: expected NAME=VALUE (for example n=4 or flexible=true)")
-        if _SEVERAL.search(value):
-            raise click.ClickException(f"--option {item!r}: one NAME=VALUE per --option (repeat it: -O {name}=... "
-                                       "-O ...)")
+        name, value = _name_value(item, "--option", "n=4 or flexible=true", "-O")
         if name in out and out[name] != value:
             raise click.ClickException(f"--option {name} is given twice ({out[name]!r} and {value!r}); give it once")
         out[name] = value

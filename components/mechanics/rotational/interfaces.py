@@ -34,6 +34,21 @@ class Flange(Connector):
     tau = Flow(unit="N.m", doc="Cut torque in the flange, positive into the component")
 
 
+def add_support(node: Component, use_support: bool) -> None:
+    """The structural option ``use_support`` of ``node``; when on, its ``support`` flange (the housing)."""
+    node.use_support = flag(node, "use_support", use_support, structural=True)
+    if node.use_support:
+        node.support = Flange(doc="Support (housing) flange")
+
+
+def support_rows(node: Component, reaction: Any) -> list:
+    """``phi_support`` of ``node`` from its support flange (0 without one), and the support's torque
+    ``reaction``."""
+    if not node.use_support:
+        return [eq(node.phi_support, 0.0)]
+    return [eq(node.phi_support, node.support.phi), eq(node.support.tau, reaction)]
+
+
 class PartialTwoFlanges(Component):
     """Component with two rotational flanges, ``flange_a`` and ``flange_b``."""
 
@@ -97,15 +112,11 @@ class PartialOneFlangeAndSupport(Component):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support, structural=True)
-        if self.use_support:
-            self.support = Flange(doc="Support (housing) flange")
+        add_support(self, use_support)
 
     def support_equations(self) -> list:
         """``phi_support`` from the support (or 0) and the support reaction torque."""
-        if not self.use_support:
-            return [eq(self.phi_support, 0.0)]
-        return [eq(self.phi_support, self.support.phi), eq(self.support.tau, -self.flange.tau)]
+        return support_rows(self, -self.flange.tau)
 
 
 class PartialTwoFlangesAndSupport(PartialTwoFlanges):
@@ -121,16 +132,11 @@ class PartialTwoFlangesAndSupport(PartialTwoFlanges):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support, structural=True)
-        if self.use_support:
-            self.support = Flange(doc="Support (housing) flange")
+        add_support(self, use_support)
 
     def support_equations(self) -> list:
         """``phi_support`` from the support (or 0) and the support reaction torque."""
-        if not self.use_support:
-            return [eq(self.phi_support, 0.0)]
-        return [eq(self.phi_support, self.support.phi),
-                eq(self.support.tau, -self.flange_a.tau - self.flange_b.tau)]
+        return support_rows(self, -self.flange_a.tau - self.flange_b.tau)
 
 
 class PartialAbsoluteSensor(Component):
