@@ -132,19 +132,24 @@ def _generated(cls: type, decls: dict[str, Declaration], templates: list[tuple[s
         options = []
     from flexlib.core.component import Connector
 
-    params = _inherited(cls, "Parameters", set(options))
-    connectors = _inherited(cls, "Connectors")
-    variables = _inherited(cls, "Variables")
-    for n, d in decls.items():  # an entry written by hand in a base says more than the declaration
-        if d.doc and isinstance(d, Parameter):
-            params.setdefault(n, _parameter(n, d))
-        elif d.doc and d.kind in (Kind.input, Kind.output):
-            connectors.setdefault(n, _signal(n, d))
-        elif d.doc and d.kind is Kind.variable:
-            variables.setdefault(n, _variable(n, d))
-    for n, t in templates:
+    hand = {"Parameters": _inherited(cls, "Parameters", set(options)), "Connectors": _inherited(cls, "Connectors"),
+            "Variables": _inherited(cls, "Variables")}
+    params: dict[str, list[str]] = {}
+    connectors: dict[str, list[str]] = {}
+    variables: dict[str, list[str]] = {}
+    for n, t in templates:  # declaration order; an entry written by hand in a base says more than the declaration
         if isinstance(t, Connector) and t.doc:
-            connectors.setdefault(n, _connector(n, t))
+            connectors[n] = hand["Connectors"].get(n) or _connector(n, t)
+    for n, d in decls.items():
+        if d.doc and isinstance(d, Parameter):
+            params[n] = hand["Parameters"].get(n) or _parameter(n, d)
+        elif d.doc and d.kind in (Kind.input, Kind.output):
+            connectors[n] = hand["Connectors"].get(n) or _signal(n, d)
+        elif d.doc and d.kind is Kind.variable:
+            variables[n] = hand["Variables"].get(n) or _variable(n, d)
+    for title, found in (("Parameters", params), ("Connectors", connectors), ("Variables", variables)):
+        for n, lines in hand[title].items():  # constructor options, connectors made in the constructor
+            found.setdefault(n, lines)
     return {"Parameters": params, "Connectors": connectors, "Variables": variables}
 
 

@@ -101,14 +101,12 @@ class PartialOneFlangeAndSupport(Component):
 
     Connectors
     ----------
-    flange : Flange
-        Driven flange; ``flange.tau`` is the torque needed to move it.
     support : Flange
         Housing (only if ``use_support``); takes ``-flange.tau``.
     """
 
     phi_support = Variable(unit="rad", doc="Absolute rotation angle of the support (0 if not used)")
-    flange = Flange(doc="Driven flange")
+    flange = Flange(doc="Driven flange; ``flange.tau`` is the torque needed to move it")
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
@@ -140,15 +138,9 @@ class PartialTwoFlangesAndSupport(PartialTwoFlanges):
 
 
 class PartialAbsoluteSensor(Component):
-    """Sensor measuring an absolute flange quantity; it exerts no torque on the flange.
+    """Sensor measuring an absolute flange quantity; it exerts no torque on the flange."""
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no torque is exerted on it).
-    """
-
-    flange = Flange(doc="Flange whose motion is measured")
+    flange = Flange(doc="Measured flange (no torque is exerted on it)")
 
     def equations(self) -> list:
         return [eq(self.flange.tau, 0.0)]

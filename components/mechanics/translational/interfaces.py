@@ -98,14 +98,12 @@ class PartialOneFlangeAndSupport(Component):
 
     Connectors
     ----------
-    flange : Flange
-        Driven flange; ``flange.f`` is the force needed to move it.
     support : Flange
         Housing (only if ``use_support``); takes ``-flange.f``.
     """
 
     s_support = Variable(unit="m", doc="Absolute position of the support (0 if not used)")
-    flange = Flange(doc="Driven flange")
+    flange = Flange(doc="Driven flange; ``flange.f`` is the force needed to move it")
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
@@ -121,15 +119,9 @@ class PartialOneFlangeAndSupport(Component):
 
 
 class PartialAbsoluteSensor(Component):
-    """Sensor measuring an absolute flange quantity; it exerts no force on the flange.
+    """Sensor measuring an absolute flange quantity; it exerts no force on the flange."""
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no force is exerted on it).
-    """
-
-    flange = Flange(doc="Flange whose motion is measured")
+    flange = Flange(doc="Measured flange (no force is exerted on it)")
 
     def equations(self) -> list:
         return [eq(self.flange.f, 0.0)]
