@@ -39,14 +39,8 @@ class Trapezoid(PartialSignalSource):
 
     Parameters
     ----------
-    amplitude : float
-        Amplitude of the trapezoid [1].
-    rising : float
-        Rising duration [s], >= 0.
     width : float
         Width (plateau) duration [s], >= 0.
-    falling : float
-        Falling duration [s], >= 0.
     period : float
         Time for one period [s], > 0; a phase that does not fit is cut at the period end.
     nperiod : int

@@ -14,8 +14,6 @@ class Damper(PartialCompliantWithRelativeStates):
 
     Variables
     ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
     tau : N.m
         Damper torque.
 

@@ -14,8 +14,6 @@ class Spring(PartialCompliant):
 
     Variables
     ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
     tau : N.m
         Spring torque.
 

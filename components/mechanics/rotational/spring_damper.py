@@ -16,8 +16,6 @@ class SpringDamper(PartialCompliantWithRelativeStates):
 
     Variables
     ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
     tau : N.m
         Total torque.
     tau_c, tau_d : N.m
