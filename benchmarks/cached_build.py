@@ -3,7 +3,7 @@
 For N masses it times, best of 7 in a fresh ``FLEXLIB_CACHE_DIR`` after one cold build:
 
 * the floor: instantiating ``NMassChain(N)`` (pure Python, the same for any cache format);
-* the cache key (``flexlib.compile.cache.model_key``);
+* the cache key (``flexlib.compile.cache_key.model_key``);
 * the cached build (``flexlib.build``: key, file checks against the manifest, JSON + ``.npz`` reading, and
   deserializing and checking the functions every run needs);
 
@@ -25,7 +25,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import flexlib as fl
-from flexlib.compile.cache import model_key
+from flexlib.compile.cache_key import model_key
 from models.n_mass_chain import NMassChain
 
 

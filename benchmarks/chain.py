@@ -35,7 +35,6 @@ import casadi as ca
 import numpy as np
 
 import flexlib as fl
-from flexlib.compile.cache import gather_values
 from flexlib.solve.casadi_idas import integrate_casadi
 from models.n_mass_chain import NMassChain
 
@@ -136,7 +135,7 @@ def bench(n: int) -> dict:
     # same inputs as Simulation.run
     pvec = sim.parameter_vector()
     p = np.concatenate([pvec, np.zeros(m.n_relations)])
-    _, starts = gather_values(sim.model)
+    _, starts = sim.model.values()
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     idx = {nm: i for i, nm in enumerate(m.y_names)}
     for key, y_only in (("cas", True), ("cas_default", False)):

@@ -49,7 +49,6 @@ import numpy as np
 import sksundae as sun
 
 import flexlib as fl
-from flexlib.compile.cache import gather_values
 from flexlib.compile.index_reduction import _pick_columns
 from flexlib.solve import ida
 from flexlib.solve import state_selection as ss
@@ -245,7 +244,7 @@ def _split_one(name: str, make, kw: dict, ida_before) -> None:
     sim = _simulation(make)
     m = sim.compiled
     p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
-    _, starts = gather_values(sim.model)
+    _, starts = sim.model.values()
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     grid = np.arange(0.0, kw["t_end"] + 1e-9, kw["dt_out"])
     t_end = kw["t_end"]

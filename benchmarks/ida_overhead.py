@@ -39,7 +39,6 @@ import sksundae as sun
 from chain import casadi_reference
 
 import flexlib as fl
-from flexlib.compile.cache import gather_values
 from flexlib.solve import ida
 from models.n_mass_chain import NMassChain
 
@@ -50,7 +49,7 @@ def measure(n: int) -> dict:
     sim = fl.Simulation(NMassChain(n))
     m = sim.compiled
     p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
-    _, starts = gather_values(sim.model)
+    _, starts = sim.model.values()
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     grid = np.linspace(0.0, T_END, 101)
     cb = ida._Callbacks(m, p.copy(), np.zeros(0, dtype=int), dense=False)

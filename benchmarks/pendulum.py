@@ -25,7 +25,6 @@ import numpy as np
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq
-from flexlib.compile.cache import gather_values
 from flexlib.solve.casadi_idas import integrate_casadi
 
 T_END, RTOL, ATOL, REPEAT = 10.0, 1e-8, 1e-10, 3
@@ -95,7 +94,7 @@ def main() -> None:
     # casadi_idas backend on the same inputs as Simulation.run
     pvec = sim.parameter_vector()
     p = np.concatenate([pvec, np.zeros(m.n_relations)])
-    _, starts = gather_values(sim.model)
+    _, starts = sim.model.values()
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     for name, fn in (("casadi_idas backend, 1001 points", integrate_casadi),):
         best, traj = np.inf, None

@@ -7,6 +7,7 @@ _os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (s
 from flexlib.analysis import linearize, modal_analysis, modal_sweep
 from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component, Connector, Model
+from flexlib.core.equations import der, eq
 from flexlib.core.functions import abs_, assert_, if_else, max_, min_, no_event, sign
 from flexlib.core.variables import (
     Flow,
@@ -16,8 +17,6 @@ from flexlib.core.variables import (
     Potential,
     StateSelect,
     Variable,
-    der,
-    eq,
     time,
 )
 from flexlib.errors import (

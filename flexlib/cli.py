@@ -16,24 +16,22 @@ option, file), with exit code 1 (2 for a malformed option, as click reports it);
 from __future__ import annotations
 
 import dataclasses
-import functools
 import json
 import math
 import os
 import re
-import sys
 import tempfile
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import click
 import numpy as np
-from rich.console import Console
 from rich.table import Table
 
+from flexlib.cli_results import compare_cmd, show_cmd
+from flexlib.cli_support import fmt, friendly, new_console, once_option, one_line, say
 from flexlib.errors import FlexlibError, RegistryError, ResultKeyError, SolverError
-from flexlib.results.compare import compare, compare_results
+from flexlib.results.compare import compare_results
 
 __all__ = ["cli", "compare_results", "main"]
 
@@ -42,73 +40,26 @@ SOLVERS = ("ida", "ida-native", "ida-sksundae", "casadi-idas")
 RESULT_SUFFIXES = (".h5", ".hdf5", ".hdf", ".he5")
 
 
-def _one_line(err: BaseException) -> str:
-    return " ".join(str(err).split()) or type(err).__name__
-
-
-def _friendly(func: Callable[..., Any]) -> Callable[..., Any]:
-    """Turn flexlib's errors (and bad values) into a one-line ``Error: ...`` with exit code 1."""
-
-    @functools.wraps(func)
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        try:
-            return func(*args, **kwargs)
-        except click.ClickException:
-            raise
-        except (FlexlibError, ValueError, OSError, LookupError) as err:
-            raise click.ClickException(_one_line(err)) from None
-
-    return wrapper
-
-
-def _console() -> Console:
-    return Console(highlight=False, markup=False)  # "[s]" in labels is text, not a style
-
-
-def _once(ctx: click.Context, param: click.Parameter, values: tuple[Any, ...]) -> Any:
-    """The value of an option that takes one (``None`` if not given); given twice with different values it is
-    refused, naming both (click would silently keep the last)."""
-    if len(set(values)) > 1:
-        shown = " and ".join(repr(v) for v in dict.fromkeys(values))
-        raise click.BadParameter(f"given {len(values)} times ({shown}); give it once", ctx=ctx, param=param)
-    return values[0] if values else None
-
-
-def _once_option(*decls: str, **kwargs: Any) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """``click.option`` of an option that takes one value: repeating it with another value is an error."""
-    return click.option(*decls, multiple=True, callback=_once, **kwargs)
-
-
-def _say(kind: str, text: str) -> None:
-    """A ``Warning:`` or ``Note:`` line on stderr, after what was printed on stdout (one line, not folded)."""
-    sys.stdout.flush()
-    click.echo(f"{kind}: {' '.join(text.split())}", err=True)
-
-
-def _fmt(x: float) -> str:
-    return f"{x:.6g}"
-
-
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.option("--models", "modules", multiple=True, metavar="MODULE",
               help="Import this Python module first (it registers more models); repeatable.")
 @click.version_option(package_name="flexlib")
 def cli(modules: tuple[str, ...]) -> None:
     """flexlib: acausal multibody, flexible-body and hydraulic models, from the command line."""
-    from flexlib.registry import import_user_module, module_hint
+    from flexlib.model_modules import import_user_module, module_hint
 
     for module in modules:
         try:
             import_user_module(module)
         except Exception as err:  # any failure of the user's module: one line naming it
 
-            raise click.ClickException(f"--models {module}: cannot import the module: {_one_line(err)}"
+            raise click.ClickException(f"--models {module}: cannot import the module: {one_line(err)}"
                                        f"{module_hint(module)}") from None
 
 
 # -- list ----------------------------------------------------------------------------------------------------------
 @cli.command("list")
-@_friendly
+@friendly
 def list_cmd() -> None:
     """Show the registered models, their scenarios and their options (``run -O NAME=VALUE``)."""
     from flexlib import registry
@@ -123,9 +74,9 @@ def list_cmd() -> None:
         table.add_row(name, "", "", entry.doc)
         for sname, scen in entry.scenarios.items():
             default = " (default)" if sname == entry.default_scenario else ""
-            t_end = _fmt(scen.t_end) if scen.t_end is not None else "model"
+            t_end = fmt(scen.t_end) if scen.t_end is not None else "model"
             table.add_row("", sname + default, t_end, scen.doc)
-    console = _console()
+    console = new_console()
     console.print(table)
     console.print(_options_table(entries))
 
@@ -168,16 +119,23 @@ def _option_value(value: Any) -> str:
 _SEVERAL = re.compile(r",\s*[A-Za-z_][\w.\[\]]*\s*=")
 
 
+def _name_value(item: str, option: str, example: str, repeat: str) -> tuple[str, str]:
+    """``NAME=VALUE`` of one ``--param``/``--option`` as ``(name, value text)``; one pair per option."""
+    name, sep, value = item.partition("=")
+    name, value = name.strip(), value.strip()
+    if not sep or not name:
+        raise click.ClickException(f"{option} {item!r}: expected NAME=VALUE (for example {example})")
+    if _SEVERAL.search(value):
+        raise click.ClickException(f"{option} {item!r}: one NAME=VALUE per {option} (repeat it: {repeat} "
+                                   f"{name}=... {repeat} ...)")
+    return name, value
+
+
 def _parse_params(items: tuple[str, ...]) -> dict[str, float]:
+    """``NAME=VALUE`` parameter overrides by name, each a finite number."""
     out: dict[str, float] = {}
     for item in items:
-        name, sep, value = item.partition("=")
-        name, value = name.strip(), value.strip()
-        if not sep or not name:
-            raise click.ClickException(f"--param {item!r}: expected NAME=VALUE (for example mass0.m=2.0)")
-        if _SEVERAL.search(value):
-            raise click.ClickException(f"--param {item!r}: one NAME=VALUE per --param (repeat it: --param "
-                                       f"{name}=... --param ...)")
+        name, value = _name_value(item, "--param", "mass0.m=2.0", "--param")
         try:
             number = float(value)
         except ValueError:
@@ -194,13 +152,7 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
     """``NAME=VALUE`` texts by name; the registry converts each by the model's declaration of the option."""
     out: dict[str, str] = {}
     for item in items:
-        name, sep, value = item.partition("=")
-        name, value = name.strip(), value.strip()
-        if not sep or not name:
-            raise click.ClickException(f"--option {item!r}: expected NAME=VALUE (for example n=4 or flexible=true)")
-        if _SEVERAL.search(value):
-            raise click.ClickException(f"--option {item!r}: one NAME=VALUE per --option (repeat it: -O {name}=... "
-                                       "-O ...)")
+        name, value = _name_value(item, "--option", "n=4 or flexible=true", "-O")
         if name in out and out[name] != value:
             raise click.ClickException(f"--option {name} is given twice ({out[name]!r} and {value!r}); give it once")
         out[name] = value
@@ -209,27 +161,27 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
 
 @cli.command("run")
 @click.argument("model", required=False)
-@_once_option("-s", "--scenario", help="Scenario name, or a JSON file with a scenario (default: the model's).")
-@_once_option("-o", "--out", type=click.Path(dir_okay=False), help="Write the result (HDF5) to this file.")
+@once_option("-s", "--scenario", help="Scenario name, or a JSON file with a scenario (default: the model's).")
+@once_option("-o", "--out", type=click.Path(dir_okay=False), help="Write the result (HDF5) to this file.")
 @click.option("-p", "--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Parameter override in SI units (repeatable).")
-@_once_option("--t-end", type=click.FloatRange(min=0.0, min_open=True), help="End time [s].")
-@_once_option("--rtol", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True), help="Relative tolerance.")
-@_once_option("--atol", type=click.FloatRange(min=0.0, min_open=True), help="Absolute tolerance.")
-@_once_option("--dt-out", type=click.FloatRange(min=0.0, min_open=True), help="Output interval [s].")
-@_once_option("--solver", type=click.Choice(SOLVERS), help="Solver backend.")
-@_once_option("--from", "from_file", type=click.Path(dir_okay=False),
+@once_option("--t-end", type=click.FloatRange(min=0.0, min_open=True), help="End time [s].")
+@once_option("--rtol", type=click.FloatRange(0.0, 1.0, min_open=True, max_open=True), help="Relative tolerance.")
+@once_option("--atol", type=click.FloatRange(min=0.0, min_open=True), help="Absolute tolerance.")
+@once_option("--dt-out", type=click.FloatRange(min=0.0, min_open=True), help="Output interval [s].")
+@once_option("--solver", type=click.Choice(SOLVERS), help="Solver backend.")
+@once_option("--from", "from_file", type=click.Path(dir_okay=False),
               help="Repeat the run recorded in this result file (other options apply on top).")
 @click.option("-O", "--option", "model_options", multiple=True, metavar="NAME=VALUE",
               help="Model option on top of the scenario's, VALUE converted by the option's declared type "
                    "(bool: true/false/yes/no/1/0; repeatable).")
-@_once_option("--flexible/--rigid", help="Shorthand for --option flexible=true / false.")
+@once_option("--flexible/--rigid", help="Shorthand for --option flexible=true / false.")
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
-@_once_option("--plots", "plots_dir", type=click.Path(file_okay=False),
+@once_option("--plots", "plots_dir", type=click.Path(file_okay=False),
               help="Write the model's figures (PNG) of the run into this directory.")
 @click.option("--force", is_flag=True,
               help="Let --out replace a file that is not a flexlib result, or write a name without .h5.")
-@_friendly
+@friendly
 def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tuple[str, ...], t_end: float | None,
             rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, from_file: str | None,
             model_options: tuple[str, ...], flexible: bool | None, no_progress: bool,
@@ -284,11 +236,11 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
         if out and err.result is not None:
             written, problem = _save(err.result, out)
             where = f"; {problem}" if problem else f"; the result up to the failure is in {written}"
-        raise click.ClickException(f"{model}: the run failed: {_one_line(err)}{where}") from None
+        raise click.ClickException(f"{model}: the run failed: {one_line(err)}{where}") from None
     except (FlexlibError, ValueError, LookupError) as err:
         if from_file is None:
             raise
-        raise click.ClickException(f"{_one_line(err)} (repeating the run recorded in {from_file})") from None
+        raise click.ClickException(f"{one_line(err)} (repeating the run recorded in {from_file})") from None
     written, problem = _save(done.result, out) if out else (None, None)
     _print_summary(done, written)
     if plots_dir is not None:
@@ -307,12 +259,12 @@ def _recorded_run(from_file: str) -> tuple[Any, Any]:
     try:
         entry = registry.get_model(record.model)
     except RegistryError as err:
-        raise click.ClickException(f"{from_file}: the model recorded in the file: {_one_line(err)}") from None
+        raise click.ClickException(f"{from_file}: the model recorded in the file: {one_line(err)}") from None
     try:
         scen = Scenario.from_dict(record.scenario)
         entry.check_options(scen)
     except (FlexlibError, TypeError, ValueError) as err:
-        raise click.ClickException(f"{from_file}: the scenario recorded in the file: {_one_line(err)}") from None
+        raise click.ClickException(f"{from_file}: the scenario recorded in the file: {one_line(err)}") from None
     for name, value in record.params.items():
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise click.ClickException(f"{from_file}: the parameter override {name!r} recorded in the file is "
@@ -374,7 +326,7 @@ def _save(result: Any, out: str) -> tuple[str | None, str | None]:
         result.save(out)
         return out, None
     except Exception as err:  # any failure to write: keep the result elsewhere
-        reason = _one_line(err)
+        reason = one_line(err)
     stem = Path(out).stem or "result"
     tried = []
     for directory in (Path.cwd(), Path(tempfile.gettempdir())):
@@ -406,18 +358,18 @@ def _write_plots(done: Any, directory: str) -> None:
         written = list(done.entry.plots(done.model, done.result, path))
     except Exception as err:  # a model's own figure code: one line naming the model, not its traceback
         raise click.ClickException(f"model {done.entry.name!r}: its figures (plots hook) failed: "
-                                   f"{type(err).__name__}: {_one_line(err)}") from None
-    _console().print(f"figures: {len(written)} in {path}" + "".join(f"\n  {p}" for p in written))
+                                   f"{type(err).__name__}: {one_line(err)}") from None
+    new_console().print(f"figures: {len(written)} in {path}" + "".join(f"\n  {p}" for p in written))
 
 
 def _print_summary(done: Any, out: str | None) -> None:
     res = done.result
     t_sim = float(res.t[-1] - res.t[0]) if len(res.t) else 0.0
-    console = _console()
+    console = new_console()
     table = Table(title=f"{done.entry.name} / {done.scenario.name}: {res.status}", show_header=False)
     table.add_column("quantity", style="bold")
     table.add_column("value", justify="right")
-    rows = [("simulated time [s]", _fmt(t_sim)),
+    rows = [("simulated time [s]", fmt(t_sim)),
             ("CPU time, build [s]", f"{done.cpu_build:.3f}" + (" (cached)" if res.stats.get("build_cached") else "")),
             ("CPU time, run [s]", f"{done.cpu_run:.3f}"),
             ("real-time factor", f"{t_sim / done.cpu_run:.3g}" if done.cpu_run > 0 else "-"),
@@ -434,7 +386,7 @@ def _print_summary(done: Any, out: str | None) -> None:
     try:
         signals = done.entry.signals(done.model)
     except Exception as err:  # a model's own summary_signals function: a warning naming it; the run is kept
-        _say("Warning", f"{where}: {type(err).__name__}: {_one_line(err)}; no summary table")
+        say("Warning", f"{where}: {type(err).__name__}: {one_line(err)}; no summary table")
         return
     if not signals or not len(res.t):
         return
@@ -447,243 +399,19 @@ def _print_summary(done: Any, out: str | None) -> None:
         try:
             values, unit = res.display(name)
         except ResultKeyError as err:
-            missing.append(_one_line(err))
+            missing.append(one_line(err))
             continue
         elems = [name] if values.ndim == 1 else [n for n in res.names if n.startswith(name + "[")]
         for col, elem in zip(values.reshape(len(res.t), -1).T, elems, strict=True):  # an array: a row per element
             k = int(np.argmax(np.abs(col)))
-            peaks.add_row(elem, unit, _fmt(col.min()), _fmt(col.max()), _fmt(abs(col[k])), _fmt(res.t[k]))
+            peaks.add_row(elem, unit, fmt(col.min()), fmt(col.max()), fmt(abs(col[k])), fmt(res.t[k]))
     console.print(peaks)
     for text in missing:
-        _say("Warning", f"{where}: {text}; left out of the table")
+        say("Warning", f"{where}: {text}; left out of the table")
 
 
-# -- compare -------------------------------------------------------------------------------------------------------
-@cli.command("compare")
-@click.argument("file_a", type=click.Path(dir_okay=False))
-@click.argument("file_b", type=click.Path(dir_okay=False))
-@click.option("--signals", "signal_opts", multiple=True, metavar="NAME[,NAME...]",
-              help="Compare only these variables: names, array names or patterns with * and ? (repeatable or "
-                   "comma-separated).")
-@click.option("--top", type=click.IntRange(min=1), default=15, show_default=True, help="Rows shown.")
-@_once_option("--plot", "plot_file", type=click.Path(dir_okay=False),
-              help="Write an overlay plot of the signals, format by the extension (.png, .pdf, .svg, ...; default "
-                   "signals: the 4 that differ most).")
-@_once_option("--fail-above", type=click.FloatRange(min=0.0), metavar="REL",
-              help="Exit with code 1 if the largest relative difference exceeds REL, or if the comparison does not "
-                   "cover both runs (NaN or inf in one, different time spans, variables in one file only, "
-                   "different units).")
-@_friendly
-def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int, plot_file: str | None,
-                fail_above: float | None) -> None:
-    """Overlay two result files and print their largest differences, and what the comparison does not cover."""
-    from flexlib.results.hdf5 import load_result
-
-    signals = [s.strip() for opt in signal_opts for s in opt.split(",") if s.strip()]
-    if signal_opts and not signals:
-        raise click.ClickException(f"--signals {signal_opts[0]!r}: no variable name given")
-    if fail_above is not None and math.isnan(fail_above):
-        raise click.ClickException("--fail-above nan: the threshold must be a number >= 0 (a relative difference "
-                                   "such as 1e-3); no difference is ever above NaN")
-    if plot_file is not None:
-        plot_path = _check_plot_file(plot_file)  # before the comparison
-    a, b = load_result(file_a), load_result(file_b)
-    try:
-        cmp = compare(a, b, signals or None, labels=(f"A ({file_a})", f"B ({file_b})"))
-    except ResultKeyError as err:  # only --signals names variables
-        raise click.ClickException(f"--signals: {_one_line(err)}") from None
-    notes = list(cmp.notes)
-    if _same_file(file_a, file_b):
-        notes.insert(0, f"A and B are the same file ({file_a}): no difference is possible")
-    console = _console()
-    console.print(f"A = {file_a} ({a.model}, {a.status}), B = {file_b} ({b.model}, {b.status}): "
-                  f"{len(cmp.rows)} signals compared over {cmp.span[0]:g} … {cmp.span[1]:g} s, "
-                  f"{len(cmp.only_a)} only in A, {len(cmp.only_b)} only in B")
-    if cmp.rows:
-        table = Table(title="largest differences (SI units)")
-        for col, justify in (("signal", "left"), ("unit", "left"), ("max |A−B|", "right"), ("relative", "right"),
-                             ("at t [s]", "right"), ("A", "right"), ("B", "right")):
-            table.add_column(col, justify=justify)
-        for r in cmp.rows[:top]:
-            table.add_row(r["name"], r["unit"], _fmt(r["abs"]), f"{r['rel']:.3g}", _fmt(r["t"]), _fmt(r["a"]),
-                          _fmt(r["b"]))
-        console.print(table)
-    if plot_file is not None:
-        names = [r["name"] for r in cmp.rows][: 12 if signals else 4]
-        if names:
-            _plot_overlay(a, b, names, plot_path, file_a, file_b)
-            more = f" (the {len(names)} that differ most of {len(cmp.rows)})" if len(cmp.rows) > len(names) else ""
-            console.print(f"plot written to {plot_file}{more}")
-        else:
-            notes.append(f"no plot written to {plot_file}: no signal compared")
-    for note in notes:
-        _say("Note", note)
-    if fail_above is None:
-        for problem in cmp.problems:
-            _say("Warning", problem)
-        return
-    if cmp.problems:
-        raise click.ClickException(f"--fail-above {fail_above:g}: the comparison does not cover both runs: "
-                                   + "; ".join(cmp.problems))
-    worst = cmp.worst
-    if worst is not None and worst["rel"] > fail_above:
-        raise click.ClickException(f"the largest relative difference {worst['rel']:.3g} ({worst['name']} at "
-                                   f"t = {worst['t']:g} s) exceeds --fail-above {fail_above:g}")
-
-
-def _same_file(a: str, b: str) -> bool:
-    try:
-        return os.path.samefile(a, b)
-    except OSError:
-        return False
-
-
-def _check_plot_file(plot_file: str) -> str:
-    """``--plot``: an extension matplotlib writes and a place that can be written; returns the path to write
-    (``~`` expanded, as the check did)."""
-    from matplotlib.backend_bases import FigureCanvasBase
-
-    from flexlib.solve.run_options import check_result_path
-
-    formats = sorted(FigureCanvasBase.get_supported_filetypes())
-    suffix = Path(plot_file).suffix.lower().lstrip(".")
-    if suffix not in formats:
-        what = "has no extension" if not suffix else f"has the extension .{suffix}, not an image format"
-        raise click.ClickException(f"--plot {plot_file} {what}; the extension gives the format, one of "
-                                   f"{', '.join('.' + f for f in formats)} (for example diff.png)")
-    return str(check_result_path(plot_file, "--plot"))
-
-
-def _plot_overlay(a: Any, b: Any, names: list[str], path: str, label_a: str, label_b: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(max(len(names), 1), 1, figsize=(8, 2.6 * max(len(names), 1)), sharex=True,
-                             squeeze=False)
-    for ax, name in zip(axes[:, 0], names):
-        ya, unit = a.display(name)
-        yb, _ = b.display(name)
-        ax.plot(a.t, ya, label=f"A: {Path(label_a).name}")
-        ax.plot(b.t, yb, "--", label=f"B: {Path(label_b).name}")
-        ax.set_ylabel(f"{name}\n[{unit}]", fontsize=8)
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-    axes[-1, 0].set_xlabel("time [s]")
-    fig.tight_layout()
-    try:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)  # a directory the check found creatable
-        fig.savefig(path, dpi=100)
-    except OSError as err:  # the place was checked; it can still fail (disk full, removed meanwhile)
-        raise click.ClickException(f"--plot {path}: cannot write the plot: {err.strerror or err}") from None
-    finally:
-        plt.close(fig)
-
-
-# -- show ----------------------------------------------------------------------------------------------------------
-@cli.command("show")
-@click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--signals", "patterns", multiple=True, metavar="PATTERN[,PATTERN...]",
-              help="Also list these variables (names, array names or patterns with * and ?) with unit, min, max "
-                   "and final value; '*' lists all.")
-@_friendly
-def show_cmd(file: str, patterns: tuple[str, ...]) -> None:
-    """Show the run settings and solver statistics stored in a result file."""
-    from flexlib.errors import ResultFileError
-    from flexlib.results.compare import select
-    from flexlib.results.hdf5 import load_result
-
-    res = load_result(file)
-    wanted = [p.strip() for opt in patterns for p in opt.split(",") if p.strip()]
-    if patterns and not wanted:
-        raise click.ClickException(f"--signals {patterns[0]!r}: no variable name or pattern given")
-    try:
-        listed = select(res, wanted, file) if wanted else []
-    except ResultKeyError as err:
-        raise click.ClickException(f"--signals: {_one_line(err)}") from None
-    warnings_: list[str] = []
-    table = Table(title=file, show_header=False)
-    table.add_column("key", style="bold")
-    table.add_column("value")
-    table.add_row("model class", res.model)
-    table.add_row("status", res.status + (f" ({_one_line(Exception(res.message))})" if res.message else ""))
-    table.add_row("time", f"{res.t[0]:g} … {res.t[-1]:g} s, {len(res.t)} points" if len(res.t) else "no rows")
-    table.add_row("variables / parameters", f"{len(res.names)} / {len(res.parameters)}")
-    bad = _nonfinite(res)
-    if bad:
-        table.add_row("NaN or inf", bad)
-        warnings_.append(f"{file}: {bad}")
-    if not res.success:
-        warnings_.append(f"{file}: the run did not succeed ({res.status}), "
-                         + (f"its last row is at t = {res.t[-1]:g} s" if len(res.t) else "it has no rows")
-                         + (f": {_one_line(Exception(res.message))}" if res.message else ""))
-    for key in ("steps", "rtol", "atol", "n_unknowns", "n_states"):
-        if key in res.stats:
-            table.add_row(key, str(res.stats[key]))
-    for key in ("created", "flexlib", "casadi", "scikit-sundae"):
-        if key in res.metadata:
-            table.add_row(key, res.metadata[key])
-    raw = res.metadata.get("run")
-    if raw is None:
-        table.add_row("run settings", "none recorded (not written by 'flexlib run')")
-    else:
-        from flexlib.registry import run_settings
-
-        try:
-            rec = run_settings(res, file)
-        except ResultFileError as err:
-            table.add_row("run settings", "damaged (see the warning below); 'flexlib run --from' cannot repeat it")
-            warnings_.append(_one_line(err))
-        else:
-            scen = rec.scenario
-            table.add_row("registered model", rec.model)
-            table.add_row("scenario", f"{scen.get('name')}: {scen.get('doc', '')}")
-            for key in ("t_end", "params", "run", "options", "data"):
-                value = scen.get(key)
-                if value not in (None, {}):
-                    table.add_row(f"scenario {key}", json.dumps(value))
-            if rec.params:
-                table.add_row("parameter overrides", json.dumps(rec.params))
-            if rec.run:
-                table.add_row("run options given", json.dumps(rec.run))
-            table.add_row("repeat with", f"flexlib run --from {file}")
-    _console().print(table)
-    if listed:
-        _console().print(_signal_table(res, listed))
-    for text in warnings_:
-        _say("Warning", text)
-
-
-def _signal_table(res: Any, names: list[str]) -> Table:
-    """Unit, min, max and final value of ``names`` (SI; NaN and inf ignored in min and max, counted)."""
-    table = Table(title=f"{len(names)} variable{'' if len(names) == 1 else 's'} (SI units)")
-    for col, justify in (("variable", "left"), ("unit", "left"), ("min", "right"), ("max", "right"),
-                         ("final", "right"), ("NaN/inf", "right"), ("description", "left")):
-        table.add_column(col, justify=justify)
-    index = {n: k for k, n in enumerate(res.names)}
-    for name in names:
-        k = index[name]
-        x = res.values[:, k]
-        finite = x[np.isfinite(x)]
-        lo, hi = (_fmt(finite.min()), _fmt(finite.max())) if finite.size else ("-", "-")
-        final = _fmt(x[-1]) if len(x) else "-"
-        table.add_row(name, res.units[k], lo, hi, final, str(len(x) - finite.size), res.docs[k])
-    return table
-
-
-def _nonfinite(res: Any) -> str:
-    """Which variables of a result hold NaN or inf, from when ("" if none)."""
-    if not res.values.size:
-        return ""
-    finite = np.isfinite(res.values)
-    cols = np.flatnonzero(~finite.all(axis=0))
-    if not cols.size:
-        return ""
-    first = int(np.argmax(~finite.all(axis=1)))
-    names = [res.names[k] for k in cols]
-    shown = ", ".join(names[:5]) + (f", ... ({len(names) - 5} more)" if len(names) > 5 else "")
-    return f"{len(names)} variables are NaN or inf, from t = {res.t[first]:g} s: {shown}"
+cli.add_command(compare_cmd)
+cli.add_command(show_cmd)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -62,7 +62,7 @@ from flexlib.components.hydraulics.fluid import HLP46
 from flexlib.components.mechanics import rotational
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
 
-__all__ = ["BoomGeometry", "BoomProxy", "statics"]
+__all__ = ["BoomGeometry", "BoomProxy", "cylinder_sizing", "link_body", "statics"]
 
 BAR = 1e5
 G = 9.81
@@ -202,8 +202,38 @@ def statics(linkages: bool = True, q: np.ndarray | None = None) -> dict[str, np.
     return {"F": -Q.ravel() / dl.ravel(), "Q": Q.ravel(), "dl": dl.ravel(), "l": ll.ravel()}
 
 
-def _link_body(m: float, L: float) -> Body:
+def link_body(m: float, L: float) -> Body:
+    """A slender link of mass ``m`` [kg] and length ``L`` [m]: centre of mass at mid-length, inertia ``m L²/12``
+    about each axis through it (a rocker or a link of a four-bar linkage)."""
     return Body(m=m, r_CM=[L / 2, 0.0, 0.0], I=np.diag([m * L**2 / 12] * 3))
+
+
+def _world_to_local(point: np.ndarray, origin: np.ndarray, theta: float) -> list[float]:
+    """A world point (x–y plane) in the frame at ``origin`` rotated by ``theta`` about z [m]."""
+    c, s = math.cos(theta), math.sin(theta)
+    d = point - origin
+    return [c * d[0] + s * d[1], -s * d[0] + c * d[1], 0.0]
+
+
+def cylinder_sizing(F: float, ratio: float = 0.6) -> tuple[float, float, float, float, float]:
+    """Bore for 200 bar at holding force ``F`` [N] (positive: pushing) and the start pressures of its chambers.
+
+    The holding chamber is at ``P_HOLD``, the other at ``P_BACK`` (gauge): pushing ``F = A_p (P_HOLD − ann P_BACK)``,
+    pulling ``−F = A_r (P_HOLD − P_BACK / ann)``. Returns ``(d_bore [m], A_p [m2], A_r [m2], p_A [Pa], p_B [Pa])``
+    (absolute pressures).
+    """
+    ann = 1.0 - ratio**2  # annulus / piston area
+    A_p_needed = F / (P_HOLD - ann * P_BACK) if F >= 0 else -F / (ann * (P_HOLD - P_BACK / ann))
+    d_bore = math.sqrt(4 * A_p_needed / math.pi)
+    A_p = math.pi / 4 * d_bore**2
+    A_r = A_p * (1 - ratio**2)
+    if F >= 0:  # F_hyd = p_A A_p − p_B A_r − p_amb (A_p − A_r) = F
+        p_B = P_BACK + P_AMB
+        p_A = (F + p_B * A_r + P_AMB * (A_p - A_r)) / A_p
+    else:
+        p_A = P_BACK + P_AMB
+        p_B = (p_A * A_p - P_AMB * (A_p - A_r) - F) / A_r
+    return d_bore, A_p, A_r, p_A, p_B
 
 
 class BoomProxy(fl.Model):
@@ -232,29 +262,41 @@ class BoomProxy(fl.Model):
         q0 = np.radians(Q0_DEG)
         ev = ca.Function("ev", [geo.q], [*geo.points.values(), *geo.theta.values()])
         vals = [np.asarray(v).ravel() for v in ev(q0)]
-        P = dict(zip(geo.points, vals[: len(geo.points)], strict=True))
-        TH = {k: float(v[0]) for k, v in zip(geo.theta, vals[len(geo.points):], strict=True)}
+        self._P = dict(zip(geo.points, vals[: len(geo.points)], strict=True))
+        self._TH = {k: float(v[0]) for k, v in zip(geo.theta, vals[len(geo.points):], strict=True)}
         st = statics(self.linkages)
         self.holding = st
 
         self.world = World()
         self.base = Fixed(r=[*BASE_PIN, 0.0])
-        # hydraulic supply
+        tank_ports, supply_ports = self._power_unit()
+        self.bores: list[float] = []
+        self._sections = self._boom(q0)
+        self._th_sec = [self._TH[f"section{n}"] for n in range(1, 6)]
+        self._joints = [self._P[f"joint{n}"] for n in range(1, 6)]
+        for k in range(5):
+            cyl, A_p = self._cylinder(k, float(st["F"][k]), float(st["l"][k]))
+            self._mount(k, cyl, geo)
+            valve = self._joint_loop(k, cyl, A_p, float(st["dl"][k]), float(q0[k]))
+            tank_ports.append(valve.port_T)
+            supply_ports.append(valve.port_P)
+        self.connect(*tank_ports)
+        self.connect(*supply_ports)
+
+    def _power_unit(self) -> tuple[list, list]:
+        """Tank, pump at 1500 rpm, supply volume and relief valve; the tank-side and supply-side ports."""
         self.tank = Tank()
         self.pump = FixedDisplacementPump(D=100e-6 / (2 * math.pi))  # 100 cm3/rev
         self.speed = Constant(k=1500 * 2 * math.pi / 60)  # rad/s
         self.supply = Volume(V=2e-3, p_start=310 * BAR)  # ~ relief pressure at full pump flow
         self.relief = PressureReliefValve(p_crack=300 * BAR, p_grad=4e8)  # +10 bar at 150 L/min
         self.connect(self.speed.y, self.pump.w)
-        tank_ports = [self.tank.port, self.pump.port_a, self.relief.port_b]
-        supply_ports = [self.pump.port_b, self.supply.port, self.relief.port_a]
-        self.bores: list[float] = []
+        return [self.tank.port, self.pump.port_a, self.relief.port_b], [self.pump.port_b, self.supply.port,
+                                                                         self.relief.port_a]
 
-        def world_to_local(point: np.ndarray, origin: np.ndarray, theta: float) -> list[float]:
-            c, s = math.cos(theta), math.sin(theta)
-            d = point - origin
-            return [c * d[0] + s * d[1], -s * d[0] + c * d[1], 0.0]
-
+    def _boom(self, q0: np.ndarray) -> list:
+        """The five sections on their joints, each joint angle measured on its axis flange; the sections' root
+        frames."""
         prev_frame = self.world.frame_b
         sections = []
         for k in range(5):
@@ -279,86 +321,80 @@ class BoomProxy(fl.Model):
                 setattr(self, f"section{n}_tip", tip)
                 self.connect(joint.frame_b, tip.frame_a)
                 prev_frame = tip.frame_b
-        th_sec = [TH[f"section{n}"] for n in range(1, 6)]
-        joints = [P[f"joint{n}"] for n in range(1, 6)]
+        return sections
 
-        def pin_on(k: int, name: str, point: np.ndarray) -> object:
-            """A FixedTranslation on section k (0-based) ending at the world point (start pose)."""
-            rod = FixedTranslation(r=world_to_local(point, joints[k], th_sec[k]))
-            setattr(self, name, rod)
-            self.connect(sections[k], rod.frame_a)
-            return rod.frame_b
+    def _pin_on(self, k: int, name: str, point: np.ndarray) -> object:
+        """A FixedTranslation on section k (0-based) ending at the world point (start pose)."""
+        rod = FixedTranslation(r=_world_to_local(point, self._joints[k], self._th_sec[k]))
+        setattr(self, name, rod)
+        self.connect(self._sections[k], rod.frame_a)
+        return rod.frame_b
 
-        for k in range(5):
-            n = k + 1
-            F = float(st["F"][k])
-            ratio = 0.6
-            ann = 1.0 - ratio**2  # annulus / piston area
-            # holding chamber at P_HOLD, the other at P_BACK (gauge): pushing F = A_p (P_HOLD − ann P_BACK),
-            # pulling −F = A_r (P_HOLD − P_BACK / ann)
-            A_p_needed = F / (P_HOLD - ann * P_BACK) if F >= 0 else -F / (ann * (P_HOLD - P_BACK / ann))
-            d_bore = math.sqrt(4 * A_p_needed / math.pi)
-            self.bores.append(d_bore)
-            A_p = math.pi / 4 * d_bore**2
-            A_r = A_p * (1 - ratio**2)
-            if F >= 0:  # F_hyd = p_A A_p − p_B A_r − p_amb (A_p − A_r) = F
-                p_B = P_BACK + P_AMB
-                p_A = (F + p_B * A_r + P_AMB * (A_p - A_r)) / A_p
-            else:
-                p_A = P_BACK + P_AMB
-                p_B = (p_A * A_p - P_AMB * (A_p - A_r) - F) / A_r
-            stroke = 1.2
-            L0 = float(st["l"][k]) - 0.5 * stroke
-            cyl = LineCylinder(d_bore=d_bore, d_rod=ratio * d_bore, stroke=stroke, L0=L0, m=20.0, d=2e4,
-                               V_dead_A=2e-4, V_dead_B=2e-4, p_A_start=p_A, p_B_start=p_B)
-            setattr(self, f"cylinder{n}", cyl)
-            if n == 1:
-                self.connect(self.base.frame_b, cyl.frame_a)
-                self.connect(pin_on(0, "bracket1", P["bracket1"]), cyl.frame_b)
-            elif not self.linkages:
-                self.connect(pin_on(k - 1, f"housing{n}", P[f"housing{n}"]), cyl.frame_a)
-                self.connect(pin_on(k, f"bracket{n}", P[f"bracket{n}"]), cyl.frame_b)
-            else:
-                r, lk = geo.rocker_len[n], geo.link_len[n]
-                th_r, th_l = TH[f"rocker{n}"], TH[f"link{n}"]
-                rocker_joint = Revolute(guess={"phi": th_r - th_sec[k - 1]})
-                rocker, rocker_tip = _link_body(M_ROCKER, r), FixedTranslation(r=[r, 0.0, 0.0])
-                link_joint = Revolute(guess={"phi": th_l - th_r})
-                link, link_tip = _link_body(M_LINK, lk), FixedTranslation(r=[lk, 0.0, 0.0])
-                close = Revolute(guess={"phi": th_sec[k] - th_l})
-                for name, comp in (("rocker_joint", rocker_joint), ("rocker", rocker), ("rocker_tip", rocker_tip),
-                                   ("link_joint", link_joint), ("link", link), ("link_tip", link_tip),
-                                   ("link_pin", close)):
-                    setattr(self, f"{name}{n}", comp)
-                self.connect(pin_on(k - 1, f"pivot{n}", P[f"pivot{n}"]), rocker_joint.frame_a)
-                self.connect(rocker_joint.frame_b, rocker.frame_a, rocker_tip.frame_a)
-                self.connect(rocker_tip.frame_b, link_joint.frame_a, cyl.frame_b)
-                self.connect(link_joint.frame_b, link.frame_a, link_tip.frame_a)
-                self.connect(link_tip.frame_b, close.frame_a)
-                self.connect(close.frame_b, pin_on(k, f"bracket{n}", P[f"C{n}"]))
-                self.connect(pin_on(k - 1, f"housing{n}", P[f"housing{n}"]), cyl.frame_a)
-            # valve sized for 3x the ramp flow of the moving chamber at ~35 bar per edge
-            dl = abs(float(st["dl"][k]))
-            q_ramp = A_p * dl * math.radians(abs(RAMP_DEG[k])) / T_RAMP
-            Q_nom = max(3 * q_ramp, Q_MIN)  # m3/s
-            valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=35 * BAR, omega=2 * math.pi * 30,
-                                       zeta=0.7, A_leak=1e-10)
-            setattr(self, f"valve{n}", valve)
-            tank_ports.append(valve.port_T)
-            supply_ports.append(valve.port_P)
-            # positive command extends the cylinder; if extending closes the joint, cross the lines
-            a_port, b_port = (cyl.port_A, cyl.port_B) if st["dl"][k] > 0 else (cyl.port_B, cyl.port_A)
-            self.connect(valve.port_A, a_port)
-            self.connect(valve.port_B, b_port)
-            # PI on the joint angle: valve gain K_v [rad/s per unit command, at dp_nom per edge] -> crossover
-            # ~2 rad/s
-            K_v = Q_nom / (A_p * dl)
-            ramp = Ramp(height=math.radians(RAMP_DEG[k]), duration=T_RAMP, offset=float(q0[k]))
-            pid = LimPID(controller_type="PI", k=OMEGA_C / K_v, Ti=T_I, y_max=1.0, y_min=-1.0)
-            setattr(self, f"set_point{n}", ramp)
-            setattr(self, f"controller{n}", pid)
-            self.connect(ramp.y, pid.u_s)
-            self.connect(getattr(self, f"angle{n}").phi, pid.u_m)
-            self.connect(pid.y, valve.u)
-        self.connect(*tank_ports)
-        self.connect(*supply_ports)
+    def _cylinder(self, k: int, F: float, length: float) -> tuple[LineCylinder, float]:
+        """Cylinder k sized for its holding force ``F`` [N], started mid-stroke at pin-to-pin ``length`` [m] with
+        the holding pressures; the cylinder and its piston area [m2]."""
+        ratio = 0.6
+        d_bore, A_p, _, p_A, p_B = cylinder_sizing(F, ratio)
+        self.bores.append(d_bore)
+        stroke = 1.2
+        L0 = length - 0.5 * stroke
+        cyl = LineCylinder(d_bore=d_bore, d_rod=ratio * d_bore, stroke=stroke, L0=L0, m=20.0, d=2e4,
+                           V_dead_A=2e-4, V_dead_B=2e-4, p_A_start=p_A, p_B_start=p_B)
+        setattr(self, f"cylinder{k + 1}", cyl)
+        return cyl, A_p
+
+    def _mount(self, k: int, cyl: LineCylinder, geo: BoomGeometry) -> None:
+        """Cylinder k between its pins: base and section 1, sections k−1 and k directly, or section k−1 and the
+        rocker tip of a four-bar linkage (rocker, link and their three revolutes)."""
+        n, P, TH = k + 1, self._P, self._TH
+        if n == 1:
+            self.connect(self.base.frame_b, cyl.frame_a)
+            self.connect(self._pin_on(0, "bracket1", P["bracket1"]), cyl.frame_b)
+            return
+        if not self.linkages:
+            self.connect(self._pin_on(k - 1, f"housing{n}", P[f"housing{n}"]), cyl.frame_a)
+            self.connect(self._pin_on(k, f"bracket{n}", P[f"bracket{n}"]), cyl.frame_b)
+            return
+        r, lk = geo.rocker_len[n], geo.link_len[n]
+        th_r, th_l = TH[f"rocker{n}"], TH[f"link{n}"]
+        rocker_joint = Revolute(guess={"phi": th_r - self._th_sec[k - 1]})
+        rocker, rocker_tip = link_body(M_ROCKER, r), FixedTranslation(r=[r, 0.0, 0.0])
+        link_joint = Revolute(guess={"phi": th_l - th_r})
+        link, link_tip = link_body(M_LINK, lk), FixedTranslation(r=[lk, 0.0, 0.0])
+        close = Revolute(guess={"phi": self._th_sec[k] - th_l})
+        for name, comp in (("rocker_joint", rocker_joint), ("rocker", rocker), ("rocker_tip", rocker_tip),
+                           ("link_joint", link_joint), ("link", link), ("link_tip", link_tip),
+                           ("link_pin", close)):
+            setattr(self, f"{name}{n}", comp)
+        self.connect(self._pin_on(k - 1, f"pivot{n}", P[f"pivot{n}"]), rocker_joint.frame_a)
+        self.connect(rocker_joint.frame_b, rocker.frame_a, rocker_tip.frame_a)
+        self.connect(rocker_tip.frame_b, link_joint.frame_a, cyl.frame_b)
+        self.connect(link_joint.frame_b, link.frame_a, link_tip.frame_a)
+        self.connect(link_tip.frame_b, close.frame_a)
+        self.connect(close.frame_b, self._pin_on(k, f"bracket{n}", P[f"C{n}"]))
+        self.connect(self._pin_on(k - 1, f"housing{n}", P[f"housing{n}"]), cyl.frame_a)
+
+    def _joint_loop(self, k: int, cyl: LineCylinder, A_p: float, dl: float, q_start: float) -> DirectionalValve43:
+        """Valve of joint k (sized for 3x the ramp flow of the moving chamber at ~35 bar per edge) on cylinder k,
+        and the PI loop on the joint angle following the set-point ramp; the valve."""
+        n = k + 1
+        q_ramp = A_p * abs(dl) * math.radians(abs(RAMP_DEG[k])) / T_RAMP
+        Q_nom = max(3 * q_ramp, Q_MIN)  # m3/s
+        valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=35 * BAR, omega=2 * math.pi * 30,
+                                   zeta=0.7, A_leak=1e-10)
+        setattr(self, f"valve{n}", valve)
+        # positive command extends the cylinder; if extending closes the joint, cross the lines
+        a_port, b_port = (cyl.port_A, cyl.port_B) if dl > 0 else (cyl.port_B, cyl.port_A)
+        self.connect(valve.port_A, a_port)
+        self.connect(valve.port_B, b_port)
+        # PI on the joint angle: valve gain K_v [rad/s per unit command, at dp_nom per edge] -> crossover
+        # ~2 rad/s
+        K_v = Q_nom / (A_p * abs(dl))
+        ramp = Ramp(height=math.radians(RAMP_DEG[k]), duration=T_RAMP, offset=q_start)
+        pid = LimPID(controller_type="PI", k=OMEGA_C / K_v, Ti=T_I, y_max=1.0, y_min=-1.0)
+        setattr(self, f"set_point{n}", ramp)
+        setattr(self, f"controller{n}", pid)
+        self.connect(ramp.y, pid.u_s)
+        self.connect(getattr(self, f"angle{n}").phi, pid.u_m)
+        self.connect(pid.y, valve.u)
+        return valve

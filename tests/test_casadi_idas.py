@@ -6,7 +6,6 @@ import pytest
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq, if_else, time
-from flexlib.compile.cache import gather_values
 from flexlib.solve import casadi_idas, ida
 from flexlib.solve.casadi_idas import integrate_casadi
 
@@ -19,7 +18,7 @@ def _run(sim: fl.Simulation, backend: str, t_end: float, grid, params=None, **kw
     m = sim.compiled
     pvec = sim.parameter_vector(params)
     p = np.concatenate([pvec, np.zeros(m.n_relations)])
-    _, starts = gather_values(sim.model)
+    _, starts = sim.model.values()
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     try:
         traj = BACKENDS[backend](m, sim.initializer, p, y0, yp0, 0.0, t_end, grid, **kw)

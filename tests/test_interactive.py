@@ -1,6 +1,6 @@
 """Models defined where engineers work: ``python -c``, an interactive interpreter, a Jupyter notebook.
 
-Such classes have no source file; the cache keys them by their code (``flexlib.compile.cache.code_digest``).
+Such classes have no source file; the cache keys them by their code (``flexlib.compile.cache_key.code_digest``).
 Each test runs the real thing in a subprocess with its own cache dir and checks: the model builds and runs
 (x' = −a·x, x(1) = exp(−a) to 1e-6), a second build of the same class is a cache hit, and a class changed
 in the session is *not* a cache hit (its result follows the new code).

@@ -12,19 +12,10 @@ __all__ = ["Add"]
 class Add(PartialSI2SO):
     """Weighted sum of two inputs: ``y = k1 * u1 + k2 * u2``.
 
-    Parameters
-    ----------
-    k1 : float
-        Gain of input signal 1 [1].
-    k2 : float
-        Gain of input signal 2 [1].
-
     Connectors
     ----------
     u1, u2 : Input [1]
         Input signals.
-    y : Output [1]
-        Output signal.
 
     References
     ----------

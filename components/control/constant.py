@@ -12,16 +12,6 @@ __all__ = ["Constant"]
 class Constant(PartialSO):
     """Constant output signal: ``y = k``.
 
-    Parameters
-    ----------
-    k : float
-        Constant output value [1].
-
-    Connectors
-    ----------
-    y : Output [1]
-        Output signal.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Blocks.Sources.Constant``.

@@ -21,18 +21,9 @@ class DeadZone(PartialSISO):
 
     Parameters
     ----------
-    u_max : float
-        Upper limit of the dead zone [1].
     u_min : float
         Lower limit of the dead zone [1], <= ``u_max`` (given explicitly; MSL's default is
         ``-u_max``).
-
-    Connectors
-    ----------
-    u : Input [1]
-        Input signal.
-    y : Output [1]
-        Output signal.
 
     References
     ----------

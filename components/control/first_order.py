@@ -16,8 +16,6 @@ class FirstOrder(PartialSISO):
 
     Parameters
     ----------
-    k : float
-        Gain [1].
     T : float
         Time constant [s], != 0.
     y_start : float
@@ -29,8 +27,6 @@ class FirstOrder(PartialSISO):
 
     Connectors
     ----------
-    u : Input [1]
-        Input signal.
     y : Output [1]
         Output signal (the state).
 

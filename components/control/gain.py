@@ -12,18 +12,6 @@ __all__ = ["Gain"]
 class Gain(PartialSISO):
     """Gain: ``y = k * u``.
 
-    Parameters
-    ----------
-    k : float
-        Gain value multiplied with the input signal [1].
-
-    Connectors
-    ----------
-    u : Input [1]
-        Input signal.
-    y : Output [1]
-        Output signal.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Blocks.Math.Gain``.

@@ -46,19 +46,9 @@ class LimPID(PartialSVcontrol):
         ``"P"``, ``"PI"``, ``"PD"`` or ``"PID"`` (default).
     k : float
         Gain of the controller [1], != 0.
-    Ti : float
-        Time constant of the integrator [s], > 0.
-    Td : float
-        Time constant of the derivative block [s], >= 0.
-    y_max : float
-        Upper limit of the output [1].
     y_min : float
         Lower limit of the output [1], <= ``y_max`` (both given explicitly; MSL's default
         ``y_min = -y_max`` is not copied).
-    wp : float
-        Set-point weight of the proportional part [1], >= 0.
-    wd : float
-        Set-point weight of the derivative part [1], >= 0.
     Ni : float
         ``Ni * Ti`` is the time constant of the anti-windup compensation [1], > 0.
     Nd : float

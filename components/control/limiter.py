@@ -30,8 +30,6 @@ class Limiter(PartialSISO):
 
     Parameters
     ----------
-    u_max : float
-        Upper limit of the input signal [1].
     u_min : float
         Lower limit of the input signal [1], <= ``u_max``. MSL's default ``-u_max`` is not
         copied: both limits are given explicitly.
@@ -41,8 +39,6 @@ class Limiter(PartialSISO):
 
     Connectors
     ----------
-    u : Input [1]
-        Input signal.
     y : Output [1]
         Limited signal.
 

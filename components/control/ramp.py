@@ -21,19 +21,10 @@ class Ramp(PartialSignalSource):
 
     Parameters
     ----------
-    height : float
-        Height of the ramp [1].
     duration : float
         Duration of the ramp [s], >= 0 (0 degenerates to a step).
-    offset : float
-        Offset of the output signal [1].
     start_time : float
         Start time of the ramp [s].
-
-    Connectors
-    ----------
-    y : Output [1]
-        Output signal.
 
     References
     ----------

@@ -26,8 +26,6 @@ class RateLimiter(PartialSISO):
 
     Parameters
     ----------
-    rising : float
-        Maximum rising rate [1/s], > 0.
     falling : float
         Maximum falling rate [1/s], < 0 (MSL's default ``-rising`` is given explicitly: -1).
     Td : float
@@ -42,8 +40,6 @@ class RateLimiter(PartialSISO):
 
     Connectors
     ----------
-    u : Input [1]
-        Input signal.
     y : Output [1]
         Rate-limited signal (the state).
 

@@ -18,24 +18,6 @@ class Sine(PartialSignalSource):
 
     Before ``start_time`` the output is ``offset``; the switch is a time event.
 
-    Parameters
-    ----------
-    amplitude : float
-        Amplitude of the sine wave [1].
-    f : float
-        Frequency of the sine wave [Hz].
-    phase : float
-        Phase of the sine wave [rad].
-    offset : float
-        Offset of the output signal [1].
-    start_time : float
-        Output = offset for time < start_time [s].
-
-    Connectors
-    ----------
-    y : Output [1]
-        Output signal.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Blocks.Sources.Sine``.

@@ -16,17 +16,8 @@ class Step(PartialSignalSource):
 
     Parameters
     ----------
-    height : float
-        Height of the step [1].
-    offset : float
-        Offset of the output signal [1].
     start_time : float
         Time of the step [s].
-
-    Connectors
-    ----------
-    y : Output [1]
-        Output signal.
 
     References
     ----------

@@ -24,8 +24,6 @@ class Switch(PartialSO):
     ----------
     u1 : Input [1]
         Output if ``u2 > 0.5``.
-    u2 : Input [1]
-        Switching signal, true if > 0.5.
     u3 : Input [1]
         Output if ``u2 <= 0.5``.
     y : Output [1]

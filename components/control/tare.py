@@ -24,8 +24,6 @@ class Tare(PartialSISO):
 
     Connectors
     ----------
-    u : Input [1]
-        Input signal.
     y : Output [1]
         ``u − u0 + y_start``.
 

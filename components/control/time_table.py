@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from flexlib import Parameter, eq, if_else, time
-from flexlib.core.variables import numeric_array
+from flexlib.core.values import numeric_array
 from flexlib.errors import ParameterError
 
 from .interfaces import PartialSO, check_choice

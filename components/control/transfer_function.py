@@ -8,7 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Parameter, Variable, der, eq, no_event
-from flexlib.core.variables import numeric_array
+from flexlib.core.values import numeric_array
 from flexlib.errors import ParameterError
 
 from .interfaces import INIT_TYPES, PartialSISO, check_choice
@@ -42,13 +42,6 @@ class TransferFunction(PartialSISO):
     init_type : str
         ``"initial_state"`` (default): ``x = x_start``; ``"steady_state"``: ``der(x) = 0``;
         ``"initial_output"``: ``y = y_start`` and ``der(x[1:]) = 0``; ``"no_init"``: none.
-
-    Connectors
-    ----------
-    u : Input [1]
-        Input signal.
-    y : Output [1]
-        Output signal.
 
     Variables
     ---------

@@ -40,27 +40,12 @@ class Trapezoid(PartialSignalSource):
 
     Parameters
     ----------
-    amplitude : float
-        Amplitude of the trapezoid [1].
-    rising : float
-        Rising duration [s], >= 0.
     width : float
         Width (plateau) duration [s], >= 0.
-    falling : float
-        Falling duration [s], >= 0.
     period : float
         Time for one period [s], > 0; a phase that does not fit is cut at the period end.
     nperiod : int
         Number of periods, >= 0 (structural: 4 time events per period).
-    offset : float
-        Offset of the output signal [1].
-    start_time : float
-        Output = offset for time < start_time [s].
-
-    Connectors
-    ----------
-    y : Output [1]
-        Output signal.
 
     Notes
     -----

@@ -56,7 +56,7 @@ def pressure_start(node: Any, value: Any) -> Any:
     naming the component class and the value; NaN is named later, at initialisation, with the instance path)."""
     if value is None:
         return None
-    from flexlib.core.variables import not_a_scalar
+    from flexlib.core.values import not_a_scalar
 
     why = not_a_scalar(value)
     if why is not None:

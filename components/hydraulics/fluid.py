@@ -34,7 +34,7 @@ from typing import Any
 
 import casadi as ca
 
-from flexlib.core.variables import not_a_scalar
+from flexlib.core.values import not_a_scalar
 from flexlib.errors import ParameterError
 
 __all__ = ["HLP46", "Fluid"]

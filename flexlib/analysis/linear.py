@@ -45,9 +45,8 @@ import numpy as np
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
-from flexlib.compile.cache import gather_values
 from flexlib.core.component import Component
-from flexlib.core.variables import as_bool, not_a_number, not_a_scalar
+from flexlib.core.values import as_bool, not_a_number, not_a_scalar
 from flexlib.errors import LinearizationError
 from flexlib.results.result import Result
 
@@ -69,7 +68,8 @@ class OperatingPoint:
     source: str
 
 
-def _simulation(model: Any) -> Any:
+def as_simulation(model: Any) -> Any:
+    """``model`` as a :class:`~flexlib.Simulation` (a top-level model is built; a sub-component is refused)."""
     from flexlib.solve.simulation import Simulation
 
     if isinstance(model, Simulation):
@@ -108,7 +108,7 @@ def names_argument(value: Any, what: str) -> list[str]:
     return names
 
 
-def _real(value: Any, what: str, *, allow_inf: bool = False) -> float:
+def real_argument(value: Any, what: str, *, allow_inf: bool = False) -> float:
     """A real-number argument (a time, a frequency bound), refusing strings, bools, NaN (and inf unless allowed)."""
     why = not_a_scalar(value)
     if why is not None:
@@ -119,11 +119,13 @@ def _real(value: Any, what: str, *, allow_inf: bool = False) -> float:
     return v
 
 
-def _flag(value: Any, what: str) -> bool:
+def flag_argument(value: Any, what: str) -> bool:
+    """An on/off argument: True or False only (:func:`~flexlib.core.values.as_bool`)."""
     return as_bool(value, what, LinearizationError, ints=False)
 
 
-def _mapping(value: Any, what: str) -> dict[str, Any]:
+def mapping_argument(value: Any, what: str) -> dict[str, Any]:
+    """A ``{name: value}`` argument (``params``, a pose) as a dict with str keys (``None``: empty)."""
     if value is None:
         return {}
     if not isinstance(value, Mapping):
@@ -162,12 +164,12 @@ def operating_point(sim: Any, *, at: Result | None = None, t: float | None = Non
     m = sim.compiled
     if at is not None and not isinstance(at, Result):
         raise LinearizationError(f"at must be a flexlib Result (of a run of this model), got {type(at).__name__}")
-    t = None if t is None else _real(t, "t [s]")
-    steady_state = _flag(steady_state, "steady_state")
-    starts, params = _mapping(starts, "starts"), _mapping(params, "params")
+    t = None if t is None else real_argument(t, "t [s]")
+    steady_state = flag_argument(steady_state, "steady_state")
+    starts, params = mapping_argument(starts, "starts"), mapping_argument(params, "params")
     if at is None:
         t0 = 0.0 if t is None else t
-        values, st = gather_values(sim.model)
+        values, st = sim.model.values()
         for name, value in starts.items():
             if name not in st:
                 if name in values or name in m.param_names:
@@ -534,6 +536,6 @@ def linearize(model: Any, *, inputs: list[str] | tuple[str, ...] | str = (),
     >>> lin.frequency_response([1.0, 10.0], "force.k", "mass.s")                           # doctest: +SKIP
     """
     inputs, outputs = names_argument(inputs, "inputs"), names_argument(outputs, "outputs")
-    sim = _simulation(model)
+    sim = as_simulation(model)
     point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
     return Linearizer(sim).linearize(point, inputs, outputs)

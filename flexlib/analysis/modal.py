@@ -39,16 +39,16 @@ from flexlib.analysis.linear import (
     Linearizer,
     LinearSystem,
     OperatingPoint,
-    _flag,
-    _mapping,
-    _real,
-    _simulation,
+    as_simulation,
+    flag_argument,
+    mapping_argument,
     names_argument,
     operating_point,
+    real_argument,
     result_parameters,
     result_point,
 )
-from flexlib.core.variables import not_a_number
+from flexlib.core.values import not_a_number
 from flexlib.errors import AnalysisWarning
 from flexlib.results.result import Result
 
@@ -124,7 +124,7 @@ class Modes:
         (rigid-body and first-order modes: real eigenvalues of integrators, valves, over-damped motions)."""
         if n is not None and (isinstance(n, (bool, np.bool_)) or not isinstance(n, (int, np.integer)) or n < 0):
             raise LinearizationError(f"Modes.table: n must be None or an integer >= 0, got {n!r:.60}")
-        vibration_only = _flag(vibration_only, "Modes.table: vibration_only")
+        vibration_only = flag_argument(vibration_only, "Modes.table: vibration_only")
         keep = np.flatnonzero(self.oscillatory) if vibration_only else np.arange(len(self.eigenvalues))
         lines = [f"{'mode':>4}  {'f [Hz]':>12}  {'zeta [%]':>9}  {'f_d [Hz]':>12}  dominant state"]
         for k in keep[:n]:
@@ -247,7 +247,7 @@ def mobility(model: Any, *, at: Result | None = None, t: float | None = None, pa
     int, list of str
         The mobility and a set of that many independent joints.
     """
-    sim = _simulation(model)
+    sim = as_simulation(model)
     point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
     lin = Linearizer(sim)
     triples = _joints(lin, False)
@@ -318,7 +318,7 @@ def modal_analysis(model: Any, *, lock: list[str] | tuple[str, ...] | str | None
     >>> print(modes.table(6))                             # doctest: +SKIP
     """
     lock = _lock_argument(lock)
-    sim = _simulation(model)
+    sim = as_simulation(model)
     point = operating_point(sim, at=at, t=t, params=params, steady_state=steady_state, starts=starts)
     return _modes(Linearizer(sim), point, lock)
 
@@ -393,12 +393,12 @@ def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, pose
     """
     if isinstance(n_modes, (bool, np.bool_)) or not isinstance(n_modes, (int, np.integer)) or n_modes < 1:
         raise LinearizationError(f"modal_sweep: n_modes must be an integer >= 1, got {n_modes!r:.60}")
-    f_min = _real(f_min, "modal_sweep: f_min [Hz]")
-    max_damping = _real(max_damping, "modal_sweep: max_damping [1]", allow_inf=True)
+    f_min = real_argument(f_min, "modal_sweep: f_min [Hz]")
+    max_damping = real_argument(max_damping, "modal_sweep: max_damping [1]", allow_inf=True)
     if f_min < 0.0:
         raise LinearizationError(f"modal_sweep: f_min = {f_min!r} Hz is negative")
-    steady_state = _flag(steady_state, "modal_sweep: steady_state")
-    lock, params = _lock_argument(lock), _mapping(params, "modal_sweep: params")
+    steady_state = flag_argument(steady_state, "modal_sweep: steady_state")
+    lock, params = _lock_argument(lock), mapping_argument(params, "modal_sweep: params")
     if (at is None) == (poses is None):
         raise LinearizationError("modal_sweep: give either at=result with times=[...] or poses=[{...}, ...]")
     if at is not None and times is None:
@@ -407,35 +407,13 @@ def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, pose
         raise LinearizationError("modal_sweep: times=[...] go with at=result; poses=[...] are static poses without "
                                  "times: give one of the two")
     if at is not None:
-        why = not_a_number(times)
-        if why is not None or np.ndim(times) > 1:
-            raise LinearizationError(f"modal_sweep: times = {times!r:.80} is "
-                                     f"{why or 'not 1-D'}; give a 1-D sequence of times [s] within the result")
-        times = np.atleast_1d(np.asarray(times, dtype=float))
-        bad = np.flatnonzero(~np.isfinite(times))
-        if bad.size:
-            raise LinearizationError(f"modal_sweep: times[{int(bad[0])}] = {float(times[bad[0]])!r} s is not finite")
+        times = _sweep_times(times)
     elif isinstance(poses, (str, Mapping)) or not hasattr(poses, "__iter__"):
         raise LinearizationError(f"modal_sweep: poses must be a list of dicts {{name: value}}, got "
                                  f"{type(poses).__name__} {poses!r:.60}")
-    sim = _simulation(model)
+    sim = as_simulation(model)
     lin = Linearizer(sim)
-    points: list[OperatingPoint] = []
-    if at is not None:
-        if not isinstance(at, Result):
-            raise LinearizationError(f"modal_sweep: at must be a flexlib Result, got {type(at).__name__}")
-        pvec = result_parameters(sim, at, params)
-        points = [result_point(sim, at, float(tk), pvec) for tk in times]
-    else:
-        pnames = set(sim.compiled.param_names)
-        for j, pose in enumerate(poses or []):
-            pose = _mapping(pose, f"modal_sweep: poses[{j}]")
-            pars = {**params, **{k: v for k, v in pose.items() if k in pnames}}
-            starts = {k: v for k, v in pose.items() if k not in pnames}
-            try:
-                points.append(operating_point(sim, params=pars, steady_state=steady_state, starts=starts))
-            except LinearizationError as exc:
-                raise LinearizationError(f"modal_sweep: poses[{j}]: {exc}") from None
+    points = _sweep_points(sim, at, times, poses, params, steady_state)
     f = np.full((len(points), n_modes), np.nan)
     z = np.full((len(points), n_modes), np.nan)
     all_modes = []
@@ -448,3 +426,37 @@ def modal_sweep(model: Any, *, at: Result | None = None, times: Any = None, pose
         z[k, :len(osc)] = modes.damping[osc]
         all_modes.append(modes)
     return ModalSweep([pt.source for pt in points], f, z, all_modes)
+
+
+def _sweep_times(times: Any) -> np.ndarray:
+    """``modal_sweep``'s ``times`` as a 1-D array of finite times [s]."""
+    why = not_a_number(times)
+    if why is not None or np.ndim(times) > 1:
+        raise LinearizationError(f"modal_sweep: times = {times!r:.80} is "
+                                 f"{why or 'not 1-D'}; give a 1-D sequence of times [s] within the result")
+    times = np.atleast_1d(np.asarray(times, dtype=float))
+    bad = np.flatnonzero(~np.isfinite(times))
+    if bad.size:
+        raise LinearizationError(f"modal_sweep: times[{int(bad[0])}] = {float(times[bad[0]])!r} s is not finite")
+    return times
+
+
+def _sweep_points(sim: Any, at: Result | None, times: np.ndarray | None, poses: Any, params: dict[str, Any],
+                  steady_state: bool) -> list[OperatingPoint]:
+    """The operating points of a sweep: the states of result ``at`` at ``times``, or the static ``poses``."""
+    if at is not None:
+        if not isinstance(at, Result):
+            raise LinearizationError(f"modal_sweep: at must be a flexlib Result, got {type(at).__name__}")
+        pvec = result_parameters(sim, at, params)
+        return [result_point(sim, at, float(tk), pvec) for tk in times]
+    points = []
+    pnames = set(sim.compiled.param_names)
+    for j, pose in enumerate(poses or []):
+        pose = mapping_argument(pose, f"modal_sweep: poses[{j}]")
+        pars = {**params, **{k: v for k, v in pose.items() if k in pnames}}
+        starts = {k: v for k, v in pose.items() if k not in pnames}
+        try:
+            points.append(operating_point(sim, params=pars, steady_state=steady_state, starts=starts))
+        except LinearizationError as exc:
+            raise LinearizationError(f"modal_sweep: poses[{j}]: {exc}") from None
+    return points

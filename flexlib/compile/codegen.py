@@ -35,6 +35,7 @@ from flexlib.compile.flatten import FlatSystem
 from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, IndexReport
 from flexlib.compile.integrity import check_serialized, deserialize_function, file_problem, sha256_file
+from flexlib.compile.json_fields import expect, index_report, levels, name_number, plain_dict, record, str_list
 from flexlib.compile.redundancy import CHECK_PREFIX
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import derivative_level, row_jacobian
@@ -323,7 +324,7 @@ class CompiledModel:
     @classmethod
     def from_data(cls, meta: dict[str, Any], arrays: dict[str, np.ndarray]) -> CompiledModel:
         """Inverse of :meth:`to_data`; every field is type-checked (``ValueError`` on anything unexpected)."""
-        _expect(meta, dict, "metadata")
+        expect(meta, dict, "metadata")
         kw: dict[str, Any] = {}
         for f in dataclasses.fields(cls):
             if f.name in _TRANSIENT:
@@ -349,93 +350,34 @@ class CompiledModel:
         return model
 
 
-def _expect(value: Any, kind: type | tuple[type, ...], what: str) -> Any:
-    if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
-        raise ValueError(f"{what}: expected {kind}, got {type(value).__name__}")
-    return value
-
-
-def _str_list(v: Any, what: str) -> list[str]:
-    if type(v) is not list or not all(type(x) is str for x in v):
-        raise ValueError(f"{what}: expected a list of strings")
-    return v
-
-
-def _pair(v: Any, what: str) -> tuple[str, float]:
-    if type(v) is not list or len(v) != 2 or type(v[0]) is not str or type(v[1]) not in (int, float):
-        raise ValueError(f"{what}: expected a (name, number) pair")
-    return v[0], float(v[1])
-
-
-_RECORD_FIELDS: dict[type, frozenset[str]] = {}
-_RECORD_VALUES = (str, bool, int, float, list)
-
-
-def _record(kind: type, v: Any, what: str) -> Any:
-    names = _RECORD_FIELDS.get(kind)
-    if names is None:
-        names = _RECORD_FIELDS[kind] = frozenset(f.name for f in dataclasses.fields(kind))
-    if type(v) is not dict or not v.keys() <= names:
-        raise ValueError(f"{what}: expected a record with keys from {sorted(names)}")
-    if not all(type(val) in _RECORD_VALUES for val in v.values()):
-        raise ValueError(f"{what}: unexpected value types")
-    return kind(**v)
-
-
-def _report(v: Any, what: str) -> IndexReport:
-    rep = _record(IndexReport, v, what)
-    _expect(rep.index, int, what)
-    rep.differentiated = [(_expect(o, str, what), _expect(e, str, what), _expect(k, int, what))
-                          for o, e, k in _expect(rep.differentiated, list, what)]
-    for name in ("states", "dummy_derivatives", "redundant", "explicit"):
-        setattr(rep, name, _str_list(getattr(rep, name), what))
-    return rep
-
-
-def _levels(v: Any, what: str) -> list[tuple[int, int, list[int], list[int]]]:
-    out = []
-    for item in _expect(v, list, what):
-        nr, nc, costs, sel = _expect(item, list, what)
-        out.append((_expect(nr, int, what), _expect(nc, int, what),
-                    [_expect(c, int, what) for c in _expect(costs, list, what)],
-                    [_expect(c, int, what) for c in _expect(sel, list, what)]))
-    return out
-
-
-def _plain_dict(v: Any, what: str) -> dict[str, Any]:
-    for key, val in _expect(v, dict, what).items():
-        _expect(val, (str, bool, int, float, type(None)), f"{what}.{key}")
-    return v
-
-
 _TRANSIENT = {"_structure", "_functions", "_sx", "library_pending", "on_library"}
 _ARRAYS = {"differential": "b", "nominal": "f", "param_defaults": "f", "jac_colind": "i", "jac_row": "i",
            "cond_depends": "b", "derivative_level": "b"}
 _FIELD_CHECKS: dict[str, Any] = {
-    "name": lambda v, w: _expect(v, str, w),
-    "n": lambda v, w: _expect(v, int, w),
-    "y_names": _str_list,
-    "y_owners": _str_list,
-    "start_sources": lambda v, w: [[_pair(s, w) for s in _expect(row, list, w)] for row in _expect(v, list, w)],
-    "param_names": _str_list,
-    "param_units": _str_list,
-    "variables": lambda v, w: [_record(VariableInfo, x, w) for x in _expect(v, list, w)],
-    "relations": lambda v, w: [_record(RelationInfo, x, w) for x in _expect(v, list, w)],
-    "conditions": lambda v, w: [_pair(s, w) for s in _expect(v, list, w)],
-    "report": _report,
-    "row_labels": _str_list,
-    "col_names": _str_list,
-    "check_labels": _str_list,
-    "assumed": lambda v, w: {_expect(k, str, w): _expect(s, str, w) for k, s in _expect(v, dict, w).items()},
-    "levels": _levels,
-    "start_guesses": lambda v, w: {_expect(k, str, w): float(_expect(x, (int, float), w))
-                                   for k, x in _expect(v, dict, w).items()},
-    "stats": _plain_dict,
-    "serialized": lambda v, w: {_expect(k, str, w): _expect(s, str, w) for k, s in _expect(v, dict, w).items()},
-    "library": lambda v, w: v if v is None else _expect(v, str, w),
-    "library_sha256": lambda v, w: v if v is None else _expect(v, str, w),
-    "library_size": lambda v, w: _expect(v, int, w),
-    "wants_c": lambda v, w: _expect(v, bool, w),
+    "name": lambda v, w: expect(v, str, w),
+    "n": lambda v, w: expect(v, int, w),
+    "y_names": str_list,
+    "y_owners": str_list,
+    "start_sources": lambda v, w: [[name_number(s, w) for s in expect(row, list, w)] for row in expect(v, list, w)],
+    "param_names": str_list,
+    "param_units": str_list,
+    "variables": lambda v, w: [record(VariableInfo, x, w) for x in expect(v, list, w)],
+    "relations": lambda v, w: [record(RelationInfo, x, w) for x in expect(v, list, w)],
+    "conditions": lambda v, w: [name_number(s, w) for s in expect(v, list, w)],
+    "report": index_report,
+    "row_labels": str_list,
+    "col_names": str_list,
+    "check_labels": str_list,
+    "assumed": lambda v, w: {expect(k, str, w): expect(s, str, w) for k, s in expect(v, dict, w).items()},
+    "levels": levels,
+    "start_guesses": lambda v, w: {expect(k, str, w): float(expect(x, (int, float), w))
+                                   for k, x in expect(v, dict, w).items()},
+    "stats": plain_dict,
+    "serialized": lambda v, w: {expect(k, str, w): expect(s, str, w) for k, s in expect(v, dict, w).items()},
+    "library": lambda v, w: v if v is None else expect(v, str, w),
+    "library_sha256": lambda v, w: v if v is None else expect(v, str, w),
+    "library_size": lambda v, w: expect(v, int, w),
+    "wants_c": lambda v, w: expect(v, bool, w),
 }
 
 
@@ -476,15 +418,46 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
                 build_dir: str | os.PathLike | None = None) -> CompiledModel:
     """Build the CasADi functions of a DAE (and C code if ``codegen``; ``"auto"``: see the limits above)."""
     COMPILE_COUNT[0] += 1
+    fns, F, J, out_names, check_names, relations = _functions(flat, dae)
+    y, yp = dae.y, dae.yp
+    colind, row = J.sparsity().get_ccs()
+    var_by_name = {v.name: v for v in flat.variables}
+    variables = [VariableInfo(name, v.unit, v.doc, v.kind.value, v.owner)
+                 for name in out_names for v in (var_by_name[name],)]
+    model = CompiledModel(
+        name=flat.name, n=y.numel(), y_names=dae.names, y_owners=dae.owners, differential=dae.differential,
+        nominal=dae.nominal, start_sources=_start_sources(simple, dae),
+        start_guesses={k: x for k, x in simple.start_guesses.items() if k in set(dae.names)},
+        param_names=[q.name for q in flat.parameters], param_units=[q.unit for q in flat.parameters],
+        param_defaults=np.array([q.value for q in flat.parameters]), variables=variables, relations=relations,
+        conditions=[(c.name, c.value) for c in dae.conditions], report=dae.report,
+        jac_colind=np.asarray(colind, dtype=np.int32), jac_row=np.asarray(row, dtype=np.int32),
+        row_labels=dae.row_labels, col_names=dae.col_names,
+        check_labels=[k[len(CHECK_PREFIX):] for k in check_names],
+        levels=[(len(lev.rows), len(lev.cands), lev.costs, [lev.cands.index(c) for c in lev.selected])
+                for lev in dae.levels],
+        cond_depends=_depends_on_y(dae.conditions, y, yp),
+        assumed=dict(simple.assumed),
+    )
+    model._structure = dae.structure
+    model._sx = dict(fns)
+    model._functions = dict(fns)
+    model.derivative_level = derivative_level(F, y, yp, dae.differential, dae.untested)
+    _attach_c(model, fns, codegen, build_dir)
+    return model
+
+
+def _functions(flat: FlatSystem, dae: DAE) -> tuple[dict[str, ca.Function], ca.SX, ca.SX, list[str], list[str],
+                                                    list[RelationInfo]]:
+    """The SX functions of :data:`FUNCTIONS` for a DAE, with the residual ``F``, the iteration matrix ``J``, the
+    names of the outputs and of the loop-closure checks, and the relations' descriptions."""
     t, y, yp = time, dae.y, dae.yp
     pars = ca.vertcat(*[q.sym for q in flat.parameters]) if flat.parameters else ca.SX(0, 1)
     rels = ca.vertcat(*[rel.info.sym for rel, _ in dae.relations]) if dae.relations else ca.SX(0, 1)
     p = ca.vertcat(pars, rels)
     cj = ca.SX.sym("cj")
     # common subexpressions merged (casadi.cse: same operations, same values, each computed once): component
-    # equations repeat rotations and kinematics, and substituted definitions (compile/explicit.py) recur in
-    # several rows. Residual / Jacobian operations: four-bar 3 127 / 9 173 -> 2 126 / 4 906, N-link chain N = 20
-    # 147 124 / 1 475 106 -> 16 151 / 131 072 (default build, 107 and 694 unknowns)
+    # equations repeat rotations and kinematics, and substituted definitions (compile/explicit.py) recur in rows
     F = ca.cse(dae.residual)
     J = iteration_matrix(F, t, y, yp, p, cj)
     out_names = [k for k in dae.outputs if not k.startswith(CHECK_PREFIX)]
@@ -517,33 +490,13 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     for f in fns.values():
         if f.has_free():
             raise FlexlibError(f"internal error: function {f.name()} has free symbols {f.get_free()}")
-    sp = J.sparsity()
-    colind, row = sp.get_ccs()
-    variables = []
-    var_by_name = {v.name: v for v in flat.variables}
-    for name in out_names:
-        v = var_by_name[name]
-        variables.append(VariableInfo(name, v.unit, v.doc, v.kind.value, v.owner))
-    start_sources = _start_sources(simple, dae)
-    model = CompiledModel(
-        name=flat.name, n=y.numel(), y_names=dae.names, y_owners=dae.owners, differential=dae.differential,
-        nominal=dae.nominal, start_sources=start_sources,
-        start_guesses={k: x for k, x in simple.start_guesses.items() if k in set(dae.names)},
-        param_names=[q.name for q in flat.parameters], param_units=[q.unit for q in flat.parameters],
-        param_defaults=np.array([q.value for q in flat.parameters]), variables=variables, relations=relations,
-        conditions=[(c.name, c.value) for c in dae.conditions], report=dae.report,
-        jac_colind=np.asarray(colind, dtype=np.int32), jac_row=np.asarray(row, dtype=np.int32),
-        row_labels=dae.row_labels, col_names=dae.col_names,
-        check_labels=[k[len(CHECK_PREFIX):] for k in check_names],
-        levels=[(len(lev.rows), len(lev.cands), lev.costs, [lev.cands.index(c) for c in lev.selected])
-                for lev in dae.levels],
-        cond_depends=_depends_on_y(dae.conditions, y, yp),
-        assumed=dict(simple.assumed),
-    )
-    model._structure = dae.structure
-    model._sx = dict(fns)
-    model._functions = dict(fns)
-    model.derivative_level = derivative_level(F, y, yp, dae.differential, dae.untested)
+    return fns, F, J, out_names, check_names, relations
+
+
+def _attach_c(model: CompiledModel, fns: dict[str, ca.Function], codegen: bool | str,
+              build_dir: str | os.PathLike | None) -> None:
+    """Generate C for the residual and the iteration matrix where ``codegen`` asks for it: compiled now
+    (``True``), or for a large model in the background while the run starts on the SX functions (``"auto"``)."""
 
     def texts() -> tuple[str, str]:  # serialized once, for the C file's name and the cache entry
         model.serialized = {k: f.serialize() for k, f in fns.items()}
@@ -563,7 +516,6 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
                                                                              serialized=texts())
         model._functions.pop("res")
         model._functions.pop("jac")
-    return model
 
 
 def _depends_on_y(conditions: list, y: ca.SX, yp: ca.SX) -> np.ndarray:

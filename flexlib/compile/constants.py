@@ -504,9 +504,9 @@ def lookup_param(h: int) -> ca.SX | None:
 
 
 def lookup_info(h: int):
-    from flexlib.core.variables import _REGISTRY
+    from flexlib.core.variables import lookup_hash
 
-    return _REGISTRY.get(h)
+    return lookup_hash(h)
 
 
 def _holds(condition: str, value: float) -> bool:
@@ -517,9 +517,7 @@ def assumptions_hold(assumed: dict[str, str], root: Component) -> bool:
     """True if every parameter condition a (cached) build assumed holds for the values of model ``root``."""
     if not assumed:
         return True
-    from flexlib.compile.cache import gather_values
-
-    values, _ = gather_values(root)
+    values, _ = root.values()
     return all(_holds(cond, values[name]) for name, cond in assumed.items() if name in values)
 
 

@@ -410,9 +410,9 @@ def _numeric_point(simple: SimpleSystem, cols: list[_Col], param_values: dict[in
 
 def lookup_hash(h: int) -> SymInfo | None:
     """Registry entry by element hash."""
-    from flexlib.core.variables import _REGISTRY
+    from flexlib.core.variables import lookup_hash as registry_entry
 
-    return _REGISTRY.get(h)
+    return registry_entry(h)
 
 
 def _cost(col: _Col, cols: list[_Col], variables: list[FlatVariable]) -> int:

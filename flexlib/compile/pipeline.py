@@ -21,7 +21,7 @@ import time as _time
 from dataclasses import dataclass, field
 from typing import Any
 
-from flexlib.compile import cache
+from flexlib.compile import cache, cache_key
 from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
 from flexlib.compile.explicit import explicit_mode
@@ -184,7 +184,7 @@ def analyse(root: Component, *,
 
 def build_key(root: Component, *, codegen: bool | str, assume_zero_geometry: bool) -> str:
     """The cache key of ``root``'s build: its structure and the build options, not its values."""
-    return cache.model_key(root, {"codegen": codegen, "zero_geometry": bool(assume_zero_geometry),
+    return cache_key.model_key(root, {"codegen": codegen, "zero_geometry": bool(assume_zero_geometry),
                                   "explicit": explicit_mode(), "tree_frames": tree_frames_mode()})
 
 

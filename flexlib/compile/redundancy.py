@@ -343,8 +343,8 @@ def _rank(G: np.ndarray) -> int:
 
 def lookup_sym(h: int) -> ca.SX | None:
     """Parameter symbol by element hash."""
-    from flexlib.core.variables import _REGISTRY
+    from flexlib.core.variables import lookup_hash
 
-    info = _REGISTRY.get(h)
+    info = lookup_hash(h)
     return None if info is None else info.sym
 

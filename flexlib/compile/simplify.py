@@ -219,7 +219,7 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
         old_syms.append(v.sym)
         new_exprs.append(val)
         if v.info._der is not None:
-            from flexlib.core.variables import der
+            from flexlib.core.equations import der
 
             old_syms.append(v.info._der.sym)
             negated_var = (val.is_op(ca.OP_NEG) and val.dep(0).is_symbolic()

@@ -39,7 +39,7 @@ import numpy as np
 
 from flexlib.compile.redundancy import _is_derivative, explicit_definitions, frame_variables
 from flexlib.compile.simplify import SimpleSystem
-from flexlib.core.variables import der
+from flexlib.core.equations import der
 from flexlib.errors import RunArgumentError
 
 __all__ = ["KEEP_DEPTH", "eliminate_explicit", "eliminate_frame_kinematics", "tear_or_keep_frames",

@@ -16,20 +16,17 @@ from collections.abc import Callable, Mapping
 from typing import Any, ClassVar
 
 import casadi as ca
-import numpy as np
 
+from flexlib.core.docs import document
+from flexlib.core.equations import Equation
+from flexlib.core.instance_values import InstanceValues
+from flexlib.core.values import as_bool
 from flexlib.core.variables import (
-    _STATE_SELECT,
     Declaration,
-    Equation,
     Kind,
     Parameter,
-    StateSelect,
     SymInfo,
-    Variable,
-    as_bool,
     lookup,
-    numeric_array,
 )
 from flexlib.errors import ConnectError, ModelError, ParameterError
 
@@ -39,9 +36,6 @@ __all__ = ["Component", "Connector", "Model", "Node", "flag", "remember_option"]
 #: Per class: its declarations and its sub-component templates in MRO order (one walk of the MRO per class,
 #: not per instance; a model of N components builds N instances of a handful of classes), with the sizes of
 #: the class dictionaries it was read from (an attribute added to a class later invalidates the entry).
-#: ``fixed`` value of a start that is an initial condition only where the initial system needs one.
-DEFAULT_START = "default"
-
 _CLASS_MEMBERS: dict[type, tuple[tuple[int, ...], dict[str, Declaration], list[tuple[str, Node]]]] = {}
 
 #: Bumped whenever a node is attached to a parent: a path cached under an older generation is recomputed.
@@ -114,7 +108,7 @@ class _NodeMeta(type):
         return obj
 
 
-class Node(metaclass=_NodeMeta):
+class Node(InstanceValues, metaclass=_NodeMeta):
     """Common base of components and connectors (named, hierarchical, with declarations)."""
 
     def __new__(cls, *args: Any, **kwargs: Any) -> Node:
@@ -303,151 +297,6 @@ class Node(metaclass=_NodeMeta):
             self._syms[name] = sym
         return sym
 
-    def _assign(self, name: str, value: Any) -> None:
-        decl = self._decls.get(name)
-        if not isinstance(decl, Parameter):
-            raise ParameterError(self._unknown(name, "parameter"))
-        checked = decl.check(self.param_label(name), value)
-        if self.__dict__.get("_constructed"):  # a later assignment: the cross-parameter rules must still hold
-            values = self.parameter_values()
-            values[name] = checked
-            self.validate(values)
-        self._values[name] = checked
-
-    # -- parameter validation (one hook for construction, flatten and run(params=...)) -------------
-    @property
-    def where(self) -> str:
-        """How messages name this instance: its path in the model, or its class name while unattached."""
-        return self.path or type(self).__name__
-
-    def param_label(self, name: str) -> str:
-        """How messages name parameter ``name`` of this instance (``"boom.cyl2.Q_nom"``, or
-        ``"DirectionalValve43: Q_nom"`` while unattached)."""
-        return self._label(name) if self._parent is not None else f"{type(self).__name__}: {name}"
-
-    def parameter_values(self) -> dict[str, np.ndarray]:
-        """``{name: value}`` of the parameters of this instance that have a value (given or default)."""
-        out = {}
-        for name, decl in self._decls.items():
-            if isinstance(decl, Parameter):
-                value = self.parameter_value(name)
-                if value is not None:
-                    out[name] = value
-        return out
-
-    def check(self, values: dict[str, np.ndarray]) -> None:
-        """Cross-parameter rules of this component (limits ordered, rod thinner than bore, ...).
-
-        Override to raise :class:`~flexlib.ParameterError` when ``values`` (``{name: float array}`` of
-        every parameter of this instance, each already within its declared bounds) break a rule. While
-        the instance is being built a parameter without a value yet is absent (use ``values.get``); at
-        flatten and at run time all are present.
-        Read the values from ``values`` only, not from the instance: the same hook checks the
-        constructor's values, the values at flatten and the values of a ``run(params=...)`` override.
-        Name parameters with :meth:`param_label`; a message that does not name the instance gets its
-        path in front. Call ``super().check(values)`` when a base class has rules too. Default: none.
-        """
-
-    def validate(self, values: dict[str, np.ndarray] | None = None) -> None:
-        """Run :meth:`check` on ``values`` (default: the instance's current values), naming this
-        instance in any error."""
-        if values is None:
-            values = self.parameter_values()
-        try:
-            self.check(values)
-        except ParameterError as exc:
-            msg = str(exc)
-            if self.where not in msg:
-                raise ParameterError(f"{self.where}: {msg}") from None
-            raise
-
-    def _unknown(self, name: str, what: str) -> str:
-        is_param = what == "parameter"
-        pool = [n for n, d in self._decls.items() if isinstance(d, Parameter) == is_param]
-        where = self.path or ("(model)" if self._connections else "(unnamed)")
-        head = f"{type(self).__name__} {where}: unknown {what} {name!r}"
-        if not isinstance(name, str):
-            return f"{head}: a {what} name is a string (known: {', '.join(sorted(pool)) or 'none'})"
-        decl = self._decls.get(name)
-        if decl is not None and not is_param:  # a parameter given as a start value / state choice
-            path = self.path or "<component path>"
-            return (f"{head}: {name} is a parameter [{decl.unit}], not a variable; set its value as "
-                    f"{type(self).__name__}({name}=...), or per run with params={{'{path}.{name}': ...}} "
-                    f"(variables: {', '.join(sorted(pool)) or 'none'})")
-        if decl is not None:  # a variable given as a parameter
-            return (f"{head}: {name} is a variable [{decl.unit}]; give its start value with init={{'{name}': ...}} "
-                    f"(an initial condition) or guess={{'{name}': ...}} "
-                    f"(parameters: {', '.join(sorted(pool)) or 'none'})")
-        close = difflib.get_close_matches(name, pool, n=3)
-        hint = f"; did you mean {', '.join(close)}?" if close else f"; known: {', '.join(sorted(pool)) or 'none'}"
-        return f"{head}{hint}"
-
-    def set_start(self, name: str, value: Any, fixed: bool | str = True) -> None:
-        """Set the start value of variable ``name``.
-
-        ``fixed=True``: an initial condition; ``False``: a guess; ``"default"``: an initial condition where the
-        initial system needs one and a guess where the equations already determine the variable (a flexible
-        body starts undeformed unless a joint locks a mode: no over-specified start then). The default
-        conditions are taken in the model's order, each only if it determines an unknown nothing else does.
-        """
-        decl = self._decls.get(name)
-        if not isinstance(decl, Variable):
-            raise ModelError(self._unknown(name, "variable"))
-        if fixed != DEFAULT_START if isinstance(fixed, str) else not isinstance(fixed, (bool, np.bool_, int)):
-            raise ModelError(f"{self._label(name)}: fixed must be True, False or {DEFAULT_START!r}, got {fixed!r}")
-        label = self.param_label(name)
-        wanted = (f"a real number [{decl.unit}]" if not decl.shape else
-                  f"an array of real numbers of shape {decl.shape} [{decl.unit}]")
-        arr = numeric_array(value, f"{label}: start value", wanted, ModelError)
-        if arr.size != decl.size:
-            raise ModelError(f"{label}: start value {value!r} has {arr.size} elements, the variable "
-                             f"{'is a scalar' if decl.size == 1 else f'has {decl.size} (shape {decl.shape})'}")
-        self._starts[name] = (arr.reshape(decl.shape) if decl.shape else arr.reshape(()),
-                              DEFAULT_START if fixed == DEFAULT_START else bool(fixed))
-
-    def set_state_select(self, name: str, value: Any) -> None:
-        """Override the state preference of variable ``name`` on this instance (Modelica's ``stateSelect``
-        modifier): ``"never"``, ``"avoid"``, ``"default"``, ``"prefer"``, ``"always"`` or a
-        :class:`~flexlib.StateSelect` member."""
-        decl = self._decls.get(name)
-        if not isinstance(decl, Variable):
-            raise ModelError(self._unknown(name, "variable") + " (in state_select)")
-        if isinstance(value, StateSelect):
-            self._state_select[name] = value
-            return
-        choice = _STATE_SELECT.get(value) if isinstance(value, str) else None
-        if choice is None:
-            raise ModelError(f"{self._label(name) if self._parent else type(self).__name__ + ': ' + name}: "
-                             f"state_select {value!r} is not one of {', '.join(_STATE_SELECT)} (or fl.StateSelect)")
-        self._state_select[name] = choice
-
-    def state_select_of(self, name: str) -> StateSelect:
-        """State preference of variable ``name`` after the instance override (else the declaration's)."""
-        sel = self._state_select.get(name)
-        return sel if sel is not None else self._decls[name].state_select
-
-    def parameter_value(self, name: str) -> np.ndarray | None:
-        """Current value of parameter ``name`` (None if it has neither a value nor a default)."""
-        if name in self._values:
-            return self._values[name]
-        decl = self._decls[name]
-        if decl.default is None:
-            return None
-        return decl.check(self.param_label(name), decl.default)
-
-    def start_of(self, name: str) -> tuple[np.ndarray, bool | str]:
-        """``(start, fixed)`` of variable ``name`` after instance overrides (``fixed`` may be ``"default"``, see
-        :meth:`set_start`)."""
-        if name in self._starts:
-            return self._starts[name]
-        decl = self._decls[name]
-        arr = np.asarray(decl.start, dtype=float)  # one value, or one per element (checked by Variable)
-        if decl.shape:
-            arr = np.broadcast_to(arr.reshape(()) if arr.size == 1 else arr.reshape(decl.shape), decl.shape).copy()
-        else:
-            arr = arr.reshape(())
-        return arr, decl.fixed
-
     # -- tree walk ----------------------------------------------------------------------------
     def walk(self) -> list[Node]:
         """This node and all nodes below it, parents before children."""
@@ -553,6 +402,12 @@ class Component(Node):
     """
 
     experiment: ClassVar[Any] = None
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        """Append the *Parameters*, *Connectors* and *Variables* tables built from the class's declarations to its
+        docstring (:func:`flexlib.core.docs.document`)."""
+        super().__init_subclass__(**kwargs)
+        document(cls, *_class_members(cls))
 
     # -- over-determined connectors (Modelica Connections.branch/root/potentialRoot/rooted/isRoot) ------
     def branch(self, a: Connector, b: Connector) -> None:

@@ -21,7 +21,8 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib.core.variables import SymInfo, _as_sx
+from flexlib.core.equations import as_sx
+from flexlib.core.variables import SymInfo
 from flexlib.errors import ModelError
 
 __all__ = ["abs_", "assert_", "if_else", "max_", "min_", "no_event", "sign"]
@@ -106,7 +107,7 @@ def _condition(cond: Any, where: str) -> ca.SX:
     """A condition as SX: a relation or logical expression, or a plain bool (a structural choice)."""
     if isinstance(cond, (bool, np.bool_)):
         return ca.SX(float(cond))
-    return _as_sx(cond, f"{where}: condition")
+    return as_sx(cond, f"{where}: condition")
 
 
 def if_else(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
@@ -123,7 +124,7 @@ def if_else(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
     c = _condition(cond, "if_else()")
     if not c.is_scalar():
         raise ModelError("if_else(): the condition must be a scalar")
-    return ca.if_else(_discretize(c), _as_sx(if_true, "if_else(): if_true"), _as_sx(if_false, "if_else(): if_false"))
+    return ca.if_else(_discretize(c), as_sx(if_true, "if_else(): if_true"), as_sx(if_false, "if_else(): if_false"))
 
 
 def assert_(cond: Any, message: str) -> None:
@@ -143,7 +144,7 @@ def assert_(cond: Any, message: str) -> None:
     """
     if not isinstance(message, str):
         raise ModelError(f"assert_(): message must be a string, got {type(message).__name__} {message!r:.60}")
-    c = _as_sx(cond, "assert_(): condition")
+    c = as_sx(cond, "assert_(): condition")
     if not c.is_scalar() or c.is_constant() or c.op() not in (ca.OP_LT, ca.OP_LE):
         raise ModelError(f"assert_(): the condition must be one relation (<, <=, >, >=), got {c}")
     _discretize(c)
@@ -154,29 +155,29 @@ def assert_(cond: Any, message: str) -> None:
 
 def no_event(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
     """``if cond then if_true else if_false`` evaluated continuously, without events."""
-    return ca.if_else(_condition(cond, "no_event()"), _as_sx(if_true, "no_event(): if_true"),
-                      _as_sx(if_false, "no_event(): if_false"))
+    return ca.if_else(_condition(cond, "no_event()"), as_sx(if_true, "no_event(): if_true"),
+                      as_sx(if_false, "no_event(): if_false"))
 
 
 def abs_(x: Any) -> ca.SX:
     """``|x|`` with an event at ``x = 0``."""
-    x = _as_sx(x, "abs_()")
+    x = as_sx(x, "abs_()")
     return if_else(x >= 0, x, -x)
 
 
 def sign(x: Any) -> ca.SX:
     """Sign of ``x`` (-1, 0 only at the event instant, +1) with events at ``x = 0``."""
-    x = _as_sx(x, "sign()")
+    x = as_sx(x, "sign()")
     return if_else(x > 0, 1.0, if_else(x < 0, -1.0, 0.0))
 
 
 def max_(a: Any, b: Any) -> ca.SX:
     """``max(a, b)`` with an event where ``a = b``."""
-    a, b = _as_sx(a, "max_()"), _as_sx(b, "max_()")
+    a, b = as_sx(a, "max_()"), as_sx(b, "max_()")
     return if_else(a >= b, a, b)
 
 
 def min_(a: Any, b: Any) -> ca.SX:
     """``min(a, b)`` with an event where ``a = b``."""
-    a, b = _as_sx(a, "min_()"), _as_sx(b, "min_()")
+    a, b = as_sx(a, "min_()"), as_sx(b, "min_()")
     return if_else(a <= b, a, b)

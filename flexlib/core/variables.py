@@ -1,4 +1,4 @@
-"""Declarations (parameters, variables, connector variables), ``der``, ``eq`` and ``time``.
+"""Declarations (parameters, variables, connector variables), the symbol registry and ``time``.
 
 A component class declares its quantities as class attributes::
 
@@ -14,10 +14,8 @@ variables, and how the compiler names every equation and variable.
 
 from __future__ import annotations
 
-import decimal
 import enum
 import math
-import numbers
 import weakref
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -25,14 +23,15 @@ from typing import TYPE_CHECKING, Any
 import casadi as ca
 import numpy as np
 
+from flexlib.core.values import as_bool, not_a_number, numeric_array
 from flexlib.errors import ModelError
 
 if TYPE_CHECKING:  # pragma: no cover
     from flexlib.core.component import Node
 
 __all__ = [
+    "STATE_SELECT",
     "Declaration",
-    "Equation",
     "Flow",
     "Input",
     "Output",
@@ -40,8 +39,11 @@ __all__ = [
     "Potential",
     "StateSelect",
     "Variable",
-    "der",
-    "eq",
+    "full_name",
+    "lookup",
+    "lookup_hash",
+    "render",
+    "render_many",
     "time",
 ]
 
@@ -131,6 +133,11 @@ def lookup(sym: ca.SX) -> SymInfo | None:
     return _REGISTRY.get(sym.element_hash())
 
 
+def lookup_hash(h: int) -> SymInfo | None:
+    """Return the registry entry of the scalar symbol with element hash ``h``, or None."""
+    return _REGISTRY.get(h)
+
+
 def full_name(info: SymInfo) -> str:
     """Hierarchical name of a symbol (``inertia1.flange_a.phi``, ``der(mass.v)``, ``frame.r[0]``)."""
     if info.kind == "der" and info.base is not None:
@@ -214,15 +221,6 @@ def _text(value: Any, what: str) -> str:
     if not isinstance(value, str):
         raise ModelError(f"{what} must be a string, got {type(value).__name__} {value!r:.60}")
     return value
-
-
-def as_bool(value: Any, what: str, error: type[Exception], *, ints: bool = True) -> bool:
-    """An on/off option as a bool: True or False (numpy bools too; with ``ints`` also 0 and 1), never a string, None or
-    another number — ``bool("False")`` is True, so such a value would silently switch the option on. Otherwise
-    ``error`` naming ``what`` and the value."""
-    if isinstance(value, (bool, np.bool_)) or (ints and isinstance(value, (int, np.integer)) and value in (0, 1)):
-        return bool(value)
-    raise error(f"{what} must be True or False, got {value!r:.80}")
 
 
 def _switch(value: Any, what: str) -> bool:
@@ -374,109 +372,8 @@ class Parameter(Declaration):
         return arr
 
 
-_STATE_SELECT = {s.name: s for s in StateSelect}
-
-
-def not_a_scalar(value: Any) -> str | None:
-    """Why ``value`` is not one real number (:func:`not_a_number`, or an array), or None if it is."""
-    why = not_a_number(value)
-    if why is None and np.ndim(value) != 0:
-        why = f"an array of shape {np.shape(value)}, not a number"
-    return why
-
-
-def not_a_number(value: Any) -> str | None:
-    """Why ``value`` (a scalar or a nested list/array) is not a real number or array of them, or None if it is.
-
-    Refused: strings (``'1.6e9'`` would otherwise be parsed by numpy), booleans (``True`` would be 1.0), None,
-    complex numbers, and anything else numpy would only hold as an object.
-    """
-    if value is None:
-        return "None, not a number"
-    if isinstance(value, (str, bytes, np.str_, np.bytes_)):
-        return "a string, not a number"
-    if isinstance(value, (bool, np.bool_)):
-        return "a bool, not a number"
-    if isinstance(value, (numbers.Real, decimal.Decimal)):
-        return None
-    if isinstance(value, (complex, np.complexfloating)):
-        return "complex, not a real number"
-    if isinstance(value, (ca.SX, ca.MX)):
-        return "a symbolic expression, not a number"
-    try:
-        arr = np.asarray(value)
-    except (TypeError, ValueError):  # ragged nested lists
-        return "not a number or a regular array of numbers"
-    kind = arr.dtype.kind
-    if kind in "iuf":
-        if isinstance(value, (list, tuple)) and _has_bool(value):  # numpy reads [1.0, True] as [1.0, 1.0]
-            return "a sequence with a bool entry, not only numbers"
-        return None
-    if kind == "b":
-        return "a bool, not a number" if arr.ndim == 0 else "an array of bools, not of numbers"
-    if kind in "USa":
-        return "a string, not a number" if arr.ndim == 0 else "an array of strings, not of numbers"
-    if kind == "c":
-        return "complex, not a real number"
-    if kind == "O":
-        if arr.ndim == 0:
-            return f"of type {type(value).__name__}, not a number"
-        for item in arr.flat:
-            why = not_a_number(item)
-            if why is not None:
-                return f"an array with an entry {item!r} ({why})"
-        return None
-    return f"of type {type(value).__name__}, not a number"
-
-
-def _plain_numbers(seq: list | tuple) -> bool:
-    """True if a nested list/tuple holds only Python floats and ints (not bools) and numpy reals."""
-    for x in seq:
-        t = type(x)
-        if t is float or t is int:
-            continue
-        if t in (list, tuple):
-            if not _plain_numbers(x):
-                return False
-        elif not isinstance(x, (np.floating, np.integer)):
-            return False
-    return True
-
-
-def _has_bool(seq: list | tuple) -> bool:
-    """True if a nested list/tuple holds a bool anywhere."""
-    return any(isinstance(x, (bool, np.bool_)) or (isinstance(x, (list, tuple)) and _has_bool(x)) for x in seq)
-
-
-def numeric_array(value: Any, what: str, accepted: str, error: type[Exception]) -> np.ndarray:
-    """``value`` as a float array, refusing strings, bools, None, complex and other non-numbers.
-
-    Parameters
-    ----------
-    value : Any
-        The value received (a number or a nested list/array of numbers).
-    what : str
-        How the message names it (``"mass.m: parameter value"``).
-    accepted : str
-        What is accepted, appended to the message (``"a real number [kg]"``).
-    error : type
-        The exception class to raise.
-    """
-    try:
-        if (type(value) is np.ndarray and value.dtype.kind in "iuf") or type(value) in (float, int):
-            return np.array(value, dtype=float)  # the usual cases: nothing to refuse
-        if type(value) in (list, tuple) and _plain_numbers(value):  # a (nested) list of floats and ints
-            return np.array(value, dtype=float)
-    except (ValueError, OverflowError):  # ragged, or an int beyond the float range (10**400): named below
-        pass
-    why = not_a_number(value)
-    if why is None:
-        try:
-            return np.array(value, dtype=float)
-        except (TypeError, ValueError, OverflowError) as exc:
-            why = f"not numeric ({exc})"
-    shown = "is None" if value is None else f"{value!r:.80} is {why}"
-    raise error(f"{what} {shown}; give {accepted}")
+#: ``StateSelect`` members by name (``"prefer"``).
+STATE_SELECT = {s.name: s for s in StateSelect}
 
 
 class Variable(Declaration):
@@ -532,8 +429,8 @@ class Variable(Declaration):
         self.intermediate = _switch(intermediate, "intermediate")
         if isinstance(state_select, StateSelect):
             state_select = state_select.name
-        if not isinstance(state_select, str) or state_select not in _STATE_SELECT:
-            raise ModelError(f"state_select must be one of {sorted(_STATE_SELECT)} (or a fl.StateSelect member), "
+        if not isinstance(state_select, str) or state_select not in STATE_SELECT:
+            raise ModelError(f"state_select must be one of {sorted(STATE_SELECT)} (or a fl.StateSelect member), "
                              f"got {state_select!r}")
         if not_a_number(nominal) is not None or np.ndim(nominal) != 0 or not float(nominal) > 0:
             raise ModelError(f"nominal must be a number > 0, got {nominal!r}")
@@ -546,7 +443,7 @@ class Variable(Declaration):
         self.start = start
         self.fixed = _switch(fixed, "fixed")
         self.nominal = float(nominal)
-        self.state_select = _STATE_SELECT[state_select]
+        self.state_select = STATE_SELECT[state_select]
 
 
 class Potential(Variable):
@@ -586,140 +483,3 @@ class Output(Variable):
     """A causal signal output: the block computes it."""
 
     kind = Kind.output
-
-
-# ---------------------------------------------------------------------------------------------
-# der and eq
-# ---------------------------------------------------------------------------------------------
-def _as_sx(x: Any, what: str = "an expression") -> ca.SX:
-    """``x`` as an SX expression: an SX, a DM or a real number / array of them.
-
-    A string (``eq(x, "b")``), None (``eq(None)`` became the constant NaN), a bool, a dict or another object is
-    refused with a :class:`~flexlib.ModelError` naming ``what`` (``"eq(): right side"``) and the value.
-    """
-    if isinstance(x, ca.SX):
-        return x
-    if isinstance(x, (ca.MX,)):
-        raise ModelError("flexlib equations are SX expressions; got an MX expression")
-    if isinstance(x, ca.DM):
-        return ca.SX(x)
-    if type(x) is float or (type(x) is int and abs(x) < 2**1000):  # the usual constant (eq(x) has rhs 0.0)
-        return ca.SX(float(x))
-    why = not_a_number(x)
-    if why is None:
-        try:
-            return ca.SX(np.asarray(x, dtype=float))
-        except (TypeError, ValueError, OverflowError) as exc:  # 10**400; a ragged list
-            why = f"not numeric ({exc})"
-    if isinstance(x, (list, tuple)) or (isinstance(x, np.ndarray) and x.dtype == object and x.ndim in (1, 2)):
-        # numbers and symbols mixed ([x, 0.0], [[a, b], [c, d]]): a column, or a matrix of rows; a bad entry is
-        # named by itself
-        items = list(x)
-        try:
-            if items and all(isinstance(r, (list, tuple, np.ndarray)) for r in items):
-                return ca.vertcat(*[ca.horzcat(*[_as_sx(v, what) for v in r]) for r in items])
-            return ca.vertcat(*[_as_sx(v, what) for v in items]) if items else ca.SX(0, 1)
-        except RuntimeError as exc:  # CasADi: rows of different lengths
-            raise ModelError(f"{what}: {x!r:.80} is not a regular array (rows of different lengths)") from exc
-    shown = "got None" if x is None else f"{x!r:.80} is {why}"
-    raise ModelError(f"{what}: {shown}; give a symbolic expression (a variable, a parameter, an expression of them) "
-                     "or a real number")
-
-
-def der(expr: Any) -> ca.SX:
-    """Time derivative of a variable or of an expression of variables (chain rule).
-
-    Parameters
-    ----------
-    expr : casadi.SX
-        A variable symbol (scalar or array) or an expression of variables, parameters and time.
-
-    Returns
-    -------
-    casadi.SX
-        ``der(x)`` symbols for variables; ``dexpr/dt`` by forward differentiation otherwise.
-    """
-    e = _as_sx(expr, "der()")
-    if e.is_scalar() and e.is_symbolic():  # one scalar symbol (the usual case): its der symbol
-        info = lookup(e)
-        if info is not None and info.kind not in ("time", "parameter", "relation"):
-            return info.der_info.sym
-    if e.is_valid_input():  # a (matrix of) plain symbols
-        out = []
-        for k in range(e.nnz()):
-            s = e.nz[k]
-            info = lookup(s)
-            if info is None:
-                raise ModelError(f"der({s}): {s} is not a flexlib variable")
-            if info.kind == "time":
-                out.append(ca.SX(1.0))
-            elif info.kind in ("parameter", "relation"):
-                out.append(ca.SX(0.0))
-            else:
-                out.append(info.der_info.sym)
-        res = ca.SX(e.sparsity(), ca.vertcat(*out)) if out else ca.SX(e.shape)
-        return res
-    syms = ca.symvar(e)
-    if not syms:
-        return ca.SX.zeros(*e.shape)
-    v, d = [], []
-    for s in syms:
-        info = lookup(s)
-        if info is None:
-            raise ModelError(f"der(): symbol {s} in {e} is not a flexlib variable")
-        if info.kind in ("parameter", "relation"):
-            continue
-        v.append(s)
-        d.append(ca.SX(1.0) if info.kind == "time" else info.der_info.sym)
-    if not v:
-        return ca.SX.zeros(*e.shape)
-    if e.is_scalar():  # no reshaping around the directional derivative
-        return ca.jtimes(e, ca.vertcat(*v), ca.vertcat(*d))
-    flat = ca.vec(e)
-    dflat = ca.jtimes(flat, ca.vertcat(*v), ca.vertcat(*d))
-    return ca.reshape(dflat, e.shape[0], e.shape[1])
-
-
-@dataclass(eq=False)
-class Equation:
-    """One (possibly array-valued) equation ``lhs = rhs`` stored as the residual ``lhs - rhs``.
-
-    Attributes
-    ----------
-    residual : casadi.SX
-        Column of scalar residuals.
-    label : str
-        Optional description shown in diagnostics.
-    owner : str
-        Hierarchical path of the component that declared it (set by the flattener).
-    """
-
-    residual: ca.SX
-    label: str = ""
-    owner: str = ""
-
-
-def eq(lhs: Any, rhs: Any = 0.0, label: str = "") -> Equation:
-    """The equation ``lhs = rhs`` (CasADi overloads ``==``, so equations use this function).
-
-    Parameters
-    ----------
-    lhs, rhs : casadi.SX or array_like
-        Both sides, of equal shape (a scalar side is broadcast).
-    label : str
-        Optional short description used in diagnostics.
-    """
-    if type(label) is not str:
-        raise ModelError(f"eq(): label must be a string, got {type(label).__name__} {label!r:.60}")
-    a = lhs if type(lhs) is ca.SX else _as_sx(lhs, f"eq({label!r}): left side" if label else "eq(): left side")
-    b = rhs if type(rhs) is ca.SX else _as_sx(rhs, f"eq({label!r}): right side" if label else "eq(): right side")
-    if a.is_scalar() and b.is_scalar():  # the usual scalar equation: a - b is already a column
-        return Equation(a - b, label=label)
-    if a.shape != b.shape:
-        if b.is_scalar():
-            b = ca.repmat(b, a.shape[0], a.shape[1])
-        elif a.is_scalar():
-            a = ca.repmat(a, b.shape[0], b.shape[1])
-        else:
-            raise ModelError(f"eq(): left side has shape {a.shape}, right side {b.shape} ({label or 'equation'})")
-    return Equation(ca.vec(a - b), label=label)

@@ -25,7 +25,7 @@ from typing import Any, Literal
 import numpy as np
 import scipy.linalg as la
 
-from flexlib.core.variables import as_bool
+from flexlib.core.values import as_bool
 from flexlib.errors import ModalFileError, RunArgumentError
 
 from .arguments import is_int

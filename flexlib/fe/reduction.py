@@ -34,7 +34,7 @@ import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
-from flexlib.core.variables import as_bool
+from flexlib.core.values import as_bool
 from flexlib.errors import RunArgumentError
 
 from .arguments import is_int

@@ -25,7 +25,7 @@ import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 
 from flexlib.compile.codegen import AUTO_C_MIN_UNKNOWNS, CompiledModel, compile_dae
 from flexlib.compile.structure import culprits, group_by_owner, matching, row_jacobian
-from flexlib.core.component import DEFAULT_START
+from flexlib.core.instance_values import DEFAULT_START
 from flexlib.errors import InitializationError, ParameterError
 from flexlib.solve.diagnose import nonfinite_lines, row_scale, singular_lines
 

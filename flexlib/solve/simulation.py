@@ -22,13 +22,13 @@ from typing import Any
 import numpy as np
 
 from flexlib.compile import cache
-from flexlib.compile.cache import gather_values
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.constants import assumptions_hold, check_assumed
 from flexlib.compile.index_reduction import IndexReport
 from flexlib.compile.pipeline import Build, build, build_key, check_build_options, check_model
 from flexlib.core.component import Component
-from flexlib.core.variables import Parameter, numeric_array
+from flexlib.core.values import numeric_array
+from flexlib.core.variables import Parameter
 from flexlib.errors import (
     ModelError,
     NativeSolverError,
@@ -257,7 +257,7 @@ class Simulation:
         """
         params = check_params(params, caller="parameter_vector")
         if values is None:
-            values, _ = gather_values(self.model)
+            values, _ = self.model.values()
         elif not isinstance(values, Mapping):
             raise RunArgumentError(f"parameter_vector(): values = {values!r:.80} is invalid: must be a dict "
                                    f"{{'component.parameter': value}}, got a {type(values).__name__}")
@@ -575,7 +575,7 @@ class Simulation:
     def _parameters(self, params: dict[str, Any] | None) -> tuple[dict, np.ndarray, np.ndarray]:
         """The instance's start values, its parameter vector with ``params`` applied, and that vector followed by
         the relation values (zero until the initialisation sets them)."""
-        values, starts = gather_values(self.model)
+        values, starts = self.model.values()
         pvec = self.parameter_vector(params, values)
         return starts, pvec, np.concatenate([pvec, np.zeros(self.compiled.n_relations)])
 

@@ -118,7 +118,7 @@ from flexlib.components.mechanics.multibody import (
     World,
 )
 from flexlib.errors import ParameterError
-from flexlib.models.boom_proxy import _link_body
+from flexlib.models.boom_proxy import link_body
 
 from .arguments import JOINTS, check_modes, check_pose, check_sources, check_table, option
 from .geometry import (
@@ -569,10 +569,10 @@ class PumpTruck(fl.Model):
         m_lever, m_link = linkage_masses(self.record, n, self.link_plate)
         r, s = self.record.drive(n).r, self.record.drive(n).s
         lever_joint = Revolute(guess={"phi": th_lever - th_prev})
-        lever = _link_body(m_lever, r)
+        lever = link_body(m_lever, r)
         lever_tip = FixedTranslation(r=[r, 0.0, 0.0])
         link_joint = Revolute(guess={"phi": th_link - th_lever})
-        link = _link_body(m_link, s)
+        link = link_body(m_link, s)
         link_tip = FixedTranslation(r=[s, 0.0, 0.0])
         link_pin = Revolute(guess={"phi": th_sec - th_link})
         for name, comp in (("lever_joint", lever_joint), ("lever", lever), ("lever_tip", lever_tip),

@@ -58,11 +58,21 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     directory : Path
         Existing directory.
     """
-    import matplotlib.pyplot as plt
-
     directory = Path(directory)
     t = np.asarray(result.t, dtype=float)
-    out: list[Path] = []
+    out = [_flows(result, t, directory), _pressures(result, t, directory), _hinge_forces(result, t, directory),
+           _section_lengths(model, result, t, directory)]
+    flexible = [n for n in _JOINTS if _has(result, f"section{n}.q")]
+    if flexible:
+        out.append(_modal_coordinates(result, t, flexible, directory))
+    out.append(_tip_path(result, t, directory))
+    out.append(write_boom_vtk(model, result, directory / "boom.pvd"))
+    return out
+
+
+def _flows(result: Any, t: np.ndarray, directory: Path) -> Path:
+    """``flows.png``: the flow into each cylinder's port A."""
+    import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
     for n in _JOINTS:
@@ -71,7 +81,12 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     ax.set(xlabel="time [s]", ylabel=f"flow into port A [{unit}]", title="Cylinder port A flows")
     ax.grid(True, alpha=0.3)
     ax.legend(ncol=5, fontsize=8)
-    out.append(_save(fig, directory / "flows.png"))
+    return _save(fig, directory / "flows.png")
+
+
+def _pressures(result: Any, t: np.ndarray, directory: Path) -> Path:
+    """``pressures.png``: both chamber pressures of each cylinder."""
+    import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(5, 1, figsize=(9, 9), sharex=True)
     for n, ax in zip(_JOINTS, axes, strict=True):
@@ -83,7 +98,12 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
         ax.legend(fontsize=7, loc="upper right")
     axes[-1].set_xlabel("time [s]")
     fig.suptitle("Chamber pressures")
-    out.append(_save(fig, directory / "pressures.png"))
+    return _save(fig, directory / "pressures.png")
+
+
+def _hinge_forces(result: Any, t: np.ndarray, directory: Path) -> Path:
+    """``hinge_forces.png``: each joint's force, magnitude and components in the joint frame."""
+    import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
     for n in _JOINTS:
@@ -96,7 +116,12 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     for a in (ax, ax2):
         a.grid(True, alpha=0.3)
         a.legend(ncol=5, fontsize=7)
-    out.append(_save(fig, directory / "hinge_forces.png"))
+    return _save(fig, directory / "hinge_forces.png")
+
+
+def _section_lengths(model: Any, result: Any, t: np.ndarray, directory: Path) -> Path:
+    """``section_lengths.png``: each section's pin-to-pin length minus its nominal length."""
+    import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
     record = model.record
@@ -111,20 +136,28 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     ax.set(xlabel="time [s]", ylabel="pin-to-pin length − nominal [mm]", title="Section lengths")
     ax.grid(True, alpha=0.3)
     ax.legend(ncol=5, fontsize=8)
-    out.append(_save(fig, directory / "section_lengths.png"))
+    return _save(fig, directory / "section_lengths.png")
 
-    flexible = [n for n in _JOINTS if _has(result, f"section{n}.q")]
-    if flexible:
-        fig, axes = plt.subplots(len(flexible), 1, figsize=(9, 2 + 1.6 * len(flexible)), sharex=True, squeeze=False)
-        for n, ax in zip(flexible, axes[:, 0], strict=True):
-            q = np.asarray(result[f"section{n}.q"], dtype=float).reshape(len(t), -1)
-            for j in range(q.shape[1]):
-                ax.plot(t, q[:, j], lw=0.8, label=f"q{j}")
-            ax.set_ylabel(f"section {n}")
-            ax.grid(True, alpha=0.3)
-        axes[-1, 0].set_xlabel("time [s]")
-        fig.suptitle("Modal coordinates")
-        out.append(_save(fig, directory / "modal_coordinates.png"))
+
+def _modal_coordinates(result: Any, t: np.ndarray, flexible: list[int], directory: Path) -> Path:
+    """``modal_coordinates.png``: the modal coordinates of the flexible sections ``flexible``."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(flexible), 1, figsize=(9, 2 + 1.6 * len(flexible)), sharex=True, squeeze=False)
+    for n, ax in zip(flexible, axes[:, 0], strict=True):
+        q = np.asarray(result[f"section{n}.q"], dtype=float).reshape(len(t), -1)
+        for j in range(q.shape[1]):
+            ax.plot(t, q[:, j], lw=0.8, label=f"q{j}")
+        ax.set_ylabel(f"section {n}")
+        ax.grid(True, alpha=0.3)
+    axes[-1, 0].set_xlabel("time [s]")
+    fig.suptitle("Modal coordinates")
+    return _save(fig, directory / "modal_coordinates.png")
+
+
+def _tip_path(result: Any, t: np.ndarray, directory: Path) -> Path:
+    """``tip_path.png``: the tip's path in the boom plane and the joint angles."""
+    import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
     tip = np.asarray(result["section5_tip.frame_b.r_0"], dtype=float).reshape(len(t), 3)
@@ -139,9 +172,7 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     ax2.set(xlabel="time [s]", ylabel="joint angle [deg]", title="Joint angles")
     ax2.grid(True, alpha=0.3)
     ax2.legend(fontsize=8)
-    out.append(_save(fig, directory / "tip_path.png"))
-    out.append(write_boom_vtk(model, result, directory / "boom.pvd"))
-    return out
+    return _save(fig, directory / "tip_path.png")
 
 
 def write_boom_vtk(model: Any, result: Any, path: Path, dt: float = VTK_DT) -> Path:

@@ -246,6 +246,19 @@ def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray
     return E
 
 
+def _check_drive(drive: str, motion: tuple | None, torques: tuple | None) -> None:
+    """``PolycrankFragment``'s drive options: a known ``drive``, four motion tuples for ``"motion"``, four torque
+    tables only with ``"trim"``."""
+    if drive not in DRIVES:
+        raise fl.ParameterError(f"PolycrankFragment: drive must be one of {DRIVES}, got {drive!r}")
+    if drive == "motion" and (motion is None or len(motion) != 4 or any(len(m) != 4 for m in motion)):
+        raise fl.ParameterError("PolycrankFragment: drive='motion' needs motion = four (peak [rad/s], ramp "
+                                f"[s], plateau [s], start [s]) tuples, got {motion!r}")
+    if torques is not None and (drive != "trim" or len(torques) != 4):
+        raise fl.ParameterError("PolycrankFragment: torques (four (times [s], torques [N.m]) tables) go with "
+                                f"drive='trim', got drive={drive!r}, torques={torques!r}")
+
+
 class PolycrankFragment(fl.Model):
     """The POLYCRANK power-transmission fragment (module docstring), rigid or with flexible pull rods.
 
@@ -315,52 +328,62 @@ class PolycrankFragment(fl.Model):
         th4, th_o, th_c3, th_c4 = (float(a) for a in angles)
         hand = drive_torques(par, (th4, th_o, th_c3, th_c4))
         tau = hand if hold and drive == "torque" else np.zeros(4)  # constant drive torques (drive="torque")
-        z = [0.0, 0.0, 1.0]
         self.world = World(g=par.g, n=[0.0, -1.0, 0.0])
         # shields on their bearings
         bearing = {"use_friction": True, "mu": par.mu, "r_bearing": par.r_bearing, "tau_c0": par.tau_c0,
                    "stribeck": par.stribeck, "w_s": par.w_s, "d": par.d_bearing} if friction else {}
-        if drive not in DRIVES:
-            raise fl.ParameterError(f"PolycrankFragment: drive must be one of {DRIVES}, got {drive!r}")
-        if drive == "motion" and (motion is None or len(motion) != 4 or any(len(m) != 4 for m in motion)):
-            raise fl.ParameterError("PolycrankFragment: drive='motion' needs motion = four (peak [rad/s], ramp "
-                                    f"[s], plateau [s], start [s]) tuples, got {motion!r}")
-        if torques is not None and (drive != "trim" or len(torques) != 4):
-            raise fl.ParameterError("PolycrankFragment: torques (four (times [s], torques [N.m]) tables) go with "
-                                    f"drive='trim', got drive={drive!r}, torques={torques!r}")
+        _check_drive(drive, motion, torques)
         self.drive = drive
-
-        def driven(name: str, th: float, w: float, t_drive: float) -> Revolute:
-            """A drive joint: constant torque, or its axis held / moved / trimmed by a source (``drive``)."""
-            if drive == "torque":
-                return Revolute(n=z, tau_drive=float(t_drive), init={"phi": th, "w": w}, **bearing)
-            k = DRIVEN.index(name)
-            start = {"held": {"guess": {"phi": th}}, "motion": {"init": {"phi": th}},
-                     "trim": {"init": {"phi": th, "w": 0.0, "a": 0.0}}}[drive]
-            joint = Revolute(n=z, use_axis_flange=True, **bearing, **start)
-            trim = None
-            if drive == "held":
-                source, ref, name_s = rotational.Position(), Constant(k=th), f"hold_{name}"
-            elif drive == "motion":
-                peak, ramp, plateau, t0 = (float(v) for v in motion[k])
-                ref = Trapezoid(amplitude=peak, rising=ramp, width=plateau, falling=ramp,
-                                period=2 * ramp + plateau + 1e3, nperiod=1, start_time=t0)
-                source, name_s = rotational.Speed(), f"speed_{name}"
-            else:  # the holding torque found at the start (trim) plus the interval torques
-                times, values = torques[k] if torques is not None else ((0.0,), (0.0,))
-                ref = (TimeTable([float(t) for t in times], [float(v) for v in values], smoothness="constant")
-                       if len(times) > 1 else Constant(k=float(values[0])))
-                trim = Trim(guess={"b": float(hand[k])})
-                setattr(self, f"trim_{name}", trim)
-                source, name_s = rotational.Torque(), f"motor_{name}"
-            setattr(self, name_s, source)
-            setattr(self, f"ref_{name}", ref)
-            self._sources.append((joint, source, ref, trim))
-            return joint
-
         self._sources: list = []
         self._mounts: list[tuple[str, float]] = []
-        self.j4 = driven("j4", th4, w4, tau[0])
+        drives = {"bearing": bearing, "hand": hand, "motion": motion, "torques": torques}
+        self.j4 = self._driven("j4", th4, w4, tau[0], **drives)
+        self._arm(th4, th_o, bearing)
+        disc = {"m": par.m_disc, "r_CM": [0.0, 0.0, 0.0], "I": np.diag([par.I_disc / 2, par.I_disc / 2, par.I_disc])}
+        for ch, th, t_drive, w in (("o", th_o, tau[1], w_o), ("c3", th_c3, tau[2], w_c3), ("c4", th_c4, tau[3], w_c4)):
+            d0 = self._driven(f"d0{ch}", th, w, t_drive, **drives)
+            self._disc_stack(ch, d0, disc, th, th4, th_o, bearing)
+        for joint, source, ref, trim in self._sources:
+            if trim is not None:
+                self.connect(ref.y, trim.u)
+                self.connect(trim.y, source.tau)
+            else:
+                self.connect(ref.y, source.phi_ref if drive == "held" else source.w_ref)
+            self.connect(source.flange, joint.axis)
+
+    def _driven(self, name: str, th: float, w: float, t_drive: float, *, bearing: dict, hand: np.ndarray,
+                motion: tuple | None, torques: tuple | None) -> Revolute:
+        """A drive joint: constant torque, or its axis held / moved / trimmed by a source (``drive``)."""
+        drive, z = self.drive, [0.0, 0.0, 1.0]
+        if drive == "torque":
+            return Revolute(n=z, tau_drive=float(t_drive), init={"phi": th, "w": w}, **bearing)
+        k = DRIVEN.index(name)
+        start = {"held": {"guess": {"phi": th}}, "motion": {"init": {"phi": th}},
+                 "trim": {"init": {"phi": th, "w": 0.0, "a": 0.0}}}[drive]
+        joint = Revolute(n=z, use_axis_flange=True, **bearing, **start)
+        trim = None
+        if drive == "held":
+            source, ref, name_s = rotational.Position(), Constant(k=th), f"hold_{name}"
+        elif drive == "motion":
+            peak, ramp, plateau, t0 = (float(v) for v in motion[k])
+            ref = Trapezoid(amplitude=peak, rising=ramp, width=plateau, falling=ramp,
+                            period=2 * ramp + plateau + 1e3, nperiod=1, start_time=t0)
+            source, name_s = rotational.Speed(), f"speed_{name}"
+        else:  # the holding torque found at the start (trim) plus the interval torques
+            times, values = torques[k] if torques is not None else ((0.0,), (0.0,))
+            ref = (TimeTable([float(t) for t in times], [float(v) for v in values], smoothness="constant")
+                   if len(times) > 1 else Constant(k=float(values[0])))
+            trim = Trim(guess={"b": float(hand[k])})
+            setattr(self, f"trim_{name}", trim)
+            source, name_s = rotational.Torque(), f"motor_{name}"
+        setattr(self, name_s, source)
+        setattr(self, f"ref_{name}", ref)
+        self._sources.append((joint, source, ref, trim))
+        return joint
+
+    def _arm(self, th4: float, th_o: float, bearing: dict) -> None:
+        """Shield 4 on the base joint ``j4``, shield 5 on ``j5`` at its end and the load at shield 5's end."""
+        par, z = self.par, [0.0, 0.0, 1.0]
         self.shield4 = Body(m=par.m_shield4, r_CM=[par.L4 / 2, 0, 0], I=np.eye(3) * par.I_shield4)
         self.to_A1 = FixedTranslation(r=[par.L4, 0.0, 0.0])
         self.j5 = Revolute(n=z, guess={"phi": th_o - th4}, **bearing)
@@ -374,35 +397,31 @@ class PolycrankFragment(fl.Model):
         self.connect(self.j5.frame_b, self.shield5.frame_a)
         self.connect(self.j5.frame_b, self.to_A2.frame_a)
         self.connect(self.to_A2.frame_b, self.load.frame_a)
-        disc = {"m": par.m_disc, "r_CM": [0.0, 0.0, 0.0], "I": np.diag([par.I_disc / 2, par.I_disc / 2, par.I_disc])}
-        for ch, th, t_drive, w in (("o", th_o, tau[1], w_o), ("c3", th_c3, tau[2], w_c3), ("c4", th_c4, tau[3], w_c4)):
-            d0 = driven(f"d0{ch}", th, w, t_drive)
-            setattr(self, f"d0{ch}", d0)
-            setattr(self, f"disc0{ch}", Body(**disc))
-            self.connect(self.world.frame_b, d0.frame_a)
-            self.connect(d0.frame_b, getattr(self, f"disc0{ch}").frame_a)
-            if ch == "o":  # the outer links end on shield 5's pin circle at A1
-                self._parallelogram(f"{ch}4", d0.frame_b, self.j5.frame_b, par.radius(ch), par.L4, th, th4)
-                continue
-            d1 = Revolute(n=z, guess={"phi": th - th4}, **bearing)
-            setattr(self, f"d1{ch}", d1)
-            setattr(self, f"disc1{ch}", Body(**{**disc, "m": 2 * par.m_disc, "I": 2 * disc["I"]}))
-            self.connect(self.to_A1.frame_b, d1.frame_a)
-            self.connect(d1.frame_b, getattr(self, f"disc1{ch}").frame_a)
-            self._parallelogram(f"{ch}4", d0.frame_b, d1.frame_b, par.radius(ch), par.L4, th, th4)
-            d2 = Revolute(n=z, guess={"phi": th - th_o}, **bearing)
-            setattr(self, f"d2{ch}", d2)
-            setattr(self, f"disc2{ch}", Body(**disc))
-            self.connect(self.to_A2.frame_b, d2.frame_a)
-            self.connect(d2.frame_b, getattr(self, f"disc2{ch}").frame_a)
-            self._parallelogram(f"{ch}5", d1.frame_b, d2.frame_b, par.radius(ch), par.L5, th, th_o)
-        for joint, source, ref, trim in self._sources:
-            if trim is not None:
-                self.connect(ref.y, trim.u)
-                self.connect(trim.y, source.tau)
-            else:
-                self.connect(ref.y, source.phi_ref if drive == "held" else source.w_ref)
-            self.connect(source.flange, joint.axis)
+
+    def _disc_stack(self, ch: str, d0: Revolute, disc: dict, th: float, th4: float, th_o: float,
+                    bearing: dict) -> None:
+        """Chain ``ch``'s discs on the base (``d0``), at A1 and at A2, joined by parallelograms of links (the outer
+        chain's links end on shield 5's pin circle at A1)."""
+        par, z = self.par, [0.0, 0.0, 1.0]
+        setattr(self, f"d0{ch}", d0)
+        setattr(self, f"disc0{ch}", Body(**disc))
+        self.connect(self.world.frame_b, d0.frame_a)
+        self.connect(d0.frame_b, getattr(self, f"disc0{ch}").frame_a)
+        if ch == "o":
+            self._parallelogram(f"{ch}4", d0.frame_b, self.j5.frame_b, par.radius(ch), par.L4, th, th4)
+            return
+        d1 = Revolute(n=z, guess={"phi": th - th4}, **bearing)
+        setattr(self, f"d1{ch}", d1)
+        setattr(self, f"disc1{ch}", Body(**{**disc, "m": 2 * par.m_disc, "I": 2 * disc["I"]}))
+        self.connect(self.to_A1.frame_b, d1.frame_a)
+        self.connect(d1.frame_b, getattr(self, f"disc1{ch}").frame_a)
+        self._parallelogram(f"{ch}4", d0.frame_b, d1.frame_b, par.radius(ch), par.L4, th, th4)
+        d2 = Revolute(n=z, guess={"phi": th - th_o}, **bearing)
+        setattr(self, f"d2{ch}", d2)
+        setattr(self, f"disc2{ch}", Body(**disc))
+        self.connect(self.to_A2.frame_b, d2.frame_a)
+        self.connect(d2.frame_b, getattr(self, f"disc2{ch}").frame_a)
+        self._parallelogram(f"{ch}5", d1.frame_b, d2.frame_b, par.radius(ch), par.L5, th, th_o)
 
     def _parallelogram(self, name: str, disc_a, disc_b, rho: float, length: float, th_disc: float,
                        th_body: float) -> None:

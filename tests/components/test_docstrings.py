@@ -2,7 +2,10 @@
 
 House style (``docs/house_style.md``, "Docstrings"): numpydoc sections; each
 ``Parameter`` is listed under *Parameters* with its SI unit in brackets, and the unit equals
-the declaration's ``unit=`` (the descriptor is the source of truth). Every public component
+the declaration's ``unit=`` (the descriptor is the source of truth). The *Parameters*,
+*Connectors* and *Variables* entries of a declaration with ``doc=`` are generated from it
+(``flexlib.core.docs``); the author writes an entry only where it says more, and such hand text
+must not merely restate the declaration. Every public component
 names its reference under *References* (the MSL class for the MSL-shaped libraries;
 Simscape / Hopsan / textbook sections for hydraulics).
 """
@@ -16,7 +19,8 @@ import re
 import pytest
 
 import flexlib as fl
-from flexlib.core.variables import Parameter
+from flexlib.core.docs import hand_doc
+from flexlib.core.variables import Declaration, Kind, Parameter
 
 PACKAGES = [
     "flexlib.components.control",
@@ -25,6 +29,12 @@ PACKAGES = [
     "flexlib.components.mechanics.multibody",
     "flexlib.components.hydraulics",
 ]
+#: Libraries whose hand-written entries say more than the declarations (the generated tables give the rest).
+GENERATED_TABLES = (
+    "flexlib.components.control",
+    "flexlib.components.mechanics.rotational",
+    "flexlib.components.mechanics.translational",
+)
 #: Libraries in Modelica Standard Library shape: their components cite the MSL class.
 MSL_SHAPED = ("flexlib.components.control", "flexlib.components.mechanics")
 
@@ -134,3 +144,47 @@ def test_structure_documented(cls):
     assert len(references) == 2 and references[1].strip(), f"{cls.__name__}: no reference"
     if cls.__module__.startswith(MSL_SHAPED):
         assert "Modelica" in references[1], f"{cls.__name__}: no MSL reference"
+
+
+def _plain(text: str) -> str:
+    """Words of a description without units in brackets, markup and punctuation."""
+    text = re.sub(r"\[[^\]]*\]", " ", text).replace("`", "")
+    return " ".join(re.sub(r"[^a-z0-9_*/+\-=<>() ]", " ", text.lower()).split())
+
+
+def restated(cls: type) -> list[str]:
+    """Hand-written entries whose description is the declaration's ``doc=`` (plus its unit and bounds) again."""
+    doc = hand_doc(cls) or ""
+    decls = {}
+    for klass in reversed(cls.__mro__):
+        decls.update({n: v for n, v in vars(klass).items() if isinstance(v, Declaration)})
+    out = []
+    for title in ("Parameters", "Variables", "Connectors"):
+        for name, text in section(doc, title).items():
+            decl = decls.get(name)
+            if decl is None or not decl.doc or (title == "Variables") != (decl.kind is Kind.variable):
+                continue
+            rules = decl.rules() if isinstance(decl, Parameter) else ""
+            if _plain(text) in {_plain(decl.doc), _plain(f"{decl.doc} {rules}"), _plain(f"{decl.doc}, {rules}")}:
+                out.append(f"{cls.__name__}: {title} entry {name!r} restates its declaration's doc=")
+    return out
+
+
+def test_lint_detects_restated_entries():
+    """The lint itself: an entry that repeats ``doc=`` and the unit is reported; a richer one is not."""
+    hand = ("Spring.\n\nParameters\n----------\nc : float\n    Spring constant [N/m], >= 0.\n"
+            "s0 : float\n    Unstretched length [m]; the spring pushes below it.\n")
+    spring = type("Spring", (fl.Component,), {
+        "__doc__": hand,
+        "c": Parameter(1.0, unit="N/m", min=0.0, doc="Spring constant"),
+        "s0": Parameter(0.0, unit="m", doc="Unstretched length"),
+    })
+    assert restated(spring) == ["Spring: Parameters entry 'c' restates its declaration's doc="]
+    assert "s0 : float, default 0" not in (spring.__doc__ or "")  # the hand entry stands for the generated one
+
+
+@pytest.mark.parametrize("cls", [c for c in CLASSES if c.__module__.startswith(GENERATED_TABLES)],
+                         ids=lambda c: f"{c.__module__.rsplit('.', 2)[-2]}.{c.__name__}")
+def test_hand_entries_say_more_than_declarations(cls):
+    """Hand-written *Parameters/Variables/Connectors* entries add to the declaration (the table gives the rest)."""
+    assert restated(cls) == []

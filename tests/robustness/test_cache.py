@@ -22,7 +22,7 @@ import pytest
 
 import flexlib as fl
 from flexlib import CacheWarning, Parameter, Variable, der, eq
-from flexlib.compile import cache, pipeline
+from flexlib.compile import cache, cache_key, pipeline
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -508,12 +508,12 @@ class M(fl.Model):
     def equations(self, k=1.0):
         return [eq(der(self.x), -helper(k) * self.x)]
 """
-    d0 = cache.code_digest(make(base))
+    d0 = cache_key.code_digest(make(base))
     assert d0 is not None
-    assert cache.code_digest(make("\n\n\n" + base)) == d0
-    assert cache.code_digest(make(base.replace("2.0 * x", "3.0 * x"))) != d0  # helper changed
-    assert cache.code_digest(make(base.replace("k=1.0", "k=1.5"))) != d0  # default changed
-    assert cache.code_digest(make(base.replace("-helper(k)", "helper(k)"))) != d0  # body changed
+    assert cache_key.code_digest(make("\n\n\n" + base)) == d0
+    assert cache_key.code_digest(make(base.replace("2.0 * x", "3.0 * x"))) != d0  # helper changed
+    assert cache_key.code_digest(make(base.replace("k=1.0", "k=1.5"))) != d0  # default changed
+    assert cache_key.code_digest(make(base.replace("-helper(k)", "helper(k)"))) != d0  # body changed
 
 
 # -- the pipeline ------------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from flexlib import Component
-from flexlib.core.variables import not_a_scalar, numeric_array
+from flexlib.core.values import not_a_scalar, numeric_array
 from flexlib.errors import ParameterError
 
 from .body import Body

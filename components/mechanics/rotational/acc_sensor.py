@@ -12,18 +12,6 @@ __all__ = ["AccSensor"]
 class AccSensor(PartialAbsoluteSensor):
     """Ideal sensor of the absolute angular acceleration: ``w = der(flange.phi)``, ``a = der(w)``.
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no torque is exerted on it).
-    a : Output [rad/s2]
-        Absolute angular acceleration of the flange.
-
-    Variables
-    ---------
-    w : rad/s
-        Absolute angular velocity of the flange.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.AccSensor``.

@@ -12,13 +12,6 @@ __all__ = ["AngleSensor"]
 class AngleSensor(PartialAbsoluteSensor):
     """Ideal sensor of the absolute flange angle: ``phi = flange.phi``.
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no torque is exerted on it).
-    phi : Output [rad]
-        Absolute angle of the flange.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.AngleSensor``.

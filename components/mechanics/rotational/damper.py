@@ -12,22 +12,8 @@ __all__ = ["Damper"]
 class Damper(PartialCompliantWithRelativeStates):
     """Linear 1D rotational damper: ``tau = d * w_rel``.
 
-    Parameters
-    ----------
-    d : float
-        Damping constant [N.m.s/rad], >= 0.
-
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
-
     Variables
     ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
-    w_rel : rad/s
-        Relative angular velocity ``der(phi_rel)``.
     tau : N.m
         Damper torque.
 

@@ -12,11 +12,6 @@ __all__ = ["Fixed"]
 class Fixed(Component):
     """Flange fixed in the housing at a given angle: ``flange.phi = phi0``.
 
-    Parameters
-    ----------
-    phi0 : float
-        Fixed absolute angle of the flange [rad].
-
     Connectors
     ----------
     flange : Flange

@@ -23,8 +23,6 @@ class IdealGear(PartialTwoFlangesAndSupport):
     ratio : float
         Transmission ratio, flange_a.phi/flange_b.phi [1], != 0 (a zero ratio holds flange_a and leaves
         flange_b free: a singular model).
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
 
     Connectors
     ----------

@@ -31,8 +31,6 @@ class Inertia(PartialTwoFlanges):
         Absolute rotation angle (preferred state).
     w : rad/s
         Absolute angular velocity (preferred state).
-    a : rad/s2
-        Absolute angular acceleration.
 
     References
     ----------

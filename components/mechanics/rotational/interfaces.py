@@ -34,6 +34,21 @@ class Flange(Connector):
     tau = Flow(unit="N.m", doc="Cut torque in the flange, positive into the component")
 
 
+def add_support(node: Component, use_support: bool) -> None:
+    """The structural option ``use_support`` of ``node``; when on, its ``support`` flange (the housing)."""
+    node.use_support = flag(node, "use_support", use_support, structural=True)
+    if node.use_support:
+        node.support = Flange(doc="Support (housing) flange")
+
+
+def support_rows(node: Component, reaction: Any) -> list:
+    """``phi_support`` of ``node`` from its support flange (0 without one), and the support's torque
+    ``reaction``."""
+    if not node.use_support:
+        return [eq(node.phi_support, 0.0)]
+    return [eq(node.phi_support, node.support.phi), eq(node.support.tau, reaction)]
+
+
 class PartialTwoFlanges(Component):
     """Component with two rotational flanges, ``flange_a`` and ``flange_b``."""
 
@@ -45,6 +60,11 @@ class PartialCompliant(PartialTwoFlanges):
     """Compliant connection of two flanges: ``tau = flange_b.tau = -flange_a.tau``.
 
     A subclass adds one equation for ``tau`` (MSL Rotational.Interfaces.PartialCompliant).
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
     """
 
     phi_rel = Variable(unit="rad", doc="Relative rotation angle, flange_b.phi - flange_a.phi")
@@ -78,22 +98,23 @@ class PartialOneFlangeAndSupport(Component):
     ----------
     use_support : bool
         True if the ``support`` flange is enabled, otherwise implicitly grounded.
+
+    Connectors
+    ----------
+    support : Flange
+        Housing (only if ``use_support``); takes ``-flange.tau``.
     """
 
     phi_support = Variable(unit="rad", doc="Absolute rotation angle of the support (0 if not used)")
-    flange = Flange(doc="Driven flange")
+    flange = Flange(doc="Driven flange; ``flange.tau`` is the torque needed to move it")
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support, structural=True)
-        if self.use_support:
-            self.support = Flange(doc="Support (housing) flange")
+        add_support(self, use_support)
 
     def support_equations(self) -> list:
         """``phi_support`` from the support (or 0) and the support reaction torque."""
-        if not self.use_support:
-            return [eq(self.phi_support, 0.0)]
-        return [eq(self.phi_support, self.support.phi), eq(self.support.tau, -self.flange.tau)]
+        return support_rows(self, -self.flange.tau)
 
 
 class PartialTwoFlangesAndSupport(PartialTwoFlanges):
@@ -109,29 +130,30 @@ class PartialTwoFlangesAndSupport(PartialTwoFlanges):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support, structural=True)
-        if self.use_support:
-            self.support = Flange(doc="Support (housing) flange")
+        add_support(self, use_support)
 
     def support_equations(self) -> list:
         """``phi_support`` from the support (or 0) and the support reaction torque."""
-        if not self.use_support:
-            return [eq(self.phi_support, 0.0)]
-        return [eq(self.phi_support, self.support.phi),
-                eq(self.support.tau, -self.flange_a.tau - self.flange_b.tau)]
+        return support_rows(self, -self.flange_a.tau - self.flange_b.tau)
 
 
 class PartialAbsoluteSensor(Component):
     """Sensor measuring an absolute flange quantity; it exerts no torque on the flange."""
 
-    flange = Flange(doc="Flange whose motion is measured")
+    flange = Flange(doc="Measured flange (no torque is exerted on it)")
 
     def equations(self) -> list:
         return [eq(self.flange.tau, 0.0)]
 
 
 class PartialRelativeSensor(PartialTwoFlanges):
-    """Sensor between two flanges; its torques balance: ``flange_a.tau + flange_b.tau = 0``."""
+    """Sensor between two flanges; its torques balance: ``flange_a.tau + flange_b.tau = 0``.
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        Measured flanges (no torque is exerted on them).
+    """
 
     def equations(self) -> list:
         return [eq(self.flange_a.tau + self.flange_b.tau, 0.0)]

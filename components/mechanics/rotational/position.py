@@ -16,29 +16,6 @@ class Position(PartialOneFlangeAndSupport):
     the first and second derivatives of the reference, so the compiler differentiates the
     equations that produce ``phi_ref`` (the reference must be twice differentiable).
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    phi_ref : Input [rad]
-        Reference angle of the flange relative to the support.
-    flange : Flange
-        Driven flange; ``flange.tau`` is the torque needed to move it.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.tau``.
-
-    Variables
-    ---------
-    phi : rad
-        Flange angle relative to the support.
-    w : rad/s
-        Relative angular velocity.
-    a : rad/s2
-        Relative angular acceleration.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sources.Position``

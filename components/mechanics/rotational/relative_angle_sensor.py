@@ -14,8 +14,6 @@ class RelativeAngleSensor(PartialRelativeSensor):
 
     Connectors
     ----------
-    flange_a, flange_b : Flange
-        Measured flanges (no torque is exerted on them).
     phi_rel : Output [rad]
         Relative angle.
 

@@ -14,15 +14,8 @@ class RelativeSpeedSensor(PartialRelativeSensor):
 
     Connectors
     ----------
-    flange_a, flange_b : Flange
-        Measured flanges (no torque is exerted on them).
     w_rel : Output [rad/s]
         Relative angular velocity.
-
-    Variables
-    ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
 
     References
     ----------

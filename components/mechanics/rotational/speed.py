@@ -15,29 +15,6 @@ class Speed(PartialOneFlangeAndSupport):
     ``w = der(flange.phi - phi_support) = w_ref``; the angle is the integral of the
     reference and needs an initial condition (e.g. ``init={"phi": 0.0}``).
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    w_ref : Input [rad/s]
-        Reference angular velocity of the flange relative to the support.
-    flange : Flange
-        Driven flange; ``flange.tau`` is the torque needed to move it.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.tau``.
-
-    Variables
-    ---------
-    phi : rad
-        Flange angle relative to the support.
-    w : rad/s
-        Relative angular velocity.
-    a : rad/s2
-        Relative angular acceleration.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sources.Speed``

@@ -12,13 +12,6 @@ __all__ = ["SpeedSensor"]
 class SpeedSensor(PartialAbsoluteSensor):
     """Ideal sensor of the absolute angular velocity: ``w = der(flange.phi)``.
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no torque is exerted on it).
-    w : Output [rad/s]
-        Absolute angular velocity of the flange.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.SpeedSensor``.

@@ -12,22 +12,8 @@ __all__ = ["Spring"]
 class Spring(PartialCompliant):
     """Linear 1D rotational spring: ``tau = c * (phi_rel - phi_rel0)``.
 
-    Parameters
-    ----------
-    c : float
-        Spring constant [N.m/rad], >= 0.
-    phi_rel0 : float
-        Unstretched spring angle [rad].
-
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
-
     Variables
     ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
     tau : N.m
         Spring torque.
 

@@ -14,26 +14,8 @@ class SpringDamper(PartialCompliantWithRelativeStates):
 
     ``tau = c * (phi_rel - phi_rel0) + d * w_rel``.
 
-    Parameters
-    ----------
-    c : float
-        Spring constant [N.m/rad], >= 0.
-    d : float
-        Damping constant [N.m.s/rad], >= 0.
-    phi_rel0 : float
-        Unstretched spring angle [rad].
-
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.tau = tau``, ``flange_a.tau = -tau``.
-
     Variables
     ---------
-    phi_rel : rad
-        Relative angle ``flange_b.phi - flange_a.phi``.
-    w_rel : rad/s
-        Relative angular velocity ``der(phi_rel)``.
     tau : N.m
         Total torque.
     tau_c, tau_d : N.m

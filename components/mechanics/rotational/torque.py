@@ -15,20 +15,6 @@ class Torque(PartialOneFlangeAndSupport):
     A positive ``tau`` accelerates the flange in the positive direction; the reaction acts
     on the support.
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    tau : Input [N.m]
-        Accelerating torque acting at the flange.
-    flange : Flange
-        Driven flange.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.tau``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sources.Torque``.

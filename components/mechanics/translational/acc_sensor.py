@@ -12,18 +12,6 @@ __all__ = ["AccSensor"]
 class AccSensor(PartialAbsoluteSensor):
     """Ideal sensor of the absolute acceleration: ``v = der(flange.s)``, ``a = der(v)``.
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no force is exerted on it).
-    a : Output [m/s2]
-        Absolute acceleration of the flange.
-
-    Variables
-    ---------
-    v : m/s
-        Absolute velocity of the flange.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sensors.AccSensor``.

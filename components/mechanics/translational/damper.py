@@ -12,22 +12,8 @@ __all__ = ["Damper"]
 class Damper(PartialCompliantWithRelativeStates):
     """Linear 1D translational damper: ``f = d * v_rel``.
 
-    Parameters
-    ----------
-    d : float
-        Damping constant [N.s/m], >= 0.
-
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.f = f``, ``flange_a.f = -f``.
-
     Variables
     ---------
-    s_rel : m
-        Relative distance ``flange_b.s - flange_a.s``.
-    v_rel : m/s
-        Relative velocity ``der(s_rel)``.
     f : N
         Damper force.
 

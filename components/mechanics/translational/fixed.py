@@ -12,11 +12,6 @@ __all__ = ["Fixed"]
 class Fixed(Component):
     """Flange fixed in the housing at a given position: ``flange.s = s0``.
 
-    Parameters
-    ----------
-    s0 : float
-        Fixed absolute position of the flange [m].
-
     Connectors
     ----------
     flange : Flange

@@ -15,20 +15,6 @@ class Force(PartialOneFlangeAndSupport):
     A positive ``f`` accelerates the flange in the positive direction; the reaction acts on
     the support.
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    f : Input [N]
-        Driving force acting at the flange.
-    flange : Flange
-        Driven flange.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.f``.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sources.Force``.

@@ -58,6 +58,11 @@ class PartialCompliant(PartialTwoFlanges):
     """Compliant connection of two flanges: ``f = flange_b.f = -flange_a.f``.
 
     A subclass adds one equation for ``f`` (MSL Translational.Interfaces.PartialCompliant).
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        ``flange_b.f = f``, ``flange_a.f = -f``.
     """
 
     s_rel = Variable(unit="m", doc="Relative distance, flange_b.s - flange_a.s")
@@ -90,10 +95,15 @@ class PartialOneFlangeAndSupport(Component):
     ----------
     use_support : bool
         True if the ``support`` flange is enabled, otherwise implicitly grounded.
+
+    Connectors
+    ----------
+    support : Flange
+        Housing (only if ``use_support``); takes ``-flange.f``.
     """
 
     s_support = Variable(unit="m", doc="Absolute position of the support (0 if not used)")
-    flange = Flange(doc="Driven flange")
+    flange = Flange(doc="Driven flange; ``flange.f`` is the force needed to move it")
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
@@ -111,14 +121,20 @@ class PartialOneFlangeAndSupport(Component):
 class PartialAbsoluteSensor(Component):
     """Sensor measuring an absolute flange quantity; it exerts no force on the flange."""
 
-    flange = Flange(doc="Flange whose motion is measured")
+    flange = Flange(doc="Measured flange (no force is exerted on it)")
 
     def equations(self) -> list:
         return [eq(self.flange.f, 0.0)]
 
 
 class PartialRelativeSensor(PartialTwoFlanges):
-    """Sensor between two flanges; its forces balance: ``flange_a.f + flange_b.f = 0``."""
+    """Sensor between two flanges; its forces balance: ``flange_a.f + flange_b.f = 0``.
+
+    Connectors
+    ----------
+    flange_a, flange_b : Flange
+        Measured flanges (no force is exerted on them).
+    """
 
     def equations(self) -> list:
         return [eq(self.flange_a.f + self.flange_b.f, 0.0)]

@@ -12,13 +12,6 @@ __all__ = ["Mass"]
 class Mass(PartialRigid):
     """Sliding mass with inertia: ``m * der(v) = flange_a.f + flange_b.f``, ``v = der(s)``.
 
-    Parameters
-    ----------
-    m : float
-        Mass of the sliding mass [kg], >= 0.
-    L : float
-        Length of the component, from flange_a to flange_b [m].
-
     Connectors
     ----------
     flange_a, flange_b : Flange
@@ -30,8 +23,6 @@ class Mass(PartialRigid):
         Absolute position of the centre of the mass (preferred state).
     v : m/s
         Absolute velocity (preferred state).
-    a : m/s2
-        Absolute acceleration.
 
     References
     ----------

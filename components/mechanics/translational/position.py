@@ -16,29 +16,6 @@ class Position(PartialOneFlangeAndSupport):
     first and second derivatives of the reference, so the compiler differentiates the
     equations that produce ``s_ref`` (the reference must be twice differentiable).
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    s_ref : Input [m]
-        Reference position of the flange relative to the support.
-    flange : Flange
-        Driven flange; ``flange.f`` is the force needed to move it.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.f``.
-
-    Variables
-    ---------
-    s : m
-        Flange position relative to the support.
-    v : m/s
-        Relative velocity.
-    a : m/s2
-        Relative acceleration.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sources.Position``

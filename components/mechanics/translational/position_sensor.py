@@ -12,13 +12,6 @@ __all__ = ["PositionSensor"]
 class PositionSensor(PartialAbsoluteSensor):
     """Ideal sensor of the absolute flange position: ``s = flange.s``.
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no force is exerted on it).
-    s : Output [m]
-        Absolute position of the flange.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sensors.PositionSensor``.

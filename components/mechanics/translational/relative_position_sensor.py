@@ -14,8 +14,6 @@ class RelativePositionSensor(PartialRelativeSensor):
 
     Connectors
     ----------
-    flange_a, flange_b : Flange
-        Measured flanges (no force is exerted on them).
     s_rel : Output [m]
         Relative position.
 

@@ -14,15 +14,8 @@ class RelativeSpeedSensor(PartialRelativeSensor):
 
     Connectors
     ----------
-    flange_a, flange_b : Flange
-        Measured flanges (no force is exerted on them).
     v_rel : Output [m/s]
         Relative velocity.
-
-    Variables
-    ---------
-    s_rel : m
-        Relative position ``flange_b.s - flange_a.s``.
 
     References
     ----------

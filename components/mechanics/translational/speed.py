@@ -15,29 +15,6 @@ class Speed(PartialOneFlangeAndSupport):
     ``v = der(flange.s - s_support) = v_ref``; the position is the integral of the
     reference and needs an initial condition (e.g. ``init={"s": 0.0}``).
 
-    Parameters
-    ----------
-    use_support : bool
-        True if the ``support`` flange is enabled, otherwise implicitly grounded.
-
-    Connectors
-    ----------
-    v_ref : Input [m/s]
-        Reference velocity of the flange relative to the support.
-    flange : Flange
-        Driven flange; ``flange.f`` is the force needed to move it.
-    support : Flange
-        Housing (only if ``use_support``); takes ``-flange.f``.
-
-    Variables
-    ---------
-    s : m
-        Flange position relative to the support.
-    v : m/s
-        Relative velocity.
-    a : m/s2
-        Relative acceleration.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sources.Speed``

@@ -12,13 +12,6 @@ __all__ = ["SpeedSensor"]
 class SpeedSensor(PartialAbsoluteSensor):
     """Ideal sensor of the absolute velocity: ``v = der(flange.s)``.
 
-    Connectors
-    ----------
-    flange : Flange
-        Measured flange (no force is exerted on it).
-    v : Output [m/s]
-        Absolute velocity of the flange.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sensors.SpeedSensor``.

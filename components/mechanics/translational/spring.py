@@ -12,22 +12,8 @@ __all__ = ["Spring"]
 class Spring(PartialCompliant):
     """Linear 1D translational spring: ``f = c * (s_rel - s_rel0)``.
 
-    Parameters
-    ----------
-    c : float
-        Spring constant [N/m], >= 0.
-    s_rel0 : float
-        Unstretched spring length [m].
-
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.f = f``, ``flange_a.f = -f``.
-
     Variables
     ---------
-    s_rel : m
-        Relative distance ``flange_b.s - flange_a.s``.
     f : N
         Spring force (tension positive).
 

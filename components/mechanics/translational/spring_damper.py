@@ -14,26 +14,8 @@ class SpringDamper(PartialCompliantWithRelativeStates):
 
     ``f = c * (s_rel - s_rel0) + d * v_rel``.
 
-    Parameters
-    ----------
-    c : float
-        Spring constant [N/m], >= 0.
-    d : float
-        Damping constant [N.s/m], >= 0.
-    s_rel0 : float
-        Unstretched spring length [m].
-
-    Connectors
-    ----------
-    flange_a, flange_b : Flange
-        ``flange_b.f = f``, ``flange_a.f = -f``.
-
     Variables
     ---------
-    s_rel : m
-        Relative distance ``flange_b.s - flange_a.s``.
-    v_rel : m/s
-        Relative velocity ``der(s_rel)``.
     f : N
         Total force.
     f_c, f_d : N

@@ -581,7 +581,7 @@ def test_fluid_record_is_part_of_the_cache_key():
     The fluid's numbers are constants in the equations; the engine's cache key hashes plain-data
     attributes only, so the components store a tuple copy of the record (``fluid_record``).
     """
-    from flexlib.compile.cache import model_key
+    from flexlib.compile.cache_key import model_key
 
     a = model_key(FilledVolume(1e-4, 1e-3, 1e6), {})
     b = model_key(FilledVolume(1e-4, 1e-3, 1e6, fluid=Fluid(beta=1.2e9)), {})
