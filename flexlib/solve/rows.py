@@ -92,7 +92,7 @@ class RowEvaluator:
 def segments(traj: Any, default: CompiledModel,
              pvec: np.ndarray) -> Iterator[tuple[CompiledModel, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                                  np.ndarray]]:
-    """The rows of a :class:`~flexlib.solve.ida.Trajectory` grouped by the model that produced them (state
+    """The rows of a :class:`~flexlib.solve.trajectory.Trajectory` grouped by the model that produced them (state
     switches change it): ``(model, rows, T, Y, YP, P)`` with row-major arrays and ``P`` = parameters
     ``pvec`` followed by each row's relation values."""
     if not traj.t:

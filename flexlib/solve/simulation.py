@@ -44,14 +44,15 @@ from flexlib.errors import (
 from flexlib.results.hdf5 import save_result
 from flexlib.results.result import Result
 from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
-from flexlib.solve.ida import Trajectory, check_assertions, integrate
-from flexlib.solve.ida_native import integrate_native
+from flexlib.solve.events import check_assertions
 from flexlib.solve.initialization import Initializer
-from flexlib.solve.native import native_available
+from flexlib.solve.loop import run_loop
 from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
 from flexlib.solve.run_options import check_params, check_run_arguments
 from flexlib.solve.signals import sigterm_as_interrupt
+from flexlib.solve.solvers import as_solver
 from flexlib.solve.static import integrate_static
+from flexlib.solve.trajectory import Trajectory
 
 __all__ = ["Experiment", "Simulation"]
 
@@ -407,16 +408,18 @@ class Simulation:
             Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM). An
             earlier result file is replaced; an existing file of another kind (text, another program's HDF5, a
             device), a name ending in a path separator or in another format's extension (``.csv``) is refused.
-        solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"}
+        solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"} or Solver
+            A solver object carries its own options (``flexlib.IDA(max_order=2, linear_solver="klu")``,
+            ``flexlib.CasadiIDAS()``; :mod:`flexlib.solve.solvers`); the strings stand for those objects.
             ``"ida"`` (default): SUNDIALS IDA with its step loop in C and the model evaluated in C, Python only
             at outputs, events and due state-selection checks (``"ida-native"``, see
-            ``flexlib/solve/ida_native.py``) when that driver is available (gcc on PATH builds it once per
+            ``flexlib/solve/backends/ida_c.py``) when that driver is available (gcc on PATH builds it once per
             machine); otherwise — no compiler, a failed build, ``FLEXLIB_NATIVE=0`` in the environment — the
             same IDA stepped from Python through scikit-sundae, with no error.
             ``"ida-native"``: the C driver; :class:`~flexlib.errors.NativeSolverError` if it is unavailable.
-            ``"ida-sksundae"``: IDA stepped from Python through scikit-sundae (``flexlib/solve/ida.py``).
+            ``"ida-sksundae"``: IDA stepped from Python through scikit-sundae (``flexlib/solve/backends/sksundae.py``).
             ``"casadi-idas"``: CasADi's built-in IDAS, all in C, same results and events (see
-            ``flexlib/solve/casadi_idas.py``).
+            ``flexlib/solve/backends/casadi.py``).
         dynamic_states : bool
             Re-select the states during the run when the selected dummy-derivative blocks become
             ill-conditioned (the IDA backends; see ``flexlib/solve/state_selection.py``).
@@ -455,7 +458,7 @@ class Simulation:
             output_times=output_times, rtol=rtol, atol=atol, max_step=max_step, max_steps=max_steps, params=params,
             steady_state=steady_state, dynamic_states=dynamic_states, progress=progress, solver=solver,
             result_file=result_file, max_order=max_order)
-        t0, t1 = opts.t_start, opts.t_end
+        t0 = opts.t_start
         m = self.compiled
         starts, pvec, p = self._parameters(opts.params)
         with sigterm_as_interrupt() as stop:
@@ -466,28 +469,8 @@ class Simulation:
                                                                       opts.steady_state)
                 t_init = _time.perf_counter() - wall
                 m = self.compiled  # (another build if the cached one did not fit this instance)
-                extra: dict[str, Any] = {}
-                if opts.solver in ("ida", "ida-native", "ida-sksundae"):
-                    native = opts.solver == "ida-native" or (opts.solver == "ida" and native_available())
-                    backend = integrate_native if native else integrate
-                    if m.has_state_choice and opts.dynamic_states:
-                        extra["monitor"] = self._monitor()
-                else:
-                    from flexlib.solve.casadi_idas import integrate_casadi as backend
                 check_assertions(m, p, t0)
-                if m.n == 0:  # every variable is an expression of time and parameters: nothing to integrate
-                    traj = integrate_static(m, p, t0, t1, opts.grid)
-                else:
-                    run_opts = dict(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
-                                    max_order=opts.max_order,
-                                    progress=opts.progress, **extra)
-                    try:
-                        traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
-                    except NativeSolverError:
-                        if opts.solver != "ida":
-                            raise
-                        # the default backend could not set up the C driver for this model: step IDA from Python
-                        traj = integrate(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
+                traj = self._integrate(opts, m, p, y0, yp0)
             except SolverError as err:
                 stop.stopping = True
                 traj = err.result if isinstance(err.result, Trajectory) else Trajectory(status="failed",
@@ -514,6 +497,25 @@ class Simulation:
             err.result = result  # type: ignore[attr-defined]
             raise
         return result
+
+    def _integrate(self, opts: Any, m: CompiledModel, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray) -> Trajectory:
+        """The run's integration from the consistent start: the solver's adapter driven by the run loop (the static
+        rows of a model without unknowns), with the fallback of the default solver where the C driver cannot be set
+        up for this model."""
+        if m.n == 0:  # every variable is an expression of time and parameters: nothing to integrate
+            return integrate_static(m, p, opts.t_start, opts.t_end, opts.grid)
+        solver = as_solver(opts.solver)
+        while True:
+            integ = solver.integrator(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step,
+                                      max_order=opts.max_order, max_steps=opts.max_steps)
+            monitor = self._monitor() if m.has_state_choice and opts.dynamic_states and integ.monitors else None
+            try:
+                return run_loop(integ, m, self.initializer, p, y0, yp0, opts.t_start, opts.t_end, opts.grid,
+                                max_steps=opts.max_steps, progress=opts.progress, monitor=monitor)
+            except NativeSolverError:
+                if solver.fallback is None:
+                    raise
+                solver = solver.fallback  # the C driver could not be set up for this model: IDA from Python
 
     def initialize(self, *, t_start: float | None = None, params: dict[str, Any] | None = None,
                    steady_state: bool = False) -> Result:
