@@ -1,5 +1,5 @@
 """Benchmark: the C driver's linear solvers on the models' own iteration matrices (issue 9; the size rule of
-``flexlib.solve.ida_native.linear_solver``).
+``flexlib.solve.backends.ida_c.linear_solver``).
 
 Each model runs on the default backend (the C driver, generated C once gcc has finished) with each linear solver
 forced through ``FLEXLIB_LINSOL``: SUNDIALS' dense LU (up to 350 unknowns), SUNDIALS' SuperLU_MT (COLAMD ordering
