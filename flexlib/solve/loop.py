@@ -244,7 +244,7 @@ class _Loop:
 
     def check_states(self) -> None:
         """The state-selection monitor's check (when due), and the switch to a better-conditioned selection."""
-        from flexlib.solve.initialization import Initializer
+        from flexlib.solve.init.initializer import Initializer
 
         y, yp = self.state()
         skipped, self.unseen = self.unseen - 1, 0

@@ -38,7 +38,7 @@ from flexlib.results.result import Result
 from flexlib.solve.assemble import assemble_result
 from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
 from flexlib.solve.events import check_assertions
-from flexlib.solve.initialization import Initializer
+from flexlib.solve.init.initializer import Initializer
 from flexlib.solve.loop import run_loop
 from flexlib.solve.options import BuildOptions, Experiment, RunOptions, span_end
 from flexlib.solve.parameters import ParameterTable
@@ -532,7 +532,7 @@ class Simulation:
         return y, yp
 
     def _consistent_start(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
-        """Stage 4 proper: :meth:`flexlib.solve.initialization.Initializer.consistent_start`."""
+        """Stage 4 proper: :meth:`flexlib.solve.init.initializer.Initializer.consistent_start`."""
         return self.initializer.consistent_start(t0, p, starts, steady)
 
     def _result(self, traj: Trajectory, pvec: np.ndarray, t_init: float, rtol: float, atol: float) -> Result:
