@@ -53,6 +53,7 @@ import flexlib as fl
 from flexlib.compile.cache import gather_values
 from flexlib.compile.index_reduction import _pick_columns
 from flexlib.solve import state_selection as ss
+from flexlib.solve import sundae_callbacks
 from flexlib.solve.backends import base, sksundae
 from flexlib.solve.simulation import Simulation
 from flexlib.solve.solvers import integrate
@@ -191,7 +192,7 @@ def monitor_table() -> None:
 def _count_calls(run) -> dict[str, int]:
     """Callback calls of one run (``run()``), counted by wrapping the callback methods (not timed)."""
     calls = {"resfn": 0, "jacfn": 0, "_jacfn_dense": 0, "eventsfn": 0}
-    saved = {k: getattr(sksundae.Callbacks, k) for k in calls}
+    saved = {k: getattr(sundae_callbacks.Callbacks, k) for k in calls}
 
     def wrap(name, fn):  # scikit-sundae checks the callback signatures: no *args
         if name == "eventsfn":
@@ -210,11 +211,11 @@ def _count_calls(run) -> dict[str, int]:
 
     try:
         for k, fn in saved.items():
-            setattr(sksundae.Callbacks, k, wrap(k, fn))
+            setattr(sundae_callbacks.Callbacks, k, wrap(k, fn))
         run()
     finally:
         for k, fn in saved.items():
-            setattr(sksundae.Callbacks, k, fn)
+            setattr(sundae_callbacks.Callbacks, k, fn)
     calls["jacfn"] += calls.pop("_jacfn_dense")
     return calls
 

@@ -1,5 +1,5 @@
 """Cost of the exact-zero guard in the compiled state-event function (CasADi ``if_else``, see
-``flexlib.solve.backends.sksundae.off_zero``) against the plain indicators, on the boom of
+``flexlib.solve.backends.sundae_callbacks.off_zero``) against the plain indicators, on the boom of
 ``tests/robustness/test_initialization.py`` (4 watched relations). Interleaved, three rounds.
 
     python benchmarks/event_zero_guard.py
@@ -22,7 +22,7 @@ import numpy as np
 from test_initialization import _boom
 
 import flexlib as fl
-from flexlib.solve.backends import sksundae
+from flexlib.solve import sundae_callbacks
 from flexlib.solve.events import state_relations
 
 
@@ -35,7 +35,7 @@ def main() -> None:
     z = m.sx_function("ind")(t, y, yp, pp)
     plain = ca.Function("a", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in rel])])
     guard = ca.Function("b", [t, y, yp, pp],
-                        [ca.vertcat(*[sksundae.off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
+                        [ca.vertcat(*[sundae_callbacks.off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
     keep = []  # the buffers read these arrays: keep them alive
     calls = []
     for f in (plain, guard):

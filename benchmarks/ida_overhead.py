@@ -40,7 +40,7 @@ from chain import casadi_reference
 
 import flexlib as fl
 from flexlib.compile.cache import gather_values
-from flexlib.solve.backends import sksundae
+from flexlib.solve import sundae_callbacks
 from flexlib.solve.solvers import integrate
 from models.n_mass_chain import NMassChain
 
@@ -54,7 +54,7 @@ def measure(n: int) -> None:
     _, starts = gather_values(sim.model)
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     grid = np.linspace(0.0, T_END, 101)
-    cb = sksundae.Callbacks(m, p.copy(), np.zeros(0, dtype=int), dense=False)
+    cb = sundae_callbacks.Callbacks(m, p.copy(), np.zeros(0, dtype=int), dense=False)
     opts = dict(rtol=RTOL, atol=ATOL * m.nominal, algebraic_idx=[int(i) for i in np.flatnonzero(~m.differential)],
                 linsolver="sparse", sparsity=cb.pattern, jacfn=cb.jacfn, max_num_steps=100000)
     with warnings.catch_warnings():

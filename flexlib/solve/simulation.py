@@ -250,11 +250,9 @@ class Simulation:
         dt_out : float, optional
             Output interval [s]; without it (and without ``output_times``) every step is recorded.
         output_times : array_like, optional
-            Output times [s] (strictly increasing, inside the span). With either, the result has rows at the start
-            and at ``t_end``.
+            Output times [s] (strictly increasing, inside the span). With either, rows at the start and at ``t_end``.
         rtol, atol : float, optional
-            Tolerances (``atol`` scaled by each variable's ``nominal``); machine epsilon ``<= rtol < 1``,
-            ``atol >= 1e-50``.
+            Tolerances (``atol`` scaled by each ``nominal``); machine epsilon ``<= rtol < 1``, ``atol >= 1e-50``.
         max_step : float
             Maximum step size [s]; 0: unlimited.
         max_steps : int
@@ -266,21 +264,15 @@ class Simulation:
         progress : bool, optional
             Progress bar (default: shown for runs longer than about 2 s).
         result_file : str or os.PathLike, optional
-            HDF5 file to write the result to, also when the run fails or is interrupted (Ctrl-C, SIGTERM); an
-            earlier result file is replaced, a file of another kind or format is refused.
+            HDF5 file for the result, also of a failed or interrupted run (an earlier result file is replaced).
         solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"} or Solver
-            ``"ida"`` (default): SUNDIALS IDA stepped in C (``flexlib/solve/backends/ida_c.py``) where that driver
-            builds (gcc on PATH; ``FLEXLIB_NATIVE=0`` turns it off), else stepped from Python through
-            scikit-sundae (``flexlib/solve/backends/sksundae.py``) with no error; ``"ida-native"``: the C driver
-            (:class:`~flexlib.errors.NativeSolverError` if unavailable); ``"ida-sksundae"``: scikit-sundae;
-            ``"casadi-idas"``: CasADi's IDAS (``flexlib/solve/backends/casadi.py``). A solver object carries its
-            own options: ``flexlib.IDA(max_order=2, linear_solver="klu")``, ``flexlib.CasadiIDAS()``.
+            ``"ida"``: IDA stepped in C where the driver builds (gcc; ``FLEXLIB_NATIVE=0`` turns it off), else
+            through scikit-sundae; the others force one backend (:mod:`flexlib.solve.solvers`). A solver object
+            carries its options: ``flexlib.IDA(max_order=2, linear_solver="klu")``, ``flexlib.CasadiIDAS()``.
         dynamic_states : bool
-            Re-select the states when the selected dummy-derivative blocks become ill-conditioned (IDA backends;
-            ``flexlib/solve/state_selection.py``).
+            Re-select the states when the selected dummy-derivative blocks become ill-conditioned.
         max_order : int, optional
-            Highest BDF order, 1–5 (default: ``experiment.max_order``, else 5); orders above 2 are not A-stable
-            (``docs/engine.md``, "BDF order").
+            Highest BDF order, 1–5 (default: ``experiment.max_order``, else 5; ``docs/engine.md``, "BDF order").
         options : RunOptions, optional
             All of the above as one record; an argument given next to it replaces its field.
 
@@ -291,19 +283,11 @@ class Simulation:
         Raises
         ------
         RunArgumentError
-            An argument is invalid (checked before any work; a ``ValueError``). See docs/results.md.
+            An argument is invalid (checked before any work; a ``ValueError``); ``ModelError``: a bad ``experiment``.
         SolverError
-            The integration failed; ``err.result`` holds the result up to the failure, its last row at the last
-            point the solver accepted (also on an output grid).
-        SimulationInterrupted
-            Ctrl-C or SIGTERM; ``err.result`` holds the result up to the interrupt, likewise.
-        ModelError
-            The model's ``experiment`` is not an :class:`Experiment`.
-
-        Warns
-        -----
-        ResultSaveWarning
-            ``result_file`` could not be written; the result is returned (or attached to the error) anyway.
+            The integration failed; ``err.result`` holds the result up to the failure (its last row at the last
+            point the solver accepted). ``SimulationInterrupted`` (Ctrl-C, SIGTERM) likewise. A ``result_file``
+            that cannot be written is a ``ResultSaveWarning``; the result is kept.
         """
         given = dict(t_end=t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol, atol=atol,
                      max_step=max_step, max_steps=max_steps, params=params, steady_state=steady_state,

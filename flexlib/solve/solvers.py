@@ -44,6 +44,10 @@ class Solver:
     def integrator(self, *, rtol: float, atol: float, max_step: float, max_order: int,
                    max_steps: int) -> Integrator:
         """The adapter of one run (``max_order``: the run's, used where the solver object has none) [SI units]."""
+        return self.adapter(rtol, atol, max_step, self.max_order or max_order, max_steps)
+
+    def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
+        """The :class:`~flexlib.solve.backends.base.Integrator` with these options (a subclass's own)."""
         raise NotImplementedError
 
 
@@ -84,28 +88,23 @@ class IDA(Solver):
     def fallback(self) -> Solver | None:  # type: ignore[override]
         return IDA(self.max_order, self.linear_solver, native=False) if self.native is None else None
 
-    def integrator(self, *, rtol: float, atol: float, max_step: float, max_order: int,
-                   max_steps: int) -> Integrator:
+    def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
         from flexlib.solve.native import native_available
 
-        order = self.max_order or max_order
         if self.native or (self.native is None and native_available()):
             from flexlib.solve.backends.ida_c import IdaC
 
-            return IdaC(rtol, atol, max_step, order, self.linear_solver)
+            return IdaC(rtol, atol, max_step, max_order, self.linear_solver)
         from flexlib.solve.backends.sksundae import SkSundae
 
-        return SkSundae(rtol, atol, max_step, order)
+        return SkSundae(rtol, atol, max_step, max_order)
 
 
 @dataclass(frozen=True)
 class CasadiIDAS(Solver):
     """CasADi's built-in IDAS, every step in C; state events located on its output grid.
 
-    Parameters
-    ----------
-    max_order : int, optional
-        Highest BDF order, 1–5 (default: the run's ``max_order``).
+    ``max_order`` (optional) is the highest BDF order as for :class:`IDA`.
     """
 
     max_order: int | None = None
@@ -114,11 +113,10 @@ class CasadiIDAS(Solver):
     def __post_init__(self) -> None:
         _check_order("CasadiIDAS", self.max_order)
 
-    def integrator(self, *, rtol: float, atol: float, max_step: float, max_order: int,
-                   max_steps: int) -> Integrator:
+    def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
         from flexlib.solve.backends.casadi import CasadiIdas
 
-        return CasadiIdas(rtol, atol, max_step, self.max_order or max_order, max_steps)
+        return CasadiIdas(rtol, atol, max_step, max_order, max_steps)
 
 
 #: The solver strings of ``run(solver=...)`` and the objects they stand for

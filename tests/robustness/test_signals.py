@@ -16,8 +16,7 @@ import pytest
 import flexlib as fl
 from flexlib import Variable, der, eq
 from flexlib.results import hdf5
-from flexlib.solve import native, signals, trajectory
-from flexlib.solve.backends import sksundae
+from flexlib.solve import native, signals, sundae_callbacks, trajectory
 
 
 class Osc(fl.Model):
@@ -67,7 +66,7 @@ def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
     residual evaluation of IDA stepped from Python, or, on the C driver (whose residual is not Python), when its
     second block of steps returns (the first point where a signal that arrived during C steps reaches Python)."""
     calls = {"n": 0, "blocks": 0}
-    original = sksundae.Callbacks.resfn
+    original = sundae_callbacks.Callbacks.resfn
 
     def resfn(self, t, y, yp, r):
         calls["n"] += 1
@@ -84,7 +83,7 @@ def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
             signal.raise_signal(signum)
         return out
 
-    monkeypatch.setattr(sksundae.Callbacks, "resfn", resfn)
+    monkeypatch.setattr(sundae_callbacks.Callbacks, "resfn", resfn)
     monkeypatch.setattr(native.Driver, "advance", blocks)
 
 

@@ -146,7 +146,7 @@ class BackwardEulerSolver(Solver):
     h: float = 1e-3
     label = "backward-euler"
 
-    def integrator(self, *, rtol, atol, max_step, max_order, max_steps):
+    def adapter(self, rtol, atol, max_step, max_order, max_steps):
         return BackwardEuler(self.h, rtol, atol)
 
 
