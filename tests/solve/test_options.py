@@ -7,26 +7,15 @@ import os
 
 import numpy as np
 import pytest
+from test_integrator_protocol import PushedOscillator, exact_x
 
 import flexlib as fl
-from flexlib import Parameter, Variable, der, eq
 from flexlib.solve.native import native_available
-
-
-class Osc(fl.Model):
-    """x'' = −k·x."""
-
-    k = Parameter(4.0, unit="N/m")
-    x = Variable(unit="m")
-    v = Variable(unit="m/s")
-
-    def equations(self):
-        return [eq(der(self.x), self.v), eq(der(self.v), -self.k * self.x)]
 
 
 @pytest.fixture(scope="module")
 def sim() -> fl.Simulation:
-    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    return fl.Simulation(PushedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
 def test_solver_object_carries_max_order(sim):
@@ -72,12 +61,12 @@ def test_run_options_record(sim):
 
 def test_build_options_record():
     before = os.environ.get("FLEXLIB_EXPLICIT")
-    sim = fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), build=fl.BuildOptions(codegen=False, use_cache=False,
-                                                                              explicit=False, tree_frames="keep"))
+    options = fl.BuildOptions(codegen=False, use_cache=False, explicit=False, tree_frames="keep")
+    sim = fl.Simulation(PushedOscillator(init={"x": 1.0, "v": 0.0}), build=options)
     assert sim.build_options.explicit is False and os.environ.get("FLEXLIB_EXPLICIT") == before  # scoped to the build
     res = sim.run(1.0, dt_out=0.5, progress=False)
-    np.testing.assert_allclose(res["x"], np.cos(2.0 * res.t), atol=1e-5)
+    np.testing.assert_allclose(res["x"], exact_x(res.t), atol=1e-5)
     with pytest.raises(fl.RunArgumentError, match="not both"):
-        fl.Simulation(Osc(), codegen=False, build=fl.BuildOptions())
+        fl.Simulation(PushedOscillator(), codegen=False, build=fl.BuildOptions())
     with pytest.raises(fl.RunArgumentError, match="BuildOptions"):
-        fl.Simulation(Osc(), build={"codegen": False})
+        fl.Simulation(PushedOscillator(), build={"codegen": False})
