@@ -12,7 +12,7 @@ For N = 10, 100, 1000 masses (10 s simulated, rtol 1e-6, atol 1e-8, 101 output p
   z = [y_d'; y_a]; same tolerances, initial values and output grid; build time excluded), with the
   ratio flexlib / CasADi-IDAS, twice: error test on ``y`` only (as flexlib; the derivatives added by
   the implicit trick get atol 1e10) and with CasADi's defaults (error test on x and z);
-* flexlib's alternative backend ``flexlib.solve.casadi_idas.integrate_casadi`` (integrators cached);
+* flexlib's alternative backend ``flexlib.solve.backends.casadi`` (integrators cached);
 * agreement: the largest relative difference of all mass positions against flexlib's default run.
 
 Run: ``python benchmarks/chain.py [N ...]`` (from the repository root). No timing is asserted.
@@ -35,7 +35,7 @@ import casadi as ca
 import numpy as np
 
 import flexlib as fl
-from flexlib.solve.casadi_idas import integrate_casadi
+from flexlib.solve.solvers import integrate
 from models.n_mass_chain import NMassChain
 
 T_END, RTOL, ATOL, N_OUT, REPEAT = 10.0, 1e-6, 1e-8, 101, 3
@@ -145,7 +145,7 @@ def bench(n: int) -> dict:
 
     # flexlib's casadi_idas backend (first call builds and caches its integrators)
     def backend():
-        return integrate_casadi(m, sim.initializer, p.copy(), y0, yp0, 0.0, T_END, grid, rtol=RTOL, atol=ATOL)
+        return integrate("casadi-idas", m, sim.initializer, p.copy(), y0, yp0, 0.0, T_END, grid, rtol=RTOL, atol=ATOL)
 
     wall = time.perf_counter()
     backend()

@@ -30,6 +30,7 @@ No timing is asserted.
 from __future__ import annotations
 
 import os
+from functools import partial
 
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
@@ -50,9 +51,11 @@ import sksundae as sun
 
 import flexlib as fl
 from flexlib.compile.index_reduction import _pick_columns
-from flexlib.solve import ida
 from flexlib.solve import state_selection as ss
+from flexlib.solve import sundae_callbacks
+from flexlib.solve.backends import base, sksundae
 from flexlib.solve.simulation import Simulation
+from flexlib.solve.solvers import integrate
 
 REPEAT = 3
 
@@ -188,7 +191,7 @@ def monitor_table() -> None:
 def _count_calls(run) -> dict[str, int]:
     """Callback calls of one run (``run()``), counted by wrapping the callback methods (not timed)."""
     calls = {"resfn": 0, "jacfn": 0, "_jacfn_dense": 0, "eventsfn": 0}
-    saved = {k: getattr(ida._Callbacks, k) for k in calls}
+    saved = {k: getattr(sundae_callbacks.Callbacks, k) for k in calls}
 
     def wrap(name, fn):  # scikit-sundae checks the callback signatures: no *args
         if name == "eventsfn":
@@ -207,11 +210,11 @@ def _count_calls(run) -> dict[str, int]:
 
     try:
         for k, fn in saved.items():
-            setattr(ida._Callbacks, k, wrap(k, fn))
+            setattr(sundae_callbacks.Callbacks, k, wrap(k, fn))
         run()
     finally:
         for k, fn in saved.items():
-            setattr(ida._Callbacks, k, fn)
+            setattr(sundae_callbacks.Callbacks, k, fn)
     calls["jacfn"] += calls.pop("_jacfn_dense")
     return calls
 
@@ -264,22 +267,23 @@ def _split_one(name: str, make, kw: dict, ida_before) -> None:
         sun.ida.IDA.step = timed_step
         try:
             t0 = time.perf_counter()
-            tr = module.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid, progress=False)
+            fn = module.integrate if module is not None else partial(integrate, "ida-sksundae")
+            tr = fn(m, sim.initializer, p.copy(), y0, yp0, 0.0, t_end, grid, progress=False)
             total = time.perf_counter() - t0
         finally:
             sun.ida.IDA.step = step
         counts.update(tr.stats)
         return total, inside[0]
 
-    calls = _count_calls(lambda: run(ida))
+    calls = _count_calls(lambda: run(None))
     after, before = [], []
     for _ in range(5):
-        after.append(run(ida))
+        after.append(run(None))
         if ida_before is not None:
             before.append(run(ida_before))
-    _, cb, _, _ = ida._make_solver(m, p.copy(), 1e-6, 1e-8, 0.0)
+    _, cb, _, _ = sksundae.make_solver(m, p.copy(), 1e-6, 1e-8, 0.0)
     r = np.zeros(m.n)
-    JJ = np.zeros((m.n, m.n)) if m.n <= ida.DENSE_MAX else np.zeros(len(m.jac_row))
+    JJ = np.zeros((m.n, m.n)) if m.n <= base.DENSE_MAX else np.zeros(len(m.jac_row))
     ev = np.zeros(cb.n_events)
     t_res = min(timeit.repeat(lambda: cb.resfn(0.1, y0, yp0, r), number=2000, repeat=5)) / 2000
     t_jac = min(timeit.repeat(lambda: cb.jacfn(0.1, y0, yp0, r, 10.0, JJ), number=500, repeat=5)) / 500

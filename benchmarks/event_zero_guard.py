@@ -24,19 +24,20 @@ import numpy as np
 from test_initialization import _boom
 
 import flexlib as fl
-from flexlib.solve import ida
+from flexlib.solve import sundae_callbacks
+from flexlib.solve.events import state_relations
 
 
 def main() -> None:
     sim = fl.Simulation(_boom())
     m = sim.compiled
     p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
-    rel = ida.state_relations(m)
+    rel = state_relations(m)
     t, y, yp, pp = ca.SX.sym("t"), ca.SX.sym("y", m.n), ca.SX.sym("yp", m.n), ca.SX.sym("p", len(p))
     z = m.sx_function("ind")(t, y, yp, pp)
     plain = ca.Function("a", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in rel])])
     guard = ca.Function("b", [t, y, yp, pp],
-                        [ca.vertcat(*[ida._off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
+                        [ca.vertcat(*[sundae_callbacks.off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
     keep = []  # the buffers read these arrays: keep them alive
     calls = []
     for f in (plain, guard):

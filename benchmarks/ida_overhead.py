@@ -1,9 +1,9 @@
-"""Where the default integrator (``flexlib.solve.ida.integrate``) spends its time, on the mass chain.
+"""Where the scikit-sundae integrator (``flexlib.solve.backends.sksundae``) spends its time, on the mass chain.
 
 For each N it times, interleaved and repeated (median of ``REPEAT`` rounds), on the same compiled
 model, tolerances, initial values and 101-point output grid:
 
-1. ``flexlib.solve.ida.integrate`` (what ``Simulation.run`` calls);
+1. ``integrate("ida-sksundae", ...)`` (the run loop over the scikit-sundae adapter);
 2. a bare loop of scikit-sundae ``IDA.step(..., "onestep")`` calls with flexlib's callbacks and
    options (the same solver work without flexlib's per-step bookkeeping);
 3. the same IDA driven in ``"normal"`` mode, one ``step()`` call per output time;
@@ -39,7 +39,8 @@ import sksundae as sun
 from chain import casadi_reference
 
 import flexlib as fl
-from flexlib.solve import ida
+from flexlib.solve import sundae_callbacks
+from flexlib.solve.solvers import integrate
 from models.n_mass_chain import NMassChain
 
 REPEAT, RTOL, ATOL, T_END = 5, 1e-6, 1e-8, 10.0
@@ -52,7 +53,7 @@ def measure(n: int) -> dict:
     _, starts = sim.model.values()
     y0, yp0 = sim._initialize(0.0, p, starts, False)
     grid = np.linspace(0.0, T_END, 101)
-    cb = ida._Callbacks(m, p.copy(), np.zeros(0, dtype=int), dense=False)
+    cb = sundae_callbacks.Callbacks(m, p.copy(), np.zeros(0, dtype=int), dense=False)
     opts = dict(rtol=RTOL, atol=ATOL * m.nominal, algebraic_idx=[int(i) for i in np.flatnonzero(~m.differential)],
                 linsolver="sparse", sparsity=cb.pattern, jacfn=cb.jacfn, max_num_steps=100000)
     with warnings.catch_warnings():
@@ -61,7 +62,7 @@ def measure(n: int) -> dict:
     counts = {}
 
     def flexlib_integrate():
-        tr = ida.integrate(m, sim.initializer, p.copy(), y0, yp0, 0.0, T_END, grid, rtol=RTOL, atol=ATOL)
+        tr = integrate("ida-sksundae", m, sim.initializer, p.copy(), y0, yp0, 0.0, T_END, grid, rtol=RTOL, atol=ATOL)
         counts.update(steps=tr.stats["steps"], nfev=tr.stats["nfev"], njev=tr.stats["njev"])
 
     def onestep():

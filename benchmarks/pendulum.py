@@ -14,6 +14,7 @@ Run: ``python benchmarks/pendulum.py`` (from the repository root). No timing is 
 from __future__ import annotations
 
 import os
+from functools import partial
 
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
@@ -25,7 +26,7 @@ import numpy as np
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq
-from flexlib.solve.casadi_idas import integrate_casadi
+from flexlib.solve.solvers import integrate
 
 T_END, RTOL, ATOL, REPEAT = 10.0, 1e-8, 1e-10, 3
 THETA0 = np.pi / 4
@@ -96,7 +97,7 @@ def main() -> None:
     p = np.concatenate([pvec, np.zeros(m.n_relations)])
     _, starts = sim.model.values()
     y0, yp0 = sim._initialize(0.0, p, starts, False)
-    for name, fn in (("casadi_idas backend, 1001 points", integrate_casadi),):
+    for name, fn in (("casadi_idas backend, 1001 points", partial(integrate, "casadi-idas")),):
         best, traj = np.inf, None
         for _ in range(REPEAT + 1):  # the first call builds the CasADi integrator
             wall = time.perf_counter()

@@ -46,14 +46,19 @@ from flexlib.errors import (
 )
 from flexlib.results.hdf5 import load_result
 from flexlib.results.result import Result
-from flexlib.solve.simulation import Experiment, Simulation
+from flexlib.solve.options import BuildOptions, Experiment, RunOptions
+from flexlib.solve.simulation import Simulation
+from flexlib.solve.solvers import IDA, CasadiIDAS
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "IDA",
     "BalanceError",
     "Build",
+    "BuildOptions",
     "CacheWarning",
+    "CasadiIDAS",
     "Component",
     "ConnectError",
     "Connector",
@@ -81,6 +86,7 @@ __all__ = [
     "ResultKeyError",
     "ResultSaveWarning",
     "RunArgumentError",
+    "RunOptions",
     "Simulation",
     "SimulationInterrupted",
     "SolverError",

@@ -1,4 +1,6 @@
-"""The CasADi-IDAS backend (``flexlib.solve.casadi_idas``) against closed-form solutions and the default backend."""
+"""The CasADi-IDAS backend (``flexlib.solve.backends.casadi``) against closed-form solutions and the default backend."""
+
+from functools import partial
 
 import casadi as ca
 import numpy as np
@@ -6,10 +8,10 @@ import pytest
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq, if_else, time
-from flexlib.solve import casadi_idas, ida
-from flexlib.solve.casadi_idas import integrate_casadi
+from flexlib.solve import casadi_dae, casadi_runner
+from flexlib.solve.solvers import integrate
 
-BACKENDS = {"ida": ida.integrate, "casadi": integrate_casadi}
+BACKENDS = {"ida": partial(integrate, "ida-sksundae"), "casadi": partial(integrate, "casadi-idas")}
 STATS_KEYS = {"steps", "nfev", "njev", "state_events", "time_events", "restarts"}
 
 
@@ -83,8 +85,8 @@ def test_dense_output_when_no_grid():
     """t_out=None (every step in the default backend) gives a uniform grid of DENSE_POINTS intervals."""
     sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     r = _run(sim, "casadi", 2.0, None)
-    assert len(r.t) == casadi_idas.DENSE_POINTS + 1
-    np.testing.assert_allclose(np.diff(r.t), 2.0 / casadi_idas.DENSE_POINTS, rtol=1e-9)
+    assert len(r.t) == casadi_runner.DENSE_POINTS + 1
+    np.testing.assert_allclose(np.diff(r.t), 2.0 / casadi_runner.DENSE_POINTS, rtol=1e-9)
     np.testing.assert_allclose(r["x"], _oscillator_exact(r.t), atol=1e-5)
 
 
@@ -246,7 +248,7 @@ def test_compiled_residual_jacobian_matches_symbolic():
     sim = fl.Simulation(FourBarLinkage(), use_cache=False, codegen=True)
     m = sim.compiled
     assert m.library is not None
-    res_c = casadi_idas.compiled_residual(m)
+    res_c = casadi_dae.compiled_residual(m)
     assert res_c is not None
     rng = np.random.default_rng(1)
     p = np.concatenate([m.param_defaults, np.zeros(m.n_relations)])
@@ -259,12 +261,12 @@ def test_compiled_residual_jacobian_matches_symbolic():
                                atol=1e-12)
     runs = {}
     for use in (True, False):
-        casadi_idas.USE_LIBRARY = use
+        casadi_runner.USE_LIBRARY = use
         try:
             runs[use] = sim.run(1.0, dt_out=0.01, rtol=1e-8, atol=1e-10, solver="casadi-idas", progress=False)
             assert sim.compiled._functions["casadi_idas"].compiled is use
         finally:
-            casadi_idas.USE_LIBRARY = True
+            casadi_runner.USE_LIBRARY = True
     for name in ("rev_crank.phi", "rev_coupler.phi", "rev_rocker.phi"):
         np.testing.assert_allclose(runs[True][name], runs[False][name], atol=1e-5, err_msg=name)
 

@@ -61,12 +61,12 @@ def test_out_of_plane_reactions_stay_zero(run):
 def test_a_failing_check_keeps_the_rows(monkeypatch):
     """If the settling itself fails (here: forced), the run's rows are kept as IDA left them, the result is
     returned, stats name the reason and a ResultCheckWarning says so: nothing is lost to the check."""
-    import flexlib.solve.simulation as simulation
+    import flexlib.solve.assemble as assemble
 
     def broken(*args, **kwargs):
         raise RuntimeError("forced failure")
 
-    monkeypatch.setattr(simulation, "settle_derivative_level", broken)
+    monkeypatch.setattr(assemble, "settle_derivative_level", broken)
     data = beam_modal_data()
     sim = fl.Simulation(PinnedFreeBeam(data, bending_modes(data)[:1], frames=[0, 32]))
     with pytest.warns(fl.ResultCheckWarning, match="forced failure"):

@@ -185,7 +185,7 @@ def test_solver_failure_keeps_and_saves_results(tmp_path):
 
 def test_interrupt_keeps_results(monkeypatch, tmp_path):
     """Ctrl-C during a run: SimulationInterrupted carries the result up to the interrupt, saved."""
-    from flexlib.solve import ida
+    from flexlib.solve import sundae_callbacks
 
     class Osc(fl.Model):
         x = Variable()
@@ -196,7 +196,7 @@ def test_interrupt_keeps_results(monkeypatch, tmp_path):
 
     sim = fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
     calls = {"n": 0}
-    original = ida._Callbacks.resfn
+    original = sundae_callbacks.Callbacks.resfn
 
     def interrupting(self, t, y, yp, r):
         calls["n"] += 1
@@ -204,7 +204,7 @@ def test_interrupt_keeps_results(monkeypatch, tmp_path):
             raise KeyboardInterrupt
         original(self, t, y, yp, r)
 
-    monkeypatch.setattr(ida._Callbacks, "resfn", interrupting)
+    monkeypatch.setattr(sundae_callbacks.Callbacks, "resfn", interrupting)
     from flexlib.solve import native
 
     advance = native.Driver.advance

@@ -11,7 +11,7 @@ import pytest
 
 import flexlib as fl
 from flexlib.solve import native, simulation
-from flexlib.solve.ida import DENSE_MAX
+from flexlib.solve.backends.base import DENSE_MAX
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "robustness"))
@@ -137,7 +137,7 @@ def test_solver_names_include_the_fallback():
 def test_blocks_of_c_steps_are_bounded_in_wall_time(osc, monkeypatch):
     """Ctrl-C, SIGTERM and the progress bar reach Python when a block of C steps returns: a block ends after
     ``CHUNK_WALL`` seconds even within its 256 steps. With the bound at 1e-12 s every block is one step."""
-    from flexlib.solve import ida_native
+    from flexlib.solve.backends import ida_c
 
     calls = {"n": 0}
     advance = native.Driver.advance
@@ -149,7 +149,7 @@ def test_blocks_of_c_steps_are_bounded_in_wall_time(osc, monkeypatch):
     monkeypatch.setattr(native.Driver, "advance", counted)
     free = osc.run(5.0, progress=False)
     n_free = calls["n"]
-    monkeypatch.setattr(ida_native, "CHUNK_WALL", 1e-12)
+    monkeypatch.setattr(ida_c, "CHUNK_WALL", 1e-12)
     calls["n"] = 0
     bounded = osc.run(5.0, progress=False)
     assert n_free < free.stats["steps"] / 10

@@ -1,4 +1,4 @@
-"""The C-driven IDA backend (``solver="ida-native"``, ``flexlib.solve.ida_native``) against closed-form
+"""The C-driven IDA backend (``solver="ida-native"``, ``flexlib.solve.backends.ida_c``) against closed-form
 solutions and against IDA stepped from Python (``solver="ida-sksundae"``, the same SUNDIALS IDA) at tight
 tolerances."""
 
@@ -16,7 +16,7 @@ from flexlib import Parameter, Variable, der, eq
 from flexlib.compile.cache import cache_dir
 from flexlib.models.n_mass_chain import NMassChain
 from flexlib.solve import native
-from flexlib.solve.ida import DENSE_MAX
+from flexlib.solve.backends.base import DENSE_MAX
 
 HERE = Path(__file__).resolve().parent
 STATS_KEYS = {"steps", "nfev", "njev", "state_events", "time_events", "restarts", "wall_model", "wall_ida",
@@ -55,9 +55,9 @@ def test_every_step_recorded_without_grid():
 
 def test_row_buffer_refills(monkeypatch):
     """More output rows than the C buffer holds: rows are copied in chunks, none lost or repeated."""
-    from flexlib.solve import ida_native
+    from flexlib.solve.backends import ida_c
 
-    monkeypatch.setattr(ida_native, "ROW_BUFFER_VALUES", 7 * 2)  # 16 rows (the minimum) per chunk
+    monkeypatch.setattr(ida_c, "ROW_BUFFER_VALUES", 7 * 2)  # 16 rows (the minimum) per chunk
     sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     grid = np.linspace(0.0, 10.0, 1001)
     r = sim.run(10.0, output_times=grid, rtol=1e-8, atol=1e-10, solver="ida-native", progress=False)
@@ -263,11 +263,11 @@ def test_failure_keeps_rows_and_names_the_variable():
 def test_ida_flags_are_named():
     """IDA's return flags are reported by IDA's own names (IDAGetReturnFlagName)."""
     sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
-    from flexlib.solve.ida_native import _make_driver
+    from flexlib.solve.backends.ida_c import make_driver
 
     m = sim.compiled
     p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
-    drv, _ = _make_driver(m, p, 1e-6, 1e-8, 0.0, 0.0, np.array([1.0, 0.0]), np.array([0.0, -4.0]))
+    drv, _ = make_driver(m, p, 1e-6, 1e-8, 0.0, 0.0, np.array([1.0, 0.0]), np.array([0.0, -4.0]))
     assert drv.flag_name(-4) == "IDA_CONV_FAIL" and drv.flag_name(-3) == "IDA_ERR_FAIL"
 
 

@@ -1,4 +1,4 @@
-"""The C driver's linear solvers (``flexlib.solve.ida_native.linear_solver``): dense LU up to ``KLU_MIN`` unknowns,
+"""The C driver's linear solvers (``flexlib.solve.backends.ida_c.linear_solver``): dense LU up to ``KLU_MIN`` unknowns,
 KLU (kvxopt's SuiteSparse: BTF + AMD ordering once, a numeric factorisation per setup) above, SuperLU_MT when KLU
 is not installed. The choice must not change the answer: on a model on each side of the size rule, every linear
 solver gives the same trajectory to 1e-6 of each variable's range at rtol 1e-9 / atol 1e-11 (reference: the dense LU,
@@ -11,7 +11,8 @@ import pytest
 import flexlib as fl
 from flexlib.models.n_link_pendulum import NLinkPendulum
 from flexlib.models.n_mass_chain import NMassChain
-from flexlib.solve import ida_native, native
+from flexlib.solve import native
+from flexlib.solve.backends import ida_c
 
 needs_klu = pytest.mark.skipif(not (native.native_available() and native.klu_available()),
                                reason="C driver or kvxopt's KLU unavailable")
@@ -39,9 +40,9 @@ def test_small_model_is_dense_and_all_solvers_agree(monkeypatch):
     """A chain of six masses (19 unknowns, below ``KLU_MIN``): the rule picks dense LU; SuperLU_MT and KLU give the
     same trajectory over 20 s to 1e-6 of each variable's range."""
     sim = fl.Simulation(NMassChain(6))
-    assert sim.compiled.n <= ida_native.KLU_MIN
+    assert sim.compiled.n <= ida_c.KLU_MIN
     monkeypatch.delenv("FLEXLIB_LINSOL", raising=False)
-    assert ida_native.linear_solver(sim.compiled) == "dense"
+    assert ida_c.linear_solver(sim.compiled) == "dense"
     res = _runs(sim, 20.0, monkeypatch)
     for ls in ("superlumt", "klu"):
         assert res[ls].success
@@ -57,9 +58,9 @@ def test_large_model_is_klu_refactorised_and_all_solvers_agree(monkeypatch):
     dense LU's."""
     monkeypatch.setenv("FLEXLIB_EXPLICIT", "0")  # the DAE as measured (99 unknowns); the stage would leave 32
     sim = fl.Simulation(NLinkPendulum(3), assume_zero_geometry=False)
-    assert sim.compiled.n > ida_native.KLU_MIN
+    assert sim.compiled.n > ida_c.KLU_MIN
     monkeypatch.delenv("FLEXLIB_LINSOL", raising=False)
-    assert ida_native.linear_solver(sim.compiled) == "klu"
+    assert ida_c.linear_solver(sim.compiled) == "klu"
     ref = sim.run(3.0, dt_out=0.01, rtol=1e-11, atol=1e-13, progress=False)
     res = _runs(sim, 3.0, monkeypatch)
     st = res["klu"].stats
@@ -75,13 +76,13 @@ def test_large_model_is_klu_refactorised_and_all_solvers_agree(monkeypatch):
 def test_without_klu_the_rule_falls_back(monkeypatch):
     """Without KLU: dense LU up to ``DENSE_MAX`` unknowns (as on the scikit-sundae route), SuperLU_MT above."""
     monkeypatch.delenv("FLEXLIB_LINSOL", raising=False)
-    monkeypatch.setattr(ida_native, "klu_available", lambda: False)
+    monkeypatch.setattr(ida_c, "klu_available", lambda: False)
 
     class Sized:
         def __init__(self, n: int) -> None:
             self.n = n
 
-    from flexlib.solve.ida import DENSE_MAX
+    from flexlib.solve.backends.base import DENSE_MAX
 
-    assert ida_native.linear_solver(Sized(DENSE_MAX)) == "dense"
-    assert ida_native.linear_solver(Sized(DENSE_MAX + 1)) == "superlumt"
+    assert ida_c.linear_solver(Sized(DENSE_MAX)) == "dense"
+    assert ida_c.linear_solver(Sized(DENSE_MAX + 1)) == "superlumt"

@@ -1,4 +1,4 @@
-"""Event re-initialisation with the model's own ``res``/``jac`` (``initialization._StatesHeld``), used for models
+"""Event re-initialisation with the model's own ``res``/``jac`` (``init.reinit.StatesHeld``), used for models
 above the C threshold of unknowns instead of a symbolic Jacobian built per run (issue 9: 0.4 s at the boom proxy's
 one time event).
 
@@ -14,8 +14,9 @@ import numpy as np
 import scipy.sparse as sps
 
 import flexlib as fl
-from flexlib.solve import initialization
-from flexlib.solve.initialization import Initializer, _StatesHeld
+from flexlib.solve.init import reinit
+from flexlib.solve.init.initializer import Initializer
+from flexlib.solve.init.reinit import StatesHeld
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_engine_events import BouncingContact
@@ -25,7 +26,7 @@ def _symbolic_held(init: Initializer) -> tuple[ca.Function, ca.Function]:
     """The held problem and its exact Jacobian, built symbolically (the path small models keep)."""
     m = init.model
     alg = np.flatnonzero(~m.differential)
-    t_s, _, ypd, yp_s, p_s = init._symbols()
+    t_s, _, ypd, yp_s, p_s = init.problem.symbols()
     ystate, ya = ca.SX.sym("ystate", len(init.diff)), ca.SX.sym("ya", len(alg))
     yfull = ca.SX.zeros(m.n)
     for k, i in enumerate(init.diff):
@@ -45,7 +46,7 @@ def test_held_problem_matches_the_symbolic_jacobian():
     m = sim.compiled
     init = Initializer(m)
     alg = np.flatnonzero(~m.differential)
-    held = _StatesHeld(m, alg, init.diff)
+    held = StatesHeld(m, alg, init.diff)
     g, jg = _symbolic_held(init)
     rng = np.random.default_rng(3)
     p = np.concatenate([sim.parameter_vector(), np.ones(m.n_relations)])  # contact branch active
@@ -70,9 +71,9 @@ def test_events_with_the_held_problem_match_the_symbolic_path(monkeypatch):
     for forced in (False, True):
         sim = fl.Simulation(BouncingContact(init={"h": 1.0, "v": 0.0}), use_cache=False)
         if forced:
-            monkeypatch.setattr(initialization, "AUTO_C_MIN_UNKNOWNS", 0)
+            monkeypatch.setattr(reinit, "AUTO_C_MIN_UNKNOWNS", 0)
         runs.append(sim.run(1.0, dt_out=0.01, rtol=1e-10, atol=1e-12))
-        assert isinstance(sim.initializer._reinit_fns[0], _StatesHeld) == forced
+        assert isinstance(sim.initializer._reinit_fns[0], StatesHeld) == forced
     sym, held = runs
     assert held.stats["state_events"] == sym.stats["state_events"] >= 2
     np.testing.assert_allclose([t for t, _ in held.events], [t for t, _ in sym.events], rtol=0, atol=1e-12)

@@ -76,11 +76,11 @@ def test_result_assembly_matches_direct_evaluation(monkeypatch):
     from test_engine_index import CartesianPendulum
 
     import flexlib.solve.simulation as simmod
-    from flexlib.solve.ida import Trajectory
+    from flexlib.solve.trajectory import Trajectory
 
     sim = fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False)
     captured: list[Trajectory] = []
-    name = "integrate_native" if simmod.native_available() else "integrate"  # the default backend
+    name = "run_loop"  # the run loop of every backend
     integrate = getattr(simmod, name)
 
     def spy(*args, **kwargs):

@@ -1,10 +1,10 @@
-"""The compiled model as CasADi's IDAS integrator sees it (used by :mod:`flexlib.solve.casadi_idas`).
+"""The compiled model as CasADi's IDAS integrator sees it (used by :mod:`flexlib.solve.casadi_runner`).
 
 Two pieces of the ``casadi-idas`` backend that depend only on the compiled model: :func:`compiled_residual`, the
 residual evaluated by the model's generated C with its sparse Jacobian supplied in C (CasADi differentiates an
 external function only through a ``jac_<name>`` companion), and :func:`fill_reducing_order`, the COLAMD order
 of the integrator's unknowns and rows that keeps its LU factors sparse. Measurements: the module docstring of
-:mod:`flexlib.solve.casadi_idas` and ``benchmarks/README.md``.
+:mod:`flexlib.solve.casadi_runner` and ``benchmarks/README.md``.
 """
 
 from __future__ import annotations

@@ -28,7 +28,7 @@ import scipy.sparse as sps
 
 from flexlib.compile.structure import group_by_owner
 
-__all__ = ["nonfinite_lines", "row_scale", "singular_lines", "step_failure_lines"]
+__all__ = ["failure_message", "nonfinite_lines", "row_scale", "singular_lines", "step_failure_lines"]
 
 #: Dense rank analysis (SVD) up to this many unknowns; pivoted QR of the scaled matrix above, up to
 #: ``_DENSE_QR_MAX`` (both O(n³): beyond that the analysis would take longer than the failure is worth).
@@ -221,3 +221,21 @@ def step_failure_lines(model: Any, p: np.ndarray, t: float, y: np.ndarray, yp: n
         lines.append("fastest-changing unknowns relative to their error weight rtol·|y| + atol·nominal "
                      "(they dominate the local error test):\n" + group_by_owner(items))
     return lines
+
+
+def failure_message(head: str, model: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray, traj: Any,
+                    rtol: float, atol: float) -> str:
+    """``head`` followed by what failed (:func:`step_failure_lines`): non-finite values at the last accepted point
+    ``(t, y, yp)`` or just after it with the equation that produced them, and the unknowns that dominate the local
+    error test, by component (``traj``: the run's rows so far, for the last step size)."""
+    from flexlib.solve.backends.base import absolute_tolerances
+
+    times = [tt for tt in traj.t if tt < t]
+    h = t - times[-1] if times else 1e-6 * max(1.0, abs(t))
+    h = max(h, 1e-12 * max(1.0, abs(t)))
+    try:
+        lines = step_failure_lines(model, p, t, np.asarray(y, dtype=float), np.asarray(yp, dtype=float), rtol,
+                                   absolute_tolerances(model, atol), h)
+    except Exception as exc:  # the diagnosis must never hide the failure itself
+        lines = [f"(no further diagnosis: {type(exc).__name__}: {exc})"]
+    return head + ("\n" + "\n".join(lines) if lines else "")

@@ -92,7 +92,7 @@ class RowEvaluator:
 def segments(traj: Any, default: CompiledModel,
              pvec: np.ndarray) -> Iterator[tuple[CompiledModel, np.ndarray, np.ndarray, np.ndarray, np.ndarray,
                                                  np.ndarray]]:
-    """The rows of a :class:`~flexlib.solve.ida.Trajectory` grouped by the model that produced them (state
+    """The rows of a :class:`~flexlib.solve.trajectory.Trajectory` grouped by the model that produced them (state
     switches change it): ``(model, rows, T, Y, YP, P)`` with row-major arrays and ``P`` = parameters
     ``pvec`` followed by each row's relation values."""
     if not traj.t:
@@ -156,24 +156,34 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
     bad = np.flatnonzero((np.abs(F) > allowed).any(axis=1))
     if bad.size == 0:
         return Y, YP, 0
+    Y, YP = settle_rows(rows, model, T, Y, YP, P, bad)
+    return Y, YP, int(bad.size)
+
+
+def _settle_jacobian(model: CompiledModel) -> ca.Function:
+    """``(t, y, yp, p) ->`` the Jacobian's nonzeros at ``c = 0`` (``∂F/∂y``) followed by those at ``c = 1``."""
+    if model.n <= DENSE_SETTLE:  # small: the SX Jacobian expanded (the VM beats an MX call per row)
+        fn = model.sx_function("jac")
+        args = fn.sx_in()[:4]
+    else:
+        fn = model.function("jac")
+        args = [ca.MX.sym(fn.name_in(k), fn.sparsity_in(k)) for k in range(4)]
+    J0, J1 = fn(*args, 0.0), fn(*args, 1.0)
+    return ca.Function("jac_settle_full", args, [ca.vertcat(ca.vec(J0.nz[:]), ca.vec(J1.nz[:]))])
+
+
+def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
+                P: np.ndarray, bad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Copies of ``Y, YP`` with the rows ``bad`` solved again from ``F = 0``, states held (at most four Newton
+    iterations on the unknowns: ``y'`` of the states, ``y`` of the algebraic unknowns; the matrix has the
+    Jacobian's pattern, a state's column from ``∂F/∂y'``, an algebraic unknown's from ``∂F/∂y``)."""
     Y, YP = np.array(Y, dtype=float, copy=True), np.array(YP, dtype=float, copy=True)
-    # Newton on the unknowns (y' of the states, y of the algebraic unknowns) with the states fixed; the matrix has
-    # the Jacobian's pattern: a state's column from ∂F/∂y', an algebraic unknown's from ∂F/∂y
+    colind = np.asarray(model.jac_colind)
+    col_of = np.repeat(np.arange(model.n), np.diff(colind))
     state_nz = np.asarray(model.differential, dtype=bool)[col_of]
     n_nz = col_of.size
-
-    def make_full() -> ca.Function:
-        if model.n <= DENSE_SETTLE:  # small: the SX Jacobian expanded (the VM beats an MX call per row)
-            fn = model.sx_function("jac")
-            args = fn.sx_in()[:4]
-        else:
-            fn = model.function("jac")
-            args = [ca.MX.sym(fn.name_in(k), fn.sparsity_in(k)) for k in range(4)]
-        J0, J1 = fn(*args, 0.0), fn(*args, 1.0)
-        return ca.Function("jac_settle_full", args, [ca.vertcat(ca.vec(J0.nz[:]), ca.vec(J1.nz[:]))])
-
     full_key = ("settle", "jac_full")
-    full = rows._entry(model, full_key, make_full)
+    full = rows._entry(model, full_key, lambda: _settle_jacobian(model))
     diff = np.asarray(model.differential, dtype=bool)
     todo = bad
     for _ in range(4):
@@ -182,19 +192,7 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
         r_all = rows.evaluate(model, "res", T[todo], Y[todo], YP[todo], P[todo])
         JV = rows.evaluate_function(full, model, full_key, T[todo], Y[todo], YP[todo], P[todo])
         data = np.where(state_nz, JV[:, n_nz:] - JV[:, :n_nz], JV[:, :n_nz])
-        steps = np.full((todo.size, model.n), np.nan)
-        if model.n <= DENSE_SETTLE:  # small models: one batched dense solve
-            A = np.zeros((todo.size, model.n, model.n))
-            A[:, row_of, col_of] = data
-            try:
-                steps = np.linalg.solve(A, r_all[:, :, None])[:, :, 0]
-            except np.linalg.LinAlgError:  # a singular row: solve them one by one below
-                steps[:] = np.nan
-        for k in np.flatnonzero(~np.isfinite(steps).all(axis=1)):
-            try:
-                steps[k] = spla.spsolve(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)), r_all[k])
-            except RuntimeError:
-                steps[k] = np.nan
+        steps = _newton_steps(model, data, r_all)
         ok = np.isfinite(steps).all(axis=1)
         rows_ok, steps = todo[ok], steps[ok]
         YP[np.ix_(rows_ok, diff)] -= steps[:, diff]
@@ -202,4 +200,25 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
         size = np.maximum(np.abs(YP[np.ix_(rows_ok, diff)]).max(axis=1, initial=0.0),
                           np.abs(Y[np.ix_(rows_ok, ~diff)]).max(axis=1, initial=0.0))
         todo = rows_ok[np.abs(steps).max(axis=1, initial=0.0) > 1e-12 * (size + 1e-300)]
-    return Y, YP, int(bad.size)
+    return Y, YP
+
+
+def _newton_steps(model: CompiledModel, data: np.ndarray, r_all: np.ndarray) -> np.ndarray:
+    """Newton steps of the rows (matrices of the Jacobian's pattern with the nonzeros ``data``; NaN where singular)."""
+    colind = np.asarray(model.jac_colind)
+    row_of = np.asarray(model.jac_row)
+    col_of = np.repeat(np.arange(model.n), np.diff(colind))
+    steps = np.full((len(r_all), model.n), np.nan)
+    if model.n <= DENSE_SETTLE:  # small models: one batched dense solve
+        A = np.zeros((len(r_all), model.n, model.n))
+        A[:, row_of, col_of] = data
+        try:
+            steps = np.linalg.solve(A, r_all[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:  # a singular row: solve them one by one below
+            steps[:] = np.nan
+    for k in np.flatnonzero(~np.isfinite(steps).all(axis=1)):
+        try:
+            steps[k] = spla.spsolve(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)), r_all[k])
+        except RuntimeError:
+            steps[k] = np.nan
+    return steps

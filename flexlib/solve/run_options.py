@@ -73,8 +73,8 @@ class RunOptions:
         As given.
     progress : bool or None
         As given.
-    solver : str
-        One of :data:`SOLVERS`.
+    solver : str or Solver
+        One of :data:`SOLVERS`, or a solver object (:mod:`flexlib.solve.solvers`).
     result_file : Path or None
         Where the result will be written.
     """
@@ -91,7 +91,7 @@ class RunOptions:
     steady_state: bool
     dynamic_states: bool
     progress: bool | None
-    solver: str
+    solver: Any
     result_file: Path | None
 
 
@@ -382,14 +382,17 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
                    f"reaching t_end = {t1:g} s from t_start = {t0:g} s needs at least {(t1 - t0) / h:.3g} steps, "
                    f"more than max_steps = {n_steps}", "raise max_step or max_steps")
     params = check_params(params)
-    if not isinstance(solver, str) or solver not in SOLVERS:
+    from flexlib.solve.solvers import Solver
+
+    if not isinstance(solver, Solver) and (not isinstance(solver, str) or solver not in SOLVERS):
         close = ""
         if isinstance(solver, str):
             import difflib
 
             match = difflib.get_close_matches(solver.lower(), SOLVERS, n=1)
             close = f"did you mean {match[0]!r}?" if match else ""
-        raise _bad("solver", solver, f"must be one of {', '.join(repr(s) for s in SOLVERS)}", close)
+        raise _bad("solver", solver, f"must be one of {', '.join(repr(s) for s in SOLVERS)} or a solver object "
+                   "(flexlib.IDA(...), flexlib.CasadiIDAS(...))", close)
     if max_order is not None and (isinstance(max_order, (bool, np.bool_)) or not isinstance(max_order, numbers.Real)
                                   or not float(max_order).is_integer() or not 1 <= max_order <= 5):
         raise _bad("max_order", max_order, "must be an integer 1 ... 5 (the highest BDF order) or None")

@@ -7,33 +7,24 @@ of runs with different parameters, tolerances and end times, without recompiling
 from __future__ import annotations
 
 import copy
-import difflib
-import hashlib
-import math
 import os
-import platform
 import time as _time
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from flexlib.compile import cache
+from flexlib.compile import pipeline
 from flexlib.compile.codegen import CompiledModel
-from flexlib.compile.constants import assumptions_hold, check_assumed
+from flexlib.compile.constants import assumptions_hold
 from flexlib.compile.index_reduction import IndexReport
-from flexlib.compile.pipeline import Build, build, build_key, check_build_options, check_model
+from flexlib.compile.pipeline import Build, build_key, check_build_options, check_model
 from flexlib.core.component import Component
-from flexlib.core.values import numeric_array
-from flexlib.core.variables import Parameter
 from flexlib.errors import (
     ModelError,
     NativeSolverError,
-    ParameterError,
-    ResultCheckWarning,
     ResultFileError,
     ResultSaveWarning,
     RunArgumentError,
@@ -43,77 +34,22 @@ from flexlib.errors import (
 )
 from flexlib.results.hdf5 import save_result
 from flexlib.results.result import Result
+from flexlib.solve.assemble import assemble_result
 from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
-from flexlib.solve.ida import Trajectory, check_assertions, integrate
-from flexlib.solve.ida_native import integrate_native
-from flexlib.solve.initialization import Initializer
-from flexlib.solve.native import native_available
-from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
+from flexlib.solve.events import check_assertions
+from flexlib.solve.init.initializer import Initializer
+from flexlib.solve.loop import run_loop
+from flexlib.solve.options import BuildOptions, Experiment, RunOptions, span_end
+from flexlib.solve.parameters import ParameterTable
+from flexlib.solve.rows import RowEvaluator, segments
 from flexlib.solve.run_options import check_params, check_run_arguments
 from flexlib.solve.signals import sigterm_as_interrupt
+from flexlib.solve.solvers import as_solver
+from flexlib.solve.start_cache import load_start, store_start
 from flexlib.solve.static import integrate_static
+from flexlib.solve.trajectory import Trajectory
 
 __all__ = ["Experiment", "Simulation"]
-
-
-@dataclass(frozen=True)
-class Experiment:
-    """Default run settings of a model class (Modelica ``experiment`` annotation).
-
-    Parameters
-    ----------
-    t_end : float
-        End time [s].
-    dt_out : float or None
-        Output interval [s]; None records every solver step.
-    rtol, atol : float
-        Tolerances.
-    t_start : float
-        Start time [s].
-    max_order : int or None
-        Highest BDF order of IDA (1–5); None: 5 (:meth:`Simulation.run`).
-
-    Raises
-    ------
-    RunArgumentError
-        An unknown field (Modelica's names ``StopTime``, ``Interval``, ``Tolerance``, ``StartTime`` are named with
-        flexlib's). The values are checked when a run uses them, naming the experiment.
-    """
-
-    t_end: float = 1.0
-    dt_out: float | None = None
-    rtol: float = 1e-6
-    atol: float = 1e-8
-    t_start: float = 0.0
-    max_order: int | None = None
-
-    def __new__(cls, *args: Any, **kwargs: Any) -> Experiment:
-        unknown = [k for k in kwargs if k not in _EXPERIMENT_FIELDS]
-        if unknown:
-            name = unknown[0]
-            meant = _MODELICA_NAMES.get(name.replace("_", "").lower()) or next(
-                iter(difflib.get_close_matches(name, _EXPERIMENT_FIELDS, n=1)), None)
-            hint = f" (did you mean {meant}?)" if meant else ""
-            raise RunArgumentError(f"Experiment(): unknown field {name!r}{hint}; the fields are "
-                                   f"{', '.join(_EXPERIMENT_FIELDS)}")
-        return super().__new__(cls)
-
-
-_EXPERIMENT_FIELDS = ("t_end", "dt_out", "rtol", "atol", "t_start", "max_order")
-#: Modelica's ``experiment`` annotation names (and common spellings, lower case without ``_``) -> flexlib's fields.
-_MODELICA_NAMES = {"stoptime": "t_end", "tend": "t_end", "tstop": "t_end", "interval": "dt_out", "dt": "dt_out",
-                   "tolerance": "rtol", "starttime": "t_start", "tstart": "t_start", "t0": "t_start",
-                   "maxorder": "max_order"}
-
-
-def _span_end(t0: Any) -> Any:
-    """A time after ``t0`` by a span the argument check accepts (``t0 + 1``, more for a large ``|t0|``) for a finite
-    number; anything else is passed on for the argument check to report."""
-    try:
-        start = float(t0)
-    except (TypeError, ValueError):
-        return t0
-    return start + max(1.0, 1e-9 * abs(start)) if math.isfinite(start) else start + 1.0
 
 
 class Simulation:
@@ -133,6 +69,9 @@ class Simulation:
         out-of-plane unknowns of planar mechanisms (default: yes unless ``FLEXLIB_ZERO_GEOMETRY=0``). A run
         whose ``params`` make one of them non-zero raises :class:`~flexlib.errors.StructureChangedError`
         naming it; pass ``False`` to sweep such a parameter. See :func:`flexlib.build`.
+    build : BuildOptions, optional
+        All build options as one record (instead of the three keywords; it also sets the compiler's switches
+        ``explicit`` and ``tree_frames``, otherwise taken from the environment).
 
     Raises
     ------
@@ -160,20 +99,31 @@ class Simulation:
     """
 
     def __init__(self, model: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
-                 assume_zero_geometry: bool | None = None) -> None:
+                 assume_zero_geometry: bool | None = None, build: BuildOptions | None = None) -> None:
         check_model(model, "Simulation()")
+        if build is not None:
+            if not isinstance(build, BuildOptions):
+                raise RunArgumentError(f"Simulation(): build = {build!r:.80} is invalid: must be a "
+                                       "flexlib.BuildOptions(...)")
+            if not (isinstance(codegen, str) and codegen == "auto" and use_cache is True
+                    and assume_zero_geometry is None):
+                raise RunArgumentError("Simulation(): give the build options either as build=BuildOptions(...) "
+                                       "or as keywords, not both")
+            codegen, use_cache, assume_zero_geometry = build.codegen, build.use_cache, build.zero_geometry
         check_build_options(codegen, use_cache, assume_zero_geometry, "Simulation()")
         codegen = "auto" if isinstance(codegen, str) else bool(codegen)
+        self.build_options = BuildOptions(codegen, bool(use_cache), assume_zero_geometry,
+                                          *((build.explicit, build.tree_frames) if build is not None else ()))
         self.model = model
         self._codegen = codegen
         self._use_cache = bool(use_cache)
-        self.build: Build = build(model, codegen=codegen, use_cache=use_cache,
-                                  assume_zero_geometry=assume_zero_geometry)
+        with self.build_options.environment():
+            self.build: Build = pipeline.build(model, codegen=codegen, use_cache=use_cache,
+                                               assume_zero_geometry=assume_zero_geometry)
         self._zero_geometry = self.build.assume_zero_geometry
         self.compiled: CompiledModel = self.build.compiled
         self.build_info: dict[str, Any] = self.build.timings
-        self.initializer = Initializer(self.compiled, lambda: self.build.structure(self.model))
-        self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
+        self.initializer = Initializer(self.compiled, self._structure)
         self.init_cached = False
         self._rows = RowEvaluator()
         self._state_monitor: Any = None
@@ -203,11 +153,14 @@ class Simulation:
         """
         check_model(model, "Simulation.with_model()")
         options = {"codegen": self._codegen, "assume_zero_geometry": self._zero_geometry}
-        key = self.build.key or build_key(self.model, **options)
-        same = (type(model) is type(self.model) and build_key(model, **options) == key
-                and assumptions_hold(self.compiled.assumed, model))
+        with self.build_options.environment():
+            key = self.build.key or build_key(self.model, **options)
+            same = (type(model) is type(self.model) and build_key(model, **options) == key
+                    and assumptions_hold(self.compiled.assumed, model))
         if not same:
-            return Simulation(model, use_cache=self._use_cache, **options)
+            opts = self.build_options
+            return Simulation(model, build=BuildOptions(self._codegen, self._use_cache, self._zero_geometry,
+                                                        opts.explicit, opts.tree_frames))
         other = copy.copy(self)
         other.model = model
         other.init_cached = False
@@ -261,98 +214,7 @@ class Simulation:
         elif not isinstance(values, Mapping):
             raise RunArgumentError(f"parameter_vector(): values = {values!r:.80} is invalid: must be a dict "
                                    f"{{'component.parameter': value}}, got a {type(values).__name__}")
-        m = self.compiled
-        vec = np.array([values.get(n, d) for n, d in zip(m.param_names, m.param_defaults, strict=True)])
-        touched: dict[int, tuple[Any, set[str]]] = {}
-        for name, value in params.items():
-            found = self._find_decl(name)
-            if found is None:
-                close = difflib.get_close_matches(name, m.param_names, n=3)
-                hint = self._not_a_parameter(name) or (f"; did you mean {', '.join(close)}?" if close else "")
-                raise ParameterError(f"unknown parameter {name!r} in model {m.name}{hint}")
-            node, decl, elem = found
-            decl_name = name.rpartition(".")[2].split("[")[0]
-            if elem is None:  # the whole declaration (scalar or array)
-                flat = np.asarray(decl.check(name, value), dtype=float).flatten(order="F")
-                for (label, _), v in zip(decl.element_names(name), flat, strict=True):
-                    vec[self._param_index[label]] = v
-            else:  # one element of an array parameter: checked below with the rest of the array
-                arr = numeric_array(value, f"{name}: parameter value", f"a real number [{decl.unit}]", ParameterError)
-                if arr.ndim:
-                    raise ParameterError(f"{name}: parameter value {value!r} is an array; give one element as a real "
-                                         f"number [{decl.unit}]")
-                vec[self._param_index[name]] = float(arr)
-            touched.setdefault(id(node), (node, set()))[1].add(decl_name)
-        for node, names in touched.values():
-            current: dict[str, np.ndarray] = {}
-            for pname, pdecl in node._decls.items():
-                if not isinstance(pdecl, Parameter):
-                    continue
-                labels = [label for label, _ in pdecl.element_names(node._label(pname))]
-                if all(label in self._param_index for label in labels):
-                    arr = np.array([vec[self._param_index[label]] for label in labels])
-                    arr = arr.reshape(pdecl.shape, order="F") if pdecl.shape else arr.reshape(())
-                else:  # not a run-time parameter of the compiled model: the instance value holds
-                    arr = node.parameter_value(pname)
-                if pname in names:
-                    arr = pdecl.check(node._label(pname), arr)
-                current[pname] = arr
-            node.validate(current)
-        check_assumed(m.assumed, m.param_names, vec, m.name)
-        return vec
-
-    def _node(self, path: str) -> Any:
-        """The component at the dotted ``path`` below the model (``""``: the model), or None."""
-        node = self.model
-        for part in path.split(".") if path else []:
-            node = node._children.get(part) if part else None  # "", ".k", "a..k": an empty part names nothing
-            if node is None:
-                return None
-        return node
-
-    def _not_a_parameter(self, name: str) -> str:
-        """What ``name`` (not a run-time parameter) is instead, as a hint for the error: a variable, a component,
-        an element of a scalar, a name with a stray ``.``; ``""`` otherwise."""
-        parts = name.split(".")
-        if not all(parts):  # a stray "." (".k", "a..k", "a.k."): the name without the empty parts, if it is one
-            joined = ".".join(part for part in parts if part)
-            return (f"; the name has an empty part (a stray '.'): did you mean {joined!r}?"
-                    if joined in self._param_index else "")
-        path, _, leaf = name.rpartition(".")
-        base = leaf.split("[")[0]
-        node = self._node(path)
-        if node is None or not base:
-            return ""
-        if base in node._children:
-            inner = [n for n in self.compiled.param_names if n.startswith(f"{name}.")]
-            listed = f" such as {', '.join(inner[:3])}" if inner else ""
-            return f"; {name!r} is a component, not a parameter: name one of its parameters{listed}"
-        decl = node._decls.get(base)
-        if decl is None:
-            return ""
-        full = f"{path}.{base}" if path else base
-        if not isinstance(decl, Parameter):
-            return (f"; {full!r} is a {type(decl).__name__.lower()}, not a parameter: its start value is set with "
-                    f"init={{{base!r}: ...}} on the component (or set_start), not with params")
-        if "[" in leaf and [label for label, _ in decl.element_names(full)] == [full]:
-            return f"; {full!r} is a scalar parameter: give {full!r} without an index"
-        return ""  # an element outside an array: the close matches name its elements
-
-    def _find_decl(self, name: str) -> tuple[Any, Parameter, Any] | None:
-        if not all(name.split(".")):  # ".k", "a..k", "k.": an empty part names nothing
-            return None
-        path, _, leaf = name.rpartition(".")
-        base = leaf.split("[")[0]
-        node = self._node(path)
-        if node is None:
-            return None
-        decl = node._decls.get(base)
-        if not isinstance(decl, Parameter):
-            return None
-        elem = None if "[" not in leaf else leaf
-        if elem is not None and name not in self._param_index:
-            return None
-        return node, decl, elem
+        return ParameterTable(self.model, self.compiled).vector(params, values)
 
     # -- running -----------------------------------------------------------------------------------
     def _experiment(self) -> Experiment:
@@ -375,26 +237,23 @@ class Simulation:
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
         max_step: float = 0.0, max_steps: int = 5_000_000, params: dict[str, Any] | None = None,
         steady_state: bool = False, progress: bool | None = None, result_file: str | os.PathLike | None = None,
-        solver: str = "ida", dynamic_states: bool = True, max_order: int | None = None,
+        solver: Any = "ida", dynamic_states: bool = True, max_order: int | None = None,
+        options: RunOptions | None = None,
     ) -> Result:
-        """Initialise and integrate.
+        """Initialise and integrate. An argument left out (None) takes the model's ``experiment``.
 
         Parameters
         ----------
-        t_end : float, optional
-            End time [s] (default: the model's ``experiment``).
-        t_start : float, optional
-            Start time [s].
+        t_end, t_start : float, optional
+            End and start time [s].
         dt_out : float, optional
             Output interval [s]; without it (and without ``output_times``) every step is recorded.
         output_times : array_like, optional
-            Explicit output times [s] (numbers, strictly increasing, inside the span). The result also has a row at
-            the start and one at ``t_end`` (added when the times stop before it), as with ``dt_out``.
+            Output times [s] (strictly increasing, inside the span). With either, rows at the start and at ``t_end``.
         rtol, atol : float, optional
-            Relative and absolute tolerance (``atol`` scaled by each variable's ``nominal``); machine epsilon
-            ``<= rtol < 1``, ``atol >= 1e-50``.
+            Tolerances (``atol`` scaled by each ``nominal``); machine epsilon ``<= rtol < 1``, ``atol >= 1e-50``.
         max_step : float
-            Maximum step size [s]; 0 means unlimited.
+            Maximum step size [s]; 0: unlimited.
         max_steps : int
             Maximum number of internal steps.
         params : dict, optional
@@ -404,29 +263,17 @@ class Simulation:
         progress : bool, optional
             Progress bar (default: shown for runs longer than about 2 s).
         result_file : str or os.PathLike, optional
-            Write the result to this HDF5 file, also when the run fails or is interrupted (Ctrl-C, SIGTERM). An
-            earlier result file is replaced; an existing file of another kind (text, another program's HDF5, a
-            device), a name ending in a path separator or in another format's extension (``.csv``) is refused.
-        solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"}
-            ``"ida"`` (default): SUNDIALS IDA with its step loop in C and the model evaluated in C, Python only
-            at outputs, events and due state-selection checks (``"ida-native"``, see
-            ``flexlib/solve/ida_native.py``) when that driver is available (gcc on PATH builds it once per
-            machine); otherwise — no compiler, a failed build, ``FLEXLIB_NATIVE=0`` in the environment — the
-            same IDA stepped from Python through scikit-sundae, with no error.
-            ``"ida-native"``: the C driver; :class:`~flexlib.errors.NativeSolverError` if it is unavailable.
-            ``"ida-sksundae"``: IDA stepped from Python through scikit-sundae (``flexlib/solve/ida.py``).
-            ``"casadi-idas"``: CasADi's built-in IDAS, all in C, same results and events (see
-            ``flexlib/solve/casadi_idas.py``).
+            HDF5 file for the result, also of a failed or interrupted run (an earlier result file is replaced).
+        solver : {"ida", "ida-native", "ida-sksundae", "casadi-idas"} or Solver
+            ``"ida"``: IDA stepped in C where the driver builds (gcc; ``FLEXLIB_NATIVE=0`` turns it off), else
+            through scikit-sundae; the others force one backend (:mod:`flexlib.solve.solvers`). A solver object
+            carries its options: ``flexlib.IDA(max_order=2, linear_solver="klu")``, ``flexlib.CasadiIDAS()``.
         dynamic_states : bool
-            Re-select the states during the run when the selected dummy-derivative blocks become
-            ill-conditioned (the IDA backends; see ``flexlib/solve/state_selection.py``).
+            Re-select the states when the selected dummy-derivative blocks become ill-conditioned.
         max_order : int, optional
-            Highest BDF order IDA may use, 1–5 (MATLAB ode15s' ``MaxOrder``); default: the model's
-            ``experiment.max_order``, else 5. Orders above 2 are not A-stable: in a machine whose fast, lightly
-            damped modes (elastic modes, oil springs) are not the subject of the run, IDA at a loose tolerance
-            then cuts its steps and rings such a mode at the tolerance level, where BDF2 damps it. A run that
-            resolves the vibration itself at a tight tolerance is faster at high order. See ``docs/engine.md``,
-            "BDF order".
+            Highest BDF order, 1–5 (default: ``experiment.max_order``, else 5; ``docs/engine.md``, "BDF order").
+        options : RunOptions, optional
+            All of the above as one record; an argument given next to it replaces its field.
 
         Returns
         -------
@@ -435,76 +282,24 @@ class Simulation:
         Raises
         ------
         RunArgumentError
-            An argument is invalid (checked before any work; a ``ValueError``). See docs/results.md.
+            An argument is invalid (checked before any work; a ``ValueError``); ``ModelError``: a bad ``experiment``.
         SolverError
-            The integration failed; ``err.result`` holds the result up to the failure, its last row at the last
-            point the solver accepted (also on an output grid).
-        SimulationInterrupted
-            Ctrl-C or SIGTERM; ``err.result`` holds the result up to the interrupt, likewise.
-        ModelError
-            The model's ``experiment`` is not an :class:`Experiment`.
-
-        Warns
-        -----
-        ResultSaveWarning
-            ``result_file`` could not be written; the result is returned (or attached to the error) anyway.
+            The integration failed; ``err.result`` holds the result up to the failure (its last row at the last
+            point the solver accepted). ``SimulationInterrupted`` (Ctrl-C, SIGTERM) likewise. A ``result_file``
+            that cannot be written is a ``ResultSaveWarning``; the result is kept.
         """
-        exp = self._experiment()
-        opts = check_run_arguments(
-            exp, f"{type(self.model).__name__}.experiment", t_start=t_start, t_end=t_end, dt_out=dt_out,
-            output_times=output_times, rtol=rtol, atol=atol, max_step=max_step, max_steps=max_steps, params=params,
-            steady_state=steady_state, dynamic_states=dynamic_states, progress=progress, solver=solver,
-            result_file=result_file, max_order=max_order)
-        t0, t1 = opts.t_start, opts.t_end
-        m = self.compiled
+        given = dict(t_end=t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol, atol=atol,
+                     max_step=max_step, max_steps=max_steps, params=params, steady_state=steady_state,
+                     progress=progress, result_file=result_file, solver=solver, dynamic_states=dynamic_states,
+                     max_order=max_order)
+        if options is not None:
+            if not isinstance(options, RunOptions):
+                raise RunArgumentError(f"run(): options = {options!r:.80} is invalid: must be a flexlib.RunOptions")
+            given = options.merged(given)
+        opts = check_run_arguments(self._experiment(), f"{type(self.model).__name__}.experiment", **given)
         starts, pvec, p = self._parameters(opts.params)
         with sigterm_as_interrupt() as stop:
-            wall = _time.perf_counter()
-            t_init = 0.0
-            try:
-                starts, pvec, p, y0, yp0 = self._start_on_fitting_build(t0, starts, pvec, p, opts.params,
-                                                                      opts.steady_state)
-                t_init = _time.perf_counter() - wall
-                m = self.compiled  # (another build if the cached one did not fit this instance)
-                extra: dict[str, Any] = {}
-                if opts.solver in ("ida", "ida-native", "ida-sksundae"):
-                    native = opts.solver == "ida-native" or (opts.solver == "ida" and native_available())
-                    backend = integrate_native if native else integrate
-                    if m.has_state_choice and opts.dynamic_states:
-                        extra["monitor"] = self._monitor()
-                else:
-                    from flexlib.solve.casadi_idas import integrate_casadi as backend
-                check_assertions(m, p, t0)
-                if m.n == 0:  # every variable is an expression of time and parameters: nothing to integrate
-                    traj = integrate_static(m, p, t0, t1, opts.grid)
-                else:
-                    run_opts = dict(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step, max_steps=opts.max_steps,
-                                    max_order=opts.max_order,
-                                    progress=opts.progress, **extra)
-                    try:
-                        traj = backend(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
-                    except NativeSolverError:
-                        if opts.solver != "ida":
-                            raise
-                        # the default backend could not set up the C driver for this model: step IDA from Python
-                        traj = integrate(m, self.initializer, p, y0, yp0, t0, t1, opts.grid, **run_opts)
-            except SolverError as err:
-                stop.stopping = True
-                traj = err.result if isinstance(err.result, Trajectory) else Trajectory(status="failed",
-                                                                                        message=str(err))
-                if isinstance(err, SimulationInterrupted) and stop.signalled:
-                    traj.message = traj.message.replace("by the user", f"by {stop.by}")
-                    err.args = (traj.message,)
-                err.result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-                self._keep(err.result, opts.result_file)
-                raise
-            except KeyboardInterrupt:  # Ctrl-C or SIGTERM outside the backend's step loop (initialisation)
-                stop.stopping = True
-                where = "during initialisation" if not t_init else "before the first step"
-                traj = Trajectory(status="interrupted", message=f"interrupted by {stop.by} {where} at t = {t0:.10g} s")
-                result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-                self._keep(result, opts.result_file)
-                raise SimulationInterrupted(traj.message, result) from None
+            traj, pvec, t_init = self._initialize_and_integrate(opts, stop, starts, pvec, p)
             stop.stopping = True
             result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
             self._keep(result, opts.result_file)
@@ -514,6 +309,57 @@ class Simulation:
             err.result = result  # type: ignore[attr-defined]
             raise
         return result
+
+    def _initialize_and_integrate(self, opts: Any, stop: Any, starts: dict, pvec: np.ndarray,
+                                  p: np.ndarray) -> tuple[Trajectory, np.ndarray, float]:
+        """The consistent start and the integration of :meth:`run`: the trajectory, the parameter vector used and
+        the initialisation's wall time [s]. A failure or interrupt is raised with its result (written to the
+        result file)."""
+        t0 = opts.t_start
+        wall = _time.perf_counter()
+        t_init = 0.0
+        try:
+            starts, pvec, p, y0, yp0 = self._start_on_fitting_build(t0, starts, pvec, p, opts.params,
+                                                                  opts.steady_state)
+            t_init = _time.perf_counter() - wall
+            m = self.compiled  # (another build if the cached one did not fit this instance)
+            check_assertions(m, p, t0)
+            return self._integrate(opts, m, p, y0, yp0), pvec, t_init
+        except SolverError as err:
+            stop.stopping = True
+            traj = err.result if isinstance(err.result, Trajectory) else Trajectory(status="failed", message=str(err))
+            if isinstance(err, SimulationInterrupted) and stop.signalled:
+                traj.message = traj.message.replace("by the user", f"by {stop.by}")
+                err.args = (traj.message,)
+            err.result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+            self._keep(err.result, opts.result_file)
+            raise
+        except KeyboardInterrupt:  # Ctrl-C or SIGTERM outside the backend's step loop (initialisation)
+            stop.stopping = True
+            where = "during initialisation" if not t_init else "before the first step"
+            traj = Trajectory(status="interrupted", message=f"interrupted by {stop.by} {where} at t = {t0:.10g} s")
+            result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+            self._keep(result, opts.result_file)
+            raise SimulationInterrupted(traj.message, result) from None
+
+    def _integrate(self, opts: Any, m: CompiledModel, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray) -> Trajectory:
+        """The run's integration from the consistent start: the solver's adapter driven by the run loop (the static
+        rows of a model without unknowns), with the fallback of the default solver where the C driver cannot be set
+        up for this model."""
+        if m.n == 0:  # every variable is an expression of time and parameters: nothing to integrate
+            return integrate_static(m, p, opts.t_start, opts.t_end, opts.grid)
+        solver = as_solver(opts.solver)
+        while True:
+            integ = solver.integrator(rtol=opts.rtol, atol=opts.atol, max_step=opts.max_step,
+                                      max_order=opts.max_order, max_steps=opts.max_steps)
+            monitor = self._monitor() if m.has_state_choice and opts.dynamic_states and integ.monitors else None
+            try:
+                return run_loop(integ, m, self.initializer, p, y0, yp0, opts.t_start, opts.t_end, opts.grid,
+                                max_steps=opts.max_steps, progress=opts.progress, monitor=monitor)
+            except NativeSolverError:
+                if solver.fallback is None:
+                    raise
+                solver = solver.fallback  # the C driver could not be set up for this model: IDA from Python
 
     def initialize(self, *, t_start: float | None = None, params: dict[str, Any] | None = None,
                    steady_state: bool = False) -> Result:
@@ -548,7 +394,7 @@ class Simulation:
         # as this method's
         try:
             opts = check_run_arguments(
-                exp, f"{type(self.model).__name__}.experiment", t_start=t0, t_end=_span_end(t0), dt_out=None,
+                exp, f"{type(self.model).__name__}.experiment", t_start=t0, t_end=span_end(t0), dt_out=None,
                 output_times=None, rtol=None, atol=None, max_step=0.0, max_steps=1, params=params,
                 steady_state=steady_state, dynamic_states=False, progress=False, solver="ida", result_file=None,
                 max_order=None)
@@ -628,10 +474,11 @@ class Simulation:
 
     def _rebuild_uncached(self) -> None:
         """Build again from this instance's own values (no cache read or write)."""
-        self.build = build(self.model, codegen=self._codegen, use_cache=False, assume_zero_geometry=self._zero_geometry)
+        with self.build_options.environment():
+            self.build = pipeline.build(self.model, codegen=self._codegen, use_cache=False,
+                                        assume_zero_geometry=self._zero_geometry)
         self.compiled, self.build_info = self.build.compiled, self.build.timings
-        self.initializer = Initializer(self.compiled, lambda: self.build.structure(self.model))
-        self._param_index = {n: k for k, n in enumerate(self.compiled.param_names)}
+        self.initializer = Initializer(self.compiled, self._structure)
         self._rows.clear()
         self._state_monitor = None
 
@@ -643,116 +490,34 @@ class Simulation:
                 check_dropped_rows(model, T, Y.T, YP.T, P.T, run_tolerance(rtol, atol), where="during the run",
                                    overrides=params, rows=self._rows)
 
+    def _structure(self) -> Any:
+        """Stages 1–3 of this build again (a build loaded from the cache keeps only the compiled model)."""
+        with self.build_options.environment():
+            return self.build.structure(self.model)
+
     def _monitor(self) -> Any:
         from flexlib.solve.state_selection import StateSelectionMonitor
 
         if self._state_monitor is None:
             # the same pipeline as the build (stages 1-3 again if the compiled model came from the cache)
-            self._state_monitor = StateSelectionMonitor(lambda: self.build.structure(self.model))
+            self._state_monitor = StateSelectionMonitor(self._structure)
         return self._state_monitor
 
     def _initialize(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
-        """Stage 4, cached on disk by model key, parameters, start values and options.
-
-        Cached values are used only if the residual at the run's parameters is as small as when they were
-        stored; a damaged file or a failed check gives one :class:`~flexlib.errors.CacheWarning` naming the
-        file, and a fresh initialisation replaces it.
-        """
-        key = self.build.key
-        directory = cache.usable_cache_dir() if key else None
-        path = None
-        if directory is not None:
-            h = hashlib.sha256(p.tobytes() + repr((sorted(starts.items()), steady, t0)).encode()).hexdigest()[:24]
-            path = cache.entry_path(directory, self.compiled.name, f"{key}-init-{h}").with_suffix(".npz")
-            try:
-                data = cache.load_init(path)
-                if data is not None:
-                    problem = self._cached_start_problem(t0, p, data)
-                    if problem is not None:
-                        raise cache.CacheEntryError(path, problem)
-                    p[:] = data["p"]
-                    self.init_cached = True
-                    return data["y"].copy(), data["yp"].copy()
-            except cache.CacheEntryError as err:
-                cache.warn_once(err.path, f"damaged cached initial values ({err.reason}); removing them and "
-                                          "initialising afresh")
-                cache.discard(err.path)
-        self.init_cached = False
+        """Stage 4, cached on disk by model key, parameters, start values and options
+        (:mod:`flexlib.solve.start_cache`)."""
+        path, found = load_start(self.build.key, self.compiled, t0, p, starts, steady)
+        self.init_cached = found is not None
+        if found is not None:
+            return found
         y, yp = self._consistent_start(t0, p, starts, steady)
-        if path is not None:
-            residual = self._residual_norm(t0, y, yp, p)
-            try:
-                cache.store_init(path, y=y, yp=yp, p=p, residual=np.array([residual]))
-            except OSError as exc:
-                cache.warn_once(path, f"cannot store initial values ({exc})")
+        store_start(path, self.compiled, t0, y, yp, p)
         return y, yp
 
-    def _residual_norm(self, t0: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> float:
-        F = np.asarray(self.compiled.function("res")(t0, y, yp, p), dtype=float).ravel()
-        return float(np.max(np.abs(F))) if F.size else 0.0
-
-    def _cached_start_problem(self, t0: float, p: np.ndarray, data: dict[str, np.ndarray]) -> str | None:
-        """Why cached initial values must not be used for a run with parameter vector ``p`` (None: usable)."""
-        m = self.compiled
-        y, yp, pc, stored = data["y"], data["yp"], data["p"], data["residual"]
-        if y.shape != (m.n,) or yp.shape != (m.n,) or pc.shape != p.shape or stored.shape != (1,):
-            return "sizes do not match the model"
-        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(yp)) and np.all(np.isfinite(pc))):
-            return "non-finite values"
-        trial = np.concatenate([p[:m.n_params], pc[m.n_params:]])  # the run's parameters, cached relations
-        residual = self._residual_norm(t0, y, yp, trial)
-        limit = max(1e-10, 10.0 * float(stored[0]))
-        if not residual <= limit:
-            return f"largest residual {residual:.3g} at the run's parameters exceeds {limit:.3g}"
-        return None
-
     def _consistent_start(self, t0: float, p: np.ndarray, starts: dict, steady: bool) -> tuple[np.ndarray, np.ndarray]:
-        """Stage 4 proper: :meth:`flexlib.solve.initialization.Initializer.consistent_start`."""
+        """Stage 4 proper: :meth:`flexlib.solve.init.initializer.Initializer.consistent_start`."""
         return self.initializer.consistent_start(t0, p, starts, steady)
 
-    def _assemble(self, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
-                  P: np.ndarray) -> np.ndarray:
-        """All variables (aliases and outputs rebuilt by the ``out`` function) for rows ``T, Y, YP, P``."""
-        return self._rows.evaluate(model, "out", T, Y, YP, P)
-
     def _result(self, traj: Trajectory, pvec: np.ndarray, t_init: float, rtol: float, atol: float) -> Result:
-        m = self.compiled
-        names = [v.name for v in m.variables]
-        if traj.t:
-            T = np.array(traj.t)
-            values = np.zeros((len(T), len(names)))
-            repaired, settle_error = 0, ""
-            for model, rows, Ts, Y, YP, P in segments(traj, m, pvec):
-                try:
-                    Y, YP, n_fixed = settle_derivative_level(self._rows, model, Ts, Y, YP, P)
-                    repaired += n_fixed
-                except Exception as exc:  # never lose a run's rows to the check: keep them as recorded
-                    settle_error = f"{type(exc).__name__}: {exc}"
-                values[rows] = self._assemble(model, Ts, Y, YP, P)
-        else:
-            T, values = np.zeros(0), np.zeros((0, len(names)))
-        stats = dict(traj.stats)
-        if traj.t and settle_error:
-            stats["settle_error"] = settle_error
-            warnings.warn(f"{m.name}: the derivative-level unknowns (forces, accelerations) of the recorded rows "
-                          f"could not be checked ({settle_error}); they are as IDA left them", ResultCheckWarning,
-                          stacklevel=3)
-        stats.update({"rows_resettled": repaired if traj.t else 0,
-                      "wall_init": t_init, "rtol": rtol, "atol": atol, "n_states": int(m.differential.sum()),
-                      "n_unknowns": m.n, "build_cached": bool(self.build_info.get("cached")),
-                      "wall_build": float(self.build_info.get("total", 0.0))})
-        import casadi
-        import sksundae
-
-        from flexlib import __version__
-
-        meta = {"flexlib": __version__, "casadi": casadi.__version__, "scikit-sundae": sksundae.__version__,
-                "numpy": np.__version__, "python": platform.python_version(),
-                "created": _time.strftime("%Y-%m-%dT%H:%M:%S")}
-        return Result(
-            model=m.name, t=T, names=names, values=values, units=[v.unit for v in m.variables],
-            docs=[v.doc for v in m.variables], kinds=[v.kind for v in m.variables],
-            parameters={n: (float(v), u) for n, v, u in zip(m.param_names, pvec, m.param_units, strict=True)},
-            stats=stats, status=traj.status, message=traj.message, events=list(traj.events),
-            index_report=str(m.report), metadata=meta,
-        )
+        """The run's :class:`Result` (:func:`flexlib.solve.assemble.assemble_result`)."""
+        return assemble_result(traj, self.compiled, pvec, self._rows, t_init, rtol, atol, self.build_info)

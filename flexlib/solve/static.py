@@ -11,7 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.solve.ida import Trajectory, next_time_event
+from flexlib.solve.events import next_time_event
+from flexlib.solve.trajectory import Trajectory
 
 __all__ = ["integrate_static"]
 

@@ -1,7 +1,7 @@
 """Faults on the ``solver="casadi-idas"`` backend: a run that fails mid-way keeps its rows.
 
 CasADi's integrator raises without partial results, so the backend halves a failing call and retries
-until one output interval fails (``flexlib/solve/casadi_idas.py``). Each test asserts the error class,
+until one output interval fails (``flexlib/solve/backends/casadi.py``). Each test asserts the error class,
 that the message names the culprit (time of the failure and the solver), and what survives in
 ``err.result``.
 """

@@ -10,7 +10,7 @@ import pytest
 import flexlib as fl
 from flexlib.components.control import Constant, Gain, Limiter
 from flexlib.errors import InitializationError
-from flexlib.solve import initialization
+from flexlib.solve.init import initializer
 
 
 class WithRelation(fl.Model):
@@ -38,6 +38,6 @@ def test_a_point_of_another_layout_is_not_used(monkeypatch):
         err.point = (np.zeros(n + 7), np.zeros(n + 7))  # the full system's layout: more unknowns
         raise err
 
-    monkeypatch.setattr(initialization.Initializer, "initial", failing)
+    monkeypatch.setattr(initializer.Initializer, "initial", failing)
     with pytest.raises(InitializationError, match="forced"):
         sim.run(0.1, progress=False)

@@ -7,7 +7,8 @@ import pytest
 
 import flexlib as fl
 from flexlib.errors import NativeSolverError
-from flexlib.solve import ida_native, native
+from flexlib.solve import native
+from flexlib.solve.backends import ida_c
 
 needs_driver = pytest.mark.skipif(not native.native_available(),
                                   reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
@@ -45,7 +46,7 @@ def test_driver_that_cannot_be_set_up_falls_back_for_the_default_only(osc, monke
     def refuse(*args, **kwargs):
         raise NativeSolverError("the ida-native driver could not set up IDA: IDAInit failed")
 
-    monkeypatch.setattr(ida_native, "_make_driver", refuse)
+    monkeypatch.setattr(ida_c, "make_driver", refuse)
     res = osc.run(2.0, dt_out=0.1)
     assert res.success and "wall_model" not in res.stats
     with pytest.raises(NativeSolverError, match="ida-native driver could not set up IDA"):
@@ -80,7 +81,7 @@ def test_klu_requested_without_klu_names_the_package(osc, monkeypatch):
     """``FLEXLIB_LINSOL=klu`` where KLU cannot be loaded: NativeSolverError naming the linear solver and kvxopt; the
     default route (no override) still runs, on the other solvers."""
     monkeypatch.setattr(native, "klu_available", lambda: False)
-    monkeypatch.setattr(ida_native, "klu_available", lambda: False)
+    monkeypatch.setattr(ida_c, "klu_available", lambda: False)
     monkeypatch.setenv("FLEXLIB_LINSOL", "klu")
     with pytest.raises(NativeSolverError, match=r"linear solver 'klu'.*kvxopt"):
         osc.run(1.0, dt_out=0.1, solver="ida-native")
@@ -100,7 +101,7 @@ def test_no_usable_klu_library_falls_back_to_superlumt(library, monkeypatch, tmp
     assert not native.klu_available()
 
     class Big:
-        n = ida_native.KLU_MIN + 1
+        n = ida_c.KLU_MIN + 1
 
     monkeypatch.delenv("FLEXLIB_LINSOL", raising=False)
-    assert ida_native.linear_solver(Big()) == "superlumt"
+    assert ida_c.linear_solver(Big()) == "superlumt"

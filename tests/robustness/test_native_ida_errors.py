@@ -60,10 +60,10 @@ def test_solver_name_typo_suggests_ida_native():
 
 def test_parameter_vector_must_be_float64_in_place():
     """The C driver reads the parameter array in place: a copy (or another dtype) would silently freeze
-    relation values, so integrate_native refuses it, naming ``p``."""
-    from flexlib.solve.ida_native import integrate_native
+    relation values, so the C driver refuses it, naming ``p``."""
+    from flexlib.solve.solvers import integrate
 
     sim = fl.Simulation(Decay(init={"x": 1.0}), use_cache=False)
     p = np.zeros(sim.compiled.n_params + sim.compiled.n_relations, dtype=np.float32)
-    with pytest.raises(TypeError, match=r"integrate_native: p must be a C-contiguous float64 array"):
-        integrate_native(sim.compiled, sim.initializer, p, np.array([1.0]), np.array([-1.0]), 0.0, 1.0, None)
+    with pytest.raises(TypeError, match=r"ida-native: p must be a C-contiguous float64 array"):
+        integrate("ida-native", sim.compiled, sim.initializer, p, np.array([1.0]), np.array([-1.0]), 0.0, 1.0, None)

@@ -1,4 +1,4 @@
-"""The C driver restarts once from the last accepted point when IDA gives up (``ida_native.RECOVERABLE``).
+"""The C driver restarts once from the last accepted point when IDA gives up (``ida_c.RECOVERABLE``).
 
 IDA's failure is injected: the driver's ``advance`` takes its steps as usual but reports ``IDA_CONV_FAIL`` at
 the point it reached, as IDA does when its corrector fails ten times in a row there."""
@@ -8,7 +8,8 @@ import pytest
 
 import flexlib as fl
 from flexlib import Variable, der, eq
-from flexlib.solve import ida_native, native
+from flexlib.solve import loop, native
+from flexlib.solve.backends import ida_c
 
 IDA_CONV_FAIL = -4
 
@@ -16,7 +17,7 @@ IDA_CONV_FAIL = -4
 @pytest.fixture(autouse=True)
 def short_chunks(monkeypatch):
     """The C loop returns every 4 steps, so the injected failure falls inside the run."""
-    monkeypatch.setattr(ida_native, "CHUNK_STEPS", 4)
+    monkeypatch.setattr(ida_c, "CHUNK_STEPS", 4)
 
 
 class Oscillator(fl.Model):
@@ -86,4 +87,4 @@ def test_restarts_are_limited_per_run(monkeypatch):
     sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     with pytest.raises(fl.SolverError, match="IDA_CONV_FAIL") as info:
         sim.run(2.0, dt_out=0.01, solver="ida-native", progress=False)
-    assert info.value.result.stats["recoveries"] == ida_native.MAX_RECOVERIES
+    assert info.value.result.stats["recoveries"] == loop.MAX_RECOVERIES

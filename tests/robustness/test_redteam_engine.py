@@ -20,7 +20,8 @@ from flexlib.compile import cache
 from flexlib.compile.constants import zero_geometry
 from flexlib.compile.environment import env_switch
 from flexlib.compile.explicit import explicit_mode
-from flexlib.solve import ida
+from flexlib.solve import trajectory
+from flexlib.solve.backends import base
 from flexlib.solve.native import native_available
 
 SOLVERS = ["ida", "ida-native", "ida-sksundae", "casadi-idas"]
@@ -405,11 +406,11 @@ def test_interrupted_run_on_a_grid_ends_where_it_stopped(monkeypatch, solver):
         if calls["n"] == 3:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(ida.Progress, "update", interrupt)
+    monkeypatch.setattr(trajectory.Progress, "update", interrupt)
     if solver == "ida-native":
-        from flexlib.solve import ida_native
+        from flexlib.solve.backends import ida_c
 
-        monkeypatch.setattr(ida_native, "CHUNK_STEPS", 40)
+        monkeypatch.setattr(ida_c, "CHUNK_STEPS", 40)
     with pytest.raises(fl.SimulationInterrupted) as err:
         sim.run(1e4, dt_out=1.0, solver=solver, progress=False)
     res = err.value.result
@@ -456,9 +457,9 @@ def test_environment_switches_spelt_as_words(monkeypatch):
         derivative_level = np.array([False, True])
 
     monkeypatch.setenv("FLEXLIB_ERROR_TEST_ALL", "yes")
-    assert ida.absolute_tolerances(Model, 1e-8).tolist() == [1e-8, 1e-8]
+    assert base.absolute_tolerances(Model, 1e-8).tolist() == [1e-8, 1e-8]
     monkeypatch.setenv("FLEXLIB_ERROR_TEST_ALL", "off")
-    assert ida.absolute_tolerances(Model, 1e-8).tolist() == [1e-8, 1e20]
+    assert base.absolute_tolerances(Model, 1e-8).tolist() == [1e-8, 1e20]
 
 
 @pytest.mark.parametrize("name", ["FLEXLIB_NATIVE", "FLEXLIB_EXPLICIT", "FLEXLIB_ZERO_GEOMETRY"])

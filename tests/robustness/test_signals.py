@@ -16,7 +16,7 @@ import pytest
 import flexlib as fl
 from flexlib import Variable, der, eq
 from flexlib.results import hdf5
-from flexlib.solve import ida, native, signals
+from flexlib.solve import native, signals, sundae_callbacks, trajectory
 
 
 class Osc(fl.Model):
@@ -66,7 +66,7 @@ def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
     residual evaluation of IDA stepped from Python, or, on the C driver (whose residual is not Python), when its
     second block of steps returns (the first point where a signal that arrived during C steps reaches Python)."""
     calls = {"n": 0, "blocks": 0}
-    original = ida._Callbacks.resfn
+    original = sundae_callbacks.Callbacks.resfn
 
     def resfn(self, t, y, yp, r):
         calls["n"] += 1
@@ -83,7 +83,7 @@ def signal_at_call(monkeypatch, n, signum=signal.SIGTERM):
             signal.raise_signal(signum)
         return out
 
-    monkeypatch.setattr(ida._Callbacks, "resfn", resfn)
+    monkeypatch.setattr(sundae_callbacks.Callbacks, "resfn", resfn)
     monkeypatch.setattr(native.Driver, "advance", blocks)
 
 
@@ -91,7 +91,7 @@ CHILD = textwrap.dedent("""
     import sys
     import flexlib as fl
     from flexlib import Variable, der, eq
-    from flexlib.solve import simulation
+    from flexlib.solve import native, simulation
 
     class Osc(fl.Model):
         x = Variable()
@@ -101,8 +101,7 @@ CHILD = textwrap.dedent("""
             return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
 
     sim = fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
-    if simulation.native_available():  # the default backend: announce once the C loop has returned rows
-        from flexlib.solve import native
+    if native.native_available():  # the default backend: announce once the C loop has returned rows
         real = native.Driver.advance
 
         def advance(self, *args):
@@ -114,13 +113,13 @@ CHILD = textwrap.dedent("""
 
         native.Driver.advance = advance
     else:
-        real = simulation.integrate
+        real = simulation.run_loop
 
         def announce(*args, **kwargs):
             print("integrating", flush=True)
             return real(*args, **kwargs)
 
-        simulation.integrate = announce
+        simulation.run_loop = announce
     try:
         sim.run(1e5, dt_out=0.1, result_file=sys.argv[1], progress=False)
     except fl.SimulationInterrupted as err:
@@ -174,10 +173,9 @@ def test_sigterm_during_the_steps(sim, monkeypatch, tmp_path, recorder):
 
 
 def test_sigterm_with_the_casadi_backend(sim, monkeypatch, tmp_path, recorder):
-    from flexlib.solve import casadi_idas
 
     calls = {"n": 0}
-    original = casadi_idas.Progress.update
+    original = trajectory.Progress.update
 
     def update(self, t):
         calls["n"] += 1
@@ -185,7 +183,7 @@ def test_sigterm_with_the_casadi_backend(sim, monkeypatch, tmp_path, recorder):
             signal.raise_signal(signal.SIGTERM)
         original(self, t)
 
-    monkeypatch.setattr(casadi_idas.Progress, "update", update)
+    monkeypatch.setattr(trajectory.Progress, "update", update)
     with pytest.raises(fl.SimulationInterrupted, match=r"interrupted by SIGTERM at t = ") as err:
         sim.run(100.0, dt_out=0.01, solver="casadi-idas", result_file=tmp_path / "run.h5")
     assert err.value.result.status == "interrupted" and len(err.value.result.t) > 1
@@ -315,7 +313,7 @@ def test_every_backend_stops_mid_run_with_the_rows_so_far(sim, solver, signum, c
     the KeyboardInterrupt raised in its residual into a failed step, its halve-and-retry went on, and the run
     ended 7 s later with "maximum number of steps reached"). The signal is sent once the run is past t = 100 s."""
     started = threading.Event()
-    real = ida.Progress.update
+    real = trajectory.Progress.update
 
     def update(self, t):  # every backend reports its progress here as the run advances
         if t > 100.0:
@@ -326,7 +324,7 @@ def test_every_backend_stops_mid_run_with_the_rows_so_far(sim, solver, signum, c
         if started.wait(120.0):
             os.kill(os.getpid(), signum)
 
-    ida.Progress.update = update
+    trajectory.Progress.update = update
     sender = threading.Thread(target=send, daemon=True)
     sender.start()
     try:
@@ -334,7 +332,7 @@ def test_every_backend_stops_mid_run_with_the_rows_so_far(sim, solver, signum, c
                 as err:
             sim.run(1e6, dt_out=1.0, solver=solver, max_steps=10**9, progress=False)
     finally:
-        ida.Progress.update = real
+        trajectory.Progress.update = real
         started.set()
         sender.join()
     res = err.value.result

@@ -12,7 +12,7 @@ Model functions are evaluated from C as well: the generated library's ``flexlib_
 virtual machine through the C API of ``libcasadi.so`` (``casadi_c_push_file`` /
 ``casadi_c_eval_id``), which works for every model without gcc per model.
 
-Linear solvers (``LINEAR_SOLVERS``; chosen by :func:`flexlib.solve.ida_native.linear_solver`): SUNDIALS' dense LU,
+Linear solvers (``LINEAR_SOLVERS``; chosen by :func:`flexlib.solve.backends.ida_c.linear_solver`): SUNDIALS' dense LU,
 SUNDIALS' SuperLU_MT, and KLU (SuiteSparse), which the bundled SUNDIALS lacks: the driver wraps them in a
 ``SUNLinearSolver`` of its own (setup and solve timed in C) and calls KLU through entry points handed over from
 Python (:func:`klu_available`: the shared library of the ``kvxopt`` wheel, its ``klu_common`` layout checked against

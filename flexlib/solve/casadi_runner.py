@@ -1,9 +1,9 @@
-"""Alternative integrator backend: CasADi's own (C) IDAS through ``casadi.integrator``.
+"""CasADi's own (C) IDAS through ``casadi.integrator``: the integrator calls behind
+:class:`flexlib.solve.backends.casadi.CasadiIdas` (``solver="casadi-idas"``).
 
-:func:`integrate_casadi` has the signature and semantics of :func:`flexlib.solve.ida.integrate`
-(same :class:`~flexlib.solve.ida.Trajectory`, same stats keys, same errors), but every
-integration step runs inside CasADi's C interface to SUNDIALS IDAS: no Python callback per
-residual or Jacobian evaluation. Events are handled in Python between integrator calls.
+Every integration step runs inside CasADi's C interface to SUNDIALS IDAS: no Python callback per residual or
+Jacobian evaluation. The run loop (:mod:`flexlib.solve.loop`) handles the events between integrator calls; this
+module builds the integrators, calls them, and brackets and locates state events on their output grids.
 
 Design
 ------
@@ -46,7 +46,7 @@ error test) before it counts as failed. Without ``IDACalcIC`` CasADi starts from
 ``init_xdot``), so that variant is a fall-back only.
 
 *Time events* are hit exactly: the run is cut into segments ending at
-:func:`~flexlib.solve.ida.next_time_event`; each segment is one or more integrator calls
+:func:`~flexlib.solve.events.next_time_event`; each segment is one or more integrator calls
 whose last grid point is the event time.
 
 *State events*: CasADi 3.8.2's own event support (DAE ``zero`` output) was not used: it only
@@ -59,7 +59,7 @@ point where a relation would change value brackets the event, and the bracket is
 re-running the integrator from its left end with :data:`SUB_GRID` uniform sub-points, until it
 is shorter than ``EVENT_TOL·max(1, |t|)`` (3–4 calls of ~20–50 steps each). The event time
 is the right end of the final bracket (the first point where the relation has switched, as
-IDA's root finder reports it), and :func:`flexlib.solve.ida._event_iteration` re-initialises
+IDA's root finder reports it), and :func:`flexlib.solve.events.event_iteration` re-initialises
 before the restart. A zero crossing that reverts between two grid points is not seen: with
 state relations, grid intervals are subdivided to at most ``(t_end − t0)/DETECT_POINTS``.
 A call also integrates on past an event it contains, with the old (frozen) relation values,
@@ -96,6 +96,7 @@ Trade-offs (measurements: ``docs/decisions/019-casadi-idas-backend.md``)
   keeps the heater off below 295 K.
 """
 
+
 from __future__ import annotations
 
 import os
@@ -112,21 +113,13 @@ import casadi as ca
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.errors import SimulationInterrupted, SolverError
+from flexlib.errors import SolverError
+from flexlib.solve.backends.base import absolute_tolerances
 from flexlib.solve.casadi_dae import compiled_residual, fill_reducing_order
-from flexlib.solve.ida import (
-    Progress,
-    Trajectory,
-    _event_iteration,
-    absolute_tolerances,
-    failure_message,
-    next_time_event,
-)
-from flexlib.solve.initialization import Initializer
 from flexlib.solve.signals import interrupted
 
-__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "LINEAR_SOLVER", "RETRY_STEPS",
-           "START_VARIANTS", "STUCK_TOL", "SUB_GRID", "USE_LIBRARY", "compiled_residual", "integrate_casadi"]
+__all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "LINEAR_SOLVER", "MAX_GRID", "RETRY_STEPS",
+           "START_VARIANTS", "STUCK_TOL", "SUB_GRID", "USE_LIBRARY", "Runner", "backend", "call_grid"]
 
 #: Number of output intervals used when ``t_out`` is None (CasADi does not expose single steps).
 DENSE_POINTS = 1000
@@ -211,7 +204,7 @@ class _Backend:
         return F
 
 
-def _backend(model: CompiledModel) -> _Backend:
+def backend(model: CompiledModel) -> _Backend:
     be = model._functions.get(_CACHE_KEY)
     want_c = USE_LIBRARY and (model.library is not None or bool(getattr(model, "c_ready", lambda: False)()))
     if be is not None and be.want_c != want_c:
@@ -312,7 +305,7 @@ def _snap(u: np.ndarray, t: float) -> np.ndarray:
     return snapped
 
 
-class _Runner:
+class Runner:
     """One run: calls the cached integrators, converts their output, counts statistics."""
 
     def __init__(self, model: CompiledModel, be: _Backend, p: np.ndarray, stats: dict[str, Any], rtol: float,
@@ -460,204 +453,7 @@ class _Runner:
         return lo, ylo, yplo, [(rel, not bool(self.p[self.n_par + rel]))]
 
 
-def integrate_casadi(model: CompiledModel, init: Initializer, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
-                     t0: float, t_end: float, t_out: np.ndarray | None, *, rtol: float = 1e-6, atol: float = 1e-8,
-                     max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None,
-                     max_order: int = 5) -> Trajectory:
-    """Integrate from consistent ``y0, yp0`` at ``t0`` to ``t_end`` with CasADi's IDAS.
-
-    Same arguments, result and errors as :func:`flexlib.solve.ida.integrate`.
-
-    Parameters
-    ----------
-    p : ndarray
-        Parameters followed by relation values (updated in place at events).
-    t_out : ndarray or None
-        Output times; None gives a uniform grid of :data:`DENSE_POINTS` intervals (CasADi's
-        integrator does not expose single steps).
-    rtol, atol : float
-        Relative and absolute tolerance (``atol`` is scaled by each variable's nominal value).
-    max_step : float
-        Maximum step size [s] (0: unlimited). Implemented by refining the grid to ``max_step`` and
-        limiting each step to one grid interval, so steps are also limited by the output spacing.
-    max_steps : int
-        Maximum number of internal steps for the whole run (checked after each integrator call;
-        one call may take at most ``min(max_steps, 100000)`` steps per output interval).
-    progress : bool or None
-        Show a progress bar; None shows one when the run takes longer than 2 s.
-
-    Returns
-    -------
-    Trajectory
-        With ``status`` ``"success"``; failures raise :class:`SolverError` with ``.result`` set to
-        the trajectory up to the last successful integrator call.
-    """
-    traj = Trajectory()
-    stats: dict[str, Any] = {"steps": 0, "nfev": 0, "njev": 0, "state_events": 0, "time_events": 0, "restarts": 0,
-                             "integrator_calls": 0, "solver": "casadi-idas"}
-    traj.stats = stats
-    wall0 = _time.perf_counter()
-    n_par = model.n_params
-    state_rel = np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
-    be = _backend(model)
-    capped = max_step > 0.0
-    stats["max_order"] = int(max_order)
-    runner = _Runner(model, be, p, stats, rtol, atol, capped, int(max_steps), state_rel, max_order)
-
-    y, yp = np.array(y0, dtype=float), np.array(yp0, dtype=float)
-    traj.add(t0, y, yp, p[n_par:].copy())
-    if t_out is None:
-        req = t0 + (t_end - t0) * np.arange(1, DENSE_POINTS + 1) / DENSE_POINTS
-        req[-1] = t_end
-    else:
-        req = np.asarray(t_out, dtype=float)
-        req = req[(req > t0) & (req <= t_end)]
-    spacing = (t_end - t0) / DETECT_POINTS if len(state_rel) else np.inf
-    if capped:
-        spacing = min(spacing, max_step)
-    # With state relations, a call runs on with frozen (wrong) relation values after an event it
-    # contains, until its end: short calls right after events, doubling while none occurs.
-    chunk = runner.chunk_cap if not len(state_rel) else min(runner.chunk_cap, FIRST_CHUNK)
-    t = float(t0)
-    ir = 0  # next requested output
-    bar = Progress(model.name, t0, t_end, progress)
-    last_event_t, burst = -np.inf, 0
-    suspect = False  # a call failed since the last event: retries use a small step budget
-
-    def record(t_lim: float, grid: np.ndarray, Y: np.ndarray, YP: np.ndarray) -> None:
-        """Record the requested outputs ``<= t_lim``; each is a column of ``grid``."""
-        nonlocal ir
-        k = 0
-        while ir < len(req) and req[ir] <= t_lim:
-            while k < len(grid) and grid[k] < req[ir]:
-                k += 1
-            if k < len(grid) and grid[k] == req[ir]:
-                traj.add(req[ir], Y[:, k], YP[:, k], p[n_par:].copy())
-            ir += 1
-
-    def handle_event(kind: str, te: float, ye: np.ndarray, ype: np.ndarray,
-                     triggered: list[tuple[int, bool]]) -> tuple[np.ndarray, np.ndarray]:
-        nonlocal last_event_t, burst, suspect
-        suspect = False
-        traj.add(te, ye, ype, p[n_par:].copy())
-        y1, yp1 = _event_iteration(model, init, p, te, ye, ype, triggered)
-        stats["state_events" if kind == "state" else "time_events"] += 1
-        stats["restarts"] += 1
-        texts = ", ".join(model.relations[k].text for k, _ in triggered)
-        traj.events.append((te, f"{kind} event: {texts}"))
-        traj.add(te, y1, yp1, p[n_par:].copy())
-        burst = burst + 1 if te - last_event_t <= 1e-10 * max(1.0, abs(te)) else 0
-        last_event_t = te
-        if burst > 100:
-            raise SolverError(f"event chattering at t = {te:.10g} s: {texts} switches without time advancing")
-        return y1, yp1
-
-    def time_event(te: float, ye: np.ndarray, ype: np.ndarray, which: list[int]) -> tuple[np.ndarray, np.ndarray]:
-        ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
-        trig = [(k, bool(ab[k, 0] > 0)) for k in which]
-        if any(p[n_par + k] != float(v) for k, v in trig):
-            return handle_event("time", te, ye, ype, trig)
-        return ye, ype
-
-    try:
-        while t < t_end:
-            t_ev, which = next_time_event(model, p, t, t_end)
-            grid = _call_grid(t, req[ir:], t_ev, spacing, chunk)
-            event = None
-            first_error: SolverError | None = None
-            budget = RETRY_STEPS if suspect else None
-            tried_stuck = False
-            while True:
-                try:
-                    Y, YP = runner.run(t, y, yp, grid, budget=budget)
-                    break
-                except SolverError as err:
-                    if "maximum number of steps" in str(err):
-                        raise
-                    if not len(state_rel):
-                        # keep every output up to the failure: halve the call (small step budget, so a
-                        # blow-up is not integrated to IDAS's step limit again and again) until it
-                        # succeeds (its rows are recorded and the run goes on from there) or a single
-                        # output interval fails with the full budget
-                        suspect = True
-                        if len(grid) > 1:
-                            grid = grid[: len(grid) // 2]
-                            chunk, budget = len(grid), RETRY_STEPS
-                            continue
-                        if budget is not None:
-                            budget = None
-                            continue
-                        raise
-                    # past an event inside the call the frozen relation values may drive the model
-                    # where the solver cannot follow (NaN, stiffness): retry shorter calls on a small
-                    # step budget, which see the event before that, then bisect for the point IDAS
-                    # cannot pass; a single interval gets the full budget before the run fails
-                    if tried_stuck and budget is None:
-                        raise first_error or err from None
-                    first_error = first_error or err
-                    suspect = True
-                    if len(grid) > 1:
-                        grid = grid[: len(grid) // 2]
-                        chunk, budget = len(grid), RETRY_STEPS
-                        continue
-                    if not tried_stuck:
-                        tried_stuck = True
-                        event = runner.stuck(t, y, yp, float(grid[0]))
-                        if event is not None:
-                            break
-                    budget = None
-            j, triggered = -1, []
-            if event is None and len(state_rel):
-                Zi = runner.indicators(grid, Y, YP)
-                j, triggered = runner.first_switch(Zi)
-            if event is not None or j >= 0:  # state event in (grid[j-1], grid[j]]
-                if event is None:
-                    a = (t, y, yp) if j == 0 else (float(grid[j - 1]), Y[:, j - 1], YP[:, j - 1])
-                    record(a[0], grid, Y, YP)
-                    event = runner.locate(a, (float(grid[j]), Y[:, j], YP[:, j]), triggered)
-                te, ye, ype, triggered = event
-                record(te, np.array([te]), ye[:, None], ype[:, None])
-                y, yp = handle_event("state", te, ye, ype, triggered)
-                t = te
-                if which and t == t_ev:  # a time event at the same instant
-                    y, yp = time_event(t, y, yp, which)
-                chunk = min(runner.chunk_cap, FIRST_CHUNK)
-            else:
-                record(float(grid[-1]), grid, Y, YP)
-                t, y, yp = float(grid[-1]), Y[:, -1].copy(), YP[:, -1].copy()
-                if which and t == t_ev:
-                    y, yp = time_event(t, y, yp, which)
-                chunk = min(runner.chunk_cap, 2 * chunk)
-            if stats["steps"] >= max_steps:
-                raise SolverError(f"maximum number of steps ({max_steps}) reached at t = {t:.10g} s")
-            bar.update(t)
-    except Exception as err:  # e.g. an InitializationError in the event iteration
-        if not interrupted():  # (a failure caused by Ctrl-C / SIGTERM swallowed in C is the interrupt below)
-            if isinstance(err, SolverError) and str(err).startswith("CasADi IDAS failed"):
-                # IDAS names only its flag: add what failed at the last accepted point, as the other backends do
-                # (a non-finite equation with its variables, a singular iteration matrix, the fastest unknowns)
-                err.args = (failure_message(str(err), model, p, t, y, yp, traj, rtol, atol),)
-            traj.close(t, y, yp, p[n_par:].copy())  # the last accepted point (after the grid's last row)
-            traj.status, traj.message = "failed", str(err) if isinstance(err, SolverError) else \
-                f"error at t = {t:.10g} s: {err}"
-            if isinstance(err, SolverError):
-                err.result = traj
-                raise
-            raise SolverError(traj.message, traj) from err
-        traj.close(t, y, yp, p[n_par:].copy())
-        traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
-        raise SimulationInterrupted(traj.message, traj) from None
-    except KeyboardInterrupt:
-        traj.close(t, y, yp, p[n_par:].copy())
-        traj.status, traj.message = "interrupted", f"interrupted by the user at t = {t:.10g} s"
-        raise SimulationInterrupted(traj.message, traj) from None
-    finally:
-        bar.close()
-    stats["wall_integrate"] = _time.perf_counter() - wall0
-    return traj
-
-
-def _call_grid(t: float, req: np.ndarray, t_seg: float, spacing: float, cap: int) -> np.ndarray:
+def call_grid(t: float, req: np.ndarray, t_seg: float, spacing: float, cap: int) -> np.ndarray:
     """Grid of one integrator call from ``t``: the requested outputs up to the segment end ``t_seg``
     and ``t_seg`` itself, intervals subdivided to at most ``spacing``, at most ``cap`` points."""
     pts = req[req <= t_seg]

@@ -1,0 +1,181 @@
+"""Events, written once for every integrator: relations, the next time event, event iteration, the relation watch.
+
+Events follow Modelica semantics. Relation values are frozen between events (they are the entries of the parameter
+vector ``p`` after the ``n_params`` parameters); at a state event (a zero crossing of a relation's indicator) or a
+time event (a relation of time and parameters, ``a·t + b``) the relation's value is switched, the algebraic
+variables and derivatives are re-initialised with the states held, the remaining relations are re-evaluated until
+nothing changes (:func:`event_iteration`), and the integrator is restarted. The run loop
+(:mod:`flexlib.solve.loop`) calls these functions; the backends only locate crossings.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from flexlib.compile.codegen import CompiledModel
+from flexlib.errors import SolverError
+
+__all__ = ["check_assertions", "event_iteration", "next_time_event", "settled", "state_relations",
+           "time_triggers", "watch", "watched_relations"]
+
+
+def next_time_event(model: CompiledModel, p: np.ndarray, t: float, t_end: float) -> tuple[float, list[int]]:
+    """Earliest time event after ``t`` [s] (at most ``t_end``) and the relations switching there."""
+    timed = [k for k, r in enumerate(model.relations) if r.time_event]
+    if not timed:
+        return t_end, []
+    ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
+    best, which = t_end, []
+    tol = 1e-13 * max(1.0, abs(t))
+    for k in timed:
+        a, b = ab[k]
+        if a == 0.0:
+            continue
+        te = -b / a
+        if te > t + tol and te <= t_end:
+            if te < best - tol:
+                best, which = te, [k]
+            elif abs(te - best) <= tol:
+                which.append(k)
+    return best, which
+
+
+def time_triggers(model: CompiledModel, p: np.ndarray, which: list[int]) -> list[tuple[int, bool]]:
+    """The new values of the time-event relations ``which`` once their time has come (``a·t + b`` with ``a > 0``
+    becomes true, with ``a < 0`` false)."""
+    ab = np.asarray(model.function("tev")(p)).reshape(-1, 2)
+    return [(k, bool(ab[k, 0] > 0)) for k in which]
+
+
+def watched_relations(model: CompiledModel) -> np.ndarray:
+    """Indices of the relations that are not time events (the state relations an integrator watches)."""
+    return np.array([k for k, r in enumerate(model.relations) if not r.time_event], dtype=int)
+
+
+def state_relations(model: CompiledModel) -> np.ndarray:
+    """Indices of the relations IDA's root finding watches: not time events, and not constant during a run.
+
+    A relation of parameters only (a cylinder's ``x_start >= 0`` asserted for run-time overrides) cannot
+    change after the start, where it is evaluated; given to IDA as a root function it is identically zero
+    when it holds with equality (``x_start = 0``), and SUNDIALS prints "some root functions identically 0"
+    (IDARcheck1) on every run.
+    """
+    cand = [k for k, r in enumerate(model.relations) if not r.time_event]
+    if not cand:
+        return np.zeros(0, dtype=int)
+    ind = model.sx_function("ind")
+    t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+    pp = ca.SX.sym("p", model.n_params + model.n_relations)
+    z = ind(t, y, yp, pp)
+    txy = ca.vertcat(t, y, yp)
+    return np.array([k for k in cand if ca.depends_on(z[k], txy)], dtype=int)
+
+
+def watch(model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray, relations: np.ndarray,
+          skip: set[int]) -> list[tuple[int, bool]]:
+    """The relations among ``relations`` (not in ``skip``) whose value at ``(t, y, yp)`` differs from the frozen one.
+
+    IDA ignores a root function that is zero at a restart until it leaves zero, so a relation that re-crosses at
+    once (sliding) is caught by checking its sign in the first steps after a restart.
+    """
+    n_par = model.n_params
+    z = np.asarray(model.function("ind")(t, y, yp, p)).ravel()
+    return [(int(k), model.relations[k].value(z[k])) for k in relations
+            if k not in skip and float(model.relations[k].value(z[k])) != p[n_par + k]]
+
+
+def settled(model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
+            triggered: list[tuple[int, bool]]) -> set[int]:
+    """The relations switched at an IDA root whose indicator at the restart point ``(t, y, yp)`` moves towards the
+    side of their new value (``dz/dt = ∂z/∂t + ∂z/∂y·y'`` has the sign of that side).
+
+    A root located by IDA lies within its interpolation error (order ``rtol``) of the true crossing: after the
+    event iteration the indicator can still be on the old side by that much, and in the first steps after the
+    restart its sign follows the Newton corrector's noise. (A limiter at rtol 1e-9: the input was 4e-11 short of
+    its limit at the restart, IDA's first step was 1e-15 s, and a re-check by sign switched the relation back,
+    after which IDA could not take a step.) Such a relation is still heading across, and IDA's root finding
+    watches it from the restart (a root function that is exactly zero there becomes active once it leaves zero).
+    A relation whose indicator turns back at once (a contact that bounces, sliding) is left to :func:`watch`.
+    """
+    n_par = model.n_params
+    dz = model._functions.get("ida_native_dzdt")
+    if dz is None:
+        ind = model.sx_function("ind")
+        ts, ys, yps = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
+        ps = ca.SX.sym("p", n_par + model.n_relations)
+        z = ind(ts, ys, yps, ps)
+        rate = ca.jtimes(z, ca.vertcat(ts, ys), ca.vertcat(1.0, yps))
+        dz = ca.Function("flexlib_dzdt", [ts, ys, yps, ps], [rate])
+        model._functions["ida_native_dzdt"] = dz  # type: ignore[assignment]
+    with np.errstate(all="ignore"):
+        rate = np.asarray(dz(t, y, yp, p)).ravel()
+    out = set()
+    for k, _ in triggered:
+        rel = model.relations[k]
+        if np.isfinite(rate[k]) and rate[k] != 0.0 and float(rel.value(rate[k])) == p[n_par + k]:
+            out.add(k)
+    return out
+
+
+def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
+                    triggered: list[tuple[int, bool]], max_iter: int = 20) -> tuple[np.ndarray, np.ndarray]:
+    """Switch the triggered relations, re-initialise (``init.reinit``), re-evaluate the others until consistent.
+
+    Parameters
+    ----------
+    model : CompiledModel
+        The model.
+    init : Initializer
+        Re-initialisation with the states held.
+    p : ndarray
+        Parameters followed by relation values (updated in place).
+    t : float
+        Event time [s].
+    y, yp : ndarray
+        The point before the event.
+    triggered : list of (int, bool)
+        Relations and their new values.
+
+    Returns
+    -------
+    y, yp : ndarray
+        The consistent point after the event.
+
+    Raises
+    ------
+    SolverError
+        The iteration does not converge, or an assertion (:func:`check_assertions`) fails.
+    """
+    n_par = model.n_params
+    fixed = {k for k, _ in triggered}
+    for k, v in triggered:
+        p[n_par + k] = float(v)
+    ind = model.function("ind")
+    for _ in range(max_iter):
+        y1, yp1 = init.reinit(t, y, yp, p)
+        z = np.asarray(ind(t, y1, yp1, p)).ravel()
+        changed = False
+        for k, rel in enumerate(model.relations):
+            if k in fixed or rel.time_event:
+                continue
+            v = float(rel.value(z[k]))
+            if v != p[n_par + k]:
+                p[n_par + k] = v
+                changed = True
+        if not changed:
+            check_assertions(model, p, t)
+            return y1, yp1
+        y, yp = y1, yp1
+    raise SolverError(f"event iteration did not converge at t = {t:.10g} s")
+
+
+def check_assertions(model: CompiledModel, p: np.ndarray, t: float) -> None:
+    """Raise :class:`SolverError` if a relation declared with :func:`flexlib.assert_` is false."""
+    n_par = model.n_params
+    failed = [r for k, r in enumerate(model.relations) if r.assertion and p[n_par + k] != 1.0]
+    if failed:
+        lines = "\n".join(f"  {r.text}: {r.assertion}" for r in failed)
+        raise SolverError(f"assertion failed at t = {t:.10g} s:\n{lines}")

@@ -1,0 +1,142 @@
+"""Solver objects: the integrator of a run with its own options, ``sim.run(solver=fl.IDA(max_order=2))``.
+
+Each solver object is a frozen record that makes the :class:`~flexlib.solve.backends.base.Integrator` adapter of a
+run (:meth:`Solver.integrator`). The strings accepted by ``run(solver=...)`` are aliases (:data:`ALIASES`):
+``"ida"`` is ``IDA()``, ``"ida-native"`` ``IDA(native=True)``, ``"ida-sksundae"`` ``IDA(native=False)``,
+``"casadi-idas"`` ``CasadiIDAS()``.
+"""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from flexlib.errors import RunArgumentError
+from flexlib.solve.backends.base import Integrator
+from flexlib.solve.loop import run_loop
+from flexlib.solve.trajectory import Trajectory
+
+__all__ = ["ALIASES", "IDA", "CasadiIDAS", "Solver", "as_solver", "integrate"]
+
+#: Linear solvers of the C driver (``IDA(linear_solver=...)``)
+LINEAR_SOLVERS = ("dense", "klu", "superlumt")
+
+
+def _check_order(owner: str, max_order: Any) -> None:
+    if max_order is not None and (isinstance(max_order, (bool, np.bool_)) or not isinstance(max_order, numbers.Real)
+                                  or not float(max_order).is_integer() or not 1 <= max_order <= 5):
+        raise RunArgumentError(f"{owner}(max_order={max_order!r}): must be an integer 1 ... 5 (the highest BDF order) "
+                               "or None (the run's max_order)")
+
+
+class Solver:
+    """Base of the solver objects."""
+
+    #: The alias in statistics and messages
+    label = ""
+    max_order: int | None = None
+    #: A solver to fall back on when this one cannot be set up for a model (None: the error is raised)
+    fallback: Solver | None = None
+
+    def integrator(self, *, rtol: float, atol: float, max_step: float, max_order: int,
+                   max_steps: int) -> Integrator:
+        """The adapter of one run (``max_order``: the run's, used where the solver object has none) [SI units]."""
+        return self.adapter(rtol, atol, max_step, self.max_order or max_order, max_steps)
+
+    def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
+        """The :class:`~flexlib.solve.backends.base.Integrator` with these options (a subclass's own)."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class IDA(Solver):
+    """SUNDIALS IDA (variable-order BDF).
+
+    Parameters
+    ----------
+    max_order : int, optional
+        Highest BDF order, 1–5 (default: the run's ``max_order``).
+    linear_solver : {"dense", "klu", "superlumt"}, optional
+        The C driver's linear solver (default: the rule of :func:`flexlib.solve.backends.ida_c.linear_solver`,
+        which the environment variable ``FLEXLIB_LINSOL`` overrides).
+    native : bool, optional
+        True: IDA stepped in C (:class:`~flexlib.errors.NativeSolverError` where the driver cannot be built); False:
+        stepped from Python through scikit-sundae; None (default): C where the driver is available
+        (``FLEXLIB_NATIVE=0`` in the environment turns it off), scikit-sundae otherwise.
+    """
+
+    max_order: int | None = None
+    linear_solver: str | None = None
+    native: bool | None = None
+
+    def __post_init__(self) -> None:
+        _check_order("IDA", self.max_order)
+        if self.linear_solver is not None and self.linear_solver not in LINEAR_SOLVERS:
+            raise RunArgumentError(f"IDA(linear_solver={self.linear_solver!r}): must be one of "
+                                   f"{', '.join(LINEAR_SOLVERS)} or None")
+        if self.native not in (None, True, False):
+            raise RunArgumentError(f"IDA(native={self.native!r}): must be True, False or None")
+
+    @property
+    def label(self) -> str:  # type: ignore[override]
+        return {None: "ida", True: "ida-native", False: "ida-sksundae"}[self.native]
+
+    @property
+    def fallback(self) -> Solver | None:  # type: ignore[override]
+        return IDA(self.max_order, self.linear_solver, native=False) if self.native is None else None
+
+    def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
+        from flexlib.solve.native import native_available
+
+        if self.native or (self.native is None and native_available()):
+            from flexlib.solve.backends.ida_c import IdaC
+
+            return IdaC(rtol, atol, max_step, max_order, self.linear_solver)
+        from flexlib.solve.backends.sksundae import SkSundae
+
+        return SkSundae(rtol, atol, max_step, max_order)
+
+
+@dataclass(frozen=True)
+class CasadiIDAS(Solver):
+    """CasADi's built-in IDAS, every step in C; state events located on its output grid.
+
+    ``max_order`` (optional) is the highest BDF order as for :class:`IDA`.
+    """
+
+    max_order: int | None = None
+    label = "casadi-idas"
+
+    def __post_init__(self) -> None:
+        _check_order("CasadiIDAS", self.max_order)
+
+    def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
+        from flexlib.solve.backends.casadi import CasadiIdas
+
+        return CasadiIdas(rtol, atol, max_step, max_order, max_steps)
+
+
+#: The solver strings of ``run(solver=...)`` and the objects they stand for
+ALIASES: dict[str, Solver] = {"ida": IDA(), "casadi-idas": CasadiIDAS(), "ida-native": IDA(native=True),
+                              "ida-sksundae": IDA(native=False)}
+
+
+def as_solver(solver: str | Solver) -> Solver:
+    """The solver object of ``solver`` (an alias of :data:`ALIASES` or a solver object)."""
+    return ALIASES[solver] if isinstance(solver, str) else solver
+
+
+def integrate(solver: str | Solver, model: Any, init: Any, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
+              t0: float, t_end: float, t_out: np.ndarray | None, *, rtol: float = 1e-6, atol: float = 1e-8,
+              max_step: float = 0.0, max_steps: int = 5_000_000, progress: bool | None = None,
+              monitor: Any = None, max_order: int = 5) -> Trajectory:
+    """Integrate a compiled model from the consistent ``y0, yp0`` at ``t0`` to ``t_end`` [s] with ``solver``
+    (:func:`flexlib.solve.loop.run_loop` on the solver's adapter; arguments as there and as :meth:`Solver.integrator`).
+    """
+    integ = as_solver(solver).integrator(rtol=rtol, atol=atol, max_step=max_step, max_order=max_order,
+                                         max_steps=max_steps)
+    return run_loop(integ, model, init, p, y0, yp0, t0, t_end, t_out, max_steps=max_steps, progress=progress,
+                    monitor=monitor)
