@@ -675,8 +675,7 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     if data is not None and (isinstance(data, (str, Mapping)) or not all(isinstance(k, str) for k in data)):
         raise RegistryError(f"register_model({name!r}): data must be a sequence of key names, got {data!r}")
     old = _MODELS.get(name)
-    # the same module imported under two names (models.x and flexlib.models.x) registers the same factory twice
-    if old is not None and getattr(old.factory, "__qualname__", None) != getattr(factory, "__qualname__", None):
+    if old is not None:
         raise RegistryError(f"register_model: the name {name!r} is already registered by "
                             f"{getattr(old.factory, '__module__', '?')}.{getattr(old.factory, '__qualname__', '?')}")
     default = next(iter(scen)) if default_scenario is None else default_scenario
@@ -751,10 +750,11 @@ def module_hint(module: str) -> str:
 
 
 def import_user_module(module: str) -> None:
-    """Import a user's model module (``$FLEXLIB_MODELS``, ``flexlib --models``), also from the working directory;
-    its errors propagate (the callers name the module and the source of the name)."""
+    """Import a user's model module (``$FLEXLIB_MODELS``, ``flexlib --models``), also from the working directory
+    (searched after the installed packages); its errors propagate (the callers name the module and the source of
+    the name)."""
     if "" not in sys.path:
-        sys.path.insert(0, "")
+        sys.path.append("")
     importlib.import_module(module)
 
 

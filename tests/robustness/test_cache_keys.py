@@ -18,13 +18,13 @@ from flexlib import Variable, der, eq
 
 
 def make(k):
-    class Decay(fl.Model):
+    class RateDecay(fl.Model):
         x = Variable()
 
         def equations(self):
             return [eq(der(self.x), -k * self.x)]
 
-    return Decay
+    return RateDecay
 
 
 @pytest.fixture
@@ -50,7 +50,7 @@ def test_a_module_constant_read_at_import_is_part_of_the_key(cache, tmp_path, mo
 
         K = float((Path(__file__).parent / "k.txt").read_text())
 
-        class Decay(fl.Model):
+        class RateDecay(fl.Model):
             x = Variable()
 
             def equations(self):
