@@ -18,7 +18,7 @@ def test_case_meets_its_invariants_and_references(name):
     case = CASES[name]
     model = case.build()
     run = dict(case.run)
-    res = fl.Simulation(model).run(run.pop("t_end"), progress=False, **run)
+    res = fl.Simulation(model, codegen=False).run(run.pop("t_end"), progress=False, **run)
     errors = case.check(model, res)
     assert set(errors) == set(case.tolerances)
     for key, err in errors.items():
