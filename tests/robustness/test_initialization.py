@@ -197,7 +197,7 @@ def test_singular_initialisation_groups_by_component():
 # -- 5. steady state of a boom held by a cylinder -----------------------------------------------------------------
 
 
-def test_steady_state_holds_theCylinderBoom():
+def test_steady_state_holds_the_boom():
     """steady_state=True with the boom angle fixed gives the static equilibrium: the cylinder force balances the
     weight's moment about the hinge (1e-6 relative), the boom does not accelerate (|a| < 1e-6 rad/s²), the
     supply sits on its relief valve (der(m) = 0) and the chamber pressures hold the load.
