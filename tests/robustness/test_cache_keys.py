@@ -50,7 +50,7 @@ def test_a_module_constant_read_at_import_is_part_of_the_key(cache, tmp_path, mo
 
         K = float((Path(__file__).parent / "k.txt").read_text())
 
-        class RateDecay(fl.Model):
+        class Decay(fl.Model):
             x = Variable()
 
             def equations(self):
