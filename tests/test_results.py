@@ -37,7 +37,7 @@ class Spring(fl.Component):
         return [eq(self.flange.f, self.c * self.flange.s)]
 
 
-class SpringOnGround(fl.Model):
+class Oscillator(fl.Model):
     """Mass on a spring: s(t) = s0 cos(sqrt(c/m) t)."""
 
     def __init__(self):
@@ -48,7 +48,7 @@ class SpringOnGround(fl.Model):
 
 
 def test_aliases_are_reported_and_analytic():
-    res = fl.Simulation(SpringOnGround(), use_cache=False).run(2.0, dt_out=0.01, rtol=1e-10, atol=1e-12)
+    res = fl.Simulation(Oscillator(), use_cache=False).run(2.0, dt_out=0.01, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(res["mass.s"], 0.1 * np.cos(2.0 * res.t), atol=1e-9)
     np.testing.assert_array_equal(res["spring.flange.s"], res["mass.s"])  # an eliminated alias
     np.testing.assert_array_equal(res["spring.flange.f"], -res["mass.flange.f"])
@@ -59,7 +59,7 @@ def test_aliases_are_reported_and_analytic():
 
 
 def test_save_load_identical(tmp_path):
-    sim = fl.Simulation(SpringOnGround(), use_cache=False)
+    sim = fl.Simulation(Oscillator(), use_cache=False)
     res = sim.run(1.0, dt_out=0.1, params={"spring.c": 9.0})
     path = tmp_path / "osc.h5"
     res.save(str(path))
@@ -81,7 +81,7 @@ def test_plot_returns_axes():
     import matplotlib
 
     matplotlib.use("Agg")
-    res = fl.Simulation(SpringOnGround(), use_cache=False).run(1.0, dt_out=0.1)
+    res = fl.Simulation(Oscillator(), use_cache=False).run(1.0, dt_out=0.1)
     ax = res.plot("mass.s", "mass.v")
     assert [line.get_label() for line in ax.get_lines()] == ["mass.s [m]", "mass.v [m/s]"]
 
