@@ -25,11 +25,8 @@ import argparse
 import sys
 import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import flexlib as fl
 from flexlib.models.boom_proxy import BoomProxy

@@ -22,16 +22,21 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 
 _CHILD = r"""
-import json, os, sys, time
+import importlib.util, json, os, sys, time
 os.environ["OMP_NUM_THREADS"] = "1"
-sys.path.insert(0, sys.argv[1])
+tree = sys.argv[1]
+# the tree's flexlib, with its components/ and models/ as flexlib.components / flexlib.models (as setup.py installs)
+spec = importlib.util.spec_from_file_location("flexlib", os.path.join(tree, "flexlib", "__init__.py"),
+                                              submodule_search_locations=[os.path.join(tree, "flexlib"), tree])
+sys.modules["flexlib"] = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(sys.modules["flexlib"])
 kind, n = sys.argv[2], int(sys.argv[3])
 from flexlib.compile import pipeline
 from flexlib.compile.codegen import compile_dae
 if kind == "link":
     from flexlib.models.n_link_pendulum import NLinkPendulum as M
 else:
-    from models.n_mass_chain import NMassChain as M
+    from flexlib.models.n_mass_chain import NMassChain as M
 root = M(n)
 t0 = time.process_time()
 flat, simple, dae, _ = pipeline.analyse(root)

@@ -20,13 +20,10 @@ os.environ["OMP_NUM_THREADS"] = "1"
 import sys
 import tempfile
 import time
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import flexlib as fl
 from flexlib.compile.cache_key import model_key
-from models.n_mass_chain import NMassChain
+from flexlib.models.n_mass_chain import NMassChain
 
 
 def best_of(fn, repeat: int = 7) -> float:

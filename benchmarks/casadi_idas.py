@@ -34,8 +34,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import flexlib as fl  # noqa: E402
 from flexlib.solve import casadi_runner  # noqa: E402
@@ -66,7 +64,7 @@ def _model(name: str) -> tuple[fl.Model, float, float, float, float, str]:
         from flexlib.models.planar_mechanisms import FourBarLinkage
         return FourBarLinkage(), 10.0, 0.01, 1e-6, 1e-8, "rev_crank.phi"
     if name == "servo":
-        from hydraulic_servo import HydraulicServo
+        from flexlib.models.reference.hydraulic_servo import HydraulicServo
         return HydraulicServo(), 20.0, 0.01, 1e-6, 1e-8, "cylinder.x"
     from flexlib.models.boom_proxy import BoomProxy
     e = BoomProxy.experiment

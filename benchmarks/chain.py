@@ -27,16 +27,13 @@ os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 import sys
 import tempfile
 import time
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import casadi as ca
 import numpy as np
 
 import flexlib as fl
+from flexlib.models.n_mass_chain import NMassChain
 from flexlib.solve.solvers import integrate
-from models.n_mass_chain import NMassChain
 
 T_END, RTOL, ATOL, N_OUT, REPEAT = 10.0, 1e-6, 1e-8, 101, 3
 

@@ -22,6 +22,7 @@ Run (from the repository root)::
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import os
 import subprocess
@@ -34,12 +35,22 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def load_tree(root: str) -> None:
+    """Import the flexlib of the source tree ``root``, with its ``components/`` and ``models/`` as
+    ``flexlib.components`` / ``flexlib.models`` (as setup.py installs them)."""
+    spec = importlib.util.spec_from_file_location("flexlib", os.path.join(root, "flexlib", "__init__.py"),
+                                                  submodule_search_locations=[os.path.join(root, "flexlib"), root])
+    assert spec is not None and spec.loader is not None
+    sys.modules["flexlib"] = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(sys.modules["flexlib"])
+
+
 def measure(root: str, n: int, repeat: int) -> dict[str, float]:
-    """Best-of-``repeat`` process CPU [s] of cold build, first run and cached build, with ``root`` on sys.path."""
+    """Best-of-``repeat`` process CPU [s] of cold build, first run and cached build of the tree ``root``."""
     os.environ["OMP_NUM_THREADS"] = "1"
-    sys.path.insert(0, root)
+    load_tree(root)
     import flexlib as fl
-    from models.n_mass_chain import NMassChain
+    from flexlib.models.n_mass_chain import NMassChain
 
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="cold_chain_warm_")
     fl.Simulation(NMassChain(5)).run(1.0, dt_out=0.1)  # imports, native driver

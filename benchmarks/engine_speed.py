@@ -41,11 +41,6 @@ import timeit
 import warnings
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "components" / "mechanics" / "multibody"))
-
 import numpy as np
 import sksundae as sun
 
@@ -121,11 +116,10 @@ class Timed:
 
 
 def _models():
-    import references_multibody as ref
-    from hydraulic_servo import HydraulicServo
-    from test_engine_index import CartesianPendulum
-    from test_loops import A, B, C, D, FourBar
-    from test_state_selection_speed import TripleRocker
+    from flexlib.models.reference import closed_form as ref
+    from flexlib.models.reference.cartesian_pendulum import CartesianPendulum
+    from flexlib.models.reference.four_bar import A, B, C, D, FourBar, TripleRocker
+    from flexlib.models.reference.hydraulic_servo import HydraulicServo
 
     th3, th4 = ref.fourbar_angles(A, B, C, D, 0.3, "open")
     return [
@@ -342,7 +336,7 @@ def assembly_table() -> None:
 
 
 def chain_table(sizes: list[int]) -> None:
-    from models.n_mass_chain import NMassChain
+    from flexlib.models.n_mass_chain import NMassChain
 
     print("## 4. Chain of N masses: cold build + 10 s run (rtol 1e-6, 101 outputs), fresh cache each\n")
     print("| N | unknowns | codegen | build (s) | first run (s) | build + first run (s) | C ready after (s) | "

@@ -10,26 +10,23 @@ Run: ``python benchmarks/event_zero_guard.py``. No timing is asserted.
 from __future__ import annotations
 
 import os
-import sys
 import tempfile
 import timeit
-from pathlib import Path
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("FLEXLIB_CACHE_DIR", tempfile.mkdtemp(prefix="flexlib_bench_"))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "robustness"))
 
 import casadi as ca
 import numpy as np
-from test_initialization import _boom
 
 import flexlib as fl
+from flexlib.models.reference.hydraulic_boom import CylinderBoom
 from flexlib.solve import sundae_callbacks
 from flexlib.solve.events import state_relations
 
 
 def main() -> None:
-    sim = fl.Simulation(_boom())
+    sim = fl.Simulation(CylinderBoom())
     m = sim.compiled
     p = np.concatenate([sim.parameter_vector(), np.zeros(m.n_relations)])
     rel = state_relations(m)

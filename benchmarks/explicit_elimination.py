@@ -36,20 +36,17 @@ import casadi as ca
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import flexlib as fl  # noqa: E402
 
 
 def _systems() -> dict[str, tuple[Callable[[], fl.Model], dict[str, Any], list[str]]]:
     """name -> (model factory, run arguments, reference outputs compared between the builds)."""
-    from hydraulic_servo import ATOL, RTOL, T_END, HydraulicServo
-
     from flexlib.models.boom_proxy import BoomProxy
+    from flexlib.models.n_link_pendulum import NLinkPendulum
+    from flexlib.models.n_mass_chain import NMassChain
     from flexlib.models.planar_mechanisms import FourBarLinkage, ThreeLoopLinkage, three_loop_spec
-    from models.n_link_pendulum import NLinkPendulum
-    from models.n_mass_chain import NMassChain
+    from flexlib.models.reference.hydraulic_servo import ATOL, RTOL, T_END, HydraulicServo
 
     mech = {"t_end": 10.0, "dt_out": 0.01, "rtol": 1e-6, "atol": 1e-8}
     boom = BoomProxy.experiment

@@ -34,7 +34,6 @@ import argparse
 import importlib
 import importlib.util
 import os
-import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -45,11 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 
-from flexlib.fe import FEModel, Section, beam_mesh, craig_bampton, section_force_modes  # noqa: E402
-
-sys.path.insert(0, str(ROOT / "benchmarks"))
 from references.pinned_free_beam import (  # noqa: E402  (the reference's constants and metrics)
     AREA,
     AVERAGE_HALF_WIDTH,
@@ -65,6 +60,9 @@ from references.pinned_free_beam import (  # noqa: E402  (the reference's consta
     seed_error,
     window_average,
 )
+
+from flexlib.components.mechanics.flexible import FEModel, Section, beam_mesh, craig_bampton, section_force_modes  # noqa: E402
+from flexlib.fe import FEModel, Section, beam_mesh, craig_bampton, section_force_modes
 
 #: Output series of every runner (201 samples each), compared with the reference.
 SERIES = ("tip_y", "tip_deflection", "moment_mid_avg")
@@ -83,7 +81,7 @@ def run_flexlib(n_modes: int, *, attachment: str = "pinned", geometric_stiffenin
     output every ``dt_out`` (the ±5 ms moment average is taken over these samples, as Exudyn's sensors every
     step). The errors are the same at rtol 1e-4…1e-7: the modes, not the integrator, limit the accuracy.
     ``recovered``: the deflection and moment by mode-acceleration recovery (same run)."""
-    from models.pinned_free_beam import beam_modal_data, simulate
+    from flexlib.models.pinned_free_beam import beam_modal_data, simulate
 
     c0 = time.process_time()
     data = _FLEXLIB_DATA.get(attachment)

@@ -26,21 +26,16 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import numpy as np
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from hydraulic_servo import HydraulicServo
-from minimal_dae import MinimalDAE, MinimalODE
 
 import flexlib as fl
 from flexlib.models.n_link_pendulum import NLinkPendulum
 from flexlib.models.n_mass_chain import NMassChain
 from flexlib.models.planar_mechanisms import FourBarLinkage, fourbar_spec
+from flexlib.models.reference.hydraulic_servo import HydraulicServo
+from flexlib.models.reference.planar_minimal import MinimalDAE, MinimalODE
 
 RTOL, ATOL = 1e-6, 1e-8
 

@@ -36,83 +36,16 @@ import os
 
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
-import math
 import sys
 import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
 import flexlib as fl
-from flexlib.components.control import Constant, Sine
-from flexlib.components.hydraulics import (
-    DirectionalValve43,
-    DoubleActingCylinder,
-    FixedDisplacementPump,
-    Port,
-    PressureReliefValve,
-    Tank,
-    Volume,
-)
-from flexlib.components.mechanics.translational import Fixed, Mass
+from flexlib.models.reference.hydraulic_circuit import PumpValveCylinder, mass_balance_error
 
 T_END = 3.0
-P_ATM = 1.01325e5
-
-
-class MassCounter(fl.Component):
-    """Ideal flow meter in series that integrates the mass passed from port_a to port_b (as in the test).
-
-    Reference: Modelica.Fluid.Sensors.MassFlowRate with an integrator; conservation of mass.
-    """
-
-    M = fl.Variable(unit="kg", start=0.0, fixed=True, doc="Mass passed from a to b since the start")
-    port_a = Port(doc="Inlet")
-    port_b = Port(doc="Outlet")
-
-    def equations(self) -> list:
-        a, b = self.port_a, self.port_b
-        return [fl.eq(a.p, b.p), fl.eq(a.m_flow + b.m_flow, 0.0), fl.eq(fl.der(self.M), a.m_flow)]
-
-
-class PumpValveCylinder(fl.Model):
-    """Pump + relief + supply volume → 4/3 valve (sine) → cylinder with leakages → load; mass counters."""
-
-    def __init__(self, chamber_form: str) -> None:
-        super().__init__()
-        self.tank = Tank()
-        self.pump = FixedDisplacementPump(D=10e-6 / (2 * math.pi), C_leak=1e-12)
-        self.speed = Constant(k=1500 * 2 * math.pi / 60)
-        self.pumped, self.returned = MassCounter(), MassCounter()
-        self.supply = Volume(V=5e-4, p_start=P_ATM, chamber_form=chamber_form)
-        self.relief = PressureReliefValve(p_crack=150e5, p_grad=5e10)
-        self.command = Sine(amplitude=0.8, f=0.7)
-        self.valve = DirectionalValve43(Q_nom=40 / 60000, dp_nom=35e5, A_leak=1e-9)
-        self.cylinder = DoubleActingCylinder(d_bore=0.063, d_rod=0.036, stroke=0.4, m=8.0, F_c=200.0, stribeck=1.5,
-                                             d=2000.0, V_dead_A=5e-5, V_dead_B=5e-5, x_start=0.2, G_int=1e-13,
-                                             G_ext=5e-14, use_drain=True, chamber_form=chamber_form)
-        self.fixed, self.load = Fixed(), Mass(m=50.0)
-        self.connect(self.speed.y, self.pump.w)
-        self.connect(self.tank.port, self.pump.port_a, self.returned.port_b)
-        self.connect(self.pump.port_b, self.pumped.port_a)
-        self.connect(self.pumped.port_b, self.supply.port, self.relief.port_a, self.valve.port_P)
-        self.connect(self.returned.port_a, self.relief.port_b, self.valve.port_T, self.cylinder.port_D)
-        self.connect(self.command.y, self.valve.u)
-        self.connect(self.valve.port_A, self.cylinder.port_A)
-        self.connect(self.valve.port_B, self.cylinder.port_B)
-        self.connect(self.fixed.flange, self.cylinder.flange_a)
-        self.connect(self.cylinder.flange_b, self.load.flange_a)
-
-
-def mass_balance_error(res: fl.Result) -> float:
-    """max |pumped − returned − Δstored| / pumped mass at the end."""
-    stored = res["cylinder.m_A"] + res["cylinder.m_B"] + res["supply.m"]
-    balance = res["pumped.M"] - res["returned.M"] - (stored - stored[0])
-    return float(np.abs(balance).max() / res["pumped.M"][-1])
 
 
 def part1(rtols: list[float], solvers: tuple[str, ...]) -> None:
@@ -189,7 +122,7 @@ LEGACY_NOMINALS = {"valve.vs": 1.0, "relief.q": 1.0, "pump.tau": 1.0, "supply.m"
 
 
 def part2(rtols: list[float]) -> None:
-    from hydraulic_servo import HydraulicServo
+    from flexlib.models.reference.hydraulic_servo import HydraulicServo
 
     sim = fl.Simulation(HydraulicServo(), use_cache=False)
     names = sim.compiled.y_names

@@ -29,19 +29,15 @@ import tempfile
 import time
 import timeit
 import warnings
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import numpy as np
 import sksundae as sun
 from chain import casadi_reference
 
 import flexlib as fl
+from flexlib.models.n_mass_chain import NMassChain
 from flexlib.solve import sundae_callbacks
 from flexlib.solve.solvers import integrate
-from models.n_mass_chain import NMassChain
 
 REPEAT, RTOL, ATOL, T_END = 5, 1e-6, 1e-8, 10.0
 

@@ -17,11 +17,7 @@ import os
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
 import argparse
-import sys
 import time
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 
 def main() -> None:
@@ -48,8 +44,8 @@ def bench(flexible: bool, n_poses: int) -> list[tuple]:
     import numpy as np
 
     import flexlib as fl
+    from flexlib.models.pump_truck.frequency_map import frequency_map
     from flexlib.registry import get_model
-    from models.pump_truck.frequency_map import frequency_map
 
     entry = get_model("pump-truck")
     sc = entry.scenario("expand")

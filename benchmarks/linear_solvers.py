@@ -23,8 +23,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import flexlib as fl  # noqa: E402
 
@@ -34,12 +32,11 @@ DENSE_LIMIT = 350
 
 def main(argv: list[str]) -> None:
     os.environ.setdefault("FLEXLIB_CACHE_DIR", tempfile.mkdtemp(prefix="flexlib_bench_"))
-    from hydraulic_servo import HydraulicServo
-
     from flexlib.models.boom_proxy import BoomProxy
     from flexlib.models.n_link_pendulum import NLinkPendulum
     from flexlib.models.n_mass_chain import NMassChain
     from flexlib.models.planar_mechanisms import FourBarLinkage, ThreeLoopLinkage
+    from flexlib.models.reference.hydraulic_servo import HydraulicServo
     from flexlib.solve.native import klu_available, use_cpu_clock
 
     if not klu_available():

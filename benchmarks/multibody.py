@@ -35,8 +35,6 @@ import flexlib as fl
 from flexlib.models.n_link_pendulum import NLinkPendulum
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT / "tests" / "components" / "mechanics" / "multibody"))
 
 
 def _run(model: fl.Model, t_end: float = 10.0, rtol: float = 1e-6) -> tuple[fl.Simulation, float, fl.Result, float]:
@@ -116,8 +114,9 @@ def main(argv: list[str]) -> None:
         kr = np.polyfit(np.log(n), np.log(r), 1)[0]
         print(f"\nGrowth (log-log slope over N, CPU): build ~ N^{kb:.2f}, run ~ N^{kr:.2f}")
 
-    import references_multibody as ref
-    from test_loops import A, B, C, D, FourBar, SliderCrank
+    from flexlib.models.reference import closed_form as ref
+    from flexlib.models.reference.four_bar import A, B, C, D, FourBar
+    from flexlib.models.reference.slider_crank import SliderCrank
 
     th3, th4 = ref.fourbar_angles(A, B, C, D, 0.3, "open")
     print("\n| mechanism | unknowns | states | redundant rows | build (s) | run 10 s (s) | IDA steps | switches |")

@@ -39,8 +39,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from native_ida import deviation  # noqa: E402  (largest difference relative to each variable's range)
 
@@ -52,9 +50,8 @@ SOLVERS = ("ida-sksundae", "ida (SuperLU_MT)", "ida", "casadi-idas")
 
 def main() -> None:
     os.environ["FLEXLIB_CACHE_DIR"] = tempfile.mkdtemp(prefix="flexlib_bench_")
-    from hydraulic_servo import HydraulicServo
-
     from flexlib.models.planar_mechanisms import FourBarLinkage
+    from flexlib.models.reference.hydraulic_servo import HydraulicServo
     from flexlib.solve.native import klu_available, native_available, use_cpu_clock
 
     t = time.perf_counter()
@@ -67,7 +64,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|---|---|")
     models = [("four-bar 10 s", FourBarLinkage, 10.0, SOLVERS), ("hydraulic servo 20 s", HydraulicServo, 20.0, SOLVERS)]
     if "--boom" in sys.argv[1:]:
-        from models.boom_proxy import BoomProxy
+        from flexlib.models.boom_proxy import BoomProxy
 
         c_only = ("ida (SuperLU_MT)", "ida")
         models.append(("boom proxy, direct cylinders, 20 s", lambda: BoomProxy(linkages=False), 20.0, c_only))

@@ -37,10 +37,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "benchmarks"))
-sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT / "tests" / "components" / "mechanics" / "multibody"))
 
 import flexlib as fl  # noqa: E402
 from flexlib.models.n_mass_chain import NMassChain  # noqa: E402
@@ -51,10 +47,11 @@ SOLVERS = ("ida", "casadi-idas", "ida-native")
 
 def cases() -> list[tuple[str, Callable[[], fl.Model], dict, bool]]:
     """(name, model factory, run arguments, generated C)."""
-    import references_multibody as ref
-    from hydraulic_servo import HydraulicServo
     from pendulum import make as pendulum
-    from test_loops import A, B, C, D, FourBar
+
+    from flexlib.models.reference import closed_form as ref
+    from flexlib.models.reference.four_bar import A, B, C, D, FourBar
+    from flexlib.models.reference.hydraulic_servo import HydraulicServo
 
     th3, th4 = ref.fourbar_angles(A, B, C, D, 0.3, "open")
     fixed = {"dynamic_states": False}

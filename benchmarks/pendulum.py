@@ -25,37 +25,15 @@ import time
 import numpy as np
 
 import flexlib as fl
-from flexlib import Parameter, Variable, der, eq
+from flexlib.models.reference.cartesian_pendulum import CartesianPendulum
 from flexlib.solve.solvers import integrate
 
 T_END, RTOL, ATOL, REPEAT = 10.0, 1e-8, 1e-10, 3
 THETA0 = np.pi / 4
 
 
-class CartesianPendulum(fl.Model):
-    """Planar pendulum, Cartesian coordinates, constraint force λ·(x, y): index 3."""
-
-    m = Parameter(1.0, unit="kg")
-    L = Parameter(1.0, unit="m")
-    g = Parameter(9.81, unit="m/s2")
-    x = Variable(unit="m")
-    y = Variable(unit="m")
-    u = Variable(unit="m/s")
-    v = Variable(unit="m/s")
-    lam = Variable(unit="N/m")
-
-    def equations(self):
-        return [
-            eq(der(self.x), self.u),
-            eq(der(self.y), self.v),
-            eq(self.m * der(self.u), -self.lam * self.x),
-            eq(self.m * der(self.v), -self.lam * self.y - self.m * self.g),
-            eq(self.x**2 + self.y**2, self.L**2),
-        ]
-
-
 def make() -> CartesianPendulum:
-    return CartesianPendulum(init={"x": np.sin(THETA0), "u": 0.0}, guess={"y": -np.cos(THETA0)})
+    return CartesianPendulum.released_at(THETA0)
 
 
 def quality(res: fl.Result) -> dict:

@@ -20,16 +20,14 @@ import os
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-import sys
 from pathlib import Path
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
 
 from flexlib import SolverError  # noqa: E402
-from models.pinned_free_beam import beam_modal_data, participation_table, seed_error, simulate  # noqa: E402
+from flexlib.models.pinned_free_beam import beam_modal_data, participation_table, seed_error, simulate  # noqa: E402
 
 REFERENCE = ROOT / "tests" / "data" / "pinned_free_beam_reference.npz"
 SERIES = ("tip_y", "tip_deflection", "moment_mid_avg")

@@ -21,12 +21,8 @@ import os
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
 import argparse
-import sys
 import tempfile
 import time
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 
 def _cpu() -> float:

@@ -5,7 +5,7 @@ Runs a scenario (default ``expand-fold``, ``--flexible`` for the flexible boom) 
 largest deviation over the golden grid of the scenario run and of the stored golden from the reference, each in
 multiples of the golden test's tolerance for that signal (``models/pump_truck/goldens.py``: 1 % of the range plus a
 floor). Used to decide whether a change that moves a golden moves it towards or away from the
-converged solution (``python -m models.pump_truck.goldens --regenerate`` only when it does not move away). The
+converged solution (``python -m flexlib.models.pump_truck.goldens --regenerate`` only when it does not move away). The
 reference run takes several minutes (the flexible expand-fold at rtol 1e-7: about 940 k steps).
 
 Run: ``python benchmarks/pump_truck_reference.py [--scenario expand-fold] [--flexible] [--rtol 1e-7] [--atol 1e-9]``.
@@ -18,13 +18,9 @@ import os
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
 import argparse
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 
 def main() -> None:

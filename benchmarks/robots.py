@@ -22,12 +22,8 @@ import os
 
 os.environ["OMP_NUM_THREADS"] = "1"  # before numpy / sksundae are imported
 
-import sys
 import tempfile
 import time
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 
 def _cpu() -> float:
@@ -39,7 +35,7 @@ def bench(flexible: bool, t_end: float = 0.6) -> dict:
     with tempfile.TemporaryDirectory() as cache:
         os.environ["FLEXLIB_CACHE_DIR"] = cache
         import flexlib as fl
-        from models.robots import CartesianRobot
+        from flexlib.models.robots import CartesianRobot
 
         c0 = _cpu()
         sim = fl.Simulation(CartesianRobot(flexible=flexible))
@@ -65,7 +61,7 @@ def bench_polycrank(t_end: float = 0.5) -> dict:
     with tempfile.TemporaryDirectory() as cache:
         os.environ["FLEXLIB_CACHE_DIR"] = cache
         import flexlib as fl
-        from models.robots import PolycrankFragment
+        from flexlib.models.robots import PolycrankFragment
 
         c0 = _cpu()
         sim = fl.Simulation(PolycrankFragment(angles=(0.3, 0.5, -0.2, 0.1)))
@@ -92,8 +88,8 @@ def bench_polycrank_flexible(t_end: float = 1.0) -> dict:
     with tempfile.TemporaryDirectory() as cache:
         os.environ["FLEXLIB_CACHE_DIR"] = cache
         import flexlib as fl
-        from models.robots.polycrank import preload_params
-        from models.robots.polycrank_study import LOCKED, PRELOAD, no_friction, pulse_model
+        from flexlib.models.robots.polycrank import preload_params
+        from flexlib.models.robots.polycrank_study import LOCKED, PRELOAD, no_friction, pulse_model
 
         c0 = _cpu()
         sim = fl.Simulation(pulse_model(True))

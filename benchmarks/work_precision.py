@@ -37,19 +37,14 @@ import argparse
 import sys
 import tempfile
 import time
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from hydraulic_servo import HydraulicServo
-from minimal_dae import MinimalDAE, MinimalODE
-
 import flexlib as fl
 from flexlib.models.planar_mechanisms import FourBarLinkage, ThreeLoopLinkage, fourbar_spec, three_loop_spec
+from flexlib.models.reference.hydraulic_servo import HydraulicServo
+from flexlib.models.reference.planar_minimal import MinimalDAE, MinimalODE
 
 RTOLS = [1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10]
 

@@ -16,11 +16,7 @@ import os
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse
-import sys
 import time
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import flexlib as fl
 from flexlib.compile.constants import eliminate_constants
@@ -28,8 +24,8 @@ from flexlib.compile.flatten import flatten
 from flexlib.compile.redundancy import remove_redundant
 from flexlib.compile.simplify import simplify
 from flexlib.compile.tearing import eliminate_frame_kinematics
-from models.n_link_pendulum import NLinkPendulum
-from models.n_mass_chain import NMassChain
+from flexlib.models.n_link_pendulum import NLinkPendulum
+from flexlib.models.n_mass_chain import NMassChain
 
 
 def measure(make, zero: bool) -> tuple[int, int, float, float]:

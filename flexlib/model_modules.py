@@ -73,5 +73,5 @@ def import_user_module(module: str) -> None:
     """Import a user's model module (``$FLEXLIB_MODELS``, ``flexlib --models``), also from the working directory;
     its errors propagate (the callers name the module and the source of the name)."""
     if "" not in sys.path:
-        sys.path.insert(0, "")
+        sys.path.append("")
     importlib.import_module(module)

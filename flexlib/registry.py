@@ -243,8 +243,7 @@ def register_model(name: str, factory: Callable[[Scenario], Any], *, doc: str, s
     if data is not None and (isinstance(data, (str, Mapping)) or not all(isinstance(k, str) for k in data)):
         raise RegistryError(f"register_model({name!r}): data must be a sequence of key names, got {data!r}")
     old = _MODELS.get(name)
-    # the same module imported under two names (models.x and flexlib.models.x) registers the same factory twice
-    if old is not None and getattr(old.factory, "__qualname__", None) != getattr(factory, "__qualname__", None):
+    if old is not None:
         raise RegistryError(f"register_model: the name {name!r} is already registered by "
                             f"{getattr(old.factory, '__module__', '?')}.{getattr(old.factory, '__qualname__', '?')}")
     default = next(iter(scen)) if default_scenario is None else default_scenario

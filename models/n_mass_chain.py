@@ -14,7 +14,7 @@ which is the equilibrium for ``F(0) = 0``.
 Examples
 --------
 >>> import flexlib as fl
->>> from models.n_mass_chain import NMassChain
+>>> from flexlib.models.n_mass_chain import NMassChain
 >>> res = fl.Simulation(NMassChain(10)).run(10.0, dt_out=0.1)   # doctest: +SKIP
 """
 

@@ -5,7 +5,7 @@ spanning tree of revolute joints and the cut joints that close the loops), so th
 model (:class:`PlanarMechanism`) and the hand-written minimal DAE of ``benchmarks/minimal_dae.py`` read
 the same numbers:
 
-* :func:`fourbar_spec` — the crank-rocker four-bar of ``tests/components/mechanics/multibody/test_loops.py``
+* :func:`fourbar_spec` — the crank-rocker four-bar of :mod:`flexlib.models.reference.four_bar`
   (crank 0.2 m, coupler 0.7 m, rocker 0.9 m, ground 0.6 m; uniform rods of 1, 2 and 1.5 kg; no gravity;
   crank started at 0.3 rad with 6 rad/s).
 * :func:`three_loop_spec` — a 7-body, 3-loop, 1-DOF chain of three four-bars (Grashof crank-rockers in
@@ -111,7 +111,8 @@ def _rod(name: str, m: float, L: float, parent: str, extra: dict | None = None) 
 
 
 def fourbar_spec() -> PlanarSpec:
-    """The four-bar of ``test_loops.py``: a, b, c, d = 0.2, 0.7, 0.9, 0.6 m, no gravity, 0.3 rad at 6 rad/s."""
+    """The catalogue's four-bar (:mod:`flexlib.models.reference.four_bar`): a, b, c, d = 0.2, 0.7, 0.9, 0.6 m, no
+    gravity, 0.3 rad at 6 rad/s."""
     a, b, c, d = 0.2, 0.7, 0.9, 0.6
     return PlanarSpec(
         links=[_rod("crank", 1.0, a, "ground:O"), _rod("coupler", 2.0, b, "crank:tip"),

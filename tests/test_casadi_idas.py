@@ -8,6 +8,9 @@ import pytest
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq, if_else, time
+from flexlib.models.reference.blow_up import BlowUp
+from flexlib.models.reference.events import FallingBall, StepForce
+from flexlib.models.reference.mass_spring_damper import DampedOscillator
 from flexlib.solve import casadi_dae, casadi_runner
 from flexlib.solve.solvers import integrate
 
@@ -31,33 +34,14 @@ def _run(sim: fl.Simulation, backend: str, t_end: float, grid, params=None, **kw
 
 
 # -- (a) damped oscillator ---------------------------------------------------------------------------------------
-class Oscillator(fl.Model):
-    """m·x'' + d·x' + k·x = 0 (raw component)."""
-
-    m = Parameter(1.0, unit="kg")
-    k = Parameter(4.0, unit="N/m")
-    d = Parameter(0.4, unit="N.s/m")
-    x = Variable(unit="m")
-    v = Variable(unit="m/s")
-
-    def equations(self):
-        return [eq(der(self.x), self.v), eq(self.m * der(self.v), -self.k * self.x - self.d * self.v)]
-
-
-def _oscillator_exact(t, m=1.0, k=4.0, d=0.4, x0=1.0):
-    delta = d / (2 * m)
-    wd = np.sqrt(k / m - delta**2)
-    return x0 * np.exp(-delta * t) * (np.cos(wd * t) + delta / wd * np.sin(wd * t))
-
-
 def test_oscillator_matches_analytic_and_default_backend():
     """x(t) of the underdamped oscillator to 1e-6 on a 101-point grid (rtol 1e-8); both backends agree."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     grid = np.linspace(0.0, 10.0, 101)
     res = {b: _run(sim, b, 10.0, grid, rtol=1e-8, atol=1e-10) for b in BACKENDS}
     for b, r in res.items():
         np.testing.assert_array_equal(r.t, grid)
-        np.testing.assert_allclose(r["x"], _oscillator_exact(grid), atol=1e-6, err_msg=b)
+        np.testing.assert_allclose(r["x"], DampedOscillator.exact(grid), atol=1e-6, err_msg=b)
         assert STATS_KEYS <= set(r.stats), b
     np.testing.assert_allclose(res["casadi"]["x"], res["ida"]["x"], atol=2e-7)
     np.testing.assert_allclose(res["casadi"]["v"], res["ida"]["v"], atol=5e-7)
@@ -67,7 +51,7 @@ def test_oscillator_matches_analytic_and_default_backend():
 
 def test_parameters_are_runtime_inputs_and_integrators_are_cached():
     """A second run with another stiffness reuses the built CasADi integrator (no rebuild)."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     grid = np.linspace(0.0, 5.0, 51)
     _run(sim, "casadi", 5.0, grid, rtol=1e-8, atol=1e-10)
     backend = sim.compiled._functions["casadi_idas"]
@@ -78,32 +62,19 @@ def test_parameters_are_runtime_inputs_and_integrators_are_cached():
     assert backend.integrators.keys() >= built.keys()
     assert all(backend.integrators[k] is f for k, f in built.items())
     assert backend.build_time == build_time  # same grid size and options: nothing new was built
-    np.testing.assert_allclose(r["x"], _oscillator_exact(grid, k=9.0), atol=1e-6)
+    np.testing.assert_allclose(r["x"], DampedOscillator.exact(grid, k=9.0), atol=1e-6)
 
 
 def test_dense_output_when_no_grid():
     """t_out=None (every step in the default backend) gives a uniform grid of DENSE_POINTS intervals."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     r = _run(sim, "casadi", 2.0, None)
     assert len(r.t) == casadi_runner.DENSE_POINTS + 1
     np.testing.assert_allclose(np.diff(r.t), 2.0 / casadi_runner.DENSE_POINTS, rtol=1e-9)
-    np.testing.assert_allclose(r["x"], _oscillator_exact(r.t), atol=1e-5)
+    np.testing.assert_allclose(r["x"], DampedOscillator.exact(r.t), atol=1e-5)
 
 
 # -- (b) time event ----------------------------------------------------------------------------------------------
-class StepForce(fl.Model):
-    """x'' = f − x', with the force f switching from 0 to 1 at t = t_on (a time event)."""
-
-    t_on = Parameter(0.5, unit="s")
-    x = Variable(unit="m")
-    v = Variable(unit="m/s")
-    f = Variable(unit="N")
-
-    def equations(self):
-        return [eq(der(self.x), self.v), eq(der(self.v), self.f - self.v),
-                eq(self.f, if_else(time >= self.t_on, 1.0, 0.0))]
-
-
 def test_time_event_hit_exactly():
     """The event is at t = 0.5 exactly, left and right rows are stored, v(t) = 1 − exp(−(t − 0.5)) after it."""
     sim = fl.Simulation(StepForce(init={"x": 0.0, "v": 0.0}), use_cache=False)
@@ -137,24 +108,6 @@ def test_time_event_between_output_points():
 
 
 # -- (c) state event ---------------------------------------------------------------------------------------------
-class FallingBall(fl.Model):
-    """A ball falling under gravity onto a stiff contact spring that acts while h < 0."""
-
-    g = Parameter(9.81, unit="m/s2")
-    k = Parameter(1e4, unit="N/m")
-    d = Parameter(20.0, unit="N.s/m")
-    h = Variable(unit="m")
-    v = Variable(unit="m/s")
-    fc = Variable(unit="N")
-
-    def equations(self):
-        return [
-            eq(der(self.h), self.v),
-            eq(der(self.v), -self.g + self.fc),
-            eq(self.fc, if_else(self.h < 0, -self.k * self.h - self.d * self.v, 0.0)),
-        ]
-
-
 @pytest.mark.parametrize("rtol", [1e-6, 1e-10])
 def test_state_event_located(rtol):
     """First contact at t = sqrt(2·h0/g) to 1e-8; lift-off found too; both backends agree."""
@@ -205,20 +158,14 @@ def test_branch_undefined_past_the_event():
 
 def test_max_step_option():
     """``max_step`` bounds the step size (at least t_end / max_step steps) without changing the result."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     r = _run(sim, "casadi", 10.0, np.linspace(0.0, 10.0, 11), max_step=0.01)
     assert r.stats["steps"] >= 1000
-    np.testing.assert_allclose(r["x"], _oscillator_exact(r.t), atol=1e-5)
+    np.testing.assert_allclose(r["x"], DampedOscillator.exact(r.t), atol=1e-5)
 
 
 def test_failure_raises_solver_error_with_partial_result():
     """A finite-time blow-up (x' = x², x(0) = 1) raises SolverError carrying the trajectory so far."""
-
-    class BlowUp(fl.Model):
-        x = Variable()
-
-        def equations(self):
-            return [eq(der(self.x), self.x**2)]
 
     sim = fl.Simulation(BlowUp(init={"x": 1.0}), use_cache=False)
     with pytest.raises(fl.SolverError) as exc:
@@ -231,7 +178,7 @@ def test_failure_raises_solver_error_with_partial_result():
 
 
 def test_max_steps():
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     with pytest.raises(fl.SolverError, match="maximum number of steps"):
         _run(sim, "casadi", 10.0, np.linspace(0.0, 10.0, 11), max_steps=20)
 
@@ -293,15 +240,12 @@ def _on_grid(r: fl.Result, name: str, dt: float) -> np.ndarray:
 
 
 def test_hydraulic_servo_through_end_stops_matches_default_backend():
-    """benchmarks/hydraulic_servo.py (pump, relief valve, 4/3 valve, cylinder into both end stops twice, PID)
-    over 20 s at rtol 1e-6, atol 1e-8: casadi-idas runs through the end-stop contacts (it failed at 5.79 s with
-    IDA_ERR_FAIL before the start fall-backs) and its piston position agrees with the default backend's to
-    2e-5 m on the 10 ms grid (measured 6.7e-6 m; 0.005 % of the stroke), the end-stop penetrations to 1e-9 m."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
-    from hydraulic_servo import STROKE, HydraulicServo
+    """The catalogue's hydraulic servo (flexlib.models.reference.hydraulic_servo: pump, relief valve, 4/3 valve,
+    cylinder into both end stops twice, PID) over 20 s at rtol 1e-6, atol 1e-8: casadi-idas runs through the end-stop
+    contacts (it failed at 5.79 s with IDA_ERR_FAIL before the start fall-backs) and its piston position agrees with
+    the default backend's to 2e-5 m on the 10 ms grid (measured 6.7e-6 m; 0.005 % of the stroke), the end-stop
+    penetrations to 1e-9 m."""
+    from flexlib.models.reference.hydraulic_servo import STROKE, HydraulicServo
 
     sim = fl.Simulation(HydraulicServo(), use_cache=False)
     r = {s: sim.run(20.0, dt_out=0.01, rtol=1e-6, atol=1e-8, solver=s, progress=False)

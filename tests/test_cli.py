@@ -184,7 +184,7 @@ def test_python_m_flexlib_and_script_entry_point():
 
 def test_registry_api_user_model_and_scenario(monkeypatch):
     monkeypatch.setattr(registry, "_MODELS", dict(registry.models()))
-    from models.n_mass_chain import NMassChain
+    from flexlib.models.n_mass_chain import NMassChain
 
     def factory(scenario):
         return NMassChain(n=scenario.options.get("n", 2))
@@ -224,7 +224,7 @@ def test_run_writes_the_models_figures(monkeypatch, tmp_path):
     import matplotlib.image as mpimg
 
     monkeypatch.setattr(registry, "_MODELS", dict(registry.models()))
-    from models.n_mass_chain import NMassChain
+    from flexlib.models.n_mass_chain import NMassChain
 
     def plots(model, result, directory):
         import matplotlib.pyplot as plt

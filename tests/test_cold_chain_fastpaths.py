@@ -20,7 +20,7 @@ import pytest
 import flexlib as fl
 from flexlib.core.variables import lookup
 from flexlib.errors import ParameterError
-from models.n_mass_chain import ChainMass, NMassChain
+from flexlib.models.n_mass_chain import ChainMass, NMassChain
 
 
 def test_cached_paths_follow_a_later_attachment() -> None:
@@ -31,12 +31,12 @@ def test_cached_paths_follow_a_later_attachment() -> None:
     chain.extra = mass
     assert mass.flange_a.path == "extra.flange_a"
 
-    class Outer(fl.Model):
+    class ChainHolder(fl.Model):
         def __init__(self) -> None:
             super().__init__()
             self.inner = chain
 
-    Outer()
+    ChainHolder()
     assert chain.mass0.flange_b.path == "inner.mass0.flange_b"
     assert mass.flange_a.path == "inner.extra.flange_a"
 

@@ -216,10 +216,10 @@ def test_steady_state_complements_initial_equations():
 def test_sub_component_name_clashing_with_a_method():
     """A child named after a method (``root``, ``connect``) would shadow it: clear error naming it."""
 
-    class Bad(fl.Model):
+    class ShadowsConnect(fl.Model):
         def __init__(self):
             super().__init__()
             self.connect = Source()
 
-    with pytest.raises(fl.ModelError, match=r"'connect' is a method or attribute of Bad"):
-        Bad()
+    with pytest.raises(fl.ModelError, match=r"'connect' is a method or attribute of ShadowsConnect"):
+        ShadowsConnect()

@@ -1,29 +1,24 @@
 """Structurally constant unknowns eliminated after tearing (flexlib/compile/constants.py).
 
-Models: the planar four-bar of tests/components/mechanics/multibody/test_loops.py (crank A, coupler B, rocker C,
-ground D; rebuilt here) and a planar 7-body, 3-loop mechanism of ordinary 3D components (three four-bars in
+Models: the planar four-bar of the catalogue (flexlib.models.reference.four_bar: crank A, coupler B, rocker C,
+ground D) and a planar 7-body, 3-loop mechanism of ordinary 3D components (three four-bars in
 series: each rocker drives the next four-bar as its crank). References: a hand-written minimal dummy-derivative
 DAE of each mechanism in absolute link angles (CasADi SX, written below): states θ1, ω1; algebraic the other
 angles, their rates (dummy derivatives) and accelerations, and the loop multipliers; rows θ1' = ω1, the
 Lagrange equations M(q)q'' + h = Gᵀλ + Q, the loop constraints g(q) = 0 and their first and second derivatives.
-The closed-form four-bar position analysis (Norton §4.5) is in tests/references_multibody.py.
+The closed-form four-bar position analysis (Norton §4.5) is in flexlib.models.reference.closed_form.
 """
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import casadi as ca
 import numpy as np
 import pytest
-import references_multibody as ref
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
-
-sys.path.insert(0, str(Path(__file__).resolve().parent / "components" / "mechanics" / "multibody"))
-import test_loops
+from flexlib.models.reference import closed_form as ref
+from flexlib.models.reference.four_bar import A, B, C, D, FourBar, link_body
 
 
 @pytest.fixture(autouse=True)
@@ -32,21 +27,7 @@ def _zero_geometry(monkeypatch):
     ``FLEXLIB_ZERO_GEOMETRY=0`` or ``assume_zero_geometry=False``): test the default."""
     monkeypatch.delenv("FLEXLIB_ZERO_GEOMETRY", raising=False)
 
-A, B, C, D = 0.2, 0.7, 0.9, 0.6          # m: crank, coupler, rocker, ground
 M_CRANK, M_COUPLER, M_ROCKER = 1.0, 2.0, 1.5  # kg
-
-
-def _link(m: float, L: float) -> Body:
-    """A slender link's mass at its centre, frame_a at the link's far end (rod inertia m L²/12)."""
-    return Body(m=m, r_CM=[-L / 2, 0, 0], I=np.diag([1e-6, m * L**2 / 12, m * L**2 / 12]))
-
-
-class FourBar(test_loops.FourBar):
-    """The four-bar of test_loops.py: crank O2–A, coupler A–B, rocker O4–B, joint axes z, loop closed at rev3."""
-
-    def __init__(self, theta2: float = 0.3, w2: float = 6.0, g: float = 0.0) -> None:
-        th3, th4 = (float(x) for x in ref.fourbar_angles(A, B, C, D, theta2, "open"))
-        super().__init__(theta2, th3, th4, w2, g=g)
 
 
 def chain_angles(theta1: float) -> list[float]:
@@ -72,7 +53,7 @@ class PlanarChain(fl.Model):
         self.world = World()
         self.rev_in = Revolute(init={"phi": th[0], "w": w1})
         self.crank = FixedTranslation(r=[A, 0, 0])
-        self.crank_mass = _link(M_CRANK, A)
+        self.crank_mass = link_body(M_CRANK, A)
         self.connect(self.world.frame_b, self.rev_in.frame_a)
         self.connect(self.rev_in.frame_b, self.crank.frame_a)
         self.connect(self.crank.frame_b, self.crank_mass.frame_a)
@@ -82,10 +63,10 @@ class PlanarChain(fl.Model):
             ground = Fixed(r=[k * D, 0, 0])
             couple = Revolute(guess={"phi": th_c - angle})
             coupler = FixedTranslation(r=[B, 0, 0])
-            coupler_mass = _link(M_COUPLER, B)
+            coupler_mass = link_body(M_COUPLER, B)
             pivot = Revolute(guess={"phi": th_r})
             rocker = FixedTranslation(r=[C, 0, 0])
-            rocker_mass = _link(M_ROCKER, C)
+            rocker_mass = link_body(M_ROCKER, C)
             close = Revolute(guess={"phi": th_r - th_c})
             for name, comp in [("ground", ground), ("couple", couple), ("coupler", coupler),
                                ("coupler_mass", coupler_mass), ("pivot", pivot), ("rocker", rocker),
@@ -180,7 +161,7 @@ def test_hand_written_fourbar_dae_reproduces_the_motion():
     out = integ(x0=[th2, w2], z0=[th3, th4, w3, w4, 0, 0, 0, 0, 0])
     th2_end, th4_end = float(out["xf"][0]), float(out["zf"][1])
     np.testing.assert_allclose(th4_end, ref.fourbar_angles(A, B, C, D, th2_end, "open")[1], atol=1e-6)
-    res = fl.Simulation(FourBar(th2, w2), use_cache=False).run(0.3, dt_out=0.3, rtol=1e-9, atol=1e-11,
+    res = fl.Simulation(FourBar(th2, w2=w2), use_cache=False).run(0.3, dt_out=0.3, rtol=1e-9, atol=1e-11,
                                                                 progress=False)
     np.testing.assert_allclose(res["rev1.phi"][-1], th2_end, atol=1e-6)
     np.testing.assert_allclose(res["rev4.phi"][-1], th4_end, atol=1e-6)

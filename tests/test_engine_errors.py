@@ -5,6 +5,8 @@ import pytest
 
 import flexlib as fl
 from flexlib import Connector, Flow, Parameter, Potential, Variable, der, eq
+from flexlib.models.reference.blow_up import BlowUp
+from flexlib.models.reference.mass_spring_damper import Oscillator
 
 
 class RotFlange(Connector):
@@ -44,7 +46,7 @@ class Block(fl.Component):
 
 
 def test_connect_incompatible_connectors():
-    class Bad(fl.Model):
+    class Mismatched(fl.Model):
         def __init__(self):
             super().__init__()
             self.disk = Disk()
@@ -52,7 +54,7 @@ def test_connect_incompatible_connectors():
             self.connect(self.disk.flange, self.block.flange)
 
     with pytest.raises(fl.ConnectError, match=r"disk\.flange.*block\.flange.*incompatible"):
-        Bad()
+        Mismatched()
 
 
 def test_unbalanced_component_names_it():
@@ -63,13 +65,13 @@ def test_unbalanced_component_names_it():
         def equations(self):
             return [eq(der(self.flange.phi), self.w)]  # missing the torque balance
 
-    class Top(fl.Model):
+    class LeakyTop(fl.Model):
         def __init__(self):
             super().__init__()
             self.leaky = Leaky()
 
     with pytest.raises(fl.BalanceError, match=r"component leaky \(Leaky\) has 1 equations but needs 2"):
-        fl.Simulation(Top(), use_cache=False)
+        fl.Simulation(LeakyTop(), use_cache=False)
 
 
 def test_unbalanced_model_names_culprits():
@@ -113,16 +115,9 @@ def test_structurally_singular_model():
 
 
 def test_overspecified_initial_conditions():
-    class Osc(fl.Model):
-        x = Variable(unit="m")
-        v = Variable(unit="m/s")
-
-        def equations(self):
-            return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
-
     with pytest.raises(fl.InitializationError, match=r"over-specified"):
         # three conditions for two states: x, v and der(x) via v... the third on an alias of v
-        class Osc3(Osc):
+        class Osc3(Oscillator):
             a = Variable(unit="m/s2")
 
             def equations(self):
@@ -130,7 +125,7 @@ def test_overspecified_initial_conditions():
 
         fl.Simulation(Osc3(init={"x": 1.0, "v": 0.0, "a": 0.0}), use_cache=False).run(1.0)
     with pytest.raises(fl.InitializationError, match=r"under-specified[\s\S]*\bv\b"):
-        fl.Simulation(Osc(init={"x": 1.0}), use_cache=False).run(1.0)
+        fl.Simulation(Oscillator(init={"x": 1.0}), use_cache=False).run(1.0)
 
 
 def test_unknown_parameter_name():
@@ -138,13 +133,13 @@ def test_unknown_parameter_name():
         Disk(Jx=2.0)
     with pytest.raises(fl.ParameterError, match=r"disk\.J = -1"):
 
-        class Top(fl.Model):
+        class LeakyTop(fl.Model):
             def __init__(self):
                 super().__init__()
                 self.disk = Disk(init={"w": 0.0, "flange.phi": 0.0} if False else {"w": 0.0})
                 self.disk.J = -1.0
 
-        Top()
+        LeakyTop()
 
     class Top2(fl.Model):
         def __init__(self):
@@ -157,15 +152,6 @@ def test_unknown_parameter_name():
         sim.run(1.0, params={"disk.j": 2.0})
     with pytest.raises(fl.ParameterError, match=r"disk\.J.*minimum"):
         sim.run(1.0, params={"disk.J": -2.0})
-
-
-class BlowUp(fl.Model):
-    """x' = x², x(0) = 1: the solution 1/(1 − t) blows up at t = 1."""
-
-    x = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.x**2)]
 
 
 def test_solver_failure_keeps_and_saves_results(tmp_path):
@@ -187,14 +173,7 @@ def test_interrupt_keeps_results(monkeypatch, tmp_path):
     """Ctrl-C during a run: SimulationInterrupted carries the result up to the interrupt, saved."""
     from flexlib.solve import sundae_callbacks
 
-    class Osc(fl.Model):
-        x = Variable()
-        v = Variable()
-
-        def equations(self):
-            return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
-
-    sim = fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     calls = {"n": 0}
     original = sundae_callbacks.Callbacks.resfn
 

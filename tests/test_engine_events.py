@@ -4,24 +4,8 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib import Parameter, Variable, der, eq, if_else, time
-
-
-class BangBang(fl.Model):
-    """An inertia driven by +T until t1, −T until t2, then +T again (time events)."""
-
-    J = Parameter(2.0, unit="kg.m2")
-    T = Parameter(1.0, unit="N.m")
-    t1 = Parameter(1.0, unit="s")
-    t2 = Parameter(2.5, unit="s")
-    w = Variable(unit="rad/s")
-    tau = Variable(unit="N.m")
-
-    def equations(self):
-        return [
-            eq(self.tau, if_else(time < self.t1, self.T, if_else(time < self.t2, -self.T, self.T))),
-            eq(self.J * der(self.w), self.tau),
-        ]
+from flexlib import Variable, der, eq, if_else
+from flexlib.models.reference.events import BangBang, BouncingContact, SaturatedRamp, Thermostat
 
 
 def test_time_events_hit_exactly():
@@ -46,25 +30,6 @@ def test_time_event_parameter_change_moves_event():
     np.testing.assert_allclose(times, [0.75, 2.5], atol=1e-12)
 
 
-class BouncingContact(fl.Model):
-    """A ball falling onto a stiff contact spring: the contact force switches on when h < 0."""
-
-    g = Parameter(9.81, unit="m/s2")
-    m = Parameter(1.0, unit="kg")
-    k = Parameter(1e5, unit="N/m")
-    d = Parameter(10.0, unit="N.s/m")
-    h = Variable(unit="m")
-    v = Variable(unit="m/s")
-    fc = Variable(unit="N", doc="Contact force")
-
-    def equations(self):
-        return [
-            eq(der(self.h), self.v),
-            eq(self.m * der(self.v), -self.m * self.g + self.fc),
-            eq(self.fc, if_else(self.h < 0, -self.k * self.h - self.d * self.v, 0.0)),
-        ]
-
-
 def test_state_event_located():
     """First contact at t = sqrt(2 h0 / g) (free fall) located to 1e-8; the ball bounces back up."""
     h0 = 1.0
@@ -76,17 +41,6 @@ def test_state_event_located():
     assert res["h"].min() < 0 and res["v"][res.t > first].max() > 4.0  # in contact, then bouncing up again
     # contact force is zero in flight and positive in contact (the branch is frozen between events)
     assert np.all(res["fc"][res["h"] > 1e-9] == 0.0)
-
-
-class Thermostat(fl.Model):
-    """Heater switched by a relation on the state with hysteresis written as nested relations."""
-
-    T = Variable(unit="K")
-    q = Variable(unit="W")
-
-    def equations(self):
-        return [eq(der(self.T), self.q - 0.5 * (self.T - 280.0)),
-                eq(self.q, if_else(self.T < 295.0, 10.0, 0.0))]
 
 
 def test_event_reinitialisation_and_chattering():
@@ -112,18 +66,6 @@ def test_output_grid_kept_after_state_event():
     assert set(grid) <= set(np.round(res.t, 12))
 
 
-class SaturatedRamp(fl.Model):
-    """A first-order lag driven by min(u, 1), where u ramps from 0 to exactly 1 on [0.5, 0.55] and then holds:
-    the state event of ``u > 1`` falls exactly on the time event ending the ramp."""
-
-    x = Variable(start=0.0, fixed=True)
-    u = Variable()
-
-    def equations(self):
-        ramp = if_else(time < 0.5, 0.0, if_else(time < 0.55, (time - 0.5) / 0.05, 1.0))
-        return [eq(self.u, ramp), eq(der(self.x), if_else(self.u > 1.0, 1.0, self.u) - self.x)]
-
-
 def test_state_event_coinciding_with_time_event():
     """A state event found exactly at a time event does not hide the time event (it used to leave the next
     stop time equal to the current time and IDA refused to start). x(1) matches the closed form of
@@ -137,7 +79,7 @@ def test_state_event_coinciding_with_time_event():
     assert any(abs(t - 0.55) < 1e-12 for t, _ in res.events)
 
 
-class Bounded(fl.Model):
+class AssertBounded(fl.Model):
     """x grows at 1 m/s; an assertion requires x <= 0.5 m."""
 
     x = Variable(unit="m", start=0.0, fixed=True)
@@ -151,20 +93,21 @@ class Bounded(fl.Model):
 def test_assertion_stops_the_run_at_the_violation(solver):
     """assert_: the run stops where x crosses 0.5 (t = 0.5 s to 1e-9), the error names the component, the
     relation and the message, and the result up to the violation is kept; false at the start fails at once."""
-    with pytest.raises(fl.SolverError, match=r"assertion failed at t = 0.5 s:\n  Bounded: x <= 0.5: x must stay") as e:
-        fl.Simulation(Bounded(), use_cache=False).run(1.0, dt_out=0.1, solver=solver, progress=False)
+    with pytest.raises(fl.SolverError,
+                       match=r"assertion failed at t = 0.5 s:\n  AssertBounded: x <= 0.5: x must stay") as e:
+        fl.Simulation(AssertBounded(), use_cache=False).run(1.0, dt_out=0.1, solver=solver, progress=False)
     assert abs(e.value.result.t[-1] - 0.5) < 1e-9
     assert abs(e.value.result["x"][-1] - 0.5) < 1e-9
-    model = Bounded()
+    model = AssertBounded()
     model.set_start("x", 0.7)
     with pytest.raises(fl.SolverError, match=r"assertion failed at t = 0 s"):
         fl.Simulation(model, use_cache=False).run(1.0, solver=solver, progress=False)
     with pytest.raises(fl.ModelError, match=r"assert_\(\): the condition must be one relation"):
-        class Bad(Bounded):
+        class NotARelation(AssertBounded):
             def equations(self):
                 fl.assert_(self.x + 1.0, "not a relation")
                 return []
-        fl.Simulation(Bad(), use_cache=False)
+        fl.Simulation(NotARelation(), use_cache=False)
 
 
 class Saturating(fl.Model):

@@ -11,29 +11,7 @@ from scipy.special import ellipk
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq
-
-
-class CartesianPendulum(fl.Model):
-    """Planar pendulum in Cartesian coordinates: index 3 (Hairer & Wanner, Solving ODEs II, §VII.1)."""
-
-    m = Parameter(1.0, unit="kg", doc="Mass")
-    L = Parameter(1.0, unit="m", doc="Length")
-    g = Parameter(9.81, unit="m/s2", doc="Gravity")
-    x = Variable(unit="m", doc="Horizontal position")
-    y = Variable(unit="m", doc="Vertical position")
-    u = Variable(unit="m/s", doc="Horizontal velocity")
-    v = Variable(unit="m/s", doc="Vertical velocity")
-    lam = Variable(unit="N/m", doc="Constraint force per length")
-
-    def equations(self):
-        return [
-            eq(der(self.x), self.u),
-            eq(der(self.y), self.v),
-            eq(self.m * der(self.u), -self.lam * self.x),
-            eq(self.m * der(self.v), -self.lam * self.y - self.m * self.g),
-            eq(self.x**2 + self.y**2, self.L**2),
-        ]
-
+from flexlib.models.reference.cartesian_pendulum import CartesianPendulum
 
 THETA0 = 0.5
 
@@ -148,12 +126,12 @@ def test_prescribed_position_differentiated_twice():
 def test_index_report_names_components():
     """The report names differentiated equations by component path and lists states/dummies."""
 
-    class Outer(fl.Model):
+    class PendulumHolder(fl.Model):
         def __init__(self):
             super().__init__()
             self.pend = _pendulum()
 
-    sim = fl.Simulation(Outer(), use_cache=False)
+    sim = fl.Simulation(PendulumHolder(), use_cache=False)
     text = str(sim.report)
     assert "pend:" in text
     assert "pend.x" in sim.states

@@ -14,7 +14,7 @@ import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Revolute, World
 
 
-class Rotor(fl.Model):
+class FrictionRotor(fl.Model):
     """A disk with its centre of mass on a horizontal frictional revolute axis."""
 
     def __init__(self) -> None:
@@ -37,7 +37,7 @@ def test_gravity_only_frame_acceleration_is_tested_reaction_is_not(monkeypatch):
     computed from it; the states are always tested. Built without the explicit-elimination stage, which would
     otherwise remove the frame acceleration (a kinematic intermediate) from the unknowns."""
     monkeypatch.setenv("FLEXLIB_EXPLICIT", "0")
-    marks = _marks(fl.Simulation(Rotor(), use_cache=False))
+    marks = _marks(fl.Simulation(FrictionRotor(), use_cache=False))
     frame_a = [n for n in marks if n.startswith("disk.frame_a.a[")]
     assert frame_a and not any(marks[n] for n in frame_a)
     assert marks["disk.frame_a.f[0]"] and marks["disk.frame_a.f[1]"] and marks["bearing.tau_f"]
@@ -48,11 +48,7 @@ def test_without_the_declaration_the_point_mass_accelerations_would_be_tested(mo
     """The declaration is what excludes the point mass's angular acceleration about the rod's swing axis on a
     universal joint (the one that a joint acceleration reaches): with ``Frame.a`` and ``Frame.z`` declared tested,
     the mask loses it, which took the conical-pendulum test 22 000 steps instead of 1 040."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parent / "components" / "mechanics" / "multibody"))
-    from test_parts_joints import PointOnRod, UniversalPendulum
+    from flexlib.models.reference.rigid_pendulum import PointOnRod, UniversalPendulum
 
     def build():
         init = {"phi_a": 0.5, "phi_b": 0.0, "w_a": 0.0, "w_b": 3.0}

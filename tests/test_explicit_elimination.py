@@ -7,7 +7,6 @@ same tolerances: the two DAEs differ only by exact substitutions, so they agree 
 from __future__ import annotations
 
 import re
-import sys
 from pathlib import Path
 
 import casadi as ca
@@ -34,15 +33,13 @@ def build_pair(factory, monkeypatch, mode: str = "1") -> tuple[fl.Simulation, fl
 def test_fourbar_results_equal_and_eliminated_variables_by_name(monkeypatch, tmp_path):
     """Four-bar of four revolutes, 2 s at rtol 1e-8: the stage removes unknowns (cut forces, accelerations, the
     frames' kinematic intermediates) and leaves every other unknown of the error test in it. Absolute link angles
-    of both builds are within 2e-5 rad of the
-    minimal-coordinate ODE (``benchmarks/minimal_dae.py``, CVODE at rtol 1e-12; measured 1.8e-6 without and
-    4.6e-6 with the stage: the global error of the DAE at this tolerance). Every eliminated variable, read by
+    of both builds are within 2e-5 rad of the minimal-coordinate ODE
+    (``flexlib.models.reference.planar_minimal``, CVODE at rtol 1e-12; measured 1.8e-6 without and 4.6e-6
+    with the stage: the global error of the DAE at this tolerance). Every eliminated variable, read by
     name from the result and from its HDF5 file, agrees with the build without the stage to 1e-3 of its range
     (forces and accelerations carry that global error, amplified near the transmission-angle extremes)."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from minimal_dae import MinimalODE
-
     from flexlib.models.planar_mechanisms import fourbar_spec
+    from flexlib.models.reference.planar_minimal import MinimalODE
 
     off, on = build_pair(FourBarLinkage, monkeypatch)
     eliminated = on.compiled.report.explicit
@@ -75,8 +72,7 @@ def test_fourbar_results_equal_and_eliminated_variables_by_name(monkeypatch, tmp
 
 
 def _servo():
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    from hydraulic_servo import HydraulicServo
+    from flexlib.models.reference.hydraulic_servo import HydraulicServo
 
     return HydraulicServo()
 
@@ -99,7 +95,7 @@ def test_hydraulic_servo_with_events_results_equal(monkeypatch, mode):
     np.testing.assert_allclose(b.value("cylinder.p_A", grid), p_a, rtol=0, atol=1e-4 * np.abs(p_a).max())
 
 
-class Oscillator(fl.Model):
+class StopOscillator(fl.Model):
     """Mass on a spring with a contact stop at x = −x_stop (a state event): f = −k·x is given explicitly by its
     row with coefficient 1, so ``FLEXLIB_EXPLICIT=all`` eliminates it (it is a position-level unknown, in the
     error test, which the default keeps)."""
@@ -125,7 +121,7 @@ def test_fixed_start_on_an_eliminated_variable_becomes_a_condition_on_the_others
     becomes x(0) = −f/k = −0.3 m. Reference: the build without the stage, which has f as an unknown; x(0)
     exact to 1e-12, trajectories (with the stop contact events; x up to 3.5 m) to 1e-6 m, forces to the
     stiffness times that."""
-    off, on = build_pair(lambda: Oscillator(init={"f": 1.2, "v": 0.0}), monkeypatch, "all")
+    off, on = build_pair(lambda: StopOscillator(init={"f": 1.2, "v": 0.0}), monkeypatch, "all")
     assert "f" in on.compiled.report.explicit and "f" not in on.compiled.y_names and "f" in off.compiled.y_names
     kw = {"dt_out": 0.01, "rtol": 1e-9, "atol": 1e-11, "progress": False}
     a, b = off.run(3.0, **kw), on.run(3.0, **kw)
@@ -140,7 +136,7 @@ def test_jacobian_never_denser_on_a_serial_chain(monkeypatch):
     """N-link pendulum, N = 10: the chain where eliminating every explicit unknown made the Jacobian dense
     (``tearing.eliminate_explicit``). With the fill criterion the Jacobian keeps at most its nonzeros and the
     last joint angle agrees with the build without the stage to 1e-7 rad over 1 s at rtol 1e-8."""
-    from models.n_link_pendulum import NLinkPendulum
+    from flexlib.models.n_link_pendulum import NLinkPendulum
 
     for mode in ("1", "all"):
         off, on = build_pair(lambda: NLinkPendulum(10), monkeypatch, mode)

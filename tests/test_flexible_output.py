@@ -80,7 +80,7 @@ def test_energies_of_a_swinging_flexible_pendulum_are_conserved_and_start_at_the
     strip = modal_data_from_fe(beam_mesh((0, 0, 0), (L, 0, 0), 10, rectangle(b, h), E=7e10, rho=rho), [0], 4,
                                reference_node=0, title="strip")
 
-    class Pendulum(fl.Model):
+    class StripPendulum(fl.Model):
         def __init__(self) -> None:
             super().__init__()
             self.world = World()
@@ -89,7 +89,7 @@ def test_energies_of_a_swinging_flexible_pendulum_are_conserved_and_start_at_the
             self.connect(self.world.frame_b, self.j.frame_a)
             self.connect(self.j.frame_b, self.strip.frame_a)
 
-    res = fl.Simulation(Pendulum()).run(2.0, dt_out=0.01, rtol=1e-9, atol=1e-11, progress=False)
+    res = fl.Simulation(StripPendulum()).run(2.0, dt_out=0.01, rtol=1e-9, atol=1e-11, progress=False)
     n = len(res.t)
     E = energies(strip, res["strip.q"], res["strip.qd"], res["strip.r_0"], res["strip.v_0"], res["strip.w"],
                  res["strip.frame_a.T"].reshape(n, 3, 3, order="F"))
@@ -365,7 +365,7 @@ def test_model_vtk_series_draws_flexible_meshes_and_rigid_sticks(tmp_path):
     fe = beam_mesh((0, 0, 0), (1.0, 0, 0), 16, rectangle(0.02, 0.01), E=2.1e11, rho=7850.0)
     arm_data = modal_data_from_fe(fe, [16], 4, reference_node=0)
 
-    class Arm(fl.Model):
+    class FlexibleArm(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World()
@@ -375,7 +375,7 @@ def test_model_vtk_series_draws_flexible_meshes_and_rigid_sticks(tmp_path):
             self.connect(self.world.frame_b, self.hinge.frame_a)
             self.connect(self.hinge.frame_b, self.arm.frame_a, self.lever.frame_a)
 
-    model = Arm()
+    model = FlexibleArm()
     res = fl.Simulation(model, use_cache=False).run(0.2, dt_out=0.05, progress=False)
     path = write_model_vtk(tmp_path / "arm.pvd", model, res, lines={"lever": ["hinge.frame_b", "lever.frame_b"]})
     sets = ET.parse(path).getroot().findall("Collection/DataSet")

@@ -89,7 +89,7 @@ def test_two_mass_chain_receptance_with_damper():
     np.testing.assert_allclose(eig, np.sort_complex(ref), rtol=1e-10)
 
 
-class Pendulum(fl.Model):
+class BobPendulum(fl.Model):
     def __init__(self, m: float, L: float, I_zz: float):
         super().__init__()
         self.world = World()
@@ -104,7 +104,7 @@ class Pendulum(fl.Model):
 def test_pendulum_at_the_bottom():
     """ω = √(m g L / (I + m L²)), undamped, to 1e-10; locking the joint leaves no mode."""
     m, L, Izz = 3.0, 0.8, 0.05
-    sim = fl.Simulation(Pendulum(m, L, Izz))
+    sim = fl.Simulation(BobPendulum(m, L, Izz))
     modes = fl.modal_analysis(sim)
     osc = modes.oscillatory
     assert osc.sum() == 1
@@ -194,7 +194,7 @@ def test_linearization_along_a_result_and_sweeps():
     the closed cylinder over its piston position follows the oil-spring formula."""
     m, L, Izz = 3.0, 0.8, 0.05
     w0 = np.sqrt(m * 9.81 * L / (Izz + m * L**2))
-    model = Pendulum(m, L, Izz)
+    model = BobPendulum(m, L, Izz)
     model.rev.set_start("phi", -np.pi / 2 + 1.0)
     sim = fl.Simulation(model)
     res = sim.run(1.5, dt_out=0.01, rtol=1e-10, atol=1e-12, progress=False)

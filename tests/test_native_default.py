@@ -2,7 +2,6 @@
 schedule honoured in C, the switch to C compiled in the background during a run, and the event restart that the
 scikit-sundae route got right by luck."""
 
-import sys
 import time
 from pathlib import Path
 
@@ -10,18 +9,18 @@ import numpy as np
 import pytest
 
 import flexlib as fl
+from flexlib.models.reference.mass_spring_damper import Oscillator
 from flexlib.solve import native, simulation
 from flexlib.solve.backends.base import DENSE_MAX
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE / "robustness"))
-
-from test_native_fallback import Osc, needs_driver  # noqa: E402  (the oscillator x = cos t, the driver check)
+needs_driver = pytest.mark.skipif(not native.native_available(),
+                                  reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
 
 
 @pytest.fixture(scope="module")
 def osc():
-    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
 @needs_driver
@@ -68,8 +67,7 @@ def test_monitor_schedule_runs_in_c(monkeypatch):
 @needs_driver
 def test_monitor_still_switches_in_c():
     """The Cartesian pendulum over the top switches its states on the C driver as on the scikit-sundae route."""
-    sys.path.insert(0, str(HERE))
-    from test_engine_index import CartesianPendulum
+    from flexlib.models.reference.cartesian_pendulum import CartesianPendulum
 
     sim = fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False)
     res = sim.run(3.0, rtol=1e-8, atol=1e-10, dt_out=0.01, progress=False)
@@ -117,9 +115,9 @@ def test_limiter_restart_at_a_root_located_early():
     error, a few 1e-11 before the true one. The relation switched there must not be switched back by the sign
     of its indicator after the restart (Newton noise): the run completes, the output stays clipped to the limits
     to 1e-6, and the events agree with the scikit-sundae route to 1e-9 s."""
-    from test_parameters import Limited
+    from flexlib.models.reference.signal_chain import LimitedSine
 
-    sim = fl.Simulation(Limited(), use_cache=False)
+    sim = fl.Simulation(LimitedSine(), use_cache=False)
     kw = dict(dt_out=0.01, params={"limiter.u_max": -1.0, "limiter.u_min": -1.5}, progress=False, rtol=1e-9,
               atol=1e-11)
     res = sim.run(1.0, **kw)

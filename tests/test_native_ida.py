@@ -3,18 +3,18 @@ solutions and against IDA stepped from Python (``solver="ida-sksundae"``, the sa
 tolerances."""
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-from test_casadi_idas import FallingBall, Oscillator, StepForce, _oscillator_exact
-from test_engine_events import BangBang, BouncingContact, SaturatedRamp, Thermostat
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq
 from flexlib.compile.cache import cache_dir
 from flexlib.models.n_mass_chain import NMassChain
+from flexlib.models.reference.blow_up import BlowUp
+from flexlib.models.reference.events import BangBang, BouncingContact, FallingBall, SaturatedRamp, StepForce, Thermostat
+from flexlib.models.reference.mass_spring_damper import DampedOscillator
 from flexlib.solve import native
 from flexlib.solve.backends.base import DENSE_MAX
 
@@ -33,12 +33,12 @@ def both(sim: fl.Simulation, t_end: float, **kw) -> dict[str, fl.Result]:
 def test_oscillator_matches_analytic_and_default_backend():
     """x(t) of the underdamped oscillator to 1e-6 on a 101-point grid (rtol 1e-8). It is the same IDA with the
     same Jacobian: step counts equal the default backend's, values agree to 1e-10."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     grid = np.linspace(0.0, 10.0, 101)
     res = both(sim, 10.0, output_times=grid, rtol=1e-8, atol=1e-10)
     r = res["ida-native"]
     np.testing.assert_array_equal(r.t, grid)
-    np.testing.assert_allclose(r["x"], _oscillator_exact(grid), atol=1e-6)
+    np.testing.assert_allclose(r["x"], DampedOscillator.exact(grid), atol=1e-6)
     np.testing.assert_allclose(r["x"], res["ida"]["x"], atol=1e-10)
     assert STATS_KEYS <= set(r.stats)
     assert r.stats["steps"] == res["ida"].stats["steps"] and r.stats["nfev"] > 0 and r.stats["njev"] > 0
@@ -46,11 +46,11 @@ def test_oscillator_matches_analytic_and_default_backend():
 
 def test_every_step_recorded_without_grid():
     """No output grid: one row per internal step, as in the default backend (same times to 1e-12)."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     res = both(sim, 5.0, rtol=1e-8, atol=1e-10)
     assert len(res["ida-native"].t) == res["ida-native"].stats["steps"] + 1
     np.testing.assert_allclose(res["ida-native"].t, res["ida"].t, atol=1e-12)
-    np.testing.assert_allclose(res["ida-native"]["x"], _oscillator_exact(res["ida-native"].t), atol=1e-6)
+    np.testing.assert_allclose(res["ida-native"]["x"], DampedOscillator.exact(res["ida-native"].t), atol=1e-6)
 
 
 def test_row_buffer_refills(monkeypatch):
@@ -58,16 +58,16 @@ def test_row_buffer_refills(monkeypatch):
     from flexlib.solve.backends import ida_c
 
     monkeypatch.setattr(ida_c, "ROW_BUFFER_VALUES", 7 * 2)  # 16 rows (the minimum) per chunk
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     grid = np.linspace(0.0, 10.0, 1001)
     r = sim.run(10.0, output_times=grid, rtol=1e-8, atol=1e-10, solver="ida-native", progress=False)
     np.testing.assert_array_equal(r.t, grid)
-    np.testing.assert_allclose(r["x"], _oscillator_exact(grid), atol=1e-6)
+    np.testing.assert_allclose(r["x"], DampedOscillator.exact(grid), atol=1e-6)
     r2 = sim.run(10.0, rtol=1e-8, atol=1e-10, solver="ida-native", progress=False)
     assert len(r2.t) == r2.stats["steps"] + 1 and np.all(np.diff(r2.t) > 0)
 
 
-class Pendulum(fl.Model):
+class UnitCartesianPendulum(fl.Model):
     """Planar pendulum in Cartesian coordinates (index 3), m = L = 1, started at 45° at rest."""
 
     g = Parameter(9.81, unit="m/s2")
@@ -87,7 +87,8 @@ def test_index3_pendulum_constraint_and_energy():
     E conserved. Tolerances: |g| < 1e-7, |g'| < 1e-6 (interpolated rows; measured 1.3e-8 and 6.1e-7), |ΔE| < 2e-5
     (measured 1.1e-5); the same IDA as the default backend: values agree to 1e-12."""
     th = math.pi / 4
-    sim = fl.Simulation(Pendulum(init={"x": math.sin(th), "u": 0.0}, guess={"y": -math.cos(th)}), use_cache=False)
+    sim = fl.Simulation(UnitCartesianPendulum(init={"x": math.sin(th), "u": 0.0}, guess={"y": -math.cos(th)}),
+                        use_cache=False)
     res = both(sim, 10.0, dt_out=0.01, rtol=1e-8, atol=1e-10, dynamic_states=False)
     r = res["ida-native"]
     x, y, u, v = r["x"], r["y"], r["u"], r["v"]
@@ -102,7 +103,7 @@ def test_index3_pendulum_constraint_and_energy():
 def test_pendulum_over_the_top_with_state_selection():
     """Started at the bottom with 8 m/s (E = 32 J/kg > 2·g) the pendulum loops over the top: the dynamic
     state-selection monitor switches states in ida-native as in the default backend; constraint held to 1e-6."""
-    sim = fl.Simulation(Pendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False)
+    sim = fl.Simulation(UnitCartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False)
     if not sim.compiled.has_state_choice:
         pytest.skip("this build has no state choice")
     res = both(sim, 2.0, dt_out=0.01, rtol=1e-8, atol=1e-10)
@@ -114,7 +115,7 @@ def test_pendulum_over_the_top_with_state_selection():
 
 
 def test_time_events_hit_exactly():
-    """BangBang: events at t1, t2 to 1e-12, w(t) piecewise linear to 1e-9 (as tests/test_engine_events.py)."""
+    """BangBang: events at t1, t2 to 1e-12, w(t) piecewise linear to 1e-9 (as in tests/test_engine_events.py)."""
     res = fl.Simulation(BangBang(init={"w": 0.0}), use_cache=False).run(4.0, dt_out=0.5, rtol=1e-8, atol=1e-10,
                                                                         solver="ida-native", progress=False)
     times = [t for t, text in res.events if text.startswith("time event")]
@@ -187,10 +188,9 @@ def test_state_event_coinciding_with_time_event():
 
 
 def test_hydraulic_cylinder_end_stops():
-    """Cylinder driven into both end stops (tests/components/hydraulics): the resting penetration equals
+    """Cylinder driven into both end stops (the catalogue's ``PressureDriven``): the resting penetration equals
     F_hyd / c_stop to 1e-6 relative, and the run agrees with the default backend (positions to 1e-9 m)."""
-    sys.path.insert(0, str(HERE / "components" / "hydraulics"))
-    from test_cylinder_valves import A_P, A_R, BAR, P_ATM, STROKE, PressureDriven
+    from flexlib.models.reference.hydraulic_cylinder import A_P, A_R, BAR, P_ATM, STROKE, PressureDriven
 
     p_s = 100 * BAR
     sim = fl.Simulation(PressureDriven(p_s, t_switch=2.0))
@@ -236,15 +236,6 @@ def test_generated_c_is_called_directly():
     np.testing.assert_allclose(r_cg["mass4.s"], r_vm["mass4.s"], atol=1e-12)
 
 
-class BlowUp(fl.Model):
-    """x' = x², x(0) = 1: x = 1/(1 − t) blows up at t = 1."""
-
-    x = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.x**2)]
-
-
 def test_failure_keeps_rows_and_names_the_variable():
     """The blow-up stops just before t = 1 (step size underflow, as in the default backend): SolverError with the
     rows so far (the same 20 grid rows as the default backend, x = 1/(1−t) to 1e-3 relative at the default rtol 1e-6,
@@ -262,7 +253,7 @@ def test_failure_keeps_rows_and_names_the_variable():
 
 def test_ida_flags_are_named():
     """IDA's return flags are reported by IDA's own names (IDAGetReturnFlagName)."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     from flexlib.solve.backends.ida_c import make_driver
 
     m = sim.compiled
@@ -273,13 +264,13 @@ def test_ida_flags_are_named():
 
 def test_max_steps_and_max_step():
     """``max_steps`` stops the run with the result so far; ``max_step`` bounds the step (≥ 1000 steps in 10 s)."""
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     with pytest.raises(fl.SolverError, match=r"maximum number of steps \(20\)") as exc:
         sim.run(10.0, dt_out=1.0, max_steps=20, solver="ida-native", progress=False)
     assert exc.value.result.stats["steps"] == 20
     r = sim.run(10.0, dt_out=1.0, max_step=0.01, solver="ida-native", progress=False)
     assert r.stats["steps"] >= 1000
-    np.testing.assert_allclose(r["x"], _oscillator_exact(r.t), atol=1e-5)
+    np.testing.assert_allclose(r["x"], DampedOscillator.exact(r.t), atol=1e-5)
 
 
 def test_driver_compiled_once_into_the_cache():
@@ -299,7 +290,7 @@ def test_sigterm_while_in_the_c_loop_keeps_the_result(tmp_path):
     import signal
     import threading
 
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}, k=1.0, d=0.0), use_cache=False)
+    sim = fl.Simulation(DampedOscillator(init={"x": 1.0, "v": 0.0}, k=1.0, d=0.0), use_cache=False)
     sim.run(1.0, solver="ida-native", progress=False)  # driver set up: the signal comes during the steps
     path = tmp_path / "run.h5"
     timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGTERM))

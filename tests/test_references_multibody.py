@@ -1,4 +1,4 @@
-"""Self-checks of ``tests/references_multibody.py``: each reference against a second computation.
+"""Self-checks of ``flexlib.models.reference.closed_form``: each reference against a second computation.
 
 The second computation never reuses the reference's formula: closed forms are checked against
 ``solve_ivp`` of the minimal-coordinate ODE, minimal-coordinate ODEs against constrained
@@ -13,8 +13,9 @@ import math
 
 import numpy as np
 import pytest
-import references_multibody as ref
 from scipy.integrate import solve_ivp
+
+from flexlib.models.reference import closed_form as ref
 
 ODE = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-13}
 

@@ -6,20 +6,16 @@ References: the symbolic Jacobian of the held problem (``ca.jacobian``, exact), 
 contact of ``tests/test_engine_events.py``.
 """
 
-import sys
-from pathlib import Path
 
 import casadi as ca
 import numpy as np
 import scipy.sparse as sps
 
 import flexlib as fl
+from flexlib.models.reference.events import BouncingContact
 from flexlib.solve.init import reinit
 from flexlib.solve.init.initializer import Initializer
 from flexlib.solve.init.reinit import StatesHeld
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from test_engine_events import BouncingContact
 
 
 def _symbolic_held(init: Initializer) -> tuple[ca.Function, ca.Function]:

@@ -6,30 +6,14 @@ pin that switching still happens where it must and that the schedule really skip
 deterministic (no timing is asserted; speed is measured in ``benchmarks/engine_speed.py``).
 """
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-import references_multibody as ref
 
 import flexlib as fl
-
-sys.path.insert(0, str(Path(__file__).resolve().parent / "components" / "mechanics" / "multibody"))
-
-from test_loops import A, B, C, D, FourBar
-
-#: Non-Grashof link lengths [m] (s + l = 1.0 > p + q = 0.95): a triple rocker. Every link reverses at
-#: its toggle positions, where its angle cannot be a state, so a fixed selection must fail.
-TA, TB, TC, TD = 0.5, 0.4, 0.45, 0.6
-
-
-class TripleRocker(FourBar):
-    """Planar four-bar of four Revolutes (``test_loops.FourBar``) with non-Grashof lengths, no gravity."""
-
-    def __init__(self, theta2: float, w2: float) -> None:
-        th3, th4 = ref.fourbar_angles(TA, TB, TC, TD, theta2, "open")
-        super().__init__(theta2, th3, th4, w2, lengths=(TA, TB, TC, TD))
+from flexlib.models.reference import closed_form as ref
+from flexlib.models.reference.four_bar import TA, TB, TC, TD, A, B, C, D, FourBar, TripleRocker
 
 
 def test_triple_rocker_switches_through_toggle_positions():
@@ -73,9 +57,8 @@ def test_monitor_skips_on_a_fourbar_that_never_switches():
 def test_result_assembly_matches_direct_evaluation(monkeypatch):
     """Rows assembled through the mapped FunctionBuffer (chunks of 256 and single rows, several
     state-selection segments) equal a direct DM evaluation of each segment's ``out`` function, exactly."""
-    from test_engine_index import CartesianPendulum
-
     import flexlib.solve.simulation as simmod
+    from flexlib.models.reference.cartesian_pendulum import CartesianPendulum
     from flexlib.solve.trajectory import Trajectory
 
     sim = fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False)

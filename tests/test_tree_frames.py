@@ -112,7 +112,7 @@ def test_free_body_on_bushing_with_frames_kept(monkeypatch):
     a body hanging on a bushing, frames forced kept, settles at the static sag −m g / c_y (1e-8 relative)."""
     m, c = 2.0, (4e3, 5e3, 6e3)
 
-    class Hanging(fl.Model):
+    class HangingBushing(fl.Model):
         def __init__(self) -> None:
             super().__init__()
             self.world = World(g=G)
@@ -121,7 +121,7 @@ def test_free_body_on_bushing_with_frames_kept(monkeypatch):
             self.connect(self.world.frame_b, self.bushing.frame_a)
             self.connect(self.bushing.frame_b, self.body.frame_a)
 
-    sim = _sim(Hanging(), "keep", monkeypatch)
+    sim = _sim(HangingBushing(), "keep", monkeypatch)
     assert sim.report.tree_frames.startswith("kept")
     res = sim.run(0.1, dt_out=0.05, steady_state=True, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(res["bushing.r_rel"][-1], [0.0, -m * G / c[1], 0.0], rtol=1e-8, atol=1e-14)

@@ -7,7 +7,8 @@ takes those zeros as constants, so the out-of-plane forces, torques and velociti
 
 Models: ``models/planar_mechanisms.py`` (the crank-rocker four-bar and the 7-body 3-loop chain, all joint axes
 along world z). References: the closed-form four-bar position analysis (Norton, *Design of Machinery* §4.5,
-``tests/references_multibody.py``), and the planar Newton–Euler equations: with every joint axis along z, a centre
+``flexlib.models.reference.closed_form``),
+and the planar Newton–Euler equations: with every joint axis along z, a centre
 of mass moved along z changes no moment of inertia about z and no in-plane force, so the joint angles are the
 same and only the out-of-plane reaction torques change.
 """
@@ -16,10 +17,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import references_multibody as ref
 
 import flexlib as fl
 from flexlib.models.planar_mechanisms import FourBarLinkage, ThreeLoopLinkage
+from flexlib.models.reference import closed_form as ref
 
 OUT_OF_PLANE = ("f[2]", "t[0]", "t[1]", "w[0]", "w[1]", "v_0[2]", "a_0[2]", "z_a[0]", "z_a[1]")
 

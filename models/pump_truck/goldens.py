@@ -41,8 +41,8 @@ the tolerance, and (with ``plot_dir``) writes an overlay PNG of the failing sign
 
 Regenerate deliberately (after a change that is meant to move the results; say why in the commit)::
 
-    python -m models.pump_truck.goldens --regenerate                 # every golden
-    python -m models.pump_truck.goldens --regenerate --scenario hold # one
+    python -m flexlib.models.pump_truck.goldens --regenerate                 # every golden
+    python -m flexlib.models.pump_truck.goldens --regenerate --scenario hold # one
 """
 
 from __future__ import annotations
@@ -177,7 +177,7 @@ def make_golden(scenario: str, flexible: bool = False, dt: float = 1.0, director
     if twins:
         names, units = names + [SPREAD.format(n) for n in names], units + units
         values = np.hstack([values, spread])
-    cmd = f"python -m models.pump_truck.goldens --regenerate --scenario {scenario}" + (" --flexible" if flexible
+    cmd = f"python -m flexlib.models.pump_truck.goldens --regenerate --scenario {scenario}" + (" --flexible" if flexible
                                                                                       else "")
     meta = {"golden_scenario": scenario, "golden_options": json.dumps(options, sort_keys=True),
             "golden_run": json.dumps(dict(sc.run), sort_keys=True), "golden_dt": repr(float(dt)),
@@ -243,7 +243,7 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
         path = Path(golden)
         if not path.exists():
             raise ResultFileError(f"golden file {path} does not exist; make it with "
-                                  f"'python -m models.pump_truck.goldens --regenerate'")
+                                  f"'python -m flexlib.models.pump_truck.goldens --regenerate'")
         golden = fl.load_result(path)
     grid = golden.t
     if result.t[-1] < grid[-1] - 1e-9 or result.t[0] > grid[0] + 1e-9:
@@ -306,7 +306,7 @@ def report(mismatches: list[Mismatch], golden: str | Path, plot_dir: Path | None
     lines += ["  " + m.line() for m in mismatches]
     if plot_dir is not None:
         lines.append(f"overlay plot: {Path(plot_dir) / 'golden-*.png'}")
-    lines.append("if the change is meant to move the results: python -m models.pump_truck.goldens --regenerate")
+    lines.append("if the change is meant to move the results: python -m flexlib.models.pump_truck.goldens --regenerate")
     return "\n".join(lines)
 
 

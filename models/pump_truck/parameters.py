@@ -9,7 +9,7 @@ Conventions: planar boom in the vertical ``x``–``y`` plane (``y`` up), joint 1
 turret, relative joint angles ``q`` [rad] (``q = 0``: all sections in line; ``q1 = 0``: horizontal). Joint
 geometry is given in each joint's frame (see :mod:`models.pump_truck.kinematics`).
 
-``python -m models.pump_truck.parameters`` prints the mass properties and the cylinder sizing table.
+``python -m flexlib.models.pump_truck.parameters`` prints the mass properties and the cylinder sizing table.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ Outputs per case, flexible against rigid: the tip's rotation (zero for the rigid
 twist and bending let it turn a little), the drive forces, and the arms' elastic deflection (the largest
 displacement of an arm's far pin relative to its root frame, from the modal coordinates).
 
-Run ``python -m models.robots.cartesian_study [--out DIR]``: a table and the PNGs ``tip_rotation.png``,
+Run ``python -m flexlib.models.robots.cartesian_study [--out DIR]``: a table and the PNGs ``tip_rotation.png``,
 ``drive_forces.png`` and ``arm_deflection.png``.
 """
 

@@ -11,7 +11,7 @@ energy out (the preload's self-stress loads the bearings, and the journal fricti
 One flexible build serves the four flexible variants: friction is built in and switched off with zero
 coefficients (:func:`no_friction`), the preload is set by the rods' mount offsets (:func:`preload_params`).
 
-Run ``python -m models.robots.polycrank_study [--out DIR] [--t-end T]``: a table of the figures and the PNGs
+Run ``python -m flexlib.models.robots.polycrank_study [--out DIR] [--t-end T]``: a table of the figures and the PNGs
 ``energy.png`` (energy above the start), ``reactions.png`` (force in the grip disc's bearing, the cap–disc joint
 of the seed's Fig. 13, in shield 5's bearing, and the friction torque in shield 4's), ``stress.png`` (largest von
 Mises stress over the pull rods) and ``shield.png`` (shield 4's angle, speed and acceleration).

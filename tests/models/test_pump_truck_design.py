@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from models.pump_truck.kinematics import rot
-from models.pump_truck.parameters import PumpTruckParameters
-from models.pump_truck.statics import cylinder_forces, joint_torques, mass_properties, point_masses, sizing
+from flexlib.models.pump_truck.kinematics import rot
+from flexlib.models.pump_truck.parameters import PumpTruckParameters
+from flexlib.models.pump_truck.statics import cylinder_forces, joint_torques, mass_properties, point_masses, sizing
 
 REC = PumpTruckParameters()
 

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from flexlib.fe import box
-from models.pump_truck.flexible import attachment_points, section_fe, section_modal_data
-from models.pump_truck.model import section_mass_properties
-from models.pump_truck.parameters import PumpTruckParameters
+from flexlib.models.pump_truck.flexible import attachment_points, section_fe, section_modal_data
+from flexlib.models.pump_truck.model import section_mass_properties
+from flexlib.models.pump_truck.parameters import PumpTruckParameters
 
 RECORD = PumpTruckParameters()
 
@@ -79,17 +79,17 @@ def _clamped_section(modes):
     """Section 1 as a FlexibleBody clamped at its root pin under gravity, statics by steady-state initialisation."""
     import flexlib as fl
     from flexlib.components.mechanics.multibody import World
-    from models.pump_truck.flexible import flexible_section
+    from flexlib.models.pump_truck.flexible import flexible_section
 
     pins = {"housing": [*attachment_points(RECORD, 1)["housing"], 0.0]}
 
-    class Clamped(fl.Model):
+    class ClampedSection(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World()
             self.frames = flexible_section(self, 1, self.world.frame_b, pins, RECORD, modes=modes)
 
-    model = Clamped()
+    model = ClampedSection()
     return model, fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, progress=False)
 
 
@@ -138,8 +138,8 @@ def test_rigid_section_loads_balance_and_select_in_plane_modes():
     with them keeps only in-plane modes (no out-of-plane translation) and the lowest in-plane mode at 100 %."""
     import flexlib as fl
     from flexlib.fe import participation_from_load_cases
-    from models.pump_truck.flexible import rigid_section_loads
-    from models.pump_truck.model import WORKING_POSE_DEG, PumpTruck
+    from flexlib.models.pump_truck.flexible import rigid_section_loads
+    from flexlib.models.pump_truck.model import WORKING_POSE_DEG, PumpTruck
 
     model = PumpTruck(pose=WORKING_POSE_DEG, slewing=False)
     res = fl.Simulation(model).run(0.2, dt_out=0.1, progress=False)

@@ -3,7 +3,7 @@
 The goldens hold cylinder port flows, chamber pressures, hinge forces (components and magnitude) and joint angles on a
 decimated grid; the tolerances (1 % of each signal's range plus a floor per kind) are stated and justified in the
 module docstring. A failure prints which signal, where, golden vs now, by how much, and leaves an overlay plot in the
-test's temporary directory. Regenerate deliberately: ``python -m models.pump_truck.goldens --regenerate``.
+test's temporary directory. Regenerate deliberately: ``python -m flexlib.models.pump_truck.goldens --regenerate``.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def test_goldens_record_how_they_were_made(tmp_path):
     path = make_golden("hold", dt=5.0, directory=tmp_path, twins=TWINS[:1])
     g = fl.load_result(path)
     assert g.metadata["golden_scenario"] == "hold"
-    assert g.metadata["golden_command"].startswith("python -m models.pump_truck.goldens --regenerate")
+    assert g.metadata["golden_command"].startswith("python -m flexlib.models.pump_truck.goldens --regenerate")
     assert "rtol" in g.metadata["golden_run"] and g.metadata["golden_commit"]
     assert "joint2.F_hinge" in g.names and g.t[-1] == pytest.approx(30.0)
     # the measured round-off spread of every signal: the hold scenario is determined to far below its tolerance

@@ -167,7 +167,7 @@ def test_figures_of_a_run(short_cycle, tmp_path):
     matplotlib.use("Agg")
     import matplotlib.image as mpimg
 
-    from models.pump_truck.plots import figures
+    from flexlib.models.pump_truck.plots import figures
 
     model, res, _ = short_cycle
     paths = figures(model, res, tmp_path)

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from models.robots import CartesianParameters, CartesianRobot, holding_forces
+from flexlib.models.robots import CartesianParameters, CartesianRobot, holding_forces
 
 
 def test_mobility_and_dropped_constraints():
@@ -76,7 +76,7 @@ def test_force_driven_robot_starts_trimmed_and_only_the_flexible_tip_turns():
     over intervals; ``models/robots/cartesian_study.py``). The rigid robot's holding forces are the hand statics
     (1e-6), the flexible robot's differ from them by the arms' sag only (1 %); under the interval forces the rigid
     tip does not rotate (1e-9 rad) while the flexible one turns by a fraction of a milliradian (1e-5 … 5e-3 rad)."""
-    from models.robots.cartesian_study import CASES, tip_rotation
+    from flexlib.models.robots.cartesian_study import CASES, tip_rotation
 
     _, drive, kwargs, t_end = next(c for c in CASES if c[0] == "forces")
     hand = holding_forces(CartesianParameters(), (0.0, 0.0, 0.0))

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 import flexlib as fl
-from models.robots.polycrank import PolycrankFragment, PolycrankParameters
+from flexlib.models.robots.polycrank import PolycrankFragment, PolycrankParameters
 
 POSE = (0.3, 0.5, -0.2, 0.1)
 
@@ -47,7 +47,7 @@ def test_bearing_friction_makes_the_energy_decay():
     (kinetic + gravity − drive-torque work) is conserved over 0.15 s to 1e-8 of the weight times the fragment's
     length (the scale of the terms that cancel; rtol 1e-8); with the bearings' friction it falls (the seed's
     finding, Fig. 12)."""
-    from models.robots.polycrank import mechanical_energy
+    from flexlib.models.robots.polycrank import mechanical_energy
 
     speeds = (0.5, -0.4, 0.6, -0.5)
     drop = {}

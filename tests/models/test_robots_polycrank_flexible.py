@@ -21,8 +21,8 @@ import pytest
 import flexlib as fl
 from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.fe import circle, nodal_stress, von_mises
-from models.robots.polycrank import PolycrankParameters, drive_torques, mechanical_energy, preload_params
-from models.robots.polycrank_study import (
+from flexlib.models.robots.polycrank import PolycrankParameters, drive_torques, mechanical_energy, preload_params
+from flexlib.models.robots.polycrank_study import (
     LOCKED,
     PRELOAD,
     PULSE_START,

@@ -27,7 +27,7 @@ from flexlib.components.mechanics.translational import Damper, Fixed, Force, Mas
 K, M = 4.0 * math.pi**2, 1.0  # spring-mass: natural frequency 1 Hz
 
 
-class Oscillator(fl.Model):
+class PushedOscillator(fl.Model):
     """wall – spring – mass (– damper), pushed by a constant force src.k."""
 
     def __init__(self, d: float = 0.0, extra: str = "") -> None:
@@ -67,7 +67,7 @@ class FreeMass(fl.Model):
         self.connect(self.push.flange, self.mass.flange_b)
 
 
-class Pendulum(fl.Model):
+class HingePendulum(fl.Model):
     def __init__(self) -> None:
         super().__init__()
         self.world = World()
@@ -79,7 +79,7 @@ class Pendulum(fl.Model):
         self.connect(self.rod.frame_b, self.body.frame_a)
 
 
-class Static(fl.Model):
+class StaticGain(fl.Model):
     """No states: a constant through a gain of 3."""
 
     def __init__(self) -> None:
@@ -101,7 +101,7 @@ class Unstable(fl.Model):
 
 @pytest.fixture(scope="module")
 def osc() -> fl.Simulation:
-    return fl.Simulation(Oscillator(d=1.0))
+    return fl.Simulation(PushedOscillator(d=1.0))
 
 
 @pytest.fixture(scope="module")
@@ -111,7 +111,7 @@ def lin(osc: fl.Simulation) -> fl.analysis.LinearSystem:
 
 @pytest.fixture(scope="module")
 def pendulum() -> fl.Simulation:
-    return fl.Simulation(Pendulum())
+    return fl.Simulation(HingePendulum())
 
 
 # -- linear analysis: list arguments ----------------------------------------------------------------------------
@@ -143,9 +143,9 @@ def test_single_string_inputs_and_outputs_are_one_name_each(osc):
     ({"inputs": ["src.k", "src.k"]}, r"inputs names 'src\.k' more than once"),
     ({"inputs": [3]}, r"inputs: entry 3 \(int\) is not a name"),
     ({"outputs": {"mass.s": 1}}, r"outputs must be a name or a list of names \(str\), got dict"),
-    ({"inputs": ["src.kk"]}, r"input 'src\.kk' is not a parameter of Oscillator; did you mean src\.k\?"),
-    ({"outputs": ["mass.ss"]}, r"output 'mass\.ss' is not a variable of Oscillator; did you mean mass\.s"),
-    ({"inputs": ["push.f"]}, r"input 'push\.f' is a variable of Oscillator, not a parameter"),
+    ({"inputs": ["src.kk"]}, r"input 'src\.kk' is not a parameter of PushedOscillator; did you mean src\.k\?"),
+    ({"outputs": ["mass.ss"]}, r"output 'mass\.ss' is not a variable of PushedOscillator; did you mean mass\.s"),
+    ({"inputs": ["push.f"]}, r"input 'push\.f' is a variable of PushedOscillator, not a parameter"),
 ], ids=["repeated-input", "non-string-input", "dict-outputs", "unknown-input", "unknown-output",
         "signal-input-as-input"])
 def test_bad_input_and_output_names(osc, kwargs, match):
@@ -156,9 +156,9 @@ def test_bad_input_and_output_names(osc, kwargs, match):
 # -- linear analysis: operating point ---------------------------------------------------------------------------
 @pytest.mark.parametrize(("kwargs", "error", "match"), [
     ({"starts": {"mass.ss": 0.1}}, fl.LinearizationError,
-     r"starts: 'mass\.ss' is not a variable of Oscillator; did you mean mass\.s"),
+     r"starts: 'mass\.ss' is not a variable of PushedOscillator; did you mean mass\.s"),
     ({"starts": {"mass.m": 2.0}}, fl.LinearizationError,
-     r"starts: 'mass\.m' is a parameter of Oscillator, not a variable; give it in params=\{'mass\.m'"),
+     r"starts: 'mass\.m' is a parameter of PushedOscillator, not a variable; give it in params=\{'mass\.m'"),
     ({"starts": {"mass.s": "0.1"}}, fl.LinearizationError, r"starts: mass\.s = '0\.1' is a string, not a number"),
     ({"starts": ["mass.s"]}, fl.LinearizationError, r"starts must be a dict \{name: value\}, got list"),
     ({"t": math.nan}, fl.LinearizationError, r"t \[s\] = nan is not finite"),
@@ -180,8 +180,8 @@ def test_time_outside_the_result_is_named(osc):
 
 
 def test_a_sub_component_or_a_non_model_is_refused():
-    model = Oscillator()
-    with pytest.raises(fl.LinearizationError, match=r"mass is a sub-component of Oscillator"):
+    model = PushedOscillator()
+    with pytest.raises(fl.LinearizationError, match=r"mass is a sub-component of PushedOscillator"):
         fl.linearize(model.mass)
     with pytest.raises(fl.LinearizationError, match=r"expected a flexlib Simulation or model \(Component\), got int"):
         fl.modal_analysis(3)
@@ -220,7 +220,7 @@ def test_frequency_at_a_rigid_body_pole_is_named():
 
 def test_frequency_at_an_undamped_mode_is_named():
     """Undamped spring-mass at exactly 1 Hz: refused naming the mode; at 0.5 Hz the receptance 1/(k − m ω²)."""
-    lin = fl.linearize(Oscillator(), inputs="src.k", outputs="mass.s")
+    lin = fl.linearize(PushedOscillator(), inputs="src.k", outputs="mass.s")
     with pytest.raises(fl.LinearizationError, match=r"f = 1 Hz is at a pole .*an undamped mode of 1 Hz"):
         lin.frequency_response([0.5, 1.0])
     w = 2 * np.pi * 0.5
@@ -229,7 +229,7 @@ def test_frequency_at_an_undamped_mode_is_named():
 
 def test_model_without_states_has_the_static_gain():
     """A constant through a gain of 3: no states, A is 0×0 and H(f) = D = 3 at any frequency; no modes."""
-    sim = fl.Simulation(Static())
+    sim = fl.Simulation(StaticGain())
     lin = fl.linearize(sim, inputs="src.k", outputs="gain.y")
     assert lin.A.shape == (0, 0)
     np.testing.assert_allclose(lin.frequency_response([0.0, 10.0], "src.k", "gain.y"), [3.0, 3.0], rtol=1e-14)
@@ -253,7 +253,7 @@ def test_unstable_system_reports_negative_damping():
     ({"f_min": -1.0}, r"f_min = -1\.0 Hz is negative"),
     ({"max_damping": math.nan}, r"max_damping \[1\] = nan is not finite"),
     ({"poses": {"mass.s": 0.1}}, r"poses must be a list of dicts"),
-    ({"poses": [{"mass.q": 0.1}]}, r"poses\[0\]: starts: 'mass\.q' is not a variable of Oscillator"),
+    ({"poses": [{"mass.q": 0.1}]}, r"poses\[0\]: starts: 'mass\.q' is not a variable of PushedOscillator"),
     ({"lock": ["spring"]}, r"cannot lock 'spring': not a Revolute or Prismatic joint"),
 ], ids=["n_modes-0", "n_modes-float", "n_modes-bool", "f_min-negative", "max_damping-nan", "poses-dict",
         "pose-unknown", "lock-not-a-joint"])
@@ -293,7 +293,7 @@ def test_non_numeric_parameter_values_are_refused(make, match):
 
 
 def test_string_parameter_assigned_later_names_the_instance_path():
-    model = Oscillator()
+    model = PushedOscillator()
     with pytest.raises(fl.ParameterError, match=r"^mass\.m: parameter value '3' is a string"):
         model.mass.m = "3"
 
@@ -331,7 +331,7 @@ def test_start_value_on_a_connector_by_dotted_name():
 
 
 def test_string_start_set_later_names_the_instance_path():
-    model = Oscillator()
+    model = PushedOscillator()
     with pytest.raises(fl.ModelError, match=r"^mass\.v: start value '1' is a string"):
         model.mass.set_start("v", "1")
 
@@ -372,7 +372,7 @@ def test_fluid_numbers_are_stored_as_floats():
 ], ids=["fixed", "unused-world", "tank"])
 def test_component_connected_to_nothing_warns(extra, culprit):
     with pytest.warns(fl.ModelWarning, match=culprit):
-        flatten(Oscillator(extra=extra))
+        flatten(PushedOscillator(extra=extra))
 
 
 class SpringMass(fl.Model):
@@ -385,7 +385,8 @@ class SpringMass(fl.Model):
         self.connect(self.spring.flange_b, self.mass.flange_a)
 
 
-@pytest.mark.parametrize("make", [SpringMass, lambda: Oscillator(extra="free mass")], ids=["open-flange", "free-mass"])
+@pytest.mark.parametrize("make", [SpringMass, lambda: PushedOscillator(extra="free mass")],
+                         ids=["open-flange", "free-mass"])
 def test_open_connectors_and_free_moving_components_do_not_warn(make):
     """An open flange on a connected component (the mass's flange_b) and a mass left to move freely (its own
     dynamics) are legitimate models: no warning (warnings are errors in this suite)."""

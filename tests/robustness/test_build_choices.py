@@ -4,21 +4,16 @@ The redundancy analysis drops the loop-closure rows that are dependent at the bu
 values (3 for a planar four-bar). A run whose parameters make the loop spatial must not report
 success with a gap in the loop; a cached entry built at other values must not be reused blindly.
 Reference for the planar runs: Norton's closed-form four-bar position analysis
-(``tests/references_multibody.py``).
+(``flexlib.models.reference.closed_form``).
 """
 
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import flexlib as fl
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "components" / "mechanics" / "multibody"))
-import references_multibody as ref
-from test_loops import A, B, C, D, FourBar
+from flexlib.models.reference import closed_form as ref
+from flexlib.models.reference.four_bar import A, B, C, D, FourBar
 
 TH2 = 0.3
 TH3, TH4 = ref.fourbar_angles(A, B, C, D, TH2, "open")

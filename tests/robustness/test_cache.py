@@ -25,9 +25,11 @@ from flexlib import CacheWarning, Parameter, Variable, der, eq
 from flexlib.compile import cache, cache_key, pipeline
 
 ROOT = Path(__file__).resolve().parents[2]
+#: This directory: the subprocesses import this module (its Oscillator) from it.
+HERE = Path(__file__).resolve().parent
 
 
-class Oscillator(fl.Model):
+class CachedOscillator(fl.Model):
     """Damped oscillator m x'' + c x' + k x = 0 written as raw equations."""
 
     m = Parameter(1.0, unit="kg", doc="Mass")
@@ -41,11 +43,11 @@ class Oscillator(fl.Model):
 
 
 def _reference() -> np.ndarray:
-    return fl.Simulation(Oscillator(), use_cache=False, codegen=False).run(1.0, dt_out=0.1).values
+    return fl.Simulation(CachedOscillator(), use_cache=False, codegen=False).run(1.0, dt_out=0.1).values
 
 
 def _run(codegen: bool = False, **kw) -> fl.Simulation:
-    sim = fl.Simulation(Oscillator(), codegen=codegen, **kw)
+    sim = fl.Simulation(CachedOscillator(), codegen=codegen, **kw)
     sim.last = sim.run(1.0, dt_out=0.1)
     return sim
 
@@ -60,14 +62,13 @@ def cdir(tmp_path, monkeypatch) -> Path:
 def _prime(cdir: Path) -> None:
     """Build and run with C code in another process, so this one never maps the library that a test then
     damages (truncating a library a process has loaded crashes that process, whatever it checks)."""
-    code = (f"import sys; sys.path.insert(0, {str(Path(__file__).parent)!r}); import test_cache; "
-            "test_cache._run(codegen=True)")
-    subprocess.run([sys.executable, "-c", code], env=dict(os.environ, FLEXLIB_CACHE_DIR=str(cdir)), cwd=ROOT,
-                   check=True, timeout=300)
+    subprocess.run([sys.executable, "-c", "import test_cache; test_cache._run(codegen=True)"],
+                   env=dict(os.environ, FLEXLIB_CACHE_DIR=str(cdir), PYTHONPATH=str(HERE)), cwd=ROOT, check=True,
+                   timeout=300)
 
 
 def _entry(cdir: Path) -> Path:
-    (entry,) = [p for p in cdir.iterdir() if p.is_dir() and p.name.startswith("Oscillator-")]
+    (entry,) = [p for p in cdir.iterdir() if p.is_dir() and p.name.startswith("CachedOscillator-")]
     return entry
 
 
@@ -77,7 +78,7 @@ def _library(cdir: Path) -> Path:
 
 
 def _init_file(cdir: Path) -> Path:
-    (f,) = cdir.glob("Oscillator-*-init-*.npz")
+    (f,) = cdir.glob("CachedOscillator-*-init-*.npz")
     return f
 
 
@@ -121,7 +122,7 @@ def test_library_replaced_after_load_is_not_dlopened(cdir):
     """The library is checked again right before ``casadi.external`` loads it: replaced between the build and
     the first run, it is not loaded (CacheWarning naming it) and the symbolic functions give the answer."""
     _prime(cdir)
-    sim = fl.Simulation(Oscillator(), codegen=True)
+    sim = fl.Simulation(CachedOscillator(), codegen=True)
     assert sim.build.cached
     lib = Path(sim.compiled.library)
     lib.write_bytes(b"\x7fELF" + bytes(lib.stat().st_size - 4))
@@ -409,17 +410,16 @@ def test_symlinked_cache_dir_is_followed(cdir, tmp_path):
 def test_concurrent_processes_share_one_cache_dir(cdir):
     """Two processes building (with C code) and running the same model at once, three times each, with one
     cache dir: no warning, no error, identical answers; afterwards the entry is a clean cache hit."""
-    code = textwrap.dedent(f"""
+    code = textwrap.dedent("""
         import sys, warnings
         warnings.simplefilter("error")
-        sys.path.insert(0, {str(Path(__file__).parent)!r})
         import flexlib as fl
-        from test_cache import Oscillator
+        from test_cache import CachedOscillator
         for _ in range(3):
-            res = fl.Simulation(Oscillator(), codegen=True).run(1.0, dt_out=0.1)
+            res = fl.Simulation(CachedOscillator(), codegen=True).run(1.0, dt_out=0.1)
         print(repr(float(res["x"][-1])))
     """)
-    env = dict(os.environ, FLEXLIB_CACHE_DIR=str(cdir))
+    env = dict(os.environ, FLEXLIB_CACHE_DIR=str(cdir), PYTHONPATH=str(HERE))
     procs = [subprocess.Popen([sys.executable, "-c", code], env=env, cwd=ROOT, stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True) for _ in range(2)]
     outs = [p.communicate(timeout=300) for p in procs]
@@ -465,24 +465,24 @@ def test_structure_key_sees_file_contents(cdir, tmp_path):
 
 
 def test_structure_key_must_be_plain_data(cdir):
-    class Bad(Oscillator):
+    class BadKey(CachedOscillator):
         def structure_key(self):
             return object()
 
-    class Holder(fl.Model):
+    class BadHolder(fl.Model):
         def __init__(self):
             super().__init__()
-            self.osc = Bad()
+            self.osc = BadKey()
 
     with pytest.raises(fl.ModelError, match=r"osc\.structure_key\(\) must return plain data"):
-        fl.Simulation(Holder())
+        fl.Simulation(BadHolder())
 
 
 def test_unrepresentable_attribute_disables_the_cache_not_a_wrong_hit(cdir):
     """An attribute the key cannot represent (an arbitrary object in a list) means no caching, never a hit
     on another model's entry."""
 
-    class WithObject(Oscillator):
+    class WithObject(CachedOscillator):
         def __init__(self):
             super().__init__()
             self.helpers = [object()]
@@ -520,29 +520,27 @@ class M(fl.Model):
 def test_pipeline_stages_are_inspectable(cdir):
     """``build`` returns every stage's product; a cached build runs stages 1–3 again on request; the old
     ``model, timings = fl.build(root)`` still works."""
-    b = pipeline.build(Oscillator(), codegen=False)
+    b = pipeline.build(CachedOscillator(), codegen=False)
     assert [v.name for v in b.flat.variables] == ["x", "v"]
     assert b.simple is not None and b.dae.report.states == b.compiled.report.states
     assert {"flatten", "simplify", "index_reduction", "compile", "total"} <= set(b.timings)
-    cached = fl.build(Oscillator(), codegen=False)
+    cached = fl.build(CachedOscillator(), codegen=False)
     assert cached.cached and cached.flat is None
-    assert cached.analyse(Oscillator()).flat is not None
-    model, timings = fl.build(Oscillator(), codegen=False)
+    assert cached.analyse(CachedOscillator()).flat is not None
+    model, timings = fl.build(CachedOscillator(), codegen=False)
     assert timings["cached"] and model.n == b.compiled.n
-    assert fl.build(Oscillator(), codegen=False)[1]["cached"]
-    sim = fl.Simulation(Oscillator(), codegen=False)
+    assert fl.build(CachedOscillator(), codegen=False)[1]["cached"]
+    sim = fl.Simulation(CachedOscillator(), codegen=False)
     assert sim.build.compiled is sim.compiled and sim.build_info is sim.build.timings
 
 
 def triple_rocker() -> fl.Model:
     """A planar four-bar of four Revolutes whose links cannot turn fully (non-Grashof: a = 0.5, b = 0.7,
     c = 0.9, d = 0.6 m, S + L = 1.4 > P + Q = 1.3): the crank swings into a toggle position where its angle
-    stops being a usable state and the states must be re-selected mid-run (``test_loops.FourBar``)."""
+    stops being a usable state and the states must be re-selected mid-run (the catalogue's ``FourBar``)."""
 
-    tests = Path(__file__).resolve().parents[1]
-    sys.path[:0] = [str(tests), str(tests / "components" / "mechanics" / "multibody")]
-    import references_multibody as ref
-    from test_loops import FourBar
+    from flexlib.models.reference import closed_form as ref
+    from flexlib.models.reference.four_bar import FourBar
 
     a, b, c, d = 0.5, 0.7, 0.9, 0.6
     th2 = 1.5

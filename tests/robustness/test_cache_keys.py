@@ -18,13 +18,13 @@ from flexlib import Variable, der, eq
 
 
 def make(k):
-    class Decay(fl.Model):
+    class RateDecay(fl.Model):
         x = Variable()
 
         def equations(self):
             return [eq(der(self.x), -k * self.x)]
 
-    return Decay
+    return RateDecay
 
 
 @pytest.fixture

@@ -12,15 +12,7 @@ import pytest
 
 import flexlib as fl
 from flexlib import Variable, der, eq, if_else
-
-
-class BlowUp(fl.Model):
-    """x' = x², x(0) = 1: x = 1/(1 − t) blows up at t = 1 s."""
-
-    x = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.x**2)]
+from flexlib.models.reference.blow_up import BlowUp
 
 
 class SqrtWall(fl.Model):
@@ -121,7 +113,7 @@ def test_jacobian_companion_that_does_not_compile_falls_back_to_the_symbolic_res
     np.testing.assert_allclose(res["x"], 1.0 / (1.0 - res.t), rtol=1e-6)
 
 
-class Root(fl.Model):
+class NegativeRoot(fl.Model):
     """x' = −1 from 1, y = sqrt(x): square root of a negative number after t = 1 s."""
 
     x = Variable(unit="m")
@@ -134,7 +126,7 @@ class Root(fl.Model):
 def test_sqrt_of_a_negative_names_the_equation_as_the_default_backend_does():
     """Issue 26: the run ended as "CasADi IDAS failed ... (IDA_LSETUP_FAIL)" without naming the equation; now the
     message carries the default backend's diagnosis at the last accepted point."""
-    sim = fl.Simulation(Root(init={"x": 1.0}), use_cache=False)
+    sim = fl.Simulation(NegativeRoot(init={"x": 1.0}), use_cache=False)
     with pytest.raises(fl.SolverError, match=r"(?s)CasADi IDAS failed between t = 1 s.*equation \(model\): square "
                                              r"root evaluates to nan.*x = -") as err:
         sim.run(2.0, solver="casadi-idas", progress=False)

@@ -512,7 +512,7 @@ def test_plots_without_a_hook_is_refused_before_the_run(tmp_path, monkeypatch):
 def plotted(monkeypatch):
     """A registered chain whose plots hook fails (a bug in the model's figure code)."""
     monkeypatch.setattr(registry, "_MODELS", dict(registry.models()))
-    from models.n_mass_chain import NMassChain
+    from flexlib.models.n_mass_chain import NMassChain
 
     def plots(model, result, directory):
         return [result["no.such.signal"]]

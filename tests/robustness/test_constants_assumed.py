@@ -8,9 +8,9 @@ wrong (issue 8: a tilted rocker axis gave a 0.25 m gap in the loop).
 
 import numpy as np
 import pytest
-from test_engine_constants import FourBar
 
 import flexlib as fl
+from flexlib.models.reference.four_bar import FourBar
 
 
 @pytest.fixture()

@@ -46,7 +46,7 @@ def test_transfer_function_start_values_must_be_a_dict(bad):
         TransferFunction(b=[1.0], a=[1.0, 1.0], init=bad)
 
 
-class Plant(fl.Model):
+class VectorRatePlant(fl.Model):
     """x' = -k[0] x + k[1]."""
 
     k = fl.Parameter(np.array([1.0, 2.0]), unit="1/s", shape=2)
@@ -58,7 +58,7 @@ class Plant(fl.Model):
 
 @pytest.fixture(scope="module")
 def sim():
-    return fl.Simulation(Plant(init={"x": 0.0}), use_cache=False)
+    return fl.Simulation(VectorRatePlant(init={"x": 0.0}), use_cache=False)
 
 
 @pytest.mark.parametrize(("value", "why"), [("1.5", "a string"), (True, "a bool"), (None, "None"),

@@ -33,7 +33,7 @@ def test_p_amb_negative_at_run_time_names_the_instance():
     from flexlib.components.hydraulics import Tank
     from flexlib.components.mechanics.translational import Fixed
 
-    class M(fl.Model):
+    class CylinderModel(fl.Model):
         def __init__(self) -> None:
             super().__init__()
             self.tank, self.ground = Tank(), Fixed()
@@ -42,4 +42,4 @@ def test_p_amb_negative_at_run_time_names_the_instance():
             self.connect(self.ground.flange, self.cyl.flange_a)
 
     with pytest.raises(fl.ParameterError, match=r"cyl\.p_amb = -5\.0 \[Pa\] is below its minimum"):
-        fl.Simulation(M(), use_cache=False).run(0.01, params={"cyl.p_amb": -5.0})
+        fl.Simulation(CylinderModel(), use_cache=False).run(0.01, params={"cyl.p_amb": -5.0})

@@ -18,7 +18,7 @@ from flexlib.components.mechanics.rotational import Inertia, SpringDamper
 C, D, J1, J2, PHI0 = 1e4, 100.0, 1.0, 2.0, 0.01  # N.m/rad, N.m.s/rad, kg.m2, kg.m2, rad
 
 
-class TwoInertias(fl.Model):
+class StretchedTwoInertias(fl.Model):
     """inertia1 (held at rest by its start values) — spring/damper — inertia2; the spring starts stretched."""
 
     def __init__(self, on_w_rel: bool = True):
@@ -37,7 +37,7 @@ class TwoInertias(fl.Model):
 
 
 def test_der_of_a_dummy_derivative_is_taken_from_the_reduced_system():
-    res = fl.Simulation(TwoInertias(), use_cache=False).run(0.05, dt_out=0.01)
+    res = fl.Simulation(StretchedTwoInertias(), use_cache=False).run(0.05, dt_out=0.01)
     # der(w_rel) = a2 - a1 = -tau (1/J2 + 1/J1) = 0 -> tau = c phi_rel + d w_rel = 0 -> w_rel = -c phi0 / d
     assert res["spring.w_rel"][0] == pytest.approx(-C * PHI0 / D, rel=1e-9)
     assert res["spring.phi_rel"][0] == pytest.approx(PHI0, rel=1e-12)
@@ -45,13 +45,14 @@ def test_der_of_a_dummy_derivative_is_taken_from_the_reduced_system():
 
 
 def test_same_run_as_the_condition_written_on_states():
-    a = fl.Simulation(TwoInertias(), use_cache=False).run(0.05, dt_out=0.01, rtol=1e-9, atol=1e-12)
-    b = fl.Simulation(TwoInertias(on_w_rel=False), use_cache=False).run(0.05, dt_out=0.01, rtol=1e-9, atol=1e-12)
+    a = fl.Simulation(StretchedTwoInertias(), use_cache=False).run(0.05, dt_out=0.01, rtol=1e-9, atol=1e-12)
+    b = fl.Simulation(StretchedTwoInertias(on_w_rel=False), use_cache=False).run(0.05, dt_out=0.01, rtol=1e-9,
+                                                                                 atol=1e-12)
     for name in ("spring.w_rel", "i2.w", "i2.phi", "spring.tau"):
         assert np.allclose(a[name], b[name], rtol=1e-7, atol=1e-9), name
 
 
-class Lag(fl.Model):
+class LagWithRamp(fl.Model):
     """x' = u - x with v = x + 2 t (an expression of a state and time): der(v) = 0 at the start gives x'(0) = -2."""
 
     x = Variable()
@@ -65,7 +66,7 @@ class Lag(fl.Model):
 
 
 def test_der_of_an_expression_of_a_state_and_time():
-    res = fl.Simulation(Lag(), use_cache=False).run(0.1, dt_out=0.05)
+    res = fl.Simulation(LagWithRamp(), use_cache=False).run(0.1, dt_out=0.05)
     assert res["x"][0] == pytest.approx(3.0, rel=1e-9)  # x' = 1 - x = -2
 
 

@@ -14,6 +14,8 @@ import pytest
 
 import flexlib as fl
 from flexlib import Parameter, Variable, der, eq, if_else
+from flexlib.models.reference.hydraulic_boom import A_P, A_R, BORE, ROD, CylinderBoom
+from flexlib.models.reference.orifice import SquareRootOrifice
 
 
 class Lag(fl.Model):
@@ -26,7 +28,7 @@ class Lag(fl.Model):
         return [eq(der(self.x), -self.k * self.x, label="lag")]
 
 
-class Holder(fl.Model):
+class LagHolder(fl.Model):
     def __init__(self, **init):
         super().__init__()
         self.lag = Lag(init=init)
@@ -41,7 +43,7 @@ def sim(model):
 def test_non_finite_fixed_start_value_is_named(value):
     with pytest.raises(fl.InitializationError,
                        match=r"start values must be finite; not finite: lag\.x = (nan|inf|-inf) \(fixed\)"):
-        sim(Holder(x=value)).run(0.1)
+        sim(LagHolder(x=value)).run(0.1)
 
 
 def test_non_finite_guess_is_named():
@@ -60,11 +62,11 @@ def test_non_finite_guess_is_named():
 
 def test_non_finite_parameter_override_is_named():
     with pytest.raises(fl.ParameterError, match=r"lag\.k.*not finite"):
-        sim(Holder(x=1.0)).run(0.1, params={"lag.k": math.nan})
+        sim(LagHolder(x=1.0)).run(0.1, params={"lag.k": math.nan})
 
 
 # -- 2. non-finite residuals and Jacobian entries at the start point ---------------------------------------------
-class Reciprocal(fl.Model):
+class ReciprocalAtZero(fl.Model):
     """y = 1/x with x fixed at 0: the residual is infinite at the start."""
 
     x = Variable(unit="m", start=0.0, fixed=True)
@@ -76,7 +78,7 @@ class Reciprocal(fl.Model):
 
 def test_division_by_zero_at_start_names_equation_and_variable():
     with pytest.raises(fl.InitializationError, match=r"non-finite values:[\s\S]*reciprocal[\s\S]*x = 0"):
-        sim(Reciprocal()).run(0.1)
+        sim(ReciprocalAtZero()).run(0.1)
 
 
 class LogChamber(fl.Model):
@@ -105,28 +107,11 @@ def test_log_of_zero_at_the_guess_names_equation_and_variable():
     assert "largest residuals:\n\n" not in str(err.value)
 
 
-class Orifice(fl.Model):
-    """Two fixed pressures through a turbulent orifice q = k·sign(dp)·sqrt(|dp|) at dp = 0, and an unrelated
-    algebraic variable z = 2·p_a whose start guess (0) is not consistent, so Newton has to iterate."""
-
-    k = Parameter(1e-6, unit="m3/(s.Pa0.5)")
-    p_a = Variable(unit="Pa", nominal=1e7, start=1e7, fixed=True)
-    p_b = Variable(unit="Pa", nominal=1e7, start=1e7, fixed=True)
-    q = Variable(unit="m3/s", nominal=1e-3)
-    z = Variable(unit="Pa", nominal=1e7)
-
-    def equations(self):
-        dp = self.p_a - self.p_b
-        return [eq(der(self.p_a), -1e9 * self.q), eq(der(self.p_b), 1e9 * self.q),
-                eq(self.q, self.k * ca.sign(dp) * ca.sqrt(ca.fabs(dp)), label="turbulent orifice"),
-                eq(self.z, 2.0 * self.p_a + 1e3 * self.q, label="unrelated")]
-
-
 def test_zero_times_infinity_jacobian_names_the_flow_law():
     """sign(dp)·sqrt(|dp|) at dp = 0: its derivative 0·inf is NaN. The message names the orifice equation, the
     variable and the remedy instead of large residuals in unrelated equations."""
     with pytest.raises(fl.InitializationError) as err:
-        sim(Orifice()).run(0.01)
+        sim(SquareRootOrifice()).run(0.01)
     msg = str(err.value)
     assert "turbulent orifice: the derivative with respect to p_" in msg
     assert "is not finite" in msg and "regularise" in msg and "laminar" in msg
@@ -196,7 +181,7 @@ class Part(fl.Model):
 class Coupled(fl.Model):
     def __init__(self):
         super().__init__()
-        self.good = Holder(x=1.0)
+        self.good = LagHolder(x=1.0)
         self.bad = Part()
 
 
@@ -210,56 +195,6 @@ def test_singular_initialisation_groups_by_component():
 
 
 # -- 5. steady state of a boom held by a cylinder -----------------------------------------------------------------
-BORE, ROD = 0.063, 0.036
-A_P, A_R = math.pi / 4 * BORE**2, math.pi / 4 * (BORE**2 - ROD**2)
-
-
-def _boom(p_fixed=False, init=None):
-    from flexlib.components.control import Constant
-    from flexlib.components.hydraulics import (
-        DirectionalValve43,
-        FixedDisplacementPump,
-        LineCylinder,
-        PressureReliefValve,
-        Tank,
-        Volume,
-    )
-    from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
-
-    class Boom(fl.Model):
-        """A 200 kg mass on a 1 m arm (revolute, z axis) held by a 63/36 cylinder pinned 0.3/-0.8 m from the hinge
-        and 0.5 m along the arm, fed through a closed-centre 4/3 valve (command 0) from a pump with a 160 bar
-        relief valve."""
-
-        def __init__(self):
-            super().__init__()
-            self.world = World()
-            self.hinge = Revolute(n=[0, 0, 1], init=init if init is not None else {"phi": 0.3, "w": 0.0})
-            self.arm = FixedTranslation(r=[1.0, 0, 0])
-            self.body = Body(m=200.0, I=np.diag([1.0, 1.0, 1.0]))
-            self.base = FixedTranslation(r=[0.3, -0.8, 0])
-            self.mid = FixedTranslation(r=[0.5, 0, 0])
-            self.cyl = LineCylinder(L0=0.6, d_bore=BORE, d_rod=ROD, stroke=0.5, m=0.0, d=3000.0, p_fixed=p_fixed,
-                                    p_A_start=50e5, p_B_start=20e5)
-            self.tank, self.supply = Tank(), Volume(V=5e-4)
-            self.pump = FixedDisplacementPump(D=20e-6 / (2 * math.pi))
-            self.speed = Constant(k=1500 * 2 * math.pi / 60)
-            self.relief = PressureReliefValve(p_crack=160e5, p_grad=4e9)
-            self.valve = DirectionalValve43(Q_nom=40 / 60000, dp_nom=35e5)
-            self.cmd = Constant(k=0.0)
-            self.connect(self.world.frame_b, self.hinge.frame_a, self.base.frame_a)
-            self.connect(self.hinge.frame_b, self.arm.frame_a, self.mid.frame_a)
-            self.connect(self.arm.frame_b, self.body.frame_a)
-            self.connect(self.base.frame_b, self.cyl.frame_a)
-            self.connect(self.mid.frame_b, self.cyl.frame_b)
-            self.connect(self.speed.y, self.pump.w)
-            self.connect(self.cmd.y, self.valve.u)
-            self.connect(self.tank.port, self.pump.port_a, self.relief.port_b, self.valve.port_T)
-            self.connect(self.pump.port_b, self.supply.port, self.relief.port_a, self.valve.port_P)
-            self.connect(self.valve.port_A, self.cyl.port_A)
-            self.connect(self.valve.port_B, self.cyl.port_B)
-
-    return Boom()
 
 
 def test_steady_state_holds_the_boom():
@@ -269,7 +204,7 @@ def test_steady_state_holds_the_boom():
 
     Reference: moment balance about the hinge, F·|r_mid × e| = m·g·cos(phi)·1 m with e the cylinder's unit
     vector; formerly the hydraulic rows won and the boom started at 10.8 rad/s²."""
-    model = _boom()
+    model = CylinderBoom()
     res = fl.Simulation(model).run(0.01, dt_out=0.005, steady_state=True, rtol=1e-8, atol=1e-10, progress=False)
     phi = 0.3
     mid = 0.5 * np.array([math.cos(phi), math.sin(phi)])
@@ -293,7 +228,7 @@ def test_steady_state_with_fixed_pressures_names_the_conflict():
     """With the chamber pressures fixed (p_fixed=True: 50 and 20 bar) and the angle fixed, no equilibrium exists:
     the error names the state that would not be at rest and the fixed start value in the way."""
     with pytest.raises(fl.InitializationError) as err:
-        fl.Simulation(_boom(p_fixed=True)).run(0.01, steady_state=True, progress=False)
+        fl.Simulation(CylinderBoom(p_fixed=True)).run(0.01, steady_state=True, progress=False)
     msg = str(err.value)
     assert "no equilibrium with the fixed start values" in msg
     assert "der(hinge.w)" in msg and "component hinge" in msg
@@ -353,7 +288,7 @@ def test_steady_state_holds_a_load_on_a_1d_cylinder():
     assert abs(res["cylinder.a"][0]) < 1e-6 and abs(res["cylinder.x"][-1] - 0.2) < 1e-8
 
 
-class Pendulum(fl.Model):
+class AnglePendulum(fl.Model):
     """Simple pendulum phi'' = -g/L·sin(phi)."""
 
     phi = Variable(unit="rad")
@@ -366,18 +301,18 @@ class Pendulum(fl.Model):
 def test_steady_state_pendulum_off_its_equilibrium_is_refused():
     with pytest.raises(fl.InitializationError,
                        match=r"der\(w\) = -2\.89[\s\S]*conflicting conditions.*: phi = 0\.3 \(fixed start value\)\."):
-        sim(Pendulum(init={"phi": 0.3, "w": 0.0})).run(0.1, steady_state=True)
+        sim(AnglePendulum(init={"phi": 0.3, "w": 0.0})).run(0.1, steady_state=True)
 
 
 def test_steady_state_pendulum_at_its_equilibrium_runs():
     """phi = 0 fixed is an equilibrium: it stays there exactly (1e-12)."""
-    res = sim(Pendulum(init={"phi": 0.0, "w": 0.0})).run(0.1, dt_out=0.05, steady_state=True)
+    res = sim(AnglePendulum(init={"phi": 0.0, "w": 0.0})).run(0.1, dt_out=0.05, steady_state=True)
     np.testing.assert_allclose(res["phi"], 0.0, atol=1e-12)
 
 
 def test_steady_state_leaves_free_states_to_make_the_equilibrium():
     """Pendulum with only w fixed: steady_state=True chooses phi = 0 (the equilibrium), 1e-10."""
-    res = sim(Pendulum(init={"w": 0.0})).run(0.1, dt_out=0.05, steady_state=True)
+    res = sim(AnglePendulum(init={"w": 0.0})).run(0.1, dt_out=0.05, steady_state=True)
     np.testing.assert_allclose(res["phi"], 0.0, atol=1e-10)
 
 
@@ -405,7 +340,7 @@ def test_singular_reinit_at_an_event_names_the_equation():
 def test_steady_state_with_a_spool_fixed_off_its_command_names_the_valve():
     """The valve's spool starts fixed at 0 (component default) while the command is 0.5: no equilibrium; the
     error names the spool state of the valve and its fixed start value."""
-    model = _boom()
+    model = CylinderBoom()
     model.cmd.k = 0.5
     with pytest.raises(fl.InitializationError, match=r"der\(valve\.vs\) = [\s\S]*valve\.xs = 0 \(fixed start value\)"):
         fl.Simulation(model).run(0.01, steady_state=True, progress=False)
@@ -415,11 +350,11 @@ def test_non_finite_start_of_a_vector_variable_is_named():
     """A NaN in one entry of a 3D body's start position names that entry (0-based, as the result names it)."""
     from flexlib.components.mechanics.multibody import Body, World
 
-    class Free(fl.Model):
+    class FreeBody(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World()
             self.body = Body(m=1.0, I=np.eye(3), init={"r_0": [0.0, math.nan, 0.0], "v_0": [0.0, 0.0, 0.0]})
 
     with pytest.raises(fl.InitializationError, match=r"not finite: body\.r_0\[1\] = nan \(fixed\)"):
-        sim(Free()).run(0.1)
+        sim(FreeBody()).run(0.1)

@@ -3,14 +3,12 @@ state selection (Modelica's ``stateSelect`` modifier); joint-angle sensing on a 
 
 Every bad-input test asserts the error class and that the message names the component path, the connector or the
 variable. Correctness references: the closed-form four-bar position analysis (Norton, *Design of Machinery*, §4.5,
-in tests/references_multibody.py) and free fall ``s = g t²/2``.
+in flexlib.models.reference.closed_form) and free fall ``s = g t²/2``.
 """
 
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -22,11 +20,8 @@ from flexlib.components.hydraulics import LineCylinder
 from flexlib.components.mechanics import rotational as rot
 from flexlib.components.mechanics import translational as tr
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Prismatic, Revolute, World
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "components" / "mechanics" / "multibody"))
-import references_multibody as ref
-from test_loops import A, B, C, D, FourBar
+from flexlib.models.reference import closed_form as ref
+from flexlib.models.reference.four_bar import A, B, C, D, FourBar
 
 
 class Leaf(fl.Component):
@@ -74,7 +69,7 @@ class MathInit(fl.Component):
         return [fl.eq(fl.der(self.x), -self.x)]
 
 
-class Holder(fl.Model):
+class LeafHolder(fl.Model):
     def __init__(self, how: str = "ok") -> None:
         super().__init__()
         self.inner = Leaf(how=how)
@@ -83,11 +78,11 @@ class Holder(fl.Model):
 class Outer(fl.Model):
     def __init__(self, how: str) -> None:
         super().__init__()
-        self.sub = Holder(how)
+        self.sub = LeafHolder(how)
 
 
 # -- connect ----------------------------------------------------------------------------------------------------
-class TwoInertias(fl.Model):
+class InertiaPair(fl.Model):
     def __init__(self) -> None:
         super().__init__()
         self.j1 = rot.Inertia(J=1.0)
@@ -95,19 +90,19 @@ class TwoInertias(fl.Model):
 
 
 def test_connect_connector_to_itself():
-    m = TwoInertias()
+    m = InertiaPair()
     with pytest.raises(fl.ConnectError, match=r"j1\.flange_a .*twice; a connector cannot be connected to itself"):
         m.connect(m.j1.flange_a, m.j1.flange_a)
 
 
 def test_connect_connector_twice_in_one_set():
-    m = TwoInertias()
+    m = InertiaPair()
     with pytest.raises(fl.ConnectError, match=r"j2\.flange_b .*twice"):
         m.connect(m.j2.flange_b, m.j1.flange_a, m.j2.flange_b)
 
 
 def test_connect_signal_to_itself():
-    m = TwoInertias()
+    m = InertiaPair()
     m.gain = Gain(k=2.0)
     with pytest.raises(fl.ConnectError, match=r"signal gain\.y twice"):
         m.connect(m.gain.y, m.gain.y)
@@ -115,7 +110,7 @@ def test_connect_signal_to_itself():
 
 # -- attribute names --------------------------------------------------------------------------------------------
 def test_second_component_under_same_name_is_refused():
-    m = TwoInertias()
+    m = InertiaPair()
     with pytest.raises(fl.ModelError, match=r"j1: already holds Inertia j1; assigning Spring \(unnamed\) to the same "
                                             r"name would drop it"):
         m.j1 = rot.Spring(c=1.0)
@@ -134,7 +129,7 @@ def test_second_component_under_same_name_inside_constructor():
 
 
 def test_plain_value_over_a_component_name_is_refused():
-    m = TwoInertias()
+    m = InertiaPair()
     with pytest.raises(fl.ModelError, match=r"j2: holds Inertia j2; assigning 3\.0 to the same name would hide it"):
         m.j2 = 3.0
     assert isinstance(m.j2, rot.Inertia)
@@ -160,7 +155,7 @@ def test_error_in_on_structure_names_the_component():
 
 
 def test_reassigning_the_same_component_is_harmless():
-    m = TwoInertias()
+    m = InertiaPair()
     j1 = m.j1
     m.j1 = j1
     assert m.j1 is j1 and list(m._children) == ["j1", "j2"]
@@ -171,7 +166,7 @@ def test_math_sin_on_symbol_names_component_and_suggests_casadi():
     """CasADi's float(SX) is NaN for a symbol, so math.sin(x) used to become a silent NaN constant."""
     with pytest.raises(fl.ModelError, match=r"^inner \(Leaf\)\.equations\(\): float\(\) of the symbolic expression "
                                             r"inner\.x: a function of Python's 'math' module.*casadi \(ca\.sin"):
-        fl.Simulation(Holder("math.sin"), use_cache=False)
+        fl.Simulation(LeafHolder("math.sin"), use_cache=False)
 
 
 def test_math_sqrt_on_symbol_in_nested_component_names_full_path():
@@ -212,18 +207,18 @@ def test_float_of_constant_sx_is_still_allowed():
 
 def test_nan_constant_names_component_and_equation_label():
     with pytest.raises(fl.ModelError, match=r"^inner \(Leaf\): equation 'rate' contains the constant nan"):
-        fl.Simulation(Holder("nan"), use_cache=False)
+        fl.Simulation(LeafHolder("nan"), use_cache=False)
 
 
 def test_inf_constant_is_reported():
     with pytest.raises(fl.ModelError, match=r"^inner \(Leaf\): equation .* contains the constant inf"):
-        fl.Simulation(Holder("inf"), use_cache=False)
+        fl.Simulation(LeafHolder("inf"), use_cache=False)
 
 
 @pytest.mark.parametrize("how", ["if", "and", "max"])
 def test_python_truth_value_of_symbol_suggests_if_else(how):
     with pytest.raises(fl.ModelError, match=r"^inner \(Leaf\)\.equations\(\): a Python 'if'.*fl\.if_else"):
-        fl.Simulation(Holder(how), use_cache=False)
+        fl.Simulation(LeafHolder(how), use_cache=False)
 
 
 def test_error_inside_equations_names_the_component():
@@ -249,7 +244,7 @@ def test_flexlib_error_in_equations_keeps_its_class_and_gets_the_path():
 
 def test_correct_leaf_still_runs():
     """The checks above do not reject a correct model: x' = -x from 1 gives exp(-t) (1e-6)."""
-    res = fl.Simulation(Holder("ok"), use_cache=False).run(1.0, dt_out=0.5, rtol=1e-9, atol=1e-11, progress=False)
+    res = fl.Simulation(LeafHolder("ok"), use_cache=False).run(1.0, dt_out=0.5, rtol=1e-9, atol=1e-11, progress=False)
     np.testing.assert_allclose(res["inner.x"], np.exp(-res.t), rtol=1e-6)
 
 

@@ -7,6 +7,7 @@ import pytest
 
 import flexlib as fl
 from flexlib.errors import NativeSolverError
+from flexlib.models.reference.mass_spring_damper import Oscillator
 from flexlib.solve import native
 from flexlib.solve.backends import ida_c
 
@@ -14,19 +15,10 @@ needs_driver = pytest.mark.skipif(not native.native_available(),
                                   reason="C driver unavailable (no gcc, or FLEXLIB_NATIVE=0)")
 
 
-class Osc(fl.Model):
-    """x'' = -x, x(0) = 1: x = cos t."""
-
-    x = fl.Variable()
-    v = fl.Variable()
-
-    def equations(self):
-        return [fl.eq(fl.der(self.x), self.v), fl.eq(fl.der(self.v), -self.x)]
-
 
 @pytest.fixture(scope="module")
 def osc():
-    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
 def test_flexlib_native_0_falls_back_without_error(osc, monkeypatch):

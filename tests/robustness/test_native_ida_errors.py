@@ -1,25 +1,12 @@
 """Bad environments and arguments for ``solver="ida-native"``: each raises a clear error naming the culprit."""
 
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib import Variable, der, eq
+from flexlib.models.reference.blow_up import Decay
 from flexlib.solve import native
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-
-class Decay(fl.Model):
-    """x' = −x."""
-
-    x = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), -self.x)]
 
 
 @pytest.fixture

@@ -20,7 +20,7 @@ def short_chunks(monkeypatch):
     monkeypatch.setattr(ida_c, "CHUNK_STEPS", 4)
 
 
-class Oscillator(fl.Model):
+class FastOscillator(fl.Model):
     """x'' = −ω² x with ω = 2π rad/s, x(0) = 1: x = cos(ωt)."""
 
     x = Variable(unit="m")
@@ -49,7 +49,7 @@ def _failing_advance(monkeypatch, fail_after: float, times: int):
 def test_a_corrector_failure_restarts_from_the_last_accepted_point(monkeypatch):
     """One failure at ~0.5 s: the run completes, records the restart, and still follows cos(2πt) to 1e-5 m."""
     _failing_advance(monkeypatch, 0.5, 1)
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(FastOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     res = sim.run(2.0, dt_out=0.01, rtol=1e-8, atol=1e-10, solver="ida-native", progress=False)
     assert res.status == "success"
     assert res.stats["recoveries"] == 1
@@ -73,7 +73,7 @@ def test_a_second_failure_at_the_same_point_stops_with_the_result(monkeypatch):
         return code, k, t, nsteps
 
     monkeypatch.setattr(native.Driver, "advance", advance)
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(FastOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     with pytest.raises(fl.SolverError, match="IDA_CONV_FAIL") as info:
         sim.run(2.0, dt_out=0.01, solver="ida-native", progress=False)
     res = info.value.result
@@ -84,7 +84,7 @@ def test_a_second_failure_at_the_same_point_stops_with_the_result(monkeypatch):
 def test_restarts_are_limited_per_run(monkeypatch):
     """A run that fails at every chunk it reaches is stopped after MAX_RECOVERIES restarts, not carried along."""
     _failing_advance(monkeypatch, 0.0, 10**6)
-    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(FastOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     with pytest.raises(fl.SolverError, match="IDA_CONV_FAIL") as info:
         sim.run(2.0, dt_out=0.01, solver="ida-native", progress=False)
     assert info.value.result.stats["recoveries"] == loop.MAX_RECOVERIES

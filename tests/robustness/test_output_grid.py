@@ -15,8 +15,8 @@ import pytest
 from click.testing import CliRunner
 
 import flexlib as fl
-from flexlib import Variable, der, eq
 from flexlib.cli import cli
+from flexlib.models.reference.mass_spring_damper import Oscillator
 from flexlib.solve.run_options import _output_grid
 
 T_ENDS = [0.3, 0.7, 0.05, 1.0, 2.9, 3.3, 10.0, 12.34, 1e-3, 0.1 + 0.2, 7.0 / 3.0, 100.0]
@@ -40,19 +40,10 @@ def test_grid_ends_at_t_end_and_keeps_its_spacing(t0):
         assert len(grid) == int(np.ceil(round(span / dt, 9))) + 1, (t0, t1, dt)
 
 
-class Osc(fl.Model):
-    """x'' = -x, x(0) = 1: x = cos t."""
-
-    x = Variable()
-    v = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
-
 
 @pytest.fixture(scope="module")
 def sim():
-    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
 @pytest.mark.parametrize("solver", ["ida", "ida-sksundae", "casadi-idas"])

@@ -11,23 +11,10 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.control import Constant, FirstOrder, Limiter, LimPID, RateLimiter, Sine, TransferFunction
+from flexlib.components.control import Constant, Limiter, LimPID, TransferFunction
 from flexlib.components.hydraulics import DirectionalValve43, PressureSource, Tank
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
-
-
-class Limited(fl.Model):
-    """A sine through a limiter, a rate limiter and a first-order lag (all small signal blocks)."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.sine = Sine(amplitude=2.0, f=1.0)
-        self.limiter = Limiter(u_max=1.0, u_min=-0.5)
-        self.rate = RateLimiter(rising=10.0, falling=-10.0)
-        self.lag = FirstOrder(k=1.0, T=0.1)
-        self.connect(self.sine.y, self.limiter.u)
-        self.connect(self.limiter.y, self.rate.u)
-        self.connect(self.rate.y, self.lag.u)
+from flexlib.models.reference.signal_chain import LimitedSine
 
 
 class Pid(fl.Model):
@@ -89,7 +76,7 @@ class BoundedModel(fl.Model):
 
 @pytest.fixture(scope="module")
 def limited() -> fl.Simulation:
-    return fl.Simulation(Limited(), use_cache=False)
+    return fl.Simulation(LimitedSine(), use_cache=False)
 
 
 @pytest.fixture(scope="module")
@@ -129,7 +116,7 @@ def test_limiter_swapped_at_construction():
 
 
 def test_limiter_swapped_by_later_assignment_names_path():
-    model = Limited()
+    model = LimitedSine()
     with pytest.raises(fl.ParameterError, match=r"^limiter: .*u_max = -2 < u_min = -0\.5"):
         model.limiter.u_max = -2.0
     assert float(model.limiter.parameter_value("u_max")) == 1.0  # the refused value was not stored

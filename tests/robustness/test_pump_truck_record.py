@@ -7,7 +7,7 @@ from dataclasses import replace
 import pytest
 
 from flexlib.errors import ParameterError
-from models.pump_truck.parameters import FourBar, PumpTruckParameters
+from flexlib.models.pump_truck.parameters import FourBar, PumpTruckParameters
 
 REC = PumpTruckParameters()
 

@@ -341,7 +341,7 @@ def test_get_model_with_something_other_than_a_name(name):
 
 
 def test_run_scenario_with_a_model_instance_says_how_to_run_it():
-    from models.n_mass_chain import NMassChain
+    from flexlib.models.n_mass_chain import NMassChain
 
     with pytest.raises(RegistryError, match=r"got <NMassChain .*a model instance runs with flexlib.Simulation"):
         registry.run_scenario(NMassChain(1))

@@ -134,7 +134,7 @@ def test_lists_mixing_symbols_and_numbers_are_expressions():
 
 # -- what equations() returns ------------------------------------------------------------------------------------
 def leaf_model(equations, initial=None):
-    class Leaf(fl.Model):
+    class EquationsLeaf(fl.Model):
         x = Variable(start=1.0, fixed=True)
 
         def equations(self):
@@ -146,7 +146,7 @@ def leaf_model(equations, initial=None):
     class Top(fl.Model):
         def __init__(self):
             super().__init__()
-            self.leaf = Leaf()
+            self.leaf = EquationsLeaf()
 
     return Top()
 
@@ -216,7 +216,7 @@ class Inner(fl.Model):
 
 
 def test_connecting_a_sibling_from_inside_a_sub_model_is_explained():
-    class Outer(fl.Model):
+    class TwoInners(fl.Model):
         def __init__(self) -> None:
             super().__init__()
             self.a, self.b = Inner(), Inner()
@@ -224,7 +224,7 @@ def test_connecting_a_sibling_from_inside_a_sub_model_is_explained():
 
     with pytest.raises(ConnectError, match=r"^a: cannot connect b\.gain\.u: .*it is outside a; connect it in the "
                                            r"model that contains both"):
-        Outer()
+        TwoInners()
 
 
 # -- options assigned after construction -------------------------------------------------------------------------

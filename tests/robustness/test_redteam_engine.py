@@ -20,6 +20,7 @@ from flexlib.compile import cache
 from flexlib.compile.constants import zero_geometry
 from flexlib.compile.environment import env_switch
 from flexlib.compile.explicit import explicit_mode
+from flexlib.models.reference.blow_up import BlowUp
 from flexlib.solve import trajectory
 from flexlib.solve.backends import base
 from flexlib.solve.native import native_available
@@ -54,16 +55,7 @@ class Step(fl.Model):
         return [eq(der(self.w), if_else(time < self.t1, 1.0, -1.0))]
 
 
-class BlowUp(fl.Model):
-    """x' = x², x(0) = 1: x = 1/(1 - t), IDA gives up just before t = 1 s."""
-
-    x = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.x**2)]
-
-
-class Bounded(fl.Model):
+class AssertBelowOne(fl.Model):
     x = Variable()
 
     def equations(self):
@@ -423,8 +415,9 @@ def test_interrupted_run_on_a_grid_ends_where_it_stopped(monkeypatch, solver):
 @pytest.mark.parametrize("solver", SOLVERS)
 def test_assertion_turning_false_ends_the_rows_at_that_time(solver):
     """x = t against the assertion x < 1: the run fails at 1 s on every backend, its rows ending there."""
-    sim = fl.Simulation(Bounded(init={"x": 0.0}), use_cache=False)
-    with pytest.raises(fl.SolverError, match=r"assertion failed at t = 1 s:\n  Bounded: x < 1: x stays below 1") as err:
+    sim = fl.Simulation(AssertBelowOne(init={"x": 0.0}), use_cache=False)
+    with pytest.raises(fl.SolverError,
+                       match=r"assertion failed at t = 1 s:\n  AssertBelowOne: x < 1: x stays below 1") as err:
         sim.run(2.0, dt_out=0.3, solver=solver, progress=False)
     assert err.value.result.t[-1] == pytest.approx(1.0, abs=1e-9)
 

@@ -13,26 +13,9 @@ import pytest
 
 import flexlib as fl
 from flexlib import Variable, assert_, der, eq
+from flexlib.models.reference.blow_up import BlowUp
+from flexlib.models.reference.mass_spring_damper import Oscillator
 from flexlib.results import hdf5
-
-
-class Osc(fl.Model):
-    """x'' = -x, x(0) = 1: x = cos t."""
-
-    x = Variable(unit="m")
-    v = Variable(unit="m/s")
-
-    def equations(self):
-        return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
-
-
-class BlowUp(fl.Model):
-    """x' = x², x(0) = 1: the solution 1/(1 − t) blows up at t = 1 (the run fails near t = 1)."""
-
-    x = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.x**2)]
 
 
 class BadStart(fl.Model):
@@ -47,7 +30,7 @@ class BadStart(fl.Model):
 
 @pytest.fixture(scope="module")
 def osc():
-    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
 @pytest.fixture(scope="module")

@@ -7,22 +7,12 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib import Variable, der, eq
-
-
-class Osc(fl.Model):
-    """x'' = -x, x(0) = 1: x = cos t (reference for the runs that must work)."""
-
-    x = Variable()
-    v = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
+from flexlib.models.reference.mass_spring_damper import Oscillator
 
 
 @pytest.fixture(scope="module")
 def sim():
-    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
 @pytest.fixture
@@ -164,11 +154,11 @@ def test_bad_value_from_the_models_experiment_names_it():
     """A run without arguments takes t_end, dt_out and tolerances from the model's ``experiment``: a bad value
     there is named as coming from it."""
 
-    class Timed(Osc):
+    class TimedOscillator(Oscillator):
         experiment = fl.Experiment(t_end=2.0, dt_out=0.0)
 
-    sim = fl.Simulation(Timed(init={"x": 1.0, "v": 0.0}), use_cache=False)
-    with pytest.raises(fl.RunArgumentError, match=r"dt_out = 0\.0 is invalid.*comes from Timed\.experiment"):
+    sim = fl.Simulation(TimedOscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    with pytest.raises(fl.RunArgumentError, match=r"dt_out = 0\.0 is invalid.*comes from TimedOscillator\.experiment"):
         sim.run()
     res = sim.run(1.0)  # an explicit t_end: the experiment's dt_out is not used, every step is recorded
     assert res.success and len(res.t) > 2

@@ -11,19 +11,11 @@ import pytest
 
 import flexlib as fl
 from flexlib import Parameter, Variable, assert_, der, eq, if_else
+from flexlib.models.reference.blow_up import BlowUp
 
 
 def sim(model):
     return fl.Simulation(model, use_cache=False)
-
-
-class BlowUp(fl.Model):
-    """x' = x², x(0) = 1: x = 1/(1 − t) blows up at t = 1."""
-
-    x = Variable(unit="m")
-
-    def equations(self):
-        return [eq(der(self.x), self.x**2, label="quadratic growth")]
 
 
 class Reciprocal(fl.Model):
@@ -193,7 +185,7 @@ def test_cylinder_with_default_x_start_is_quiet(capfd):
     from flexlib.components.hydraulics import DoubleActingCylinder, PressureSource, Tank
     from flexlib.components.mechanics.translational import Fixed, Mass
 
-    class Lift(fl.Model):
+    class PressureLift(fl.Model):
         def __init__(self):
             super().__init__()
             self.tank, self.source = Tank(), PressureSource(p=50e5)
@@ -205,7 +197,7 @@ def test_cylinder_with_default_x_start_is_quiet(capfd):
             self.connect(self.ground.flange, self.cylinder.flange_a)
             self.connect(self.cylinder.flange_b, self.load.flange_a)
 
-    res = fl.Simulation(Lift()).run(0.05, dt_out=0.01, progress=False)
+    res = fl.Simulation(PressureLift()).run(0.05, dt_out=0.01, progress=False)
     out, errout = capfd.readouterr()
     assert "identically 0" not in out + errout
     assert res["cylinder.x"][-1] > 0.0

@@ -14,33 +14,15 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib import Variable, der, eq
+from flexlib.models.reference.blow_up import BlowUp
+from flexlib.models.reference.mass_spring_damper import Oscillator
 from flexlib.results import hdf5
 from flexlib.solve import native, signals, sundae_callbacks, trajectory
 
 
-class Osc(fl.Model):
-    """x'' = -x, x(0) = 1: x = cos t."""
-
-    x = Variable()
-    v = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
-
-
-class BlowUp(fl.Model):
-    """x' = x², x(0) = 1: blows up at t = 1."""
-
-    x = Variable()
-
-    def equations(self):
-        return [eq(der(self.x), self.x**2)]
-
-
 @pytest.fixture(scope="module")
 def sim():
-    return fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
 @pytest.fixture
@@ -93,14 +75,9 @@ CHILD = textwrap.dedent("""
     from flexlib import Variable, der, eq
     from flexlib.solve import native, simulation
 
-    class Osc(fl.Model):
-        x = Variable()
-        v = Variable()
+    from flexlib.models.reference.mass_spring_damper import Oscillator
 
-        def equations(self):
-            return [eq(der(self.x), self.v), eq(der(self.v), -self.x)]
-
-    sim = fl.Simulation(Osc(init={"x": 1.0, "v": 0.0}), use_cache=False)
+    sim = fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
     if native.native_available():  # the default backend: announce once the C loop has returned rows
         real = native.Driver.advance
 
@@ -214,7 +191,7 @@ def test_ctrl_c_signal_during_the_steps(sim, monkeypatch, tmp_path, ctrl_c):
 
 @pytest.mark.parametrize("outcome", ["success", "solver error", "argument error", "interrupt"])
 def test_previous_handler_is_restored(monkeypatch, recorder, outcome):
-    model = BlowUp(init={"x": 1.0}) if outcome == "solver error" else Osc(init={"x": 1.0, "v": 0.0})
+    model = BlowUp(init={"x": 1.0}) if outcome == "solver error" else Oscillator(init={"x": 1.0, "v": 0.0})
     run = fl.Simulation(model, use_cache=False).run
     mine = signal.getsignal(signal.SIGTERM)
     if outcome == "success":

@@ -33,7 +33,7 @@ A_R = math.pi / 4 * (BORE**2 - ROD**2)
 Q_NOM, DP_NOM = 40.0 / 60000.0, 35 * BAR
 
 
-class ValveBench(fl.Model):
+class StepValveBench(fl.Model):
     """4/3 valve between pressure sources, command stepped to u at t = 0.01 s."""
 
     def __init__(self, u: float, p_s: float, p_A: float, p_B: float, **valve) -> None:
@@ -57,13 +57,13 @@ def test_ideal_spool_follows_the_command_and_passes_the_rated_flow_at_once():
     really changes the model."""
     p_s = 150 * BAR
     args = (1.0, p_s, p_s - DP_NOM, HLP46.p_ref + DP_NOM)
-    res = fl.Simulation(ValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM, ideal_spool=True)).run(
+    res = fl.Simulation(StepValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM, ideal_spool=True)).run(
         0.05, dt_out=0.001, progress=False)
     np.testing.assert_allclose(res["valve.xs"], res["command.y"], rtol=0, atol=1e-12)
     after = res.t >= 0.011
     np.testing.assert_allclose(res["valve.q_A"][after], Q_NOM, rtol=1e-2)
     np.testing.assert_allclose(res["valve.m_BT"][after] / HLP46.rho_ref, Q_NOM, rtol=1e-2)
-    lag = fl.Simulation(ValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM)).run(0.05, dt_out=0.001, progress=False)
+    lag = fl.Simulation(StepValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM)).run(0.05, dt_out=0.001, progress=False)
     assert lag["valve.xs"][np.searchsorted(lag.t, 0.011)] < 0.05
     assert lag.stats["n_states"] == res.stats["n_states"] + 2  # the spool states are gone
 
@@ -98,7 +98,7 @@ def test_cylinder_port_volume_flows():
     assert res.unit("cylinder.q_A") == "m3/s"
 
 
-class Clamped(fl.Model):
+class ClampedCylinder(fl.Model):
     """Cylinder with both flanges held (housing at 0, rod end at 0.2 m), chambers at imposed pressures."""
 
     def __init__(self, p_A: float, p_B: float, fluid: Fluid, **cyl) -> None:
@@ -121,11 +121,11 @@ def test_ambient_pressure_on_the_rod_is_independent_of_the_fluid_reference(p_ref
     clamped rod, flange_b.f = −F. Tolerance: 1e-12 relative (it is an identity of the force balance)."""
     fluid = Fluid(name=f"oil@{p_ref}", p_ref=p_ref)
     p_A, p_B = 120 * BAR, 30 * BAR
-    res = fl.Simulation(Clamped(p_A, p_B, fluid, p_amb=0.0)).run(0.01, dt_out=0.005, progress=False)
+    res = fl.Simulation(ClampedCylinder(p_A, p_B, fluid, p_amb=0.0)).run(0.01, dt_out=0.005, progress=False)
     gauge = p_A * A_P - p_B * A_R
     np.testing.assert_allclose(res["cylinder.F_hyd"], gauge, rtol=1e-12)
     np.testing.assert_allclose(-res["cylinder.flange_b.f"], gauge, rtol=1e-12)
-    res = fl.Simulation(Clamped(p_A, p_B, fluid)).run(0.01, dt_out=0.005, progress=False)
+    res = fl.Simulation(ClampedCylinder(p_A, p_B, fluid)).run(0.01, dt_out=0.005, progress=False)
     np.testing.assert_allclose(-res["cylinder.flange_b.f"], gauge - p_ref * (A_P - A_R), rtol=1e-12)
 
 

@@ -13,17 +13,14 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.control import Constant, Ramp, Sine, Step, TimeTable
+from flexlib.components.control import Constant, Ramp, Step, TimeTable
 from flexlib.components.hydraulics import (
     HLP46,
     CounterbalanceValve,
     DirectionalValve43,
     DoubleActingCylinder,
-    FixedDisplacementPump,
     FlowSource,
     LineCylinder,
-    Orifice,
-    Port,
     PressureReliefValve,
     PressureSource,
     Tank,
@@ -31,16 +28,8 @@ from flexlib.components.hydraulics import (
 )
 from flexlib.components.hydraulics.flow_laws import critical_pressure, orifice_mass_flow
 from flexlib.components.mechanics.translational import Fixed, Force, Mass
-
-BAR = 1e5
-P_ATM = HLP46.p_ref
-G = 9.81
-#: A 63/36 mm cylinder with 400 mm stroke (a common ISO 6020 size).
-BORE, ROD, STROKE = 0.063, 0.036, 0.4
-A_P = math.pi / 4 * BORE**2
-A_R = math.pi / 4 * (BORE**2 - ROD**2)
-CYL = {"d_bore": BORE, "d_rod": ROD, "stroke": STROKE, "m": 8.0, "F_c": 200.0, "stribeck": 1.5, "d": 2000.0,
-       "V_dead_A": 5e-5, "V_dead_B": 5e-5}
+from flexlib.models.reference.hydraulic_circuit import DP_NOM, Q_NOM, PumpValveCylinder
+from flexlib.models.reference.hydraulic_cylinder import A_P, A_R, BAR, CYL, P_ATM, STROKE, G, PressureDriven
 
 
 def run(model: fl.Model, t_end: float, **kw) -> tuple[fl.Simulation, fl.Result]:
@@ -89,28 +78,6 @@ def test_cylinder_speed_is_flow_over_area(into, area):
 
 
 # ---------------------------------------------------------------------------------------------------------------
-class PressureDriven(fl.Model):
-    """Supply pressure switched from chamber A to chamber B at t_switch, through meter-in/out orifices."""
-
-    def __init__(self, p_s: float, t_switch: float) -> None:
-        super().__init__()
-        self.fixed = Fixed()
-        self.p_A = PressureSource(use_input=True)
-        self.p_B = PressureSource(use_input=True)
-        self.step_A = Step(offset=p_s, height=P_ATM - p_s, start_time=t_switch)
-        self.step_B = Step(offset=P_ATM, height=p_s - P_ATM, start_time=t_switch)
-        self.orifice_A = Orifice(A=2e-5)
-        self.orifice_B = Orifice(A=2e-5)
-        self.cylinder = DoubleActingCylinder(x_start=0.3, **CYL)
-        self.load = Mass(m=20.0)
-        self.connect(self.step_A.y, self.p_A.p_in)
-        self.connect(self.step_B.y, self.p_B.p_in)
-        self.connect(self.p_A.port, self.orifice_A.port_a)
-        self.connect(self.orifice_A.port_b, self.cylinder.port_A)
-        self.connect(self.p_B.port, self.orifice_B.port_a)
-        self.connect(self.orifice_B.port_b, self.cylinder.port_B)
-        self.connect(self.fixed.flange, self.cylinder.flange_a)
-        self.connect(self.cylinder.flange_b, self.load.flange_a)
 
 
 def test_end_stops_hold_the_piston_in_the_stroke():
@@ -190,7 +157,6 @@ class ValveBench(fl.Model):
         self.connect(self.load_B.port, self.valve.port_B)
 
 
-Q_NOM, DP_NOM = 40.0 / 60000.0, 35 * BAR
 
 
 def test_valve_nominal_flow_at_full_command():
@@ -426,48 +392,6 @@ def test_counterbalance_poppet_starts_at_rest_with_steady_start():
 
 
 # ---------------------------------------------------------------------------------------------------------------
-class MassCounter(fl.Component):
-    """Test helper: ideal flow meter in series that integrates the mass passed from port_a to port_b."""
-
-    M = fl.Variable(unit="kg", start=0.0, fixed=True, doc="Mass passed from a to b since the start")
-    port_a = Port(doc="Inlet")
-    port_b = Port(doc="Outlet")
-
-    def equations(self) -> list:
-        a, b = self.port_a, self.port_b
-        return [fl.eq(a.p, b.p), fl.eq(a.m_flow + b.m_flow, 0.0), fl.eq(fl.der(self.M), a.m_flow)]
-
-
-class PumpValveCylinder(fl.Model):
-    """Fixed-displacement pump with relief valve and accumulator volume, 4/3 valve driven by a sine,
-    cylinder with internal leakage and a drained rod seal, load mass; counters on the pump delivery and
-    on the return to the tank. ``chamber_form`` of the supply volume and the cylinder (default ``"mass"``)."""
-
-    def __init__(self, chamber_form: str = "mass") -> None:
-        super().__init__()
-        self.tank = Tank()
-        self.pump = FixedDisplacementPump(D=10e-6 / (2 * math.pi), C_leak=1e-12)
-        self.speed = Constant(k=1500 * 2 * math.pi / 60)
-        self.pumped, self.returned = MassCounter(), MassCounter()
-        self.supply = Volume(V=5e-4, p_start=P_ATM, chamber_form=chamber_form)
-        self.relief = PressureReliefValve(p_crack=150 * BAR, p_grad=5e10)
-        self.command = Sine(amplitude=0.8, f=0.7)
-        self.valve = DirectionalValve43(Q_nom=Q_NOM, dp_nom=DP_NOM, A_leak=1e-9)
-        self.cylinder = DoubleActingCylinder(x_start=0.2, G_int=1e-13, G_ext=5e-14, use_drain=True,
-                                             chamber_form=chamber_form, **CYL)
-        self.fixed, self.load = Fixed(), Mass(m=50.0)
-        self.connect(self.speed.y, self.pump.w)
-        self.connect(self.tank.port, self.pump.port_a, self.returned.port_b)
-        self.connect(self.pump.port_b, self.pumped.port_a)
-        self.connect(self.pumped.port_b, self.supply.port, self.relief.port_a, self.valve.port_P)
-        self.connect(self.returned.port_a, self.relief.port_b, self.valve.port_T, self.cylinder.port_D)
-        self.connect(self.command.y, self.valve.u)
-        self.connect(self.valve.port_A, self.cylinder.port_A)
-        self.connect(self.valve.port_B, self.cylinder.port_B)
-        self.connect(self.fixed.flange, self.cylinder.flange_a)
-        self.connect(self.cylinder.flange_b, self.load.flange_a)
-
-
 def test_mass_balance_pump_valve_cylinder():
     """(e) Over 3 s of a pump–relief–valve–cylinder circuit the mass pumped equals the mass stored (chambers
     and supply volume, compressibility included) plus the mass returned to the tank (valve, relief, rod
@@ -626,21 +550,18 @@ def test_valve_command_out_of_range_stops_the_run():
 
 
 def test_chamber_squeezed_to_its_dead_volume_at_tight_tolerance(monkeypatch):
-    """Issue 9: the hydraulic servo of ``benchmarks/hydraulic_servo.py`` drives its piston to 27 µm from the rod-end
-    stop at t ≈ 3.5 s, where chamber B holds 1 bar in its 10 cm3 dead volume. With the mass deviation ``dm_B`` as
-    state (mostly displaced mass, 0.55 kg, against a compression mass of 5e-7 kg) the pressure was a six-digit
-    cancellation and at atol = 1e-4·rtol IDA stalled there with 6e-14 s steps; with the compression mass ``mc_B``
-    as state (``chamber_equations``) the run passes at the pressure form's cost.
+    """Issue 9: the hydraulic servo of ``flexlib.models.reference.hydraulic_servo`` drives its piston to 27 µm from the
+    rod-end stop at t ≈ 3.5 s, where chamber B holds 1 bar in its 10 cm3 dead volume. With the mass deviation
+    ``dm_B`` as state (mostly displaced mass, 0.55 kg, against a compression mass of 5e-7 kg) the pressure was a
+    six-digit cancellation and at atol = 1e-4·rtol IDA stalled there with 6e-14 s steps; with the compression mass
+    ``mc_B`` as state (``chamber_equations``) the run passes at the pressure form's cost.
 
     Reference: the pressure-state form (``chamber_form="pressure"``) of the same servo. Tolerances: the mass form
-    completes 4 s; steps ≤ 2× (measured 0.95×); piston positions within 1e-5 m of each other (both runs are
-    held to rtol 1e-6 on a 0.4 m stroke; measured 1.3e-8 m)."""
+    completes 4 s; steps ≤ 2× (measured 0.95×); piston positions within 1e-5 m of each other (both runs are held to rtol
+    1e-6 on a 0.4 m stroke; measured 1.3e-8 m)."""
     import functools
-    import sys
-    from pathlib import Path
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "benchmarks"))
-    from hydraulic_servo import HydraulicServo
+    from flexlib.models.reference.hydraulic_servo import HydraulicServo
 
     runs = {}
     for form in ("mass", "pressure"):

@@ -191,7 +191,7 @@ def test_step_force_on_free_mass():
     np.testing.assert_allclose(res["mass.flange_a.f"], res["step.y"], rtol=0, atol=1e-12)
 
 
-class Hanging(fl.Model):
+class SpringWithOffsets(fl.Model):
     """A constant force stretches a spring with offsets; the mass has a length L."""
 
     def __init__(self, m: float, c: float, d: float, F: float, s0: float, s_rel0: float, L: float) -> None:
@@ -214,7 +214,7 @@ def test_static_equilibrium_with_offsets():
     Reference: static force balance c (s_rel − s_rel0) = F; tolerance 1e-9 absolute [m].
     """
     m, c, d, F, s0, s_rel0, L = 1.0, 400.0, 5.0, 20.0, 1.0, 0.5, 0.2
-    _, res = simulate(Hanging(m, c, d, F, s0, s_rel0, L), 0.5, dt_out=0.1, steady_state=True)
+    _, res = simulate(SpringWithOffsets(m, c, d, F, s0, s_rel0, L), 0.5, dt_out=0.1, steady_state=True)
     np.testing.assert_allclose(res["mass.s"], s0 + s_rel0 + F / c + L / 2, rtol=0, atol=1e-9)
     np.testing.assert_allclose(res["spring.f"], F, rtol=1e-9)
 

@@ -24,22 +24,13 @@ from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.flexible.body import _cayley
 from flexlib.components.mechanics.multibody import Body, Revolute, World, WorldForce
 from flexlib.fe import Section, beam_mesh, modal_data_from_fe, rectangle
+from flexlib.models.reference.signal_chain import VectorConstant
 
 # the seed-001 beam: steel-like, very slender
 E, RHO, L, A, I_AREA = 2e11, 8000.0, 1.5, 1e-4, 1e-10
 SEED_SECTION = Section(A=A, Iy=I_AREA, Iz=I_AREA, J=2 * I_AREA)
 G = 9.81
 QUIET = {"progress": False}
-
-
-class VectorConstant(fl.Component):
-    """Constant 3-vector signal (test helper)."""
-
-    k = fl.Parameter([0.0, 0.0, 0.0], unit="1", shape=3, doc="Value")
-    y = fl.Output(unit="1", shape=3, doc="Output")
-
-    def equations(self):
-        return [fl.eq(self.y, self.k)]
 
 
 @pytest.fixture(scope="module")
@@ -88,7 +79,7 @@ def test_free_body_conserves_energy_and_angular_momentum():
     rng = np.random.default_rng(0)
     q0, qd0 = rng.normal(size=m) * 3e-3, rng.normal(size=m) * 1e-1
 
-    class Free(fl.Model):
+    class FreeBeam(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World(g=0.0)
@@ -96,7 +87,7 @@ def test_free_body_conserves_energy_and_angular_momentum():
                                      w_start=[3.0, -5.0, 20.0],
                                      init={"q": q0, "qd": qd0, "r_0": [0, 0, 0], "v_0": [0.1, 0, 0]})
 
-    model = Free()
+    model = FreeBeam()
     res = fl.Simulation(model, use_cache=False).run(0.1, dt_out=0.002, rtol=1e-10, atol=1e-12, **QUIET)
     _t, _q, _r, T_ref = model.beam.motion(res)  # reference orientation recovered from frame_a (checked below)
     pts = fe.mass_points
@@ -131,7 +122,7 @@ def test_zero_modes_moves_exactly_as_the_rigid_body():
     fe = beam_mesh((0, 0, 0), (0.8, 0.05, 0.02), 6, rectangle(0.03, 0.02), E=2e11, rho=7800)
     data = modal_data_from_fe(fe, [0, 6], 4, free=True)
 
-    class Pendulum(fl.Model):
+    class HingedBeam(fl.Model):
         def __init__(self, flexible: bool):
             super().__init__()
             self.world = World(g=G)
@@ -144,8 +135,8 @@ def test_zero_modes_moves_exactly_as_the_rigid_body():
             self.connect(self.rev.frame_b, self.body.frame_a)
 
     tol = {"rtol": 1e-11, "atol": 1e-12, "dt_out": 0.01}
-    flex = fl.Simulation(Pendulum(True), use_cache=False).run(2.0, **tol, **QUIET)
-    rigid = fl.Simulation(Pendulum(False), use_cache=False).run(2.0, **tol, **QUIET)
+    flex = fl.Simulation(HingedBeam(True), use_cache=False).run(2.0, **tol, **QUIET)
+    rigid = fl.Simulation(HingedBeam(False), use_cache=False).run(2.0, **tol, **QUIET)
     np.testing.assert_allclose(flex["rev.phi"], rigid["rev.phi"], atol=1e-7, rtol=0)
     np.testing.assert_allclose(flex["rev.frame_a.f"], rigid["rev.frame_a.f"], rtol=0,
                                atol=1e-6 * np.abs(rigid["rev.frame_a.f"]).max())
@@ -156,7 +147,7 @@ def test_frames_stay_orthogonal_and_follow_the_frame_rule(cantilever_data):
     orthogonal to 1e-12 and its finite-difference derivative matches −[w×]T (the engine's frame rule) to 1e-4
     of |w|."""
 
-    class Pendulum(fl.Model):
+    class HingedBeam(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World(g=G)
@@ -166,7 +157,7 @@ def test_frames_stay_orthogonal_and_follow_the_frame_rule(cantilever_data):
             self.connect(self.rev.frame_b, self.beam.frame_a)
 
     h = 1e-4
-    res = fl.Simulation(Pendulum(), use_cache=False).run(0.6, dt_out=h, rtol=1e-10, atol=1e-12, **QUIET)
+    res = fl.Simulation(HingedBeam(), use_cache=False).run(0.6, dt_out=h, rtol=1e-10, atol=1e-12, **QUIET)
     T = res["beam.frame_b.T"].reshape(-1, 3, 3, order="F")
     w = res["beam.frame_b.w"]
     assert np.abs(np.einsum("kij,klj->kil", T, T) - np.eye(3)).max() < 1e-12
@@ -243,18 +234,18 @@ def test_cache_keys_on_modal_content_not_path(tmp_path, cantilever_data, monkeyp
     cantilever_data.write(a)
     cantilever_data.write(b)
 
-    class Model(fl.Model):
+    class BeamModel(fl.Model):
         def __init__(self, path):
             super().__init__()
             self.world = World(g=G)
             self.beam = FlexibleBody(path, modes=2)
             self.connect(self.world.frame_b, self.beam.frame_a)
 
-    assert not fl.Simulation(Model(a)).build_info["cached"]
-    assert fl.Simulation(Model(b)).build_info["cached"]
+    assert not fl.Simulation(BeamModel(a)).build_info["cached"]
+    assert fl.Simulation(BeamModel(b)).build_info["cached"]
     fe = beam_mesh((0, 0, 0), (L, 0, 0), 32, SEED_SECTION, E=1.01 * E, rho=RHO)
     modal_data_from_fe(fe, [32], 4, reference_node=0).write(a)
-    assert not fl.Simulation(Model(a)).build_info["cached"]
+    assert not fl.Simulation(BeamModel(a)).build_info["cached"]
 
 
 def test_geometric_stiffening_keeps_energy(spinning_data):
@@ -267,7 +258,7 @@ def test_geometric_stiffening_keeps_energy(spinning_data):
     lag = [k for k in np.argsort(data.frequencies)
            if np.abs(data.translational_modes[k, :, 1]).max() > np.abs(data.translational_modes[k, :, 2]).max()][:3]
 
-    class Pinned(fl.Model):
+    class PinnedBeam(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World(g=0.0)
@@ -277,7 +268,7 @@ def test_geometric_stiffening_keeps_energy(spinning_data):
             self.connect(self.world.frame_b, self.pin.frame_a)
             self.connect(self.pin.frame_b, self.beam.frame_a)
 
-    res = fl.Simulation(Pinned(), use_cache=False).run(1.0, dt_out=0.01, rtol=1e-11, atol=1e-13, **QUIET)
+    res = fl.Simulation(PinnedBeam(), use_cache=False).run(1.0, dt_out=0.01, rtol=1e-11, atol=1e-13, **QUIET)
     sel = data.select(lag)
     fe = beam_mesh((0, 0, 0), (2.0, 0, 0), 24, rectangle(0.02, 0.03), E=2.1e11, rho=7850.0).constrained([0])
     pts = fe.mass_points
@@ -384,7 +375,7 @@ def test_stress_and_drawing_from_a_simulation(tmp_path):
     fe = beam_mesh((0, 0, 0), (L, 0, 0), 16, rectangle(b, h), E=Ey, rho=7850.0)
     data = modal_data_from_fe(fe, [16], 4, reference_node=0, stress_fibre=(h / 2, 0.0))
 
-    class Loaded(fl.Model):
+    class LoadedBeam(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World(g=0.0)
@@ -395,7 +386,7 @@ def test_stress_and_drawing_from_a_simulation(tmp_path):
             self.connect(self.src.y, self.force.force)
             self.connect(self.force.frame_b, self.beam.frame_b)
 
-    model = Loaded()
+    model = LoadedBeam()
     res = fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
     Iz = b * h**3 / 12
     assert res["beam.frame_b.r_0"][0, 1] == pytest.approx(-P * L**3 / (3 * Ey * Iz), rel=1e-6)

@@ -32,18 +32,9 @@ from flexlib.fe import (
     von_mises,
 )
 from flexlib.fe.geometric import inertial_load_cases, interface_load_cases
+from flexlib.models.reference.signal_chain import VectorConstant
 
 QUIET = {"progress": False}
-
-
-class VectorConstant(fl.Component):
-    """Constant 3-vector signal (test helper)."""
-
-    k = fl.Parameter([0.0, 0.0, 0.0], unit="1", shape=3, doc="Value")
-    y = fl.Output(unit="1", shape=3, doc="Output")
-
-    def equations(self):
-        return [fl.eq(self.y, self.k)]
 
 
 def _dense_elastic_flexibility(fe, n_rigid: int) -> np.ndarray:
@@ -111,7 +102,7 @@ def test_one_mode_with_mode_acceleration_recovers_statics_exactly(tmp_path):
     data = modal_data_from_fe(fe, [16], 8, reference_node=0, stress_fibre=(h / 2, 0.0))
     modes = _bending_y(data, 1)
 
-    class Loaded(fl.Model):
+    class LoadedCantilever(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World(g=g)
@@ -122,7 +113,7 @@ def test_one_mode_with_mode_acceleration_recovers_statics_exactly(tmp_path):
             self.connect(self.src.y, self.force.force)
             self.connect(self.force.frame_b, self.beam.frame_b)
 
-    model = Loaded()
+    model = LoadedCantilever()
     res = fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
     Iz, A = b * h**3 / 12, b * h
     tip_exact = -(P * L**3 / (3 * Ey * Iz) + rho * A * g * L**4 / (8 * Ey * Iz))

@@ -17,7 +17,7 @@ def test_negative_mass_and_bad_inertia():
     with pytest.raises(fl.ParameterError, match=r"triangle inequality"):
         Body(I=np.diag([1.0, 1.0, 5.0]))
 
-    class Model(fl.Model):
+    class BodyModel(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World()
@@ -26,21 +26,21 @@ def test_negative_mass_and_bad_inertia():
             self.body.I = np.diag([1.0, -2.0, 1.0])
 
     with pytest.raises(fl.ParameterError, match=r"body: inertia tensor I is not positive semi-definite"):
-        Model()
+        BodyModel()
 
 
 def test_zero_joint_axis():
     with pytest.raises(fl.ParameterError, match=r"Revolute: joint axis n = \[0.0, 0.0, 0.0\] has zero length"):
         Revolute(n=[0, 0, 0])
 
-    class Model(fl.Model):
+    class BodyModel(fl.Model):
         def __init__(self):
             super().__init__()
             self.joint = Revolute()
             self.joint.n = [0.0, 0.0, 0.0]
 
     with pytest.raises(fl.ParameterError, match=r"joint: joint axis n"):
-        Model()
+        BodyModel()
 
 
 class TooShort(fl.Model):

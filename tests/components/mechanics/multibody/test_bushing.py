@@ -2,13 +2,12 @@
 
 References: the linear oscillator (static sag m·g/c, natural frequency √(c/m), √(c_rot/J)); springs in
 parallel (load split c_i/Σc); energy conservation of an undamped conservative element; the four-bar's
-closed-form position analysis (Norton, *Design of Machinery*, §4.5, tests/references_multibody.py) and its
+closed-form position analysis (Norton, *Design of Machinery*, §4.5, flexlib.models.reference.closed_form) and its
 first-order perturbation by the bushing's deflection.
 """
 
 import numpy as np
 import pytest
-import references_multibody as ref
 from scipy.optimize import brentq
 
 import flexlib as fl
@@ -22,18 +21,11 @@ from flexlib.components.mechanics.multibody import (
     World,
     WorldForce,
 )
+from flexlib.models.reference import closed_form as ref
+from flexlib.models.reference.four_bar import A, B, C, D
+from flexlib.models.reference.signal_chain import VectorConstant
 
 G = 9.81
-
-
-class VectorConstant(fl.Component):
-    """Constant 3-vector signal (test helper)."""
-
-    k = fl.Parameter([0.0, 0.0, 0.0], unit="N", shape=3, doc="Value")
-    y = fl.Output(unit="N", shape=3, doc="Output")
-
-    def equations(self):
-        return [fl.eq(self.y, self.k)]
 
 
 class Hanging(fl.Model):
@@ -166,7 +158,6 @@ def test_indeterminate_axial_split_follows_stiffness():
 
 
 # ---------------------------------------------------------------------------------------------------------------
-A, B, C, D = 0.2, 0.7, 0.9, 0.6  # crank, coupler, rocker, ground (as tests/.../test_loops.py)
 
 
 def _link(m: float, L: float) -> Body:
@@ -175,8 +166,9 @@ def _link(m: float, L: float) -> Body:
 
 
 class FourBarBushing(fl.Model):
-    """The four-bar of test_loops.py with the coupler–rocker Revolute (rev3) replaced by a bushing: stiff in
-    translation and tilt, free about the hinge axis z. Starts on the rigid solution (angles and speeds)."""
+    """The catalogue's four-bar (flexlib.models.reference.four_bar) with the coupler–rocker Revolute (rev3) replaced by
+    a bushing: stiff in translation and tilt, free about the hinge axis z. Starts on the rigid solution (angles and
+    speeds)."""
 
     def __init__(self, theta2: float, w2: float, c: float, d: float) -> None:
         super().__init__()
@@ -249,7 +241,7 @@ def test_negative_stiffness_or_damping_is_rejected():
     with pytest.raises(fl.ParameterError, match=r"Bushing: d_rot = .* \[N\.m\.s/rad\] is below its minimum"):
         Bushing(d_rot=[0.0, 0.0, -2.0])
 
-    class Model(fl.Model):
+    class BushingModel(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World()
@@ -258,7 +250,7 @@ def test_negative_stiffness_or_damping_is_rejected():
             self.connect(self.world.frame_b, self.bushing.frame_a)
             self.connect(self.bushing.frame_b, self.body.frame_a)
 
-    model = Model()
+    model = BushingModel()
     with pytest.raises(fl.ParameterError, match=r"bushing\.c_rot = .* \[N\.m/rad\] is below its minimum"):
         model.bushing.c_rot = [1.0, -5.0, 1.0]
     sim = fl.Simulation(model, use_cache=False)

@@ -24,19 +24,10 @@ from flexlib.components.mechanics.multibody.relative_velocity import RelativeVel
 from flexlib.components.mechanics.multibody.spring_damper_line import SpringDamperLine
 from flexlib.components.mechanics.multibody.world_force import WorldForce
 from flexlib.components.mechanics.multibody.world_torque import WorldTorque
+from flexlib.models.reference.signal_chain import VectorConstant
 
 G = 9.81
 TOL = {"rtol": 1e-10, "atol": 1e-12}
-
-
-class VectorConstant(fl.Component):
-    """Constant 3-vector signal (test helper)."""
-
-    k = fl.Parameter([0.0, 0.0, 0.0], unit="1", shape=3, doc="Value")
-    y = fl.Output(unit="1", shape=3, doc="Output")
-
-    def equations(self):
-        return [fl.eq(self.y, self.k)]
 
 
 def free_body(r0, v0=(0.0, 0.0, 0.0), m=1.0, inertia=(0.01, 0.02, 0.03), T0=None) -> Body:

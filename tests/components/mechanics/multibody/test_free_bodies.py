@@ -1,11 +1,11 @@
 """Free rotation (quaternion states behind a spherical joint): the heavy symmetric top."""
 
 import numpy as np
-import references_multibody as ref
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Spherical, World
 from flexlib.components.mechanics.multibody.quaternions import quaternion_from_T
+from flexlib.models.reference import closed_form as ref
 
 G = 9.81
 

@@ -1,53 +1,16 @@
 """Closed kinematic loops: a planar four-bar of four ordinary Revolutes built in 3D.
 
 Reference: closed-form four-bar position analysis (Norton, *Design of Machinery*, §4.5) in
-tests/references_multibody.py. Link lengths a (crank), b (coupler), c (rocker), ground d.
+flexlib.models.reference.closed_form. Link lengths a (crank), b (coupler), c (rocker), ground d.
 """
 
 import numpy as np
-import references_multibody as ref
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
-
-A, B, C, D = 0.2, 0.7, 0.9, 0.6
-
-
-def _link(m: float, L: float) -> Body:
-    """A slender link's mass at its centre (uniform rod inertia about the axes perpendicular to it)."""
-    return Body(m=m, r_CM=[-L / 2, 0, 0], I=np.diag([1e-6, m * L**2 / 12, m * L**2 / 12]))
-
-
-class FourBar(fl.Model):
-    """Crank O2–A, coupler A–B, rocker O4–B; all joint axes along z; the loop is closed at rev3.
-
-    ``lengths`` = (crank, coupler, rocker, ground) [m]; ``g`` gravity [m/s2] (other tests reuse this model)."""
-
-    def __init__(self, theta2: float, theta3: float, theta4: float, w2: float,
-                 lengths: tuple[float, float, float, float] = (A, B, C, D), g: float = 0.0) -> None:
-        super().__init__()
-        a, b, c, d = lengths
-        self.world = World(g=g)
-        self.ground4 = Fixed(r=[d, 0, 0])
-        self.rev1 = Revolute(init={"phi": theta2, "w": w2})
-        self.crank = FixedTranslation(r=[a, 0, 0])
-        self.crank_mass = _link(1.0, a)
-        self.rev2 = Revolute(guess={"phi": theta3 - theta2})
-        self.coupler = FixedTranslation(r=[b, 0, 0])
-        self.coupler_mass = _link(2.0, b)
-        self.rev4 = Revolute(guess={"phi": theta4})
-        self.rocker = FixedTranslation(r=[c, 0, 0])
-        self.rocker_mass = _link(1.5, c)
-        self.rev3 = Revolute(guess={"phi": theta4 - theta3})
-        self.connect(self.world.frame_b, self.rev1.frame_a)
-        self.connect(self.rev1.frame_b, self.crank.frame_a)
-        self.connect(self.crank.frame_b, self.crank_mass.frame_a, self.rev2.frame_a)
-        self.connect(self.rev2.frame_b, self.coupler.frame_a)
-        self.connect(self.coupler.frame_b, self.coupler_mass.frame_a, self.rev3.frame_a)
-        self.connect(self.ground4.frame_b, self.rev4.frame_a)
-        self.connect(self.rev4.frame_b, self.rocker.frame_a)
-        self.connect(self.rocker.frame_b, self.rocker_mass.frame_a)
-        self.connect(self.rev3.frame_b, self.rocker.frame_b)
+from flexlib.models.reference import closed_form as ref
+from flexlib.models.reference.four_bar import A, B, C, D, FourBar
+from flexlib.models.reference.slider_crank import SliderCrank
 
 
 def test_planar_fourbar_with_four_revolutes():
@@ -154,51 +117,6 @@ def test_static_reactions_beam_pin_link():
     np.testing.assert_allclose(res["pin.phi"], 0.0, atol=1e-12)
 
 
-class SliderCrank(fl.Model):
-    """Crank (radius r) about the world z axis, connecting rod (rod_length), slider on the world x axis.
-
-    ``lock_crank``: the crank's axis flange is held by a rotational Fixed (static balance; the joint
-    torque is the holding torque) and a force ``F`` pushes the piston toward the crank axis.
-    """
-
-    def __init__(self, theta: float, r: float = 0.1, rod_length: float = 0.35, w0: float = 0.0,
-                 lock_crank: bool = False,
-                 F: float = 0.0) -> None:
-        super().__init__()
-        from flexlib.components.control import Constant
-        from flexlib.components.mechanics import rotational, translational
-        from flexlib.components.mechanics.multibody import Prismatic
-
-        x0 = float(ref.slider_position(theta, r, rod_length))
-        phi_rod = float(np.arctan2(-r * np.sin(theta), x0 - r * np.cos(theta)))
-        self.world = World(g=0.0)
-        self.crank_joint = Revolute(use_axis_flange=lock_crank,
-                                    **({"guess": {"phi": theta}} if lock_crank else {"init": {"phi": theta, "w": w0}}))
-        self.crank = FixedTranslation(r=[r, 0, 0])
-        self.crank_mass = Body(m=1.0, r_CM=[-r / 2, 0, 0], I=np.diag([1e-5, 1e-3, 1e-3]))
-        self.wrist = Revolute(guess={"phi": phi_rod - theta})
-        self.rod = FixedTranslation(r=[rod_length, 0, 0])
-        self.rod_mass = Body(m=0.5, r_CM=[-rod_length / 2, 0, 0], I=np.diag([1e-5, 5e-3, 5e-3]))
-        self.pin = Revolute(guess={"phi": -phi_rod})
-        self.slide = Prismatic(n=[1, 0, 0], use_axis_flange=lock_crank, guess={"s": x0})
-        self.piston = Body(m=0.8, I=np.diag([1e-4, 1e-4, 1e-4]))
-        self.connect(self.world.frame_b, self.crank_joint.frame_a, self.slide.frame_a)
-        self.connect(self.crank_joint.frame_b, self.crank.frame_a)
-        self.connect(self.crank.frame_b, self.crank_mass.frame_a, self.wrist.frame_a)
-        self.connect(self.wrist.frame_b, self.rod.frame_a)
-        self.connect(self.rod.frame_b, self.rod_mass.frame_a, self.pin.frame_a)
-        self.connect(self.pin.frame_b, self.slide.frame_b, self.piston.frame_a)
-        if lock_crank:
-            self.lock = rotational.Fixed(phi0=theta)
-            self.housing = rotational.Fixed()
-            self.ground = translational.Fixed()
-            self.gas = translational.Force(use_support=True)
-            self.pressure = Constant(k=-F)  # toward the crank axis: −x
-            self.connect(self.lock.flange, self.crank_joint.axis)
-            self.connect(self.housing.flange, self.crank_joint.support)
-            self.connect(self.pressure.y, self.gas.f)
-            self.connect(self.gas.flange, self.slide.axis)
-            self.connect(self.ground.flange, self.gas.support, self.slide.support)
 
 
 def test_slider_crank_kinematics():

@@ -7,20 +7,20 @@ World: x horizontal, y up, gravity −y (g = 9.81 m/s²).
 
 import numpy as np
 import pytest
-import references_multibody as ref
 from scipy.spatial.transform import Rotation
 
 import flexlib as fl
-from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
+from flexlib.components.mechanics.multibody import Body, Revolute, World
 from flexlib.components.mechanics.multibody.body_box import BodyBox
 from flexlib.components.mechanics.multibody.body_cylinder import BodyCylinder
 from flexlib.components.mechanics.multibody.body_shape import BodyShape
 from flexlib.components.mechanics.multibody.cylindrical import Cylindrical
 from flexlib.components.mechanics.multibody.fixed_rotation import FixedRotation
 from flexlib.components.mechanics.multibody.free_motion import FreeMotion
-from flexlib.components.mechanics.multibody.interfaces import Frame
 from flexlib.components.mechanics.multibody.quaternions import quaternion_from_T
 from flexlib.components.mechanics.multibody.universal import Universal
+from flexlib.models.reference import closed_form as ref
+from flexlib.models.reference.rigid_pendulum import PointOnRod, UniversalPendulum
 
 G = 9.81
 TIGHT = {"rtol": 1e-10, "atol": 1e-12}
@@ -231,31 +231,6 @@ def test_body_shape_pendulum_period(kind):
 # ---------------------------------------------------------------------------------------------
 # Universal joint
 # ---------------------------------------------------------------------------------------------
-class UniversalPendulum(fl.Model):
-    """Universal joint (n_a = x, n_b = z) at the world origin, a link hanging along its frame's −y."""
-
-    def __init__(self, link: fl.Component, init: dict[str, float]) -> None:
-        super().__init__()
-        self.world = World(g=G)
-        self.joint = Universal(n_a=[1, 0, 0], n_b=[0, 0, 1], init=init)
-        self.link = link
-        self.connect(self.world.frame_b, self.joint.frame_a)
-        self.connect(self.joint.frame_b, self.link.frame_a)
-
-
-class PointOnRod(fl.Component):
-    """Massless rod of length L along −y carrying a point mass (a composite used by the conical test)."""
-
-    frame_a = Frame(doc="Joint end of the rod")
-
-    def __init__(self, L: float, m: float) -> None:
-        super().__init__()
-        self.rod = FixedTranslation(r=[0, -L, 0])
-        self.mass = Body(m=m, I=np.zeros((3, 3)))
-        self.connect(self.frame_a, self.rod.frame_a)
-        self.connect(self.rod.frame_b, self.mass.frame_a)
-
-
 def _tip(phi_a: float, phi_b: float, L: float) -> np.ndarray:
     """Tip of the rod in world: T_b = T(z, φ_b) T(x, φ_a) is passive, so the active rotation is its
     transpose R_x(φ_a) R_z(φ_b) (SciPy, independent of the library's planar_rotation)."""

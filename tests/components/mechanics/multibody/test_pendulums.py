@@ -1,4 +1,4 @@
-"""Open-chain multibody systems against independent references (tests/references_multibody.py).
+"""Open-chain multibody systems against independent references (flexlib.models.reference.closed_form).
 
 Planar set-up: world x horizontal, y up, gravity −y; joint axes along z; angles from the downward
 vertical are θ = φ + π/2 where φ is the Revolute angle measured from +x.
@@ -6,10 +6,10 @@ vertical are θ = φ + π/2 where φ is the Revolute angle measured from +x.
 
 import numpy as np
 import pytest
-import references_multibody as ref
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
+from flexlib.models.reference import closed_form as ref
 
 G = 9.81
 
