@@ -61,8 +61,7 @@ from references.pinned_free_beam import (  # noqa: E402  (the reference's consta
     window_average,
 )
 
-from flexlib.components.mechanics.flexible import FEModel, Section, beam_mesh, craig_bampton, section_force_modes  # noqa: E402
-from flexlib.fe import FEModel, Section, beam_mesh, craig_bampton, section_force_modes
+from flexlib.fe import FEModel, Section, beam_mesh, craig_bampton, section_force_modes  # noqa: E402
 
 #: Output series of every runner (201 samples each), compared with the reference.
 SERIES = ("tip_y", "tip_deflection", "moment_mid_avg")
