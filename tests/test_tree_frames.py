@@ -1,4 +1,5 @@
-"""Tree frame kinematics torn or kept as unknowns (``flexlib/compile/tearing.py::tear_or_keep_frames``, issue 9).
+"""Tree frame kinematics torn or kept as unknowns
+(``flexlib/compile/passes/multibody/tearing.py::tear_or_keep_frames``, issue 9).
 
 A model without kinematic loops whose deepest chain of frame definitions exceeds ``tearing.KEEP_DEPTH`` keeps the
 frame orientations ``T`` and origins ``r_0`` as unknowns (O(N) Jacobian along a chain of N joints) instead of
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.compile import tearing
+from flexlib.compile.passes.multibody import tearing
 from flexlib.components.mechanics.multibody import Body, Bushing, SpringDamperLine, World
 from flexlib.models.n_link_pendulum import NLinkPendulum
 from flexlib.models.planar_mechanisms import FourBarLinkage
@@ -169,8 +170,8 @@ def test_rows_that_are_not_invariant_are_kept_as_built():
     ``r_a,x − r_b,x`` (world-resolved) between the tips of links 2 and 4 changes when link 2 turns, so it is kept;
     the spring's length row (invariant) is rewritten."""
     from flexlib.compile.flatten import flatten
-    from flexlib.compile.redundancy import explicit_definitions
     from flexlib.compile.simplify import simplify
+    from flexlib.compile.tearing import explicit_definitions
 
     model = SpannedChain()
     flat = flatten(model, check=False)
