@@ -19,6 +19,7 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
+from flexlib.compile.scaling import apply_marks, instance_nominals
 from flexlib.compile.structure import culprits, group_by_owner, incidence, matching
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
@@ -166,6 +167,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             _call(node, "on_structure")
 
     # -- declarations ---------------------------------------------------------------------------
+    nominals = instance_nominals(nodes)  # the components' nominals() at the build's values (scaling stage)
     for node in nodes:
         node.validate()  # cross-parameter rules, now with the instance path known
         for name, decl in node._decls.items():
@@ -195,7 +197,8 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             for k, (label, sym) in enumerate(_scalars(node, name)):
                 by_hash[sym.element_hash()] = len(variables)
                 variables.append(FlatVariable(label, sym, lookup(sym), decl.unit, decl.doc, float(starts[k]), fixed,
-                                              decl.nominal, node.state_select_of(name), kind, node.path,
+                                              nominals.get((id(node), name), decl.nominal),
+                                              node.state_select_of(name), kind, node.path,
                                               None if rule is None else rule[k],
                                               bool(getattr(decl, "error_test", True)),
                                               bool(getattr(decl, "intermediate", False))))
@@ -231,6 +234,8 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
     _connection_equations(nodes, equations, set().union(*(p.broken_connections() for p in passes)))
     for p in passes:
         p.connection_equations(equations)
+    for p in passes:
+        apply_marks(variables, by_hash, *p.marks(nodes, equations))
     _check_inputs(root, nodes)
     _check_local_balance(nodes, equations)
     flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash, initial, passes)

@@ -29,6 +29,7 @@ from flexlib.compile.flatten import FlatSystem, check_balance, flatten
 from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
 from flexlib.compile.passes import key_options
+from flexlib.compile.scaling import key_nominals
 from flexlib.compile.simplify import SimpleSystem, simplify
 from flexlib.core.component import Component
 from flexlib.errors import ModelTypeError, RunArgumentError
@@ -186,7 +187,8 @@ def analyse(root: Component, *,
 def build_key(root: Component, *, codegen: bool | str, assume_zero_geometry: bool) -> str:
     """The cache key of ``root``'s build: its structure and the build options, not its values."""
     return cache.model_key(root, {"codegen": codegen, "zero_geometry": bool(assume_zero_geometry),
-                                  "explicit": explicit_mode(), **key_options()})
+                                  "explicit": explicit_mode(), **key_options(),
+                                  "nominals": key_nominals(root)})
 
 
 def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True,

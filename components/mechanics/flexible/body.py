@@ -228,7 +228,7 @@ class FlexibleBody(Component):
                               doc="Modal coordinates")
             self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer", nominal=qd_nom,
                                doc="Modal velocities der(q)")
-            self.qdd = Variable(unit="1/s2", shape=m, error_test=False, doc="Modal accelerations der(qd)")
+            self.qdd = Variable(unit="1/s2", shape=m, doc="Modal accelerations der(qd)")
             fixed = "default" if q_fixed is None else q_fixed
             self.set_start("q", np.zeros(m), fixed=fixed)
             self.set_start("qd", np.zeros(m), fixed=fixed)

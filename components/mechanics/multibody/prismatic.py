@@ -56,7 +56,7 @@ class Prismatic(PartialTwoFrames):
     f_drive = Parameter(0.0, unit="N", doc="Constant drive force along the axis, acting on frame_b")
     s = Variable(unit="m", state_select="prefer", doc="Relative distance from frame_a to frame_b along n")
     v = Variable(unit="m/s", state_select="prefer", doc="Relative velocity")
-    a = Variable(unit="m/s2", error_test=False, doc="Relative acceleration")
+    a = Variable(unit="m/s2", doc="Relative acceleration")
     f = Variable(unit="N", doc="Driving force in direction of the axis")
 
     def __init__(self, use_axis_flange: bool = False, **kwargs: Any) -> None:

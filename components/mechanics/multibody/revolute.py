@@ -88,7 +88,7 @@ class Revolute(PartialTwoFrames):
     tau_drive = Parameter(0.0, unit="N.m", doc="Constant drive torque about the axis, acting on frame_b")
     phi = Variable(unit="rad", state_select="prefer", doc="Relative rotation angle from frame_a to frame_b")
     w = Variable(unit="rad/s", state_select="prefer", doc="Relative angular velocity")
-    a = Variable(unit="rad/s2", error_test=False, doc="Relative angular acceleration")
+    a = Variable(unit="rad/s2", doc="Relative angular acceleration")
     tau = Variable(unit="N.m", doc="Net torque about the axis on the frame_b side (drive minus friction)")
     tau_f = Variable(unit="N.m", doc="Friction torque opposing the relative rotation")
 

@@ -14,6 +14,7 @@ hook                       where it runs
                            that depend on the structure the pass found, in ``on_structure``)
 ``broken_connections()``   stage 1, connection equations: connections whose potentials give loop-closure rows
 ``connection_equations``   stage 1, after the generic connection equations: the pass's own rows
+``marks``                  stage 1, after all rows: unknowns kept out of the error test, kinematic intermediates
 ``after_simplify``         stage 2, after alias elimination: rewrite the simplified system
 ``geometric_parameters``   stage 2, constant elimination: parameters that may be assumed zero where zero
 ``key_options()``          the disk-cache key: the build switches the pass reads
@@ -66,6 +67,11 @@ class Pass:
 
     def connection_equations(self, equations: list[FlatEquation]) -> None:
         """Stage 1: append the pass's rows for its connectors to ``equations``."""
+
+    def marks(self, nodes: list[Node], equations: list[FlatEquation]) -> tuple[set[int], set[int]]:
+        """Stage 1, after all rows: symbol hashes of the unknowns to keep out of IDA's local error test, and of the
+        kinematic intermediates (eliminated where a row gives them; :mod:`flexlib.compile.scaling`)."""
+        return set(), set()
 
     def after_simplify(self, simple: SimpleSystem, params: dict[int, float]) -> SimpleSystem:
         """Stage 2, after alias elimination: the rewritten system (``params``: values by symbol hash)."""

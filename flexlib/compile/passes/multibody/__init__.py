@@ -1,6 +1,7 @@
 """The multibody pass: what the compiler needs to know of 3D frames (connectors with an over-determined
 orientation record ``T``, ``w`` and an origin ``r_0``).
 
+- :mod:`.kinematics` — which of the frames' and joints' kinematic unknowns IDA's error test leaves out;
 - :mod:`.tree` — the spanning tree of the orientation graph (Modelica's ``Connections.branch/root/rooted``),
   the rows equating the records along it and the loop-closure rows where it is broken;
 - :mod:`.redundancy` — redundant loop-closure rows found by rank and replaced by zero indeterminate reactions;
@@ -14,6 +15,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from flexlib.compile.passes.base import Pass
+from flexlib.compile.passes.multibody.kinematics import acceleration_marks, tree_kinematics
 from flexlib.compile.passes.multibody.redundancy import remove_redundant
 from flexlib.compile.passes.multibody.tearing import tear_or_keep_frames, tree_frames_mode
 from flexlib.compile.passes.multibody.tree import (
@@ -39,6 +41,7 @@ class MultibodyPass(Pass):
 
     def __init__(self) -> None:
         self.tree = OrientationTree()
+        self.nodes: list[Node] = []
 
     @classmethod
     def applies_to(cls, connector_cls: type) -> bool:
@@ -49,15 +52,24 @@ class MultibodyPass(Pass):
     def key_options(cls) -> dict[str, Any]:
         return {"tree_frames": tree_frames_mode()}
 
-    def structure(self, nodes: list[Node]) -> None:
-        self.tree = orientation_tree(nodes)
-        tell_components(nodes, self.tree)
-
     def broken_connections(self) -> set[frozenset[int]]:
         return {frozenset((id(a), id(b))) for a, b, _ in self.tree.broken_edges}
 
+    def structure(self, nodes: list[Node]) -> None:
+        self.nodes = nodes
+        self.tree = orientation_tree(nodes)
+        tell_components(nodes, self.tree)
+
     def connection_equations(self, equations: list[FlatEquation]) -> None:
+        """The rows along the tree and at its loop closures, and the frames' ``v``, ``a``, ``z`` for joints written
+        with MSL's rows only (:func:`.kinematics.tree_kinematics`)."""
+        tree_kinematics(self.nodes, self.tree.depth, equations)
         overdetermined_equations(self.tree, equations)
+
+    def marks(self, nodes: list[Node], equations: list[FlatEquation]) -> tuple[set[int], set[int]]:
+        """The frames' velocities and accelerations carried along the tree, and the joints' accelerations
+        (:func:`.kinematics.acceleration_marks`)."""
+        return acceleration_marks(nodes, equations, self.applies_to)
 
     def after_simplify(self, simple: SimpleSystem, params: dict[int, float]) -> SimpleSystem:
         """Redundant loop rows removed (:mod:`.redundancy`), then the frame kinematics torn or kept
