@@ -1,12 +1,12 @@
-"""The multibody compile pass (``flexlib/compile/passes/multibody``): a joint written as MSL writes it.
+"""The multibody compile pass (``flexlib/compile/passes/multibody``): joints written as MSL writes them.
 
-``MSLRevolute`` relates its frames with MSL's rows only (``r_0``, ``T``, ``w``, ``f``, ``t``; Modelica Standard
-Library 4.0, ``MultiBody.Joints.Revolute`` without drive and friction): the pass introduces the frames'
-velocities and accelerations along the spanning tree. The crank-rocker four-bar built with it (both branch
-directions: the loop's cut joint is rooted at frame_b) compiles to the four-bar built with the library's
-Revolute, whose equations write the recursion by hand: the same unknowns, states and Jacobian nonzeros, the same
-residual at random points (to round-off, 1e-14 relative), and the same run (step counts, joint angles, speeds and
-cut forces).
+The library's :class:`~flexlib.components.mechanics.multibody.Revolute` relates its frames with MSL's rows only
+(``r_0``, ``T``, ``w``, ``f``, ``t``; Modelica Standard Library 4.0, ``MultiBody.Joints.Revolute``) plus friction:
+the pass introduces the frames' velocities and accelerations ``v``, ``a``, ``z`` along the spanning tree.
+``HandRevolute`` writes that recursion by hand, as the joints did before the pass. The crank-rocker four-bar
+(both branch directions: the loop's cut joint is rooted at frame_b) compiles with either to the same unknowns,
+states and Jacobian sparsity and the same residual at random points (to round-off: bit for bit), and runs the
+same steps and signals.
 """
 
 from __future__ import annotations
@@ -17,85 +17,88 @@ import pytest
 
 import flexlib as fl
 import flexlib.models.planar_mechanisms as pm
-from flexlib import Parameter, Variable, der, eq
-from flexlib.compile.flatten import flatten
-from flexlib.components.mechanics.multibody import Body, World
-from flexlib.components.mechanics.multibody.frames import absolute_rotation, planar_rotation, resolve1
-from flexlib.components.mechanics.multibody.interfaces import PartialTwoFrames
+from flexlib import eq
+from flexlib.compile.flatten import FlatSystem, flatten
+from flexlib.components.mechanics.multibody import Body, Revolute, World
+from flexlib.components.mechanics.multibody.frames import planar_rotation
 
 
-class MSLRevolute(PartialTwoFrames):
-    """Revolute joint with MSL's rows: origins equal, ``T_b = T_rel(n, φ) T_a``, ``w_b = T_rel w_a + n·w``, cut
-    loads transformed back; the torque about the axis is the constant ``tau_drive`` (the library joint's rows
-    without drive flange and friction, ``tau_f = 0``)."""
-
-    n = Parameter([0.0, 0.0, 1.0], unit="1", shape=3, doc="Axis of rotation resolved in frame_a")
-    tau_drive = Parameter(0.0, unit="N.m", doc="Constant drive torque about the axis, acting on frame_b")
-    phi = Variable(unit="rad", state_select="prefer", doc="Relative rotation angle")
-    w = Variable(unit="rad/s", state_select="prefer", doc="Relative angular velocity")
-    a = Variable(unit="rad/s2", doc="Relative angular acceleration")
-    tau = Variable(unit="N.m", doc="Net torque about the axis on the frame_b side")
-    tau_f = Variable(unit="N.m", doc="Friction torque (none)")
+class HandRevolute(Revolute):
+    """The library joint with the frames' ``v``, ``a``, ``z`` related by hand (before its orientation rows)."""
 
     def equations(self) -> list:
-        fa, fb = self.frame_a, self.frame_b
+        rows = super().equations()
+        a, b = self.frame_a, self.frame_b
         e = self.n / ca.norm_2(self.n)
-        eqs = [eq(fb.r_0, fa.r_0), eq(der(self.phi), self.w), eq(der(self.w), self.a)]
-        if self.rooted(fa):
+        if self.rooted(a):
             R = planar_rotation(e, self.phi)
-            eqs += [eq(fb.T, absolute_rotation(fa.T, R)), eq(fb.w, ca.mtimes(R, fa.w) + e * self.w),
-                    eq(fa.f, -resolve1(R, fb.f)), eq(fa.t, -resolve1(R, fb.t))]
+            hand = [eq(b.v, ca.mtimes(R, a.v)), eq(b.a, ca.mtimes(R, a.a)),
+                    eq(b.z, ca.mtimes(R, a.z) + e * self.a + ca.cross(ca.mtimes(R, a.w), e * self.w))]
         else:
             R = planar_rotation(-e, self.phi)
-            eqs += [eq(fa.T, absolute_rotation(fb.T, R)), eq(fa.w, ca.mtimes(R, fb.w) - e * self.w),
-                    eq(fb.f, -resolve1(R, fa.f)), eq(fb.t, -resolve1(R, fa.t))]
-        return [*eqs, eq(self.tau, -ca.dot(e, fb.t)), eq(self.tau_f, 0.0), eq(self.tau, self.tau_drive - self.tau_f)]
+            hand = [eq(a.v, ca.mtimes(R, b.v)), eq(a.a, ca.mtimes(R, b.a)),
+                    eq(a.z, ca.mtimes(R, b.z) - e * self.a + ca.cross(ca.mtimes(R, b.w), -e * self.w))]
+        return [*rows[:3], *hand, *rows[3:]]
 
 
 def _fourbar(monkeypatch: pytest.MonkeyPatch | None) -> pm.FourBarLinkage:
     if monkeypatch is not None:
-        monkeypatch.setattr(pm, "Revolute", MSLRevolute)
+        monkeypatch.setattr(pm, "Revolute", HandRevolute)
     return pm.FourBarLinkage()
 
 
 SIGNALS = ["rev_crank.phi", "rev_crank.w", "cut1.frame_a.f[0]", "cut1.frame_a.f[1]"]
 
 
-def test_msl_joint_compiles_to_the_library_joint(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_library_revolute_writes_msl_rows_only() -> None:
+    """No row of the library joint names a frame's v, a or z."""
+    model = _fourbar(None)
+    flat = flatten(model, check=False)
+    frames = [f for j in (model.rev_crank, model.rev_coupler, model.cut1) for f in (j.frame_a, j.frame_b)]
+    vaz = ca.vertcat(*[ca.vec(f._symbol(n)) for f in frames for n in ("v", "a", "z")])
+    own = [e.expr for e in flat.equations if e.owner == "rev_crank" and "kinematics pass" not in e.label]
+    assert own and not ca.depends_on(ca.vertcat(*own), vaz)
+
+
+def test_generated_recursion_compiles_as_the_hand_written_one(monkeypatch: pytest.MonkeyPatch) -> None:
     """Same unknowns, states, Jacobian sparsity and residual (module doc)."""
-    ref = fl.Simulation(_fourbar(None), use_cache=False).compiled
-    msl = fl.Simulation(_fourbar(monkeypatch), use_cache=False).compiled
-    assert msl.y_names == ref.y_names
-    assert list(msl.differential) == list(ref.differential)
-    assert list(msl.jac_row) == list(ref.jac_row) and list(msl.jac_colind) == list(ref.jac_colind)
-    f, g = ref.sx_function("res"), msl.sx_function("res")
+    lib = fl.Simulation(_fourbar(None), use_cache=False).compiled
+    hand = fl.Simulation(_fourbar(monkeypatch), use_cache=False).compiled
+    assert lib.y_names == hand.y_names
+    assert list(lib.differential) == list(hand.differential)
+    assert list(lib.jac_row) == list(hand.jac_row) and list(lib.jac_colind) == list(hand.jac_colind)
+    f, g = hand.sx_function("res"), lib.sx_function("res")
     rng = np.random.default_rng(20261127)
     for _ in range(3):
-        y, yp = rng.standard_normal(ref.n), rng.standard_normal(ref.n)
-        r_ref = np.asarray(f(0.1, y, yp, ref.param_defaults)).ravel()
-        r_msl = np.asarray(g(0.1, y, yp, msl.param_defaults)).ravel()
-        np.testing.assert_allclose(r_msl, r_ref, rtol=1e-14, atol=1e-14 * np.abs(r_ref).max())
+        y, yp = rng.standard_normal(hand.n), rng.standard_normal(hand.n)
+        r_hand = np.asarray(f(0.1, y, yp, hand.param_defaults)).ravel()
+        r_lib = np.asarray(g(0.1, y, yp, lib.param_defaults)).ravel()
+        np.testing.assert_allclose(r_lib, r_hand, rtol=1e-14, atol=1e-14 * np.abs(r_hand).max())
 
 
-def test_msl_joint_runs_the_fourbar_as_the_library_joint(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_generated_recursion_runs_as_the_hand_written_one(monkeypatch: pytest.MonkeyPatch) -> None:
     """The same run: step counts and signals (module doc)."""
-    ref = fl.Simulation(_fourbar(None), use_cache=False).run(0.5, dt_out=0.01, rtol=1e-8, atol=1e-10)
-    res = fl.Simulation(_fourbar(monkeypatch), use_cache=False).run(0.5, dt_out=0.01, rtol=1e-8, atol=1e-10)
-    assert res.stats["steps"] == ref.stats["steps"]
+    lib = fl.Simulation(_fourbar(None), use_cache=False).run(0.5, dt_out=0.01, rtol=1e-8, atol=1e-10)
+    hand = fl.Simulation(_fourbar(monkeypatch), use_cache=False).run(0.5, dt_out=0.01, rtol=1e-8, atol=1e-10)
+    assert lib.stats["steps"] == hand.stats["steps"]
     for name in SIGNALS:
-        np.testing.assert_allclose(res[name], ref[name], rtol=1e-12, atol=1e-12 * np.abs(ref[name]).max())
+        np.testing.assert_allclose(lib[name], hand[name], rtol=1e-12, atol=1e-12 * np.abs(hand[name]).max())
 
 
 def test_pass_introduces_the_recursion_only_where_it_is_missing(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The MSL joints get 9 generated rows each (v, a, z of the frame they compute); the library's do not."""
+    """The library revolutes get 9 generated rows each (v, a, z of the frame they compute); the hand-written do
+    not."""
     lib = flatten(_fourbar(None), check=False)
-    msl = flatten(_fourbar(monkeypatch), check=False)
-    assert not [e for e in lib.equations if "multibody kinematics pass" in e.label]
-    assert len([e for e in msl.equations if "multibody kinematics pass" in e.label]) == 9 * 4  # four revolutes
-    assert len(msl.equations) == len(lib.equations)
+    hand = flatten(_fourbar(monkeypatch), check=False)
+    def generated(flat: FlatSystem) -> list:
+        return [e for e in flat.equations if e.owner.startswith(("rev_", "cut")) and "kinematics pass" in e.label]
+
+    assert not generated(hand)
+    assert len(generated(lib)) == 9 * 4  # four revolutes
+    assert len(lib.equations) == len(hand.equations)
 
 
-class SlidingPin(MSLRevolute):
+class SlidingPin(Revolute):
     """Not a relative motion: frame_b's origin offset along a world axis, whatever frame_a's orientation."""
 
     def equations(self) -> list:
@@ -105,6 +108,8 @@ class SlidingPin(MSLRevolute):
 
 
 class Pendulum(fl.Model):
+    """A body on a SlidingPin at the world."""
+
     def __init__(self) -> None:
         super().__init__()
         self.world = World()

@@ -513,7 +513,7 @@ class FlexibleBody(Component):
                 x, Tr, wr = kin[k][:3]
                 _, xd, xdd, z_k = rates(k)
                 # written from the entry frame (not from r_0): the frame chain stays explicit in frame
-                # variables, as the loop-redundancy analysis needs (flexlib.compile.redundancy)
+                # variables, as the loop-redundancy analysis needs (flexlib.compile.passes.multibody.redundancy)
                 eqs += [eq(f.r_0, e.r_0 + ca.mtimes(T.T, x - x_e)), eq(f.T, ca.mtimes(Tr, T)),
                         eq(f.w, ca.mtimes(Tr, w) + wr),
                         eq(f.v, ca.mtimes(Tr, v_origin + ca.cross(w, x) + xd)),

@@ -110,14 +110,10 @@ class Revolute(PartialTwoFrames):
         eqs = [eq(b.r_0, a.r_0), eq(der(self.phi), self.w), eq(der(self.w), self.a)]
         if self.rooted(a):
             T_rel = planar_rotation(e, self.phi)
-            eqs += [eq(b.v, ca.mtimes(T_rel, a.v)), eq(b.a, ca.mtimes(T_rel, a.a)),
-                    eq(b.z, ca.mtimes(T_rel, a.z) + e * self.a + ca.cross(ca.mtimes(T_rel, a.w), e * self.w))]
             eqs += [eq(b.T, absolute_rotation(a.T, T_rel)), eq(b.w, ca.mtimes(T_rel, a.w) + e * self.w),
                     eq(a.f, -resolve1(T_rel, b.f)), eq(a.t, -resolve1(T_rel, b.t))]
         else:
             T_rel = planar_rotation(-e, self.phi)
-            eqs += [eq(a.v, ca.mtimes(T_rel, b.v)), eq(a.a, ca.mtimes(T_rel, b.a)),
-                    eq(a.z, ca.mtimes(T_rel, b.z) - e * self.a + ca.cross(ca.mtimes(T_rel, b.w), -e * self.w))]
             eqs += [eq(a.T, absolute_rotation(b.T, T_rel)), eq(a.w, ca.mtimes(T_rel, b.w) - e * self.w),
                     eq(b.f, -resolve1(T_rel, a.f)), eq(b.t, -resolve1(T_rel, a.t))]
         eqs.append(eq(self.tau, -ca.dot(e, b.t)))

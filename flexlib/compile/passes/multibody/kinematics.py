@@ -127,14 +127,16 @@ def _rate(expr: ca.SX, rates: dict[int, ca.SX]) -> ca.SX:
     return ca.jtimes(expr, ca.vertcat(*syms), ca.vertcat(*dots))
 
 
-def _definitions(rows: list[ca.SX], targets: list[ca.SX]) -> list[ca.SX] | None:
-    """Per target symbol, the expression a row gives it explicitly (linear with a constant coefficient); None if
-    a target has no such row."""
+def _definitions(rows: list[ca.SX], targets: list[ca.SX], exclude: list[ca.SX] = ()) -> list[ca.SX] | None:
+    """Per target symbol, the expression a row gives it explicitly (linear with a constant coefficient), from rows
+    with one target and none of ``exclude``; None if a target has no such row."""
     index = {t.element_hash(): k for k, t in enumerate(targets)}
+    skip = {t.element_hash() for t in exclude}
     found: list[ca.SX | None] = [None] * len(targets)
     for expr in rows:
-        hits = [index[h] for h in (s.element_hash() for s in ca.symvar(expr)) if h in index]
-        if len(hits) != 1 or found[hits[0]] is not None:
+        hashes = [s.element_hash() for s in ca.symvar(expr)]
+        hits = [index[h] for h in hashes if h in index]
+        if len(hits) != 1 or found[hits[0]] is not None or any(h in skip for h in hashes):
             continue
         t = targets[hits[0]]
         coef = ca.jacobian(expr, t)
@@ -179,13 +181,14 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector,
         z_dst = T_rel z_src + ẇ_rel + (T_rel w_src) × w_rel
     """
     T_dst, r_dst, w_dst = (_elements(dst, n) for n in ("T", "r_0", "w"))
-    defs = _definitions(rows, T_dst + r_dst + w_dst)
-    if defs is None:
+    T_defs = _definitions(rows, T_dst, exclude=r_dst + w_dst)  # the orientation first: the other rows may use it
+    rw_defs = _definitions(rows, r_dst + w_dst) if T_defs is not None else None
+    if T_defs is None or rw_defs is None:
         return None
-    T_def = ca.reshape(ca.vertcat(*defs[:9]), 3, 3)
+    T_def = ca.reshape(ca.vertcat(*T_defs), 3, 3)
     T_syms = dst._symbol("T")
-    r_def = ca.substitute(ca.vertcat(*defs[9:12]), ca.vec(T_syms), ca.vec(T_def))
-    w_def = ca.substitute(ca.vertcat(*defs[12:]), ca.vec(T_syms), ca.vec(T_def))
+    r_def = ca.substitute(ca.vertcat(*rw_defs[:3]), ca.vec(T_syms), ca.vec(T_def))
+    w_def = ca.substitute(ca.vertcat(*rw_defs[3:]), ca.vec(T_syms), ca.vec(T_def))
     T_src, r_src, w_src = src._symbol("T"), src._symbol("r_0"), src._symbol("w")
     eye = ca.DM(np.eye(3).reshape(-1, order="F"))
     zero = ca.DM(np.zeros(3))
