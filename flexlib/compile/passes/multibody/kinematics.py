@@ -127,21 +127,34 @@ def _rate(expr: ca.SX, rates: dict[int, ca.SX]) -> ca.SX:
     return ca.jtimes(expr, ca.vertcat(*syms), ca.vertcat(*dots))
 
 
-def _definitions(rows: list[ca.SX], targets: list[ca.SX], exclude: list[ca.SX] = ()) -> list[ca.SX] | None:
+def _coefficient(expr: ca.SX, t: ca.SX) -> float:
+    """The constant coefficient of ``t`` in ``expr`` (0 if it is not a nonzero constant)."""
+    coef = ca.jacobian(expr, t)
+    if coef.is_one():
+        return 1.0
+    if coef.is_minus_one():
+        return -1.0
+    return float(ca.evalf(coef)) if coef.is_constant() else 0.0
+
+
+def _definitions(rows: list[ca.SX], hashes: list[set[int]], targets: list[ca.SX],
+                 exclude: list[ca.SX] = ()) -> list[ca.SX] | None:
     """Per target symbol, the expression a row gives it explicitly (linear with a constant coefficient), from rows
-    with one target and none of ``exclude``; None if a target has no such row."""
+    with one target and none of ``exclude`` (``hashes``: the symbols of each row); None if a target has none."""
     index = {t.element_hash(): k for k, t in enumerate(targets)}
     skip = {t.element_hash() for t in exclude}
     found: list[ca.SX | None] = [None] * len(targets)
-    for expr in rows:
-        hashes = [s.element_hash() for s in ca.symvar(expr)]
-        hits = [index[h] for h in hashes if h in index]
-        if len(hits) != 1 or found[hits[0]] is not None or any(h in skip for h in hashes):
+    for expr, present in zip(rows, hashes, strict=True):
+        hits = [index[h] for h in present if h in index]
+        if len(hits) != 1 or found[hits[0]] is not None or not skip.isdisjoint(present):
             continue
         t = targets[hits[0]]
-        coef = ca.jacobian(expr, t)
-        if coef.is_constant() and float(ca.evalf(coef)) != 0.0:
-            found[hits[0]] = -ca.substitute(expr, t, ca.SX(0.0)) / float(ca.evalf(coef))
+        if expr.op() == ca.OP_SUB and ca.is_equal(expr.dep(0), t):  # t − f (eq(t, f)): f, no substitution
+            found[hits[0]] = expr.dep(1)
+            continue
+        c = _coefficient(expr, t)
+        if c != 0.0:
+            found[hits[0]] = -ca.substitute(expr, t, ca.SX(0.0)) / c
     return None if any(f is None for f in found) else found  # type: ignore[return-value]
 
 
@@ -167,11 +180,13 @@ def _check_relative(owner: Component, exprs: list[ca.SX], relative: list[ca.SX],
                          "pass cannot introduce the frames' velocities and accelerations")
 
 
-def branch_kinematics(owner: Component, src: Connector, dst: Connector,
-                      rows: list[ca.SX]) -> list[ca.SX] | None:
+def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: list[ca.SX],
+                      checked: set | None = None, hashes: list[set[int]] | None = None) -> list[ca.SX] | None:
     """Rows for ``dst``'s ``v``, ``a``, ``z`` from ``src``'s, for a component that relates its frames with MSL's rows
     only (``r_0``, ``T``, ``w`` of ``dst`` defined from ``src`` and its coordinates). None where the component's
     own rows do not define ``dst``'s ``r_0``, ``T`` and ``w`` (a composite whose parts relate the frames).
+    ``checked``: the (class, source, destination, row count) already checked to be a relative motion in this build;
+    ``hashes``: the symbols of each row, if known.
 
     With ``r_0,dst = r_0,src + T_srcᵀ r_rel``, ``T_dst = T_rel T_src`` and ``w_dst = T_rel w_src + w_rel`` (checked),
     and ``˙`` the rate along the component's own rows::
@@ -181,8 +196,10 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector,
         z_dst = T_rel z_src + ẇ_rel + (T_rel w_src) × w_rel
     """
     T_dst, r_dst, w_dst = (_elements(dst, n) for n in ("T", "r_0", "w"))
-    T_defs = _definitions(rows, T_dst, exclude=r_dst + w_dst)  # the orientation first: the other rows may use it
-    rw_defs = _definitions(rows, r_dst + w_dst) if T_defs is not None else None
+    if hashes is None:
+        hashes = [{s.element_hash() for s in ca.symvar(x)} for x in rows]
+    T_defs = _definitions(rows, hashes, T_dst, exclude=r_dst + w_dst)  # the orientation first: others may use it
+    rw_defs = _definitions(rows, hashes, r_dst + w_dst) if T_defs is not None else None
     if T_defs is None or rw_defs is None:
         return None
     T_def = ca.reshape(ca.vertcat(*T_defs), 3, 3)
@@ -195,9 +212,13 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector,
     T_rel = ca.reshape(ca.substitute(ca.vec(T_def), ca.vec(T_src), eye), 3, 3)
     r_rel = ca.substitute(r_def, ca.vertcat(r_src, ca.vec(T_src)), ca.vertcat(zero, eye))
     w_rel = ca.substitute(w_def, ca.vertcat(w_src, ca.vec(T_src)), ca.vertcat(zero, eye))
-    _check_relative(owner, [T_def, r_def, w_def],
-                    [ca.mtimes(T_rel, T_src), r_src + ca.mtimes(T_src.T, r_rel), ca.mtimes(T_rel, w_src) + w_rel],
-                    T_src)
+    key = (type(owner), src._name, dst._name, len(rows))
+    if checked is None or key not in checked:
+        _check_relative(owner, [T_def, r_def, w_def],
+                        [ca.mtimes(T_rel, T_src), r_src + ca.mtimes(T_src.T, r_rel), ca.mtimes(T_rel, w_src) + w_rel],
+                        T_src)
+        if checked is not None:
+            checked.add(key)
     rates = _rates(rows)
     v_s, a_s, z_s = src._symbol("v"), src._symbol("a"), src._symbol("z")
     v_in, a_in = v_s, a_s
@@ -222,6 +243,8 @@ def tree_kinematics(nodes: list[Node], depth: dict[int, int], equations: list[Fl
         if e.origin == "equation":
             own.setdefault(e.owner, []).append(r)
     inserts: dict[int, list[FlatEquation]] = {}
+    checked: set = set()
+    symbols: dict[str, list[set[int]]] = {}
     for node in nodes:
         branches = node.__dict__.get("_od_branches", []) if isinstance(node, Component) else []
         for a, b in branches:
@@ -229,15 +252,17 @@ def tree_kinematics(nodes: list[Node], depth: dict[int, int], equations: list[Fl
             if not all(n in dst._decls for n in ("v", "a", "z")):
                 continue
             at = own.get(node.path, [])
-            rows = [equations[r].expr for r in at]
-            written = ca.vertcat(*[ca.vec(dst._symbol(n)) for n in ("v", "a", "z")])
-            if rows and ca.depends_on(ca.vertcat(*rows), written):
+            if node.path not in symbols:
+                symbols[node.path] = [{s.element_hash() for s in ca.symvar(equations[r].expr)} for r in at]
+            hashes = symbols[node.path]
+            written = {h for n in ("v", "a", "z") for h in _hashes(dst, n)}
+            if any(not written.isdisjoint(h) for h in hashes):
                 continue  # the component writes the recursion itself
-            found = branch_kinematics(node, src, dst, rows)
+            found = branch_kinematics(node, src, dst, [equations[r].expr for r in at], checked, hashes)
             if found is None:
                 continue
-            T = ca.vec(dst._symbol("T"))
-            where = next((r for r, x in zip(at, rows, strict=True) if ca.depends_on(x, T)), len(equations))
+            orientation = set(_hashes(dst, "T"))
+            where = next((r for r, h in zip(at, hashes, strict=True) if not orientation.isdisjoint(h)), len(equations))
             for name, vec in zip(("v", "a", "z"), found, strict=True):
                 label = f"{dst._label(name)} from {src.path} (multibody kinematics pass)"
                 inserts.setdefault(where, []).extend(FlatEquation(vec[k], node.path, label, "equation")
