@@ -21,9 +21,9 @@ import time
 import flexlib as fl
 from flexlib.compile.constants import eliminate_constants
 from flexlib.compile.flatten import flatten
-from flexlib.compile.redundancy import remove_redundant
+from flexlib.compile.passes.multibody.redundancy import remove_redundant
+from flexlib.compile.passes.multibody.tearing import eliminate_frame_kinematics
 from flexlib.compile.simplify import simplify
-from flexlib.compile.tearing import eliminate_frame_kinematics
 from flexlib.models.n_link_pendulum import NLinkPendulum
 from flexlib.models.n_mass_chain import NMassChain
 

@@ -1,11 +1,12 @@
 """Which unknowns IDA's local error test sees with recursive kinematics (``structure.derivative_level``).
 
-Frames carry their acceleration less gravity ``a`` and angular acceleration ``z`` along the tree, declared
-``Variable(error_test=False)``: what a joint's acceleration reaches is kept out of the test with the reactions it
-determines, while a frame acceleration that positions and velocities alone give (gravity carried out from the World)
-is tested like any algebraic unknown. Both halves were measured wrong on their own (``docs/engine.md``, "Error-test
-policy"); the physics tests that caught them are the bearing friction curve (``test_friction.py``) and the
-universal-joint conical pendulum (``test_parts_joints.py``). Here the marks themselves.
+Frames carry their acceleration less gravity ``a`` and angular acceleration ``z`` along the tree, marked untested by
+the multibody compile pass (``flexlib/compile/passes/multibody/kinematics.py``): what a joint's acceleration reaches
+is kept out of the test with the reactions it determines, while a frame acceleration that positions and velocities
+alone give (gravity carried out from the World) is tested like any algebraic unknown. Both halves were measured
+wrong on their own (``docs/engine.md``, "Error-test policy"); the physics tests that caught them are the bearing
+friction curve (``test_friction.py``) and the universal-joint conical pendulum (``test_parts_joints.py``). Here the
+marks themselves.
 """
 
 import numpy as np
@@ -45,8 +46,8 @@ def test_gravity_only_frame_acceleration_is_tested_reaction_is_not(monkeypatch):
 
 
 def test_without_the_declaration_the_point_mass_accelerations_would_be_tested(monkeypatch):
-    """The declaration is what excludes the point mass's angular acceleration about the rod's swing axis on a
-    universal joint (the one that a joint acceleration reaches): with ``Frame.a`` and ``Frame.z`` declared tested,
+    """The mark is what excludes the point mass's angular acceleration about the rod's swing axis on a
+    universal joint (the one that a joint acceleration reaches): with ``Frame.a`` and ``Frame.z`` marked tested,
     the mask loses it, which took the conical-pendulum test 22 000 steps instead of 1 040."""
     from flexlib.models.reference.rigid_pendulum import PointOnRod, UniversalPendulum
 
@@ -56,9 +57,9 @@ def test_without_the_declaration_the_point_mass_accelerations_would_be_tested(mo
 
     declared = build()
     assert declared["link.mass.z_a[0]"] and declared["link.mass.z_a[1]"]
-    from flexlib.components.mechanics.multibody import interfaces
+    from flexlib.compile.passes.multibody import kinematics
 
     for name in ("a", "z"):
-        monkeypatch.setattr(vars(interfaces.Frame)[name], "error_test", True)
+        monkeypatch.setitem(kinematics.FRAME_MARKS, name, (True, True))
     undeclared = build()
     assert not undeclared["link.mass.z_a[0]"]

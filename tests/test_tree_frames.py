@@ -1,4 +1,5 @@
-"""Tree frame kinematics torn or kept as unknowns (``flexlib/compile/tearing.py::tear_or_keep_frames``, issue 9).
+"""Tree frame kinematics torn or kept as unknowns
+(``flexlib/compile/passes/multibody/tearing.py::tear_or_keep_frames``, issue 9).
 
 A model without kinematic loops whose deepest chain of frame definitions exceeds ``tearing.KEEP_DEPTH`` keeps the
 frame orientations ``T`` and origins ``r_0`` as unknowns (O(N) Jacobian along a chain of N joints) instead of
@@ -14,7 +15,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.compile import tearing
+from flexlib.compile.passes.multibody import tearing
 from flexlib.components.mechanics.multibody import Body, Bushing, SpringDamperLine, World
 from flexlib.models.n_link_pendulum import NLinkPendulum
 from flexlib.models.planar_mechanisms import FourBarLinkage
@@ -169,8 +170,8 @@ def test_rows_that_are_not_invariant_are_kept_as_built():
     ``r_a,x − r_b,x`` (world-resolved) between the tips of links 2 and 4 changes when link 2 turns, so it is kept;
     the spring's length row (invariant) is rewritten."""
     from flexlib.compile.flatten import flatten
-    from flexlib.compile.redundancy import explicit_definitions
     from flexlib.compile.simplify import simplify
+    from flexlib.compile.tearing import explicit_definitions
 
     model = SpannedChain()
     flat = flatten(model, check=False)
@@ -189,9 +190,10 @@ def test_rows_that_are_not_invariant_are_kept_as_built():
     assert any("length" in lab for lab in changed), changed
 
 
-def test_a_joint_written_without_the_frame_rates_is_named():
-    """A user joint that relates r_0, T and w but not the frame's v, a, z (recursive kinematics) leaves them
-    undetermined: the balance check names that joint's frame_b and those variables."""
+def test_a_joint_written_without_the_frame_rates_gets_them_from_the_pass():
+    """A user joint that relates r_0, T and w but not the frame's v, a, z (MSL's rows) gets the recursive
+    kinematics from the multibody compile pass (it used to leave them undetermined and the balance check named
+    them): the welded body stays at the world's origin and the weld carries its weight (1e-9)."""
     from flexlib import eq
     from flexlib.components.mechanics.multibody.interfaces import PartialTwoFrames
 
@@ -207,5 +209,6 @@ def test_a_joint_written_without_the_frame_rates_is_named():
             self.connect(self.world.frame_b, self.weld.frame_a)
             self.connect(self.weld.frame_b, self.body.frame_a)
 
-    with pytest.raises(fl.BalanceError, match=r"weld\.frame_b: weld\.frame_b\.v\[0\].*weld\.frame_b\.a\[0\]"):
-        fl.Simulation(Model(), use_cache=False)
+    res = fl.Simulation(Model(), use_cache=False).run(0.1, dt_out=0.05)
+    assert np.abs(res["body.frame_a.r_0[1]"]).max() < 1e-9
+    np.testing.assert_allclose(res["weld.frame_a.f[1]"], 9.81, rtol=1e-9)

@@ -13,7 +13,7 @@ from ._checks import PositiveParameters, flag, store_fluid
 from ._smooth import smooth_clamp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
-from .interfaces import P_NOMINAL, Port, set_nominal
+from .interfaces import P_NOMINAL, Port
 
 __all__ = ["CounterbalanceValve"]
 
@@ -169,31 +169,31 @@ class CounterbalanceValve(PositiveParameters, Component):
         self.vented = flag(self, "vented", vented)
         if (self.steady_start or not self.use_dynamics) and "p_c" not in self._starts:
             self.set_start("p_c", 0.0, fixed=False)  # a guess: p_c = p_open (algebraic) or der(p_c) = 0 fixes it
-        # the openings are functions of pressures (nominal P_NOMINAL): weighted as the pressures are
-        for h, span in (("h_check", "dp_check"), ("h_relief", "dp_open")):
-            value = self.parameter_value(span)
-            if value is not None and float(value) > 0:
-                set_nominal(self, h, max(1.0, P_NOMINAL / float(value)))
-        self._flow_nominals()
 
-    def _flow_nominals(self) -> None:
-        """The path and port flows weighted as the pressures they follow: each path's flow rises by
+    def nominals(self) -> dict[str, float]:
+        """Nominals at the build's values (:mod:`flexlib.compile.scaling`). The openings are functions of pressures
+        (nominal ``P_NOMINAL``): weighted as the pressures are. The path and port flows weighted as the pressures
+        they follow: each path's flow rises by
         ``rho_ref·Q·P_NOMINAL/dp_span·sqrt(dp_span/dp_nom)`` for a pressure change of ``P_NOMINAL`` through its
         opening range (the steepest part of its law), so that a check path in its opening range is tested no tighter
         than the pressures behind it (``docs/decisions/032-hydraulic-nominals-follow-the-states.md``)."""
+        out = {}
+        for h, span in (("h_check", "dp_check"), ("h_relief", "dp_open")):
+            value = self.parameter_value(span)
+            if value is not None and float(value) > 0:
+                out[h] = max(1.0, P_NOMINAL / float(value))
         val = {n: self.parameter_value(n) for n in ("Q_nom", "Q_nom_check", "dp_nom", "dp_check", "dp_open")}
         if any(v is None or not float(v) > 0 for v in val.values()):
-            return
+            return out
         rho = float(self.fluid.rho_ref)
 
         def gain(Q: Any, span: Any) -> float:
             return rho * float(Q) * P_NOMINAL / float(span) * math.sqrt(min(1.0, float(span) / float(val["dp_nom"])))
 
         g_check, g_relief = gain(val["Q_nom_check"], val["dp_check"]), gain(val["Q_nom"], val["dp_open"])
-        set_nominal(self, "m_check", max(1.0, g_check))
-        set_nominal(self, "m_relief", max(1.0, g_relief))
-        for port in (self.port_valve, self.port_load):
-            set_nominal(port, "m_flow", max(1.0, g_check, g_relief))
+        port = max(1.0, g_check, g_relief)
+        return {**out, "m_check": max(1.0, g_check), "m_relief": max(1.0, g_relief), "port_valve.m_flow": port,
+                "port_load.m_flow": port}
 
     def _path(self, opening: Any, Q_nom: Any, p_up: Any, p_down: Any) -> ca.SX:
         fl = self.fluid

@@ -13,7 +13,7 @@ from flexlib.errors import ParameterError
 
 from ._checks import PositiveParameters, flag, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form
 
 __all__ = ["DoubleActingCylinder"]
 
@@ -240,38 +240,32 @@ class DoubleActingCylinder(PositiveParameters, Component):
         super().__init__(**kw)
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
-        self._physical_nominals()
         self.x_fixed = flag(self, "x_fixed", x_fixed)
         self.p_fixed = flag(self, "p_fixed", p_fixed)
         self.use_drain = flag(self, "use_drain", use_drain, structural=True)
         if self.use_drain:
             self.port_D = Port(doc="Drain of the rod seal")
 
-    def _physical_nominals(self) -> None:
-        """Per-instance error weights from the constructor's geometry (see ``interfaces.P_NOMINAL``)."""
+    def nominals(self) -> dict[str, float]:
+        """Nominals from the geometry at the build's values (see ``interfaces.P_NOMINAL``;
+        :mod:`flexlib.compile.scaling`): position and speed by the stroke, the port flows and the friction force
+        as functions of the speed, the chambers by their volumes."""
         val = {n: self.parameter_value(n) for n in ("d_bore", "d_rod", "stroke", "V_dead_A", "V_dead_B")}
         if any(v is None for v in val.values()):
-            return
+            return {}
         stroke, a_p = float(val["stroke"]), math.pi / 4.0 * float(val["d_bore"]) ** 2
         a_r = a_p - math.pi / 4.0 * float(val["d_rod"]) ** 2
-        set_nominal(self, "x", stroke)
-        set_nominal(self, "v", stroke)
-        # the port flows and the friction force are functions of v: weighted as v is (flow, friction slope at v = 0)
-        set_nominal(self, "q_A", a_p * stroke)
-        set_nominal(self, "q_B", a_r * stroke)
         rho = float(self.fluid.rho_ref)  # the port mass flows as the volume flows (a port at a node of several lines
-        set_nominal(self.port_A, "m_flow", rho * a_p * stroke)  # is not an alias of any one line's flow)
-        set_nominal(self.port_B, "m_flow", rho * a_r * stroke)
+        out = {"x": stroke, "v": stroke, "q_A": a_p * stroke, "q_B": a_r * stroke,  # is not an alias of one line's)
+               "port_A.m_flow": rho * a_p * stroke, "port_B.m_flow": rho * a_r * stroke}
         fric = {n: self.parameter_value(n) for n in ("F_c", "stribeck", "v_reg", "d")}
         if all(v is not None for v in fric.values()):
             slope = float(fric["F_c"]) * float(fric["stribeck"]) / float(fric["v_reg"]) + float(fric["d"])
-            set_nominal(self, "F_fric", max(self._decls["F_fric"].nominal, slope * stroke))
-        set_nominal(self, "V_A", float(val["V_dead_A"]) + a_p * stroke)
-        set_nominal(self, "V_B", float(val["V_dead_B"]) + a_r * stroke)
-        set_nominal(self, "dm_A", chamber_mass_nominal(self.fluid, float(val["V_dead_A"]) + a_p * stroke / 2))
-        set_nominal(self, "dm_B", chamber_mass_nominal(self.fluid, float(val["V_dead_B"]) + a_r * stroke / 2))
-        set_nominal(self, "mc_A", chamber_mass_nominal(self.fluid, float(val["V_dead_A"]) + a_p * stroke / 2))
-        set_nominal(self, "mc_B", chamber_mass_nominal(self.fluid, float(val["V_dead_B"]) + a_r * stroke / 2))
+            out["F_fric"] = max(self._decls["F_fric"].nominal, slope * stroke)
+        V_A, V_B = float(val["V_dead_A"]) + a_p * stroke, float(val["V_dead_B"]) + a_r * stroke
+        mid_A = chamber_mass_nominal(self.fluid, float(val["V_dead_A"]) + a_p * stroke / 2)
+        mid_B = chamber_mass_nominal(self.fluid, float(val["V_dead_B"]) + a_r * stroke / 2)
+        return {**out, "V_A": V_A, "V_B": V_B, "dm_A": mid_A, "dm_B": mid_B, "mc_A": mid_A, "mc_B": mid_B}
 
     def check(self, values: dict[str, Any]) -> None:
         super().check(values)

@@ -14,24 +14,22 @@ Modelica Standard Library 4.0, ``Modelica.Fluid.Interfaces.FluidPort``.
 
 from __future__ import annotations
 
-import copy
-import math
 from typing import Any
 
 from flexlib import Component, Connector, Flow, Potential, Variable, der, eq
 
 from .fluid import HLP46, Fluid
 
-__all__ = ["CHAMBER_FORMS", "PartialTwoPort", "Port", "chamber_equations", "chamber_mass_nominal", "check_chamber_form",
-           "set_nominal"]
+__all__ = ["CHAMBER_FORMS", "PartialTwoPort", "Port", "chamber_equations", "chamber_mass_nominal", "check_chamber_form"]
 
 #: Nominal values (IDA's error weights are ``rtol·|y| + atol·nominal``) of the hydraulics library, chosen from the
 #: physics so that the default tolerances control what a user reads, not round-off of near-zero variables:
 #: pressures 1e7 Pa (100 bar, the working range), pressure drops 1e6 Pa, mass flows 1 kg/s (≈ 70 L/min),
 #: volume flows 1e-3 m3/s (60 L/min), shaft speeds 100 rad/s, torques 100 N.m, forces 1e4 N (1e3 N friction, stops),
 #: normalised spool travel 1 and spool speed 100 1/s (a 30 Hz spool crosses its stroke in ~10 ms); per
-#: instance, from the constructor's geometry: piston position and speed ``stroke`` (m, m/s), chamber volume
-#: ``A_p·stroke``, and chamber mass deviations ``chamber_mass_nominal(V)``.
+#: instance, from the geometry at the build's values (each component's ``nominals()``, evaluated by
+#: :mod:`flexlib.compile.scaling`): piston position and speed ``stroke`` (m, m/s), chamber volume ``A_p·stroke``,
+#: and chamber mass deviations ``chamber_mass_nominal(V)``.
 P_NOMINAL = 1e7
 
 
@@ -197,21 +195,6 @@ def chamber_mass_nominal(fluid: Fluid, V: float) -> float:
     chamber of volume ``V`` [m3] (so that ``atol·nominal`` is ``atol·P_NOMINAL`` in pressure units, as for a
     pressure state)."""
     return float(fluid.rho_ref * V * P_NOMINAL / fluid.beta)
-
-
-def set_nominal(node: Any, name: str, value: Any) -> None:
-    """Give variable ``name`` of ``node`` an instance-specific nominal (a copy of the class declaration), e.g.
-    from a constructor argument; ``None`` or a non-positive value keeps the class nominal. Nominals are part
-    of the model's cache key."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        return
-    if not v > 0 or not math.isfinite(v):
-        return
-    decl = copy.copy(node._decls[name])
-    decl.nominal = v
-    setattr(node, name, decl)
 
 
 def check_chamber_form(node: Any, form: str) -> str:

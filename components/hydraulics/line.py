@@ -9,7 +9,7 @@ from flexlib import Component, Parameter, Variable, der, eq
 
 from ._checks import PositiveParameters, flag, pressure_start, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form
 
 __all__ = ["Line"]
 
@@ -118,18 +118,22 @@ class Line(PositiveParameters, Component):
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
         p_start = pressure_start(self, p_start)
-        L, d = self.parameter_value("L"), self.parameter_value("d")
-        if L is not None and d is not None:  # per-instance error weights (interfaces.P_NOMINAL)
-            v_half = math.pi / 8.0 * float(d) ** 2 * float(L)
-            for end in ("a", "b"):
-                set_nominal(self, f"m_{end}", fluid.rho_ref * v_half)
-                set_nominal(self, f"dm_{end}", chamber_mass_nominal(fluid, v_half))
         self.use_turbulence = flag(self, "use_turbulence", use_turbulence)
         self.use_inertance = flag(self, "use_inertance", use_inertance, structural=True)
         for name in ("p_a", "p_b"):
             self.set_start(name, fluid.p_ref if p_start is None else p_start, fixed=p_start is not None)
         if use_inertance and p_start is not None:
             self.set_start("m_flow", 0.0, fixed=True)
+
+    def nominals(self) -> dict[str, float]:
+        """The halves' masses by their volumes at the build's values (``interfaces.P_NOMINAL``;
+        :mod:`flexlib.compile.scaling`)."""
+        L, d = self.parameter_value("L"), self.parameter_value("d")
+        if L is None or d is None:
+            return {}
+        v_half = math.pi / 8.0 * float(d) ** 2 * float(L)
+        m, dm = self.fluid.rho_ref * v_half, chamber_mass_nominal(self.fluid, v_half)
+        return {"m_a": m, "m_b": m, "dm_a": dm, "dm_b": dm}
 
     def equations(self) -> list:
         fl, a, b = self.fluid, self.port_a, self.port_b

@@ -8,7 +8,7 @@ from flexlib import Component, Parameter, Variable, eq
 
 from ._checks import PositiveParameters, pressure_start, store_fluid
 from .fluid import HLP46, Fluid
-from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form, set_nominal
+from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form
 
 __all__ = ["Volume"]
 
@@ -75,14 +75,18 @@ class Volume(PositiveParameters, Component):
         store_fluid(self, fluid)
         self.chamber_form = check_chamber_form(self, chamber_form)
         p_start = pressure_start(self, p_start)
-        V = self.parameter_value("V")
-        if V is not None:  # per-instance error weights (interfaces.P_NOMINAL)
-            set_nominal(self, "m", fluid.rho_ref * float(V))
-            set_nominal(self, "dm", chamber_mass_nominal(fluid, float(V)))
         if p_start is not None:
             self.set_start("p", p_start, fixed=True)
         else:
             self.set_start("p", fluid.p_ref, fixed=False)
+
+    def nominals(self) -> dict[str, float]:
+        """The stored mass by the volume at the build's values (``interfaces.P_NOMINAL``;
+        :mod:`flexlib.compile.scaling`)."""
+        V = self.parameter_value("V")
+        if V is None:
+            return {}
+        return {"m": self.fluid.rho_ref * float(V), "dm": chamber_mass_nominal(self.fluid, float(V))}
 
     def equations(self) -> list:
         eqs = [eq(self.port.p, self.p), *chamber_equations(self.fluid, self.m, self.p, self.V, self.port.m_flow,

@@ -160,7 +160,7 @@ def _propagate(simple: SimpleSystem, param_values: dict[int, float],
     """Known values by variable index, the rows used, the assumed zero parameters; None if the
     remaining system would not be structurally regular."""
     solver = _Solver(simple, param_values)
-    geometric = _frame_parameters(simple)
+    geometric = geometric_parameters(simple)
     scalar = {q.sym.element_hash() for q in simple.flat.parameters if not q.index}
     zero_syms = {s.element_hash(): s for s, v in zip(solver.psyms, solver.pvals, strict=True)
                  if v == 0.0 and s.element_hash() in geometric}
@@ -237,28 +237,19 @@ def _propagate(simple: SimpleSystem, param_values: dict[int, float],
     return known, used_rows, assumed, signs
 
 
+def geometric_parameters(simple: SimpleSystem) -> set[int]:
+    """Hashes of the parameters the domain passes of ``simple``'s model name as geometry: those that may be
+    assumed zero where they are zero (:meth:`flexlib.compile.passes.Pass.geometric_parameters`)."""
+    out: set[int] = set()
+    for p in simple.flat.passes:
+        out |= p.geometric_parameters(simple)
+    return out
+
+
 def zero_geometry() -> bool:
     """The default of ``assume_zero_geometry``: True unless ``FLEXLIB_ZERO_GEOMETRY=0`` (or ``false``, ``no``,
     ``off``; see the module doc and :func:`flexlib.compile.environment.env_switch`)."""
     return bool(env_switch("FLEXLIB_ZERO_GEOMETRY", True))
-
-
-def _frame_parameters(simple: SimpleSystem) -> set[int]:
-    """Hashes of the parameters of components with a 3D frame (over-determined connector): joint axes,
-    rod vectors, centres of mass, inertia tensors, the direction of gravity — the parameters that make a mechanism
-    planar. A component's ``non_geometric_parameters`` are left out (the World's gravity magnitude ``g``: a run
-    may change it, and no row is structurally zero because it is)."""
-    from flexlib.core.component import Connector
-
-    out = set()
-    frame_owner: dict[int, bool] = {}
-    for q in simple.flat.parameters:
-        key = id(q.node)
-        if key not in frame_owner:
-            frame_owner[key] = any(isinstance(c, Connector) and c.overdetermined for c in q.node._children.values())
-        if frame_owner[key] and q.decl_name not in getattr(q.node, "non_geometric_parameters", ()):
-            out.add(q.sym.element_hash())
-    return out
 
 
 def _sign_rewrites(eqs: list[ca.SX], alive: list[int], geometric: set[int], values: dict[int, float],

@@ -19,7 +19,7 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
-from flexlib.compile.overdetermined import OrientationTree, orientation_tree
+from flexlib.compile.scaling import apply_marks, instance_nominals
 from flexlib.compile.structure import culprits, group_by_owner, incidence, matching
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
@@ -105,6 +105,8 @@ class FlatSystem:
     by_hash: dict[int, int] = field(default_factory=dict)
     initial: list[FlatEquation] = field(default_factory=list)
     """Initial equations (hold at the start time only; they count as initial conditions)."""
+    passes: list[Any] = field(default_factory=list)
+    """The domain passes that apply to the model (:mod:`flexlib.compile.passes`); stage 2 runs them on."""
 
     def variable(self, sym: ca.SX) -> FlatVariable | None:
         """The flat variable of a scalar symbol, if any."""
@@ -154,15 +156,18 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
     initial: list[FlatEquation] = []
     by_hash: dict[int, int] = {}
 
-    # -- over-determined connectors: spanning tree; components may then declare dependent quantities
-    tree = orientation_tree(nodes)
+    # -- domain passes (the multibody orientation tree): components may then declare dependent quantities
+    from flexlib.compile.passes import active_passes  # here: the passes' modules build on this one
+
+    passes = active_passes(nodes)
+    for p in passes:
+        p.structure(nodes)
     for node in nodes:
         if isinstance(node, Component):
-            node.__dict__["_od_depth"] = tree.depth
-            node.__dict__["_od_selected_roots"] = tree.roots
             _call(node, "on_structure")
 
     # -- declarations ---------------------------------------------------------------------------
+    nominals = instance_nominals(nodes)  # the components' nominals() at the build's values (scaling stage)
     for node in nodes:
         node.validate()  # cross-parameter rules, now with the instance path known
         for name, decl in node._decls.items():
@@ -192,7 +197,8 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
             for k, (label, sym) in enumerate(_scalars(node, name)):
                 by_hash[sym.element_hash()] = len(variables)
                 variables.append(FlatVariable(label, sym, lookup(sym), decl.unit, decl.doc, float(starts[k]), fixed,
-                                              decl.nominal, node.state_select_of(name), kind, node.path,
+                                              nominals.get((id(node), name), decl.nominal),
+                                              node.state_select_of(name), kind, node.path,
                                               None if rule is None else rule[k],
                                               bool(getattr(decl, "error_test", True)),
                                               bool(getattr(decl, "intermediate", False))))
@@ -225,11 +231,14 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                 equations.append(FlatEquation(res[k], path, equ.label, "equation"))
 
     _check_finite(nodes, equations, initial)
-    _connection_equations(nodes, equations, {frozenset((id(a), id(b))) for a, b, _ in tree.broken_edges})
-    _overdetermined_equations(tree, equations)
+    _connection_equations(nodes, equations, set().union(*(p.broken_connections() for p in passes)))
+    for p in passes:
+        p.connection_equations(equations)
+    for p in passes:
+        apply_marks(variables, by_hash, *p.marks(nodes, equations))
     _check_inputs(root, nodes)
     _check_local_balance(nodes, equations)
-    flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash, initial)
+    flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash, initial, passes)
     _check_symbols(flat)
     if check:
         check_balance(flat.name, flat.variables, flat.equations)
@@ -403,7 +412,7 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
                 for expr in _elements(total):
                     equations.append(FlatEquation(expr, row_owner, label, origin))
             elif getattr(decl, "overdetermined", False):
-                continue  # equated along the spanning tree (_overdetermined_equations)
+                continue  # equated by the pass that handles the connector (flexlib.compile.passes)
             else:  # equal along the set's connections; a broken (loop-closing) one gives loop-closure rows
                 set_edges = list(edges_of.get(root_key, ()))
                 set_edges.sort(key=lambda e: frozenset((id(e[1]), id(e[2]))) in (broken or set()))
@@ -433,23 +442,6 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
                         for k in range(diff.numel()):
                             equations.append(FlatEquation(diff.nz[k], owner, f"{first._label(name)} = "
                                                           f"{conn._label(name)}", "connect"))
-
-
-def _overdetermined_equations(tree: OrientationTree, equations: list[FlatEquation]) -> None:
-    """Full equality of over-determined records along tree connections; equality constraints on broken ones."""
-    for a, b, owner in tree.tree_edges:
-        for name, decl in a._decls.items():
-            if getattr(decl, "overdetermined", False):
-                diff = a._symbol(name) - b._symbol(name)
-                label = f"{a._label(name)} = {b._label(name)}"
-                for k in range(diff.numel()):
-                    equations.append(FlatEquation(diff.nz[k], owner, label, "connect"))
-    for a, b, owner in tree.broken_edges:
-        residue = ca.vec(ca.SX(a.equality_constraint(b)))
-        label = f"loop closure {a.path} ~ {b.path}"
-        for k in range(residue.numel()):
-            equations.append(FlatEquation(residue[k], owner, f"{label} [{k}]", "loop closure",
-                                          ("orientation", a, b, k)))
 
 
 def _check_inputs(root: Component, nodes: list[Node]) -> None:

@@ -70,7 +70,8 @@ class IndexReport:
     redundant: list[str] = field(default_factory=list)
     explicit: list[str] = field(default_factory=list)
     tree_frames: str = ""
-    """Frame kinematics of the kinematic tree torn or kept as unknowns, and why (``compile/tearing.py``)."""
+    """Frame kinematics of the kinematic tree torn or kept as unknowns, and why
+    (``compile/passes/multibody/tearing.py``)."""
 
     def __str__(self) -> str:
         lines = [f"DAE index {self.index}; {len(self.states)} states"]

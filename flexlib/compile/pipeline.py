@@ -28,9 +28,9 @@ from flexlib.compile.explicit import explicit_mode
 from flexlib.compile.flatten import FlatSystem, check_balance, flatten
 from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
-from flexlib.compile.redundancy import remove_redundant
+from flexlib.compile.passes import key_options
+from flexlib.compile.scaling import key_nominals
 from flexlib.compile.simplify import SimpleSystem, simplify
-from flexlib.compile.tearing import tear_or_keep_frames, tree_frames_mode
 from flexlib.core.component import Component
 from flexlib.errors import ModelTypeError, RunArgumentError
 
@@ -149,10 +149,12 @@ def _updater(entry: Any) -> Any:
 
 
 def prepare(flat: FlatSystem, params: dict[int, float], *, assume_zero_geometry: bool | None = None) -> SimpleSystem:
-    """Stage 2: alias elimination, redundant loop constraints, explicit frame kinematics, constant unknowns
-    (``assume_zero_geometry``: see :func:`build`)."""
-    torn = tear_or_keep_frames(remove_redundant(simplify(flat), params), params)
-    return eliminate_constants(torn, params, assume_zero_geometry=assume_zero_geometry)
+    """Stage 2: alias elimination, the domain passes' rewrites (the multibody pass: redundant loop constraints,
+    explicit frame kinematics), constant unknowns (``assume_zero_geometry``: see :func:`build`)."""
+    simple = simplify(flat)
+    for p in flat.passes:
+        simple = p.after_simplify(simple, params)
+    return eliminate_constants(simple, params, assume_zero_geometry=assume_zero_geometry)
 
 
 def analyse(root: Component, *,
@@ -185,7 +187,8 @@ def analyse(root: Component, *,
 def build_key(root: Component, *, codegen: bool | str, assume_zero_geometry: bool) -> str:
     """The cache key of ``root``'s build: its structure and the build options, not its values."""
     return cache_key.model_key(root, {"codegen": codegen, "zero_geometry": bool(assume_zero_geometry),
-                                  "explicit": explicit_mode(), "tree_frames": tree_frames_mode()})
+                                      "explicit": explicit_mode(), **key_options(),
+                                      "nominals": key_nominals(root)})
 
 
 def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True,

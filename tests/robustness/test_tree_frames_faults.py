@@ -1,4 +1,4 @@
-"""Robustness of the tree-frame rule (``flexlib/compile/tearing.py::tear_or_keep_frames``): a bad
+"""Robustness of the tree-frame rule (``flexlib/compile/passes/multibody/tearing.py::tear_or_keep_frames``): a bad
 ``FLEXLIB_TREE_FRAMES`` is refused naming the variable and its value; a cached build with kept frames, loaded for an
 instance with other start angles, still initialises at that instance's configuration (reference: the chain's
 forward kinematics, body k at k·L·(cos φ0, sin φ0, 0) with joint 1 at φ0 and the others at 0, to 1e-9 m)."""
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.compile import tearing
+from flexlib.compile.passes.multibody import tearing
 from flexlib.models.n_link_pendulum import NLinkPendulum
 
 

@@ -229,7 +229,7 @@ class FlexibleBody(Component):
                           doc="Modal coordinates")
         self.qd = Variable(unit="1/s", shape=m, start=np.zeros(m), state_select="prefer", nominal=qd_nom,
                            doc="Modal velocities der(q)")
-        self.qdd = Variable(unit="1/s2", shape=m, error_test=False, doc="Modal accelerations der(qd)")
+        self.qdd = Variable(unit="1/s2", shape=m, doc="Modal accelerations der(qd)")
         fixed = "default" if q_fixed is None else q_fixed
         self.set_start("q", np.zeros(m), fixed=fixed)
         self.set_start("qd", np.zeros(m), fixed=fixed)
@@ -467,7 +467,7 @@ class FlexibleBody(Component):
                 x, Tr, wr = kin[k][:3]
                 _, xd, xdd, z_k = rates(k)
                 # written from the entry frame (not from r_0): the frame chain stays explicit in frame
-                # variables, as the loop-redundancy analysis needs (flexlib.compile.redundancy)
+                # variables, as the loop-redundancy analysis needs (flexlib.compile.passes.multibody.redundancy)
                 eqs += [eq(f.r_0, e.r_0 + ca.mtimes(T.T, x - x_e)), eq(f.T, ca.mtimes(Tr, T)),
                         eq(f.w, ca.mtimes(Tr, w) + wr),
                         eq(f.v, ca.mtimes(Tr, v_origin + ca.cross(w, x) + xd)),

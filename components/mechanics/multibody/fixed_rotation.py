@@ -69,19 +69,11 @@ class FixedRotation(PartialTwoFrames):
         e = self.n / ca.norm_2(self.n)
         T_rel = planar_rotation(e, self.angle)
         eqs = [eq(b.r_0, a.r_0 + resolve1(a.T, self.r))]
-        r = self.r
         if self.rooted(a):
-            eqs += [eq(b.v, resolve2(T_rel, a.v + ca.cross(a.w, r))),
-                    eq(b.a, resolve2(T_rel, a.a + ca.cross(a.z, r) + ca.cross(a.w, ca.cross(a.w, r)))),
-                    eq(b.z, resolve2(T_rel, a.z))]
             eqs += [eq(b.T, absolute_rotation(a.T, T_rel)), eq(b.w, resolve2(T_rel, a.w)),
                     eq(a.f + resolve1(T_rel, b.f), 0.0),
                     eq(a.t + resolve1(T_rel, b.t) - ca.cross(self.r, a.f), 0.0)]
         else:
-            w_a, z_a = resolve1(T_rel, b.w), resolve1(T_rel, b.z)
-            eqs += [eq(a.v, resolve1(T_rel, b.v) - ca.cross(w_a, r)),
-                    eq(a.a, resolve1(T_rel, b.a) - ca.cross(z_a, r) - ca.cross(w_a, ca.cross(w_a, r))),
-                    eq(a.z, z_a)]
             eqs += [eq(a.T, absolute_rotation(b.T, T_rel.T)), eq(a.w, resolve1(T_rel, b.w)),
                     eq(b.f + resolve2(T_rel, a.f), 0.0),
                     eq(b.t + resolve2(T_rel, a.t) + ca.cross(resolve2(T_rel, self.r), b.f), 0.0)]

@@ -36,14 +36,7 @@ class FixedTranslation(PartialTwoFrames):
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
-        if self.rooted(a):
-            orient = [eq(b.T, a.T), eq(b.w, a.w), eq(b.z, a.z),
-                      eq(b.v, a.v + ca.cross(a.w, self.r)),
-                      eq(b.a, a.a + ca.cross(a.z, self.r) + ca.cross(a.w, ca.cross(a.w, self.r)))]
-        else:
-            orient = [eq(a.T, b.T), eq(a.w, b.w), eq(a.z, b.z),
-                      eq(a.v, b.v - ca.cross(b.w, self.r)),
-                      eq(a.a, b.a - ca.cross(b.z, self.r) - ca.cross(b.w, ca.cross(b.w, self.r)))]
+        orient = [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
         return [
             eq(b.r_0, a.r_0 + resolve1(a.T, self.r)),
             *orient,

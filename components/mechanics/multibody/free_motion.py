@@ -69,12 +69,12 @@ class FreeMotion(PartialTwoFrames):
     w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3, doc="Start relative angular velocity in frame_b")
     r_rel_a = Variable(unit="m", shape=3, state_select="prefer", doc="Position of frame_b from frame_a in frame_a")
     v_rel_a = Variable(unit="m/s", shape=3, state_select="prefer", doc="der(r_rel_a)")
-    a_rel_a = Variable(unit="m/s2", shape=3, error_test=False, doc="der(v_rel_a)")
+    a_rel_a = Variable(unit="m/s2", shape=3, doc="der(v_rel_a)")
     Q = Variable(unit="1", shape=4, start=[0.0, 0.0, 0.0, 1.0], state_select="prefer",
                  doc="Relative orientation quaternion (e·sin(φ/2), cos(φ/2)) of frame_b relative to frame_a")
     w_rel_b = Variable(unit="rad/s", shape=3, state_select="prefer",
                        doc="Angular velocity of frame_b relative to frame_a, resolved in frame_b")
-    z_rel_b = Variable(unit="rad/s2", shape=3, error_test=False,
+    z_rel_b = Variable(unit="rad/s2", shape=3,
                        doc="der(w_rel_b): relative angular acceleration, resolved in frame_b")
 
     def __init__(self, orientation_fixed: bool = False, w_fixed: bool = False, **kwargs: Any) -> None:

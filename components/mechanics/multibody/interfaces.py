@@ -45,12 +45,13 @@ class Frame(Connector):
 
     ``v``, ``a`` and ``z`` are carried along the spanning tree like ``T`` and ``w`` (recursive kinematics, as in
     Featherstone's articulated-body and recursive Newton–Euler algorithms, with gravity entering as the root's
-    acceleration ``a = −g``): each joint or body relates them between its frames with its own coordinates only, so a
-    body's equations of motion read its own frame instead of the second time derivative of its position, which
-    depends on every joint coordinate between it and the root. At a loop closure they are not equated (the
-    closure's position and orientation rows, differentiated by index reduction, already imply it). ``a`` and ``z``
-    are declared ``error_test=False``: where a joint's acceleration reaches them they stay out of IDA's local error
-    test (``docs/engine.md``, "Error-test policy").
+    acceleration ``a = −g``), related between the two frames of each branch with the component's own coordinates
+    only, so a body's equations of motion read its own frame instead of the second time derivative of its
+    position, which depends on every joint coordinate between it and the root. A component that relates its frames
+    with MSL's rows (``r_0``, ``T``, ``w``, ``f``, ``t``) gets these rows from the multibody compile pass
+    (``flexlib/compile/passes/multibody/kinematics.py``), which also keeps ``a`` and ``z`` out of IDA's local
+    error test (``docs/engine.md``, "Error-test policy"). At a loop closure they are not equated (the closure's
+    position and orientation rows, differentiated by index reduction, already imply it).
     f : [N]
         Cut force acting on the component, resolved in the frame (flow).
     t : [N.m]
@@ -61,12 +62,10 @@ class Frame(Connector):
     T = Potential(unit="1", shape=(3, 3), overdetermined=True, doc="Transformation matrix world to frame",
                   derivative=lambda frame: -ca.mtimes(skew(frame.w), frame.T))
     w = Potential(unit="rad/s", shape=3, overdetermined=True, doc="Angular velocity resolved in frame")
-    v = Potential(unit="m/s", shape=3, overdetermined=True, intermediate=True,
-                  doc="Velocity of the origin, resolved in frame")
-    a = Potential(unit="m/s2", shape=3, overdetermined=True, error_test=False, intermediate=True,
+    v = Potential(unit="m/s", shape=3, overdetermined=True, doc="Velocity of the origin, resolved in frame")
+    a = Potential(unit="m/s2", shape=3, overdetermined=True,
                   doc="Acceleration of the origin less gravity, resolved in frame")
-    z = Potential(unit="rad/s2", shape=3, overdetermined=True, error_test=False, intermediate=True,
-                  doc="Angular acceleration, resolved in frame")
+    z = Potential(unit="rad/s2", shape=3, overdetermined=True, doc="Angular acceleration, resolved in frame")
     f = Flow(unit="N", shape=3, doc="Cut force resolved in frame")
     t = Flow(unit="N.m", shape=3, doc="Cut torque resolved in frame")
 
@@ -130,7 +129,7 @@ class PartialCutSensor(PartialTwoFrames):
     def equations(self) -> list:
         a, b = self.frame_a, self.frame_b
         src, dst = (a, b) if self.rooted(a) else (b, a)
-        orient = [eq(dst.T, src.T), eq(dst.w, src.w), eq(dst.v, src.v), eq(dst.a, src.a), eq(dst.z, src.z)]
+        orient = [eq(dst.T, src.T), eq(dst.w, src.w)]
         return [eq(b.r_0, a.r_0), *orient, eq(a.f + b.f, 0.0), eq(a.t + b.t, 0.0),
                 *self.measurement_equations()]
 

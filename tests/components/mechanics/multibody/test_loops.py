@@ -20,7 +20,7 @@ def test_planar_fourbar_with_four_revolutes():
     th2 = 0.3
     th3, th4 = ref.fourbar_angles(A, B, C, D, th2, "open")
     from flexlib.compile.flatten import flatten
-    from flexlib.compile.redundancy import remove_redundant
+    from flexlib.compile.passes.multibody.redundancy import remove_redundant
     from flexlib.compile.simplify import simplify
 
     model = FourBar(th2, th3 + 0.1, th4 - 0.1, w2=6.0)

@@ -24,10 +24,13 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
+import casadi as ca
+
+from flexlib.compile.flatten import FlatEquation
 from flexlib.core.component import Component, Connector, Node
 from flexlib.errors import ModelError
 
-__all__ = ["OrientationTree", "orientation_tree"]
+__all__ = ["OrientationTree", "orientation_tree", "overdetermined_equations", "tell_components"]
 
 
 @dataclass
@@ -126,3 +129,29 @@ def orientation_tree(nodes: list[Node]) -> OrientationTree:
                          "(or a fixed frame), or to a body that can move freely")
     result.depth = {id(vertices[k]): d for k, d in depth.items() if k != virtual}
     return result
+
+
+def tell_components(nodes: list[Node], tree: OrientationTree) -> None:
+    """Give every component the tree's depths and roots, which :meth:`~flexlib.core.component.Component.rooted`
+    and :meth:`~flexlib.core.component.Component.is_root` read while the model is flattened."""
+    for node in nodes:
+        if isinstance(node, Component):
+            node.__dict__["_od_depth"] = tree.depth
+            node.__dict__["_od_selected_roots"] = tree.roots
+
+
+def overdetermined_equations(tree: OrientationTree, equations: list[FlatEquation]) -> None:
+    """Full equality of over-determined records along tree connections; equality constraints on broken ones."""
+    for a, b, owner in tree.tree_edges:
+        for name, decl in a._decls.items():
+            if getattr(decl, "overdetermined", False):
+                diff = a._symbol(name) - b._symbol(name)
+                label = f"{a._label(name)} = {b._label(name)}"
+                for k in range(diff.numel()):
+                    equations.append(FlatEquation(diff.nz[k], owner, label, "connect"))
+    for a, b, owner in tree.broken_edges:
+        residue = ca.vec(ca.SX(a.equality_constraint(b)))
+        label = f"loop closure {a.path} ~ {b.path}"
+        for k in range(residue.numel()):
+            equations.append(FlatEquation(residue[k], owner, f"{label} [{k}]", "loop closure",
+                                          ("orientation", a, b, k)))

@@ -1,0 +1,125 @@
+"""The multibody compile pass (``flexlib/compile/passes/multibody``): joints written as MSL writes them.
+
+The library's :class:`~flexlib.components.mechanics.multibody.Revolute` relates its frames with MSL's rows only
+(``r_0``, ``T``, ``w``, ``f``, ``t``; Modelica Standard Library 4.0, ``MultiBody.Joints.Revolute``) plus friction:
+the pass introduces the frames' velocities and accelerations ``v``, ``a``, ``z`` along the spanning tree.
+``HandRevolute`` writes that recursion by hand, as the joints did before the pass. The crank-rocker four-bar
+(both branch directions: the loop's cut joint is rooted at frame_b) compiles with either to the same unknowns,
+states and Jacobian sparsity and the same residual at random points (to round-off: bit for bit), and runs the
+same steps and signals.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import flexlib as fl
+import flexlib.models.planar_mechanisms as pm
+from flexlib import eq
+from flexlib.compile.flatten import FlatSystem, flatten
+from flexlib.components.mechanics.multibody import Body, Revolute, World
+from flexlib.components.mechanics.multibody.frames import planar_rotation
+
+
+class HandRevolute(Revolute):
+    """The library joint with the frames' ``v``, ``a``, ``z`` related by hand (before its orientation rows)."""
+
+    def equations(self) -> list:
+        rows = super().equations()
+        a, b = self.frame_a, self.frame_b
+        e = self.n / ca.norm_2(self.n)
+        if self.rooted(a):
+            R = planar_rotation(e, self.phi)
+            hand = [eq(b.v, ca.mtimes(R, a.v)), eq(b.a, ca.mtimes(R, a.a)),
+                    eq(b.z, ca.mtimes(R, a.z) + e * self.a + ca.cross(ca.mtimes(R, a.w), e * self.w))]
+        else:
+            R = planar_rotation(-e, self.phi)
+            hand = [eq(a.v, ca.mtimes(R, b.v)), eq(a.a, ca.mtimes(R, b.a)),
+                    eq(a.z, ca.mtimes(R, b.z) - e * self.a + ca.cross(ca.mtimes(R, b.w), -e * self.w))]
+        return [*rows[:3], *hand, *rows[3:]]
+
+
+def _fourbar(monkeypatch: pytest.MonkeyPatch | None) -> pm.FourBarLinkage:
+    if monkeypatch is not None:
+        monkeypatch.setattr(pm, "Revolute", HandRevolute)
+    return pm.FourBarLinkage()
+
+
+SIGNALS = ["rev_crank.phi", "rev_crank.w", "cut1.frame_a.f[0]", "cut1.frame_a.f[1]"]
+
+
+def test_library_revolute_writes_msl_rows_only() -> None:
+    """No row of the library joint names a frame's v, a or z."""
+    model = _fourbar(None)
+    flat = flatten(model, check=False)
+    frames = [f for j in (model.rev_crank, model.rev_coupler, model.cut1) for f in (j.frame_a, j.frame_b)]
+    vaz = ca.vertcat(*[ca.vec(f._symbol(n)) for f in frames for n in ("v", "a", "z")])
+    own = [e.expr for e in flat.equations if e.owner == "rev_crank" and "kinematics pass" not in e.label]
+    assert own and not ca.depends_on(ca.vertcat(*own), vaz)
+
+
+def test_generated_recursion_compiles_as_the_hand_written_one(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Same unknowns, states, Jacobian sparsity and residual (module doc)."""
+    lib = fl.Simulation(_fourbar(None), use_cache=False).compiled
+    hand = fl.Simulation(_fourbar(monkeypatch), use_cache=False).compiled
+    assert lib.y_names == hand.y_names
+    assert list(lib.differential) == list(hand.differential)
+    assert list(lib.jac_row) == list(hand.jac_row) and list(lib.jac_colind) == list(hand.jac_colind)
+    f, g = hand.sx_function("res"), lib.sx_function("res")
+    rng = np.random.default_rng(20261127)
+    for _ in range(3):
+        y, yp = rng.standard_normal(hand.n), rng.standard_normal(hand.n)
+        r_hand = np.asarray(f(0.1, y, yp, hand.param_defaults)).ravel()
+        r_lib = np.asarray(g(0.1, y, yp, lib.param_defaults)).ravel()
+        np.testing.assert_allclose(r_lib, r_hand, rtol=1e-14, atol=1e-14 * np.abs(r_hand).max())
+
+
+def test_generated_recursion_runs_as_the_hand_written_one(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The same run: step counts and signals (module doc)."""
+    lib = fl.Simulation(_fourbar(None), use_cache=False).run(0.5, dt_out=0.01, rtol=1e-8, atol=1e-10)
+    hand = fl.Simulation(_fourbar(monkeypatch), use_cache=False).run(0.5, dt_out=0.01, rtol=1e-8, atol=1e-10)
+    assert lib.stats["steps"] == hand.stats["steps"]
+    for name in SIGNALS:
+        np.testing.assert_allclose(lib[name], hand[name], rtol=1e-12, atol=1e-12 * np.abs(hand[name]).max())
+
+
+def test_pass_introduces_the_recursion_only_where_it_is_missing(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The library revolutes get 9 generated rows each (v, a, z of the frame they compute); the hand-written do
+    not."""
+    lib = flatten(_fourbar(None), check=False)
+    hand = flatten(_fourbar(monkeypatch), check=False)
+    def generated(flat: FlatSystem) -> list:
+        return [e for e in flat.equations if e.owner.startswith(("rev_", "cut")) and "kinematics pass" in e.label]
+
+    assert not generated(hand)
+    assert len(generated(lib)) == 9 * 4  # four revolutes
+    assert len(lib.equations) == len(hand.equations)
+
+
+class SlidingPin(Revolute):
+    """Not a relative motion: frame_b's origin offset along a world axis, whatever frame_a's orientation."""
+
+    def equations(self) -> list:
+        rows = super().equations()
+        rows[0] = eq(self.frame_b.r_0, self.frame_a.r_0 + ca.DM([0.1, 0.0, 0.0]))
+        return rows
+
+
+class Pendulum(fl.Model):
+    """A body on a SlidingPin at the world."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.world = World()
+        self.joint = SlidingPin(init={"phi": 0.3, "w": 0.0})
+        self.body = Body(m=1.0, r_CM=[0.5, 0.0, 0.0])
+        self.connect(self.world.frame_b, self.joint.frame_a)
+        self.connect(self.joint.frame_b, self.body.frame_a)
+
+
+def test_a_relation_that_is_not_a_relative_motion_is_named() -> None:
+    """The pass refuses to guess the recursion of rows it cannot read as a relative motion, naming the joint."""
+    with pytest.raises(fl.ModelError, match=r"joint: the rows relating its frames are not a relative motion"):
+        flatten(Pendulum(), check=False)
