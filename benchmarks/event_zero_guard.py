@@ -1,6 +1,6 @@
 """Cost of the exact-zero guard in the compiled state-event function against the plain indicators.
 
-The guard is CasADi's ``if_else`` of ``flexlib.solve.ida._off_zero``, timed on the boom of
+The guard is CasADi's ``if_else`` of ``flexlib.solve.sundae_callbacks.off_zero``, timed on the boom of
 ``tests/robustness/test_initialization.py`` (4 watched relations) against the same indicators unguarded, per call
 of the compiled function; interleaved, three rounds.
 

@@ -1,6 +1,6 @@
 """Benchmark: the C driver's linear solvers on the models' own iteration matrices.
 
-The measurement behind the size rule of ``flexlib.solve.ida_native.linear_solver``.
+The measurement behind the size rule of ``flexlib.solve.backends.ida_c.linear_solver``.
 Each model runs on the default backend (the C driver, generated C once gcc has finished) with each linear solver
 forced through ``FLEXLIB_LINSOL``: SUNDIALS' dense LU (up to 350 unknowns), SUNDIALS' SuperLU_MT (COLAMD ordering
 computed at the first setup, then ``refact = YES``; one thread) and KLU (kvxopt's SuiteSparse: BTF + AMD ordering

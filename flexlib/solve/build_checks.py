@@ -1,6 +1,6 @@
 """Re-check, at the start of every run, the numeric choices a build made at its own values.
 
-A build makes numeric choices at the parameter and start values it sees (``compile/redundancy.py``
+A build makes numeric choices at the parameter and start values it sees (``compile/passes/multibody/redundancy.py``
 drops loop-closure rows that are dependent there; ``compile/index_reduction.py`` picks dummy
 derivatives by pivoted QR there). Neither the parameter values of ``run(params=...)`` nor the
 start values of another instance built from a cached entry need agree with them: a planar
