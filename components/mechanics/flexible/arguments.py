@@ -61,7 +61,8 @@ def check_stiffening_data(cls: str, data: ModalData, source: str) -> None:
 def modal_nominals(data: ModalData) -> tuple[float, float]:
     """Nominal sizes of the modal coordinates [1] and rates [1/s]: the ``q`` that deflects the body by 1e-3 of its
     size (small elastic deformation), and that ``q`` oscillating at the lowest modal frequency. They scale the
-    integrator's absolute tolerance and the loop-redundancy rank test (``flexlib.compile.passes.multibody.redundancy``)."""
+    integrator's absolute tolerance and the loop-redundancy rank test
+    (``flexlib.compile.passes.multibody.redundancy``)."""
     size = float(np.linalg.norm(np.ptp(data.coordinates, axis=0))) or 1.0
     shape = float(np.abs(data.translational_modes).max())
     if not shape > 0:  # rotation-only modes
