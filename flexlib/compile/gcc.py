@@ -13,8 +13,8 @@ for small files where gcc takes well under a second. ``codegen="auto"`` therefor
 (:func:`generate_c` with ``background=True``) while the run starts on the VM; the integrator adapter
 (``flexlib.solve.backends``) checks every 32 steps whether the library exists and then rebinds its callbacks to
 it, without restarting IDA (``stats["compiled_at"]``): VM and C perform the same operations in the same order,
-so the trajectory is the same; later runs and cached builds of later sessions use it from the start (``CompiledModel.function``). The same
-holds below :data:`AUTO_C_MIN_UNKNOWNS` unknowns for models with at least :data:`AUTO_C_MIN_OPERATIONS`
+so the trajectory is the same; later runs and cached builds of later sessions use it from the start
+(``CompiledModel.function``). The same holds below :data:`AUTO_C_MIN_UNKNOWNS` unknowns for models with at least :data:`AUTO_C_MIN_OPERATIONS`
 operations (closed-loop mechanisms). ``codegen=True`` compiles in the foreground and drops to -O0 above
 :data:`GCC_O1_MAX_LINES` lines so that an explicit request never blocks for minutes.
 """
