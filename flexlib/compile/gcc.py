@@ -7,15 +7,15 @@ the source and the optimisation level (the measured table:
 ``docs/decisions/012-generated-c-gcc-level-and-background-compile.md``; the cost per call and per run:
 ``docs/casadi_ida.md``).
 
-So -O1 is the level that pays at every size (close to -O2's code at a fraction of its compile time), -O2 only
-for small files where gcc takes well under a second. ``codegen="auto"`` therefore never waits for gcc: above
-:data:`AUTO_C_MIN_UNKNOWNS` unknowns the C source is written and gcc runs as a separate process
-(:func:`generate_c` with ``background=True``) while the run starts on the VM; the integrator adapter
-(``flexlib.solve.backends``) checks every 32 steps whether the library exists and then rebinds its callbacks to
-it, without restarting IDA (``stats["compiled_at"]``): VM and C perform the same operations in the same order,
-so the trajectory is the same; later runs and cached builds of later sessions use it from the start
-(``CompiledModel.function``). The same holds below :data:`AUTO_C_MIN_UNKNOWNS` unknowns for models with at least :data:`AUTO_C_MIN_OPERATIONS`
-operations (closed-loop mechanisms). ``codegen=True`` compiles in the foreground and drops to -O0 above
+So -O1 is the level that pays at every size (close to -O2's code at a fraction of its compile time), -O2 only for
+small files where gcc takes well under a second. ``codegen="auto"`` therefore never waits for gcc: above
+:data:`AUTO_C_MIN_UNKNOWNS` unknowns the C source is written and gcc runs as a separate process (:func:`generate_c`
+with ``background=True``) while the run starts on the VM; the integrator adapter (``flexlib.solve.backends``) checks
+every 32 steps whether the library exists and then rebinds its callbacks to it, without restarting IDA
+(``stats["compiled_at"]``): VM and C perform the same operations in the same order, so the trajectory is the same;
+later runs and cached builds of later sessions use it from the start (``CompiledModel.function``). The same holds
+below :data:`AUTO_C_MIN_UNKNOWNS` unknowns for models with at least :data:`AUTO_C_MIN_OPERATIONS` operations
+(closed-loop mechanisms). ``codegen=True`` compiles in the foreground and drops to -O0 above
 :data:`GCC_O1_MAX_LINES` lines so that an explicit request never blocks for minutes.
 """
 
