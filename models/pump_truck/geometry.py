@@ -52,7 +52,7 @@ def linkage_masses(record: PumpTruckParameters, k: int, link_plate: float = LINK
     return record.steel.rho * area * fb.r, record.steel.rho * area * fb.s
 
 
-def _pose(record: PumpTruckParameters, q: np.ndarray, link_plate: float = LINK_PLATE) -> dict[str, Any]:
+def boom_pose(record: PumpTruckParameters, q: np.ndarray, link_plate: float = LINK_PLATE) -> dict[str, Any]:
     """Planar pose (turret frame, joint 1 at the origin) of every pin and mass of the boom at joint angles ``q``."""
     J, th = [np.zeros(2)], [0.0]
     pins: dict[str, np.ndarray] = {}
@@ -90,7 +90,7 @@ def holding_forces(record: PumpTruckParameters, q: Sequence[float],
     q = np.asarray(q, dtype=float)
 
     def V(qq: np.ndarray) -> float:
-        return record.g * sum(m * x[1] for m, x in _pose(record, qq, link_plate)["masses"])
+        return record.g * sum(m * x[1] for m, x in boom_pose(record, qq, link_plate)["masses"])
 
     F, lengths = np.zeros(5), np.zeros(5)
     h = 1e-6

@@ -123,7 +123,7 @@ from flexlib.models.boom_proxy import link_body
 from .arguments import JOINTS, check_modes, check_pose, check_sources, check_table, option
 from .geometry import (
     LINK_PLATE,
-    _pose,
+    boom_pose,
     holding_forces,
     length_reference,
     linkage_masses,
@@ -276,7 +276,7 @@ class PumpTruck(fl.Model):
                                          f"{hi:.1f} deg")
         self.link_plate = link_plate
         q = q0[1:]
-        geo = _pose(record, q, self.link_plate)
+        geo = boom_pose(record, q, self.link_plate)
         F_hold, _ = holding_forces(record, q, self.link_plate)
         self._F_hold = F_hold
         rows = sizing(record)

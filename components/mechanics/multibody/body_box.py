@@ -8,7 +8,7 @@ import numpy as np
 
 from flexlib.errors import ParameterError
 
-from .body_shape import BodyShape, _from_nxy, _positive, _unit, _vector
+from .body_shape import BodyShape, from_nxy, positive_size, unit_vector, vector3
 
 __all__ = ["BodyBox"]
 
@@ -83,17 +83,17 @@ class BodyBox(BodyShape):
                  density: float = 7700.0, Q_start: Any = None, w_start: Any = None, orientation_fixed: bool = False,
                  w_fixed: bool = False, doc: str = "") -> None:
         owner = type(self).__name__
-        r = _vector(r, "r", owner)
-        r_shape = _vector(r_shape, "r_shape", owner)
+        r = vector3(r, "r", owner)
+        r_shape = vector3(r_shape, "r_shape", owner)
         if length_direction is None:
             length_direction = r - r_shape
-        R = _from_nxy(length_direction, _unit(width_direction, "width_direction", owner), owner)
-        L = _positive(np.linalg.norm(r - r_shape) if length is None else length, "length", owner)
-        W = _positive(L / 20 if width is None else width, "width", owner)
-        H = _positive(W if height is None else height, "height", owner)
-        Wi = _positive(inner_width, "inner_width", owner, allow_zero=True)
-        Hi = _positive(Wi if inner_height is None else inner_height, "inner_height", owner, allow_zero=True)
-        rho = _positive(density, "density", owner)
+        R = from_nxy(length_direction, unit_vector(width_direction, "width_direction", owner), owner)
+        L = positive_size(np.linalg.norm(r - r_shape) if length is None else length, "length", owner)
+        W = positive_size(L / 20 if width is None else width, "width", owner)
+        H = positive_size(W if height is None else height, "height", owner)
+        Wi = positive_size(inner_width, "inner_width", owner, allow_zero=True)
+        Hi = positive_size(Wi if inner_height is None else inner_height, "inner_height", owner, allow_zero=True)
+        rho = positive_size(density, "density", owner)
         if not Wi < W:
             raise ParameterError(f"{owner}: inner_width = {Wi} must be smaller than width = {W}")
         if not Hi < H:

@@ -8,7 +8,7 @@ import numpy as np
 
 from flexlib.errors import ParameterError
 
-from .body_shape import BodyShape, _from_nxy, _positive, _vector
+from .body_shape import BodyShape, from_nxy, positive_size, vector3
 
 __all__ = ["BodyCylinder"]
 
@@ -70,15 +70,15 @@ class BodyCylinder(BodyShape):
                  density: float = 7700.0, Q_start: Any = None, w_start: Any = None, orientation_fixed: bool = False,
                  w_fixed: bool = False, doc: str = "") -> None:
         owner = type(self).__name__
-        r = _vector(r, "r", owner)
-        r_shape = _vector(r_shape, "r_shape", owner)
+        r = vector3(r, "r", owner)
+        r_shape = vector3(r_shape, "r_shape", owner)
         if length_direction is None:
             length_direction = r - r_shape
-        R = _from_nxy(length_direction, [0.0, 1.0, 0.0], owner)
-        L = _positive(np.linalg.norm(r - r_shape) if length is None else length, "length", owner)
-        d = _positive(L / 20 if diameter is None else diameter, "diameter", owner)
-        di = _positive(inner_diameter, "inner_diameter", owner, allow_zero=True)
-        rho = _positive(density, "density", owner)
+        R = from_nxy(length_direction, [0.0, 1.0, 0.0], owner)
+        L = positive_size(np.linalg.norm(r - r_shape) if length is None else length, "length", owner)
+        d = positive_size(L / 20 if diameter is None else diameter, "diameter", owner)
+        di = positive_size(inner_diameter, "inner_diameter", owner, allow_zero=True)
+        rho = positive_size(density, "density", owner)
         if not di < d:
             raise ParameterError(f"{owner}: inner_diameter = {di} must be smaller than diameter = {d}")
         ro, ri = d / 2, di / 2

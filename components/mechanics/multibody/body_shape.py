@@ -75,8 +75,8 @@ class BodyShape(Component):
         for key, value in (("I", I), ("Q_start", Q_start), ("w_start", w_start)):
             if value is not None:
                 body_args[key] = value
-        self.frame_translation = _checked(self, FixedTranslation, r=r)
-        self.body = _checked(self, Body, orientation_fixed=orientation_fixed, w_fixed=w_fixed, **body_args)
+        self.frame_translation = build_part(self, FixedTranslation, r=r)
+        self.body = build_part(self, Body, orientation_fixed=orientation_fixed, w_fixed=w_fixed, **body_args)
         self.connect(self.frame_a, self.frame_translation.frame_a, self.body.frame_a)
         self.connect(self.frame_translation.frame_b, self.frame_b)
 
@@ -96,7 +96,7 @@ class BodyShape(Component):
         return np.array(self.body.parameter_value("I"), dtype=float)
 
 
-def _checked(owner: Component, factory: Callable[..., Any], **kwargs: Any) -> Any:
+def build_part(owner: Component, factory: Callable[..., Any], **kwargs: Any) -> Any:
     """Build a part of a composite; a bad value is reported with the composite's class name."""
     try:
         return factory(**kwargs)
@@ -104,20 +104,20 @@ def _checked(owner: Component, factory: Callable[..., Any], **kwargs: Any) -> An
         raise ParameterError(f"{type(owner).__name__}: {exc}") from exc
 
 
-def _unit(v: Any, what: str, owner: str) -> np.ndarray:
-    v = _vector(v, what, owner)
+def unit_vector(v: Any, what: str, owner: str) -> np.ndarray:
+    v = vector3(v, what, owner)
     norm = np.linalg.norm(v)
     if not norm > 1e-12:
         raise ParameterError(f"{owner}: {what} = {v.tolist()} has zero length")
     return v / norm
 
 
-def _from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
+def from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
     """Transformation matrix frame → shape frame whose x axis is ``n_x`` and whose y axis is in the plane
     of ``n_x`` and ``n_y`` (MSL ``Frames.TransformationMatrices.from_nxy``, including its fallback when
     ``n_y`` is parallel to ``n_x``). Rows are the shape axes resolved in the frame."""
-    e_x = _unit(n_x, "length_direction (default r − r_shape)", owner)
-    n_y = _vector(n_y, "width_direction", owner)
+    e_x = unit_vector(n_x, "length_direction (default r − r_shape)", owner)
+    n_y = vector3(n_y, "width_direction", owner)
     aux = np.cross(e_x, n_y)
     if not aux @ aux > 1e-6:
         n_y = np.array([0.0, 1.0, 0.0]) if abs(e_x[0]) > 1e-6 else np.array([1.0, 0.0, 0.0])
@@ -126,7 +126,7 @@ def _from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
     return np.vstack([e_x, np.cross(e_z, e_x), e_z])
 
 
-def _positive(value: Any, what: str, owner: str, allow_zero: bool = False) -> float:
+def positive_size(value: Any, what: str, owner: str, allow_zero: bool = False) -> float:
     """A size or density: a real number (not a string such as ``density="7800"``, a bool or an array), > 0."""
     why = not_a_scalar(value)
     if why is not None:
@@ -138,7 +138,7 @@ def _positive(value: Any, what: str, owner: str, allow_zero: bool = False) -> fl
     return x
 
 
-def _vector(v: Any, what: str, owner: str) -> np.ndarray:
+def vector3(v: Any, what: str, owner: str) -> np.ndarray:
     """A 3-vector of real numbers (strings, bools, None and dicts are refused naming ``what``)."""
     arr = numeric_array(v, f"{owner}: {what} =", "a finite 3-vector of real numbers", ParameterError).reshape(-1)
     if arr.shape != (3,) or not np.all(np.isfinite(arr)):

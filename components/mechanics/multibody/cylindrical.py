@@ -6,7 +6,7 @@ from typing import Any
 
 from flexlib import Component, Variable, eq
 
-from .body_shape import _checked, _unit
+from .body_shape import build_part, unit_vector
 from .interfaces import Frame
 from .prismatic import Prismatic
 from .revolute import Revolute
@@ -58,9 +58,9 @@ class Cylindrical(Component):
 
     def __init__(self, *, n: Any = (1.0, 0.0, 0.0), **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        _unit(n, "n", type(self).__name__)
-        self.prismatic = _checked(self, Prismatic, n=n)
-        self.revolute = _checked(self, Revolute, n=n)
+        unit_vector(n, "n", type(self).__name__)
+        self.prismatic = build_part(self, Prismatic, n=n)
+        self.revolute = build_part(self, Revolute, n=n)
         self.connect(self.frame_a, self.prismatic.frame_a)
         self.connect(self.prismatic.frame_b, self.revolute.frame_a)
         self.connect(self.revolute.frame_b, self.frame_b)

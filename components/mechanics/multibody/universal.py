@@ -9,7 +9,7 @@ import numpy as np
 from flexlib import Component, Variable, eq
 from flexlib.errors import ParameterError
 
-from .body_shape import _checked, _unit
+from .body_shape import build_part, unit_vector
 from .interfaces import Frame
 from .revolute import Revolute
 
@@ -62,12 +62,12 @@ class Universal(Component):
     def __init__(self, *, n_a: Any = (1.0, 0.0, 0.0), n_b: Any = (0.0, 1.0, 0.0), **kwargs: Any) -> None:
         super().__init__(**kwargs)
         owner = type(self).__name__
-        e_a, e_b = _unit(n_a, "n_a", owner), _unit(n_b, "n_b", owner)
+        e_a, e_b = unit_vector(n_a, "n_a", owner), unit_vector(n_b, "n_b", owner)
         if not np.linalg.norm(np.cross(e_a, e_b)) > 1e-6:
             raise ParameterError(f"{owner}: axes n_a = {e_a.tolist()} and n_b = {e_b.tolist()} (normalised) are "
                                  "parallel; a universal joint needs two different rotation axes")
-        self.revolute_a = _checked(self, Revolute, n=n_a)
-        self.revolute_b = _checked(self, Revolute, n=n_b)
+        self.revolute_a = build_part(self, Revolute, n=n_a)
+        self.revolute_b = build_part(self, Revolute, n=n_b)
         self.connect(self.frame_a, self.revolute_a.frame_a)
         self.connect(self.revolute_a.frame_b, self.revolute_b.frame_a)
         self.connect(self.revolute_b.frame_b, self.frame_b)
