@@ -25,7 +25,8 @@ from flexlib.compile import cache, cache_key
 from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
 from flexlib.compile.explicit import explicit_mode
-from flexlib.compile.flatten import FlatSystem, check_balance, flatten
+from flexlib.compile.flat_checks import check_balance
+from flexlib.compile.flatten import FlatSystem, flatten
 from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
 from flexlib.compile.passes import key_options
