@@ -361,9 +361,8 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
     return structure.assemble(dummies, levels)
 
 
-def _assemble(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: set[int],
-              levels: list[Level], structure: Structure, explicit: bool = True) -> DAE:
-    variables = simple.variables
+def _entries(cols: list[Col], dummies: set[int]) -> tuple[dict[int, int], list[bool], list[int]]:
+    """Antiderivative of each derivative column, which columns are states, and the columns that are entries of y."""
     anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
     is_state = [c.der >= 0 and c.der not in dummies for c in cols]
     # y entries: every column that is not the derivative of a state, plus derivative columns that are states too
@@ -373,16 +372,42 @@ def _assemble(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: s
         if a is not None and is_state[a] and not is_state[k]:
             continue  # represented by yp of its antiderivative
         entries.append(k)
+    return anti, is_state, entries
+
+
+def _row_labels(simple: SimpleSystem, rows: list[Row]) -> tuple[list[str], dict[int, str]]:
+    """A label per row (owner, equation, times differentiated) and the text of each source equation."""
+    labels = []
+    sources = sorted({r.source for r in rows})
+    described = dict(zip(sources, describe_all([simple.equations[k] for k in sources]), strict=True))
+    for r in rows:
+        e = simple.equations[r.source]
+        text = f"{e.owner or '(model)'}: {described[r.source]}"
+        labels.append(text if r.order == 0 else f"{text}  [differentiated ×{r.order}]")
+    return labels, described
+
+
+def _level_jacobians(levels: list[Level], rows: list[Row], cols: list[Col]) -> list[ca.SX]:
+    """Each selection level's d(rows)/d(cands), the one the selection built where it kept it."""
+    jacs = []
+    for lev in levels:
+        jac = lev.jacobian
+        if jac is None:
+            jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
+                              ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
+        jacs.append(jac)
+    return jacs
+
+
+def _assemble(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: set[int],
+              levels: list[Level], structure: Structure, explicit: bool = True) -> DAE:
+    variables = simple.variables
+    anti, is_state, entries = _entries(cols, dummies)
     pos = {c: i for i, c in enumerate(entries)}
     n = len(entries)
     y = ca.SX.sym("y", n)
     yp = ca.SX.sym("yp", n)
-    col_value: dict[int, ca.SX] = {}
-    for k in range(len(cols)):
-        if k in pos:
-            col_value[k] = y[pos[k]]
-        else:
-            col_value[k] = yp[pos[anti[k]]]
+    col_value = [y[pos[k]] if k in pos else yp[pos[anti[k]]] for k in range(len(cols))]
     res_list = [r.expr for r in rows]
     # link equations: a state whose derivative is itself a state
     for k in entries:
@@ -395,13 +420,7 @@ def _assemble(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: s
     differential = np.array([is_state[k] for k in entries], dtype=bool)
     if F.numel() != n:
         raise StructuralSingularityError(f"index reduction produced {F.numel()} equations for {n} unknowns")
-    labels = []
-    sources = sorted({r.source for r in rows})
-    described = dict(zip(sources, describe_all([simple.equations[k] for k in sources]), strict=True))
-    for r in rows:
-        e = simple.equations[r.source]
-        text = f"{e.owner or '(model)'}: {described[r.source]}"
-        labels.append(text if r.order == 0 else f"{text}  [differentiated ×{r.order}]")
+    labels, described = _row_labels(simple, rows)
     labels += [f"der({col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
     cand_cols = {c for lev in levels for c in lev.cands}
     protected = np.array([k in cand_cols for k in entries], dtype=bool)
@@ -437,13 +456,7 @@ def _assemble(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: s
     out_names = list(simple.outputs)
     out_exprs = final([simple.outputs[nm] for nm in out_names])
     col_exprs = final([c.info.sym for c in cols])
-    level_jacs = []
-    for lev in levels:
-        jac = lev.jacobian
-        if jac is None:
-            jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
-                              ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
-        level_jacs.append(final_matrix(jac))
+    level_jacs = [final_matrix(jac) for jac in _level_jacobians(levels, rows, cols)]
     names = [col_name(cols[entries[i]], variables) for i in keep]
     cond_exprs = _initial_derivatives(simple.conditions, final([c.expr for c in simple.conditions]),
                                       dict(zip(out_names, out_exprs, strict=True)), F, y_new, yp_new,
