@@ -317,6 +317,64 @@ def _equation_list(node: Component, method: str, got: Any) -> list:
 # ---------------------------------------------------------------------------------------------
 # Connections
 # ---------------------------------------------------------------------------------------------
+def _flow_sum(name: str, elems: list[tuple[Connector, str]], owner: str, equations: list[FlatEquation]) -> None:
+    """The flow balance of ``name`` over one connection set (inside connectors +, outside −), or ``flow = 0`` for a
+    connector connected nowhere."""
+    conns = [c for c, _ in elems]
+    first = conns[0]
+    terms = []
+    for conn, side in elems:
+        s = conn._symbol(name)
+        terms.append(s if side == "inside" else -s)
+    total = terms[0]
+    for t in terms[1:]:
+        total = total + t
+    origin = "connect" if len(elems) > 1 else "unconnected flow"
+    if len(elems) > 1:
+        label = f"sum of {name} over ({', '.join(c.path for c in conns)}) = 0"
+    else:
+        label = f"{first._label(name)} = 0 (unconnected)"
+    row_owner = owner or first.path.rpartition(".")[0]
+    for expr in _elements(total):
+        equations.append(FlatEquation(expr, row_owner, label, origin))
+
+
+def _potential_equalities(name: str, conns: list[Connector],
+                          edges: list[tuple[tuple[int, str], Connector, Connector, str]], owner: str,
+                          broken: set[frozenset] | None, equations: list[FlatEquation]) -> None:
+    """Equality of the potential variable ``name`` along one set's connections (broken ones last, as loop
+    closures)."""
+    first = conns[0]
+    set_edges = list(edges)
+    set_edges.sort(key=lambda e: frozenset((id(e[1]), id(e[2]))) in (broken or set()))
+    group = {id(c): id(c) for c in conns}
+
+    def gfind(x: int, group: dict[int, int] = group) -> int:
+        while group[x] != x:
+            x = group[x]
+        return x
+
+    for _, ca_, cb_, edge_owner in set_edges:
+        ra_, rb_ = gfind(id(ca_)), gfind(id(cb_))
+        if ra_ == rb_:
+            continue
+        group[ra_] = rb_
+        diff = ca_._symbol(name) - cb_._symbol(name)
+        is_loop = frozenset((id(ca_), id(cb_))) in (broken or set())
+        label = f"{ca_._label(name)} = {cb_._label(name)}"
+        for k, expr in enumerate(_elements(diff)):
+            meta = ("position", ca_, cb_, k) if is_loop else None
+            equations.append(FlatEquation(expr, edge_owner or owner, label,
+                                          "loop closure" if is_loop else "connect", meta))
+    for conn in conns[1:]:  # members not joined by edges (should not happen): chain equality
+        if gfind(id(conn)) != gfind(id(first)):
+            diff = first._symbol(name) - conn._symbol(name)
+            group[gfind(id(conn))] = gfind(id(first))
+            for k in range(diff.numel()):
+                equations.append(FlatEquation(diff.nz[k], owner, f"{first._label(name)} = "
+                                              f"{conn._label(name)}", "connect"))
+
+
 def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
                           broken: set[frozenset] | None = None) -> None:
     parent: dict[tuple[int, str], tuple[int, str]] = {}
@@ -370,49 +428,8 @@ def _connection_equations(nodes: list[Node], equations: list[FlatEquation],
             first.check_connection(conns)
         for name, decl in first._decls.items():
             if decl.kind is Kind.flow:
-                terms = []
-                for conn, side in elems:
-                    s = conn._symbol(name)
-                    terms.append(s if side == "inside" else -s)
-                total = terms[0]
-                for t in terms[1:]:
-                    total = total + t
-                origin = "connect" if len(elems) > 1 else "unconnected flow"
-                if len(elems) > 1:
-                    label = f"sum of {name} over ({', '.join(c.path for c in conns)}) = 0"
-                else:
-                    label = f"{first._label(name)} = 0 (unconnected)"
-                row_owner = owner or first.path.rpartition(".")[0]
-                for expr in _elements(total):
-                    equations.append(FlatEquation(expr, row_owner, label, origin))
+                _flow_sum(name, elems, owner, equations)
             elif getattr(decl, "overdetermined", False):
                 continue  # equated by the pass that handles the connector (flexlib.compile.passes)
             else:  # equal along the set's connections; a broken (loop-closing) one gives loop-closure rows
-                set_edges = list(edges_of.get(root_key, ()))
-                set_edges.sort(key=lambda e: frozenset((id(e[1]), id(e[2]))) in (broken or set()))
-                group = {id(c): id(c) for c in conns}
-
-                def gfind(x: int, group: dict[int, int] = group) -> int:
-                    while group[x] != x:
-                        x = group[x]
-                    return x
-
-                for _, ca_, cb_, edge_owner in set_edges:
-                    ra_, rb_ = gfind(id(ca_)), gfind(id(cb_))
-                    if ra_ == rb_:
-                        continue
-                    group[ra_] = rb_
-                    diff = ca_._symbol(name) - cb_._symbol(name)
-                    is_loop = frozenset((id(ca_), id(cb_))) in (broken or set())
-                    label = f"{ca_._label(name)} = {cb_._label(name)}"
-                    for k, expr in enumerate(_elements(diff)):
-                        meta = ("position", ca_, cb_, k) if is_loop else None
-                        equations.append(FlatEquation(expr, edge_owner or owner, label,
-                                                      "loop closure" if is_loop else "connect", meta))
-                for conn in conns[1:]:  # members not joined by edges (should not happen): chain equality
-                    if gfind(id(conn)) != gfind(id(first)):
-                        diff = first._symbol(name) - conn._symbol(name)
-                        group[gfind(id(conn))] = gfind(id(first))
-                        for k in range(diff.numel()):
-                            equations.append(FlatEquation(diff.nz[k], owner, f"{first._label(name)} = "
-                                                          f"{conn._label(name)}", "connect"))
+                _potential_equalities(name, conns, edges_of.get(root_key, []), owner, broken, equations)
