@@ -135,45 +135,12 @@ def _elements(expr: ca.SX) -> list[ca.SX]:
     return [expr.nz[k] for k in range(expr.numel())]
 
 
-def flatten(root: Component, check: bool = True) -> FlatSystem:
-    """Flatten the instance tree below ``root`` and check its balance.
-
-    Raises
-    ------
-    ModelError
-        Missing parameter values, unconnected inputs, bad equations.
-    BalanceError
-        Too many or too few equations (names the components involved).
-    StructuralSingularityError
-        As many equations as unknowns, but no perfect matching.
-
-    Warns
-    -----
-    ModelWarning
-        A component connected to nothing that has no effect on the model
-        (:func:`~flexlib.compile.flat_checks.unconnected_components`).
-    """
-    if root._parent is not None:
-        raise ModelError(f"{root.path}: flatten the top-level model, not a sub-component")
-    nodes = root.walk()
+def _declarations(nodes: list[Node]) -> tuple[list[FlatVariable], list[FlatParameter], dict[int, int]]:
+    """The scalar variables and parameters the nodes declare (each node validated first), and the variables' index by
+    symbol hash."""
     variables: list[FlatVariable] = []
     parameters: list[FlatParameter] = []
-    equations: list[FlatEquation] = []
-    relations: list[Relation] = []
-    initial: list[FlatEquation] = []
     by_hash: dict[int, int] = {}
-
-    # -- domain passes (the multibody orientation tree): components may then declare dependent quantities
-    from flexlib.compile.passes import active_passes  # here: the passes' modules build on this one
-
-    passes = active_passes(nodes)
-    for p in passes:
-        p.structure(nodes)
-    for node in nodes:
-        if isinstance(node, Component):
-            _call(node, "on_structure")
-
-    # -- declarations ---------------------------------------------------------------------------
     nominals = instance_nominals(nodes)  # the components' nominals() at the build's values (scaling stage)
     for node in nodes:
         node.validate()  # cross-parameter rules, now with the instance path known
@@ -209,8 +176,14 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                                               None if rule is None else rule[k],
                                               bool(getattr(decl, "error_test", True)),
                                               bool(getattr(decl, "intermediate", False))))
+    return variables, parameters, by_hash
 
-    # -- component equations --------------------------------------------------------------------
+
+def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Relation], list[FlatEquation]]:
+    """The scalar equations, event relations and initial equations of the components."""
+    equations: list[FlatEquation] = []
+    relations: list[Relation] = []
+    initial: list[FlatEquation] = []
     for node in nodes:
         if not isinstance(node, Component):
             continue
@@ -236,7 +209,43 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
                 continue
             for k in range(res.numel()):
                 equations.append(FlatEquation(res[k], path, equ.label, "equation"))
+    return equations, relations, initial
 
+
+def flatten(root: Component, check: bool = True) -> FlatSystem:
+    """Flatten the instance tree below ``root`` and check its balance.
+
+    Raises
+    ------
+    ModelError
+        Missing parameter values, unconnected inputs, bad equations.
+    BalanceError
+        Too many or too few equations (names the components involved).
+    StructuralSingularityError
+        As many equations as unknowns, but no perfect matching.
+
+    Warns
+    -----
+    ModelWarning
+        A component connected to nothing that has no effect on the model
+        (:func:`~flexlib.compile.flat_checks.unconnected_components`).
+    """
+    if root._parent is not None:
+        raise ModelError(f"{root.path}: flatten the top-level model, not a sub-component")
+    nodes = root.walk()
+
+    # -- domain passes (the multibody orientation tree): components may then declare dependent quantities
+    from flexlib.compile.passes import active_passes  # here: the passes' modules build on this one
+
+    passes = active_passes(nodes)
+    for p in passes:
+        p.structure(nodes)
+    for node in nodes:
+        if isinstance(node, Component):
+            _call(node, "on_structure")
+
+    variables, parameters, by_hash = _declarations(nodes)
+    equations, relations, initial = _component_equations(nodes)
     check_finite(nodes, equations, initial)
     _connection_equations(nodes, equations, set().union(*(p.broken_connections() for p in passes)))
     for p in passes:
