@@ -45,7 +45,7 @@ import numpy as np
 import sksundae as sun
 
 import flexlib as fl
-from flexlib.compile.index_reduction import _pick_columns
+from flexlib.compile.dummy_derivatives import pick_columns
 from flexlib.solve import state_selection as ss
 from flexlib.solve import sundae_callbacks
 from flexlib.solve.backends import base, sksundae
@@ -87,7 +87,7 @@ class LegacyMonitor(ss.StateSelectionMonitor):
             offset += n_rows * n_cands
             if n_cands == n_rows:
                 continue
-            best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
+            best = pick_columns(block, list(range(n_cands)), costs, n_rows)
             if best is None or sorted(best) == sorted(selected):
                 continue
             quality = ss._smallest_sv(block[:, selected]) / max(ss._smallest_sv(block[:, best]), 1e-300)

@@ -1,7 +1,7 @@
 """Benchmark: cost of the flatten-time model checks on the N-link pendulum chain.
 
 * the parameter hook (``Node.validate`` → ``Component.check``) on every instance;
-* the scan of all equations for NaN/inf constants (``flatten._check_finite``, one CasADi function over the
+* the scan of all equations for NaN/inf constants (``flat_checks.check_finite``, one CasADi function over the
   whole residual);
 
 each timed alone and as a fraction of one ``flatten`` of the same model, in the same run (the floor).
@@ -19,6 +19,7 @@ os.environ["OMP_NUM_THREADS"] = "1"
 import sys
 import time
 
+from flexlib.compile import flat_checks
 from flexlib.compile import flatten as flatten_mod
 from flexlib.models.n_link_pendulum import NLinkPendulum
 
@@ -40,7 +41,7 @@ def main(sizes: list[int]) -> None:
         flat = flatten_mod.flatten(model)
         nodes = model.walk()
         t_flat = _best(lambda n=n: flatten_mod.flatten(NLinkPendulum(n)), reps=2)
-        t_nan = _best(lambda nodes=nodes, flat=flat: flatten_mod._check_finite(nodes, flat.equations, flat.initial))
+        t_nan = _best(lambda nodes=nodes, flat=flat: flat_checks.check_finite(nodes, flat.equations, flat.initial))
         t_val = _best(lambda nodes=nodes: [node.validate() for node in nodes])
         rows.append((n, len(flat.equations), t_flat, t_nan, t_val, (t_nan + t_val) / t_flat))
         print(f"{n:>4} {len(flat.equations):>9} {t_flat * 1e3:>12.1f} {t_nan * 1e3:>13.1f} {t_val * 1e3:>13.1f} "

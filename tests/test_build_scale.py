@@ -17,7 +17,8 @@ import pytest
 import scipy.sparse as sp
 
 from flexlib.compile import pipeline
-from flexlib.compile.flatten import check_balance, describe_all, flatten
+from flexlib.compile.flat_checks import check_balance
+from flexlib.compile.flatten import describe_all, flatten
 from flexlib.compile.structure import culprits, matching
 from flexlib.core.variables import render
 from flexlib.models.n_mass_chain import NMassChain

@@ -231,6 +231,46 @@ def _select(pattern: list[set[int]], pivots: dict[tuple[int, int], float],
     return order
 
 
+def _resolve_definitions(defs: list[ca.SX], vs: ca.SX) -> ca.SX:
+    """The definitions ``vs = defs`` resolved in dependency order: level by level, each substituting every definition
+    resolved before it."""
+    colind, dep_row = ca.jacobian_sparsity(ca.vertcat(*defs), vs).get_ccs()
+    deps: list[list[int]] = [[] for _ in defs]
+    for c in range(len(defs)):
+        for r in dep_row[colind[c]:colind[c + 1]]:
+            deps[r].append(c)
+    level = [-1] * len(defs)
+
+    def depth(k: int) -> int:
+        stack = [k]
+        while stack:
+            j = stack[-1]
+            pending = [d for d in deps[j] if level[d] < 0]
+            if pending:
+                stack.extend(pending)
+                continue
+            stack.pop()
+            level[j] = 1 + max((level[d] for d in deps[j]), default=-1)
+        return level[k]
+
+    for k in range(len(defs)):
+        if level[k] < 0:
+            depth(k)
+    resolved: list[ca.SX | None] = [None] * len(defs)
+    done_syms: list[ca.SX] = []
+    done_vals: list[ca.SX] = []
+    for lev in range(max(level) + 1):
+        ks = [k for k in range(len(defs)) if level[k] == lev]
+        exprs = ca.vertcat(*[defs[k] for k in ks])
+        if done_syms:
+            exprs = ca.substitute([exprs], [ca.vertcat(*done_syms)], [ca.vertcat(*done_vals)])[0]
+        for j, k in enumerate(ks):
+            resolved[k] = exprs[j]
+        done_syms += [vs[k] for k in ks]
+        done_vals += [exprs[j] for j in range(len(ks))]
+    return ca.vertcat(*resolved)
+
+
 def eliminate_explicit_algebraics(rows: list[ca.SX], y: ca.SX, yp: ca.SX, differential: np.ndarray,
                                   protected: np.ndarray, max_net: int = MAX_NET_FILL
                                   ) -> tuple[list[int], list[int], ca.SX, ca.SX]:
@@ -284,42 +324,7 @@ def eliminate_explicit_algebraics(rows: list[ca.SX], y: ca.SX, yp: ca.SX, differ
         defs.append(-ca.substitute(rows[r], y[v], ca.SX(0.0)) / c)
     elim = [v for _, v in order]
     vs = ca.vertcat(*[y[v] for v in elim])
-    # resolve in dependency order: level by level, each substituting every definition resolved before it
-    colind, dep_row = ca.jacobian_sparsity(ca.vertcat(*defs), vs).get_ccs()
-    deps: list[list[int]] = [[] for _ in elim]
-    for c in range(len(elim)):
-        for r in dep_row[colind[c]:colind[c + 1]]:
-            deps[r].append(c)
-    level = [-1] * len(elim)
-
-    def depth(k: int) -> int:
-        stack = [k]
-        while stack:
-            j = stack[-1]
-            pending = [d for d in deps[j] if level[d] < 0]
-            if pending:
-                stack.extend(pending)
-                continue
-            stack.pop()
-            level[j] = 1 + max((level[d] for d in deps[j]), default=-1)
-        return level[k]
-
-    for k in range(len(elim)):
-        if level[k] < 0:
-            depth(k)
-    resolved: list[ca.SX | None] = [None] * len(elim)
-    done_syms: list[ca.SX] = []
-    done_vals: list[ca.SX] = []
-    for lev in range(max(level) + 1):
-        ks = [k for k in range(len(elim)) if level[k] == lev]
-        exprs = ca.vertcat(*[defs[k] for k in ks])
-        if done_syms:
-            exprs = ca.substitute([exprs], [ca.vertcat(*done_syms)], [ca.vertcat(*done_vals)])[0]
-        for j, k in enumerate(ks):
-            resolved[k] = exprs[j]
-        done_syms += [vs[k] for k in ks]
-        done_vals += [exprs[j] for j in range(len(ks))]
-    values = ca.vertcat(*resolved)
+    values = _resolve_definitions(defs, vs)
     pivot_rows = {r for r, _ in order}
     kept = [k for k in range(n_rows) if k not in pivot_rows]
     new_rows = ca.substitute([ca.vertcat(ca.SX(0, 1), *[rows[k] for k in kept])], [vs], [values])[0]

@@ -21,24 +21,20 @@ of ``y``.
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
-import scipy.linalg as sla
 
+from flexlib.compile.dummy_derivatives import Col, Level, Row, col_name, select_dummies
 from flexlib.compile.flatten import FlatEquation, FlatVariable, describe_all
 from flexlib.compile.post_simplify import post_simplify as _post_simplify
 from flexlib.compile.simplify import Condition, SimpleSystem
-from flexlib.compile.structure import row_jacobian
 from flexlib.core.functions import Relation
-from flexlib.core.variables import StateSelect, SymInfo, full_name, lookup, time
+from flexlib.core.variables import full_name, lookup, time
 from flexlib.errors import ModelError, StructuralSingularityError
 
 __all__ = ["DAE", "IndexReport", "reduce_index"]
-
-log = logging.getLogger(__name__)
 
 
 @dataclass
@@ -139,19 +135,6 @@ class DAE:
 
 
 @dataclass(eq=False)
-class Level:
-    """One level of the dummy-derivative selection (Mattsson–Söderlind): ``need`` of the candidate
-    derivatives ``cands`` are made dummies so that the block of ``rows`` over them is regular."""
-
-    rows: list[int]
-    cands: list[int]
-    costs: list[int]
-    selected: list[int]
-    jacobian: ca.SX | None = field(default=None, repr=False)
-    """d(rows)/d(cands), symbolic, as the selection built it (assembly reuses it instead of a second jacobian)."""
-
-
-@dataclass(eq=False)
 class Structure:
     """Index-reduced equations before state selection (kept to re-select states at run time)."""
 
@@ -162,7 +145,7 @@ class Structure:
 
     def select(self, point: tuple[ca.SX, np.ndarray] | None = None) -> tuple[set[int], list[Level]]:
         """Dummy derivatives chosen at ``point`` (symbols, values); the start values if None."""
-        return _select_dummies(self.rows, self.cols, self.simple.variables, self.simple, self.param_values, point)
+        return select_dummies(self.rows, self.cols, self.simple.variables, self.simple, self.param_values, point)
 
     def assemble(self, dummies: set[int], levels: list[Level], explicit: bool = True) -> DAE:
         """The index-1 DAE for a dummy-derivative selection (``explicit=False``: no explicit algebraics
@@ -181,24 +164,6 @@ class Structure:
         return [q.sym for q in self.simple.flat.parameters]
 
 
-@dataclass(eq=False)
-class _Col:
-    var: int          # index into SimpleSystem.variables
-    order: int
-    info: SymInfo
-    der: int = -1     # column of the derivative, -1 if none
-
-
-@dataclass(eq=False)
-class _Row:
-    source: int       # original equation index
-    order: int        # times differentiated
-    inc: set[int]
-    expr: ca.SX | None = None
-    der: int = -1     # row of the derivative, -1 if none
-    pred: int = -1    # row this one is the derivative of
-
-
 class _Unterminated(Exception):
     """Pantelides' algorithm kept differentiating: the source equations and variables of the last failed search."""
 
@@ -210,7 +175,7 @@ class _Unterminated(Exception):
 class _Pantelides:
     """Pantelides' algorithm on the structural incidence (iterative augmenting paths)."""
 
-    def __init__(self, cols: list[_Col], rows: list[_Row], col_of: dict[int, int], rules: dict[int, ca.SX]) -> None:
+    def __init__(self, cols: list[Col], rows: list[Row], col_of: dict[int, int], rules: dict[int, ca.SX]) -> None:
         self.cols, self.rows = cols, rows
         self.assign = [-1] * len(cols)
         self.col_of = col_of   # symbol hash -> column
@@ -297,7 +262,7 @@ class _Pantelides:
         if col.der < 0:
             col.der = len(self.cols)
             info = col.info.der_info
-            self.cols.append(_Col(col.var, col.order + 1, info))
+            self.cols.append(Col(col.var, col.order + 1, info))
             self.col_of[info.sym.element_hash()] = col.der
             self.assign.append(-1)
         return col.der
@@ -317,11 +282,11 @@ class _Pantelides:
             expr = ca.jtimes(row.expr, v, vd)
             inc = {self.col_of[s.element_hash()] for s in ca.symvar(expr) if s.element_hash() in self.col_of}
             row.der = len(self.rows)
-            self.rows.append(_Row(row.source, row.order + 1, inc, expr, pred=r))
+            self.rows.append(Row(row.source, row.order + 1, inc, expr, pred=r))
         return row.der
 
 
-def _defining_rows(rows: list[_Row], cols: list[_Col], rules: dict[int, ca.SX]) -> dict[int, int]:
+def _defining_rows(rows: list[Row], cols: list[Col], rules: dict[int, ca.SX]) -> dict[int, int]:
     """For each column with a derivative rule, the row that defines it explicitly (``T_b = T_rel·T_a``,
     ``T = T(Q)``: linear in it with a unit coefficient), found by a matching over such pairs."""
     import scipy.sparse as sp
@@ -356,22 +321,22 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
         derivative selection.
     """
     variables, equations = simple.variables, simple.equations
-    cols: list[_Col] = []
+    cols: list[Col] = []
     col_of: dict[int, int] = {}
     for i, v in enumerate(variables):
         col_of[v.sym.element_hash()] = len(cols)
-        cols.append(_Col(i, 0, v.info))
+        cols.append(Col(i, 0, v.info))
     used_ders = {s.element_hash() for s in ca.symvar(ca.vertcat(*[e.expr for e in equations]))} if equations else set()
     for i, v in enumerate(variables):
         if v.info._der is not None and v.info._der.sym.element_hash() in used_ders:
             c0 = col_of[v.sym.element_hash()]
             cols[c0].der = len(cols)
             col_of[v.info._der.sym.element_hash()] = len(cols)
-            cols.append(_Col(i, 1, v.info._der))
+            cols.append(Col(i, 1, v.info._der))
     exprs = ca.vertcat(*[e.expr for e in equations])
     syms = ca.vertcat(*[c.info.sym for c in cols])
     spj = ca.jacobian_sparsity(exprs, syms) if len(equations) else None
-    rows: list[_Row] = [_Row(k, 0, set(), equations[k].expr) for k in range(len(equations))]
+    rows: list[Row] = [Row(k, 0, set(), equations[k].expr) for k in range(len(equations))]
     if spj is not None:
         colind, rowidx = spj.get_ccs()
         for c in range(len(cols)):
@@ -396,138 +361,8 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
     return structure.assemble(dummies, levels)
 
 
-def _numeric_point(simple: SimpleSystem, cols: list[_Col], param_values: dict[int, float]) -> tuple[ca.SX, np.ndarray]:
-    syms, vals = [time], [0.0]
-    for c in cols:
-        syms.append(c.info.sym)
-        vals.append(simple.variables[c.var].start if c.order == 0 else 0.0)
-    for h, val in param_values.items():
-        info = lookup_hash(h)
-        if info is not None:
-            syms.append(info.sym)
-            vals.append(val)
-    return ca.vertcat(*syms), np.array(vals)
-
-
-def lookup_hash(h: int) -> SymInfo | None:
-    """Registry entry by element hash."""
-    from flexlib.core.variables import lookup_hash as registry_entry
-
-    return registry_entry(h)
-
-
-def _cost(col: _Col, cols: list[_Col], variables: list[FlatVariable]) -> int:
-    """Cost of making ``col`` a dummy derivative (= removing its antiderivative from the states)."""
-    if col.order >= 2:
-        return -1  # the antiderivative is itself a generated derivative
-    return int(variables[col.var].state_select)
-
-
-def _select_dummies(rows: list[_Row], cols: list[_Col], variables: list[FlatVariable],
-                    simple: SimpleSystem, param_values: dict[int, float],
-                    point: tuple[ca.SX, np.ndarray] | None = None) -> tuple[set[int], list[Level]]:
-    g = [k for k, r in enumerate(rows) if r.der < 0]
-    z = [k for k, c in enumerate(cols) if c.der < 0]
-    anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
-    dummies: set[int] = set()
-    levels: list[Level] = []
-    if not any(rows[k].order > 0 for k in g):
-        return dummies, levels
-    if point is None:
-        point_syms, point_vals = _numeric_point(simple, cols, param_values)
-        # relations: freeze at their start values
-        rel_syms = [rel.info.sym for rel, _ in simple.relations]
-        if rel_syms:
-            ind = ca.Function("ind", [point_syms], [ca.vertcat(*[i for _, i in simple.relations])])
-            zval = np.asarray(ind(point_vals)).ravel()
-            point_syms = ca.vertcat(point_syms, *rel_syms)
-            point_vals = np.concatenate([point_vals, [float(rel.value(z))
-                                                      for (rel, _), z in zip(simple.relations, zval)]])
-    else:
-        point_syms, point_vals = point
-    level = 1
-    while True:
-        g_diff = [r for r in g if rows[r].order > 0]
-        if not g_diff:
-            break
-        cand = [c for c in z if cols[c].order > 0]
-        need = len(g_diff)
-        if len(cand) < need:
-            raise StructuralSingularityError(
-                f"dummy derivative selection failed at level {level}: {need} differentiated equations but only "
-                f"{len(cand)} candidate derivatives")
-        jexpr = row_jacobian(ca.vertcat(*[rows[r].expr for r in g_diff]), ca.vertcat(*[cols[c].info.sym for c in cand]))
-        jfun = ca.Function("jsel", [point_syms], [jexpr])
-        J = np.asarray(jfun(point_vals))
-        costs = [_cost(cols[c], cols, variables) for c in cand]
-        selected = _pick_columns(J, cand, costs, need)
-        if selected is None:
-            log.warning("dummy derivative selection is numerically singular at the start values "
-                        "(level %d); using a structural selection", level)
-            selected = _structural_pick(J != 0, cand, need, jexpr)
-        dummies.update(selected)
-        levels.append(Level(list(g_diff), list(cand), costs, list(selected), jexpr))
-        always = [cols[anti[c]] for c in selected if cols[anti[c]].order == 0
-                  and variables[cols[anti[c]].var].state_select is StateSelect.always]
-        for col in always:
-            log.warning("%s has state_select='always' but cannot be a state", variables[col.var].name)
-        g = [rows[r].pred for r in g_diff]
-        z = [anti[c] for c in selected]
-        level += 1
-    return dummies, levels
-
-
-def _pick_columns(J: np.ndarray, cand: list[int], cost: list[int], need: int) -> list[int] | None:
-    """Choose ``need`` columns of ``J`` forming a well-conditioned square block, cheapest cost classes first."""
-    scale = max(1.0, float(np.abs(J).max()) if J.size else 1.0)
-    tol = 1e-9 * scale
-    chosen: list[int] = []
-    Q = np.zeros((J.shape[0], 0))
-    for level in sorted(set(cost)):
-        if len(chosen) == need:
-            break
-        idx = [k for k in range(len(cand)) if cost[k] == level]
-        A = J[:, idx]
-        A = A - Q @ (Q.T @ A)
-        if not np.any(np.abs(A) > tol):
-            continue
-        _, R, piv = sla.qr(A, mode="economic", pivoting=True)
-        diag = np.abs(np.diag(R))
-        for k in range(len(diag)):
-            if len(chosen) == need or diag[k] <= tol:
-                break
-            chosen.append(idx[piv[k]])
-        Q, _ = np.linalg.qr(J[:, chosen]) if chosen else (Q, None)
-    if len(chosen) < need:
-        return None
-    return [cand[k] for k in chosen]
-
-
-def _structural_pick(mask: np.ndarray, cand: list[int], need: int, jexpr: ca.SX) -> list[int]:
-    from flexlib.compile.structure import matching
-
-    spj = jexpr.sparsity()
-    colind, row = spj.get_ccs()
-    import scipy.sparse as sp
-
-    inc = sp.csc_matrix((np.ones(len(row)), np.asarray(row), np.asarray(colind)), shape=spj.shape).tocsr()
-    row_match, _ = matching(inc)
-    if np.any(row_match < 0):
-        raise StructuralSingularityError(
-            "dummy derivative selection: differentiated equations are structurally singular")
-    return [cand[c] for c in row_match]
-
-
-def _col_name(col: _Col, variables: list[FlatVariable]) -> str:
-    name = variables[col.var].name
-    for _ in range(col.order):
-        name = f"der({name})"
-    return name
-
-
-def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],
-              levels: list[Level], structure: Structure, explicit: bool = True) -> DAE:
-    variables = simple.variables
+def _entries(cols: list[Col], dummies: set[int]) -> tuple[dict[int, int], list[bool], list[int]]:
+    """Antiderivative of each derivative column, which columns are states, and the columns that are entries of y."""
     anti = {c.der: k for k, c in enumerate(cols) if c.der >= 0}
     is_state = [c.der >= 0 and c.der not in dummies for c in cols]
     # y entries: every column that is not the derivative of a state, plus derivative columns that are states too
@@ -537,16 +372,42 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
         if a is not None and is_state[a] and not is_state[k]:
             continue  # represented by yp of its antiderivative
         entries.append(k)
+    return anti, is_state, entries
+
+
+def _row_labels(simple: SimpleSystem, rows: list[Row]) -> tuple[list[str], dict[int, str]]:
+    """A label per row (owner, equation, times differentiated) and the text of each source equation."""
+    labels = []
+    sources = sorted({r.source for r in rows})
+    described = dict(zip(sources, describe_all([simple.equations[k] for k in sources]), strict=True))
+    for r in rows:
+        e = simple.equations[r.source]
+        text = f"{e.owner or '(model)'}: {described[r.source]}"
+        labels.append(text if r.order == 0 else f"{text}  [differentiated ×{r.order}]")
+    return labels, described
+
+
+def _level_jacobians(levels: list[Level], rows: list[Row], cols: list[Col]) -> list[ca.SX]:
+    """Each selection level's d(rows)/d(cands), the one the selection built where it kept it."""
+    jacs = []
+    for lev in levels:
+        jac = lev.jacobian
+        if jac is None:
+            jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
+                              ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
+        jacs.append(jac)
+    return jacs
+
+
+def _assemble(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: set[int],
+              levels: list[Level], structure: Structure, explicit: bool = True) -> DAE:
+    variables = simple.variables
+    anti, is_state, entries = _entries(cols, dummies)
     pos = {c: i for i, c in enumerate(entries)}
     n = len(entries)
     y = ca.SX.sym("y", n)
     yp = ca.SX.sym("yp", n)
-    col_value: dict[int, ca.SX] = {}
-    for k in range(len(cols)):
-        if k in pos:
-            col_value[k] = y[pos[k]]
-        else:
-            col_value[k] = yp[pos[anti[k]]]
+    col_value = [y[pos[k]] if k in pos else yp[pos[anti[k]]] for k in range(len(cols))]
     res_list = [r.expr for r in rows]
     # link equations: a state whose derivative is itself a state
     for k in entries:
@@ -559,14 +420,8 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     differential = np.array([is_state[k] for k in entries], dtype=bool)
     if F.numel() != n:
         raise StructuralSingularityError(f"index reduction produced {F.numel()} equations for {n} unknowns")
-    labels = []
-    sources = sorted({r.source for r in rows})
-    described = dict(zip(sources, describe_all([simple.equations[k] for k in sources]), strict=True))
-    for r in rows:
-        e = simple.equations[r.source]
-        text = f"{e.owner or '(model)'}: {described[r.source]}"
-        labels.append(text if r.order == 0 else f"{text}  [differentiated ×{r.order}]")
-    labels += [f"der({_col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
+    labels, described = _row_labels(simple, rows)
+    labels += [f"der({col_name(cols[k], variables)}) link" for k in entries if is_state[k] and cols[k].der in pos]
     cand_cols = {c for lev in levels for c in lev.cands}
     protected = np.array([k in cand_cols for k in entries], dtype=bool)
     # declarations of the algebraic entries that are variables (not derivative columns), alias classes merged
@@ -601,14 +456,8 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     out_names = list(simple.outputs)
     out_exprs = final([simple.outputs[nm] for nm in out_names])
     col_exprs = final([c.info.sym for c in cols])
-    level_jacs = []
-    for lev in levels:
-        jac = lev.jacobian
-        if jac is None:
-            jac = ca.jacobian(ca.vertcat(*[rows[r].expr for r in lev.rows]),
-                              ca.vertcat(*[cols[c].info.sym for c in lev.cands]))
-        level_jacs.append(final_matrix(jac))
-    names = [_col_name(cols[entries[i]], variables) for i in keep]
+    level_jacs = [final_matrix(jac) for jac in _level_jacobians(levels, rows, cols)]
+    names = [col_name(cols[entries[i]], variables) for i in keep]
     cond_exprs = _initial_derivatives(simple.conditions, final([c.expr for c in simple.conditions]),
                                       dict(zip(out_names, out_exprs, strict=True)), F, y_new, yp_new,
                                       differential[keep], names)
@@ -618,14 +467,14 @@ def _assemble(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies:
     start = np.array([variables[cols[entries[i]].var].start if cols[entries[i]].order == 0 else 0.0 for i in keep])
     diff_keep = differential[keep]
     report = _report(simple, rows, cols, dummies, is_state, variables, described)
-    report.explicit = [_col_name(cols[entries[i]], variables) for i in explicit]
+    report.explicit = [col_name(cols[entries[i]], variables) for i in explicit]
     return DAE(
         y=y_new, yp=yp_new, residual=F, differential=diff_keep, names=names, nominal=nominal, start=start,
         outputs=dict(zip(out_names, out_exprs, strict=True)),
         conditions=[Condition(c.name, e, c.value) for c, e in zip(simple.conditions, cond_exprs, strict=True)],
         relations=[(rel, e) for (rel, _), e in zip(simple.relations, rel_exprs, strict=True)],
         report=report, owners=owners, row_labels=labels,
-        col_names=[_col_name(c, variables) for c in cols], col_values=ca.vertcat(*col_exprs),
+        col_names=[col_name(c, variables) for c in cols], col_values=ca.vertcat(*col_exprs),
         levels=levels, level_jacobians=level_jacs, structure=structure, untested=untested[keep],
     )
 
@@ -694,7 +543,7 @@ def _in_states(e: ca.SX, F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray
     return e, [label for _, label in left]
 
 
-def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: set[int],
+def _report(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: set[int],
             is_state: list[bool], variables: list[FlatVariable], described: dict[int, str]) -> IndexReport:
     times: dict[int, int] = {}
     for r in rows:
@@ -704,7 +553,7 @@ def _report(simple: SimpleSystem, rows: list[_Row], cols: list[_Col], dummies: s
     has_alg = any(c.der < 0 and c.order == 0 for c in cols)
     max_diff = max(times.values(), default=0)
     index = max_diff + 1 if (max_diff > 0 or has_alg) else 0
-    states = [_col_name(c, variables) for k, c in enumerate(cols) if is_state[k]]
-    dummy_names = [_col_name(cols[k], variables) for k in sorted(dummies)]
+    states = [col_name(c, variables) for k, c in enumerate(cols) if is_state[k]]
+    dummy_names = [col_name(cols[k], variables) for k in sorted(dummies)]
     return IndexReport(index, differentiated, states, dummy_names, list(simple.redundant),
                        tree_frames=simple.tree_frames)

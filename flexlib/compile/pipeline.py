@@ -19,13 +19,15 @@ from __future__ import annotations
 
 import time as _time
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from flexlib.compile import cache, cache_key
 from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
 from flexlib.compile.explicit import explicit_mode
-from flexlib.compile.flatten import FlatSystem, check_balance, flatten
+from flexlib.compile.flat_checks import check_balance
+from flexlib.compile.flatten import FlatSystem, flatten
 from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
 from flexlib.compile.passes import key_options
@@ -191,6 +193,42 @@ def build_key(root: Component, *, codegen: bool | str, assume_zero_geometry: boo
                                       "nominals": key_nominals(root)})
 
 
+def _load_entry(entry: Path, root: Component, directory: Path) -> tuple[CompiledModel | None, Path | None]:
+    """The cached model at ``entry`` with its pending C library attached, or None (absent, damaged, or built under
+    parameter assumptions ``root`` breaks, which also drops the entry)."""
+    try:
+        model = cache.load(entry)
+    except cache.CacheEntryError as err:
+        cache.warn_once(err.path, f"damaged cache entry ({err.reason}); removing and rebuilding it")
+        if err.path.name.endswith(".so"):
+            cache.discard(err.path)
+        cache.discard(entry)
+        model = None
+    if model is not None and not assumptions_hold(model.assumed, root):
+        return None, None  # built under parameter assumptions this instance breaks: build it for its own values
+    if model is not None and model.wants_c and model.library is None:  # stored before its background gcc finished
+        pending = _COMPILING.get(str(entry))
+        if pending is None:
+            texts = (model.serialized["res"], model.serialized["jac"]) if model.serialized else None
+            pending = generate_c(model.sx_function("res"), model.sx_function("jac"), directory / "lib",
+                                 background=True, serialized=texts)
+            _COMPILING[str(entry)] = pending
+        model.library_pending = pending  # share this process's compile: no second gcc of the same C
+        model.on_library = _updater(entry)
+    return model, entry
+
+
+def _store_entry(entry: Path, model: CompiledModel) -> None:
+    """Store a fresh build at ``entry`` (a failure warns once) and register its background C compile."""
+    try:
+        cache.store(entry, model)
+    except (OSError, cache.CacheEntryError) as exc:
+        cache.warn_once(entry, f"cannot store the compiled model ({exc}); it is used without caching")
+    if model.library_pending is not None:
+        model.on_library = _updater(entry)
+        _COMPILING[str(entry)] = model.library_pending
+
+
 def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
           assume_zero_geometry: bool | None = None) -> Build:
     """Run stages 1–5, or load their product from the disk cache.
@@ -244,27 +282,8 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     timings["model_key"] = key
     entry = cache.entry_path(directory, type(root).__name__, key) if key else None
     if entry is not None:
-        try:
-            model = cache.load(entry)
-        except cache.CacheEntryError as err:
-            cache.warn_once(err.path, f"damaged cache entry ({err.reason}); removing and rebuilding it")
-            if err.path.name.endswith(".so"):
-                cache.discard(err.path)
-            cache.discard(entry)
-            model = None
-        if model is not None and not assumptions_hold(model.assumed, root):
-            model = None  # built under parameter assumptions this instance breaks: build it for its own values
-            entry = None
+        model, entry = _load_entry(entry, root, directory)
         if model is not None:
-            if model.wants_c and model.library is None:  # stored before its background gcc had finished
-                pending = _COMPILING.get(str(entry))
-                if pending is None:
-                    texts = (model.serialized["res"], model.serialized["jac"]) if model.serialized else None
-                    pending = generate_c(model.sx_function("res"), model.sx_function("jac"), directory / "lib",
-                                         background=True, serialized=texts)
-                    _COMPILING[str(entry)] = pending
-                model.library_pending = pending  # share this process's compile: no second gcc of the same C
-                model.on_library = _updater(entry)
             timings["cached"] = True
             timings["total"] = _time.perf_counter() - t0
             return Build(compiled=model, timings=timings, cached=True, key=key,
@@ -279,13 +298,7 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
                    "n_unknowns": model.n, "n_states": int(model.differential.sum()),
                    "jac_nnz": len(model.jac_row), "codegen": model.library is not None}
     if entry is not None:
-        try:
-            cache.store(entry, model)
-        except (OSError, cache.CacheEntryError) as exc:
-            cache.warn_once(entry, f"cannot store the compiled model ({exc}); it is used without caching")
-        if model.library_pending is not None:
-            model.on_library = _updater(entry)
-            _COMPILING[str(entry)] = model.library_pending
+        _store_entry(entry, model)
     timings["total"] = _time.perf_counter() - t0
     return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key,
                  assume_zero_geometry=assume_zero_geometry)

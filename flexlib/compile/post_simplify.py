@@ -22,20 +22,10 @@ def _linear_single(e: ca.SX, sym: ca.SX) -> bool:
     return bool(ca.is_linear(e, sym)) and ca.jacobian(e, sym).is_constant()
 
 
-def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
-                  protected: np.ndarray | None = None, explicit_stage: bool = True,
-                  untested: np.ndarray | None = None, intermediate: np.ndarray | None = None):
-    """Substitute known state derivatives, eliminate trivial algebraic aliases and explicit algebraics.
-
-    ``protected`` marks entries that must stay unknowns (dummy-derivative candidates); ``explicit_stage=False``
-    skips the explicit algebraics (as ``FLEXLIB_EXPLICIT=0`` does). Returns the new
-    residual, the kept entry indices, the substitution (symbols → values) that expresses eliminated
-    entries in kept ones, the kept row indices, and the entries eliminated as explicit algebraics.
-    """
-    n = F.numel()
-    rows = [F[k] for k in range(n)]
-    y_hash = {y[i].element_hash(): i for i in range(n)}
-    inc_yp = _incidence_lists(F, yp)
+def _substitute_known_derivatives(rows: list[ca.SX], yp: ca.SX, differential: np.ndarray,
+                                  inc_yp: list[list[int]]) -> None:
+    """Replace, in place, each state derivative that a row defines explicitly by its definition in the other rows."""
+    n = len(rows)
     # (a) known derivatives: row = c*yp_s + f(y), f without yp
     defined: dict[int, tuple[int, ca.SX]] = {}
     for r in range(n):
@@ -61,6 +51,14 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
             new = ca.substitute([ca.vertcat(*[rows[k] for k in others])], [dsyms], [dvals])[0]
             for j, k in enumerate(others):
                 rows[k] = new[j]
+
+
+def _eliminate_aliases(rows: list[ca.SX], y: ca.SX, y_hash: dict[int, int], differential: np.ndarray,
+                       untested: np.ndarray | None) -> tuple[list[ca.SX], dict[int, tuple[float, ca.SX]], ca.SX,
+                                                             ca.SX, list[int]]:
+    """Drop the rows that make an algebraic entry an alias (``a = ±b``) and substitute it: the rows left, the aliases,
+    their substitution (symbols → values) and the kept row indices."""
+    n = len(rows)
     # (b) algebraic aliases: row = a - b or a + b with a algebraic y entry, b any y/yp entry
     alias: dict[int, tuple[float, ca.SX]] = {}
     dropped_rows: set[int] = set()
@@ -110,6 +108,25 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
     else:
         subs_syms, subs_vals = ca.SX(0, 1), ca.SX(0, 1)
         kept_rows = list(range(n))
+    return rows, alias, subs_syms, subs_vals, kept_rows
+
+
+def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
+                  protected: np.ndarray | None = None, explicit_stage: bool = True,
+                  untested: np.ndarray | None = None, intermediate: np.ndarray | None = None):
+    """Substitute known state derivatives, eliminate trivial algebraic aliases and explicit algebraics.
+
+    ``protected`` marks entries that must stay unknowns (dummy-derivative candidates); ``explicit_stage=False``
+    skips the explicit algebraics (as ``FLEXLIB_EXPLICIT=0`` does). Returns the new
+    residual, the kept entry indices, the substitution (symbols → values) that expresses eliminated
+    entries in kept ones, the kept row indices, and the entries eliminated as explicit algebraics.
+    """
+    n = F.numel()
+    rows = [F[k] for k in range(n)]
+    y_hash = {y[i].element_hash(): i for i in range(n)}
+    inc_yp = _incidence_lists(F, yp)
+    _substitute_known_derivatives(rows, yp, differential, inc_yp)
+    rows, alias, subs_syms, subs_vals, kept_rows = _eliminate_aliases(rows, y, y_hash, differential, untested)
     keep = [i for i in range(n) if i not in alias]
     # (c) explicit algebraics: row = c*v + f(others), c a nonzero constant (sparsity-guarded, see explicit.py)
     explicit: list[int] = []

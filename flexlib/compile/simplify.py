@@ -124,8 +124,10 @@ def _priority(v: FlatVariable, index: int) -> tuple:
     return (int(v.state_select), internal, v.fixed, -v.name.count("."), -len(v.name), -index)
 
 
-def simplify(flat: FlatSystem) -> SimpleSystem:
-    """Eliminate alias variables from a flat system."""
+def _alias_classes(flat: FlatSystem) -> tuple[dict[int, list[tuple[int, float]]], dict[int, ca.SX],
+                                               list[FlatEquation], int]:
+    """Alias classes (root → members with their signs) of the alias and binding equations, the value bound to a class,
+    the equations kept, and the number eliminated."""
     n = len(flat.variables)
     parent = list(range(n))
     sign = [1.0] * n
@@ -174,9 +176,13 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
     for i in range(n):
         r, s = find(i)
         classes.setdefault(r, []).append((i, s))
+    return classes, binding, kept_eqs, n_elim
 
+
+def _representatives(flat: FlatSystem, classes: dict[int, list[tuple[int, float]]], binding: dict[int, ca.SX]
+                     ) -> tuple[list[FlatVariable], dict[int, ca.SX]]:
+    """One variable per unbound class (declarations merged over its members) and the value of every variable."""
     kept_vars: list[FlatVariable] = []
-    old_syms, new_exprs = [], []
     value_of: dict[int, ca.SX] = {}
     for root, members in classes.items():
         if root in binding:
@@ -212,6 +218,13 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
             else:
                 negated = -rv.sym if negated is None else negated  # one node per class and sign
                 value_of[i] = negated
+    return kept_vars, value_of
+
+
+def _substitution(flat: FlatSystem, value_of: dict[int, ca.SX]) -> tuple[list[ca.SX], list[ca.SX]]:
+    """Symbols of the eliminated variables (and their derivatives) and the expressions that replace them."""
+    old_syms: list[ca.SX] = []
+    new_exprs: list[ca.SX] = []
     for i, v in enumerate(flat.variables):
         val = value_of[i]
         if val.is_symbolic() and val.element_hash() == v.sym.element_hash():
@@ -225,14 +238,12 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
             negated_var = (val.is_op(ca.OP_NEG) and val.dep(0).is_symbolic()
                            and val.dep(0).element_hash() in flat.by_hash)
             new_exprs.append(-der(val.dep(0)) if negated_var else der(val))  # der(-x) = -der(x)
+    return old_syms, new_exprs
 
-    def subst(exprs: list[ca.SX]) -> list[ca.SX]:
-        if not exprs or not old_syms:
-            return exprs
-        out = ca.substitute([ca.vertcat(*exprs)], [ca.vertcat(*old_syms)], [ca.vertcat(*new_exprs)])[0]
-        return [out[k] for k in range(out.numel())]
 
-    # derivative rules: each alias class takes the rule of a member, rescaled by the member's sign
+def _class_rules(flat: FlatSystem, classes: dict[int, list[tuple[int, float]]], binding: dict[int, ca.SX],
+                 value_of: dict[int, ca.SX]) -> dict[int, ca.SX]:
+    """Derivative rules: each alias class takes the rule of a member, rescaled by the member's sign."""
     rule_owner: dict[int, ca.SX] = {}
     for root, members in classes.items():
         if root in binding:
@@ -245,6 +256,22 @@ def simplify(flat: FlatSystem) -> SimpleSystem:
                 sgn = 1.0 if value_of[i].is_symbolic() else -1.0  # v = ±rep
                 rule_owner[rep_sym.element_hash()] = sgn * v.der_rule
                 break
+    return rule_owner
+
+
+def simplify(flat: FlatSystem) -> SimpleSystem:
+    """Eliminate alias variables from a flat system."""
+    classes, binding, kept_eqs, n_elim = _alias_classes(flat)
+    kept_vars, value_of = _representatives(flat, classes, binding)
+    old_syms, new_exprs = _substitution(flat, value_of)
+
+    def subst(exprs: list[ca.SX]) -> list[ca.SX]:
+        if not exprs or not old_syms:
+            return exprs
+        out = ca.substitute([ca.vertcat(*exprs)], [ca.vertcat(*old_syms)], [ca.vertcat(*new_exprs)])[0]
+        return [out[k] for k in range(out.numel())]
+
+    rule_owner = _class_rules(flat, classes, binding, value_of)
     rule_hashes = list(rule_owner)
     rule_exprs = subst([rule_owner[h] for h in rule_hashes])
     der_rules = dict(zip(rule_hashes, rule_exprs, strict=True))

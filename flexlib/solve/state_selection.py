@@ -29,7 +29,8 @@ import scipy.sparse.linalg as spla
 from scipy.linalg.lapack import dgesv as _dgesv
 
 from flexlib.compile.codegen import CompiledModel, compile_dae
-from flexlib.compile.index_reduction import Structure, _pick_columns
+from flexlib.compile.dummy_derivatives import pick_columns
+from flexlib.compile.index_reduction import Structure
 
 __all__ = ["StateSelectionMonitor"]
 
@@ -210,7 +211,7 @@ class StateSelectionMonitor:
             for level in levels:
                 block, costs, selected = level.dense(nz), level.costs, level.selected
                 n_rows, n_cands = block.shape
-                best = _pick_columns(block, list(range(n_cands)), costs, n_rows)
+                best = pick_columns(block, list(range(n_cands)), costs, n_rows)
                 if best is None or sorted(best) == sorted(selected):
                     continue
                 quality = _smallest_sv(block[:, selected]) / max(_smallest_sv(block[:, best]), 1e-300)
@@ -303,6 +304,6 @@ class StateSelectionMonitor:
 
 
 def _names(structure: Structure) -> list[str]:
-    from flexlib.compile.index_reduction import _col_name
+    from flexlib.compile.dummy_derivatives import col_name
 
-    return [_col_name(c, structure.simple.variables) for c in structure.cols]
+    return [col_name(c, structure.simple.variables) for c in structure.cols]

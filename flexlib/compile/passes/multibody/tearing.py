@@ -113,6 +113,36 @@ def tear_or_keep_frames(simple: SimpleSystem, params: dict[int, float], mode: st
 LOCAL_TOL = 1e-9
 
 
+def _rewrites_agree(simple: SimpleSystem, vs: ca.SX, defs: ca.SX, params: dict[int, float],
+                    rewrites: list[tuple[int, ca.SX]]) -> np.ndarray:
+    """Which rewritten rows equal their torn originals at random points (relations false, then true)."""
+    n = vs.numel()
+    # check: torn original and torn rewrite agree at random points
+    origs = ca.vertcat(*[simple.equations[r].expr for r, _ in rewrites])
+    news = ca.vertcat(*[x for _, x in rewrites])
+    both = ca.vertcat(origs, news)
+    for _ in range(n + 1):
+        if not ca.depends_on(both, vs):
+            break
+        both = ca.substitute(both, vs, defs)
+    symbols = ca.symvar(both)
+    f = ca.Function("loops", [ca.vertcat(*symbols) if symbols else ca.SX(0, 1)], [both])
+    rng = np.random.default_rng(20261126)
+    fixed = np.array([params.get(x.element_hash(), np.nan) for x in symbols], dtype=float)
+    rel = {r.info.sym.element_hash() for r, _ in simple.relations}
+    is_rel = np.array([x.element_hash() in rel for x in symbols], dtype=bool)
+    ok = np.ones(len(rewrites), dtype=bool)
+    m = len(rewrites)
+    for switch in (0.0, 1.0):  # event relations false, then true: both branches of a piecewise row
+        point = np.where(np.isfinite(fixed), fixed, rng.uniform(-1.0, 1.0, len(symbols)))
+        point[is_rel] = switch
+        with np.errstate(all="ignore"):
+            val = np.asarray(f(point), dtype=float).ravel()
+        a, b = val[:m], val[m:]
+        ok &= np.isfinite(a) & (np.abs(a - b) <= LOCAL_TOL * (1.0 + np.abs(a) + np.abs(b)))
+    return ok
+
+
 def _localize_rows(simple: SimpleSystem, vs: ca.SX, defs: ca.SX,
                     params: dict[int, float]) -> tuple[SimpleSystem, int]:
     """Rows that span several frames written relative to their lowest common frame (the tree's common ancestor).
@@ -173,29 +203,7 @@ def _localize_rows(simple: SimpleSystem, vs: ca.SX, defs: ca.SX,
         rewrites.append((r, expr))
     if not rewrites:
         return simple, 0
-    # check: torn original and torn rewrite agree at random points
-    origs = ca.vertcat(*[simple.equations[r].expr for r, _ in rewrites])
-    news = ca.vertcat(*[x for _, x in rewrites])
-    both = ca.vertcat(origs, news)
-    for _ in range(n + 1):
-        if not ca.depends_on(both, vs):
-            break
-        both = ca.substitute(both, vs, defs)
-    symbols = ca.symvar(both)
-    f = ca.Function("loops", [ca.vertcat(*symbols) if symbols else ca.SX(0, 1)], [both])
-    rng = np.random.default_rng(20261126)
-    fixed = np.array([params.get(x.element_hash(), np.nan) for x in symbols], dtype=float)
-    rel = {r.info.sym.element_hash() for r, _ in simple.relations}
-    is_rel = np.array([x.element_hash() in rel for x in symbols], dtype=bool)
-    ok = np.ones(len(rewrites), dtype=bool)
-    m = len(rewrites)
-    for switch in (0.0, 1.0):  # event relations false, then true: both branches of a piecewise row
-        point = np.where(np.isfinite(fixed), fixed, rng.uniform(-1.0, 1.0, len(symbols)))
-        point[is_rel] = switch
-        with np.errstate(all="ignore"):
-            val = np.asarray(f(point), dtype=float).ravel()
-        a, b = val[:m], val[m:]
-        ok &= np.isfinite(a) & (np.abs(a - b) <= LOCAL_TOL * (1.0 + np.abs(a) + np.abs(b)))
+    ok = _rewrites_agree(simple, vs, defs, params, rewrites)
     equations = list(simple.equations)
     for (r, expr), good in zip(rewrites, ok, strict=True):
         if good:

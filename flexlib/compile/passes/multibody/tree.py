@@ -60,23 +60,7 @@ def orientation_tree(nodes: list[Node]) -> OrientationTree:
         return i
 
     adjacency: dict[int, list[int]] = {k: [] for k in range(len(vertices) + 1)}
-    definite: list[int] = []
-    potential: list[tuple[int, int, int]] = []  # (priority, order, vertex)
-    required: list[tuple[Connector, Connector, Component]] = []
-    optional: list[tuple[Connector, Connector, str]] = []
-    for node in nodes:
-        if not isinstance(node, Component):
-            continue
-        for conn in node.__dict__.get("_od_roots", []):
-            definite.append(index[id(conn)])
-        for conn, prio in node.__dict__.get("_od_potential_roots", []):
-            potential.append((prio, len(potential), index[id(conn)]))
-        for a, b in node.__dict__.get("_od_branches", []):
-            required.append((a, b, node))
-        for a, b in node._connections:
-            if a[0] == "connector" and a[1].overdetermined:
-                optional.append((a[1], b[1], node.path))
-
+    definite, potential, required, optional = _declared_edges(nodes, index)
     for k in definite:
         ra, rv = find(k), find(virtual)
         if ra == rv:
@@ -103,6 +87,43 @@ def orientation_tree(nodes: list[Node]) -> OrientationTree:
         else:
             result.broken_edges.append((a, b, owner_path))
 
+    depth = _directed_depths(adjacency, virtual, definite, potential, vertices, result)
+    missing = [v.path for k, v in enumerate(vertices) if k not in depth]
+    if missing:
+        shown = ", ".join(missing[:8]) + (" …" if len(missing) > 8 else "")
+        raise ModelError(f"the orientation of frames {shown} is not determined: connect them to a World "
+                         "(or a fixed frame), or to a body that can move freely")
+    result.depth = {id(vertices[k]): d for k, d in depth.items() if k != virtual}
+    return result
+
+
+def _declared_edges(nodes: list[Node], index: dict[int, int]) -> tuple[
+        list[int], list[tuple[int, int, int]], list[tuple[Connector, Connector, Component]],
+        list[tuple[Connector, Connector, str]]]:
+    """The definite roots, potential roots (priority, order, vertex), branches and connections of the components."""
+    definite: list[int] = []
+    potential: list[tuple[int, int, int]] = []  # (priority, order, vertex)
+    required: list[tuple[Connector, Connector, Component]] = []
+    optional: list[tuple[Connector, Connector, str]] = []
+    for node in nodes:
+        if not isinstance(node, Component):
+            continue
+        for conn in node.__dict__.get("_od_roots", []):
+            definite.append(index[id(conn)])
+        for conn, prio in node.__dict__.get("_od_potential_roots", []):
+            potential.append((prio, len(potential), index[id(conn)]))
+        for a, b in node.__dict__.get("_od_branches", []):
+            required.append((a, b, node))
+        for a, b in node._connections:
+            if a[0] == "connector" and a[1].overdetermined:
+                optional.append((a[1], b[1], node.path))
+    return definite, potential, required, optional
+
+
+def _directed_depths(adjacency: dict[int, list[int]], virtual: int, definite: list[int],
+                     potential: list[tuple[int, int, int]], vertices: list[Connector],
+                     result: OrientationTree) -> dict[int, int]:
+    """Depth of each vertex from its root, by breadth-first search from the definite roots, then the potential ones."""
     depth: dict[int, int] = {}
 
     def bfs(start: int, d0: int) -> None:
@@ -122,13 +143,7 @@ def orientation_tree(nodes: list[Node]) -> OrientationTree:
         if k not in depth:
             bfs(k, 0)
             result.roots.add(id(vertices[k]))
-    missing = [v.path for k, v in enumerate(vertices) if k not in depth]
-    if missing:
-        shown = ", ".join(missing[:8]) + (" …" if len(missing) > 8 else "")
-        raise ModelError(f"the orientation of frames {shown} is not determined: connect them to a World "
-                         "(or a fixed frame), or to a body that can move freely")
-    result.depth = {id(vertices[k]): d for k, d in depth.items() if k != virtual}
-    return result
+    return depth
 
 
 def tell_components(nodes: list[Node], tree: OrientationTree) -> None:
