@@ -188,7 +188,7 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
             plots_dir: str | None, force: bool) -> None:
     """Run MODEL in a scenario, then print a summary (times, steps, peaks of the model's signals)."""
     from flexlib import registry
-    from flexlib.registry import Scenario
+    from flexlib.scenario import Scenario
 
     overrides = _parse_params(params)
     given = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("dt_out", dt_out), ("solver", solver))
@@ -252,8 +252,8 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
 def _recorded_run(from_file: str) -> tuple[Any, Any]:
     """The run record of ``--from FILE`` and its scenario, checked: every problem of the record names the file."""
     from flexlib import registry
-    from flexlib.registry import RUN_OPTIONS, Scenario
     from flexlib.results.hdf5 import load_result
+    from flexlib.scenario import RUN_OPTIONS, Scenario
 
     record = registry.run_settings(load_result(from_file), from_file)
     try:

@@ -190,7 +190,7 @@ def show_cmd(file: str, patterns: tuple[str, ...]) -> None:
     if raw is None:
         table.add_row("run settings", "none recorded (not written by 'flexlib run')")
     else:
-        from flexlib.registry import run_settings
+        from flexlib.run_record import run_settings
 
         try:
             rec = run_settings(res, file)

@@ -539,8 +539,9 @@ def _check_run_values(entry: ModelEntry, scen: Scenario, instance: Any, given: M
     file)."""
     import inspect
 
+    from flexlib.solve.options import Experiment
     from flexlib.solve.run_options import check_run_arguments
-    from flexlib.solve.simulation import Experiment, Simulation
+    from flexlib.solve.simulation import Simulation
 
     defaults = {k: p.default for k, p in inspect.signature(Simulation.run).parameters.items()
                 if p.default is not inspect.Parameter.empty}

@@ -35,7 +35,6 @@ import numpy as np
 import scipy.linalg as sla
 
 from flexlib.analysis.linear import (
-    LinearizationError,
     Linearizer,
     LinearSystem,
     OperatingPoint,
@@ -49,7 +48,7 @@ from flexlib.analysis.linear import (
     result_point,
 )
 from flexlib.core.values import not_a_number
-from flexlib.errors import AnalysisWarning
+from flexlib.errors import AnalysisWarning, LinearizationError
 from flexlib.results.result import Result
 
 __all__ = ["ModalSweep", "Modes", "mobility", "modal_analysis", "modal_sweep"]
