@@ -319,7 +319,7 @@ def model_key(root: Component, options: dict[str, Any]) -> str | None:
                 raise ModelError(f"{node.path or type(node).__name__}.structure_key() must return plain data "
                                  f"(numbers, strings, bytes, arrays, tuples, lists, dicts), got {extra!r}")
             h.update(repr(("structure_key", pv)).encode())
-        for name, decl in node._decls.items():
+        for name, decl in node.class_declarations().items():
             item = (name, decl.kind.value, decl.shape, decl.unit)
             if not isinstance(decl, Parameter):
                 given = node._starts.get(name)  # only whether the start is fixed enters the key

@@ -297,6 +297,30 @@ class Node(InstanceValues, metaclass=_NodeMeta):
             self._syms[name] = sym
         return sym
 
+    def add_pass_declaration(self, name: str, decl: Declaration, after: str | None = None) -> None:
+        """Declare ``name`` on this instance for a compile pass: an unknown the pass also defines (the multibody
+        pass's frame velocities and accelerations), placed after the declaration ``after`` (default: last). It is
+        not one of the class's declarations, so the cache key and the connectability of connectors do not see it;
+        declaring it again (a second flatten) keeps the first."""
+        decls = self._decls
+        if name in decls:
+            if name in self.__dict__.get("_pass_decls", ()):
+                return
+            raise ModelError(f"{self._label(name)}: already declared by {type(self).__name__}; a compile pass cannot "
+                             "declare it again")
+        decl.name = name
+        items = list(decls.items())
+        at = next((k + 1 for k, (n, _) in enumerate(items) if n == after), len(items))
+        items.insert(at, (name, decl))
+        decls.clear()
+        decls.update(items)
+        self.__dict__.setdefault("_pass_decls", set()).add(name)
+
+    def class_declarations(self) -> dict[str, Declaration]:
+        """This node's declarations without those a compile pass added (:meth:`add_pass_declaration`)."""
+        extra = self.__dict__.get("_pass_decls", ())
+        return {n: d for n, d in self._decls.items() if n not in extra}
+
     # -- tree walk ----------------------------------------------------------------------------
     def walk(self) -> list[Node]:
         """This node and all nodes below it, parents before children."""
@@ -355,7 +379,7 @@ class Connector(Node):
 
     def signature(self) -> tuple:
         """What must match for two connectors to be connectable."""
-        return tuple(sorted((n, d.kind.value, d.shape, d.unit) for n, d in self._decls.items()))
+        return tuple(sorted((n, d.kind.value, d.shape, d.unit) for n, d in self.class_declarations().items()))
 
     def describe(self) -> str:
         """``"Flange(phi [rad], flow tau [N.m])"``."""

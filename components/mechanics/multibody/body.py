@@ -11,7 +11,7 @@ from flexlib import Component, Parameter, Variable, der, eq
 from flexlib.core.component import flag
 from flexlib.errors import ParameterError
 
-from .frames import equality_constraint, resolve1, resolve2
+from .frames import equality_constraint, resolve1
 from .interfaces import Frame
 from .quaternions import floating_frame_equations, quaternion_to_T
 from .world import gravity_of
@@ -122,8 +122,7 @@ class Body(Component):
         g_0 = gravity_of(self)
         w, z, r_cm = self.w_a, self.z_a, self.r_CM
         if self.is_root(fa):
-            kin = [eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0), eq(der(self.w_a), self.z_a),
-                   eq(fa.v, resolve2(fa.T, self.v_0)), eq(fa.a, resolve2(fa.T, self.a_0 - g_0)), eq(fa.z, self.z_a)]
+            kin = [eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0), eq(der(self.w_a), self.z_a)]
         else:
             kin = [eq(self.v_0, resolve1(fa.T, fa.v)), eq(self.a_0, resolve1(fa.T, fa.a) + g_0), eq(self.z_a, fa.z)]
         eqs = [

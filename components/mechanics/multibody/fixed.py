@@ -9,7 +9,6 @@ import casadi as ca
 from flexlib import Component, Parameter, eq
 
 from .interfaces import Frame
-from .world import gravity_of
 
 __all__ = ["Fixed"]
 
@@ -41,5 +40,4 @@ class Fixed(Component):
 
     def equations(self):
         fb = self.frame_b
-        return [eq(fb.r_0, self.r), eq(fb.T, ca.SX.eye(3)), eq(fb.w, 0.0),
-                eq(fb.v, 0.0), eq(fb.a, -gravity_of(self)), eq(fb.z, 0.0)]
+        return [eq(fb.r_0, self.r), eq(fb.T, ca.SX.eye(3)), eq(fb.w, 0.0)]

@@ -110,20 +110,10 @@ class FreeMotion(PartialTwoFrames):
                eq(der(self.v_rel_a), self.a_rel_a), eq(self.w_rel_b, quaternion_w(Q, der(Q))),
                eq(ca.dot(Q, Q), 1.0, label="quaternion norm"),
                eq(a.f, 0.0), eq(a.t, 0.0), eq(b.f, 0.0), eq(b.t, 0.0)]
-        r, v_r, a_r, w_r, z_r = self.r_rel_a, self.v_rel_a, self.a_rel_a, self.w_rel_b, self.z_rel_b
-        eqs.append(eq(der(w_r), z_r))
+        w_r = self.w_rel_b
+        eqs.append(eq(der(w_r), self.z_rel_b))
         if self.rooted(a):
-            eqs += [eq(b.T, absolute_rotation(a.T, T_rel)), eq(b.w, ca.mtimes(T_rel, a.w) + w_r),
-                    eq(b.v, ca.mtimes(T_rel, a.v + ca.cross(a.w, r) + v_r)),
-                    eq(b.a, ca.mtimes(T_rel, a.a + ca.cross(a.z, r) + ca.cross(a.w, ca.cross(a.w, r))
-                                      + 2 * ca.cross(a.w, v_r) + a_r)),
-                    eq(b.z, ca.mtimes(T_rel, a.z) + ca.cross(ca.mtimes(T_rel, a.w), w_r) + z_r)]
+            eqs += [eq(b.T, absolute_rotation(a.T, T_rel)), eq(b.w, ca.mtimes(T_rel, a.w) + w_r)]
         else:
-            w_a = resolve1(T_rel, b.w - w_r)
-            z_a = resolve1(T_rel, b.z - z_r - ca.cross(b.w - w_r, w_r))
-            eqs += [eq(a.T, absolute_rotation(b.T, T_rel.T)), eq(a.w, w_a),
-                    eq(a.v, resolve1(T_rel, b.v) - ca.cross(w_a, r) - v_r),
-                    eq(a.a, resolve1(T_rel, b.a) - ca.cross(z_a, r) - ca.cross(w_a, ca.cross(w_a, r))
-                       - 2 * ca.cross(w_a, v_r) - a_r),
-                    eq(a.z, z_a)]
+            eqs += [eq(a.T, absolute_rotation(b.T, T_rel.T)), eq(a.w, resolve1(T_rel, b.w - w_r))]
         return eqs

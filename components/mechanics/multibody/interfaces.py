@@ -34,38 +34,25 @@ class Frame(Connector):
         annotation of ``Frames.Orientation``).
     w : [rad/s]
         Angular velocity of the frame, resolved in the frame; over-determined.
-    v : [m/s]
-        Velocity of the frame origin, resolved in the frame; over-determined.
-    a : [m/s2]
-        Acceleration of the frame origin less gravity, resolved in the frame, ``T (d²r_0/dt² − g)`` (what an
-        accelerometer fixed to the frame reads, with the sign of the acceleration); over-determined.
-    z : [rad/s2]
-        Angular acceleration of the frame, resolved in the frame (the derivative of ``w``'s components);
-        over-determined.
 
-    ``v``, ``a`` and ``z`` are carried along the spanning tree like ``T`` and ``w`` (recursive kinematics, as in
-    Featherstone's articulated-body and recursive Newton–Euler algorithms, with gravity entering as the root's
-    acceleration ``a = −g``), related between the two frames of each branch with the component's own coordinates
-    only, so a body's equations of motion read its own frame instead of the second time derivative of its
-    position, which depends on every joint coordinate between it and the root. A component that relates its frames
-    with MSL's rows (``r_0``, ``T``, ``w``, ``f``, ``t``) gets these rows from the multibody compile pass
-    (``flexlib/compile/passes/multibody/kinematics.py``), which also keeps ``a`` and ``z`` out of IDA's local
-    error test (``docs/engine.md``, "Error-test policy"). At a loop closure they are not equated (the closure's
-    position and orientation rows, differentiated by index reduction, already imply it).
     f : [N]
         Cut force acting on the component, resolved in the frame (flow).
     t : [N.m]
         Cut torque acting on the component, resolved in the frame (flow).
+
+    The multibody compile pass gives every frame three more quantities it carries along the spanning tree (recursive
+    kinematics, as in Featherstone's articulated-body and recursive Newton–Euler algorithms): the velocity ``v``, the
+    acceleration less gravity ``a = T (d²r_0/dt² − g)`` (what an accelerometer fixed to the frame reads) and the
+    angular acceleration ``z``, resolved in the frame. It relates them between the two frames of each branch from the
+    component's own rows (``flexlib/compile/passes/multibody/kinematics.py``) and keeps ``a`` and ``z`` out of IDA's
+    local error test (``docs/engine.md``, "Error-test policy"); a body reads them (``frame.a``) instead of the second
+    time derivative of its position, which depends on every joint coordinate between it and the root.
     """
 
     r_0 = Potential(unit="m", shape=3, doc="Position of the frame origin resolved in world")
     T = Potential(unit="1", shape=(3, 3), overdetermined=True, doc="Transformation matrix world to frame",
                   derivative=lambda frame: -ca.mtimes(skew(frame.w), frame.T))
     w = Potential(unit="rad/s", shape=3, overdetermined=True, doc="Angular velocity resolved in frame")
-    v = Potential(unit="m/s", shape=3, overdetermined=True, doc="Velocity of the origin, resolved in frame")
-    a = Potential(unit="m/s2", shape=3, overdetermined=True,
-                  doc="Acceleration of the origin less gravity, resolved in frame")
-    z = Potential(unit="rad/s2", shape=3, overdetermined=True, doc="Angular acceleration, resolved in frame")
     f = Flow(unit="N", shape=3, doc="Cut force resolved in frame")
     t = Flow(unit="N.m", shape=3, doc="Cut torque resolved in frame")
 

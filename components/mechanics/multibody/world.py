@@ -63,8 +63,7 @@ class World(Component):
 
     def equations(self):
         fb = self.frame_b
-        return [eq(fb.r_0, 0.0), eq(fb.T, ca.SX.eye(3)), eq(fb.w, 0.0),
-                eq(fb.v, 0.0), eq(fb.a, -self.gravity()), eq(fb.z, 0.0)]
+        return [eq(fb.r_0, 0.0), eq(fb.T, ca.SX.eye(3)), eq(fb.w, 0.0)]
 
 
 def gravity_of(component: Component) -> ca.SX:

@@ -15,7 +15,11 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from flexlib.compile.passes.base import Pass
-from flexlib.compile.passes.multibody.kinematics import acceleration_marks, tree_kinematics
+from flexlib.compile.passes.multibody.kinematics import (
+    acceleration_marks,
+    declare_frame_kinematics,
+    tree_kinematics,
+)
 from flexlib.compile.passes.multibody.redundancy import remove_redundant
 from flexlib.compile.passes.multibody.tearing import tear_or_keep_frames, tree_frames_mode
 from flexlib.compile.passes.multibody.tree import (
@@ -57,13 +61,14 @@ class MultibodyPass(Pass):
 
     def structure(self, nodes: list[Node]) -> None:
         self.nodes = nodes
+        declare_frame_kinematics(nodes, self.applies_to)
         self.tree = orientation_tree(nodes)
         tell_components(nodes, self.tree)
 
     def connection_equations(self, equations: list[FlatEquation]) -> None:
-        """The rows along the tree and at its loop closures, and the frames' ``v``, ``a``, ``z`` for joints written
-        with MSL's rows only (:func:`.kinematics.tree_kinematics`)."""
-        tree_kinematics(self.nodes, self.tree.depth, equations)
+        """The rows along the tree and at its loop closures, and the frames' ``v``, ``a``, ``z`` for the roots and
+        for joints written with MSL's rows only (:func:`.kinematics.tree_kinematics`)."""
+        tree_kinematics(self.nodes, self.tree.depth, self.tree.roots, equations)
         overdetermined_equations(self.tree, equations)
 
     def marks(self, nodes: list[Node], equations: list[FlatEquation]) -> tuple[set[int], set[int]]:

@@ -27,10 +27,18 @@ import numpy as np
 from flexlib.compile.flatten import FlatEquation
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.equations import der
-from flexlib.core.variables import StateSelect, SymInfo, lookup
+from flexlib.core.variables import Potential, StateSelect, SymInfo, lookup
 from flexlib.errors import ModelError
 
-__all__ = ["FRAME_MARKS", "acceleration_marks", "branch_kinematics", "tree_kinematics"]
+__all__ = ["FRAME_KINEMATICS", "FRAME_MARKS", "acceleration_marks", "branch_kinematics", "declare_frame_kinematics",
+           "root_kinematics", "tree_kinematics"]
+
+#: The kinematic quantities of a frame the pass carries along the tree: (unit, meaning), all resolved in the frame.
+FRAME_KINEMATICS = {
+    "v": ("m/s", "Velocity of the origin, resolved in frame (multibody pass)"),
+    "a": ("m/s2", "Acceleration of the origin less gravity, T (d²r_0/dt² − g), resolved in frame (multibody pass)"),
+    "z": ("rad/s2", "Angular acceleration, resolved in frame (multibody pass)"),
+}
 
 #: Per kinematic quantity of a frame carried along the tree: (kept in the error test, kinematic intermediate).
 FRAME_MARKS = {"v": (True, True), "a": (False, True), "z": (False, True)}
@@ -109,6 +117,24 @@ def _rates(rows: list[ca.SX]) -> dict[int, ca.SX]:
         pair = _difference(expr)
         if pair is not None:
             out[pair[0].base.sym.element_hash()] = pair[1].sym
+    return out
+
+
+def _aliased(rows: list[ca.SX], rates: dict[int, ca.SX]) -> dict[int, ca.SX]:
+    """``rates`` with the rate of ``x`` given to ``p`` too for each row ``p − x`` of two unknowns (``r_0 =
+    frame_a.r_0`` beside ``v_0 = der(r_0)``)."""
+    out = dict(rates)
+    for expr in rows:
+        if expr.n_dep() != 2 or expr.op() != ca.OP_SUB or not (expr.dep(0).is_symbolic() and expr.dep(1).is_symbolic()):
+            continue
+        p, q = lookup(expr.dep(0)), lookup(expr.dep(1))
+        if p is None or q is None or p.kind != "variable" or q.kind != "variable":
+            continue
+        hp, hq = p.sym.element_hash(), q.sym.element_hash()
+        if hq in out and hp not in out:
+            out[hp] = out[hq]
+        elif hp in out and hq not in out:
+            out[hq] = out[hp]
     return out
 
 
@@ -205,8 +231,9 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: li
         return None
     T_def = ca.reshape(ca.vertcat(*T_defs), 3, 3)
     T_syms = dst._symbol("T")
-    r_def = ca.substitute(ca.vertcat(*rw_defs[:3]), ca.vec(T_syms), ca.vec(T_def))
-    w_def = ca.substitute(ca.vertcat(*rw_defs[3:]), ca.vec(T_syms), ca.vec(T_def))
+    r_own, w_own = ca.vertcat(*rw_defs[:3]), ca.vertcat(*rw_defs[3:])
+    r_def = ca.substitute(r_own, ca.vec(T_syms), ca.vec(T_def))
+    w_def = ca.substitute(w_own, ca.vec(T_syms), ca.vec(T_def))
     T_src, r_src, w_src = src._symbol("T"), src._symbol("r_0"), src._symbol("w")
     eye = ca.DM(np.eye(3).reshape(-1, order="F"))
     zero = ca.DM(np.zeros(3))
@@ -221,6 +248,14 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: li
         if checked is not None:
             checked.add(key)
     rates = _rates(rows)
+    relative = ca.depends_on(ca.vertcat(r_own, w_own), ca.vec(T_syms))
+    if relative:  # the rows give r_0 or w from dst's own T (a joint written from frame_b, rooted there): with
+        # T_src = I that T stands for T_rel, whose rate is −[w_rel×] T_rel; no derivative of the coordinates T_rel is
+        # made of (a quaternion's der(der(Q)))
+        at_src = (ca.vertcat(r_src, w_src, ca.vec(T_src)), ca.vertcat(zero, zero, eye))
+        r_rel, w_rel = ca.substitute(r_own, *at_src), ca.substitute(w_own, *at_src)
+        T_rate = -ca.mtimes(ca.skew(w_rel), T_syms)
+        rates.update({T_syms.nz[k].element_hash(): T_rate.nz[k] for k in range(9)})
     v_s, a_s, z_s = src._symbol("v"), src._symbol("a"), src._symbol("z")
     v_in, a_in = v_s, a_s
     if not r_rel.is_zero():
@@ -231,43 +266,133 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: li
     z = ca.mtimes(T_rel, z_s)
     if not w_rel.is_zero():
         z = z + _rate(w_rel, rates) + ca.cross(ca.mtimes(T_rel, w_src), w_rel)
-    return [dst._symbol("v") - ca.mtimes(T_rel, v_in), dst._symbol("a") - ca.mtimes(T_rel, a_in),
-            dst._symbol("z") - z]
+    found = [dst._symbol("v") - ca.mtimes(T_rel, v_in), dst._symbol("a") - ca.mtimes(T_rel, a_in),
+             dst._symbol("z") - z]
+    if relative:
+        found = [ca.substitute(x, ca.vec(T_syms), ca.vec(T_rel)) for x in found]
+    return found
 
 
-def tree_kinematics(nodes: list[Node], depth: dict[int, int], equations: list[FlatEquation]) -> None:
+def _gravity(owner: Component, nodes: list[Node]) -> ca.SX:
+    """The gravity acceleration resolved in world [m/s2] at a tree root: the root's component's ``gravity()`` if it
+    has one (the World), else that of the model's World (the one definite root whose component has ``gravity()``)."""
+    if callable(getattr(type(owner), "gravity", None)):
+        return owner.gravity()
+    worlds = [n for n in nodes if isinstance(n, Component) and n.__dict__.get("_od_roots")
+              and callable(getattr(type(n), "gravity", None))]
+    if len(worlds) != 1:
+        raise ModelError(f"{owner.path}: computes the root of an orientation tree, and the multibody pass needs the "
+                         f"gravity acceleration there; the model has {len(worlds)} World components (one gives "
+                         "gravity to all frames)")
+    return worlds[0].gravity()
+
+
+def root_kinematics(owner: Component, root: Connector, rows: list[ca.SX], hashes: list[set[int]],
+                    gravity: Callable[[], ca.SX]) -> list[ca.SX]:
+    """Rows for the ``v``, ``a``, ``z`` of a tree's root frame from its component's rows (a World, a fixed frame or
+    a free body that computes ``r_0``, ``T``, ``w`` of the frame): with ``˙`` the rate along those rows and ``g``
+    the gravity acceleration::
+
+        v = T ṙ_0,  a = T (r̈_0 − g),  z = ẇ
+
+    ``r_0``, ``w`` and a constant ``T`` are taken as the rows define them, so a frame fixed in the world gets the
+    constant rows ``v = 0``, ``a = −T g``, ``z = 0``."""
+    T_sym, r_sym, w_sym = (_elements(root, n) for n in ("T", "r_0", "w"))
+    T_defs = _definitions(rows, hashes, T_sym, exclude=r_sym + w_sym)
+    rw_defs = _definitions(rows, hashes, r_sym + w_sym)
+    T = root._symbol("T")
+    if T_defs is not None and all(x.is_constant() for x in T_defs):
+        T = ca.reshape(ca.vertcat(*T_defs), 3, 3)
+    rates = _aliased(rows, _rates(rows))
+    r, w = root._symbol("r_0"), root._symbol("w")
+    if rw_defs is not None:  # where a row gives a rate (a free body's v_0 = der(r_0)), the rate; else the definition
+        if not all(x.element_hash() in rates for x in r_sym):
+            r = ca.vertcat(*rw_defs[:3])
+        if not all(x.element_hash() in rates for x in w_sym):
+            w = ca.vertcat(*rw_defs[3:])
+    rd = _rate(r, rates)
+    return [root._symbol("v") - ca.mtimes(T, rd), root._symbol("a") - ca.mtimes(T, _rate(rd, rates) - gravity()),
+            root._symbol("z") - _rate(w, rates)]
+
+
+def declare_frame_kinematics(nodes: list[Node], is_frame: Callable[[type], bool]) -> None:
+    """Give every frame (a connector with ``r_0``, ``T``, ``w``) the kinematic quantities the pass carries along the
+    tree, ``v``, ``a`` and ``z`` (:data:`FRAME_KINEMATICS`), as declarations of the pass
+    (:meth:`~flexlib.core.component.Node.add_pass_declaration`)."""
+    for node in nodes:
+        if isinstance(node, Connector) and is_frame(type(node)) and all(n in node._decls for n in ("r_0", "T", "w")):
+            after = "w"
+            for name, (unit, doc) in FRAME_KINEMATICS.items():
+                node.add_pass_declaration(name, Potential(unit=unit, shape=3, overdetermined=True, doc=doc), after)
+                after = name
+
+
+class _Rows:
+    """The rows of each component (indices into the flat equations, and the symbols of each), gathered once."""
+
+    def __init__(self, equations: list[FlatEquation]) -> None:
+        self.equations = equations
+        self.own: dict[str, list[int]] = {}
+        for r, e in enumerate(equations):
+            if e.origin == "equation":
+                self.own.setdefault(e.owner, []).append(r)
+        self.symbols: dict[str, list[set[int]]] = {}
+
+    def of(self, node: Component) -> tuple[list[int], list[ca.SX], list[set[int]]]:
+        at = self.own.get(node.path, [])
+        if node.path not in self.symbols:
+            self.symbols[node.path] = [{s.element_hash() for s in ca.symvar(self.equations[r].expr)} for r in at]
+        return at, [self.equations[r].expr for r in at], self.symbols[node.path]
+
+
+def _writes(frame: Connector, rows: list[ca.SX], hashes: list[set[int]]) -> bool:
+    """True if one of the rows defines an element of the frame's ``v``, ``a`` or ``z`` (names exactly one, with a
+    constant coefficient: ``v_b = R v_a`` does, a body's ``f = m (a + ...)`` that reads ``a`` does not)."""
+    elements = {s.element_hash(): s for n in FRAME_KINEMATICS for s in _elements(frame, n)}
+    for expr, present in zip(rows, hashes, strict=True):
+        hits = [h for h in present if h in elements]
+        if len(hits) == 1 and _coefficient(expr, elements[hits[0]]) != 0.0:
+            return True
+    return False
+
+
+def tree_kinematics(nodes: list[Node], depth: dict[int, int], roots: set[int], equations: list[FlatEquation]) -> None:
     """Insert rows for the ``v``, ``a``, ``z`` of every frame that a branch computes with MSL's rows only
     (:func:`branch_kinematics`) into ``equations``, before the component's row for that frame's ``T`` (where a
-    library joint writes them); a component that writes its frames' ``v``, ``a``, ``z`` itself is left as it is."""
-    own: dict[str, list[int]] = {}
-    for r, e in enumerate(equations):
-        if e.origin == "equation":
-            own.setdefault(e.owner, []).append(r)
+    library joint writes them), and of every tree root (:func:`root_kinematics`), after its component's rows for the
+    root's ``r_0``, ``T``, ``w``; a component that writes a frame's ``v``, ``a``, ``z`` itself is left as it is."""
+    rows = _Rows(equations)
     inserts: dict[int, list[FlatEquation]] = {}
     checked: set = set()
-    symbols: dict[str, list[set[int]]] = {}
+
+    def insert(where: int, node: Component, frame: Connector, found: list[ca.SX], source: str) -> None:
+        for name, vec in zip(FRAME_KINEMATICS, found, strict=True):
+            label = f"{frame._label(name)} from {source} (multibody kinematics pass)"
+            inserts.setdefault(where, []).extend(FlatEquation(vec[k], node.path, label, "equation") for k in range(3))
+
     for node in nodes:
+        if isinstance(node, Connector) and id(node) in roots and isinstance(node._parent, Component):
+            owner = node._parent
+            at, exprs, hashes = rows.of(owner)
+            if FRAME_KINEMATICS.keys() <= node._decls.keys() and not _writes(node, exprs, hashes):
+                found = root_kinematics(owner, node, exprs, hashes, lambda owner=owner: _gravity(owner, nodes))
+                frame = {h for n in ("r_0", "T", "w") for h in _hashes(node, n)}
+                last = max((r for r, h in zip(at, hashes, strict=True) if not frame.isdisjoint(h)), default=None)
+                insert(len(equations) if last is None else last + 1, owner, node, found, "the world")
         branches = node.__dict__.get("_od_branches", []) if isinstance(node, Component) else []
         for a, b in branches:
             src, dst = (a, b) if depth[id(a)] < depth[id(b)] else (b, a)
-            if not all(n in dst._decls for n in ("v", "a", "z")):
+            if not FRAME_KINEMATICS.keys() <= dst._decls.keys():
                 continue
-            at = own.get(node.path, [])
-            if node.path not in symbols:
-                symbols[node.path] = [{s.element_hash() for s in ca.symvar(equations[r].expr)} for r in at]
-            hashes = symbols[node.path]
-            written = {h for n in ("v", "a", "z") for h in _hashes(dst, n)}
-            if any(not written.isdisjoint(h) for h in hashes):
+            at, exprs, hashes = rows.of(node)
+            if _writes(dst, exprs, hashes):
                 continue  # the component writes the recursion itself
-            found = branch_kinematics(node, src, dst, [equations[r].expr for r in at], checked, hashes)
+            found = branch_kinematics(node, src, dst, exprs, checked, hashes)
             if found is None:
                 continue
             orientation = set(_hashes(dst, "T"))
             where = next((r for r, h in zip(at, hashes, strict=True) if not orientation.isdisjoint(h)), len(equations))
-            for name, vec in zip(("v", "a", "z"), found, strict=True):
-                label = f"{dst._label(name)} from {src.path} (multibody kinematics pass)"
-                inserts.setdefault(where, []).extend(FlatEquation(vec[k], node.path, label, "equation")
-                                                     for k in range(3))
+            insert(where, node, dst, found, src.path)
     if inserts:
         merged: list[FlatEquation] = []
         for r, e in enumerate(equations):
