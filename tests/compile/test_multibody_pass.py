@@ -4,9 +4,11 @@ The library's :class:`~flexlib.components.mechanics.multibody.Revolute` relates 
 (``r_0``, ``T``, ``w``, ``f``, ``t``; Modelica Standard Library 4.0, ``MultiBody.Joints.Revolute``) plus friction:
 the pass introduces the frames' velocities and accelerations ``v``, ``a``, ``z`` along the spanning tree.
 ``HandRevolute`` writes that recursion by hand, as the joints did before the pass. The crank-rocker four-bar
-(both branch directions: the loop's cut joint is rooted at frame_b) compiles with either to the same unknowns,
-states and Jacobian sparsity and the same residual at random points (to round-off: bit for bit), and runs the
-same steps and signals.
+(both branch directions: the loop's cut joint is rooted at frame_b) and the pump truck's boom (slew, five
+section joints and the lever-and-link pins of joints 2–5) compile with either to the same unknowns, states and
+Jacobian sparsity and the same residual at random points (to round-off: bit for bit), and run the same steps and
+signals. The :class:`Frame` connector declares MSL's quantities only; the pass declares ``v``, ``a``, ``z`` on each
+frame and writes them for the tree's roots too.
 """
 
 from __future__ import annotations
@@ -17,10 +19,12 @@ import pytest
 
 import flexlib as fl
 import flexlib.models.planar_mechanisms as pm
+import flexlib.models.pump_truck.model as pump_truck_model
 from flexlib import eq
 from flexlib.compile.flatten import FlatSystem, flatten
-from flexlib.components.mechanics.multibody import Body, Revolute, World
+from flexlib.components.mechanics.multibody import Body, Frame, Revolute, World
 from flexlib.components.mechanics.multibody.frames import planar_rotation
+from flexlib.registry import get_model
 
 
 class HandRevolute(Revolute):
@@ -123,3 +127,51 @@ def test_a_relation_that_is_not_a_relative_motion_is_named() -> None:
     """The pass refuses to guess the recursion of rows it cannot read as a relative motion, naming the joint."""
     with pytest.raises(fl.ModelError, match=r"joint: the rows relating its frames are not a relative motion"):
         flatten(Pendulum(), check=False)
+
+
+def test_frame_declares_msl_quantities_only() -> None:
+    """The connector declares r_0, T, w, f, t (MSL ``Interfaces.Frame``); v, a, z come from the pass, on the instances
+    of a flattened model only, and do not enter the cache key's declarations or connectability."""
+    assert set(Frame().class_declarations()) == {"r_0", "T", "w", "f", "t"}
+    model = _fourbar(None)
+    frame = model.rev_coupler.frame_b
+    before = frame.signature()
+    flat = flatten(model, check=False)  # the loop's redundant rows go later
+    assert list(frame._decls) == ["r_0", "T", "w", "v", "a", "z", "f", "t"]
+    assert frame.signature() == before and set(frame.class_declarations()) == {"r_0", "T", "w", "f", "t"}
+    generated = {e.label.split(" from ")[0] for e in flat.equations if "kinematics pass" in e.label}
+    assert {"world.frame_b.v", "world.frame_b.a", "world.frame_b.z", "rev_crank.frame_b.v"} <= generated
+
+
+def _boom(monkeypatch: pytest.MonkeyPatch | None) -> tuple[fl.Model, dict]:
+    entry = get_model("pump-truck")
+    scenario = entry.scenario("expand")
+    if monkeypatch is not None:
+        monkeypatch.setattr(pump_truck_model, "Revolute", HandRevolute)
+    return entry.factory(scenario), dict(scenario.run)
+
+
+def test_pump_truck_linkage_runs_with_msl_joints_as_with_hand_written_ones(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The rigid pump truck's joints (all library revolutes, MSL's rows only) against the same joints with the
+    recursion written by hand: same compiled system, residual to round-off, same steps and signals over the first
+    2 s of the expand scenario (module doc)."""
+    lib_model, run = _boom(None)
+    hand_model, _ = _boom(monkeypatch)
+    assert isinstance(hand_model.slew, HandRevolute) and not isinstance(lib_model.slew, HandRevolute)
+    lib = fl.Simulation(lib_model, use_cache=False, codegen=False)
+    hand = fl.Simulation(hand_model, use_cache=False, codegen=False)
+    a, b = lib.compiled, hand.compiled
+    assert a.y_names == b.y_names and list(a.differential) == list(b.differential)
+    assert list(a.jac_row) == list(b.jac_row) and list(a.jac_colind) == list(b.jac_colind)
+    p = np.concatenate([lib.parameter_vector(), np.zeros(a.n_relations)])
+    rng = np.random.default_rng(20261128)
+    y, yp = rng.standard_normal(a.n), rng.standard_normal(a.n)
+    r_lib = np.asarray(a.sx_function("res")(0.1, y, yp, p)).ravel()
+    r_hand = np.asarray(b.sx_function("res")(0.1, y, yp, p)).ravel()
+    np.testing.assert_allclose(r_lib, r_hand, rtol=1e-14, atol=1e-14 * np.abs(r_hand).max())
+    res_lib = lib.run(2.0, progress=False, **run)
+    res_hand = hand.run(2.0, progress=False, **run)
+    assert res_lib.stats["steps"] == res_hand.stats["steps"]
+    for name in ("joint1.phi", "joint2.w", "link_pin3.phi", "slew.frame_b.t[1]"):
+        x, ref = res_lib[name], res_hand[name]
+        np.testing.assert_allclose(x, ref, rtol=1e-12, atol=1e-12 * max(np.abs(ref).max(), 1e-300))
