@@ -425,53 +425,39 @@ class FlexibleBody(Component):
         x_e, Tr_e, wr_e = kin[entry][:3]
         T = ca.mtimes(Tr_e.T, e.T)  # world -> body
         eqs = []
-        if entry == 0 and self.is_root(e):
+        free = entry == 0 and self.is_root(e)
+        if free:  # the body's own coordinates give the entry frame's motion
             eqs += floating_frame_equations(e, self.Q)
-        else:
+            eqs.append(eq(e.w, ca.mtimes(Tr_e, w) + wr_e))
+        else:  # the entry frame's motion gives the body's
             eqs.append(eq(self.Q, [0.0, 0.0, 0.0, 1.0]))
-        eqs += [
-            eq(w, ca.mtimes(Tr_e.T, e.w - wr_e)),
-            eq(self.r_0, e.r_0 - ca.mtimes(T.T, x_e)),
-        ]
-        # velocities and accelerations along the tree (recursive kinematics): a frame's origin x_k(q) moves with
-        # xd = Phi_k qd, xdd = Phi_k qdd in body axes; its angular velocity Tr_k w + wr_k(q, qd) changes at the
-        # rate d/dt of that expression (componentwise in the frame: the frame's z)
+            eqs.append(eq(w, ca.mtimes(Tr_e.T, e.w - wr_e)))
+        eqs.append(eq(self.r_0, e.r_0 - ca.mtimes(T.T, x_e)))
+        # the entry frame's origin x_e(q) moves with xd = Phi_e qd, xdd = Phi_e qdd in body axes; its angular velocity
+        # Tr_e w + wr_e(q, qd) changes at the rate d/dt of that expression (componentwise in the frame: its z)
+        xd_e, xdd_e = lin(kin[entry][3], qd), lin(kin[entry][3], qdd)
         qq = ca.vertcat(q, qd) if m else ca.SX.zeros(0, 1)
         qqd = ca.vertcat(qd, qdd) if m else ca.SX.zeros(0, 1)
-
-        def rates(k: int) -> tuple:
-            x_k, Tr_k, wr_k, Phi_k, _ = kin[k]
-            xd, xdd = lin(Phi_k, qd), lin(Phi_k, qdd)
-            wk = ca.mtimes(Tr_k, w) + wr_k
-            zk = ca.mtimes(Tr_k, z) + (ca.jtimes(wk, qq, qqd) if m else ca.SX.zeros(3, 1))
-            return x_k, xd, xdd, zk
-
-        _, xd_e, xdd_e, z_e = rates(entry)
+        z_e = ca.mtimes(Tr_e, z) + (ca.jtimes(ca.mtimes(Tr_e, w) + wr_e, qq, qqd) if m else ca.SX.zeros(3, 1))
         g = gravity_of(self)
-
-        def acc(x: Any, xd: Any, xdd: Any) -> Any:  # a material point's acceleration relative to the origin, body axes
-            return ca.cross(z, x) + ca.cross(w, ca.cross(w, x)) + 2 * ca.cross(w, xd) + xdd
-
         alpha = self.alpha  # T (a_0 - g): the origin's acceleration less gravity, body axes
-        v_origin = ca.mtimes(Tr_e.T, e.v) - ca.cross(w, x_e) - xd_e  # origin velocity, body axes
-        if entry == 0 and self.is_root(e):
+        if free:
             eqs += [eq(der(self.r_0), self.v_0), eq(der(self.v_0), self.a_0), eq(der(w), z),
-                    eq(alpha, ca.mtimes(T, self.a_0 - g), label="acceleration in body axes"),
-                    eq(e.v, ca.mtimes(Tr_e, ca.mtimes(T, self.v_0) + ca.cross(w, x_e) + xd_e)),
-                    eq(e.a, ca.mtimes(Tr_e, alpha + acc(x_e, xd_e, xdd_e))), eq(e.z, z_e)]
-        else:
-            eqs += [eq(alpha, ca.mtimes(Tr_e.T, e.a) - acc(x_e, xd_e, xdd_e), label="acceleration in body axes"),
+                    eq(alpha, ca.mtimes(T, self.a_0 - g), label="acceleration in body axes")]
+        else:  # the body reads the entry frame's v, a, z, which the multibody pass carries along the tree
+            acc_e = ca.cross(z, x_e) + ca.cross(w, ca.cross(w, x_e)) + 2 * ca.cross(w, xd_e) + xdd_e
+            v_origin = ca.mtimes(Tr_e.T, e.v) - ca.cross(w, x_e) - xd_e  # origin velocity, body axes
+            eqs += [eq(alpha, ca.mtimes(Tr_e.T, e.a) - acc_e, label="acceleration in body axes"),
                     eq(self.v_0, ca.mtimes(T.T, v_origin)), eq(self.a_0, ca.mtimes(T.T, alpha) + g), eq(e.z, z_e)]
+        # the other frames, written from the entry frame (not from r_0): the frame chain stays explicit in frame
+        # variables, as the loop-redundancy analysis needs (flexlib.compile.passes.multibody.redundancy), and the
+        # multibody pass reads them as a relative motion of the entry frame to carry v, a, z on
+        w_body = ca.mtimes(Tr_e.T, e.w - wr_e) if free else w
         for k, f in enumerate(frames):
             if k != entry:
                 x, Tr, wr = kin[k][:3]
-                _, xd, xdd, z_k = rates(k)
-                # written from the entry frame (not from r_0): the frame chain stays explicit in frame
-                # variables, as the loop-redundancy analysis needs (flexlib.compile.passes.multibody.redundancy)
                 eqs += [eq(f.r_0, e.r_0 + ca.mtimes(T.T, x - x_e)), eq(f.T, ca.mtimes(Tr, T)),
-                        eq(f.w, ca.mtimes(Tr, w) + wr),
-                        eq(f.v, ca.mtimes(Tr, v_origin + ca.cross(w, x) + xd)),
-                        eq(f.a, ca.mtimes(Tr, alpha + acc(x, xd, xdd))), eq(f.z, z_k)]
+                        eq(f.w, ca.mtimes(Tr, w_body) + wr)]
         if m:
             eqs += [eq(der(q), qd), eq(der(qd), qdd)]
 

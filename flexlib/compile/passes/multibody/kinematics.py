@@ -1,10 +1,18 @@
-"""Error-test marks of the multibody kinematics: the multibody pass's part of the error-test policy
-(:mod:`flexlib.compile.scaling`).
+"""The frames' kinematics carried along the spanning tree, and their error-test marks: the multibody pass's part of
+the error-test policy (:mod:`flexlib.compile.scaling`).
 
-A frame carries its velocity ``v``, acceleration ``a`` and angular acceleration ``z`` along the spanning tree
-(recursive kinematics, as in Featherstone's algorithms): each joint or body relates them between its frames with
-its own coordinates, so accelerations are computed by rows free of derivatives, where the compile-time derivative
-level (``structure.derivative_level``) cannot see that they are accelerations. This module marks them:
+A component relates its frames with MSL's rows only (``r_0``, ``T``, ``w``, ``f``, ``t``). The pass gives every
+frame its velocity ``v``, acceleration less gravity ``a`` and angular acceleration ``z``, resolved in the frame
+(:func:`declare_frame_kinematics`), and writes their rows (recursive kinematics, as in Featherstone's algorithms):
+
+- at each tree root from its component's rows and the World's gravity (:func:`root_kinematics`);
+- along each branch from the rows that place one frame relative to the other with the component's own coordinates
+  (:func:`branch_kinematics`), so accelerations are computed by rows free of derivatives, and a body reads its
+  frame's ``a`` and ``z`` instead of the second time derivative of its position, which depends on every joint
+  coordinate between it and the root.
+
+Where the compile-time derivative level (``structure.derivative_level``) cannot see that these are accelerations,
+this module marks them:
 
 - a frame's ``v``, ``a``, ``z`` are kinematic intermediates (eliminated where a row gives them explicitly), and
   ``a``, ``z`` are kept out of IDA's local error test;
@@ -207,6 +215,45 @@ def _check_relative(owner: Component, exprs: list[ca.SX], relative: list[ca.SX],
                          "pass cannot introduce the frames' velocities and accelerations")
 
 
+def _source(owner: Component, src: Connector, dst: Connector, T_def: ca.SX) -> Connector:
+    """The frame of ``owner`` that the rows compute ``dst`` from: the one whose ``T`` the orientation rows read (a
+    flexible body writes all its frames from the one the tree enters by, not from frame_a of each branch), else
+    ``src``."""
+    read = [c for c in owner._children.values() if isinstance(c, Connector) and c is not dst and "T" in c._decls
+            and ca.depends_on(ca.vec(T_def), ca.vec(c._symbol("T")))]
+    return read[0] if len(read) == 1 else src
+
+
+def _expanded(owner: Component, rows: list[ca.SX], *defs: ca.SX) -> list[ca.SX]:
+    """``defs`` with the component's intermediate unknowns replaced by what its rows define them as: an unknown
+    ``u`` of ``owner`` itself with a row ``u − f`` (``f`` free of ``u`` and of derivatives) and no rate row, such as
+    a flexible body's angular velocity in body axes in ``w_frame = T_k w + w_k``."""
+    rates = _rates(rows)
+    known: dict[int, tuple[ca.SX, ca.SX]] = {}
+    for expr in rows:
+        if expr.n_dep() != 2 or expr.op() != ca.OP_SUB or not expr.dep(0).is_symbolic():
+            continue
+        info = lookup(expr.dep(0))
+        if info is None or info.kind != "variable" or info.node is not owner:
+            continue
+        h = info.sym.element_hash()
+        f = expr.dep(1)
+        if h in rates or h in known or ca.depends_on(f, info.sym):
+            continue
+        if any((lookup(x) is not None and lookup(x).kind == "der") for x in ca.symvar(f)):
+            continue
+        known[h] = (info.sym, f)
+    out = list(defs)
+    for _ in range(3):
+        both = ca.vertcat(*out)
+        used = [known[s.element_hash()] for s in ca.symvar(both) if s.element_hash() in known]
+        if not used:
+            break
+        syms, values = ca.vertcat(*[u for u, _ in used]), ca.vertcat(*[f for _, f in used])
+        out = [ca.substitute(x, syms, values) for x in out]
+    return out
+
+
 def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: list[ca.SX],
                       checked: set | None = None, hashes: list[set[int]] | None = None) -> list[ca.SX] | None:
     """Rows for ``dst``'s ``v``, ``a``, ``z`` from ``src``'s, for a component that relates its frames with MSL's rows
@@ -230,8 +277,9 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: li
     if T_defs is None or rw_defs is None:
         return None
     T_def = ca.reshape(ca.vertcat(*T_defs), 3, 3)
+    src = _source(owner, src, dst, T_def)
     T_syms = dst._symbol("T")
-    r_own, w_own = ca.vertcat(*rw_defs[:3]), ca.vertcat(*rw_defs[3:])
+    r_own, w_own = _expanded(owner, rows, ca.vertcat(*rw_defs[:3]), ca.vertcat(*rw_defs[3:]))
     r_def = ca.substitute(r_own, ca.vec(T_syms), ca.vec(T_def))
     w_def = ca.substitute(w_own, ca.vec(T_syms), ca.vec(T_def))
     T_src, r_src, w_src = src._symbol("T"), src._symbol("r_0"), src._symbol("w")
@@ -255,7 +303,7 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: li
         at_src = (ca.vertcat(r_src, w_src, ca.vec(T_src)), ca.vertcat(zero, zero, eye))
         r_rel, w_rel = ca.substitute(r_own, *at_src), ca.substitute(w_own, *at_src)
         T_rate = -ca.mtimes(ca.skew(w_rel), T_syms)
-        rates.update({T_syms.nz[k].element_hash(): T_rate.nz[k] for k in range(9)})
+        rates.update({ca.vec(T_syms)[k].element_hash(): ca.vec(T_rate)[k] for k in range(9)})
     v_s, a_s, z_s = src._symbol("v"), src._symbol("a"), src._symbol("z")
     v_in, a_in = v_s, a_s
     if not r_rel.is_zero():
@@ -295,24 +343,39 @@ def root_kinematics(owner: Component, root: Connector, rows: list[ca.SX], hashes
 
         v = T ṙ_0,  a = T (r̈_0 − g),  z = ẇ
 
-    ``r_0``, ``w`` and a constant ``T`` are taken as the rows define them, so a frame fixed in the world gets the
-    constant rows ``v = 0``, ``a = −T g``, ``z = 0``."""
+    ``r_0``, ``w`` and a constant ``T`` are taken as the rows define them (rows free of derivatives; where a row
+    gives a rate, as a free body's ``v_0 = der(r_0)``, that rate), so a frame fixed in the world gets the constant
+    rows ``v = 0``, ``a = −T g``, ``z = 0``. A varying ``T`` changes at ``−[w×] T`` (no derivative of the
+    coordinates it is made of)."""
     T_sym, r_sym, w_sym = (_elements(root, n) for n in ("T", "r_0", "w"))
-    T_defs = _definitions(rows, hashes, T_sym, exclude=r_sym + w_sym)
-    rw_defs = _definitions(rows, hashes, r_sym + w_sym)
+    plain = [k for k, x in enumerate(rows) if not any(_is_der(y) for y in ca.symvar(x))]
+    rows_p, hashes_p = [rows[k] for k in plain], [hashes[k] for k in plain]
+    T_defs = _definitions(rows_p, hashes_p, T_sym, exclude=r_sym + w_sym)
+    rw_defs = _definitions(rows_p, hashes_p, r_sym + w_sym)
     T = root._symbol("T")
-    if T_defs is not None and all(x.is_constant() for x in T_defs):
-        T = ca.reshape(ca.vertcat(*T_defs), 3, 3)
     rates = _aliased(rows, _rates(rows))
     r, w = root._symbol("r_0"), root._symbol("w")
-    if rw_defs is not None:  # where a row gives a rate (a free body's v_0 = der(r_0)), the rate; else the definition
+    if rw_defs is not None:
         if not all(x.element_hash() in rates for x in r_sym):
             r = ca.vertcat(*rw_defs[:3])
         if not all(x.element_hash() in rates for x in w_sym):
             w = ca.vertcat(*rw_defs[3:])
+    z = _rate(w, rates)
+    if T_defs is not None and all(x.is_constant() for x in T_defs):
+        T = ca.reshape(ca.vertcat(*T_defs), 3, 3)
+    else:
+        w_frame = root._symbol("w")
+        T_rate = -ca.mtimes(ca.skew(w_frame), T)
+        rates.update({ca.vec(T)[k].element_hash(): ca.vec(T_rate)[k] for k in range(9)})
+        rates.update({w_frame[k].element_hash(): z[k] for k in range(3) if w_frame[k].element_hash() not in rates})
     rd = _rate(r, rates)
     return [root._symbol("v") - ca.mtimes(T, rd), root._symbol("a") - ca.mtimes(T, _rate(rd, rates) - gravity()),
-            root._symbol("z") - _rate(w, rates)]
+            root._symbol("z") - z]
+
+
+def _is_der(s: ca.SX) -> bool:
+    info = lookup(s)
+    return info is not None and info.kind == "der"
 
 
 def declare_frame_kinematics(nodes: list[Node], is_frame: Callable[[type], bool]) -> None:
