@@ -7,6 +7,7 @@ of runs with different parameters, tolerances and end times, without recompiling
 from __future__ import annotations
 
 import copy
+import dataclasses
 import os
 import time as _time
 import warnings
@@ -17,10 +18,11 @@ from typing import Any
 import numpy as np
 
 from flexlib.compile import pipeline
+from flexlib.compile.build_options import BuildOptions
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.constants import assumptions_hold
 from flexlib.compile.index_reduction import IndexReport
-from flexlib.compile.pipeline import Build, build_key, check_build_options, check_model
+from flexlib.compile.pipeline import Build, build_key, check_model
 from flexlib.core.component import Component
 from flexlib.errors import (
     ModelError,
@@ -39,7 +41,7 @@ from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolera
 from flexlib.solve.events import check_assertions
 from flexlib.solve.init.initializer import Initializer
 from flexlib.solve.loop import run_loop
-from flexlib.solve.options import BuildOptions, Experiment, RunOptions, span_end
+from flexlib.solve.options import Experiment, RunOptions, span_end
 from flexlib.solve.parameters import ParameterTable
 from flexlib.solve.rows import RowEvaluator, segments
 from flexlib.solve.run_options import check_params, check_run_arguments
@@ -70,8 +72,8 @@ class Simulation:
         whose ``params`` make one of them non-zero raises :class:`~flexlib.errors.StructureChangedError`
         naming it; pass ``False`` to sweep such a parameter. See :func:`flexlib.build`.
     build : BuildOptions, optional
-        All build options as one record (instead of the three keywords; it also sets the compiler's switches
-        ``explicit`` and ``tree_frames``, otherwise taken from the environment).
+        All build options as one record (instead of the three keywords; it also holds the compiler's options
+        ``explicit`` and ``tree_frames``). A field left None takes its environment default, read once here.
 
     Raises
     ------
@@ -90,6 +92,8 @@ class Simulation:
         The compiled model (``sim.build.compiled``).
     build_info : dict
         Build timings [s], ``cached`` and ``model_key`` (``sim.build.timings``).
+    build_options : BuildOptions
+        The build's options, resolved (no field None; ``sim.build.options``).
 
     Examples
     --------
@@ -101,26 +105,11 @@ class Simulation:
     def __init__(self, model: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
                  assume_zero_geometry: bool | None = None, build: BuildOptions | None = None) -> None:
         check_model(model, "Simulation()")
-        if build is not None:
-            if not isinstance(build, BuildOptions):
-                raise RunArgumentError(f"Simulation(): build = {build!r:.80} is invalid: must be a "
-                                       "flexlib.BuildOptions(...)")
-            if not (isinstance(codegen, str) and codegen == "auto" and use_cache is True
-                    and assume_zero_geometry is None):
-                raise RunArgumentError("Simulation(): give the build options either as build=BuildOptions(...) "
-                                       "or as keywords, not both")
-            codegen, use_cache, assume_zero_geometry = build.codegen, build.use_cache, build.zero_geometry
-        check_build_options(codegen, use_cache, assume_zero_geometry, "Simulation()")
-        codegen = "auto" if isinstance(codegen, str) else bool(codegen)
-        self.build_options = BuildOptions(codegen, bool(use_cache), assume_zero_geometry,
-                                          *((build.explicit, build.tree_frames) if build is not None else ()))
+        #: The build's options, resolved once (every field left None set from its environment default)
+        self.build_options = BuildOptions.from_arguments(codegen, use_cache, assume_zero_geometry, build,
+                                                         "Simulation()").resolved()
         self.model = model
-        self._codegen = codegen
-        self._use_cache = bool(use_cache)
-        with self.build_options.environment():
-            self.build: Build = pipeline.build(model, codegen=codegen, use_cache=use_cache,
-                                               assume_zero_geometry=assume_zero_geometry)
-        self._zero_geometry = self.build.assume_zero_geometry
+        self.build: Build = pipeline.build(model, options=self.build_options)
         self.compiled: CompiledModel = self.build.compiled
         self.build_info: dict[str, Any] = self.build.timings
         self.initializer = Initializer(self.compiled, self._structure)
@@ -152,15 +141,11 @@ class Simulation:
             ``model`` is not a model instance (a model class, a name); a ``TypeError``.
         """
         check_model(model, "Simulation.with_model()")
-        options = {"codegen": self._codegen, "assume_zero_geometry": self._zero_geometry}
-        with self.build_options.environment():
-            key = self.build.key or build_key(self.model, **options)
-            same = (type(model) is type(self.model) and build_key(model, **options) == key
-                    and assumptions_hold(self.compiled.assumed, model))
+        key = self.build.key or build_key(self.model, self.build_options)
+        same = (type(model) is type(self.model) and build_key(model, self.build_options) == key
+                and assumptions_hold(self.compiled.assumed, model))
         if not same:
-            opts = self.build_options
-            return Simulation(model, build=BuildOptions(self._codegen, self._use_cache, self._zero_geometry,
-                                                        opts.explicit, opts.tree_frames))
+            return Simulation(model, build=self.build_options)
         other = copy.copy(self)
         other.model = model
         other.init_cached = False
@@ -474,9 +459,7 @@ class Simulation:
 
     def _rebuild_uncached(self) -> None:
         """Build again from this instance's own values (no cache read or write)."""
-        with self.build_options.environment():
-            self.build = pipeline.build(self.model, codegen=self._codegen, use_cache=False,
-                                        assume_zero_geometry=self._zero_geometry)
+        self.build = pipeline.build(self.model, options=dataclasses.replace(self.build_options, use_cache=False))
         self.compiled, self.build_info = self.build.compiled, self.build.timings
         self.initializer = Initializer(self.compiled, self._structure)
         self._rows.clear()
@@ -492,8 +475,7 @@ class Simulation:
 
     def _structure(self) -> Any:
         """Stages 1–3 of this build again (a build loaded from the cache keeps only the compiled model)."""
-        with self.build_options.environment():
-            return self.build.structure(self.model)
+        return self.build.structure(self.model)
 
     def _monitor(self) -> Any:
         from flexlib.solve.state_selection import StateSelectionMonitor
