@@ -21,7 +21,7 @@ from flexlib.solve.backends.base import Integrator
 from flexlib.solve.loop import run_loop
 from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["ALIASES", "IDA", "CasadiIDAS", "Solver", "as_solver", "integrate"]
+__all__ = ["ALIASES", "IDA", "SOLVERS", "CasadiIDAS", "Solver", "as_solver", "integrate"]
 
 #: Linear solvers of the C driver (``IDA(linear_solver=...)``)
 LINEAR_SOLVERS = ("dense", "klu", "superlumt")
@@ -142,6 +142,8 @@ class CasadiIDAS(Solver):
 #: The solver strings of ``run(solver=...)`` and the objects they stand for
 ALIASES: dict[str, Solver] = {"ida": IDA(), "casadi-idas": CasadiIDAS(), "ida-native": IDA(native=True),
                               "ida-sksundae": IDA(native=False)}
+#: The solver names accepted by ``run(solver=...)``, scenarios and ``flexlib run --solver``
+SOLVERS = tuple(ALIASES)
 
 
 def as_solver(solver: str | Solver) -> Solver:
