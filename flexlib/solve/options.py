@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.errors import RunArgumentError
+from flexlib.errors import ModelError, RunArgumentError
 
-__all__ = ["Experiment", "RunOptions", "span_end"]
+__all__ = ["Experiment", "RunOptions", "experiment_of", "span_end"]
 
 
 @dataclass(frozen=True)
@@ -68,6 +68,23 @@ _EXPERIMENT_FIELDS = ("t_end", "dt_out", "rtol", "atol", "t_start", "max_order")
 _MODELICA_NAMES = {"stoptime": "t_end", "tend": "t_end", "tstop": "t_end", "interval": "dt_out", "dt": "dt_out",
                    "tolerance": "rtol", "starttime": "t_start", "tstart": "t_start", "t0": "t_start",
                    "maxorder": "max_order"}
+
+
+def experiment_of(model: Any) -> Experiment:
+    """The ``experiment`` of a model instance (``Experiment()`` without one); :class:`~flexlib.errors.ModelError`
+    naming it if it is something else (a dict, a number, the class ``Experiment`` itself), which failed with an
+    AttributeError."""
+    exp = getattr(model, "experiment", None)
+    if exp is None:
+        return Experiment()
+    if not isinstance(exp, Experiment):
+        shown = " ".join(repr(exp).split())
+        shown = shown if len(shown) <= 80 else shown[:77] + "..."
+        what = "the class itself, not an instance" if exp is Experiment else f"a {type(exp).__name__}"
+        raise ModelError(f"{type(model).__name__}.experiment = {shown} is {what}; write experiment = "
+                         "flexlib.Experiment(t_end=..., dt_out=..., rtol=..., atol=..., t_start=..., "
+                         "max_order=...) (every field optional)")
+    return exp
 
 
 def span_end(t0: Any) -> Any:
