@@ -5,6 +5,7 @@ import os as _os
 _os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (see docs/engine.md)
 
 from flexlib.analysis import linearize, modal_analysis, modal_sweep
+from flexlib.compile.build_options import BuildOptions
 from flexlib.compile.pipeline import Build, build
 from flexlib.core.component import Component, Connector, Model
 from flexlib.core.equations import der, eq
@@ -46,7 +47,7 @@ from flexlib.errors import (
 )
 from flexlib.results.hdf5 import load_result
 from flexlib.results.result import Result
-from flexlib.solve.options import BuildOptions, Experiment, RunOptions
+from flexlib.solve.options import Experiment, RunOptions
 from flexlib.solve.simulation import Simulation
 from flexlib.solve.solvers import IDA, CasadiIDAS
 

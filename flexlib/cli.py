@@ -32,10 +32,10 @@ from flexlib.cli_results import compare_cmd, show_cmd
 from flexlib.cli_support import fmt, friendly, new_console, once_option, one_line, say
 from flexlib.errors import FlexlibError, RegistryError, ResultKeyError, SolverError
 from flexlib.results.compare import compare_results
+from flexlib.solve.solvers import SOLVERS
 
 __all__ = ["cli", "compare_results", "main"]
 
-SOLVERS = ("ida", "ida-native", "ida-sksundae", "casadi-idas")
 #: File name endings of a result file ``--out`` writes without ``--force`` (the file is HDF5).
 RESULT_SUFFIXES = (".h5", ".hdf5", ".hdf", ".he5")
 

@@ -43,7 +43,7 @@ import casadi as ca
 import numpy as np
 import scipy.sparse as sp
 
-from flexlib.compile.environment import env_switch
+from flexlib.compile.environment import env_default
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import matching
 from flexlib.core.component import Component
@@ -247,9 +247,10 @@ def geometric_parameters(simple: SimpleSystem) -> set[int]:
 
 
 def zero_geometry() -> bool:
-    """The default of ``assume_zero_geometry``: True unless ``FLEXLIB_ZERO_GEOMETRY=0`` (or ``false``, ``no``,
-    ``off``; see the module doc and :func:`flexlib.compile.environment.env_switch`)."""
-    return bool(env_switch("FLEXLIB_ZERO_GEOMETRY", True))
+    """The default of ``assume_zero_geometry`` (``BuildOptions.zero_geometry``): True unless
+    ``FLEXLIB_ZERO_GEOMETRY=0`` (or ``false``, ``no``, ``off``; see the module doc and
+    :func:`flexlib.compile.environment.env_default`)."""
+    return bool(env_default("zero_geometry"))
 
 
 def _sign_rewrites(eqs: list[ca.SX], alive: list[int], geometric: set[int], values: dict[int, float],

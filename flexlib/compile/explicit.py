@@ -33,13 +33,15 @@ cycle), which also guarantees that ``c`` is the row's own coefficient of ``v``.
 
 **Kept as they are:** states and every unknown whose derivative appears, dummy-derivative candidates
 of every selection level (the state-selection monitor re-selects among them and reads them by name),
-alias eliminations already made, and (unless ``FLEXLIB_EXPLICIT=all``) every unknown inside IDA's error
+alias eliminations already made, and (unless ``explicit="all"``) every unknown inside IDA's error
 test, so the test checks exactly what it checked before (``post_simplify`` passes that mask);
 ``derivative_level`` (IDA's error-test mask) is computed again on the reduced DAE by
 :func:`flexlib.compile.codegen.compile_dae`.
 
-**On by default** (``FLEXLIB_EXPLICIT=0`` turns it off; ``FLEXLIB_EXPLICIT=all`` also eliminates unknowns
-inside IDA's error test, for measurements only: it costs accuracy; the setting is part of the cache key; why:
+**On by default** (``BuildOptions(explicit=False)`` or ``FLEXLIB_EXPLICIT=0`` turns it off; ``explicit="all"`` or
+``FLEXLIB_EXPLICIT=all`` also eliminates unknowns inside IDA's error test, for measurements only: it costs
+accuracy; the setting, :func:`explicit_mode`, is passed to :func:`flexlib.compile.post_simplify.post_simplify` and is
+part of the cache key; why:
 ``docs/decisions/004-explicit-algebraics-eliminated.md``). Eliminated unknowns leave IDA's Newton iteration, so the
 corrections, and with them the step sequence, differ at the level of the Newton tolerance.
 
@@ -58,31 +60,24 @@ import heapq
 import casadi as ca
 import numpy as np
 
-from flexlib.compile.environment import env_switch
+from flexlib.compile.environment import env_default
 from flexlib.core.variables import time
 
-__all__ = ["MAX_NET_FILL", "eliminate_explicit_algebraics", "explicit_enabled", "explicit_mode", "explicit_scope"]
+__all__ = ["MAX_NET_FILL", "eliminate_explicit_algebraics", "explicit_mode"]
 
 #: Largest accepted change of the Jacobian's number of structural nonzeros per elimination (0: never denser).
 MAX_NET_FILL = 0
 
 
-def explicit_enabled() -> bool:
-    """True unless ``FLEXLIB_EXPLICIT=0`` (or ``off``, ``false``, ``no``): the stage is on by default (see the module
-    docstring); a value other than those, ``1``/``on``/``true``/``yes`` and ``all`` is a
-    :class:`~flexlib.errors.RunArgumentError` (:func:`flexlib.compile.environment.env_switch`)."""
-    return env_switch("FLEXLIB_EXPLICIT", True, ("all",)) is not False
-
-
-def explicit_mode() -> str:
-    """``"off"``, ``"error-test"`` or ``"all"`` (part of the cache key)."""
-    return explicit_scope() if explicit_enabled() else "off"
-
-
-def explicit_scope() -> str:
-    """Which algebraic unknowns may be eliminated: ``"error-test"`` (default) only those already outside IDA's
-    error test (derivative level), ``"all"`` (``FLEXLIB_EXPLICIT=all``, for measurements) any."""
-    return "all" if env_switch("FLEXLIB_EXPLICIT", True, ("all",)) == "all" else "error-test"
+def explicit_mode(setting: bool | str | None = None) -> str:
+    """The stage's mode for the option ``BuildOptions.explicit`` = ``setting``: ``"off"`` (False), ``"error-test"``
+    (True: only unknowns already outside IDA's error test, the derivative level) or ``"all"`` (``"all"``, for
+    measurements: any). None: the environment default (``FLEXLIB_EXPLICIT``; a value other than ``0``/``off``/
+    ``false``/``no``, ``1``/``on``/``true``/``yes`` and ``all`` is a :class:`~flexlib.errors.RunArgumentError`,
+    :func:`flexlib.compile.environment.env_switch`). Part of the cache key."""
+    if setting is None:
+        setting = env_default("explicit")
+    return "all" if setting == "all" else "error-test" if setting else "off"
 
 
 def _patterns(rows: list[ca.SX], y: ca.SX, yp: ca.SX) -> list[set[int]]:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import casadi as ca
 import numpy as np
@@ -31,6 +31,9 @@ from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
 from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, lookup, render, render_many
 from flexlib.errors import FlexlibError, ModelError
+
+if TYPE_CHECKING:
+    from flexlib.compile.build_options import BuildOptions
 
 __all__ = ["FlatEquation", "FlatParameter", "FlatSystem", "FlatVariable", "flatten"]
 
@@ -212,8 +215,9 @@ def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Re
     return equations, relations, initial
 
 
-def flatten(root: Component, check: bool = True) -> FlatSystem:
-    """Flatten the instance tree below ``root`` and check its balance.
+def flatten(root: Component, check: bool = True, options: BuildOptions | None = None) -> FlatSystem:
+    """Flatten the instance tree below ``root`` and check its balance (``options``: the build's, which the domain
+    passes read; None: the environment defaults).
 
     Raises
     ------
@@ -237,7 +241,7 @@ def flatten(root: Component, check: bool = True) -> FlatSystem:
     # -- domain passes (the multibody orientation tree): components may then declare dependent quantities
     from flexlib.compile.passes import active_passes  # here: the passes' modules build on this one
 
-    passes = active_passes(nodes)
+    passes = active_passes(nodes, options)
     for p in passes:
         p.structure(nodes)
     for node in nodes:

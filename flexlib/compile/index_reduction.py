@@ -27,6 +27,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib.compile.dummy_derivatives import Col, Level, Row, col_name, select_dummies
+from flexlib.compile.explicit import explicit_mode
 from flexlib.compile.flatten import FlatEquation, FlatVariable, describe_all
 from flexlib.compile.post_simplify import post_simplify as _post_simplify
 from flexlib.compile.simplify import Condition, SimpleSystem
@@ -142,6 +143,9 @@ class Structure:
     rows: list
     cols: list
     param_values: dict[int, float]
+    #: The explicit-algebraics stage's mode of the build (:func:`flexlib.compile.explicit.explicit_mode`), kept for
+    #: every re-assembly after a new state selection
+    explicit: str = "error-test"
 
     def select(self, point: tuple[ca.SX, np.ndarray] | None = None) -> tuple[set[int], list[Level]]:
         """Dummy derivatives chosen at ``point`` (symbols, values); the start values if None."""
@@ -149,8 +153,8 @@ class Structure:
 
     def assemble(self, dummies: set[int], levels: list[Level], explicit: bool = True) -> DAE:
         """The index-1 DAE for a dummy-derivative selection (``explicit=False``: no explicit algebraics
-        eliminated, the form in which initialisation failures are diagnosed)."""
-        return _assemble(self.simple, self.rows, self.cols, dummies, levels, self, explicit)
+        eliminated, the form in which initialisation failures are diagnosed; True: as the build chose)."""
+        return _assemble(self.simple, self.rows, self.cols, dummies, levels, self, self.explicit if explicit else "off")
 
     def point(self, col_values: np.ndarray, t: float, p: np.ndarray) -> tuple[ca.SX, np.ndarray]:
         """A numeric point for :meth:`select` from all column values, time and the parameter vector."""
@@ -309,7 +313,7 @@ def _defining_rows(rows: list[Row], cols: list[Col], rules: dict[int, ca.SX]) ->
     return {rule_cols[k]: int(r) for k, r in enumerate(col_match) if r >= 0}
 
 
-def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
+def reduce_index(simple: SimpleSystem, param_values: dict[int, float], explicit: str | None = None) -> DAE:
     """Reduce a simplified system to an index-1 DAE.
 
     Parameters
@@ -319,6 +323,9 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
     param_values : dict
         Parameter values by symbol hash, used for the numeric pivoting of the dummy
         derivative selection.
+    explicit : {"off", "error-test", "all"} or None
+        The explicit-algebraics stage (:func:`flexlib.compile.explicit.explicit_mode`; None: its environment
+        default).
     """
     variables, equations = simple.variables, simple.equations
     cols: list[Col] = []
@@ -356,7 +363,7 @@ def reduce_index(simple: SimpleSystem, param_values: dict[int, float]) -> DAE:
             + "\ndo not determine " + ", ".join(names[:8]) + (", ..." if len(names) > 8 else "")
             + " at any derivative order (a structurally singular subsystem: a component connected to itself, or "
             "constraints that leave an unknown without an equation)") from None
-    structure = Structure(simple, rows, cols, param_values)
+    structure = Structure(simple, rows, cols, param_values, explicit_mode() if explicit is None else explicit)
     dummies, levels = structure.select()
     return structure.assemble(dummies, levels)
 
@@ -400,7 +407,7 @@ def _level_jacobians(levels: list[Level], rows: list[Row], cols: list[Col]) -> l
 
 
 def _assemble(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: set[int],
-              levels: list[Level], structure: Structure, explicit: bool = True) -> DAE:
+              levels: list[Level], structure: Structure, explicit: str) -> DAE:
     variables = simple.variables
     anti, is_state, entries = _entries(cols, dummies)
     pos = {c: i for i, c in enumerate(entries)}

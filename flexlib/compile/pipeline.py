@@ -17,15 +17,16 @@ A build loaded from the cache has only ``compiled`` until :meth:`Build.analyse` 
 
 from __future__ import annotations
 
+import dataclasses
 import time as _time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from flexlib.compile import cache, cache_key
+from flexlib.compile.build_options import BuildOptions
 from flexlib.compile.codegen import CompiledModel, compile_dae
-from flexlib.compile.constants import assumptions_hold, eliminate_constants, zero_geometry
-from flexlib.compile.explicit import explicit_mode
+from flexlib.compile.constants import assumptions_hold, eliminate_constants
 from flexlib.compile.flat_checks import check_balance
 from flexlib.compile.flatten import FlatSystem, flatten
 from flexlib.compile.gcc import generate_c
@@ -34,9 +35,9 @@ from flexlib.compile.passes import key_options
 from flexlib.compile.scaling import key_nominals
 from flexlib.compile.simplify import SimpleSystem, simplify
 from flexlib.core.component import Component
-from flexlib.errors import ModelTypeError, RunArgumentError
+from flexlib.errors import ModelTypeError
 
-__all__ = ["Build", "analyse", "build", "build_key", "check_build_options", "check_model", "prepare"]
+__all__ = ["Build", "analyse", "build", "build_key", "check_model", "prepare"]
 
 
 def check_model(model: Any, where: str) -> Component:
@@ -51,26 +52,6 @@ def check_model(model: Any, where: str) -> Component:
     shown = shown if len(shown) <= 60 else shown[:57] + "..."
     raise ModelTypeError(f"{where}: model = {shown} (a {type(model).__name__}) is not a flexlib model instance; give "
                          "an instance of a Model or Component subclass")
-
-
-def _bool_option(where: str, name: str, value: Any, allowed: str, allow_none: bool = False) -> None:
-    import numpy as np
-
-    if (value is None and allow_none) or isinstance(value, (bool, np.bool_)):
-        return
-    raise RunArgumentError(f"{where}: {name} = {value!r} is invalid: must be {allowed} (got a {type(value).__name__}; "
-                           "a string such as 'False' would count as true)")
-
-
-def check_build_options(codegen: Any, use_cache: Any, assume_zero_geometry: Any, where: str = "build()") -> None:
-    """Check the build options of :func:`build` / ``Simulation(...)``: ``codegen`` True, False or ``"auto"``,
-    ``use_cache`` True or False, ``assume_zero_geometry`` True, False or None. A string such as ``"no"`` or
-    ``"False"`` is refused (it is true in Python: ``codegen="no"`` compiled C, ``use_cache="False"`` used the
-    cache). Raises :class:`~flexlib.errors.RunArgumentError` naming the option and the value."""
-    if not (isinstance(codegen, str) and codegen == "auto"):
-        _bool_option(where, "codegen", codegen, "True, False or 'auto'")
-    _bool_option(where, "use_cache", use_cache, "True or False")
-    _bool_option(where, "assume_zero_geometry", assume_zero_geometry, "True, False or None", allow_none=True)
 
 
 @dataclass
@@ -90,9 +71,8 @@ class Build:
         True if ``compiled`` was loaded from the disk cache.
     key : str or None
         The cache key (None without the cache or for a model the key cannot represent).
-    assume_zero_geometry : bool
-        Whether stage 2 assumed the zero-valued frame parameters zero (:mod:`flexlib.compile.constants`);
-        :meth:`analyse` repeats the build's choice.
+    options : BuildOptions
+        The build's options, resolved (no field None); :meth:`analyse` repeats the build's choices.
 
     Notes
     -----
@@ -107,7 +87,12 @@ class Build:
     timings: dict[str, Any] = field(default_factory=dict)
     cached: bool = False
     key: str | None = None
-    assume_zero_geometry: bool = True
+    options: BuildOptions = field(default_factory=lambda: BuildOptions().resolved())
+
+    @property
+    def assume_zero_geometry(self) -> bool:
+        """Whether stage 2 assumed the zero-valued frame parameters zero (:mod:`flexlib.compile.constants`)."""
+        return bool(self.options.zero_geometry)
 
     def __iter__(self) -> Any:
         return iter((self.compiled, self.timings))
@@ -121,7 +106,7 @@ class Build:
     def analyse(self, root: Component) -> Build:
         """Run stages 1–3 for ``root`` if they are not in memory (a cached build) and return self."""
         if self.dae is None:
-            self.flat, self.simple, self.dae, times = analyse(root, assume_zero_geometry=self.assume_zero_geometry)
+            self.flat, self.simple, self.dae, times = analyse(root, options=self.options)
             self.timings.update({f"{k}_analyse": v for k, v in times.items()})
         return self
 
@@ -159,37 +144,42 @@ def prepare(flat: FlatSystem, params: dict[int, float], *, assume_zero_geometry:
     return eliminate_constants(simple, params, assume_zero_geometry=assume_zero_geometry)
 
 
-def analyse(root: Component, *,
-            assume_zero_geometry: bool | None = None) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, float]]:
+def analyse(root: Component, *, assume_zero_geometry: bool | None = None, options: BuildOptions | None = None
+            ) -> tuple[FlatSystem, SimpleSystem, DAE, dict[str, float]]:
     """Stages 1–3: flatten, simplify, reduce the index (with the balance check where it belongs).
 
     A model with closed kinematic loops is balance-checked after the redundant loop rows are removed
     (stage 2), every other model right after flattening, so the diagnostics name the user's equations.
-    ``assume_zero_geometry``: see :func:`build`.
+    ``options`` (None: the environment defaults) and ``assume_zero_geometry`` (replaces ``options.zero_geometry``
+    where given): see :func:`build`.
     """
+    options = (options or BuildOptions()).resolved()
+    if assume_zero_geometry is not None:
+        options = dataclasses.replace(options, zero_geometry=bool(assume_zero_geometry))
     times: dict[str, float] = {}
     t = _time.perf_counter()
-    flat = flatten(root, check=False)
+    flat = flatten(root, check=False, options=options)
     has_loops = any(e.origin == "loop closure" for e in flat.equations)
     if not has_loops:
         check_balance(flat.name, flat.variables, flat.equations)
     times["flatten"] = _time.perf_counter() - t
     t = _time.perf_counter()
     params = {q.sym.element_hash(): q.value for q in flat.parameters}
-    simple = prepare(flat, params, assume_zero_geometry=assume_zero_geometry)
+    simple = prepare(flat, params, assume_zero_geometry=options.zero_geometry)
     if has_loops:
         check_balance(flat.name, simple.variables, simple.equations)
     times["simplify"] = _time.perf_counter() - t
     t = _time.perf_counter()
-    dae = reduce_index(simple, params)
+    dae = reduce_index(simple, params, options.explicit_mode)
     times["index_reduction"] = _time.perf_counter() - t
     return flat, simple, dae, times
 
 
-def build_key(root: Component, *, codegen: bool | str, assume_zero_geometry: bool) -> str:
-    """The cache key of ``root``'s build: its structure and the build options, not its values."""
-    return cache_key.model_key(root, {"codegen": codegen, "zero_geometry": bool(assume_zero_geometry),
-                                      "explicit": explicit_mode(), **key_options(),
+def build_key(root: Component, options: BuildOptions) -> str | None:
+    """The cache key of ``root``'s build: its structure and the resolved build ``options`` that shape the compiled
+    model (those the domain passes read included), not its values; None for a model the key cannot represent."""
+    return cache_key.model_key(root, {"codegen": options.codegen, "zero_geometry": bool(options.zero_geometry),
+                                      "explicit": options.explicit_mode, **key_options(options),
                                       "nominals": key_nominals(root)})
 
 
@@ -230,7 +220,7 @@ def _store_entry(entry: Path, model: CompiledModel) -> None:
 
 
 def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
-          assume_zero_geometry: bool | None = None) -> Build:
+          assume_zero_geometry: bool | None = None, options: BuildOptions | None = None) -> Build:
     """Run stages 1–5, or load their product from the disk cache.
 
     Parameters
@@ -254,11 +244,16 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         an instance whose values break one. ``False`` keeps every such parameter a run-time parameter (for
         sweeping an out-of-plane offset or axis tilt with ``run(params=...)``). None (default): True unless
         ``FLEXLIB_ZERO_GEOMETRY=0`` is set. Part of the cache key.
+    options : BuildOptions, optional
+        All build options as one record, instead of the three keywords (it also holds ``explicit`` and
+        ``tree_frames``); a field left None takes its environment default, read once here
+        (:meth:`BuildOptions.resolved`). Every option that shapes the compiled model is part of the cache key.
 
     Returns
     -------
     Build
-        Every stage's product (unpacks as ``compiled, timings`` like earlier versions).
+        Every stage's product (unpacks as ``compiled, timings`` like earlier versions); ``Build.options`` the
+        resolved options.
 
     Raises
     ------
@@ -266,18 +261,15 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         ``root`` is not a model instance (a model class, a name).
     RunArgumentError
         ``codegen``, ``use_cache`` or ``assume_zero_geometry`` is not one of its accepted values (a string
-        such as ``"False"`` is refused, not taken as true).
+        such as ``"False"`` is refused, not taken as true); ``options`` is given with one of them or is not a
+        BuildOptions; an environment variable behind an option left None holds a value it does not accept.
     """
     check_model(root, "build()")
-    check_build_options(codegen, use_cache, assume_zero_geometry)
-    codegen = "auto" if isinstance(codegen, str) else bool(codegen)
+    options = BuildOptions.from_arguments(codegen, use_cache, assume_zero_geometry, options, "build()").resolved()
     timings: dict[str, Any] = {"cached": False}
     t0 = _time.perf_counter()
-    directory = cache.usable_cache_dir() if use_cache else None
-    if assume_zero_geometry is None:
-        assume_zero_geometry = zero_geometry()
-    assume_zero_geometry = bool(assume_zero_geometry)
-    key = build_key(root, codegen=codegen, assume_zero_geometry=assume_zero_geometry) if directory else None
+    directory = cache.usable_cache_dir() if options.use_cache else None
+    key = build_key(root, options) if directory else None
     timings["key"] = _time.perf_counter() - t0
     timings["model_key"] = key
     entry = cache.entry_path(directory, type(root).__name__, key) if key else None
@@ -286,13 +278,11 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         if model is not None:
             timings["cached"] = True
             timings["total"] = _time.perf_counter() - t0
-            return Build(compiled=model, timings=timings, cached=True, key=key,
-                         assume_zero_geometry=assume_zero_geometry)
-    flat, simple, dae, times = analyse(root, assume_zero_geometry=assume_zero_geometry)
+            return Build(compiled=model, timings=timings, cached=True, key=key, options=options)
+    flat, simple, dae, times = analyse(root, options=options)
     timings.update(times)
     t = _time.perf_counter()
-    use_c: bool | str = codegen
-    model = compile_dae(flat, simple, dae, codegen=use_c, build_dir=directory / "lib" if entry else None)
+    model = compile_dae(flat, simple, dae, codegen=options.codegen, build_dir=directory / "lib" if entry else None)
     timings["compile"] = _time.perf_counter() - t
     model.stats = {"n_flat_equations": len(flat.equations), "n_aliases": simple.n_eliminated,
                    "n_unknowns": model.n, "n_states": int(model.differential.sum()),
@@ -300,5 +290,4 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
     if entry is not None:
         _store_entry(entry, model)
     timings["total"] = _time.perf_counter() - t0
-    return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key,
-                 assume_zero_geometry=assume_zero_geometry)
+    return Build(compiled=model, flat=flat, simple=simple, dae=dae, timings=timings, key=key, options=options)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from flexlib.compile.explicit import eliminate_explicit_algebraics, explicit_enabled, explicit_scope
+from flexlib.compile.explicit import eliminate_explicit_algebraics
 from flexlib.compile.structure import derivative_level
 
 __all__ = ["post_simplify"]
@@ -112,12 +112,12 @@ def _eliminate_aliases(rows: list[ca.SX], y: ca.SX, y_hash: dict[int, int], diff
 
 
 def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
-                  protected: np.ndarray | None = None, explicit_stage: bool = True,
+                  protected: np.ndarray | None = None, explicit_mode: str = "error-test",
                   untested: np.ndarray | None = None, intermediate: np.ndarray | None = None):
     """Substitute known state derivatives, eliminate trivial algebraic aliases and explicit algebraics.
 
-    ``protected`` marks entries that must stay unknowns (dummy-derivative candidates); ``explicit_stage=False``
-    skips the explicit algebraics (as ``FLEXLIB_EXPLICIT=0`` does). Returns the new
+    ``protected`` marks entries that must stay unknowns (dummy-derivative candidates); ``explicit_mode`` is the
+    explicit algebraics' mode (:func:`flexlib.compile.explicit.explicit_mode`: ``"off"`` skips them). Returns the new
     residual, the kept entry indices, the substitution (symbols → values) that expresses eliminated
     entries in kept ones, the kept row indices, and the entries eliminated as explicit algebraics.
     """
@@ -130,10 +130,10 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
     keep = [i for i in range(n) if i not in alias]
     # (c) explicit algebraics: row = c*v + f(others), c a nonzero constant (sparsity-guarded, see explicit.py)
     explicit: list[int] = []
-    if explicit_stage and explicit_enabled() and rows:
+    if explicit_mode != "off" and rows:
         fixed = np.zeros(n, dtype=bool) if protected is None else np.array(protected, dtype=bool)
         fixed[list(alias)] = True
-        if explicit_scope() == "error-test":
+        if explicit_mode == "error-test":
             # only unknowns already outside IDA's error test (derivative level): the test keeps what it checked
             # ... and kinematic intermediates (``Variable(intermediate=True)``: a frame's velocity along the tree)
             free = derivative_level(ca.vertcat(*rows), y, yp, differential, untested)

@@ -16,16 +16,17 @@ import os
 import re
 import socket
 import tempfile
+import warnings
 from pathlib import Path
 from typing import Any
 
 import h5py
 import numpy as np
 
-from flexlib.errors import ResultFileError, RunArgumentError
+from flexlib.errors import ResultFileError, ResultSaveWarning, RunArgumentError, SimulationInterrupted
 from flexlib.results.result import Result
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "load_result", "not_a_result", "remove_orphans", "save_result"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "keep_result", "load_result", "not_a_result", "remove_orphans", "save_result"]
 
 FORMAT = "flexlib-result"
 #: Version of the layout written; files with a higher version are refused on reading.
@@ -143,6 +144,24 @@ def save_result(result: Result, path: str | os.PathLike) -> None:
         if isinstance(err, OSError):
             raise ResultFileError(f"cannot write the result to {path}: {_reason(err)}") from err
         raise
+
+
+def keep_result(result: Result, path: str | os.PathLike | None) -> None:
+    """Write a run's ``result`` to ``path`` (if given) without ever losing it: a failed write is a
+    :class:`~flexlib.errors.ResultSaveWarning` naming the path and the reason (the warning points at the caller of
+    the caller, the user's ``run``); Ctrl-C during the write leaves no file (the write is atomic) and raises
+    :class:`~flexlib.errors.SimulationInterrupted` carrying the result."""
+    if path is None:
+        return
+    try:
+        save_result(result, path)
+    except KeyboardInterrupt:
+        raise SimulationInterrupted(f"interrupted while writing the result file {path} (not written; the "
+                                    f"result is in err.result)", result) from None
+    except Exception as err:  # any failure to write must not hide the result
+        reason = str(err) if isinstance(err, ResultFileError) else f"{path}: {type(err).__name__}: {err}"
+        warnings.warn(ResultSaveWarning(f"the result was not saved: {reason}; it is kept in memory "
+                                        "(returned, or err.result of the solver error)"), stacklevel=3)
 
 
 def _write(result: Result, tmp: str) -> None:

@@ -173,19 +173,20 @@ class _Backend:
         return len(self.x_idx)
 
     def integrator(self, K: int, rtol: float, atol: float, capped: bool, max_num_steps: int,
-                   variant: int = 0, max_order: int = 5) -> ca.Function:
+                   variant: int = 0, max_order: int = 5, error_test_all: bool | None = None) -> ca.Function:
         """Integrator over the normalised grid ``τ = 1..K`` (built once per options and ``K``).
 
         ``variant`` 0 is the ordinary start (``IDACalcIC`` for consistent ``z`` and ``dx/dτ``, ``w`` outside
         the error test); the fall-backs for a call that fails (see :data:`START_VARIANTS`) are 1: no
         ``IDACalcIC`` (the given ``y, y'`` are consistent already), 2: ``w`` in the error test with
-        ``atol·nominal`` per second.
+        ``atol·nominal`` per second. ``error_test_all``: :func:`~flexlib.solve.backends.base.absolute_tolerances`'s.
         """
-        key = (K, float(rtol), float(atol), bool(capped), int(max_num_steps), int(variant), int(max_order))
+        tol = absolute_tolerances(self.model, atol, error_test_all)
+        key = (K, float(rtol), float(atol), bool(capped), int(max_num_steps), int(variant), int(max_order),
+               tol.tobytes())
         F = self.integrators.get(key)
         if F is None:
             wall = _time.perf_counter()
-            tol = absolute_tolerances(self.model, atol)
             w_tol = tol[self.z_idx] if variant == 2 else np.full(len(self.z_idx), 1e10)
             abstolv = np.concatenate([[atol], tol[self.x_idx], np.where(self.z_w, w_tol, tol[self.z_idx])])
             opts: dict[str, Any] = {
@@ -309,8 +310,10 @@ class Runner:
     """One run: calls the cached integrators, converts their output, counts statistics."""
 
     def __init__(self, model: CompiledModel, be: _Backend, p: np.ndarray, stats: dict[str, Any], rtol: float,
-                 atol: float, capped: bool, max_steps: int, state_rel: np.ndarray, max_order: int = 5) -> None:
+                 atol: float, capped: bool, max_steps: int, state_rel: np.ndarray, max_order: int = 5,
+                 error_test_all: bool | None = None) -> None:
         self.model, self.be, self.p, self.stats = model, be, p, stats
+        self.error_test_all = error_test_all
         self.max_order = int(max_order)
         self.rtol, self.atol, self.capped = rtol, atol, capped
         self.max_steps = max_steps
@@ -335,7 +338,8 @@ class Runner:
         z0 = np.where(be.z_w, yp[be.z_idx], y[be.z_idx])
         first: RuntimeError | None = None
         for variant in START_VARIANTS:
-            F = be.integrator(len(grid), self.rtol, self.atol, self.capped, mns, variant, self.max_order)
+            F = be.integrator(len(grid), self.rtol, self.atol, self.capped, mns, variant, self.max_order,
+                              self.error_test_all)
             self.stats["integrator_calls"] += 1
             try:
                 (X, Z, *_), st = _evaluate(F, [x0, z0, self.p, u])

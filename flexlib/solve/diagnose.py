@@ -224,10 +224,11 @@ def step_failure_lines(model: Any, p: np.ndarray, t: float, y: np.ndarray, yp: n
 
 
 def failure_message(head: str, model: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray, traj: Any,
-                    rtol: float, atol: float) -> str:
+                    rtol: float, atol: float, error_test_all: bool | None = None) -> str:
     """``head`` followed by what failed (:func:`step_failure_lines`): non-finite values at the last accepted point
     ``(t, y, yp)`` or just after it with the equation that produced them, and the unknowns that dominate the local
-    error test, by component (``traj``: the run's rows so far, for the last step size)."""
+    error test, by component (``traj``: the run's rows so far, for the last step size; ``error_test_all``: the
+    solver's, as for :func:`~flexlib.solve.backends.base.absolute_tolerances`)."""
     from flexlib.solve.backends.base import absolute_tolerances
 
     times = [tt for tt in traj.t if tt < t]
@@ -235,7 +236,7 @@ def failure_message(head: str, model: Any, p: np.ndarray, t: float, y: np.ndarra
     h = max(h, 1e-12 * max(1.0, abs(t)))
     try:
         lines = step_failure_lines(model, p, t, np.asarray(y, dtype=float), np.asarray(yp, dtype=float), rtol,
-                                   absolute_tolerances(model, atol), h)
+                                   absolute_tolerances(model, atol, error_test_all), h)
     except Exception as exc:  # the diagnosis must never hide the failure itself
         lines = [f"(no further diagnosis: {type(exc).__name__}: {exc})"]
     return head + ("\n" + "\n".join(lines) if lines else "")

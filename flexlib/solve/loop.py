@@ -273,7 +273,7 @@ class _Loop:
         """The backend's failure with what :func:`~flexlib.solve.diagnose.failure_message` finds at its point."""
         y, yp = self.integ.state()
         return failure_message(stop.message, self.model, self.p, stop.t, y, yp, self.traj, self.integ.rtol,
-                               self.integ.atol)
+                               self.integ.atol, getattr(self.integ, "error_test_all", None))
 
     def close(self, unsaved: bool = False) -> None:
         """End the rows of a failed or interrupted run at the backend's last accepted point (never raises)."""

@@ -1,6 +1,7 @@
-"""Public option records of a build and a run: :class:`Experiment` (a model class's defaults), :class:`RunOptions`
-(the arguments of :meth:`~flexlib.Simulation.run` as one frozen record) and :class:`BuildOptions` (how a model is
-compiled, with the ``FLEXLIB_*`` environment switches as the documented defaults).
+"""Public option records of a run: :class:`Experiment` (a model class's defaults) and :class:`RunOptions` (the
+arguments of :meth:`~flexlib.Simulation.run` as one frozen record). How a model is compiled is
+:class:`~flexlib.compile.build_options.BuildOptions`; the integrator's own options are the solver objects of
+:mod:`flexlib.solve.solvers`.
 """
 
 from __future__ import annotations
@@ -8,16 +9,15 @@ from __future__ import annotations
 import difflib
 import math
 import os
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from flexlib.errors import RunArgumentError
+from flexlib.errors import ModelError, RunArgumentError
 
-__all__ = ["BuildOptions", "Experiment", "RunOptions", "span_end"]
+__all__ = ["Experiment", "RunOptions", "experiment_of", "span_end"]
 
 
 @dataclass(frozen=True)
@@ -68,6 +68,23 @@ _EXPERIMENT_FIELDS = ("t_end", "dt_out", "rtol", "atol", "t_start", "max_order")
 _MODELICA_NAMES = {"stoptime": "t_end", "tend": "t_end", "tstop": "t_end", "interval": "dt_out", "dt": "dt_out",
                    "tolerance": "rtol", "starttime": "t_start", "tstart": "t_start", "t0": "t_start",
                    "maxorder": "max_order"}
+
+
+def experiment_of(model: Any) -> Experiment:
+    """The ``experiment`` of a model instance (``Experiment()`` without one); :class:`~flexlib.errors.ModelError`
+    naming it if it is something else (a dict, a number, the class ``Experiment`` itself), which failed with an
+    AttributeError."""
+    exp = getattr(model, "experiment", None)
+    if exp is None:
+        return Experiment()
+    if not isinstance(exp, Experiment):
+        shown = " ".join(repr(exp).split())
+        shown = shown if len(shown) <= 80 else shown[:77] + "..."
+        what = "the class itself, not an instance" if exp is Experiment else f"a {type(exp).__name__}"
+        raise ModelError(f"{type(model).__name__}.experiment = {shown} is {what}; write experiment = "
+                         "flexlib.Experiment(t_end=..., dt_out=..., rtol=..., atol=..., t_start=..., "
+                         "max_order=...) (every field optional)")
+    return exp
 
 
 def span_end(t0: Any) -> Any:
@@ -152,65 +169,3 @@ def _same(a: Any, b: Any) -> bool:
         return bool(type(a) is type(b) and a == b)
     except Exception:
         return False
-
-
-#: The environment variables behind the fields of :class:`BuildOptions`
-BUILD_SWITCHES = {"zero_geometry": "FLEXLIB_ZERO_GEOMETRY", "explicit": "FLEXLIB_EXPLICIT",
-                  "tree_frames": "FLEXLIB_TREE_FRAMES"}
-
-
-@dataclass(frozen=True)
-class BuildOptions:
-    """How a model is compiled: ``Simulation(model, build=BuildOptions(codegen=False))``.
-
-    Each field left None takes its documented default, which an environment variable may set.
-
-    Attributes
-    ----------
-    codegen : bool or "auto"
-        Generate C for the residual and Jacobian (``"auto"``: above 300 unknowns, compiled in the background).
-    use_cache : bool
-        Use the disk cache (``$FLEXLIB_CACHE_DIR``, default ``~/.cache/flexlib``).
-    zero_geometry : bool or None
-        Treat zero-valued geometry parameters of frame components as the constant 0 (default: True unless
-        ``FLEXLIB_ZERO_GEOMETRY=0``); see :func:`flexlib.build`.
-    explicit : bool, "all" or None
-        Solve the explicit algebraic unknowns outside IDA (default: True unless ``FLEXLIB_EXPLICIT=0``;
-        ``"all"`` as ``FLEXLIB_EXPLICIT=all``); see :mod:`flexlib.compile.explicit`.
-    tree_frames : {"auto", "tear", "keep"} or None
-        Tear the spanning tree's frame equations or keep them (default ``"auto"``, or ``FLEXLIB_TREE_FRAMES``);
-        see :mod:`flexlib.compile.tearing`.
-    """
-
-    codegen: bool | str = "auto"
-    use_cache: bool = True
-    zero_geometry: bool | None = None
-    explicit: bool | str | None = None
-    tree_frames: str | None = None
-
-    def __post_init__(self) -> None:
-        if self.explicit not in (None, True, False, "all"):
-            raise RunArgumentError(f"BuildOptions(explicit={self.explicit!r}): must be True, False, 'all' or None")
-        if self.tree_frames not in (None, "auto", "tear", "keep"):
-            raise RunArgumentError(f"BuildOptions(tree_frames={self.tree_frames!r}): must be 'auto', 'tear', "
-                                   "'keep' or None")
-
-    @contextmanager
-    def environment(self) -> Iterator[None]:
-        """The compiler's switches this record sets (``explicit``, ``tree_frames``), in force while the block runs
-        (the compile stages and the cache key read them there)."""
-        values = {"FLEXLIB_EXPLICIT": None if self.explicit is None else
-                  ("all" if self.explicit == "all" else "1" if self.explicit else "0"),
-                  "FLEXLIB_TREE_FRAMES": self.tree_frames}
-        saved = {k: os.environ.get(k) for k, v in values.items() if v is not None}
-        try:
-            for k, v in values.items():
-                if v is not None:
-                    os.environ[k] = v
-            yield
-        finally:
-            for k, v in saved.items():
-                if v is None:
-                    os.environ.pop(k, None)
-                else:
-                    os.environ[k] = v

@@ -21,8 +21,9 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import RunArgumentError
+from flexlib.solve.solvers import SOLVERS, Solver
 
-__all__ = ["MAX_OUTPUT_POINTS", "MIN_ATOL", "MIN_RTOL", "SOLVERS", "RunOptions", "check_params", "check_result_path",
+__all__ = ["MAX_OUTPUT_POINTS", "MIN_ATOL", "MIN_RTOL", "RunOptions", "check_params", "check_result_path",
            "check_result_target", "check_run_arguments"]
 
 #: Shortest run span [s], and at least 1e-12 of |t| (about 4500 units in the last place): below it IDA's first
@@ -44,9 +45,6 @@ MIN_ATOL = 1e-50
 OTHER_FORMATS = (".csv", ".tsv", ".txt", ".dat", ".json", ".yaml", ".yml", ".toml", ".mat", ".npz", ".npy", ".pkl",
                  ".pickle", ".parquet", ".xlsx", ".xls", ".png", ".pdf", ".svg", ".jpg", ".jpeg", ".py", ".ipynb",
                  ".mo", ".md", ".html", ".log", ".zip", ".gz")
-
-#: Integrator back ends accepted by ``run(solver=...)``.
-SOLVERS = ("ida", "casadi-idas", "ida-native", "ida-sksundae")
 
 
 @dataclass(frozen=True)
@@ -382,8 +380,6 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
                    f"reaching t_end = {t1:g} s from t_start = {t0:g} s needs at least {(t1 - t0) / h:.3g} steps, "
                    f"more than max_steps = {n_steps}", "raise max_step or max_steps")
     params = check_params(params)
-    from flexlib.solve.solvers import Solver
-
     if not isinstance(solver, Solver) and (not isinstance(solver, str) or solver not in SOLVERS):
         close = ""
         if isinstance(solver, str):

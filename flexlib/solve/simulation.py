@@ -7,39 +7,36 @@ of runs with different parameters, tolerances and end times, without recompiling
 from __future__ import annotations
 
 import copy
+import dataclasses
 import os
 import time as _time
-import warnings
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from flexlib.compile import pipeline
+from flexlib.compile.build_options import BuildOptions
 from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.constants import assumptions_hold
 from flexlib.compile.index_reduction import IndexReport
-from flexlib.compile.pipeline import Build, build_key, check_build_options, check_model
+from flexlib.compile.pipeline import Build, build_key, check_model
 from flexlib.core.component import Component
 from flexlib.errors import (
-    ModelError,
     NativeSolverError,
-    ResultFileError,
-    ResultSaveWarning,
     RunArgumentError,
     SimulationInterrupted,
     SolverError,
     StructureChangedError,
 )
-from flexlib.results.hdf5 import save_result
+from flexlib.results.hdf5 import keep_result
 from flexlib.results.result import Result
 from flexlib.solve.assemble import assemble_result
 from flexlib.solve.build_checks import START_TOL, check_dropped_rows, run_tolerance
 from flexlib.solve.events import check_assertions
 from flexlib.solve.init.initializer import Initializer
 from flexlib.solve.loop import run_loop
-from flexlib.solve.options import BuildOptions, Experiment, RunOptions, span_end
+from flexlib.solve.options import Experiment, RunOptions, experiment_of, span_end
 from flexlib.solve.parameters import ParameterTable
 from flexlib.solve.rows import RowEvaluator, segments
 from flexlib.solve.run_options import check_params, check_run_arguments
@@ -70,8 +67,8 @@ class Simulation:
         whose ``params`` make one of them non-zero raises :class:`~flexlib.errors.StructureChangedError`
         naming it; pass ``False`` to sweep such a parameter. See :func:`flexlib.build`.
     build : BuildOptions, optional
-        All build options as one record (instead of the three keywords; it also sets the compiler's switches
-        ``explicit`` and ``tree_frames``, otherwise taken from the environment).
+        All build options as one record (instead of the three keywords; it also holds the compiler's options
+        ``explicit`` and ``tree_frames``). A field left None takes its environment default, read once here.
 
     Raises
     ------
@@ -90,6 +87,8 @@ class Simulation:
         The compiled model (``sim.build.compiled``).
     build_info : dict
         Build timings [s], ``cached`` and ``model_key`` (``sim.build.timings``).
+    build_options : BuildOptions
+        The build's options, resolved (no field None; ``sim.build.options``).
 
     Examples
     --------
@@ -101,26 +100,11 @@ class Simulation:
     def __init__(self, model: Component, *, codegen: bool | str = "auto", use_cache: bool = True,
                  assume_zero_geometry: bool | None = None, build: BuildOptions | None = None) -> None:
         check_model(model, "Simulation()")
-        if build is not None:
-            if not isinstance(build, BuildOptions):
-                raise RunArgumentError(f"Simulation(): build = {build!r:.80} is invalid: must be a "
-                                       "flexlib.BuildOptions(...)")
-            if not (isinstance(codegen, str) and codegen == "auto" and use_cache is True
-                    and assume_zero_geometry is None):
-                raise RunArgumentError("Simulation(): give the build options either as build=BuildOptions(...) "
-                                       "or as keywords, not both")
-            codegen, use_cache, assume_zero_geometry = build.codegen, build.use_cache, build.zero_geometry
-        check_build_options(codegen, use_cache, assume_zero_geometry, "Simulation()")
-        codegen = "auto" if isinstance(codegen, str) else bool(codegen)
-        self.build_options = BuildOptions(codegen, bool(use_cache), assume_zero_geometry,
-                                          *((build.explicit, build.tree_frames) if build is not None else ()))
+        #: The build's options, resolved once (every field left None set from its environment default)
+        self.build_options = BuildOptions.from_arguments(codegen, use_cache, assume_zero_geometry, build,
+                                                         "Simulation()").resolved()
         self.model = model
-        self._codegen = codegen
-        self._use_cache = bool(use_cache)
-        with self.build_options.environment():
-            self.build: Build = pipeline.build(model, codegen=codegen, use_cache=use_cache,
-                                               assume_zero_geometry=assume_zero_geometry)
-        self._zero_geometry = self.build.assume_zero_geometry
+        self.build: Build = pipeline.build(model, options=self.build_options)
         self.compiled: CompiledModel = self.build.compiled
         self.build_info: dict[str, Any] = self.build.timings
         self.initializer = Initializer(self.compiled, self._structure)
@@ -152,15 +136,11 @@ class Simulation:
             ``model`` is not a model instance (a model class, a name); a ``TypeError``.
         """
         check_model(model, "Simulation.with_model()")
-        options = {"codegen": self._codegen, "assume_zero_geometry": self._zero_geometry}
-        with self.build_options.environment():
-            key = self.build.key or build_key(self.model, **options)
-            same = (type(model) is type(self.model) and build_key(model, **options) == key
-                    and assumptions_hold(self.compiled.assumed, model))
+        key = self.build.key or build_key(self.model, self.build_options)
+        same = (type(model) is type(self.model) and build_key(model, self.build_options) == key
+                and assumptions_hold(self.compiled.assumed, model))
         if not same:
-            opts = self.build_options
-            return Simulation(model, build=BuildOptions(self._codegen, self._use_cache, self._zero_geometry,
-                                                        opts.explicit, opts.tree_frames))
+            return Simulation(model, build=self.build_options)
         other = copy.copy(self)
         other.model = model
         other.init_cached = False
@@ -217,21 +197,6 @@ class Simulation:
         return ParameterTable(self.model, self.compiled).vector(params, values)
 
     # -- running -----------------------------------------------------------------------------------
-    def _experiment(self) -> Experiment:
-        """The model's ``experiment`` (Experiment() without one); :class:`~flexlib.errors.ModelError` naming it if it
-        is something else (a dict, a number, the class ``Experiment`` itself), which failed with an AttributeError."""
-        exp = getattr(self.model, "experiment", None)
-        if exp is None:
-            return Experiment()
-        if not isinstance(exp, Experiment):
-            shown = " ".join(repr(exp).split())
-            shown = shown if len(shown) <= 80 else shown[:77] + "..."
-            what = "the class itself, not an instance" if exp is Experiment else f"a {type(exp).__name__}"
-            raise ModelError(f"{type(self.model).__name__}.experiment = {shown} is {what}; write experiment = "
-                             "flexlib.Experiment(t_end=..., dt_out=..., rtol=..., atol=..., t_start=..., "
-                             "max_order=...) (every field optional)")
-        return exp
-
     def run(
         self, t_end: float | None = None, *, t_start: float | None = None, dt_out: float | None = None,
         output_times: np.ndarray | None = None, rtol: float | None = None, atol: float | None = None,
@@ -296,13 +261,13 @@ class Simulation:
             if not isinstance(options, RunOptions):
                 raise RunArgumentError(f"run(): options = {options!r:.80} is invalid: must be a flexlib.RunOptions")
             given = options.merged(given)
-        opts = check_run_arguments(self._experiment(), f"{type(self.model).__name__}.experiment", **given)
+        opts = check_run_arguments(experiment_of(self.model), f"{type(self.model).__name__}.experiment", **given)
         starts, pvec, p = self._parameters(opts.params)
         with sigterm_as_interrupt() as stop:
             traj, pvec, t_init = self._initialize_and_integrate(opts, stop, starts, pvec, p)
             stop.stopping = True
             result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-            self._keep(result, opts.result_file)
+            keep_result(result, opts.result_file)
         try:
             self._check_trajectory(traj, pvec, opts.rtol, opts.atol, opts.params)
         except StructureChangedError as err:
@@ -332,14 +297,14 @@ class Simulation:
                 traj.message = traj.message.replace("by the user", f"by {stop.by}")
                 err.args = (traj.message,)
             err.result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-            self._keep(err.result, opts.result_file)
+            keep_result(err.result, opts.result_file)
             raise
         except KeyboardInterrupt:  # Ctrl-C or SIGTERM outside the backend's step loop (initialisation)
             stop.stopping = True
             where = "during initialisation" if not t_init else "before the first step"
             traj = Trajectory(status="interrupted", message=f"interrupted by {stop.by} {where} at t = {t0:.10g} s")
             result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-            self._keep(result, opts.result_file)
+            keep_result(result, opts.result_file)
             raise SimulationInterrupted(traj.message, result) from None
 
     def _integrate(self, opts: Any, m: CompiledModel, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray) -> Trajectory:
@@ -388,7 +353,7 @@ class Simulation:
         InitializationError
             No consistent start was found (the error names the equations and variables that fail).
         """
-        exp = self._experiment()
+        exp = experiment_of(self.model)
         t0 = exp.t_start if t_start is None else t_start
         # the run's own argument checks (a one-second span stands in for the end time, which is not used), named
         # as this method's
@@ -455,28 +420,9 @@ class Simulation:
             return True
         return False
 
-    @staticmethod
-    def _keep(result: Result, path: Path | None) -> None:
-        """Write ``result`` to ``path`` (if given) without ever losing it: a failed write is a
-        :class:`ResultSaveWarning` naming the path and the reason; Ctrl-C during the write leaves no file
-        (the write is atomic) and raises :class:`SimulationInterrupted` carrying the result."""
-        if path is None:
-            return
-        try:
-            save_result(result, path)
-        except KeyboardInterrupt:
-            raise SimulationInterrupted(f"interrupted while writing the result file {path} (not written; the "
-                                        f"result is in err.result)", result) from None
-        except Exception as err:  # any failure to write must not hide the result
-            reason = str(err) if isinstance(err, ResultFileError) else f"{path}: {type(err).__name__}: {err}"
-            warnings.warn(ResultSaveWarning(f"the result was not saved: {reason}; it is kept in memory "
-                                            "(returned, or err.result of the solver error)"), stacklevel=3)
-
     def _rebuild_uncached(self) -> None:
         """Build again from this instance's own values (no cache read or write)."""
-        with self.build_options.environment():
-            self.build = pipeline.build(self.model, codegen=self._codegen, use_cache=False,
-                                        assume_zero_geometry=self._zero_geometry)
+        self.build = pipeline.build(self.model, options=dataclasses.replace(self.build_options, use_cache=False))
         self.compiled, self.build_info = self.build.compiled, self.build.timings
         self.initializer = Initializer(self.compiled, self._structure)
         self._rows.clear()
@@ -492,8 +438,7 @@ class Simulation:
 
     def _structure(self) -> Any:
         """Stages 1–3 of this build again (a build loaded from the cache keeps only the compiled model)."""
-        with self.build_options.environment():
-            return self.build.structure(self.model)
+        return self.build.structure(self.model)
 
     def _monitor(self) -> Any:
         from flexlib.solve.state_selection import StateSelectionMonitor

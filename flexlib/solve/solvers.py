@@ -8,18 +8,20 @@ run (:meth:`Solver.integrator`). The strings accepted by ``run(solver=...)`` are
 
 from __future__ import annotations
 
+import dataclasses
 import numbers
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from flexlib.compile.environment import env_default
 from flexlib.errors import RunArgumentError
 from flexlib.solve.backends.base import Integrator
 from flexlib.solve.loop import run_loop
 from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["ALIASES", "IDA", "CasadiIDAS", "Solver", "as_solver", "integrate"]
+__all__ = ["ALIASES", "IDA", "SOLVERS", "CasadiIDAS", "Solver", "as_solver", "integrate"]
 
 #: Linear solvers of the C driver (``IDA(linear_solver=...)``)
 LINEAR_SOLVERS = ("dense", "klu", "superlumt")
@@ -32,19 +34,30 @@ def _check_order(owner: str, max_order: Any) -> None:
                                "or None (the run's max_order)")
 
 
+def _check_switch(owner: str, name: str, value: Any) -> None:
+    if value not in (None, True, False):
+        raise RunArgumentError(f"{owner}({name}={value!r}): must be True, False or None")
+
+
 class Solver:
     """Base of the solver objects."""
 
     #: The alias in statistics and messages
     label = ""
     max_order: int | None = None
+    #: Every unknown in IDA's local error test, also the derivative-level ones it leaves out by default
+    #: (:func:`flexlib.solve.backends.base.absolute_tolerances`; None: ``FLEXLIB_ERROR_TEST_ALL``, off unless ``1``)
+    error_test_all: bool | None = None
     #: A solver to fall back on when this one cannot be set up for a model (None: the error is raised)
     fallback: Solver | None = None
 
     def integrator(self, *, rtol: float, atol: float, max_step: float, max_order: int,
                    max_steps: int) -> Integrator:
-        """The adapter of one run (``max_order``: the run's, used where the solver object has none) [SI units]."""
-        return self.adapter(rtol, atol, max_step, self.max_order or max_order, max_steps)
+        """The adapter of one run (``max_order``: the run's, used where the solver object has none) [SI units], with
+        ``error_test_all`` resolved (its environment default read now where the object leaves it None)."""
+        integ = self.adapter(rtol, atol, max_step, self.max_order or max_order, max_steps)
+        integ.error_test_all = env_default("error_test_all") if self.error_test_all is None else self.error_test_all
+        return integ
 
     def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
         """The :class:`~flexlib.solve.backends.base.Integrator` with these options (a subclass's own)."""
@@ -66,19 +79,23 @@ class IDA(Solver):
         True: IDA stepped in C (:class:`~flexlib.errors.NativeSolverError` where the driver cannot be built); False:
         stepped from Python through scikit-sundae; None (default): C where the driver is available
         (``FLEXLIB_NATIVE=0`` in the environment turns it off), scikit-sundae otherwise.
+    error_test_all : bool, optional
+        Keep every unknown in the local error test, also the derivative-level ones left out by default (for
+        measurements; default: the environment variable ``FLEXLIB_ERROR_TEST_ALL``, off unless ``1``).
     """
 
     max_order: int | None = None
     linear_solver: str | None = None
     native: bool | None = None
+    error_test_all: bool | None = None
 
     def __post_init__(self) -> None:
         _check_order("IDA", self.max_order)
         if self.linear_solver is not None and self.linear_solver not in LINEAR_SOLVERS:
             raise RunArgumentError(f"IDA(linear_solver={self.linear_solver!r}): must be one of "
                                    f"{', '.join(LINEAR_SOLVERS)} or None")
-        if self.native not in (None, True, False):
-            raise RunArgumentError(f"IDA(native={self.native!r}): must be True, False or None")
+        _check_switch("IDA", "native", self.native)
+        _check_switch("IDA", "error_test_all", self.error_test_all)
 
     @property
     def label(self) -> str:  # type: ignore[override]
@@ -86,7 +103,7 @@ class IDA(Solver):
 
     @property
     def fallback(self) -> Solver | None:  # type: ignore[override]
-        return IDA(self.max_order, self.linear_solver, native=False) if self.native is None else None
+        return dataclasses.replace(self, native=False) if self.native is None else None
 
     def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
         from flexlib.solve.native import native_available
@@ -104,14 +121,17 @@ class IDA(Solver):
 class CasadiIDAS(Solver):
     """CasADi's built-in IDAS, every step in C; state events located on its output grid.
 
-    ``max_order`` (optional) is the highest BDF order as for :class:`IDA`.
+    ``max_order`` (optional) is the highest BDF order and ``error_test_all`` (optional) the error-test option, as
+    for :class:`IDA`.
     """
 
     max_order: int | None = None
+    error_test_all: bool | None = None
     label = "casadi-idas"
 
     def __post_init__(self) -> None:
         _check_order("CasadiIDAS", self.max_order)
+        _check_switch("CasadiIDAS", "error_test_all", self.error_test_all)
 
     def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
         from flexlib.solve.backends.casadi import CasadiIdas
@@ -122,6 +142,8 @@ class CasadiIDAS(Solver):
 #: The solver strings of ``run(solver=...)`` and the objects they stand for
 ALIASES: dict[str, Solver] = {"ida": IDA(), "casadi-idas": CasadiIDAS(), "ida-native": IDA(native=True),
                               "ida-sksundae": IDA(native=False)}
+#: The solver names accepted by ``run(solver=...)``, scenarios and ``flexlib run --solver``
+SOLVERS = tuple(ALIASES)
 
 
 def as_solver(solver: str | Solver) -> Solver:

@@ -8,6 +8,7 @@ closures, explicit frame kinematics, planar geometry) is registered here; anothe
 
 from __future__ import annotations
 
+from flexlib.compile.build_options import BuildOptions
 from flexlib.compile.passes.base import Pass
 from flexlib.compile.passes.multibody import MultibodyPass
 from flexlib.core.component import Connector, Node
@@ -31,15 +32,20 @@ def registered() -> tuple[type[Pass], ...]:
     return tuple(_REGISTERED)
 
 
-def active_passes(nodes: list[Node]) -> list[Pass]:
-    """A new instance of each registered pass that applies to a connector class among ``nodes``."""
+def active_passes(nodes: list[Node], options: BuildOptions | None = None) -> list[Pass]:
+    """A new instance of each registered pass that applies to a connector class among ``nodes``, each given the
+    build's resolved ``options`` (:attr:`Pass.options`; None: :class:`BuildOptions` with the environment defaults)."""
+    options = (options or BuildOptions()).resolved()
     classes = {type(n) for n in nodes if isinstance(n, Connector)}
-    return [cls() for cls in _REGISTERED if any(cls.applies_to(c) for c in classes)]
+    passes = [cls() for cls in _REGISTERED if any(cls.applies_to(c) for c in classes)]
+    for p in passes:
+        p.options = options
+    return passes
 
 
-def key_options() -> dict[str, object]:
-    """The build switches of every registered pass, for the cache key."""
+def key_options(options: BuildOptions) -> dict[str, object]:
+    """The options every registered pass reads, for the cache key (``options``: the build's, resolved)."""
     out: dict[str, object] = {}
     for cls in _REGISTERED:
-        out.update(cls.key_options())
+        out.update(cls.key_options(options))
     return out

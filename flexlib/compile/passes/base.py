@@ -17,7 +17,7 @@ hook                       where it runs
 ``marks``                  stage 1, after all rows: unknowns kept out of the error test, kinematic intermediates
 ``after_simplify``         stage 2, after alias elimination: rewrite the simplified system
 ``geometric_parameters``   stage 2, constant elimination: parameters that may be assumed zero where zero
-``key_options()``          the disk-cache key: the build switches the pass reads
+``key_options(options)``   the disk-cache key: the build options the pass reads
 =========================  ===================================================================================
 
 A new pass subclasses :class:`Pass`, overrides the hooks it needs and is registered with
@@ -29,6 +29,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from flexlib.compile.build_options import BuildOptions
     from flexlib.compile.flatten import FlatEquation
     from flexlib.compile.simplify import SimpleSystem
     from flexlib.core.component import Node
@@ -46,6 +47,9 @@ class Pass:
 
     #: Short name shown in reports.
     name: str = ""
+    #: The build's options, resolved (no field None), set by :func:`flexlib.compile.passes.active_passes` before
+    #: the first hook runs; an option a hook reads must also be named by :meth:`key_options`.
+    options: BuildOptions
 
     @classmethod
     def applies_to(cls, connector_cls: type) -> bool:
@@ -53,8 +57,8 @@ class Pass:
         return False
 
     @classmethod
-    def key_options(cls) -> dict[str, Any]:
-        """Build switches this pass reads (environment defaults), part of every model's cache key."""
+    def key_options(cls, options: BuildOptions) -> dict[str, Any]:
+        """The values of the build ``options`` (resolved) this pass reads, part of every model's cache key."""
         return {}
 
     def structure(self, nodes: list[Node]) -> None:

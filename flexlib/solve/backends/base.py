@@ -15,7 +15,7 @@ from typing import Any, ClassVar, Protocol
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.compile.environment import env_switch
+from flexlib.compile.environment import env_default
 
 __all__ = ["DENSE_MAX", "NEWTON_ITERS", "Integrator", "Limits", "Stop", "absolute_tolerances"]
 
@@ -98,6 +98,9 @@ class Integrator(Protocol):
     progress_every: ClassVar[int]
     rtol: float
     atol: float
+    #: Every unknown in the local error test (:func:`absolute_tolerances`); set by the solver object
+    #: (:meth:`flexlib.solve.solvers.Solver.integrator`), None: the environment default
+    error_test_all: bool | None
     #: The state relations the backend locates (indices into ``model.relations``)
     state_rel: np.ndarray
 
@@ -130,11 +133,14 @@ class Integrator(Protocol):
         ``wall``: the run's integration time so far [s] by the backend's ``clock``."""
 
 
-def absolute_tolerances(model: CompiledModel, atol: float) -> np.ndarray:
+def absolute_tolerances(model: CompiledModel, atol: float, error_test_all: bool | None = None) -> np.ndarray:
     """Per-unknown absolute tolerances: ``atol`` scaled by each nominal value, infinite for the
     derivative-level unknowns kept out of the error test (``structure.derivative_level``; every
-    backend) unless ``FLEXLIB_ERROR_TEST_ALL=1``."""
+    backend) unless ``error_test_all`` (the solver object's option; None: its environment default,
+    ``FLEXLIB_ERROR_TEST_ALL=1``)."""
     atol_vec = atol * np.asarray(model.nominal, dtype=float)
-    if not env_switch("FLEXLIB_ERROR_TEST_ALL", False):
+    if error_test_all is None:
+        error_test_all = env_default("error_test_all")
+    if not error_test_all:
         atol_vec = np.where(model.derivative_level, 1e20, atol_vec)
     return atol_vec

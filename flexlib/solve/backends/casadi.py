@@ -45,6 +45,7 @@ class CasadiIdas:
     settles_roots = False
     monitors = False
     progress_every = 1
+    error_test_all: bool | None = None
 
     def __init__(self, rtol: float = 1e-6, atol: float = 1e-8, max_step: float = 0.0, max_order: int = 5,
                  max_steps: int = 5_000_000) -> None:
@@ -57,7 +58,7 @@ class CasadiIdas:
         self.model, self.p = model, p
         self.state_rel = watched_relations(model)
         self.runner = Runner(model, backend(model), p, self.counts, self.rtol, self.atol, self.max_step > 0.0,
-                             self.max_steps, self.state_rel, self.max_order)
+                             self.max_steps, self.state_rel, self.max_order, self.error_test_all)
         if grid is None:
             req = t + (t_end - t) * np.arange(1, DENSE_POINTS + 1) / DENSE_POINTS
             req[-1] = t_end

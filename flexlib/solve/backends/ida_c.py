@@ -20,7 +20,6 @@ At a failure the message names the unknowns with the largest weighted local erro
 
 from __future__ import annotations
 
-import os
 import time as _time
 from typing import Any
 
@@ -28,6 +27,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
+from flexlib.compile.environment import env_default
 from flexlib.errors import RunArgumentError
 from flexlib.solve.backends.base import DENSE_MAX, NEWTON_ITERS, Limits, Stop, absolute_tolerances
 from flexlib.solve.events import watched_relations
@@ -64,6 +64,7 @@ class IdaC:
     watch_steps = 2
     settles_roots = True
     monitors = True
+    error_test_all: bool | None = None
 
     def __init__(self, rtol: float = 1e-6, atol: float = 1e-8, max_step: float = 0.0, max_order: int = 5,
                  linear_solver: str | None = None) -> None:
@@ -89,7 +90,7 @@ class IdaC:
             grid = None if self.grid is None else np.ascontiguousarray(self.grid[pos:])
         self.model, self.p, self.grid = model, p, grid
         self.drv, self.state_rel = make_driver(model, p, self.rtol, self.atol, self.max_step, t, y, yp,
-                                               self.max_order, self.linsol)
+                                               self.max_order, self.linsol, self.error_test_all)
         self.drv.set_grid(grid)
         self.limits = (np.inf, 0.0)
         if first:
@@ -203,13 +204,13 @@ def linear_solver(model: CompiledModel, forced: str | None = None) -> str:
     KLU (BTF + AMD ordering once per driver, then one numeric factorisation with threshold partial pivoting per IDA
     setup) when the model has more than :data:`KLU_MIN` unknowns and kvxopt's KLU is installed; dense LU at or below
     :data:`KLU_MIN` (and up to :data:`~flexlib.solve.backends.base.DENSE_MAX` without KLU); SuperLU_MT (SUNDIALS'
-    sparse solver) otherwise. ``forced`` (``IDA(linear_solver=...)``), else ``FLEXLIB_LINSOL=dense|klu|superlumt``
-    in the environment, overrides the rule.
+    sparse solver) otherwise. ``forced`` (``IDA(linear_solver=...)``), else its environment default
+    ``FLEXLIB_LINSOL=dense|klu|superlumt`` (:func:`flexlib.compile.environment.env_default`), overrides the rule.
     """
-    forced = forced or os.environ.get("FLEXLIB_LINSOL", "")
+    forced = forced or env_default("linear_solver")
     if forced:
         if forced not in LINEAR_SOLVERS:
-            raise RunArgumentError(f"FLEXLIB_LINSOL={forced!r}: expected one of {', '.join(LINEAR_SOLVERS)}")
+            raise RunArgumentError(f"linear_solver={forced!r}: expected one of {', '.join(LINEAR_SOLVERS)}")
         return forced
     if model.n <= KLU_MIN:
         return "dense"
@@ -219,12 +220,15 @@ def linear_solver(model: CompiledModel, forced: str | None = None) -> str:
 
 
 def make_driver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, max_step: float, t0: float,
-                y0: np.ndarray, yp0: np.ndarray, max_order: int = 5,
-                linsol: str | None = None) -> tuple[Driver, np.ndarray]:
-    """A C driver for ``model`` (indicators of the state relations as IDA root functions)."""
+                y0: np.ndarray, yp0: np.ndarray, max_order: int = 5, linsol: str | None = None,
+                error_test_all: bool | None = None) -> tuple[Driver, np.ndarray]:
+    """A C driver for ``model`` (indicators of the state relations as IDA root functions; ``linsol``:
+    :func:`linear_solver`'s ``forced``; ``error_test_all``: as for
+    :func:`~flexlib.solve.backends.base.absolute_tolerances`)."""
     state_rel = watched_relations(model)
     ev = evaluators(model, zc_function(model, p, state_rel))
-    drv = Driver(model, p, ev, len(state_rel), linear_solver(model, linsol), rtol, absolute_tolerances(model, atol),
+    drv = Driver(model, p, ev, len(state_rel), linear_solver(model, linsol), rtol,
+                 absolute_tolerances(model, atol, error_test_all),
                  max_step, t0, y0, yp0)
     drv.set_wall_chunk(CHUNK_WALL)
     drv.set_max_order(max_order)

@@ -58,6 +58,7 @@ class SkSundae:
     settles_roots = False
     monitors = True
     progress_every = PENDING_CHECK
+    error_test_all: bool | None = None
 
     def __init__(self, rtol: float = 1e-6, atol: float = 1e-8, max_step: float = 0.0, max_order: int = 5) -> None:
         self.rtol, self.atol, self.max_step, self.max_order = rtol, atol, max_step, int(max_order)
@@ -78,7 +79,8 @@ class SkSundae:
         self.model, self.p = model, p
         self.done, self.cur = [self.done[0] + self.cur[0], self.done[1] + self.cur[1]], [0, 0]
         self.solver, self.cb, self.ev_holder, self.state_rel = make_solver(model, p, self.rtol, self.atol,
-                                                                           self.max_step, self.max_order)
+                                                                           self.max_step, self.max_order,
+                                                                           self.error_test_all)
         self.pending_c = first and model.library_pending is not None  # C compiled in the background
         self.solver.init_step(t, y, yp)
         self.t = self.t_row = t
@@ -162,14 +164,15 @@ class SkSundae:
                 "njev": self.done[1] + self.cur[1], **self.extra}
 
 
-def make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float,
-                max_step: float, max_order: int = 5) -> tuple[Any, Callbacks, EventsFn, np.ndarray]:
-    """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above."""
+def make_solver(model: CompiledModel, p: np.ndarray, rtol: float, atol: float, max_step: float, max_order: int = 5,
+                error_test_all: bool | None = None) -> tuple[Any, Callbacks, EventsFn, np.ndarray]:
+    """An IDA instance for ``model``: dense LU for small systems, SuperLU_MT with the CasADi pattern above
+    (``error_test_all``: :func:`~flexlib.solve.backends.base.absolute_tolerances`'s)."""
     state_rel = state_relations(model)
     dense = model.n <= DENSE_MAX
     cb = Callbacks(model, p, state_rel, dense)
     opts: dict[str, Any] = dict(
-        rtol=rtol, atol=absolute_tolerances(model, atol),
+        rtol=rtol, atol=absolute_tolerances(model, atol, error_test_all),
         algebraic_idx=[int(i) for i in np.flatnonzero(~model.differential)],
         jacfn=cb.jacfn, max_step=max_step, max_num_steps=100000, max_order=int(max_order),
         max_nonlin_iters=NEWTON_ITERS,

@@ -34,7 +34,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib.compile.environment import env_switch
+from flexlib.compile.environment import env_default
 from flexlib.errors import FlexlibError, NativeSolverError
 
 __all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "LINEAR_SOLVERS", "Driver", "NativeUnavailable",
@@ -116,9 +116,10 @@ _AVAILABLE: list[bool] = []
 def native_available() -> bool:
     """Whether the default ``solver="ida"`` runs on the C driver: True once the driver is compiled (or cached)
     and loads; False without a C compiler, when the build or the load fails, or with ``FLEXLIB_NATIVE=0`` in
-    the environment (then the default backend steps scikit-sundae's IDA from Python, with no error). The
-    answer is kept for the process (the environment variable is read on every call)."""
-    if not env_switch("FLEXLIB_NATIVE", True):  # 0, false, no, off (another word is a RunArgumentError)
+    the environment, the default of ``IDA(native=None)`` (then the default backend steps scikit-sundae's IDA from
+    Python, with no error). The answer is kept for the process (the environment variable is read on every call,
+    :func:`flexlib.compile.environment.env_default`)."""
+    if not env_default("native"):  # 0, false, no, off (another word is a RunArgumentError)
         return False
     if not _AVAILABLE:
         try:

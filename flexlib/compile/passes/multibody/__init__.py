@@ -21,7 +21,7 @@ from flexlib.compile.passes.multibody.kinematics import (
     tree_kinematics,
 )
 from flexlib.compile.passes.multibody.redundancy import remove_redundant
-from flexlib.compile.passes.multibody.tearing import tear_or_keep_frames, tree_frames_mode
+from flexlib.compile.passes.multibody.tearing import tear_or_keep_frames
 from flexlib.compile.passes.multibody.tree import (
     OrientationTree,
     orientation_tree,
@@ -31,6 +31,7 @@ from flexlib.compile.passes.multibody.tree import (
 from flexlib.compile.passes.multibody.zero_geometry import frame_parameters
 
 if TYPE_CHECKING:
+    from flexlib.compile.build_options import BuildOptions
     from flexlib.compile.flatten import FlatEquation
     from flexlib.compile.simplify import SimpleSystem
     from flexlib.core.component import Node
@@ -53,8 +54,8 @@ class MultibodyPass(Pass):
         return any(getattr(v, "overdetermined", False) for k in connector_cls.__mro__ for v in vars(k).values())
 
     @classmethod
-    def key_options(cls) -> dict[str, Any]:
-        return {"tree_frames": tree_frames_mode()}
+    def key_options(cls, options: BuildOptions) -> dict[str, Any]:
+        return {"tree_frames": options.tree_frames}
 
     def broken_connections(self) -> set[frozenset[int]]:
         return {frozenset((id(a), id(b))) for a, b, _ in self.tree.broken_edges}
@@ -79,7 +80,7 @@ class MultibodyPass(Pass):
     def after_simplify(self, simple: SimpleSystem, params: dict[int, float]) -> SimpleSystem:
         """Redundant loop rows removed (:mod:`.redundancy`), then the frame kinematics torn or kept
         (:mod:`.tearing`)."""
-        return tear_or_keep_frames(remove_redundant(simple, params), params)
+        return tear_or_keep_frames(remove_redundant(simple, params), params, self.options.tree_frames)
 
     def geometric_parameters(self, simple: SimpleSystem) -> set[int]:
         return frame_parameters(simple)

@@ -19,7 +19,8 @@ build). A model without loop-closure rows whose deepest chain of frame definitio
 equations instead; every row stays local, the Jacobian O(N)). Their start values are the torn
 definitions evaluated at the start values of the remaining unknowns, so ``T`` starts as the rotation of
 the start angles. Models with loops are always torn (the loop rows must be in joint coordinates).
-``FLEXLIB_TREE_FRAMES=tear`` / ``keep`` forces either choice; the choice is recorded in
+``BuildOptions(tree_frames="tear")`` / ``"keep"`` (or ``FLEXLIB_TREE_FRAMES``, its default) forces either choice,
+passed to the multibody pass as the build's option; the choice is recorded in
 ``SimpleSystem.tree_frames`` and shown in ``Simulation.report``.
 
 **Rows between frames are written relative to their common frame** before the tree is torn
@@ -31,31 +32,21 @@ lowest common frame instead of every coordinate from the root (checked numerical
 from __future__ import annotations
 
 import dataclasses
-import os
 
 import casadi as ca
 import numpy as np
 
+from flexlib.compile.environment import env_default
 from flexlib.compile.passes.multibody.redundancy import frame_variables
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.tearing import eliminate, explicit_definitions, is_derivative
-from flexlib.errors import RunArgumentError
 
-__all__ = ["KEEP_DEPTH", "eliminate_frame_kinematics", "tear_or_keep_frames", "tree_frames_mode"]
+__all__ = ["KEEP_DEPTH", "eliminate_frame_kinematics", "tear_or_keep_frames"]
 
 #: Depth (longest chain of frame definitions ``T``/``r_0`` that depend on each other) above which a model
 #: without loops keeps its tree frames as unknowns. Measured on N-link chains (``benchmarks/multibody.py
 #: --tree-frames-crossover``, see "Build time at scale" in ``benchmarks/README.md``).
 KEEP_DEPTH = 12
-
-
-def tree_frames_mode() -> str:
-    """``"auto"`` (default), ``"tear"`` or ``"keep"``, from ``FLEXLIB_TREE_FRAMES``."""
-    raw = os.environ.get("FLEXLIB_TREE_FRAMES", "auto")
-    mode = raw.strip().lower() or "auto"
-    if mode not in ("auto", "tear", "keep"):
-        raise RunArgumentError(f"environment variable FLEXLIB_TREE_FRAMES = {raw!r}: expected 'auto', 'tear' or 'keep'")
-    return mode
 
 
 def _frame_ids(simple: SimpleSystem) -> list[int]:
@@ -78,14 +69,15 @@ def tear_or_keep_frames(simple: SimpleSystem, params: dict[int, float], mode: st
     params : dict of int to float
         Parameter values by symbol hash (for the start values of kept frames).
     mode : {"auto", "tear", "keep"} or None
-        None: :func:`tree_frames_mode`. ``"keep"`` still tears a model with loop-closure rows.
+        None: the environment default (``FLEXLIB_TREE_FRAMES``, :func:`flexlib.compile.environment.env_default`).
+        ``"keep"`` still tears a model with loop-closure rows.
 
     Returns
     -------
     SimpleSystem
         With ``tree_frames`` saying what was chosen and why.
     """
-    mode = tree_frames_mode() if mode is None else mode
+    mode = env_default("tree_frames") if mode is None else mode
     ids = _frame_ids(simple)
     if not ids:
         return simple
