@@ -319,7 +319,11 @@ def model_key(root: Component, options: dict[str, Any]) -> str | None:
                 raise ModelError(f"{node.path or type(node).__name__}.structure_key() must return plain data "
                                  f"(numbers, strings, bytes, arrays, tuples, lists, dicts), got {extra!r}")
             h.update(repr(("structure_key", pv)).encode())
-        for name, decl in node.class_declarations().items():
+        own = node.class_declarations().keys() | node._state_select.keys()
+        for name, decl in node._decls.items():
+            start = node._starts.get(name)
+            if name not in own and (start is None or start[1] is False):
+                continue  # a compile pass's declaration (declared by the build itself) with no initial condition
             item = (name, decl.kind.value, decl.shape, decl.unit)
             if not isinstance(decl, Parameter):
                 given = node._starts.get(name)  # only whether the start is fixed enters the key

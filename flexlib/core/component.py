@@ -36,6 +36,11 @@ __all__ = ["Component", "Connector", "Model", "Node", "flag", "remember_option"]
 #: Per class: its declarations and its sub-component templates in MRO order (one walk of the MRO per class,
 #: not per instance; a model of N components builds N instances of a handful of classes), with the sizes of
 #: the class dictionaries it was read from (an attribute added to a class later invalidates the entry).
+#: Hooks ``(node, name) -> (declaration, name it follows) | None`` of the registered compile passes
+#: (:meth:`flexlib.compile.passes.base.Pass.declaration`): a variable a pass declares on the nodes of its family
+#: (the multibody pass: a frame's ``v``, ``a``, ``z``), on demand before the model is flattened.
+PASS_DECLARATIONS: list[Callable[[Node, str], tuple[Declaration, str | None] | None]] = []
+
 _CLASS_MEMBERS: dict[type, tuple[tuple[int, ...], dict[str, Declaration], list[tuple[str, Node]]]] = {}
 
 #: Bumped whenever a node is attached to a parent: a path cached under an older generation is recomputed.
@@ -249,7 +254,7 @@ class Node(InstanceValues, metaclass=_NodeMeta):
 
     def __getattr__(self, name: str) -> Any:
         decls = self.__dict__.get("_decls")
-        if decls is not None and name in decls:
+        if decls is not None and not name.startswith("_") and self._declaration(name) is not None:
             return self._symbol(name)
         raise AttributeError(f"{type(self).__name__} {self.path or '(unnamed)'!s} has no attribute {name!r}")
 
@@ -315,6 +320,18 @@ class Node(InstanceValues, metaclass=_NodeMeta):
         decls.clear()
         decls.update(items)
         self.__dict__.setdefault("_pass_decls", set()).add(name)
+
+    def _declaration(self, name: str) -> Declaration | None:
+        """The declaration of ``name``: this node's, or one a registered compile pass declares on it on demand
+        (:data:`PASS_DECLARATIONS`: a frame's ``v`` given a start value before the model is flattened)."""
+        decl = self._decls.get(name)
+        if decl is None and isinstance(name, str):
+            for hook in PASS_DECLARATIONS:
+                found = hook(self, name)
+                if found is not None:
+                    self.add_pass_declaration(name, *found)
+                    return found[0]
+        return decl
 
     def class_declarations(self) -> dict[str, Declaration]:
         """This node's declarations without those a compile pass added (:meth:`add_pass_declaration`)."""

@@ -118,7 +118,7 @@ class InstanceValues:
         body starts undeformed unless a joint locks a mode: no over-specified start then). The default
         conditions are taken in the model's order, each only if it determines an unknown nothing else does.
         """
-        decl = self._decls.get(name)
+        decl = self._declaration(name)
         if not isinstance(decl, Variable):
             raise ModelError(self._unknown(name, "variable"))
         if fixed != DEFAULT_START if isinstance(fixed, str) else not isinstance(fixed, (bool, np.bool_, int)):
@@ -137,7 +137,7 @@ class InstanceValues:
         """Override the state preference of variable ``name`` on this instance (Modelica's ``stateSelect``
         modifier): ``"never"``, ``"avoid"``, ``"default"``, ``"prefer"``, ``"always"`` or a
         :class:`~flexlib.StateSelect` member."""
-        decl = self._decls.get(name)
+        decl = self._declaration(name)
         if not isinstance(decl, Variable):
             raise ModelError(self._unknown(name, "variable") + " (in state_select)")
         if isinstance(value, StateSelect):
@@ -152,7 +152,7 @@ class InstanceValues:
     def state_select_of(self, name: str) -> StateSelect:
         """State preference of variable ``name`` after the instance override (else the declaration's)."""
         sel = self._state_select.get(name)
-        return sel if sel is not None else self._decls[name].state_select
+        return sel if sel is not None else self._declaration(name).state_select
 
     def parameter_value(self, name: str) -> np.ndarray | None:
         """Current value of parameter ``name`` (None if it has neither a value nor a default)."""
@@ -168,7 +168,7 @@ class InstanceValues:
         :meth:`set_start`)."""
         if name in self._starts:
             return self._starts[name]
-        decl = self._decls[name]
+        decl = self._declaration(name)
         arr = np.asarray(decl.start, dtype=float)  # one value, or one per element (checked by Variable)
         if decl.shape:
             arr = np.broadcast_to(arr.reshape(()) if arr.size == 1 else arr.reshape(decl.shape), decl.shape).copy()

@@ -21,6 +21,7 @@ import flexlib as fl
 import flexlib.models.planar_mechanisms as pm
 import flexlib.models.pump_truck.model as pump_truck_model
 from flexlib import eq
+from flexlib.compile.cache_key import model_key
 from flexlib.compile.flatten import FlatSystem, flatten
 from flexlib.components.mechanics.multibody import Body, Frame, Revolute, World
 from flexlib.components.mechanics.multibody.frames import planar_rotation
@@ -175,3 +176,20 @@ def test_pump_truck_linkage_runs_with_msl_joints_as_with_hand_written_ones(monke
     for name in ("joint1.phi", "joint2.w", "link_pin3.phi", "slew.frame_b.t[1]"):
         x, ref = res_lib[name], res_hand[name]
         np.testing.assert_allclose(x, ref, rtol=1e-12, atol=1e-12 * max(np.abs(ref).max(), 1e-300))
+
+
+def test_a_start_value_may_name_a_frame_kinematic_quantity_before_the_build() -> None:
+    """``guess={"frame_a.a": ...}`` declares the pass's ``a`` on that frame at once (in its place after ``w``, ``v``);
+    the build adds the others in order, and an initial condition given to one enters the cache key."""
+    plain = _fourbar(None)
+    guessed = _fourbar(None)
+    guessed.rev_crank.frame_b.set_start("a", [0.0, 1.0, 0.0], fixed=False)
+    frame = guessed.rev_crank.frame_b
+    assert list(frame._decls) == ["r_0", "T", "w", "a", "f", "t"]
+    assert frame.start_of("a")[0].tolist() == [0.0, 1.0, 0.0]
+    flatten(guessed, check=False)
+    assert list(frame._decls) == ["r_0", "T", "w", "v", "a", "z", "f", "t"]
+    key = model_key(plain, {})
+    assert model_key(guessed, {}) == key  # a guess decides nothing of the structure
+    guessed.rev_crank.frame_b.set_start("a", [0.0, 1.0, 0.0], fixed=True)
+    assert model_key(guessed, {}) != key

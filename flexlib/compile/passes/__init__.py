@@ -11,11 +11,12 @@ from __future__ import annotations
 from flexlib.compile.build_options import BuildOptions
 from flexlib.compile.passes.base import Pass
 from flexlib.compile.passes.multibody import MultibodyPass
-from flexlib.core.component import Connector, Node
+from flexlib.core.component import PASS_DECLARATIONS, Connector, Node
 
 __all__ = ["Pass", "active_passes", "key_options", "register", "registered"]
 
 _REGISTERED: list[type[Pass]] = [MultibodyPass]
+PASS_DECLARATIONS.append(MultibodyPass.declaration)
 
 
 def register(pass_cls: type[Pass]) -> type[Pass]:
@@ -24,6 +25,7 @@ def register(pass_cls: type[Pass]) -> type[Pass]:
         raise TypeError(f"register(): {pass_cls!r} is not a subclass of flexlib.compile.passes.Pass")
     if pass_cls not in _REGISTERED:
         _REGISTERED.append(pass_cls)
+        PASS_DECLARATIONS.append(pass_cls.declaration)
     return pass_cls
 
 

@@ -18,6 +18,8 @@ hook                       where it runs
 ``after_simplify``         stage 2, after alias elimination: rewrite the simplified system
 ``geometric_parameters``   stage 2, constant elimination: parameters that may be assumed zero where zero
 ``key_options(options)``   the disk-cache key: the build options the pass reads
+``declaration(node, name)`` a variable the pass declares on a node of its family (a frame's ``v``), asked on demand
+                           when a start value or an equation names it before the model is flattened
 =========================  ===================================================================================
 
 A new pass subclasses :class:`Pass`, overrides the hooks it needs and is registered with
@@ -33,6 +35,7 @@ if TYPE_CHECKING:
     from flexlib.compile.flatten import FlatEquation
     from flexlib.compile.simplify import SimpleSystem
     from flexlib.core.component import Node
+    from flexlib.core.variables import Declaration
 
 __all__ = ["Pass"]
 
@@ -55,6 +58,13 @@ class Pass:
     def applies_to(cls, connector_cls: type) -> bool:
         """True if this pass handles models that contain a connector of class ``connector_cls``."""
         return False
+
+    @classmethod
+    def declaration(cls, node: Node, name: str) -> tuple[Declaration, str | None] | None:
+        """A variable ``name`` this pass declares on ``node`` (a connector of its family) and the name of the
+        declaration it follows, or None. Declared through
+        :meth:`~flexlib.core.component.Node.add_pass_declaration`: not part of the class's declarations."""
+        return None
 
     @classmethod
     def key_options(cls, options: BuildOptions) -> dict[str, Any]:

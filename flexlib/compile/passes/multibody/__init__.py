@@ -18,6 +18,7 @@ from flexlib.compile.passes.base import Pass
 from flexlib.compile.passes.multibody.kinematics import (
     acceleration_marks,
     declare_frame_kinematics,
+    frame_kinematics_declaration,
     tree_kinematics,
 )
 from flexlib.compile.passes.multibody.redundancy import remove_redundant
@@ -35,6 +36,7 @@ if TYPE_CHECKING:
     from flexlib.compile.flatten import FlatEquation
     from flexlib.compile.simplify import SimpleSystem
     from flexlib.core.component import Node
+    from flexlib.core.variables import Declaration
 
 __all__ = ["MultibodyPass"]
 
@@ -52,6 +54,11 @@ class MultibodyPass(Pass):
     def applies_to(cls, connector_cls: type) -> bool:
         """True for a connector class that declares over-determined potentials (a 3D frame)."""
         return any(getattr(v, "overdetermined", False) for k in connector_cls.__mro__ for v in vars(k).values())
+
+    @classmethod
+    def declaration(cls, node: Node, name: str) -> tuple[Declaration, str | None] | None:
+        """A frame's ``v``, ``a`` or ``z`` (:func:`.kinematics.frame_kinematics_declaration`)."""
+        return frame_kinematics_declaration(node, name, cls.applies_to)
 
     @classmethod
     def key_options(cls, options: BuildOptions) -> dict[str, Any]:

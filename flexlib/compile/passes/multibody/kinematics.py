@@ -39,7 +39,7 @@ from flexlib.core.variables import Potential, StateSelect, SymInfo, lookup
 from flexlib.errors import ModelError
 
 __all__ = ["FRAME_KINEMATICS", "FRAME_MARKS", "acceleration_marks", "branch_kinematics", "declare_frame_kinematics",
-           "root_kinematics", "tree_kinematics"]
+           "frame_kinematics_declaration", "root_kinematics", "tree_kinematics"]
 
 #: The kinematic quantities of a frame the pass carries along the tree: (unit, meaning), all resolved in the frame.
 FRAME_KINEMATICS = {
@@ -378,16 +378,29 @@ def _is_der(s: ca.SX) -> bool:
     return info is not None and info.kind == "der"
 
 
+def frame_kinematics_declaration(node: Node, name: str, is_frame: Callable[[type], bool]
+                                 ) -> tuple[Potential, str] | None:
+    """The declaration of a frame's ``v``, ``a`` or ``z`` (:data:`FRAME_KINEMATICS`) and the name it follows, for a
+    frame ``node`` (a connector with ``r_0``, ``T``, ``w``); None for another name or node."""
+    if name not in FRAME_KINEMATICS or not (isinstance(node, Connector) and is_frame(type(node))):
+        return None
+    if not all(n in node._decls for n in ("r_0", "T", "w")):
+        return None
+    unit, doc = FRAME_KINEMATICS[name]
+    before = ["w", *FRAME_KINEMATICS][:list(FRAME_KINEMATICS).index(name) + 1]
+    after = next(n for n in reversed(before) if n in node._decls)  # the same order whichever is declared first
+    return Potential(unit=unit, shape=3, overdetermined=True, doc=doc), after
+
+
 def declare_frame_kinematics(nodes: list[Node], is_frame: Callable[[type], bool]) -> None:
     """Give every frame (a connector with ``r_0``, ``T``, ``w``) the kinematic quantities the pass carries along the
     tree, ``v``, ``a`` and ``z`` (:data:`FRAME_KINEMATICS`), as declarations of the pass
     (:meth:`~flexlib.core.component.Node.add_pass_declaration`)."""
     for node in nodes:
-        if isinstance(node, Connector) and is_frame(type(node)) and all(n in node._decls for n in ("r_0", "T", "w")):
-            after = "w"
-            for name, (unit, doc) in FRAME_KINEMATICS.items():
-                node.add_pass_declaration(name, Potential(unit=unit, shape=3, overdetermined=True, doc=doc), after)
-                after = name
+        for name in FRAME_KINEMATICS:
+            found = frame_kinematics_declaration(node, name, is_frame)
+            if found is not None:
+                node.add_pass_declaration(name, *found)
 
 
 class _Rows:
