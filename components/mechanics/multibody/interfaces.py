@@ -102,12 +102,17 @@ class PartialCutSensor(PartialTwoFrames):
 
     ``r_0,b = r_0,a``, ``T_b = T_a``, ``w_b = w_a`` (an orientation branch in the direction given by
     ``rooted(frame_a)``), ``f_a + f_b = 0``, ``t_a + t_b = 0``. A subclass adds the equation of its
-    measured output (:meth:`measurement_equations`).
+    measured output (:meth:`measurement_equations`), the cut load at frame_a with MSL's ``positiveSign = true``.
 
     Parameters
     ----------
     resolve_in_frame : {"frame_a", "world"}
         Frame in which the output is resolved (structural constructor argument).
+
+    Connectors
+    ----------
+    frame_a, frame_b : Frame
+        The two sides of the cut.
 
     References
     ----------
