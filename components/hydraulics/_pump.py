@@ -22,6 +22,36 @@ class PartialPump(PositiveParameters, Component):
 
         q = eta_v * D_eff * w - C_leak * dp,   port_a.m_flow = rho(port_a.p) * q = -port_b.m_flow
         tau = D_eff * dp / eta_m,              dp = port_b.p - port_a.p
+
+    Parameters
+    ----------
+    use_flange : bool
+        True if the pump is driven by the rotational ``flange``, otherwise by the speed
+        signal ``w`` (structural).
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port_a : Port
+        Suction (inlet).
+    port_b : Port
+        Delivery (outlet, pressure side).
+    w : Input [rad/s]
+        Shaft speed (only if not ``use_flange``; otherwise a variable, ``der(flange.phi)``).
+    flange : Flange
+        Drive shaft (only if ``use_flange``); ``flange.tau = tau`` is the torque driven into the pump.
+
+    Variables
+    ---------
+    q : m3/s
+        Delivered volume flow (suction density).
+    m_flow : kg/s
+        Delivered mass flow.
+    dp : Pa
+        Pressure rise ``p_b - p_a``.
+    tau : N.m
+        Shaft torque needed to drive the pump.
     """
 
     port_a = Port(doc="Suction (inlet) port")

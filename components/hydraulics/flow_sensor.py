@@ -24,15 +24,6 @@ class FlowSensor(Component):
     fluid : Fluid
         Fluid property record (structural; default HLP46).
 
-    Connectors
-    ----------
-    port_a, port_b : Port
-        Flow from a to b is positive.
-    m_flow : Output [kg/s]
-        Mass flow rate from a to b.
-    q : Output [m3/s]
-        Volume flow rate from a to b at the line pressure.
-
     References
     ----------
     MathWorks Simscape Fluids, *Flow Rate Sensor (IL)* block documentation.

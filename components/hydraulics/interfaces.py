@@ -18,6 +18,8 @@ from typing import Any
 
 from flexlib import Component, Connector, Flow, Potential, Variable, der, eq
 
+from ._checks import store_fluid
+from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
 
 __all__ = ["CHAMBER_FORMS", "PartialTwoPort", "Port", "chamber_equations", "chamber_mass_nominal", "check_chamber_form"]
@@ -71,6 +73,20 @@ class PartialTwoPort(Component):
     fluid : Fluid
         Fluid property record (structural; default HLP46).
 
+    Connectors
+    ----------
+    port_a, port_b : Port
+        Flow from a to b is positive.
+
+    Variables
+    ---------
+    m_flow : kg/s
+        Mass flow from a to b.
+    q : m3/s
+        Volume flow from a to b (mean-pressure density).
+    dp : Pa
+        Pressure drop ``port_a.p - port_b.p``.
+
     References
     ----------
     MathWorks Simscape Fluids, isothermal-liquid two-port restrictions (``Local Restriction (IL)``).
@@ -84,13 +100,24 @@ class PartialTwoPort(Component):
 
     def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(**kw)
-        self.__dict__["fluid"] = fluid
+        store_fluid(self, fluid)
+
+    def mean_density(self) -> Any:
+        """Density of the fluid at the mean port pressure [kg/m3]."""
+        return self.fluid.density(0.5 * (self.port_a.p + self.port_b.p))
+
+    def orifice_flow(self, dp: Any, area: Any) -> Any:
+        """Mass flow [kg/s] of the orifice law (:func:`~.flow_laws.orifice_mass_flow`) through the opening ``area``
+        [m2] at the pressure drop ``dp`` [Pa], with the component's ``Cd`` and ``Re_cr`` and the mean-pressure
+        density."""
+        rho = self.mean_density()
+        p_cr = critical_pressure(area, self.Cd, rho, self.fluid.nu, self.Re_cr)
+        return orifice_mass_flow(dp, area, self.Cd, rho, p_cr)
 
     def equations(self) -> list:
         a, b = self.port_a, self.port_b
-        rho = self.fluid.density(0.5 * (a.p + b.p))
         return [eq(a.m_flow, self.m_flow), eq(a.m_flow + b.m_flow, 0.0),
-                eq(self.dp, a.p - b.p), eq(self.m_flow, rho * self.q)]
+                eq(self.dp, a.p - b.p), eq(self.m_flow, self.mean_density() * self.q)]
 
 
 #: Formulations of :func:`chamber_equations` (structural ``chamber_form`` option of the chamber components).
