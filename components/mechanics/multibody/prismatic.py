@@ -61,10 +61,7 @@ class Prismatic(PartialTwoFrames):
 
     def __init__(self, use_axis_flange: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.use_axis_flange = flag(self, "use_axis_flange", use_axis_flange, structural=True)
-        if self.use_axis_flange:
-            self.axis = Flange(doc="Drive flange (s, f)")
-            self.support = Flange(doc="Housing of the drive")
+        add_axis_flange(self, use_axis_flange, Flange, "Drive flange (s, f)", "Housing of the drive")
 
     def check(self, values: dict[str, Any]) -> None:
         super().check(values)
@@ -86,6 +83,15 @@ class Prismatic(PartialTwoFrames):
         else:
             eqs.append(eq(self.f, self.f_drive, label="no drive flange: only f_drive acts along the axis"))
         return eqs
+
+
+def add_axis_flange(joint: Any, use_axis_flange: bool, flange: type, axis_doc: str, support_doc: str) -> None:
+    """The structural option ``use_axis_flange`` of ``joint``; when on, its 1D drive flange ``axis`` and the
+    drive's housing ``support``, both of class ``flange`` (of the translational or rotational library)."""
+    joint.use_axis_flange = flag(joint, "use_axis_flange", use_axis_flange, structural=True)
+    if joint.use_axis_flange:
+        joint.axis = flange(doc=axis_doc)
+        joint.support = flange(doc=support_doc)
 
 
 def check_axis(component: Any, values: dict[str, Any], name: str, what: str = "joint axis") -> None:

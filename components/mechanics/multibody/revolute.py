@@ -12,7 +12,7 @@ from flexlib.core.component import flag
 
 from .frames import absolute_rotation, planar_rotation, resolve1
 from .interfaces import PartialTwoFrames, support_grounded
-from .prismatic import check_axis
+from .prismatic import add_axis_flange, check_axis
 
 __all__ = ["Revolute"]
 
@@ -94,11 +94,9 @@ class Revolute(PartialTwoFrames):
 
     def __init__(self, use_axis_flange: bool = False, use_friction: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.use_axis_flange = flag(self, "use_axis_flange", use_axis_flange, structural=True)
+        add_axis_flange(self, use_axis_flange, Flange, "Drive flange (phi, tau)",
+                        "Housing of the drive, fixed to frame_a")
         self.use_friction = flag(self, "use_friction", use_friction)
-        if self.use_axis_flange:
-            self.axis = Flange(doc="Drive flange (phi, tau)")
-            self.support = Flange(doc="Housing of the drive, fixed to frame_a")
 
     def check(self, values: dict[str, Any]) -> None:
         super().check(values)
