@@ -15,10 +15,23 @@ from flexlib.errors import ParameterError
 from .frames import resolve1
 from .interfaces import PartialTwoFrames, support_grounded
 
-__all__ = ["Prismatic"]
+__all__ = ["PartialAxisJoint", "Prismatic"]
 
 
-class Prismatic(PartialTwoFrames):
+class PartialAxisJoint(PartialTwoFrames):
+    """Base of the joints along or about one axis ``n`` (a parameter of the subclass, resolved in frame_a), which
+    must not have zero length; :meth:`unit_axis` is ``n / |n|``."""
+
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        check_axis(self, values, "n")
+
+    def unit_axis(self) -> Any:
+        """The unit vector ``n / |n|`` of the joint axis, resolved in frame_a [1]."""
+        return self.n / ca.norm_2(self.n)
+
+
+class Prismatic(PartialAxisJoint):
     """Translation of frame_b relative to frame_a by ``s`` along the fixed axis ``n``; same orientation.
 
     ``r_0,b = r_0,a + T_aᵀ (e s)``; ``T_b = T_a``, ``w_b = w_a``; ``f_a + f_b = 0``;
@@ -63,13 +76,9 @@ class Prismatic(PartialTwoFrames):
         super().__init__(**kwargs)
         add_axis_flange(self, use_axis_flange, Flange, "Drive flange (s, f)", "Housing of the drive")
 
-    def check(self, values: dict[str, Any]) -> None:
-        super().check(values)
-        check_axis(self, values, "n")
-
     def equations(self):
         a, b = self.frame_a, self.frame_b
-        e = self.n / ca.norm_2(self.n)
+        e = self.unit_axis()
         es = e * self.s
         eqs = [eq(b.r_0, a.r_0 + resolve1(a.T, es)), eq(der(self.s), self.v), eq(der(self.v), self.a),
                eq(a.f + b.f, 0.0), eq(a.t + b.t + ca.cross(es, b.f), 0.0), eq(self.f, -ca.dot(e, b.f))]
