@@ -80,10 +80,6 @@ class PartialTwoFrames(Component):
     Declares ``branch(frame_a, frame_b)``: the subclass computes one frame's orientation from the other,
     in the direction given by ``rooted(frame_a)``.
 
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Interfaces.PartialTwoFrames``.
