@@ -19,11 +19,40 @@ import pytest
 import flexlib as fl
 from flexlib.compile.flatten import flatten
 from flexlib.components.control import Constant, FirstOrder, Gain, TransferFunction
-from flexlib.components.hydraulics import FixedDisplacementPump, Orifice, PressureSource, Volume
+from flexlib.components.hydraulics import FixedDisplacementPump, Orifice, PressureSource, Tank, Volume
 from flexlib.components.hydraulics.fluid import Fluid
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
-from flexlib.components.mechanics.translational import Fixed, Force, Mass, Spring
-from tests.robustness.helpers import K, M, PushedOscillator
+from flexlib.components.mechanics.translational import Damper, Fixed, Force, Mass, Spring
+
+K, M = 4.0 * math.pi**2, 1.0  # spring-mass: natural frequency 1 Hz
+
+
+class PushedOscillator(fl.Model):
+    """wall – spring – mass (– damper), pushed by a constant force src.k."""
+
+    def __init__(self, d: float = 0.0, extra: str = "") -> None:
+        super().__init__()
+        self.wall = Fixed()
+        self.spring = Spring(c=K)
+        self.mass = Mass(m=M, init={"s": 0.0, "v": 0.0})
+        self.src = Constant(k=0.0)
+        self.push = Force()
+        self.connect(self.wall.flange, self.spring.flange_a)
+        self.connect(self.spring.flange_b, self.mass.flange_a)
+        self.connect(self.src.y, self.push.f)
+        self.connect(self.push.flange, self.mass.flange_b)
+        if d:
+            self.damper = Damper(d=d)
+            self.connect(self.wall.flange, self.damper.flange_a)
+            self.connect(self.damper.flange_b, self.mass.flange_a)
+        if extra == "fixed":
+            self.ground = Fixed()
+        elif extra == "free mass":
+            self.drifting = Mass(m=1.0, init={"s": 0.0, "v": 1.0})
+        elif extra == "world":
+            self.world = World()
+        elif extra == "tank":
+            self.tank = Tank()
 
 
 class FreeMass(fl.Model):

@@ -38,7 +38,7 @@ from flexlib.components.hydraulics import (
 from flexlib.components.mechanics import multibody as mb
 from flexlib.components.mechanics import rotational as rot
 from flexlib.components.mechanics.translational import Fixed, Force, Mass
-from tests.robustness.helpers import PushedOscillator
+from tests.robustness.test_analysis_and_inputs import PushedOscillator
 
 
 # -- declarations ------------------------------------------------------------------------------------------------
