@@ -4,14 +4,24 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexlib import Component, Input, Variable, der, eq
+from flexlib import Component, Input, Parameter, Variable, der, eq
 
 from ..mechanics.rotational.interfaces import Flange
 from ._checks import PositiveParameters, flag, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port
 
-__all__ = ["PartialPump"]
+__all__ = ["DisplacementParameters", "PartialPump"]
+
+
+class DisplacementParameters:
+    """Mixin: the parameters of a fixed-displacement machine (pump or motor), all but ``C_leak`` > 0."""
+
+    _positive = ("D", "eta_v", "eta_m")
+    D = Parameter(unit="m3/rad", min=0.0, doc="Displacement")
+    eta_v = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Volumetric efficiency")
+    eta_m = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Mechanical efficiency")
+    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage coefficient")
 
 
 class PartialPump(PositiveParameters, Component):
