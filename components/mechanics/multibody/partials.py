@@ -1,7 +1,8 @@
-"""Partial models of the multibody sensors and world loads (MSL ``Sensors.Internal``, ``Forces.Internal``).
+"""Partial models of the multibody sensors, world loads (MSL ``Sensors.Internal``, ``Forces.Internal``) and
+one-axis joints.
 
-Each partial holds a component's frames, the loads it puts on them and its ``resolve_in_frame`` choice; a
-sensor or load derived from one adds only the equation of its own vector. As in MSL with the default
+Each sensor or load partial holds a component's frames, the loads it puts on them and its ``resolve_in_frame``
+choice; a sensor or load derived from one adds only the equation of its own vector. As in MSL with the default
 ``resolveInFrame``, there is no ``frame_resolve`` connector (see :mod:`._resolve`).
 """
 
@@ -10,13 +11,17 @@ from __future__ import annotations
 from typing import Any
 
 import casadi as ca
+import numpy as np
 
 from flexlib import Component, eq
+from flexlib.core.component import flag
+from flexlib.errors import ParameterError
 
 from ._resolve import check_resolve_in_frame
-from .interfaces import Frame
+from .interfaces import Frame, PartialTwoFrames
 
-__all__ = ["PartialAbsoluteSensor", "PartialRelativeSensor", "PartialWorldLoad"]
+__all__ = ["PartialAbsoluteSensor", "PartialAxisJoint", "PartialRelativeSensor", "PartialWorldLoad", "add_axis_flange",
+           "check_axis"]
 
 
 class PartialAbsoluteSensor(Component):
@@ -104,3 +109,32 @@ class PartialWorldLoad(Component):
     def in_frame_b(self, vector: Any) -> Any:
         """The input ``vector`` resolved in frame_b: ``T_b·vector`` if given in world, else itself."""
         return ca.mtimes(self.frame_b.T, vector) if self.resolve_in_frame == "world" else vector
+
+
+class PartialAxisJoint(PartialTwoFrames):
+    """Base of the joints along or about one axis ``n`` (a parameter of the subclass, resolved in frame_a), which
+    must not have zero length; :meth:`unit_axis` is ``n / |n|``."""
+
+    def check(self, values: dict[str, Any]) -> None:
+        super().check(values)
+        check_axis(self, values, "n")
+
+    def unit_axis(self) -> Any:
+        """The unit vector ``n / |n|`` of the joint axis, resolved in frame_a [1]."""
+        return self.n / ca.norm_2(self.n)
+
+
+def add_axis_flange(joint: Any, use_axis_flange: bool, flange: type, axis_doc: str, support_doc: str) -> None:
+    """The structural option ``use_axis_flange`` of ``joint``; when on, its 1D drive flange ``axis`` and the
+    drive's housing ``support``, both of class ``flange`` (of the translational or rotational library)."""
+    joint.use_axis_flange = flag(joint, "use_axis_flange", use_axis_flange, structural=True)
+    if joint.use_axis_flange:
+        joint.axis = flange(doc=axis_doc)
+        joint.support = flange(doc=support_doc)
+
+
+def check_axis(component: Any, values: dict[str, Any], name: str, what: str = "joint axis") -> None:
+    """Raise :class:`~flexlib.ParameterError` if the axis ``values[name]`` of ``component`` has zero length."""
+    n = values.get(name)
+    if n is not None and not np.linalg.norm(n) > 1e-12:
+        raise ParameterError(f"{component.where}: {what} {name} = {n.tolist()} has zero length")

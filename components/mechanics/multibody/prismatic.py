@@ -5,30 +5,15 @@ from __future__ import annotations
 from typing import Any
 
 import casadi as ca
-import numpy as np
 
 from flexlib import Parameter, Variable, der, eq
 from flexlib.components.mechanics.translational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
-from flexlib.core.component import flag
-from flexlib.errors import ParameterError
 
 from .frames import resolve1
-from .interfaces import PartialTwoFrames, support_grounded
+from .interfaces import support_grounded
+from .partials import PartialAxisJoint, add_axis_flange
 
-__all__ = ["PartialAxisJoint", "Prismatic"]
-
-
-class PartialAxisJoint(PartialTwoFrames):
-    """Base of the joints along or about one axis ``n`` (a parameter of the subclass, resolved in frame_a), which
-    must not have zero length; :meth:`unit_axis` is ``n / |n|``."""
-
-    def check(self, values: dict[str, Any]) -> None:
-        super().check(values)
-        check_axis(self, values, "n")
-
-    def unit_axis(self) -> Any:
-        """The unit vector ``n / |n|`` of the joint axis, resolved in frame_a [1]."""
-        return self.n / ca.norm_2(self.n)
+__all__ = ["Prismatic"]
 
 
 class Prismatic(PartialAxisJoint):
@@ -92,19 +77,3 @@ class Prismatic(PartialAxisJoint):
         else:
             eqs.append(eq(self.f, self.f_drive, label="no drive flange: only f_drive acts along the axis"))
         return eqs
-
-
-def add_axis_flange(joint: Any, use_axis_flange: bool, flange: type, axis_doc: str, support_doc: str) -> None:
-    """The structural option ``use_axis_flange`` of ``joint``; when on, its 1D drive flange ``axis`` and the
-    drive's housing ``support``, both of class ``flange`` (of the translational or rotational library)."""
-    joint.use_axis_flange = flag(joint, "use_axis_flange", use_axis_flange, structural=True)
-    if joint.use_axis_flange:
-        joint.axis = flange(doc=axis_doc)
-        joint.support = flange(doc=support_doc)
-
-
-def check_axis(component: Any, values: dict[str, Any], name: str, what: str = "joint axis") -> None:
-    """Raise :class:`~flexlib.ParameterError` if the axis ``values[name]`` of ``component`` has zero length."""
-    n = values.get(name)
-    if n is not None and not np.linalg.norm(n) > 1e-12:
-        raise ParameterError(f"{component.where}: {what} {name} = {n.tolist()} has zero length")

@@ -12,7 +12,7 @@ from flexlib.core.component import flag
 
 from .frames import absolute_rotation, planar_rotation, resolve1
 from .interfaces import support_grounded
-from .prismatic import PartialAxisJoint, add_axis_flange
+from .partials import PartialAxisJoint, add_axis_flange
 
 __all__ = ["Revolute"]
 
