@@ -8,9 +8,13 @@ from flexlib import Variable, der, eq, if_else
 from flexlib.models.reference.events import BangBang, BouncingContact, SaturatedRamp, Thermostat
 
 
-def test_time_events_hit_exactly():
-    """Event times equal the switching parameters to 1e-12; w(t) piecewise linear (exact to 1e-9)."""
-    res = fl.Simulation(BangBang(init={"w": 0.0}), use_cache=False).run(4.0, dt_out=0.5, rtol=1e-8, atol=1e-10)
+@pytest.mark.parametrize("solver", [None, "ida-native"], ids=["default", "ida-native"])
+def test_time_events_hit_exactly(solver):
+    """Event times equal the switching parameters to 1e-12; w(t) piecewise linear (exact to 1e-9): with the
+    default solver and with the C driver (``solver="ida-native"``) named."""
+    named = {} if solver is None else {"solver": solver, "progress": False}
+    res = fl.Simulation(BangBang(init={"w": 0.0}), use_cache=False).run(4.0, dt_out=0.5, rtol=1e-8, atol=1e-10,
+                                                                        **named)
     times = [t for t, text in res.events if text.startswith("time event")]
     np.testing.assert_allclose(times, [1.0, 2.5], atol=1e-12)
     assert res.stats["time_events"] == 2

@@ -23,6 +23,19 @@ def osc():
     return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
+def count_advances(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
+    """``{"n": calls}``: the calls of the C driver's ``advance`` (one per block of C steps) from now on."""
+    calls = {"n": 0}
+    advance = native.Driver.advance
+
+    def counted(self, *args):
+        calls["n"] += 1
+        return advance(self, *args)
+
+    monkeypatch.setattr(native.Driver, "advance", counted)
+    return calls
+
+
 @needs_driver
 def test_default_runs_on_the_c_driver(osc):
     """The C driver reports its wall-time split; the scikit-sundae route does not. Same IDA: the same steps,
@@ -48,14 +61,7 @@ def test_monitor_schedule_runs_in_c(monkeypatch):
     mon = sim._monitor()
     ref = sim.run(3.0, dt_out=0.01, solver="ida-sksundae", progress=False)
     counts_ref = dict(mon.counts)
-    calls = {"n": 0}
-    advance = native.Driver.advance
-
-    def counted(self, *args):
-        calls["n"] += 1
-        return advance(self, *args)
-
-    monkeypatch.setattr(native.Driver, "advance", counted)
+    calls = count_advances(monkeypatch)
     res = sim.run(3.0, dt_out=0.01, progress=False)
     counts = {k: v - counts_ref[k] for k, v in mon.counts.items()}
     assert counts == counts_ref and counts["indicator"] > 0
@@ -137,14 +143,7 @@ def test_blocks_of_c_steps_are_bounded_in_wall_time(osc, monkeypatch):
     ``CHUNK_WALL`` seconds even within its 256 steps. With the bound at 1e-12 s every block is one step."""
     from flexlib.solve.backends import ida_c
 
-    calls = {"n": 0}
-    advance = native.Driver.advance
-
-    def counted(self, *args):
-        calls["n"] += 1
-        return advance(self, *args)
-
-    monkeypatch.setattr(native.Driver, "advance", counted)
+    calls = count_advances(monkeypatch)
     free = osc.run(5.0, progress=False)
     n_free = calls["n"]
     monkeypatch.setattr(ida_c, "CHUNK_WALL", 1e-12)

@@ -13,7 +13,7 @@ from flexlib import Parameter, Variable, der, eq
 from flexlib.compile.cache import cache_dir
 from flexlib.models.n_mass_chain import NMassChain
 from flexlib.models.reference.blow_up import BlowUp
-from flexlib.models.reference.events import BangBang, BouncingContact, FallingBall, SaturatedRamp, StepForce, Thermostat
+from flexlib.models.reference.events import BouncingContact, FallingBall, SaturatedRamp, StepForce, Thermostat
 from flexlib.models.reference.mass_spring_damper import DampedOscillator
 from flexlib.solve import native
 from flexlib.solve.backends.base import DENSE_MAX
@@ -112,20 +112,6 @@ def test_pendulum_over_the_top_with_state_selection():
     assert np.abs(r["x"] ** 2 + r["y"] ** 2 - 1.0).max() < 1e-6
     assert r["y"].max() > 0.9  # over the top
     np.testing.assert_allclose(r["y"], res["ida"]["y"], atol=1e-4)
-
-
-def test_time_events_hit_exactly():
-    """BangBang: events at t1, t2 to 1e-12, w(t) piecewise linear to 1e-9 (as in tests/test_engine_events.py)."""
-    res = fl.Simulation(BangBang(init={"w": 0.0}), use_cache=False).run(4.0, dt_out=0.5, rtol=1e-8, atol=1e-10,
-                                                                        solver="ida-native", progress=False)
-    times = [t for t, text in res.events if text.startswith("time event")]
-    np.testing.assert_allclose(times, [1.0, 2.5], atol=1e-12)
-    assert res.stats["time_events"] == 2
-    w_exact = np.piecewise(res.t, [res.t < 1.0, (res.t >= 1.0) & (res.t < 2.5), res.t >= 2.5],
-                           [lambda t: t / 2, lambda t: 0.5 - (t - 1) / 2, lambda t: -0.25 + (t - 2.5) / 2])
-    np.testing.assert_allclose(res["w"], w_exact, atol=1e-9)
-    k = np.flatnonzero(res.t == 1.0)
-    assert len(k) >= 2 and set(np.round(res["tau"][k], 12)) == {1.0, -1.0}
 
 
 def test_time_event_rows_as_default_backend():

@@ -4,14 +4,24 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexlib import Component, Input, Variable, der, eq
+from flexlib import Component, Input, Parameter, Variable, der, eq
 
 from ..mechanics.rotational.interfaces import Flange
 from ._checks import PositiveParameters, flag, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port
 
-__all__ = ["PartialPump"]
+__all__ = ["DisplacementParameters", "PartialPump"]
+
+
+class DisplacementParameters:
+    """Mixin: the parameters of a fixed-displacement machine (pump or motor), all but ``C_leak`` > 0."""
+
+    _positive = ("D", "eta_v", "eta_m")
+    D = Parameter(unit="m3/rad", min=0.0, doc="Displacement")
+    eta_v = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Volumetric efficiency")
+    eta_m = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Mechanical efficiency")
+    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage coefficient")
 
 
 class PartialPump(PositiveParameters, Component):
@@ -22,6 +32,36 @@ class PartialPump(PositiveParameters, Component):
 
         q = eta_v * D_eff * w - C_leak * dp,   port_a.m_flow = rho(port_a.p) * q = -port_b.m_flow
         tau = D_eff * dp / eta_m,              dp = port_b.p - port_a.p
+
+    Parameters
+    ----------
+    use_flange : bool
+        True if the pump is driven by the rotational ``flange``, otherwise by the speed
+        signal ``w`` (structural).
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+
+    Connectors
+    ----------
+    port_a : Port
+        Suction (inlet).
+    port_b : Port
+        Delivery (outlet, pressure side).
+    w : Input [rad/s]
+        Shaft speed (only if not ``use_flange``; otherwise a variable, ``der(flange.phi)``).
+    flange : Flange
+        Drive shaft (only if ``use_flange``); ``flange.tau = tau`` is the torque driven into the pump.
+
+    Variables
+    ---------
+    q : m3/s
+        Delivered volume flow (suction density).
+    m_flow : kg/s
+        Delivered mass flow.
+    dp : Pa
+        Pressure rise ``p_b - p_a``.
+    tau : N.m
+        Shaft torque needed to drive the pump.
     """
 
     port_a = Port(doc="Suction (inlet) port")

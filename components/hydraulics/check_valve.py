@@ -7,10 +7,8 @@ from typing import Any
 from flexlib import Parameter, Variable, eq
 from flexlib.errors import ParameterError
 
-from ._checks import PositiveParameters, store_fluid
+from ._checks import PositiveParameters
 from ._smooth import smooth_clamp
-from .flow_laws import critical_pressure, orifice_mass_flow
-from .fluid import HLP46, Fluid
 from .interfaces import PartialTwoPort
 
 __all__ = ["CheckValve"]
@@ -56,24 +54,11 @@ class CheckValve(PositiveParameters, PartialTwoPort):
         Width of the corner fillets as a fraction of ``p_open - p_crack`` [1], in [0, 1].
     Re_cr : float
         Critical Reynolds number of the laminar–turbulent transition [1], > 0.
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
 
     Connectors
     ----------
     port_a, port_b : Port
         Inlet a, outlet b; free flow from a to b.
-
-    Variables
-    ---------
-    x : 1
-        Opening fraction.
-    m_flow : kg/s
-        Mass flow from a to b.
-    q : m3/s
-        Volume flow from a to b (mean-pressure density).
-    dp : Pa
-        Pressure drop ``port_a.p - port_b.p``.
 
     References
     ----------
@@ -93,10 +78,6 @@ class CheckValve(PositiveParameters, PartialTwoPort):
     Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
     x = Variable(unit="1", doc="Opening fraction")
 
-    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(fluid=fluid, **kw)
-        store_fluid(self, fluid)
-
     def check(self, values: dict[str, Any]) -> None:
         super().check(values)
         label = self.where
@@ -110,10 +91,8 @@ class CheckValve(PositiveParameters, PartialTwoPort):
     def equations(self) -> list:
         a, b = self.port_a, self.port_b
         dp = a.p - b.p  # the port pressures, not self.dp: a Newton start then sees the right opening
-        rho = self.fluid.density(0.5 * (a.p + b.p))
         span = self.p_open - self.p_crack
         area = self.A_leak + self.x * (self.A_max - self.A_leak)
-        p_cr = critical_pressure(area, self.Cd, rho, self.fluid.nu, self.Re_cr)
         return [*super().equations(),
                 eq(self.x, smooth_clamp((dp - self.p_crack) / span, 0.0, 1.0, 0.5 * self.smoothing)),
-                eq(self.m_flow, orifice_mass_flow(dp, area, self.Cd, rho, p_cr))]
+                eq(self.m_flow, self.orifice_flow(dp, area))]

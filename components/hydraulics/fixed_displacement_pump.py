@@ -4,14 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexlib import Parameter
-
-from ._pump import PartialPump
+from ._pump import DisplacementParameters, PartialPump
 
 __all__ = ["FixedDisplacementPump"]
 
 
-class FixedDisplacementPump(PartialPump):
+class FixedDisplacementPump(DisplacementParameters, PartialPump):
     """Fixed-displacement pump driven by a speed signal or a rotational flange.
 
     Volume flow delivered from the suction ``port_a`` to the pressure ``port_b`` (counted at
@@ -38,33 +36,6 @@ class FixedDisplacementPump(PartialPump):
         Mechanical (hydro-mechanical) efficiency [1], in (0, 1].
     C_leak : float
         Laminar leakage coefficient from delivery to suction [m3/(s.Pa)], >= 0.
-    use_flange : bool
-        True if the pump is driven by the rotational ``flange``, otherwise by the speed
-        signal ``w`` (structural).
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
-
-    Connectors
-    ----------
-    port_a : Port
-        Suction (inlet).
-    port_b : Port
-        Delivery (outlet, pressure side).
-    w : Input [rad/s]
-        Shaft speed (only if not ``use_flange``; otherwise a variable, ``der(flange.phi)``).
-    flange : Flange
-        Drive shaft (only if ``use_flange``); ``flange.tau = tau`` is the torque driven into the pump.
-
-    Variables
-    ---------
-    q : m3/s
-        Delivered volume flow (suction density).
-    m_flow : kg/s
-        Delivered mass flow.
-    dp : Pa
-        Pressure rise ``p_b - p_a``.
-    tau : N.m
-        Shaft torque needed to drive the pump.
 
     References
     ----------
@@ -72,12 +43,6 @@ class FixedDisplacementPump(PartialPump):
     Hopsan component library, *Fixed Displacement Pump* (``HydraulicFixedDisplacementPump``).
     H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §6.2 (pump and motor equations).
     """
-
-    _positive = ("D", "eta_v", "eta_m")
-    D = Parameter(unit="m3/rad", min=0.0, doc="Displacement")
-    eta_v = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Volumetric efficiency")
-    eta_m = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Mechanical efficiency")
-    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage coefficient")
 
     def displacement(self) -> Any:
         return self.D

@@ -2,36 +2,18 @@
 
 from __future__ import annotations
 
-from typing import Any
+from flexlib import Output, eq
 
-from flexlib import Component, Output, eq
-
-from ._checks import store_fluid
-from .fluid import HLP46, Fluid
-from .interfaces import Port
+from .interfaces import PartialFluidComponent, Port
 
 __all__ = ["FlowSensor"]
 
 
-class FlowSensor(Component):
+class FlowSensor(PartialFluidComponent):
     """Ideal flow sensor in series: no pressure drop, measures the flow from a to b.
 
     ``port_a.p = port_b.p``, ``port_a.m_flow + port_b.m_flow = 0``,
     ``m_flow = port_a.m_flow`` and ``q = m_flow / rho(p)`` (volume flow at the line pressure).
-
-    Parameters
-    ----------
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
-
-    Connectors
-    ----------
-    port_a, port_b : Port
-        Flow from a to b is positive.
-    m_flow : Output [kg/s]
-        Mass flow rate from a to b.
-    q : Output [m3/s]
-        Volume flow rate from a to b at the line pressure.
 
     References
     ----------
@@ -43,10 +25,6 @@ class FlowSensor(Component):
     port_b = Port(doc="Outlet")
     m_flow = Output(unit="kg/s", doc="Mass flow rate from a to b")
     q = Output(unit="m3/s", nominal=1e-3, doc="Volume flow rate from a to b at the line pressure")
-
-    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(**kw)
-        store_fluid(self, fluid)
 
     def equations(self) -> list:
         a, b = self.port_a, self.port_b

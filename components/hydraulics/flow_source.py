@@ -2,18 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
+from flexlib import Parameter, Variable, eq
 
-from flexlib import Component, Input, Parameter, Variable, eq
-
-from ._checks import flag, store_fluid
-from .fluid import HLP46, Fluid
-from .interfaces import Port
+from .interfaces import PartialSource, Port
 
 __all__ = ["FlowSource"]
 
 
-class FlowSource(Component):
+class FlowSource(PartialSource):
     """Ideal volume flow source: delivers ``q`` out of ``port`` into the network, any pressure.
 
     The volume flow is counted at the port pressure, so the mass flow is
@@ -26,8 +22,6 @@ class FlowSource(Component):
         Delivered volume flow rate [m3/s] (used if not ``use_input``).
     use_input : bool
         True if the flow comes from the signal input ``q_in`` (structural).
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
 
     Connectors
     ----------
@@ -51,13 +45,8 @@ class FlowSource(Component):
     m_flow = Variable(unit="kg/s", doc="Delivered mass flow rate")
     port = Port(doc="Delivery port")
 
-    def __init__(self, use_input: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(**kw)
-        store_fluid(self, fluid)
-        self.use_input = flag(self, "use_input", use_input, structural=True)
-        if self.use_input:
-            self.q_in = Input(unit="m3/s", doc="Delivered volume flow rate")
+    source_parameter = "q"
 
     def equations(self) -> list:
-        q = self.q_in if self.use_input else self.q
+        q = self.source_value()
         return [eq(self.m_flow, self.fluid.density(self.port.p) * q), eq(self.port.m_flow, -self.m_flow)]

@@ -2,19 +2,17 @@
 
 from __future__ import annotations
 
-from typing import Any
-
-from flexlib import Component, Parameter, Variable, der, eq
+from flexlib import Variable, der, eq
 
 from ..mechanics.rotational.interfaces import Flange
-from ._checks import PositiveParameters, store_fluid
-from .fluid import HLP46, Fluid
-from .interfaces import Port
+from ._checks import PositiveParameters
+from ._pump import DisplacementParameters
+from .interfaces import PartialFluidComponent, Port
 
 __all__ = ["HydraulicMotor"]
 
 
-class HydraulicMotor(PositiveParameters, Component):
+class HydraulicMotor(DisplacementParameters, PositiveParameters, PartialFluidComponent):
     """Fixed-displacement hydraulic motor with volumetric and mechanical efficiency.
 
     Flow from the inlet ``port_a`` to the outlet ``port_b`` turns the shaft; with
@@ -42,8 +40,6 @@ class HydraulicMotor(PositiveParameters, Component):
         Mechanical (hydro-mechanical) efficiency [1], in (0, 1].
     C_leak : float
         Laminar leakage coefficient from inlet to outlet [m3/(s.Pa)], >= 0.
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
 
     Connectors
     ----------
@@ -74,11 +70,6 @@ class HydraulicMotor(PositiveParameters, Component):
     H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §6.2 (pump and motor equations).
     """
 
-    _positive = ("D", "eta_v", "eta_m")
-    D = Parameter(unit="m3/rad", min=0.0, doc="Displacement")
-    eta_v = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Volumetric efficiency")
-    eta_m = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Mechanical efficiency")
-    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage coefficient")
     port_a = Port(doc="Inlet port")
     port_b = Port(doc="Outlet port")
     flange = Flange(doc="Motor shaft")
@@ -87,10 +78,6 @@ class HydraulicMotor(PositiveParameters, Component):
     m_flow = Variable(unit="kg/s", doc="Mass flow from a to b")
     dp = Variable(unit="Pa", nominal=1e7, doc="Pressure drop p_a - p_b")
     tau = Variable(unit="N.m", nominal=100.0, doc="Torque delivered to the shaft")
-
-    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(**kw)
-        store_fluid(self, fluid)
 
     def equations(self) -> list:
         a, b = self.port_a, self.port_b

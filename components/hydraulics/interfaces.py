@@ -14,13 +14,16 @@ Modelica Standard Library 4.0, ``Modelica.Fluid.Interfaces.FluidPort``.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, ClassVar
 
-from flexlib import Component, Connector, Flow, Potential, Variable, der, eq
+from flexlib import Component, Connector, Flow, Input, Potential, Variable, der, eq
 
+from ._checks import flag, store_fluid
+from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
 
-__all__ = ["CHAMBER_FORMS", "PartialTwoPort", "Port", "chamber_equations", "chamber_mass_nominal", "check_chamber_form"]
+__all__ = ["CHAMBER_FORMS", "PartialFluidComponent", "PartialSource", "PartialTwoPort", "Port", "chamber_equations",
+           "chamber_mass_nominal", "check_chamber_form"]
 
 #: Nominal values (IDA's error weights are ``rtol·|y| + atol·nominal``) of the hydraulics library, chosen from the
 #: physics so that the default tolerances control what a user reads, not round-off of near-zero variables:
@@ -58,7 +61,47 @@ class Port(Connector):
                                "fluid=... record")
 
 
-class PartialTwoPort(Component):
+class PartialFluidComponent(Component):
+    """Base of the components built for one :class:`Fluid` record, the structural constructor argument ``fluid``
+    (attached by :func:`~._checks.store_fluid`: its numbers enter the equations as constants).
+
+    Parameters
+    ----------
+    fluid : Fluid
+        Fluid property record (structural; default HLP46).
+    """
+
+    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(**kw)
+        store_fluid(self, fluid)
+
+
+class PartialSource(PartialFluidComponent):
+    """Base of the ideal sources: the imposed value is the parameter named by ``source_parameter`` or, with
+    ``use_input``, the signal input of that name with ``_in`` appended (same unit and description).
+
+    Parameters
+    ----------
+    use_input : bool
+        True if the imposed value comes from the signal input (structural).
+    """
+
+    source_parameter: ClassVar[str]
+
+    def __init__(self, use_input: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
+        super().__init__(fluid=fluid, **kw)
+        self.use_input = flag(self, "use_input", use_input, structural=True)
+        if self.use_input:
+            decl = self._decls[self.source_parameter]
+            setattr(self, f"{self.source_parameter}_in", Input(unit=decl.unit, doc=decl.doc))
+
+    def source_value(self) -> Any:
+        """The imposed value: the signal input if ``use_input``, else the parameter."""
+        name = self.source_parameter
+        return getattr(self, f"{name}_in" if self.use_input else name)
+
+
+class PartialTwoPort(PartialFluidComponent):
     """Component with ports ``port_a`` and ``port_b`` that stores no mass.
 
     ``port_a.m_flow + port_b.m_flow = 0``; ``m_flow`` is the mass flow from ``a`` to ``b``,
@@ -66,10 +109,19 @@ class PartialTwoPort(Component):
     the upstream density (``rho`` of the higher-pressure port, smooth through dp = 0 by using
     the mean pressure). A subclass adds one equation relating ``m_flow`` (or ``q``) and ``dp``.
 
-    Parameters
+    Connectors
     ----------
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
+    port_a, port_b : Port
+        Flow from a to b is positive.
+
+    Variables
+    ---------
+    m_flow : kg/s
+        Mass flow from a to b.
+    q : m3/s
+        Volume flow from a to b (mean-pressure density).
+    dp : Pa
+        Pressure drop ``port_a.p - port_b.p``.
 
     References
     ----------
@@ -82,15 +134,22 @@ class PartialTwoPort(Component):
     q = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow rate from port_a to port_b at the mean-pressure density")
     dp = Variable(unit="Pa", nominal=1e6, doc="Pressure drop port_a.p - port_b.p")
 
-    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(**kw)
-        self.__dict__["fluid"] = fluid
+    def mean_density(self) -> Any:
+        """Density of the fluid at the mean port pressure [kg/m3]."""
+        return self.fluid.density(0.5 * (self.port_a.p + self.port_b.p))
+
+    def orifice_flow(self, dp: Any, area: Any) -> Any:
+        """Mass flow [kg/s] of the orifice law (:func:`~.flow_laws.orifice_mass_flow`) through the opening ``area``
+        [m2] at the pressure drop ``dp`` [Pa], with the component's ``Cd`` and ``Re_cr`` and the mean-pressure
+        density."""
+        rho = self.mean_density()
+        p_cr = critical_pressure(area, self.Cd, rho, self.fluid.nu, self.Re_cr)
+        return orifice_mass_flow(dp, area, self.Cd, rho, p_cr)
 
     def equations(self) -> list:
         a, b = self.port_a, self.port_b
-        rho = self.fluid.density(0.5 * (a.p + b.p))
         return [eq(a.m_flow, self.m_flow), eq(a.m_flow + b.m_flow, 0.0),
-                eq(self.dp, a.p - b.p), eq(self.m_flow, rho * self.q)]
+                eq(self.dp, a.p - b.p), eq(self.m_flow, self.mean_density() * self.q)]
 
 
 #: Formulations of :func:`chamber_equations` (structural ``chamber_form`` option of the chamber components).

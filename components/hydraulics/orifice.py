@@ -2,13 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from flexlib import Parameter, eq
 
-from ._checks import PositiveParameters, store_fluid
-from .flow_laws import critical_pressure, orifice_mass_flow
-from .fluid import HLP46, Fluid
+from ._checks import PositiveParameters
 from .interfaces import PartialTwoPort
 
 __all__ = ["Orifice"]
@@ -35,22 +31,6 @@ class Orifice(PositiveParameters, PartialTwoPort):
         Discharge coefficient [1], > 0.
     Re_cr : float
         Critical Reynolds number of the laminar–turbulent transition [1], > 0.
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
-
-    Connectors
-    ----------
-    port_a, port_b : Port
-        Flow from a to b is positive.
-
-    Variables
-    ---------
-    m_flow : kg/s
-        Mass flow from a to b.
-    q : m3/s
-        Volume flow from a to b (mean-pressure density).
-    dp : Pa
-        Pressure drop ``port_a.p - port_b.p``.
 
     References
     ----------
@@ -64,11 +44,5 @@ class Orifice(PositiveParameters, PartialTwoPort):
     Cd = Parameter(0.64, unit="1", min=0.0, doc="Discharge coefficient")
     Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
 
-    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(fluid=fluid, **kw)
-        store_fluid(self, fluid)
-
     def equations(self) -> list:
-        rho = self.fluid.density(0.5 * (self.port_a.p + self.port_b.p))
-        p_cr = critical_pressure(self.A, self.Cd, rho, self.fluid.nu, self.Re_cr)
-        return [*super().equations(), eq(self.m_flow, orifice_mass_flow(self.dp, self.A, self.Cd, rho, p_cr))]
+        return [*super().equations(), eq(self.m_flow, self.orifice_flow(self.dp, self.A))]

@@ -60,41 +60,20 @@ class PressureCompensatedPump(PartialPump):
         Width of the corner fillets as a fraction of ``dp_reg`` [1], in [0, 1].
     T : float
         Time constant of the displacement control [s], > 0 (used if ``use_dynamics``).
-    use_flange : bool
-        True if the pump is driven by the rotational ``flange``, otherwise by the speed
-        signal ``w`` (structural).
     use_load_sensing : bool
         True to add the load-sensing port ``port_ls`` and controller (structural).
     use_dynamics : bool
         True if the displacement follows its set value with the lag ``T`` (structural).
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
 
     Connectors
     ----------
-    port_a : Port
-        Suction (inlet).
-    port_b : Port
-        Delivery (outlet, pressure side).
     port_ls : Port
         Load-sensing pressure (only if ``use_load_sensing``; no flow).
-    w : Input [rad/s]
-        Shaft speed (only if not ``use_flange``).
-    flange : Flange
-        Drive shaft (only if ``use_flange``).
 
     Variables
     ---------
     eps : 1
         Relative displacement ``D / D_max`` (a state starting at 1 with dynamics).
-    q : m3/s
-        Delivered volume flow (suction density).
-    m_flow : kg/s
-        Delivered mass flow.
-    dp : Pa
-        Pressure rise ``p_b - p_a``.
-    tau : N.m
-        Shaft torque needed to drive the pump.
 
     References
     ----------

@@ -8,7 +8,7 @@ import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
 
-from ._checks import PositiveParameters, flag, store_fluid
+from ._checks import PositiveParameters, flag
 from ._smooth import smooth_ramp
 from .fluid import HLP46, Fluid
 from .interfaces import PartialTwoPort
@@ -60,8 +60,6 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
     use_dynamics : bool
         True if the opening follows the pressure with the first-order lag ``T`` (structural;
         adds the state ``dp_c``).
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
 
     Connectors
     ----------
@@ -73,12 +71,6 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
     dp_c : Pa
         Control pressure difference setting the opening (= dp without dynamics; a state
         starting at 0 with dynamics).
-    m_flow : kg/s
-        Mass flow from a to b.
-    q : m3/s
-        Volume flow from a to b (mean-pressure density).
-    dp : Pa
-        Pressure drop ``port_a.p - port_b.p``.
 
     References
     ----------
@@ -102,7 +94,6 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
 
     def __init__(self, use_dynamics: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(fluid=fluid, **kw)
-        store_fluid(self, fluid)
         self.use_dynamics = flag(self, "use_dynamics", use_dynamics, structural=True)
         if not self.use_dynamics and "dp_c" not in self._starts:
             self.set_start("dp_c", 0.0, fixed=False)  # algebraic (= dp) without dynamics

@@ -2,18 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
+from flexlib import Parameter, eq
 
-from flexlib import Component, Input, Parameter, eq
-
-from ._checks import flag, store_fluid
-from .fluid import HLP46, Fluid
-from .interfaces import Port
+from .interfaces import PartialSource, Port
 
 __all__ = ["PressureSource"]
 
 
-class PressureSource(Component):
+class PressureSource(PartialSource):
     """Ideal pressure source: ``port.p = p`` (or ``p_in``), any flow.
 
     Parameters
@@ -22,8 +18,6 @@ class PressureSource(Component):
         Imposed absolute pressure [Pa], >= 0 (used if not ``use_input``).
     use_input : bool
         True if the pressure comes from the signal input ``p_in`` (structural).
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
 
     Connectors
     ----------
@@ -41,12 +35,7 @@ class PressureSource(Component):
     p = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Imposed absolute pressure")
     port = Port(doc="Source port")
 
-    def __init__(self, use_input: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(**kw)
-        store_fluid(self, fluid)
-        self.use_input = flag(self, "use_input", use_input, structural=True)
-        if self.use_input:
-            self.p_in = Input(unit="Pa", doc="Imposed absolute pressure")
+    source_parameter = "p"
 
     def equations(self) -> list:
-        return [eq(self.port.p, self.p_in if self.use_input else self.p)]
+        return [eq(self.port.p, self.source_value())]

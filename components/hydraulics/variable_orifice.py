@@ -2,15 +2,11 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 import casadi as ca
 
 from flexlib import Input, Parameter, eq
 
-from ._checks import PositiveParameters, store_fluid
-from .flow_laws import critical_pressure, orifice_mass_flow
-from .fluid import HLP46, Fluid
+from ._checks import PositiveParameters
 from .interfaces import PartialTwoPort
 
 __all__ = ["VariableOrifice"]
@@ -31,24 +27,6 @@ class VariableOrifice(PositiveParameters, PartialTwoPort):
         Leakage area of the closed orifice [m2], > 0.
     Re_cr : float
         Critical Reynolds number of the laminar–turbulent transition [1], > 0.
-    fluid : Fluid
-        Fluid property record (structural; default HLP46).
-
-    Connectors
-    ----------
-    port_a, port_b : Port
-        Flow from a to b is positive.
-    A : Input [m2]
-        Opening area command.
-
-    Variables
-    ---------
-    m_flow : kg/s
-        Mass flow from a to b.
-    q : m3/s
-        Volume flow from a to b (mean-pressure density).
-    dp : Pa
-        Pressure drop ``port_a.p - port_b.p``.
 
     References
     ----------
@@ -64,12 +42,6 @@ class VariableOrifice(PositiveParameters, PartialTwoPort):
     Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
     A = Input(unit="m2", doc="Opening area command")
 
-    def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:
-        super().__init__(fluid=fluid, **kw)
-        store_fluid(self, fluid)
-
     def equations(self) -> list:
-        rho = self.fluid.density(0.5 * (self.port_a.p + self.port_b.p))
         area = self.A_leak + ca.fmax(self.A, 0.0)
-        p_cr = critical_pressure(area, self.Cd, rho, self.fluid.nu, self.Re_cr)
-        return [*super().equations(), eq(self.m_flow, orifice_mass_flow(self.dp, area, self.Cd, rho, p_cr))]
+        return [*super().equations(), eq(self.m_flow, self.orifice_flow(self.dp, area))]

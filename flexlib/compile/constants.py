@@ -44,6 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from flexlib.compile.environment import env_default
+from flexlib.compile.flatten import FlatVariable
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import matching
 from flexlib.core.component import Component
@@ -205,12 +206,7 @@ def _propagate(simple: SimpleSystem, param_values: dict[int, float],
             known[k] = val
             order.append((k, r))
             alive.remove(r)
-            v = simple.variables[k]
-            new_old.append(v.sym)
-            new_val.append(val)
-            if v.info._der is not None:
-                new_old.append(v.info._der.sym)
-                new_val.append(ca.SX(0.0))
+            _pin(simple.variables[k], val, new_old, new_val)
             for h in zs:
                 if h not in assumed:
                     assumed.add(h)
@@ -426,6 +422,16 @@ def _regular(simple: SimpleSystem, rows: list[ca.SX], known: dict[int, ca.SX]) -
     return bool(np.all(row_match >= 0))
 
 
+def _pin(v: FlatVariable, val: ca.SX, old: list[ca.SX], new: list[ca.SX]) -> None:
+    """Append the substitution of the constant ``val`` for the unknown ``v`` (and 0 for its derivative, if it has
+    one) to ``old``/``new``."""
+    old.append(v.sym)
+    new.append(val)
+    if v.info._der is not None:
+        old.append(v.info._der.sym)
+        new.append(ca.SX(0.0))
+
+
 def _substituter(old: list[ca.SX], new: list[ca.SX]):
     o, n = ca.vertcat(*old), ca.vertcat(*new)
 
@@ -444,17 +450,11 @@ def _replace(simple: SimpleSystem, keep_rows: Iterable[int], drop_vars: set[int]
     kept = [simple.equations[r] for r in keep_rows]
     equations = [dataclasses.replace(e, expr=x) for e, x in zip(kept, subst([e.expr for e in kept]), strict=True)]
     variables = [v for k, v in enumerate(simple.variables) if k not in drop_vars]
-    names = list(simple.outputs)
-    outputs = dict(zip(names, subst([simple.outputs[n] for n in names]), strict=True))
-    cexprs = subst([c.expr for c in simple.conditions])
-    conditions = [dataclasses.replace(c, expr=x) for c, x in zip(simple.conditions, cexprs, strict=True)]
-    rexprs = subst([i for _, i in simple.relations])
-    relations = [(rel, x) for (rel, _), x in zip(simple.relations, rexprs, strict=True)]
+    signals = simple.substituted_signals(subst)
     dropped = {simple.variables[k].sym.element_hash() for k in drop_vars}
     rk = [h for h in simple.der_rules if h not in dropped]
     rules = dict(zip(rk, subst([simple.der_rules[h] for h in rk]), strict=True))
-    return dataclasses.replace(simple, variables=variables, equations=equations, outputs=outputs,
-                               conditions=conditions, relations=relations, der_rules=rules, **extra)
+    return dataclasses.replace(simple, variables=variables, equations=equations, der_rules=rules, **signals, **extra)
 
 
 def _apply(simple: SimpleSystem, known: dict[int, ca.SX], rows: set[int], assumed: set[int],
@@ -464,12 +464,7 @@ def _apply(simple: SimpleSystem, known: dict[int, ca.SX], rows: set[int], assume
     sign_old = [lookup_param(h) for h in signs]
     sign_new = [sg * ca.fabs(p) for p, sg in zip(sign_old, signs.values(), strict=True)]
     for k, val in known.items():
-        v = simple.variables[k]
-        old.append(v.sym)
-        new.append(val)
-        if v.info._der is not None:
-            old.append(v.info._der.sym)
-            new.append(ca.SX(0.0))
+        _pin(simple.variables[k], val, old, new)
     # values may contain assumed parameters only through rows solved before the assumption: set them to 0
     if zero_old:
         zsub = _substituter(zero_old, [ca.SX(0.0)] * len(zero_old))

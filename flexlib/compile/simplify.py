@@ -11,7 +11,9 @@ results still report it and initial conditions on it still apply.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import casadi as ca
 
@@ -74,6 +76,17 @@ class SimpleSystem:
     start_guesses: dict[str, float] = dataclasses.field(default_factory=dict)
     """Build-time start guesses of unknowns that have no start of their own (kept tree frames), by name."""
     """Whether the tree's frame kinematics were torn or kept as unknowns, and why (``tearing.tear_or_keep_frames``)."""
+
+    def substituted_signals(self, subst: Callable[[list[ca.SX]], list[ca.SX]]) -> dict[str, Any]:
+        """``outputs``, ``conditions`` and ``relations`` with ``subst`` applied to their expressions (one call per
+        kind, in that order), as keywords for :func:`dataclasses.replace`."""
+        names = list(self.outputs)
+        outputs = dict(zip(names, subst([self.outputs[n] for n in names]), strict=True))
+        cond_exprs = subst([c.expr for c in self.conditions])
+        conditions = [dataclasses.replace(c, expr=x) for c, x in zip(self.conditions, cond_exprs, strict=True)]
+        rel_exprs = subst([i for _, i in self.relations])
+        relations = [(rel, x) for (rel, _), x in zip(self.relations, rel_exprs, strict=True)]
+        return {"outputs": outputs, "conditions": conditions, "relations": relations}
 
 
 def _classify(flat: FlatSystem, e: ca.SX) -> tuple | None:

@@ -162,28 +162,26 @@ def culprits(inc: sp.spmatrix, row_match: np.ndarray, col_match: np.ndarray) -> 
     Dulmage–Mendelsohn blocks, independent of which maximum matching was found.
     """
     csr = sp.csr_matrix(inc)
-    csc = csr.tocsc()
-    over_rows: set[int] = set()
-    queue = deque(int(r) for r in np.flatnonzero(row_match < 0))
-    over_rows.update(queue)
-    while queue:
-        r = queue.popleft()
-        for c in csr.indices[csr.indptr[r]:csr.indptr[r + 1]]:
-            r2 = col_match[c]
-            if r2 >= 0 and r2 not in over_rows:
-                over_rows.add(int(r2))
-                queue.append(int(r2))
-    under_cols: set[int] = set()
-    queue = deque(int(c) for c in np.flatnonzero(col_match < 0))
-    under_cols.update(queue)
-    while queue:
-        c = queue.popleft()
-        for r in csc.indices[csc.indptr[c]:csc.indptr[c + 1]]:
-            c2 = row_match[r]
-            if c2 >= 0 and c2 not in under_cols:
-                under_cols.add(int(c2))
-                queue.append(int(c2))
+    over_rows = _alternating_reach(csr, row_match, col_match)
+    under_cols = _alternating_reach(csr.tocsc(), col_match, row_match)
     return sorted(over_rows), sorted(under_cols)
+
+
+def _alternating_reach(compressed: sp.spmatrix, own_match: np.ndarray, other_match: np.ndarray) -> set[int]:
+    """The rows (of a CSR ``compressed``; columns of a CSC one) reachable from the unmatched ones
+    (``own_match < 0``) by alternating paths: a row, one of its entries' columns, the row matched to that column
+    (``other_match``), and so on."""
+    reached: set[int] = set()
+    queue = deque(int(i) for i in np.flatnonzero(own_match < 0))
+    reached.update(queue)
+    while queue:
+        i = queue.popleft()
+        for j in compressed.indices[compressed.indptr[i]:compressed.indptr[i + 1]]:
+            i2 = other_match[j]
+            if i2 >= 0 and i2 not in reached:
+                reached.add(int(i2))
+                queue.append(int(i2))
+    return reached
 
 
 def group_by_owner(items: Sequence[tuple[str, str]], limit: int = 12) -> str:

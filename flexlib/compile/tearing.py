@@ -157,14 +157,8 @@ def eliminate(simple: SimpleSystem, ids: list[int], require_algebraic: bool = Fa
     new_exprs = subst([e.expr for e in kept_eqs])
     equations = [dataclasses.replace(e, expr=x) for e, x in zip(kept_eqs, new_exprs, strict=True)]
     variables = [v for v in simple.variables if v.sym.element_hash() not in eliminated]
-    names = list(simple.outputs)
-    outputs = dict(zip(names, subst([simple.outputs[n] for n in names]), strict=True))
-    cond_exprs = subst([c.expr for c in simple.conditions])
-    conditions = [dataclasses.replace(c, expr=x) for c, x in zip(simple.conditions, cond_exprs, strict=True)]
-    rel_exprs = subst([i for _, i in simple.relations])
-    relations = [(rel, x) for (rel, _), x in zip(simple.relations, rel_exprs, strict=True)]
+    signals = simple.substituted_signals(subst)
     rules = {h: e for h, e in simple.der_rules.items() if h not in eliminated}
     rule_keys = list(rules)
     rules = dict(zip(rule_keys, subst([rules[h] for h in rule_keys]), strict=True))
-    return dataclasses.replace(simple, variables=variables, equations=equations, outputs=outputs,
-                               conditions=conditions, relations=relations, der_rules=rules)
+    return dataclasses.replace(simple, variables=variables, equations=equations, der_rules=rules, **signals)

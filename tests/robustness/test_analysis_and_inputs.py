@@ -270,7 +270,8 @@ def test_modal_sweep_times_must_be_finite(osc):
 
 
 # -- parameters given as non-numbers ------------------------------------------------------------------------------
-@pytest.mark.parametrize(("make", "match"), [
+#: (constructor call, message) of parameters given as non-numbers: each is refused naming the parameter.
+NON_NUMBERS = [
     (lambda: Mass(m="2"), r"Mass: m: parameter value '2' is a string, not a number; give a real number \[kg\]"),
     (lambda: Mass(m=True), r"Mass: m: parameter value True is a bool, not a number"),
     (lambda: Spring(c=1 + 0j), r"Spring: c: parameter value \(1\+0j\) is complex, not a real number"),
@@ -285,11 +286,9 @@ def test_modal_sweep_times_must_be_finite(osc):
     (lambda: TransferFunction(b=[1.0], a="1 1"), r"TransferFunction: a '1 1' is a string"),
     (lambda: Mass(s=0.5), r"Mass \(unnamed\): unknown parameter 's': s is a variable \[m\]; give its start value "
                           r"with init=\{'s': \.\.\.\}"),
-], ids=["string", "bool", "complex", "none", "list-for-scalar", "wrong-shape-array", "array-of-strings",
-        "none-in-array", "control-string", "tf-string", "variable-as-parameter"])
-def test_non_numeric_parameter_values_are_refused(make, match):
-    with pytest.raises(fl.ParameterError, match=match):
-        make()
+]
+NON_NUMBER_IDS = ["string", "bool", "complex", "none", "list-for-scalar", "wrong-shape-array", "array-of-strings",
+                  "none-in-array", "control-string", "tf-string", "variable-as-parameter"]
 
 
 def test_string_parameter_assigned_later_names_the_instance_path():
@@ -338,6 +337,7 @@ def test_string_start_set_later_names_the_instance_path():
 
 # -- the fluid record and hydraulic components -------------------------------------------------------------------
 @pytest.mark.parametrize(("make", "match"), [
+    *NON_NUMBERS,
     (lambda: Fluid(beta="1.6e9"), r"Fluid 'HLP46': beta must be a real number \[Pa\], got '1\.6e9' \(a string"),
     (lambda: Fluid(beta=math.inf), r"Fluid 'HLP46': beta must be finite, got inf \[Pa\]"),
     (lambda: Fluid(beta=True), r"Fluid 'HLP46': beta must be a real number \[Pa\], got True \(a bool"),
@@ -351,9 +351,9 @@ def test_string_start_set_later_names_the_instance_path():
     (lambda: FixedDisplacementPump(D=1e-6, use_flange="False"), r"FixedDisplacementPump: use_flange must be True "
                                                                 r"or False, got 'False'"),
     (lambda: PressureSource(use_input="no"), r"PressureSource: use_input must be True or False, got 'no'"),
-], ids=["beta-string", "beta-inf", "beta-bool", "rho-array", "x_air-one", "name-int", "p_start-negative",
-        "p_start-string", "orifice-negative-area", "flag-string", "flag-word"])
-def test_bad_fluid_and_hydraulic_inputs(make, match):
+], ids=[*NON_NUMBER_IDS, "beta-string", "beta-inf", "beta-bool", "rho-array", "x_air-one", "name-int",
+        "p_start-negative", "p_start-string", "orifice-negative-area", "flag-string", "flag-word"])
+def test_non_numbers_and_bad_fluid_and_hydraulic_inputs_are_refused(make, match):
     with pytest.raises(fl.ParameterError, match=match):
         make()
 

@@ -15,6 +15,8 @@ import pickle
 import subprocess
 import sys
 import textwrap
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -70,6 +72,15 @@ def _prime(cdir: Path) -> None:
 def _entry(cdir: Path) -> Path:
     (entry,) = [p for p in cdir.iterdir() if p.is_dir() and p.name.startswith("CachedOscillator-")]
     return entry
+
+
+@contextmanager
+def _metadata(cdir: Path) -> Iterator[dict]:
+    """The ``model.json`` document of the cache entry, written back when the block ends (to damage it)."""
+    meta = _entry(cdir) / "model.json"
+    doc = json.loads(meta.read_text())
+    yield doc
+    meta.write_text(json.dumps(doc))
 
 
 def _library(cdir: Path) -> Path:
@@ -141,12 +152,10 @@ def test_group_writable_library_is_refused(cdir):
 def test_library_outside_the_cache_is_refused(cdir):
     """Metadata naming a library outside ``lib/`` (path traversal) is a damaged entry, never loaded."""
     _prime(cdir)
-    meta = _entry(cdir) / "model.json"
-    doc = json.loads(meta.read_text())
-    lib = doc["model"]["library"]
-    doc["model"]["library"] = "lib/../../evil/" + lib.split("/")[-1]
-    doc["manifest"][doc["model"]["library"]] = doc["manifest"].pop(lib)
-    meta.write_text(json.dumps(doc))
+    with _metadata(cdir) as doc:
+        lib = doc["model"]["library"]
+        doc["model"]["library"] = "lib/../../evil/" + lib.split("/")[-1]
+        doc["manifest"][doc["model"]["library"]] = doc["manifest"].pop(lib)
     _heals(cdir, "not a compiled-model library of this cache", codegen=True)
 
 
@@ -167,40 +176,32 @@ def test_garbage_metadata_is_rebuilt(cdir):
 
 def test_metadata_of_another_format_is_rebuilt(cdir):
     _run()
-    meta = _entry(cdir) / "model.json"
-    doc = json.loads(meta.read_text())
-    doc["format"] = 999
-    meta.write_text(json.dumps(doc))
+    with _metadata(cdir) as doc:
+        doc["format"] = 999
     _heals(cdir, "format 999")
 
 
 def test_metadata_with_wrong_types_is_rebuilt(cdir):
     _run()
-    meta = _entry(cdir) / "model.json"
-    doc = json.loads(meta.read_text())
-    doc["model"]["n"] = "2; import os"
-    meta.write_text(json.dumps(doc))
+    with _metadata(cdir) as doc:
+        doc["model"]["n"] = "2; import os"
     _heals(cdir, "invalid metadata")
 
 
 def test_swapped_functions_are_rebuilt(cdir):
     """The residual stream replaced by the output function's: the name/signature check catches it."""
     _run()
-    meta = _entry(cdir) / "model.json"
-    doc = json.loads(meta.read_text())
-    doc["model"]["serialized"]["res"] = doc["model"]["serialized"]["out"]
-    meta.write_text(json.dumps(doc))
+    with _metadata(cdir) as doc:
+        doc["model"]["serialized"]["res"] = doc["model"]["serialized"]["out"]
     _heals(cdir, "model.json.*(SHA-256 differs from the manifest|another function)")
 
 
 def test_swapped_functions_with_consistent_manifest_are_rebuilt(cdir):
     """The same, with the manifest updated to match: the stream's name check catches it."""
     _run()
-    meta = _entry(cdir) / "model.json"
-    doc = json.loads(meta.read_text())
-    doc["model"]["serialized"]["res"] = doc["model"]["serialized"]["out"]
-    doc["manifest"]["functions"]["res"] = doc["manifest"]["functions"]["out"]
-    meta.write_text(json.dumps(doc))
+    with _metadata(cdir) as doc:
+        doc["model"]["serialized"]["res"] = doc["model"]["serialized"]["out"]
+        doc["manifest"]["functions"]["res"] = doc["manifest"]["functions"]["out"]
     _heals(cdir, "another function")
 
 
@@ -275,11 +276,9 @@ def test_external_function_stream_is_refused_before_deserializing(cdir, tmp_path
     """))
     subprocess.run(["gcc", "-shared", "-fPIC", str(src), "-o", str(lib), "-lm"], check=True)
     _run()
-    meta = _entry(cdir) / "model.json"
-    doc = json.loads(meta.read_text())
-    doc["model"]["serialized"]["res"] = stream
-    doc["manifest"]["functions"]["res"] = hashlib.sha256(stream.encode()).hexdigest()  # a consistent planting
-    meta.write_text(json.dumps(doc))
+    with _metadata(cdir) as doc:
+        doc["model"]["serialized"]["res"] = stream
+        doc["manifest"]["functions"]["res"] = hashlib.sha256(stream.encode()).hexdigest()  # a consistent planting
     with pytest.warns(CacheWarning, match="not an SXFunction"):
         sim = _run()
     assert not marker.exists()

@@ -14,21 +14,14 @@ from flexlib import registry
 from flexlib.cli import cli
 from flexlib.errors import RegistryError, RunArgumentError
 from flexlib.registry import Scenario
+from tests.robustness.helpers import cli_error
 
 ENV = {"COLUMNS": "200"}
 
 
 def fails(*args: str, code: int | None = None) -> str:
     """Run the CLI, check it failed with one ``Error:`` line and no traceback; return that line."""
-    res = CliRunner().invoke(cli, list(args), env=ENV)
-    assert res.exit_code != 0, res.output
-    if code is not None:
-        assert res.exit_code == code, res.output
-    assert not isinstance(res.exception, Exception) or isinstance(res.exception, SystemExit), res.exception
-    assert "Traceback" not in res.output
-    errors = [line for line in res.output.splitlines() if line.startswith("Error:")]
-    assert len(errors) == 1, res.output
-    return errors[0]
+    return cli_error(*args, code=code)
 
 
 @pytest.fixture(scope="module")

@@ -101,6 +101,12 @@ def edited(A, changes: dict) -> sp.csr_matrix:
 
 
 # ------------------------------------------------------------------------------------------ lumped mass: physics
+def rotation_block_edited(A, fe, node: int, block: np.ndarray) -> sp.csr_matrix:
+    """``A`` with the 3 x 3 block of ``node``'s rotational DOFs (``fe.dof_map``) replaced by ``block``."""
+    r = fe.dof_map[node, 3:]
+    return edited(A, {(int(r[i]), int(r[j])): block[i, j] for i in range(3) for j in range(3)})
+
+
 def cantilever_mode(beta_L: float):
     b = beta_L / L
     s = (math.cosh(beta_L) + math.cos(beta_L)) / (math.sinh(beta_L) + math.sin(beta_L))
@@ -251,7 +257,7 @@ def test_mass_matrix_not_semidefinite_beyond_two_by_two(files):
     r = fe.dof_map[2, 3:]
     J = float(fe.M.diagonal()[r].max())
     block = np.array([[1, 0.9, 0.9], [0.9, 1, -0.9], [0.9, -0.9, 1]]) * J  # eigenvalues -0.8, 1.9, 1.9 (x J)
-    bad = mtx(d / "block.mtx", edited(fe.M, {(int(r[i]), int(r[j])): block[i, j] for i in range(3) for j in range(3)}))
+    bad = mtx(d / "block.mtx", rotation_block_edited(fe.M, fe, 2, block))
     model = read_matrix_market(bad, K, fe.nodes)
     with pytest.raises(ModalFileError, match=re.escape(str(bad)) + r": the mass matrix on the interior DOFs is not "
                                              r"positive definite: the first failing leading minor is at node 2 r"):
@@ -278,7 +284,7 @@ def test_indefinite_stiffness_with_a_positive_diagonal_names_the_file_and_dof(fi
     r = fe.dof_map[2, 3:]
     k = fe.K.diagonal()[r]
     block = np.array([[0, 0.9, 0.9], [0.9, 0, -0.9], [0.9, -0.9, 0]]) * np.sqrt(np.outer(k, k)) + np.diag(k)
-    bad = mtx(d / "kind.mtx", edited(fe.K, {(int(r[i]), int(r[j])): block[i, j] for i in range(3) for j in range(3)}))
+    bad = mtx(d / "kind.mtx", rotation_block_edited(fe.K, fe, 2, block))
     with pytest.raises(ModalFileError, match=re.escape(str(bad)) + r": K is not positive semi-definite: a "
                                              r"fixed-interface mode has negative stiffness .* at node 2 r"):
         modal_data_from_fe(read_matrix_market(M, bad, fe.nodes), [4], 4, reference_node=0)
@@ -360,6 +366,14 @@ def write(path: Path, text: str) -> Path:
     return path
 
 
+def table_with(path: Path, table: np.ndarray, at: tuple[int, int], value: float) -> Path:
+    """``table`` with the one entry ``at`` set to ``value``, saved as text at ``path``."""
+    edited_table = table.copy()
+    edited_table[at] = value
+    np.savetxt(path, edited_table)
+    return path
+
+
 def mm_case(name, d, M, K, fe):
     """(mass, stiffness, nodes, dof_map, the culprit file, pattern) of a hand-edited or mis-exported case."""
     n = fe.nodes
@@ -412,23 +426,14 @@ def mm_case(name, d, M, K, fe):
         return M, K, write(d / "hdr.txt", "x y z\n" + "\n".join(" ".join(map(str, r)) for r in n)), None, \
             "hdr.txt", r"'nodes' line 1: 'x' is not a number \(a header line\? start it with #\)"
     if name == "node file with a NaN coordinate":
-        bad = n.copy()
-        bad[3, 1] = np.nan
-        path = d / "nan_nodes.txt"
-        np.savetxt(path, bad)
+        path = table_with(d / "nan_nodes.txt", n, (3, 1), np.nan)
         return M, K, path, None, "nan_nodes.txt", r"node 3 \(row 3\) has a non-finite coordinate \[1\.5, nan, 0\.0\]"
     if name == "node file with a duplicate id":
-        t = table.copy()
-        t[4, 0] = 2
-        path = d / "dup.txt"
-        np.savetxt(path, t)
-        return M, K, path, None, "dup.txt", r"node id 2 appears 2 times \(rows \[1, 4\]\)"
+        return M, K, table_with(d / "dup.txt", table, (4, 0), 2), None, "dup.txt", \
+            r"node id 2 appears 2 times \(rows \[1, 4\]\)"
     if name == "node file with a fractional id":
-        t = table.copy()
-        t[2, 0] = 3.5
-        path = d / "frac.txt"
-        np.savetxt(path, t)
-        return M, K, path, None, "frac.txt", r"'nodes' row 2: node id 3\.5 is not a whole number"
+        return M, K, table_with(d / "frac.txt", table, (2, 0), 3.5), None, "frac.txt", \
+            r"'nodes' row 2: node id 3\.5 is not a whole number"
     if name == "node file with ragged rows":
         return M, K, write(d / "ragged.txt", "0 0 0\n0.5 0 0\n1.0 0\n1.5 0 0\n2 0 0\n"), None, "ragged.txt", \
             r"'nodes' line 3 has 2 columns, line 1 has 3"

@@ -28,6 +28,7 @@ from flexlib.fe import (
     rectangle,
     write_model_vtk,
 )
+from tests.robustness.helpers import edited_h5
 
 
 @pytest.fixture(scope="module")
@@ -227,14 +228,6 @@ def test_zero_start_quaternion(data):
 
 
 # ------------------------------------------------------------------------------------------------ modal files
-def edited(good: Path, tmp_path: Path, edit) -> Path:
-    path = tmp_path / "edited.h5"
-    path.write_bytes(good.read_bytes())
-    with h5py.File(path, "r+") as f:
-        edit(f)
-    return path
-
-
 def rewrite(name: str, change):
     def edit(f: h5py.File) -> None:
         value = change(np.array(f[name][()]))
@@ -343,7 +336,7 @@ FILE_CASES = {
 def test_hand_edited_modal_file(good, tmp_path, case):
     """Read directly and through FlexibleBody: a ModalFileError naming the file, the dataset and the problem."""
     edit, pattern = FILE_CASES[case]
-    path = edited(good, tmp_path, edit)
+    path = edited_h5(good, tmp_path, edit)
     for read in (ModalData.read, lambda p: FlexibleBody(p, geometric_stiffening=True)):
         with pytest.raises(ModalFileError, match=re.escape(str(path)) + r": .*" + pattern):
             read(path)
@@ -351,7 +344,7 @@ def test_hand_edited_modal_file(good, tmp_path, case):
 
 def test_empty_geometric_stiffness_group_with_stiffening(good, tmp_path):
     """A file whose '/geometric_stiffness' group was emptied: stiffening asked for, none possible."""
-    path = edited(good, tmp_path, lambda f: [f["geometric_stiffness"].__delitem__(k)
+    path = edited_h5(good, tmp_path, lambda f: [f["geometric_stiffness"].__delitem__(k)
                                             for k in list(f["geometric_stiffness"])])
     assert FlexibleBody(path).n_modes == 8  # without stiffening the file is fine
     with pytest.raises(ModelError, match=r"geometric_stiffening=True, but the group '/geometric_stiffness' of the "
@@ -360,7 +353,7 @@ def test_empty_geometric_stiffness_group_with_stiffening(good, tmp_path):
 
 
 def test_empty_interface_without_frames(good, tmp_path):
-    path = edited(good, tmp_path, rewrite("interface/node_ids", lambda a: a[:0]))
+    path = edited_h5(good, tmp_path, rewrite("interface/node_ids", lambda a: a[:0]))
     with pytest.raises(ModelError, match=r"no frames: the modal file '.*edited\.h5' has no interface nodes "
                                          r"\('/interface/node_ids' is empty\); pass frames=\[node ids\] "
                                          r"\(nodes 0\.\.4\)"):

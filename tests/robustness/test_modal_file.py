@@ -12,6 +12,7 @@ import pytest
 
 from flexlib import FlexlibError, ModalFileError
 from flexlib.fe import ModalData, beam_mesh, modal_data_from_fe, read_fe, rectangle
+from tests.robustness.helpers import edited_h5
 
 
 @pytest.fixture(scope="module")
@@ -19,14 +20,6 @@ def good(tmp_path_factory) -> Path:
     fe = beam_mesh((0, 0, 0), (1.0, 0, 0), 6, rectangle(0.02, 0.03), E=2.1e11, rho=7850.0)
     data = modal_data_from_fe(fe, [0, 6], 4, title="good", geometric_stiffening=True)
     return data.write(tmp_path_factory.mktemp("modal") / "good.h5")
-
-
-def damaged(good: Path, tmp_path: Path, edit) -> Path:
-    path = tmp_path / "bad.h5"
-    path.write_bytes(good.read_bytes())
-    with h5py.File(path, "r+") as f:
-        edit(f)
-    return path
 
 
 def replace_dataset(f: h5py.File, name: str, value) -> None:
@@ -90,7 +83,7 @@ CASES = {
 @pytest.mark.parametrize("case", list(CASES))
 def test_malformed_file_names_file_and_dataset(good, tmp_path, case):
     edit, dataset, problem = CASES[case]
-    path = damaged(good, tmp_path, edit)
+    path = edited_h5(good, tmp_path, edit, "bad.h5")
     with pytest.raises(ModalFileError) as info:
         ModalData.read(path)
     message = str(info.value)

@@ -24,6 +24,7 @@ from flexlib.errors import InitializationError, ParameterError, RegistryError, R
 from flexlib.models.pump_truck.model import PumpTruck
 from flexlib.models.pump_truck.parameters import DirectDrive, EndHose, Pipe, PumpTruckParameters, Steel, Turret
 from flexlib.registry import ModelOption, Scenario
+from tests.robustness.helpers import cli_error
 
 ENV = {"COLUMNS": "250"}
 REC = PumpTruckParameters()
@@ -31,13 +32,7 @@ REC = PumpTruckParameters()
 
 def fails(*args: str, code: int = 1) -> str:
     """Run the CLI; it must fail with one ``Error:`` line, no traceback; return that line."""
-    res = CliRunner().invoke(cli, list(args), env=ENV)
-    assert res.exit_code == code, res.output
-    assert not isinstance(res.exception, Exception) or isinstance(res.exception, SystemExit), res.exception
-    assert "Traceback" not in res.output
-    errors = [line for line in res.output.splitlines() if line.startswith("Error:")]
-    assert len(errors) == 1, res.output
-    return errors[0]
+    return cli_error(*args, code=code, columns=int(ENV["COLUMNS"]))
 
 
 def scenario_file(tmp_path, content) -> str:

@@ -89,6 +89,15 @@ class InertiaPair(fl.Model):
         self.j2 = rot.Inertia(J=2.0)
 
 
+class Holding(fl.Model):
+    """A model of the components given to its constructor, by name (a one-component model in one line)."""
+
+    def __init__(self, **parts: fl.Component) -> None:
+        super().__init__()
+        for name, part in parts.items():
+            setattr(self, name, part)
+
+
 def test_connect_connector_to_itself():
     m = InertiaPair()
     with pytest.raises(fl.ConnectError, match=r"j1\.flange_a .*twice; a connector cannot be connected to itself"):
@@ -145,13 +154,8 @@ def test_error_in_on_structure_names_the_component():
         def equations(self):
             return [fl.eq(self.x, 1.0)]
 
-    class M(fl.Model):
-        def __init__(self) -> None:
-            super().__init__()
-            self.part = Fragile()
-
     with pytest.raises(fl.ModelError, match=r"^part \(Fragile\)\.on_structure\(\) failed: KeyError: 'missing table'"):
-        fl.Simulation(M(), use_cache=False)
+        fl.Simulation(Holding(part=Fragile()), use_cache=False)
 
 
 def test_reassigning_the_same_component_is_harmless():
@@ -176,14 +180,9 @@ def test_math_sqrt_on_symbol_in_nested_component_names_full_path():
 
 
 def test_math_exp_in_initial_equation_is_reported():
-    class M(fl.Model):
-        def __init__(self) -> None:
-            super().__init__()
-            self.start = MathInit()
-
     with pytest.raises(fl.ModelError, match=r"^start \(MathInit\)\.initial_equations\(\): float\(\) of the symbolic "
                                             r"expression start\.x"):
-        fl.Simulation(M(), use_cache=False)
+        fl.Simulation(Holding(start=MathInit()), use_cache=False)
 
 
 def test_float_of_constant_sx_is_still_allowed():
@@ -195,12 +194,8 @@ def test_float_of_constant_sx_is_still_allowed():
         def equations(self):
             return [fl.eq(fl.der(self.x), -math.sin(ca.SX(0.5)) * self.x)]
 
-    class M(fl.Model):
-        def __init__(self) -> None:
-            super().__init__()
-            self.leaf = ConstLeaf()
-
-    res = fl.Simulation(M(), use_cache=False).run(1.0, dt_out=0.5, rtol=1e-9, atol=1e-11, progress=False)
+    res = fl.Simulation(Holding(leaf=ConstLeaf()), use_cache=False).run(1.0, dt_out=0.5, rtol=1e-9, atol=1e-11,
+                                                                       progress=False)
     np.testing.assert_allclose(res["leaf.x"], np.exp(-math.sin(0.5) * res.t), rtol=1e-6)
     assert float(ca.SX.sym("y")) != float(ca.SX.sym("y"))  # outside equations() CasADi's own behaviour is untouched
 
@@ -233,13 +228,8 @@ def test_flexlib_error_in_equations_keeps_its_class_and_gets_the_path():
         def equations(self):
             raise fl.ParameterError("table must have two columns")
 
-    class M(fl.Model):
-        def __init__(self) -> None:
-            super().__init__()
-            self.lookup = Picky()
-
     with pytest.raises(fl.ParameterError, match=r"^lookup \(Picky\)\.equations\(\): table must have two columns"):
-        fl.Simulation(M(), use_cache=False)
+        fl.Simulation(Holding(lookup=Picky()), use_cache=False)
 
 
 def test_correct_leaf_still_runs():
@@ -383,11 +373,6 @@ def test_casadi_functions_are_accepted():
         def equations(self):
             return [fl.eq(fl.der(self.x), -ca.sin(self.x))]
 
-    class M(fl.Model):
-        def __init__(self) -> None:
-            super().__init__()
-            self.leaf = SinLeaf()
-
-    res = fl.Simulation(M(), use_cache=False).run(1.0, dt_out=0.5, progress=False)
+    res = fl.Simulation(Holding(leaf=SinLeaf()), use_cache=False).run(1.0, dt_out=0.5, progress=False)
     # x' = -sin x: tan(x/2) = tan(1/2) e^{-t}
     np.testing.assert_allclose(res["leaf.x"], 2 * np.arctan(np.tan(0.5) * np.exp(-res.t)), rtol=1e-5)

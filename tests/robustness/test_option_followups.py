@@ -20,6 +20,7 @@ from flexlib import registry
 from flexlib.cli import cli
 from flexlib.errors import ModelError, RunArgumentError
 from flexlib.registry import Scenario
+from tests.robustness.helpers import cli_error
 
 ENV = {"COLUMNS": "200"}
 MODEL = "pinned-free-beam"
@@ -27,13 +28,7 @@ MODEL = "pinned-free-beam"
 
 def fails(*args: str, columns: int = 200) -> str:
     """Run the CLI; it must fail with exit code 1 and one ``Error:`` line, no traceback; return that line."""
-    res = CliRunner().invoke(cli, list(args), env={"COLUMNS": str(columns)})
-    assert res.exit_code == 1, res.output
-    assert not isinstance(res.exception, Exception) or isinstance(res.exception, SystemExit), res.exception
-    assert "Traceback" not in res.output
-    errors = [line for line in res.output.splitlines() if line.startswith("Error:")]
-    assert len(errors) == 1, res.output
-    return errors[0]
+    return cli_error(*args, columns=columns)
 
 
 @pytest.fixture

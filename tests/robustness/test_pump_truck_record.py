@@ -12,17 +12,11 @@ from flexlib.models.pump_truck.parameters import FourBar, PumpTruckParameters
 REC = PumpTruckParameters()
 
 
-def test_negative_section_mass_names_field():
+@pytest.mark.parametrize(("k", "mass"), [(2, -5.0), (4, 1e5)], ids=["negative", "too_heavy_for_its_box"])
+def test_bad_section_mass_names_field(k, mass):
     sections = list(REC.sections)
-    sections[2] = replace(sections[2], mass=-5.0)
-    with pytest.raises(ParameterError, match=r"sections\[2\]\.mass"):
-        PumpTruckParameters(sections=tuple(sections))
-
-
-def test_section_too_heavy_for_its_box_names_field():
-    sections = list(REC.sections)
-    sections[4] = replace(sections[4], mass=1e5)
-    with pytest.raises(ParameterError, match=r"sections\[4\]\.mass"):
+    sections[k] = replace(sections[k], mass=mass)
+    with pytest.raises(ParameterError, match=rf"sections\[{k}\]\.mass"):
         PumpTruckParameters(sections=tuple(sections))
 
 

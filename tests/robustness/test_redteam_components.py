@@ -24,7 +24,7 @@ import pytest
 import flexlib as fl
 from flexlib import ConnectError, LinearizationError, ModelError, ParameterError, Variable, der, eq
 from flexlib.compile.flatten import flatten
-from flexlib.components.control import Constant, FirstOrder, Limiter, LimPID, TimeTable, Trapezoid
+from flexlib.components.control import FirstOrder, Limiter, LimPID, TimeTable, Trapezoid
 from flexlib.components.hydraulics import (
     DirectionalValve43,
     DoubleActingCylinder,
@@ -37,7 +37,8 @@ from flexlib.components.hydraulics import (
 )
 from flexlib.components.mechanics import multibody as mb
 from flexlib.components.mechanics import rotational as rot
-from flexlib.components.mechanics.translational import Fixed, Force, Mass, Spring
+from flexlib.components.mechanics.translational import Fixed, Force, Mass
+from tests.robustness.test_analysis_and_inputs import PushedOscillator
 
 
 # -- declarations ------------------------------------------------------------------------------------------------
@@ -388,25 +389,9 @@ def test_cylinder_chamber_form_later_is_checked():
 
 
 # -- linear analysis ---------------------------------------------------------------------------------------------
-class Spring1(fl.Model):
-    """wall – spring – mass, pushed by a constant force src.k (one mode at 1 Hz)."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.wall = Fixed()
-        self.spring = Spring(c=4.0 * math.pi**2)
-        self.mass = Mass(m=1.0, init={"s": 0.0, "v": 0.0})
-        self.src = Constant(k=0.0)
-        self.push = Force()
-        self.connect(self.wall.flange, self.spring.flange_a)
-        self.connect(self.spring.flange_b, self.mass.flange_a)
-        self.connect(self.src.y, self.push.f)
-        self.connect(self.push.flange, self.mass.flange_b)
-
-
 @pytest.fixture(scope="module")
 def osc() -> fl.Simulation:
-    return fl.Simulation(Spring1())
+    return fl.Simulation(PushedOscillator())  # wall – spring – mass, one mode at 1 Hz
 
 
 def test_sensitivity_keeps_a_column_per_input(osc):

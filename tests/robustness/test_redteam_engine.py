@@ -78,15 +78,6 @@ def step():
     return fl.Simulation(Step(init={"w": 0.0}), use_cache=False)
 
 
-@pytest.fixture
-def no_work(sim, monkeypatch):
-    def forbidden(*args, **kwargs):
-        raise AssertionError("run() started work before checking its arguments")
-
-    monkeypatch.setattr(sim, "_initialize", forbidden)
-    return sim
-
-
 # -- the model and the build options ----------------------------------------------------------------------------
 
 

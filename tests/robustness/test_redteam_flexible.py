@@ -50,6 +50,7 @@ from flexlib.fe import (
     write_vtk_series,
 )
 from flexlib.fe.fe_model import UnknownNodeError
+from tests.robustness.helpers import edited_h5
 
 
 @pytest.fixture(scope="module")
@@ -353,14 +354,6 @@ def test_write_to_a_path_of_the_wrong_type(data):
         data.write(123)
 
 
-def edited(good: Path, tmp_path: Path, edit) -> Path:
-    path = tmp_path / "edited.h5"
-    path.write_bytes(good.read_bytes())
-    with h5py.File(path, "r+") as f:
-        edit(f)
-    return path
-
-
 def twice(f: h5py.File) -> None:
     del f["interface/node_ids"]
     f.create_dataset("interface/node_ids", data=np.array([4, 4]))
@@ -368,7 +361,7 @@ def twice(f: h5py.File) -> None:
 
 def test_interface_node_given_twice_in_a_file(good, tmp_path):
     """Two frames at one node (frame_a and frame_b) were built from it."""
-    path = edited(good, tmp_path, twice)
+    path = edited_h5(good, tmp_path, twice)
     pattern = re.escape(str(path)) + r": dataset '/interface/node_ids': node 4 is given twice \(\[4, 4\]\)"
     with pytest.raises(ModalFileError, match=pattern):
         ModalData.read(path)
@@ -377,7 +370,7 @@ def test_interface_node_given_twice_in_a_file(good, tmp_path):
 
 
 def test_provenance_that_is_not_an_object(good, tmp_path):
-    path = edited(good, tmp_path, lambda f: f.attrs.__setitem__("provenance", "[1, 2]"))
+    path = edited_h5(good, tmp_path, lambda f: f.attrs.__setitem__("provenance", "[1, 2]"))
     with pytest.raises(ModalFileError, match=re.escape(str(path)) + r": dataset '/' attribute 'provenance' must be a "
                                                                     r"JSON object .* got list"):
         ModalData.read(path)

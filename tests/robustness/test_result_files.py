@@ -130,20 +130,18 @@ def test_load_with_an_attribute_missing(saved, tmp_path):
         fl.load_result(path)
 
 
-def test_load_from_a_newer_format(saved, tmp_path):
+@pytest.mark.parametrize(("attr", "value", "message"), [
+    ("format_version", 99, r"copy\.h5: format_version 99 is not supported: this flexlib reads "
+                           r"format_version 1 \.\.\. 1.*upgrade flexlib"),
+    ("format_version", "one", r"format_version is missing or not an integer \('one'\)"),
+    ("solver_stats", "{steps: 3", r"'solver_stats' is not JSON"),
+    ("status", "maybe", r"status 'maybe' is not one of success, failed, interrupted"),
+], ids=["newer_format", "text_format_version", "bad_solver_stats", "unknown_status"])
+def test_load_with_a_bad_attribute(saved, tmp_path, attr, value, message):
     path = copy_of(saved, tmp_path)
     with h5py.File(path, "a") as f:
-        f.attrs["format_version"] = 99
-    with pytest.raises(fl.ResultFileError, match=r"copy\.h5: format_version 99 is not supported: this flexlib reads "
-                                                  r"format_version 1 \.\.\. 1.*upgrade flexlib"):
-        fl.load_result(path)
-
-
-def test_load_with_a_text_format_version(saved, tmp_path):
-    path = copy_of(saved, tmp_path)
-    with h5py.File(path, "a") as f:
-        f.attrs["format_version"] = "one"
-    with pytest.raises(fl.ResultFileError, match=r"format_version is missing or not an integer \('one'\)"):
+        f.attrs[attr] = value
+    with pytest.raises(fl.ResultFileError, match=message):
         fl.load_result(path)
 
 
@@ -153,22 +151,6 @@ def test_load_with_inconsistent_shapes(saved, tmp_path):
         del f["time"]
         f["time"] = np.arange(3.0)
     with pytest.raises(fl.ResultFileError, match=r"/variables/values has shape \(11, \d+\), expected \(3, \d+\)"):
-        fl.load_result(path)
-
-
-def test_load_with_bad_solver_stats(saved, tmp_path):
-    path = copy_of(saved, tmp_path)
-    with h5py.File(path, "a") as f:
-        f.attrs["solver_stats"] = "{steps: 3"
-    with pytest.raises(fl.ResultFileError, match=r"'solver_stats' is not JSON"):
-        fl.load_result(path)
-
-
-def test_load_with_unknown_status(saved, tmp_path):
-    path = copy_of(saved, tmp_path)
-    with h5py.File(path, "a") as f:
-        f.attrs["status"] = "maybe"
-    with pytest.raises(fl.ResultFileError, match=r"status 'maybe' is not one of success, failed, interrupted"):
         fl.load_result(path)
 
 

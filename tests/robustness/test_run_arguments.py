@@ -15,17 +15,6 @@ def sim():
     return fl.Simulation(Oscillator(init={"x": 1.0, "v": 0.0}), use_cache=False)
 
 
-@pytest.fixture
-def no_work(sim, monkeypatch):
-    """Fail the test if a run gets as far as initialisation."""
-
-    def forbidden(*args, **kwargs):
-        raise AssertionError("run() started work before checking its arguments")
-
-    monkeypatch.setattr(sim, "_initialize", forbidden)
-    return sim
-
-
 # (arguments of run(), regular expression the message must match: argument name and what is wrong)
 BAD = {
     "t_end_inf": (dict(t_end=np.inf), r"t_end = inf.*finite"),

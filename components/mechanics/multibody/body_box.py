@@ -8,7 +8,7 @@ import numpy as np
 
 from flexlib.errors import ParameterError
 
-from .body_shape import BodyShape, from_nxy, positive_size, unit_vector, vector3
+from .body_shape import BodyShape, positive_size, solid_axes
 
 __all__ = ["BodyBox"]
 
@@ -59,18 +59,6 @@ class BodyBox(BodyShape):
         Height of the inner hole [m], ``0 ≤ inner_height < height``; default ``inner_width``.
     density : float, optional
         Density of the material [kg/m3], > 0; default 7700 (steel).
-    Q_start, w_start, orientation_fixed, w_fixed
-        As :class:`BodyShape` (start orientation [1], start angular velocity [rad/s], structural flags).
-
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-        As :class:`BodyShape`.
-
-    Variables
-    ---------
-    None of its own; see the parts ``body`` and ``frame_translation``. The computed mass properties are
-    the attributes ``mass`` [kg], ``center_of_mass`` [m] and ``inertia`` [kg.m2] (see :class:`BodyShape`).
 
     References
     ----------
@@ -83,12 +71,7 @@ class BodyBox(BodyShape):
                  density: float = 7700.0, Q_start: Any = None, w_start: Any = None, orientation_fixed: bool = False,
                  w_fixed: bool = False, doc: str = "") -> None:
         owner = type(self).__name__
-        r = vector3(r, "r", owner)
-        r_shape = vector3(r_shape, "r_shape", owner)
-        if length_direction is None:
-            length_direction = r - r_shape
-        R = from_nxy(length_direction, unit_vector(width_direction, "width_direction", owner), owner)
-        L = positive_size(np.linalg.norm(r - r_shape) if length is None else length, "length", owner)
+        r, r_shape, R, L = solid_axes(owner, r, r_shape, length_direction, width_direction, length)
         W = positive_size(L / 20 if width is None else width, "width", owner)
         H = positive_size(W if height is None else height, "height", owner)
         Wi = positive_size(inner_width, "inner_width", owner, allow_zero=True)

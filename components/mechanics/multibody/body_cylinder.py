@@ -8,7 +8,7 @@ import numpy as np
 
 from flexlib.errors import ParameterError
 
-from .body_shape import BodyShape, from_nxy, positive_size, vector3
+from .body_shape import BodyShape, positive_size, solid_axes
 
 __all__ = ["BodyCylinder"]
 
@@ -46,18 +46,6 @@ class BodyCylinder(BodyShape):
         Inner diameter [m], ``0 ≤ inner_diameter < diameter``; default 0 (solid cylinder).
     density : float, optional
         Density of the material [kg/m3], > 0; default 7700 (steel).
-    Q_start, w_start, orientation_fixed, w_fixed
-        As :class:`BodyShape` (start orientation [1], start angular velocity [rad/s], structural flags).
-
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-        As :class:`BodyShape`.
-
-    Variables
-    ---------
-    None of its own; see the parts ``body`` and ``frame_translation``. The computed mass properties are
-    the attributes ``mass`` [kg], ``center_of_mass`` [m] and ``inertia`` [kg.m2] (see :class:`BodyShape`).
 
     References
     ----------
@@ -70,12 +58,7 @@ class BodyCylinder(BodyShape):
                  density: float = 7700.0, Q_start: Any = None, w_start: Any = None, orientation_fixed: bool = False,
                  w_fixed: bool = False, doc: str = "") -> None:
         owner = type(self).__name__
-        r = vector3(r, "r", owner)
-        r_shape = vector3(r_shape, "r_shape", owner)
-        if length_direction is None:
-            length_direction = r - r_shape
-        R = from_nxy(length_direction, [0.0, 1.0, 0.0], owner)
-        L = positive_size(np.linalg.norm(r - r_shape) if length is None else length, "length", owner)
+        r, r_shape, R, L = solid_axes(owner, r, r_shape, length_direction, (0.0, 1.0, 0.0), length)
         d = positive_size(L / 20 if diameter is None else diameter, "diameter", owner)
         di = positive_size(inner_diameter, "inner_diameter", owner, allow_zero=True)
         rho = positive_size(density, "density", owner)

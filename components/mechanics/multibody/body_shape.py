@@ -126,6 +126,23 @@ def from_nxy(n_x: Any, n_y: Any, owner: str) -> np.ndarray:
     return np.vstack([e_x, np.cross(e_z, e_x), e_z])
 
 
+def solid_axes(owner: str, r: Any, r_shape: Any, length_direction: Any, width_direction: Any,
+               length: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """``(r, r_shape, R, L)`` of a solid between frame_a and frame_b (MSL ``BodyBox``, ``BodyCylinder``).
+
+    ``r`` and ``r_shape`` checked 3-vectors [m]; the rows of ``R`` are the solid's length, width and height axes
+    resolved in frame_a (:func:`from_nxy` of ``length_direction``, default ``r − r_shape``, and
+    ``width_direction``); ``L`` is its length [m], default ``|r − r_shape|``.
+    """
+    r = vector3(r, "r", owner)
+    r_shape = vector3(r_shape, "r_shape", owner)
+    if length_direction is None:
+        length_direction = r - r_shape
+    R = from_nxy(length_direction, unit_vector(width_direction, "width_direction", owner), owner)
+    L = positive_size(np.linalg.norm(r - r_shape) if length is None else length, "length", owner)
+    return r, r_shape, R, L
+
+
 def positive_size(value: Any, what: str, owner: str, allow_zero: bool = False) -> float:
     """A size or density: a real number (not a string such as ``density="7800"``, a bool or an array), > 0."""
     why = not_a_scalar(value)

@@ -18,22 +18,9 @@ class CutForce(PartialCutSensor):
     cut force acting on the sensor at frame_a, i.e. what the frame_a side exerts on everything behind
     frame_b (a body hanging below the sensor: ``+m·g`` upwards).
 
-    Parameters
-    ----------
-    resolve_in_frame : {"frame_a", "world"}
-        Frame in which the output is resolved (structural constructor argument).
-
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-        The two sides of the cut.
-    force : Output (3,) [N]
-        Cut force resolved in ``resolve_in_frame``.
-
     References
     ----------
-    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Sensors.CutForce``
-    (``positiveSign = true``; no ``frame_resolve`` connector).
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Sensors.CutForce``.
     """
 
     force = Output(unit="N", shape=3, doc="Force exerted by the frame_a side on the frame_b side")

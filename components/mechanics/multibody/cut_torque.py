@@ -17,22 +17,9 @@ class CutTorque(PartialCutSensor):
     default) or ``T_aᵀ t_a`` (``"world"``): the cut torque about the common origin that the frame_a side
     exerts on everything behind frame_b.
 
-    Parameters
-    ----------
-    resolve_in_frame : {"frame_a", "world"}
-        Frame in which the output is resolved (structural constructor argument).
-
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-        The two sides of the cut.
-    torque : Output (3,) [N.m]
-        Cut torque resolved in ``resolve_in_frame``.
-
     References
     ----------
-    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Sensors.CutTorque``
-    (``positiveSign = true``; no ``frame_resolve`` connector).
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Sensors.CutTorque``.
     """
 
     torque = Output(unit="N.m", shape=3, doc="Torque exerted by the frame_a side on the frame_b side")

@@ -32,10 +32,6 @@ class Cylindrical(Component):
         Axis of translation and rotation, resolved in frame_a (= frame_b) [1]; default ``(1, 0, 0)``; must
         not be zero.
 
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-
     Variables
     ---------
     s [m], v [m/s], a [m/s2]: relative distance along ``n``, its derivative, relative acceleration;

@@ -37,10 +37,6 @@ class FixedRotation(PartialTwoFrames):
     angle : float
         Rotation angle of frame_b relative to frame_a about ``n`` [rad].
 
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-
     Variables
     ---------
     None besides the two frames.

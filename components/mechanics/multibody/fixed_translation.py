@@ -23,10 +23,6 @@ class FixedTranslation(PartialTwoFrames):
     r : array_like (3,)
         Vector from frame_a to frame_b resolved in frame_a [m].
 
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Parts.FixedTranslation``.

@@ -67,10 +67,6 @@ class PartialTwoFrames(Component):
     Declares ``branch(frame_a, frame_b)``: the subclass computes one frame's orientation from the other,
     in the direction given by ``rooted(frame_a)``.
 
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Interfaces.PartialTwoFrames``.
@@ -89,12 +85,17 @@ class PartialCutSensor(PartialTwoFrames):
 
     ``r_0,b = r_0,a``, ``T_b = T_a``, ``w_b = w_a`` (an orientation branch in the direction given by
     ``rooted(frame_a)``), ``f_a + f_b = 0``, ``t_a + t_b = 0``. A subclass adds the equation of its
-    measured output (:meth:`measurement_equations`).
+    measured output (:meth:`measurement_equations`), the cut load at frame_a with MSL's ``positiveSign = true``.
 
     Parameters
     ----------
     resolve_in_frame : {"frame_a", "world"}
         Frame in which the output is resolved (structural constructor argument).
+
+    Connectors
+    ----------
+    frame_a, frame_b : Frame
+        The two sides of the cut.
 
     References
     ----------

@@ -35,15 +35,8 @@ class LineForce(LineForceBase):
     ``s_small`` (see :class:`~.line_force_base.LineForceBase`): no event, no division by zero when the
     frames coincide.
 
-    Parameters
-    ----------
-    s_small : float
-        Regularisation length [m] (see LineForceBase), ≥ 1e-12.
-
     Connectors
     ----------
-    frame_a, frame_b : Frame
-        Attachment points (origins only; no torque is transmitted).
     flange_a, flange_b : translational Flange
         1D ends of the line: ``flange_a.s = 0``, ``flange_b.s = length``.
 

@@ -5,20 +5,18 @@ from __future__ import annotations
 from typing import Any
 
 import casadi as ca
-import numpy as np
 
 from flexlib import Parameter, Variable, der, eq
 from flexlib.components.mechanics.translational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
-from flexlib.core.component import flag
-from flexlib.errors import ParameterError
 
 from .frames import resolve1
-from .interfaces import PartialTwoFrames, support_grounded
+from .interfaces import support_grounded
+from .partials import PartialAxisJoint, add_axis_flange
 
 __all__ = ["Prismatic"]
 
 
-class Prismatic(PartialTwoFrames):
+class Prismatic(PartialAxisJoint):
     """Translation of frame_b relative to frame_a by ``s`` along the fixed axis ``n``; same orientation.
 
     ``r_0,b = r_0,a + T_aᵀ (e s)``; ``T_b = T_a``, ``w_b = w_a``; ``f_a + f_b = 0``;
@@ -61,18 +59,11 @@ class Prismatic(PartialTwoFrames):
 
     def __init__(self, use_axis_flange: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.use_axis_flange = flag(self, "use_axis_flange", use_axis_flange, structural=True)
-        if self.use_axis_flange:
-            self.axis = Flange(doc="Drive flange (s, f)")
-            self.support = Flange(doc="Housing of the drive")
-
-    def check(self, values: dict[str, Any]) -> None:
-        super().check(values)
-        check_axis(self, values, "n")
+        add_axis_flange(self, use_axis_flange, Flange, "Drive flange (s, f)", "Housing of the drive")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
-        e = self.n / ca.norm_2(self.n)
+        e = self.unit_axis()
         es = e * self.s
         eqs = [eq(b.r_0, a.r_0 + resolve1(a.T, es)), eq(der(self.s), self.v), eq(der(self.v), self.a),
                eq(a.f + b.f, 0.0), eq(a.t + b.t + ca.cross(es, b.f), 0.0), eq(self.f, -ca.dot(e, b.f))]
@@ -86,10 +77,3 @@ class Prismatic(PartialTwoFrames):
         else:
             eqs.append(eq(self.f, self.f_drive, label="no drive flange: only f_drive acts along the axis"))
         return eqs
-
-
-def check_axis(component: Any, values: dict[str, Any], name: str, what: str = "joint axis") -> None:
-    """Raise :class:`~flexlib.ParameterError` if the axis ``values[name]`` of ``component`` has zero length."""
-    n = values.get(name)
-    if n is not None and not np.linalg.norm(n) > 1e-12:
-        raise ParameterError(f"{component.where}: {what} {name} = {n.tolist()} has zero length")

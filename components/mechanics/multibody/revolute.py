@@ -11,13 +11,13 @@ from flexlib.components.mechanics.rotational.interfaces import Flange, PartialAb
 from flexlib.core.component import flag
 
 from .frames import absolute_rotation, planar_rotation, resolve1
-from .interfaces import PartialTwoFrames, support_grounded
-from .prismatic import check_axis
+from .interfaces import support_grounded
+from .partials import PartialAxisJoint, add_axis_flange
 
 __all__ = ["Revolute"]
 
 
-class Revolute(PartialTwoFrames):
+class Revolute(PartialAxisJoint):
     """Rotation of frame_b relative to frame_a by the angle ``phi`` about the fixed axis ``n``.
 
     ``r_0,b = r_0,a``; ``T_b = T_rel(n, φ) T_a``, ``w_b = T_rel w_a + n·w``; ``f_a = −T_relᵀ f_b``,
@@ -94,19 +94,13 @@ class Revolute(PartialTwoFrames):
 
     def __init__(self, use_axis_flange: bool = False, use_friction: bool = False, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.use_axis_flange = flag(self, "use_axis_flange", use_axis_flange, structural=True)
+        add_axis_flange(self, use_axis_flange, Flange, "Drive flange (phi, tau)",
+                        "Housing of the drive, fixed to frame_a")
         self.use_friction = flag(self, "use_friction", use_friction)
-        if self.use_axis_flange:
-            self.axis = Flange(doc="Drive flange (phi, tau)")
-            self.support = Flange(doc="Housing of the drive, fixed to frame_a")
-
-    def check(self, values: dict[str, Any]) -> None:
-        super().check(values)
-        check_axis(self, values, "n")
 
     def equations(self):
         a, b = self.frame_a, self.frame_b
-        e = self.n / ca.norm_2(self.n)
+        e = self.unit_axis()
         eqs = [eq(b.r_0, a.r_0), eq(der(self.phi), self.w), eq(der(self.w), self.a)]
         if self.rooted(a):
             T_rel = planar_rotation(e, self.phi)

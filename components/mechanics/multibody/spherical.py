@@ -19,10 +19,6 @@ class Spherical(Component):
     so it cuts the orientation graph: a body behind it that no other path roots gets quaternion states
     (a free rotation), and a kinematic loop through it needs no loop-closure orientation equations.
 
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Joints.Spherical``.

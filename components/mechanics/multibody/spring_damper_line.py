@@ -25,13 +25,6 @@ class SpringDamperLine(LineForceBase):
         Damping constant [N.s/m], ≥ 0.
     s_unstretched : float
         Unstretched spring length [m], ≥ 0.
-    s_small : float
-        Regularisation length [m] (see LineForceBase), ≥ 1e-12.
-
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-        Attachment points (origins only; no torque is transmitted).
 
     Variables
     ---------

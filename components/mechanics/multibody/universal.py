@@ -36,10 +36,6 @@ class Universal(Component):
         Axis of the second rotation, resolved in frame_b [1]; default ``(0, 1, 0)``; must not be zero nor
         parallel to ``n_a`` (the joint would have the same rotational freedom twice).
 
-    Connectors
-    ----------
-    frame_a, frame_b : Frame
-
     Variables
     ---------
     phi_a, phi_b [rad]: relative angles of revolute_a and revolute_b; w_a, w_b [rad/s]: their derivatives;

@@ -25,6 +25,7 @@ from flexlib.components.control import (
     Step,
     Switch,
 )
+from tests.components.control.signals import right_values
 
 TOL = {"rtol": 1e-8, "atol": 1e-10}
 
@@ -54,12 +55,6 @@ class Static(fl.Model):
 @pytest.fixture(scope="module")
 def static() -> fl.Result:
     return fl.Simulation(Static(), use_cache=False).run(1.0, dt_out=0.01, **TOL)
-
-
-def right_values(res: fl.Result, name: str) -> tuple[np.ndarray, np.ndarray]:
-    keep = np.ones(len(res.t), dtype=bool)
-    keep[:-1] = res.t[1:] != res.t[:-1]
-    return res.t[keep], res[name][keep]
 
 
 def crossings(level: float) -> list[float]:

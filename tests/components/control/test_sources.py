@@ -14,6 +14,7 @@ import pytest
 import flexlib as fl
 from flexlib.components.control import Constant, Ramp, Sine, Step
 from flexlib.components.mechanics.translational import Force, Mass
+from tests.components.control.signals import right_values
 
 TOL = {"rtol": 1e-8, "atol": 1e-10}
 
@@ -32,13 +33,6 @@ class Sources(fl.Model):
 @pytest.fixture(scope="module")
 def sources() -> fl.Result:
     return fl.Simulation(Sources(), use_cache=False).run(1.0, dt_out=0.01, **TOL)
-
-
-def right_values(res: fl.Result, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """Time points and values, keeping the right (post-event) value at an event time."""
-    keep = np.ones(len(res.t), dtype=bool)
-    keep[:-1] = res.t[1:] != res.t[:-1]
-    return res.t[keep], res[name][keep]
 
 
 def test_events_at_switching_times(sources):

@@ -16,6 +16,7 @@ import pytest
 import flexlib as fl
 from flexlib.components.control import Trapezoid
 from flexlib.components.mechanics.translational import Force, Mass
+from tests.components.control.signals import right_values
 
 TOL = {"rtol": 1e-8, "atol": 1e-10}
 DT = 1.0 / 64.0
@@ -33,13 +34,6 @@ def reference(t: np.ndarray, A: float, rising: float, width: float, falling: flo
                               np.where(ph < rising + width + falling, A * (rising + width + falling - ph) / falling,
                                        0.0)))
     return offset + np.where((s < 0) | (count >= nperiod), 0.0, y)
-
-
-def right_values(res: fl.Result, name: str) -> tuple[np.ndarray, np.ndarray]:
-    """Time points and values, keeping the right (post-event) value at an event time."""
-    keep = np.ones(len(res.t), dtype=bool)
-    keep[:-1] = res.t[1:] != res.t[:-1]
-    return res.t[keep], res[name][keep]
 
 
 CASES = {

@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.control import Step
 from flexlib.components.hydraulics import (
     HLP46,
     DirectionalValve43,
@@ -25,28 +24,13 @@ from flexlib.components.hydraulics import (
     Volume,
 )
 from flexlib.components.mechanics.translational import Fixed, Mass
+from tests.components.hydraulics.benches import ValveBench
 
 BAR = 1e5
 BORE, ROD, STROKE = 0.063, 0.036, 0.4
 A_P = math.pi / 4 * BORE**2
 A_R = math.pi / 4 * (BORE**2 - ROD**2)
 Q_NOM, DP_NOM = 40.0 / 60000.0, 35 * BAR
-
-
-class StepValveBench(fl.Model):
-    """4/3 valve between pressure sources, command stepped to u at t = 0.01 s."""
-
-    def __init__(self, u: float, p_s: float, p_A: float, p_B: float, **valve) -> None:
-        super().__init__()
-        self.supply, self.load_A, self.load_B = PressureSource(p=p_s), PressureSource(p=p_A), PressureSource(p=p_B)
-        self.tank = Tank()
-        self.command = Step(height=u, start_time=0.01)
-        self.valve = DirectionalValve43(**valve)
-        self.connect(self.command.y, self.valve.u)
-        self.connect(self.supply.port, self.valve.port_P)
-        self.connect(self.tank.port, self.valve.port_T)
-        self.connect(self.load_A.port, self.valve.port_A)
-        self.connect(self.load_B.port, self.valve.port_B)
 
 
 def test_ideal_spool_follows_the_command_and_passes_the_rated_flow_at_once():
@@ -56,14 +40,14 @@ def test_ideal_spool_follows_the_command_and_passes_the_rated_flow_at_once():
     spool (default) has not yet opened 1 ms after the step (xs < 0.05: ω = 2π·30 rad/s), which shows the option
     really changes the model."""
     p_s = 150 * BAR
-    args = (1.0, p_s, p_s - DP_NOM, HLP46.p_ref + DP_NOM)
-    res = fl.Simulation(StepValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM, ideal_spool=True)).run(
+    args = (p_s, p_s - DP_NOM, HLP46.p_ref + DP_NOM, 1.0, 0.01)
+    res = fl.Simulation(ValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM, ideal_spool=True)).run(
         0.05, dt_out=0.001, progress=False)
     np.testing.assert_allclose(res["valve.xs"], res["command.y"], rtol=0, atol=1e-12)
     after = res.t >= 0.011
     np.testing.assert_allclose(res["valve.q_A"][after], Q_NOM, rtol=1e-2)
     np.testing.assert_allclose(res["valve.m_BT"][after] / HLP46.rho_ref, Q_NOM, rtol=1e-2)
-    lag = fl.Simulation(StepValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM)).run(0.05, dt_out=0.001, progress=False)
+    lag = fl.Simulation(ValveBench(*args, Q_nom=Q_NOM, dp_nom=DP_NOM)).run(0.05, dt_out=0.001, progress=False)
     assert lag["valve.xs"][np.searchsorted(lag.t, 0.011)] < 0.05
     assert lag.stats["n_states"] == res.stats["n_states"] + 2  # the spool states are gone
 

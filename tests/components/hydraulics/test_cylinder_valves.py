@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.components.control import Constant, Ramp, Step, TimeTable
+from flexlib.components.control import Constant, Ramp, TimeTable
 from flexlib.components.hydraulics import (
     HLP46,
     CounterbalanceValve,
@@ -30,6 +30,7 @@ from flexlib.components.hydraulics.flow_laws import critical_pressure, orifice_m
 from flexlib.components.mechanics.translational import Fixed, Force, Mass
 from flexlib.models.reference.hydraulic_circuit import DP_NOM, Q_NOM, PumpValveCylinder
 from flexlib.models.reference.hydraulic_cylinder import A_P, A_R, BAR, CYL, P_ATM, STROKE, G, PressureDriven
+from tests.components.hydraulics.benches import ValveBench
 
 
 def run(model: fl.Model, t_end: float, **kw) -> tuple[fl.Simulation, fl.Result]:
@@ -141,24 +142,6 @@ def test_cylinder_bad_parameter_set_later():
 
 
 # ---------------------------------------------------------------------------------------------------------------
-class ValveBench(fl.Model):
-    """4/3 valve between four pressure sources, commanded by a step of the spool command."""
-
-    def __init__(self, p_P: float, p_A: float, p_B: float, u: float, t_step: float = 0.0, **valve) -> None:
-        super().__init__()
-        self.supply, self.load_A, self.load_B = PressureSource(p=p_P), PressureSource(p=p_A), PressureSource(p=p_B)
-        self.tank = Tank()
-        self.command = Step(height=u, start_time=t_step)
-        self.valve = DirectionalValve43(**valve)
-        self.connect(self.command.y, self.valve.u)
-        self.connect(self.supply.port, self.valve.port_P)
-        self.connect(self.tank.port, self.valve.port_T)
-        self.connect(self.load_A.port, self.valve.port_A)
-        self.connect(self.load_B.port, self.valve.port_B)
-
-
-
-
 def test_valve_nominal_flow_at_full_command():
     """(c) Fully open valve with the nominal drop across each edge passes Q_nom through every edge.
 

@@ -25,6 +25,7 @@ from flexlib.components.mechanics.flexible.body import _cayley
 from flexlib.components.mechanics.multibody import Body, Revolute, World, WorldForce
 from flexlib.fe import Section, beam_mesh, modal_data_from_fe, rectangle
 from flexlib.models.reference.signal_chain import VectorConstant
+from tests.components.mechanics.flexible.benches import TipLoaded
 
 # the seed-001 beam: steel-like, very slender
 E, RHO, L, A, I_AREA = 2e11, 8000.0, 1.5, 1e-4, 1e-10
@@ -375,18 +376,7 @@ def test_stress_and_drawing_from_a_simulation(tmp_path):
     fe = beam_mesh((0, 0, 0), (L, 0, 0), 16, rectangle(b, h), E=Ey, rho=7850.0)
     data = modal_data_from_fe(fe, [16], 4, reference_node=0, stress_fibre=(h / 2, 0.0))
 
-    class LoadedBeam(fl.Model):
-        def __init__(self):
-            super().__init__()
-            self.world = World(g=0.0)
-            self.beam = FlexibleBody(data)
-            self.src = VectorConstant(k=[0.0, -P, 0.0])
-            self.force = WorldForce()
-            self.connect(self.world.frame_b, self.beam.frame_a)
-            self.connect(self.src.y, self.force.force)
-            self.connect(self.force.frame_b, self.beam.frame_b)
-
-    model = LoadedBeam()
+    model = TipLoaded(data, P)
     res = fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
     Iz = b * h**3 / 12
     assert res["beam.frame_b.r_0"][0, 1] == pytest.approx(-P * L**3 / (3 * Ey * Iz), rel=1e-6)

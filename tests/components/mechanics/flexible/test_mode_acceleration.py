@@ -17,8 +17,6 @@ import scipy.sparse.linalg as spla
 
 import flexlib as fl
 from flexlib import ModalFileError
-from flexlib.components.mechanics.flexible import FlexibleBody
-from flexlib.components.mechanics.multibody import World, WorldForce
 from flexlib.fe import (
     ModalData,
     Section,
@@ -32,7 +30,7 @@ from flexlib.fe import (
     von_mises,
 )
 from flexlib.fe.geometric import inertial_load_cases, interface_load_cases
-from flexlib.models.reference.signal_chain import VectorConstant
+from tests.components.mechanics.flexible.benches import TipLoaded
 
 QUIET = {"progress": False}
 
@@ -102,18 +100,7 @@ def test_one_mode_with_mode_acceleration_recovers_statics_exactly(tmp_path):
     data = modal_data_from_fe(fe, [16], 8, reference_node=0, stress_fibre=(h / 2, 0.0))
     modes = _bending_y(data, 1)
 
-    class LoadedCantilever(fl.Model):
-        def __init__(self):
-            super().__init__()
-            self.world = World(g=g)
-            self.beam = FlexibleBody(data, modes=modes, frames=[0, 16])
-            self.src = VectorConstant(k=[0.0, -P, 0.0])
-            self.force = WorldForce()
-            self.connect(self.world.frame_b, self.beam.frame_a)
-            self.connect(self.src.y, self.force.force)
-            self.connect(self.force.frame_b, self.beam.frame_b)
-
-    model = LoadedCantilever()
+    model = TipLoaded(data, P, g=g, modes=modes, frames=[0, 16])
     res = fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
     Iz, A = b * h**3 / 12, b * h
     tip_exact = -(P * L**3 / (3 * Ey * Iz) + rho * A * g * L**4 / (8 * Ey * Iz))

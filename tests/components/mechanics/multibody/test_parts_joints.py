@@ -21,6 +21,7 @@ from flexlib.components.mechanics.multibody.quaternions import quaternion_from_T
 from flexlib.components.mechanics.multibody.universal import Universal
 from flexlib.models.reference import closed_form as ref
 from flexlib.models.reference.rigid_pendulum import PointOnRod, UniversalPendulum
+from tests.components.mechanics.multibody.crossings import upward_crossings
 
 G = 9.81
 TIGHT = {"rtol": 1e-10, "atol": 1e-12}
@@ -190,18 +191,6 @@ class ShapePendulum(fl.Model):
         self.connect(self.rev.frame_b, self.link.frame_a)
 
 
-def _upward_crossings(t: np.ndarray, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
-    """Upward zero crossings by cubic Hermite interpolation between output points."""
-    out = []
-    for k in np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0)):
-        h = t[k + 1] - t[k]
-        p0, p1, m0, m1 = x[k], x[k + 1], xd[k] * h, xd[k + 1] * h
-        roots = np.roots([2 * p0 - 2 * p1 + m0 + m1, -3 * p0 + 3 * p1 - 2 * m0 - m1, m0, p0])
-        real = [r.real for r in roots if abs(r.imag) < 1e-12 and -1e-9 <= r.real <= 1 + 1e-9]
-        out.append(t[k] + h * real[0])
-    return np.array(out)
-
-
 @pytest.mark.parametrize("kind", ["shape", "box"])
 def test_body_shape_pendulum_period(kind):
     """Physical pendulum (θ0 = 1.0 rad): period vs the exact elliptic-integral period of
@@ -220,7 +209,7 @@ def test_body_shape_pendulum_period(kind):
     assert sorted(sim.states) == ["rev.phi", "rev.w"]
     res = sim.run(5.0, dt_out=2e-3, **TIGHT)
     theta = res["rev.phi"] + np.pi / 2
-    periods = np.diff(_upward_crossings(res.t, theta, res["rev.w"]))
+    periods = np.diff(upward_crossings(res.t, theta, res["rev.w"]))
     assert len(periods) >= 2
     np.testing.assert_allclose(periods, ref.physical_pendulum_period(m, d, I_cm, G, theta0), rtol=1e-5)
     tip = res["link.frame_b.r_0"]

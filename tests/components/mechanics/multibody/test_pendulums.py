@@ -10,6 +10,7 @@ import pytest
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 from flexlib.models.reference import closed_form as ref
+from tests.components.mechanics.multibody.crossings import upward_crossings
 
 G = 9.81
 
@@ -28,18 +29,6 @@ class PhysicalPendulum(fl.Model):
         self.connect(self.rod.frame_b, self.body.frame_a)
 
 
-def _upward_crossings(t: np.ndarray, x: np.ndarray, xd: np.ndarray) -> np.ndarray:
-    """Upward zero crossings by cubic Hermite interpolation between output points."""
-    out = []
-    for k in np.flatnonzero((x[:-1] < 0) & (x[1:] >= 0)):
-        h = t[k + 1] - t[k]
-        p0, p1, m0, m1 = x[k], x[k + 1], xd[k] * h, xd[k + 1] * h
-        roots = np.roots([2 * p0 - 2 * p1 + m0 + m1, -3 * p0 + 3 * p1 - 2 * m0 - m1, m0, p0])
-        real = [r.real for r in roots if abs(r.imag) < 1e-12 and -1e-9 <= r.real <= 1 + 1e-9]
-        out.append(t[k] + h * real[0])
-    return np.array(out)
-
-
 @pytest.mark.parametrize(("theta0", "I_cm"), [(0.05, 0.0), (1.2, 0.0), (1.2, 0.04)])
 def test_pendulum_period(theta0, I_cm):
     """Period vs the exact large-amplitude period (elliptic integral), 1e-5 relative (small angle: 0.05 rad
@@ -48,7 +37,7 @@ def test_pendulum_period(theta0, I_cm):
     assert sorted(sim.states) == ["rev.phi", "rev.w"]
     res = sim.run(8.0, dt_out=2e-3, rtol=1e-10, atol=1e-12)
     theta = res["rev.phi"] + np.pi / 2
-    periods = np.diff(_upward_crossings(res.t, theta, res["rev.w"]))
+    periods = np.diff(upward_crossings(res.t, theta, res["rev.w"]))
     exact = ref.physical_pendulum_period(1.0, 1.0, I_cm, G, theta0)
     assert len(periods) >= 2
     np.testing.assert_allclose(periods, exact, rtol=1e-5)
