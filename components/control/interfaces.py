@@ -14,7 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Component, Input, Output, Parameter
-from flexlib.core.component import remember_option
+from flexlib.core.options import remember_option
 from flexlib.errors import ModelError
 
 __all__ = [

@@ -8,7 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Input, Parameter, Variable, der, eq, no_event
-from flexlib.core.component import flag
+from flexlib.core.options import flag
 from flexlib.errors import ModelError, ParameterError
 
 from .interfaces import INIT_TYPES, PartialSVcontrol, check_choice, scalar

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Parameter, ParameterError, eq, if_else, no_event
-from flexlib.core.component import flag
+from flexlib.core.options import flag
 
 from .interfaces import PartialSISO, scalar
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Parameter, Variable, der, eq
-from flexlib.core.component import flag
+from flexlib.core.options import flag
 
 from .interfaces import INIT_TYPES, PartialSISO, check_choice
 from .limiter import limit

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from flexlib import Parameter, eq, if_else, time
-from flexlib.core.component import remember_option
+from flexlib.core.options import remember_option
 from flexlib.errors import ModelError
 
 from .interfaces import PartialSignalSource

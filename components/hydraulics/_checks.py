@@ -14,12 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.core.component import flag, remember_option
+from flexlib.core.options import remember_option
 from flexlib.errors import ParameterError
 
 from .fluid import Fluid
 
-__all__ = ["PositiveParameters", "flag", "pressure_start", "remember_option", "store_fluid"]
+__all__ = ["PositiveParameters", "pressure_start", "store_fluid"]
 
 
 class PositiveParameters:

@@ -5,9 +5,10 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Component, Input, Parameter, Variable, der, eq
+from flexlib.core.options import flag
 
 from ..mechanics.rotational.interfaces import Flange
-from ._checks import PositiveParameters, flag, store_fluid
+from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port
 

@@ -8,8 +8,9 @@ from typing import Any
 import casadi as ca
 
 from flexlib import Component, Parameter, Variable, der, eq
+from flexlib.core.options import flag
 
-from ._checks import PositiveParameters, flag, store_fluid
+from ._checks import PositiveParameters, store_fluid
 from ._smooth import smooth_clamp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid

@@ -9,9 +9,10 @@ import casadi as ca
 
 from flexlib import Component, Parameter, Variable, der, eq, if_else
 from flexlib.components.mechanics.translational.interfaces import Flange
+from flexlib.core.options import flag
 from flexlib.errors import ParameterError
 
-from ._checks import PositiveParameters, flag, store_fluid
+from ._checks import PositiveParameters, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form
 

@@ -9,9 +9,10 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Component, Input, Parameter, Variable, assert_, der, eq, no_event
+from flexlib.core.options import flag, remember_option
 from flexlib.errors import ModelError, ParameterError
 
-from ._checks import PositiveParameters, flag, remember_option, store_fluid
+from ._checks import PositiveParameters, store_fluid
 from ._smooth import smooth_ramp
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid

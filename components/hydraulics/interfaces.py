@@ -17,8 +17,10 @@ from __future__ import annotations
 from typing import Any, ClassVar
 
 from flexlib import Component, Connector, Flow, Input, Potential, Variable, der, eq
+from flexlib.core.options import flag, remember_option
+from flexlib.errors import ModelError
 
-from ._checks import flag, store_fluid
+from ._checks import store_fluid
 from .flow_laws import critical_pressure, orifice_mass_flow
 from .fluid import HLP46, Fluid
 
@@ -260,10 +262,6 @@ def check_chamber_form(node: Any, form: str) -> str:
     """Validate a component's structural ``chamber_form`` option (error names the component); a later
     ``node.chamber_form = ...`` is checked the same way."""
     if not isinstance(form, str) or form not in CHAMBER_FORMS:
-        from flexlib.errors import ModelError
-
         raise ModelError(f"{type(node).__name__}: chamber_form must be one of {list(CHAMBER_FORMS)}, got {form!r}")
-    from flexlib.core.component import remember_option
-
     remember_option(node, "chamber_form", lambda v: check_chamber_form(node, v))
     return form

@@ -6,8 +6,9 @@ import math
 from typing import Any
 
 from flexlib import Component, Parameter, Variable, der, eq
+from flexlib.core.options import flag
 
-from ._checks import PositiveParameters, flag, pressure_start, store_fluid
+from ._checks import PositiveParameters, pressure_start, store_fluid
 from .fluid import HLP46, Fluid
 from .interfaces import Port, chamber_equations, chamber_mass_nominal, check_chamber_form
 

@@ -7,8 +7,8 @@ from typing import Any
 import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
+from flexlib.core.options import flag
 
-from ._checks import flag
 from ._pump import PartialPump
 from ._smooth import smooth_clamp
 from .fluid import HLP46, Fluid

@@ -7,8 +7,9 @@ from typing import Any
 import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
+from flexlib.core.options import flag
 
-from ._checks import PositiveParameters, flag
+from ._checks import PositiveParameters
 from ._smooth import smooth_ramp
 from .fluid import HLP46, Fluid
 from .interfaces import PartialTwoPort

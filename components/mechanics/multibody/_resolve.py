@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from flexlib.core.component import remember_option
+from flexlib.core.options import remember_option
 from flexlib.errors import ModelError
 
 __all__ = ["check_resolve_in_frame"]

@@ -8,7 +8,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Component, Parameter, Variable, der, eq
-from flexlib.core.component import flag
+from flexlib.core.options import flag
 from flexlib.errors import ParameterError
 
 from .frames import equality_constraint, resolve1

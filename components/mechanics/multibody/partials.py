@@ -14,7 +14,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Component, eq
-from flexlib.core.component import flag
+from flexlib.core.options import flag
 from flexlib.errors import ParameterError
 
 from ._resolve import check_resolve_in_frame

@@ -8,7 +8,7 @@ import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
 from flexlib.components.mechanics.rotational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
-from flexlib.core.component import flag
+from flexlib.core.options import flag
 
 from .frames import absolute_rotation, planar_rotation, resolve1
 from .interfaces import support_grounded

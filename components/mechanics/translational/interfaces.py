@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any
 
 from flexlib import Component, Connector, Flow, Parameter, Potential, Variable, der, eq
-from flexlib.core.component import flag
+from flexlib.core.options import flag
 
 __all__ = [
     "Flange",
