@@ -5,7 +5,7 @@ from __future__ import annotations
 from flexlib import Output, eq
 
 from .frames import resolve1
-from .partials import PartialAbsoluteSensor
+from .interfaces import PartialAbsoluteSensor
 
 __all__ = ["AbsoluteAngularVelocity"]
 

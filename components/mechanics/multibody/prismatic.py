@@ -10,8 +10,7 @@ from flexlib import Parameter, Variable, der, eq
 from flexlib.components.mechanics.translational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
 
 from .frames import resolve1
-from .interfaces import support_grounded
-from .partials import PartialAxisJoint, add_axis_flange
+from .interfaces import PartialAxisJoint, add_axis_flange, support_grounded
 
 __all__ = ["Prismatic"]
 

@@ -7,7 +7,7 @@ from typing import Any
 from flexlib import Output, eq
 
 from .frames import resolve2
-from .partials import PartialRelativeSensor
+from .interfaces import PartialRelativeSensor
 
 __all__ = ["RelativePosition"]
 

@@ -9,7 +9,7 @@ import casadi as ca
 from flexlib import Output, der, eq
 
 from .frames import resolve1, resolve2
-from .partials import PartialRelativeSensor
+from .interfaces import PartialRelativeSensor
 
 __all__ = ["RelativeVelocity"]
 

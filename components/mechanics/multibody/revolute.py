@@ -11,8 +11,7 @@ from flexlib.components.mechanics.rotational.interfaces import Flange, PartialAb
 from flexlib.core.options import flag
 
 from .frames import absolute_rotation, planar_rotation, resolve1
-from .interfaces import support_grounded
-from .partials import PartialAxisJoint, add_axis_flange
+from .interfaces import PartialAxisJoint, add_axis_flange, support_grounded
 
 __all__ = ["Revolute"]
 

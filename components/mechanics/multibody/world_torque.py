@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from flexlib import Input, eq
 
-from .partials import PartialWorldLoad
+from .interfaces import PartialWorldLoad
 
 __all__ = ["WorldTorque"]
 
