@@ -168,7 +168,7 @@ def test_docs_example_runs(tmp_path, monkeypatch, capsys):
     """The example of docs/modal_file.md runs as written (in a scratch directory) and writes a readable file."""
     from pathlib import Path
 
-    doc = (Path(__file__).parents[4] / "docs" / "modal_file.md").read_text()
+    doc = (Path(__file__).parents[2] / "docs" / "modal_file.md").read_text()
     code = doc.split("```python\n", 1)[1].split("```", 1)[0]
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "docs/modal_file.md", "exec"), {})
