@@ -19,19 +19,14 @@ class DeadZone(PartialSISO):
 
     Both zone edges are state events.
 
-    Parameters
-    ----------
-    u_min : float
-        Lower limit of the dead zone [1], <= ``u_max`` (given explicitly; MSL's default is
-        ``-u_max``).
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Blocks.Nonlinear.DeadZone``.
     """
 
     u_max = Parameter(unit="1", doc="Upper limit of the dead zone")
-    u_min = Parameter(unit="1", doc="Lower limit of the dead zone")
+    u_min = Parameter(unit="1",
+                      doc="Lower limit of the dead zone, <= ``u_max`` (MSL's default ``-u_max`` is not copied)")
 
     def check(self, values: dict) -> None:
         hi, lo = scalar(values, "u_max"), scalar(values, "u_min")

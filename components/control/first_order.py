@@ -16,10 +16,6 @@ class FirstOrder(PartialSISO):
 
     Parameters
     ----------
-    T : float
-        Time constant [s], != 0.
-    y_start : float
-        Initial value of the output (= state) [1].
     init_type : str
         ``"initial_state"`` (default) or ``"initial_output"``: ``y = y_start`` at the start;
         ``"steady_state"``: ``der(y) = 0``; ``"no_init"``: no initial equation (give
@@ -42,8 +38,8 @@ class FirstOrder(PartialSISO):
     """
 
     k = Parameter(1.0, unit="1", doc="Gain")
-    T = Parameter(unit="s", doc="Time constant")
-    y_start = Parameter(0.0, unit="1", doc="Initial value of the output")
+    T = Parameter(unit="s", doc="Time constant, nonzero")
+    y_start = Parameter(0.0, unit="1", doc="Initial value of the output (= state)")
 
     def __init__(self, init_type: str = "initial_state", **kw: Any) -> None:
         super().__init__(**kw)

@@ -44,23 +44,6 @@ class LimPID(PartialSVcontrol):
     ----------
     controller_type : str
         ``"P"``, ``"PI"``, ``"PD"`` or ``"PID"`` (default).
-    k : float
-        Gain of the controller [1], != 0.
-    y_min : float
-        Lower limit of the output [1], <= ``y_max`` (both given explicitly; MSL's default
-        ``y_min = -y_max`` is not copied).
-    Ni : float
-        ``Ni * Ti`` is the time constant of the anti-windup compensation [1], > 0.
-    Nd : float
-        Derivative filter: ``Td / Nd`` is its time constant [1], > 0 (larger: more ideal).
-    k_ff : float
-        Gain of the feed-forward input [1] (used only with ``use_feed_forward``).
-    xi_start : float
-        Initial integrator state ``xi`` (``"initial_state"``) [1].
-    xd_start : float
-        Initial derivative-filter state ``xd`` (``"initial_state"``) [1].
-    y_start : float
-        Initial output before the limiter, ``v - k_ff u_ff`` (``"initial_output"``) [1].
     init_type : str
         ``"initial_state"`` (default, as MSL): ``xi = xi_start``, ``xd = xd_start``;
         ``"steady_state"``: ``der(xi) = der(xd) = 0``; ``"initial_output"`` (PI, PID):
@@ -81,17 +64,6 @@ class LimPID(PartialSVcontrol):
     y : Output [1]
         Limited controller output.
 
-    Variables
-    ---------
-    control_error : 1
-        ``u_s - u_m``.
-    xi : 1
-        Integrator state (MSL ``I.y``; 0 without I).
-    xd : 1
-        Derivative-filter state (MSL ``D.x``; 0 without D).
-    y_unlimited : 1
-        Controller output before the limiter (MSL ``limiter.u``).
-
     Notes
     -----
     Values given at construction are checked together (``Ti > 0``, ``Td >= 0``, ``k != 0``,
@@ -106,24 +78,27 @@ class LimPID(PartialSVcontrol):
     T. Hägglund, *PID Controllers: Theory, Design, and Tuning*, 2nd ed., ISA 1995, ch. 3.
     """
 
-    k = Parameter(1.0, unit="1", doc="Gain of the controller")
+    k = Parameter(1.0, unit="1", doc="Gain of the controller, nonzero")
     Ti = Parameter(0.5, unit="s", gt=0.0, doc="Time constant of the integrator")
     Td = Parameter(0.1, unit="s", min=0.0, doc="Time constant of the derivative block")
     y_max = Parameter(unit="1", doc="Upper limit of the output")
-    y_min = Parameter(unit="1", doc="Lower limit of the output")
+    y_min = Parameter(unit="1",
+                      doc="Lower limit of the output, <= ``y_max`` (MSL's default ``-y_max`` is not copied)")
     wp = Parameter(1.0, unit="1", min=0.0, doc="Set-point weight of the proportional part")
     wd = Parameter(0.0, unit="1", min=0.0, doc="Set-point weight of the derivative part")
-    Ni = Parameter(0.9, unit="1", min=100 * EPS, doc="Ni*Ti is the time constant of the anti-windup compensation")
-    Nd = Parameter(10.0, unit="1", min=100 * EPS, doc="The higher Nd, the more ideal the derivative block")
-    k_ff = Parameter(1.0, unit="1", doc="Gain of the feed-forward input")
-    xi_start = Parameter(0.0, unit="1", doc="Initial value of the integrator state")
-    xd_start = Parameter(0.0, unit="1", doc="Initial value of the derivative-filter state")
-    y_start = Parameter(0.0, unit="1", doc="Initial value of the output (initial_output)")
+    Ni = Parameter(0.9, unit="1", min=100 * EPS, doc="``Ni * Ti`` is the time constant of the anti-windup compensation")
+    Nd = Parameter(10.0, unit="1", min=100 * EPS,
+                   doc="Derivative filter: ``Td / Nd`` is its time constant (larger: more ideal)")
+    k_ff = Parameter(1.0, unit="1", doc="Gain of the feed-forward input (used only with ``use_feed_forward``)")
+    xi_start = Parameter(0.0, unit="1", doc='Initial integrator state ``xi`` (init_type ``"initial_state"``)')
+    xd_start = Parameter(0.0, unit="1", doc='Initial derivative-filter state ``xd`` (init_type ``"initial_state"``)')
+    y_start = Parameter(0.0, unit="1",
+                        doc='Initial output before the limiter, ``v - k_ff u_ff`` (init_type ``"initial_output"``)')
 
     control_error = Variable(unit="1", doc="Control error u_s - u_m")
-    xi = Variable(unit="1", state_select="prefer", doc="Integrator state")
-    xd = Variable(unit="1", state_select="prefer", doc="Derivative-filter state")
-    y_unlimited = Variable(unit="1", doc="Controller output before the limiter")
+    xi = Variable(unit="1", state_select="prefer", doc="Integrator state (MSL ``I.y``; 0 without I)")
+    xd = Variable(unit="1", state_select="prefer", doc="Derivative-filter state (MSL ``D.x``; 0 without D)")
+    y_unlimited = Variable(unit="1", doc="Controller output before the limiter (MSL ``limiter.u``)")
 
     def __init__(self, controller_type: str = "PID", init_type: str = "initial_state",
                  use_feed_forward: bool = False, strict: bool = False, **kw: Any) -> None:

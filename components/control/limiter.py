@@ -30,9 +30,6 @@ class Limiter(PartialSISO):
 
     Parameters
     ----------
-    u_min : float
-        Lower limit of the input signal [1], <= ``u_max``. MSL's default ``-u_max`` is not
-        copied: both limits are given explicitly.
     strict : bool
         True to evaluate the limits continuously (MSL ``strict``: ``noEvent``, no events), for
         inputs that must not be stopped at; default False (events).
@@ -53,7 +50,8 @@ class Limiter(PartialSISO):
     """
 
     u_max = Parameter(unit="1", doc="Upper limit of the input signal")
-    u_min = Parameter(unit="1", doc="Lower limit of the input signal")
+    u_min = Parameter(unit="1",
+                      doc="Lower limit of the input signal, <= ``u_max`` (MSL's default ``-u_max`` is not copied)")
 
     def __init__(self, strict: bool = False, **kw: Any) -> None:
         super().__init__(**kw)

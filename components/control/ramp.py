@@ -21,8 +21,6 @@ class Ramp(PartialSignalSource):
 
     Parameters
     ----------
-    duration : float
-        Duration of the ramp [s], >= 0 (0 degenerates to a step).
     start_time : float
         Start time of the ramp [s].
 
@@ -32,7 +30,7 @@ class Ramp(PartialSignalSource):
     """
 
     height = Parameter(1.0, unit="1", doc="Height of the ramp")
-    duration = Parameter(unit="s", min=0.0, doc="Duration of the ramp")
+    duration = Parameter(unit="s", min=0.0, doc="Duration of the ramp (0 degenerates to a step)")
 
     def equations(self) -> list:
         t0, T, h = self.start_time, self.duration, self.height

@@ -26,12 +26,6 @@ class RateLimiter(PartialSISO):
 
     Parameters
     ----------
-    falling : float
-        Maximum falling rate [1/s], < 0 (MSL's default ``-rising`` is given explicitly: -1).
-    Td : float
-        Derivative time constant [s], > 0; smaller is nearer the ideal limiter.
-    y_start : float
-        Initial output for ``init_type`` ``"initial_state"`` / ``"initial_output"`` [1].
     init_type : str
         ``"steady_state"`` (default, MSL): ``y = u`` at the start; ``"initial_state"`` or
         ``"initial_output"``: ``y = y_start``; ``"no_init"``: none.
@@ -43,20 +37,16 @@ class RateLimiter(PartialSISO):
     y : Output [1]
         Rate-limited signal (the state).
 
-    Variables
-    ---------
-    rate : 1/s
-        ``(u - y)/Td``, the unlimited rate.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Blocks.Nonlinear.SlewRateLimiter``.
     """
 
     rising = Parameter(1.0, unit="1/s", gt=0.0, doc="Maximum rising slew rate")
-    falling = Parameter(-1.0, unit="1/s", lt=0.0, doc="Maximum falling slew rate")
-    Td = Parameter(0.001, unit="s", gt=0.0, doc="Derivative time constant")
-    y_start = Parameter(0.0, unit="1", doc="Initial value of the output")
+    falling = Parameter(-1.0, unit="1/s", lt=0.0,
+                        doc="Maximum falling slew rate (given explicitly: MSL's default ``-rising`` is not copied)")
+    Td = Parameter(0.001, unit="s", gt=0.0, doc="Derivative time constant; smaller is nearer the ideal limiter")
+    y_start = Parameter(0.0, unit="1", doc='Initial output for init_type ``"initial_state"`` or ``"initial_output"``')
     rate = Variable(unit="1/s", doc="Unlimited rate (u - y)/Td")
 
     def __init__(self, init_type: str = "steady_state", strict: bool = False, **kw: Any) -> None:

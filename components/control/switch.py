@@ -22,10 +22,6 @@ class Switch(PartialSO):
 
     Connectors
     ----------
-    u1 : Input [1]
-        Output if ``u2 > 0.5``.
-    u3 : Input [1]
-        Output if ``u2 <= 0.5``.
     y : Output [1]
         Selected signal.
 

@@ -17,11 +17,6 @@ class Tare(PartialSISO):
     ``der(u0) = 0`` and the initial equation ``u0 = u``, so the start may be computed by the initialisation (a
     deflected structure at rest, say) and still read ``y_start``.
 
-    Parameters
-    ----------
-    y_start : float
-        Output at the start [1] (the unit of the signal).
-
     Connectors
     ----------
     y : Output [1]
@@ -34,7 +29,7 @@ class Tare(PartialSISO):
     triggered once at the start, then ``Modelica.Blocks.Math.Add`` (``u − u0``) and an offset.
     """
 
-    y_start = Parameter(0.0, unit="1", doc="Output at the start")
+    y_start = Parameter(0.0, unit="1", doc="Output at the start (in the unit of the signal)")
     u0 = Variable(unit="1", doc="Input at the start, held")
 
     def initial_equations(self) -> list:

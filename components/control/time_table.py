@@ -70,11 +70,6 @@ class TimeTable(PartialSO):
         Output values at the time points [1], as many as ``t``.
     smoothness : str
         ``"linear"``, ``"constant"``, ``"akima"``, ``"modified_akima"`` or ``"monotone"``.
-    offset : float
-        Offset added to the interpolated value [1].
-    shift_time : float
-        Shift of the table's time points [s]: the output at ``time`` is the table at
-        ``time - shift_time``.
 
     Connectors
     ----------
@@ -96,7 +91,9 @@ class TimeTable(PartialSO):
     """
 
     offset = Parameter(0.0, unit="1", doc="Offset of the output signal")
-    shift_time = Parameter(0.0, unit="s", doc="Shift of the table's time points")
+    shift_time = Parameter(0.0, unit="s",
+                           doc=("Shift of the table's time points: the output at ``time`` is the table at ``time - "
+                                "shift_time``"))
 
     def __init__(self, t: Any, y: Any, smoothness: str = "linear", **kw: Any) -> None:
         name = type(self).__name__

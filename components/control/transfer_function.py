@@ -37,8 +37,6 @@ class TransferFunction(PartialSISO):
         Denominator coefficients, highest power first [1]; ``a[0] != 0``.
     x_start : array_like
         Initial states ``x`` (``init_type="initial_state"``), default zeros [1].
-    y_start : float
-        Initial output (``init_type="initial_output"``) [1].
     init_type : str
         ``"initial_state"`` (default): ``x = x_start``; ``"steady_state"``: ``der(x) = 0``;
         ``"initial_output"``: ``y = y_start`` and ``der(x[1:]) = 0``; ``"no_init"``: none.
@@ -61,7 +59,7 @@ class TransferFunction(PartialSISO):
     Modelica Standard Library 4.0, ``Modelica.Blocks.Continuous.TransferFunction``.
     """
 
-    y_start = Parameter(0.0, unit="1", doc="Initial value of the output")
+    y_start = Parameter(0.0, unit="1", doc='Initial value of the output (init_type ``"initial_output"``)')
 
     def __init__(self, b: Any = (1.0,), a: Any = (1.0,), x_start: Any = None,
                  init_type: str = "initial_state", init: dict | None = None, guess: dict | None = None,

@@ -40,10 +40,6 @@ class Trapezoid(PartialSignalSource):
 
     Parameters
     ----------
-    width : float
-        Width (plateau) duration [s], >= 0.
-    period : float
-        Time for one period [s], > 0; a phase that does not fit is cut at the period end.
     nperiod : int
         Number of periods, >= 0 (structural: 4 time events per period).
 
@@ -60,9 +56,9 @@ class Trapezoid(PartialSignalSource):
 
     amplitude = Parameter(1.0, unit="1", doc="Amplitude of trapezoid")
     rising = Parameter(0.0, unit="s", min=0.0, doc="Rising duration of trapezoid")
-    width = Parameter(0.5, unit="s", min=0.0, doc="Width duration of trapezoid")
+    width = Parameter(0.5, unit="s", min=0.0, doc="Width (plateau) duration of the trapezoid")
     falling = Parameter(0.0, unit="s", min=0.0, doc="Falling duration of trapezoid")
-    period = Parameter(unit="s", gt=0.0, doc="Time for one period")
+    period = Parameter(unit="s", gt=0.0, doc="Time for one period; a phase that does not fit is cut at the period end")
 
     def __init__(self, nperiod: int, **kw: Any) -> None:
         count = _count(self, nperiod)
