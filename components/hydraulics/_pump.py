@@ -52,17 +52,6 @@ class PartialPump(PositiveParameters, Component):
         Shaft speed (only if not ``use_flange``; otherwise a variable, ``der(flange.phi)``).
     flange : Flange
         Drive shaft (only if ``use_flange``); ``flange.tau = tau`` is the torque driven into the pump.
-
-    Variables
-    ---------
-    q : m3/s
-        Delivered volume flow (suction density).
-    m_flow : kg/s
-        Delivered mass flow.
-    dp : Pa
-        Pressure rise ``p_b - p_a``.
-    tau : N.m
-        Shaft torque needed to drive the pump.
     """
 
     port_a = Port(doc="Suction (inlet) port")

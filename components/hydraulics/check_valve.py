@@ -38,27 +38,14 @@ class CheckValve(PositiveParameters, PartialTwoPort):
     a node without capacitance leaves that node's pressure almost undetermined; give such a
     node a :class:`Volume` (a real pump outlet has one).
 
-    Parameters
-    ----------
-    p_crack : float
-        Cracking pressure difference [Pa], >= 0.
-    p_open : float
-        Pressure difference at full opening [Pa], > p_crack.
-    A_max : float
-        Fully open area [m2], > 0.
-    A_leak : float
-        Leakage area of the closed valve [m2], > 0, < A_max.
-    Cd : float
-        Discharge coefficient [1], > 0.
-    smoothing : float
-        Width of the corner fillets as a fraction of ``p_open - p_crack`` [1], in [0, 1].
-    Re_cr : float
-        Critical Reynolds number of the laminar–turbulent transition [1], > 0.
-
     Connectors
     ----------
     port_a, port_b : Port
         Inlet a, outlet b; free flow from a to b.
+
+    Notes
+    -----
+    ``A_max``, ``A_leak``, ``Cd`` and ``Re_cr`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -70,12 +57,13 @@ class CheckValve(PositiveParameters, PartialTwoPort):
 
     _positive = ("A_max", "A_leak", "Cd", "Re_cr")
     p_crack = Parameter(1e5, unit="Pa", min=0.0, doc="Cracking pressure difference")
-    p_open = Parameter(2e5, unit="Pa", min=0.0, doc="Pressure difference at full opening")
+    p_open = Parameter(2e5, unit="Pa", min=0.0, doc="Pressure difference at full opening, > ``p_crack``")
     A_max = Parameter(unit="m2", min=0.0, doc="Fully open area")
-    A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area of the closed valve")
+    A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area of the closed valve, < ``A_max``")
     Cd = Parameter(0.64, unit="1", min=0.0, doc="Discharge coefficient")
-    smoothing = Parameter(0.05, unit="1", min=0.0, max=1.0, doc="Corner fillet width / opening range")
-    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
+    smoothing = Parameter(0.05, unit="1", min=0.0, max=1.0,
+                          doc="Width of the corner fillets as a fraction of ``p_open - p_crack``")
+    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number of the laminar–turbulent transition")
     x = Variable(unit="1", doc="Opening fraction")
 
     def check(self, values: dict[str, Any]) -> None:

@@ -66,38 +66,6 @@ class CounterbalanceValve(PositiveParameters, Component):
 
     Parameters
     ----------
-    p_crack : float
-        Setting: opening pressure difference at zero pilot pressure [Pa], > 0 (typically 1.3 × the
-        maximum load-holding pressure).
-    pilot_ratio : float
-        Pilot ratio: pilot area / load area of the poppet [1], > 0 (3:1 standard, 1.5:1 for unstable
-        loads, 8:1 for stable ones).
-    dp_open : float
-        Pressure rise above the setting for full opening of the poppet [Pa], > 0.
-    Q_nom : float
-        Flow of the fully open poppet at ``dp_nom`` [m3/s], > 0.
-    p_check : float
-        Cracking pressure of the check valve [Pa], >= 0.
-    dp_check : float
-        Pressure rise above ``p_check`` for full opening of the check valve [Pa], > 0.
-    Q_nom_check : float
-        Flow of the fully open check valve at ``dp_nom`` [m3/s], > 0.
-    dp_nom : float
-        Pressure drop of the nominal flows [Pa], > 0.
-    Cd : float
-        Discharge coefficient [1], > 0.
-    A_leak : float
-        Leakage area of each closed path [m2], >= 0.
-    Re_cr : float
-        Critical Reynolds number of the laminar–turbulent transition [1], > 0.
-    T : float
-        Time constant of the poppet opening [s], > 0 (used if ``use_dynamics``).
-    smoothing : float
-        Width of the corner fillets of both openings as a fraction of their opening ranges ``dp_check`` and
-        ``dp_open`` [1], in [0, 1]; 0 (default): sharp corners. With ``smoothing > 0`` each opening is C1 and
-        exact outside ``±smoothing/2`` of its range around cracking and full opening (Simscape Fluids'
-        *smoothing factor*): a valve crossing its corners often (a closed loop holding a load) then costs the
-        integrator no corner restarts.
     use_dynamics : bool
         True if the poppet opening lags the pressures by ``T`` (structural; adds the state ``p_c``).
     steady_start : bool
@@ -118,11 +86,14 @@ class CounterbalanceValve(PositiveParameters, Component):
     port_pilot : Port
         Pilot from the opposite cylinder line (Sun port 3); no flow.
 
-    Variables
-    ---------
-    m_check [kg/s]: flow valve → load through the check valve; m_relief [kg/s]: flow load → valve through
-    the poppet; h_check, h_relief [1]: opening fractions; p_open [Pa]: opening pressure of the poppet;
-    p_c [Pa]: control pressure setting the opening (= p_open without dynamics).
+    Notes
+    -----
+    With ``smoothing > 0`` each opening is C1 and exact outside ``±smoothing/2`` of its range around cracking
+    and full opening (Simscape Fluids' *smoothing factor*): a valve crossing its corners often (a closed loop
+    holding a load) then costs the integrator no corner restarts.
+
+    ``p_crack``, ``pilot_ratio``, ``dp_open``, ``Q_nom``, ``dp_check``, ``Q_nom_check``, ``dp_nom``, ``Cd``,
+    ``Re_cr`` and ``T`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -136,26 +107,34 @@ class CounterbalanceValve(PositiveParameters, Component):
     _positive = ("p_crack", "pilot_ratio", "dp_open", "Q_nom", "dp_check", "Q_nom_check", "dp_nom", "Cd", "Re_cr",
                  "T")
 
-    p_crack = Parameter(unit="Pa", min=0.0, doc="Setting (opening pressure without pilot)")
-    pilot_ratio = Parameter(3.0, unit="1", min=0.0, doc="Pilot ratio")
-    dp_open = Parameter(20e5, unit="Pa", min=0.0, doc="Pressure rise for full opening of the poppet")
-    Q_nom = Parameter(6e-4, unit="m3/s", min=0.0, doc="Flow of the open poppet at dp_nom")
+    p_crack = Parameter(unit="Pa", min=0.0,
+                        doc=("Setting: opening pressure difference at zero pilot pressure (typically 1.3 × the maximum "
+                             "load-holding pressure)"))
+    pilot_ratio = Parameter(3.0, unit="1", min=0.0,
+                            doc=("Pilot ratio, pilot area / load area of the poppet (3:1 standard, 1.5:1 for unstable "
+                                 "loads, 8:1 for stable ones)"))
+    dp_open = Parameter(20e5, unit="Pa", min=0.0, doc="Pressure rise above the setting for full opening of the poppet")
+    Q_nom = Parameter(6e-4, unit="m3/s", min=0.0, doc="Flow of the fully open poppet at ``dp_nom``")
     p_check = Parameter(1e5, unit="Pa", min=0.0, doc="Cracking pressure of the check valve")
-    dp_check = Parameter(2e5, unit="Pa", min=0.0, doc="Pressure rise for full opening of the check valve")
-    Q_nom_check = Parameter(6e-4, unit="m3/s", min=0.0, doc="Flow of the open check valve at dp_nom")
+    dp_check = Parameter(2e5, unit="Pa", min=0.0,
+                         doc="Pressure rise above ``p_check`` for full opening of the check valve")
+    Q_nom_check = Parameter(6e-4, unit="m3/s", min=0.0, doc="Flow of the fully open check valve at ``dp_nom``")
     dp_nom = Parameter(10e5, unit="Pa", min=0.0, doc="Pressure drop of the nominal flows")
     Cd = Parameter(0.7, unit="1", min=0.0, doc="Discharge coefficient")
     A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area of each closed path")
-    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
-    T = Parameter(0.02, unit="s", min=0.0, doc="Time constant of the poppet opening")
-    smoothing = Parameter(0.0, unit="1", min=0.0, max=1.0, doc="Corner fillet width / opening range")
+    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number of the laminar–turbulent transition")
+    T = Parameter(0.02, unit="s", min=0.0, doc="Time constant of the poppet opening (used if ``use_dynamics``)")
+    smoothing = Parameter(0.0, unit="1", min=0.0, max=1.0,
+                          doc=("Width of the corner fillets of both openings as a fraction of their opening ranges "
+                               "``dp_check`` and ``dp_open`` (0: sharp corners)"))
 
     m_check = Variable(unit="kg/s", doc="Mass flow valve -> load through the check valve")
     m_relief = Variable(unit="kg/s", doc="Mass flow load -> valve through the poppet")
     h_check = Variable(unit="1", doc="Opening fraction of the check valve")
     h_relief = Variable(unit="1", doc="Opening fraction of the poppet")
     p_open = Variable(unit="Pa", nominal=1e7, doc="Opening pressure acting on the poppet")
-    p_c = Variable(unit="Pa", nominal=1e7, start=0.0, fixed=True, doc="Control pressure setting the poppet opening")
+    p_c = Variable(unit="Pa", nominal=1e7, start=0.0, fixed=True,
+                   doc="Control pressure setting the poppet opening (= ``p_open`` without dynamics)")
 
     port_valve = Port(doc="Towards the directional valve")
     port_load = Port(doc="Towards the load (cylinder)")

@@ -78,48 +78,6 @@ class DoubleActingCylinder(PositiveParameters, Component):
 
     Parameters
     ----------
-    d_bore : float
-        Piston (bore) diameter [m], > 0.
-    d_rod : float
-        Rod diameter [m], > 0 and < d_bore.
-    stroke : float
-        Stroke [m], > 0.
-    L0 : float
-        Distance flange_b.s − flange_a.s at x = 0 (closed length between the mounting points) [m].
-    V_dead_A, V_dead_B : float
-        Dead volumes of the cap-side and rod-side chambers at the ends of the stroke (ports, hoses
-        inside the cylinder) [m3], > 0.
-    m : float
-        Mass of piston and rod [kg], >= 0.
-    F_c : float
-        Coulomb friction force of the seals [N], >= 0.
-    stribeck : float
-        Ratio of break-away (static) to Coulomb friction [1], >= 1.
-    v_s : float
-        Stribeck velocity [m/s], > 0.
-    d : float
-        Viscous friction coefficient [N.s/m], >= 0.
-    v_reg : float
-        Regularisation velocity of the Coulomb friction (``tanh(v/v_reg)``) [m/s], > 0.
-    G_int : float
-        Internal (piston seal) laminar leakage coefficient, volume flow per pressure difference
-        [m3/(s.Pa)], >= 0.
-    G_ext : float
-        External (rod seal) laminar leakage coefficient from chamber B [m3/(s.Pa)], >= 0.
-    c_stop : float
-        Contact stiffness of the end stops [N/m], > 0.
-    d_stop : float
-        Contact damping of the end stops [N.s/m], >= 0.
-    x_start : float
-        Initial piston position [m], in [0, stroke] (used if ``x_fixed``).
-    v_start : float
-        Initial piston velocity [m/s] (used if ``x_fixed``).
-    p_A_start, p_B_start : float
-        Initial absolute chamber pressures [Pa], > 0 (used if ``p_fixed``).
-    p_amb : float
-        Ambient absolute pressure around the cylinder [Pa], >= 0: acts on the rod cross-section
-        (``−p_amb·(A_p − A_r)`` in ``F_hyd``) and receives the rod-seal leakage without a drain. Default:
-        ``fluid.p_ref``; 0 for a force balance in gauge terms.
     x_fixed : bool
         True if ``x(t0) = x_start`` and ``v(t0) = v_start`` are initial conditions (structural; set it
         False when the position follows from the rest of the model, e.g. a 3D linkage).
@@ -148,14 +106,8 @@ class DoubleActingCylinder(PositiveParameters, Component):
     flange_b : translational Flange
         Rod end, moves with the piston mass.
 
-    Variables
-    ---------
-    x [m], v [m/s], a [m/s2]: piston position, velocity, acceleration relative to the housing;
-    p_A, p_B [Pa]; m_A, m_B [kg]: stored masses; dm_A, dm_B [kg]: their deviations from the start volumes;
-    mc_A, mc_B [kg]: compression masses (states); V_A, V_B
-    [m3]; q_A, q_B [m3/s]: volume flows into the chambers at the ports; F, F_hyd, F_fric, F_stop [N];
-    m_flow_int, m_flow_ext [kg/s]; v_rod [m/s]: absolute rod velocity.
-
+    Notes
+    -----
     Nominal values (error weights, ``atol·nominal``): pressures 1e7 Pa; forces 1e4 N (1e3 N end-stop contact,
     which is zero most of the time);
     position ``stroke`` and velocity ``stroke``/s (per instance, from the constructor's stroke); chamber
@@ -166,11 +118,12 @@ class DoubleActingCylinder(PositiveParameters, Component):
     1e3 N), so that a holding cylinder's friction force, steep around ``v = 0``, does not set the step size instead of
     ``v`` (``docs/decisions/032-hydraulic-nominals-follow-the-states.md``).
 
-    Notes
-    -----
     Cross-parameter conditions (``d_rod < d_bore``, ``x_start`` within the stroke) are checked by
     :meth:`check` whenever values are set: on the component, at flatten and for run-time overrides
     ``run(params=...)``, naming the cylinder.
+
+    ``d_bore``, ``d_rod``, ``stroke``, ``V_dead_A``, ``V_dead_B``, ``v_s``, ``v_reg``, ``c_stop``,
+    ``p_A_start`` and ``p_B_start`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -185,26 +138,40 @@ class DoubleActingCylinder(PositiveParameters, Component):
                  "p_B_start")
 
     d_bore = Parameter(unit="m", min=0.0, doc="Piston (bore) diameter")
-    d_rod = Parameter(unit="m", min=0.0, doc="Rod diameter")
+    d_rod = Parameter(unit="m", min=0.0, doc="Rod diameter, < ``d_bore``")
     stroke = Parameter(unit="m", min=0.0, doc="Stroke")
-    L0 = Parameter(0.0, unit="m", doc="Distance flange_b.s - flange_a.s at x = 0")
-    V_dead_A = Parameter(1e-5, unit="m3", min=0.0, doc="Dead volume of chamber A")
-    V_dead_B = Parameter(1e-5, unit="m3", min=0.0, doc="Dead volume of chamber B")
+    L0 = Parameter(0.0, unit="m",
+                   doc="Distance ``flange_b.s - flange_a.s`` at x = 0 (closed length between the mounting points)")
+    V_dead_A = Parameter(1e-5, unit="m3", min=0.0,
+                         doc=("Dead volume of the cap-side chamber A at the end of the stroke (ports, hoses inside the "
+                              "cylinder)"))
+    V_dead_B = Parameter(1e-5, unit="m3", min=0.0,
+                         doc=("Dead volume of the rod-side chamber B at the end of the stroke (ports, hoses inside the "
+                              "cylinder)"))
     m = Parameter(unit="kg", min=0.0, doc="Mass of piston and rod")
-    F_c = Parameter(0.0, unit="N", min=0.0, doc="Coulomb friction force")
-    stribeck = Parameter(1.0, unit="1", min=1.0, doc="Break-away / Coulomb friction ratio")
+    F_c = Parameter(0.0, unit="N", min=0.0, doc="Coulomb friction force of the seals")
+    stribeck = Parameter(1.0, unit="1", min=1.0, doc="Ratio of break-away (static) to Coulomb friction")
     v_s = Parameter(0.01, unit="m/s", min=0.0, doc="Stribeck velocity")
     d = Parameter(0.0, unit="N.s/m", min=0.0, doc="Viscous friction coefficient")
-    v_reg = Parameter(1e-4, unit="m/s", min=0.0, doc="Regularisation velocity of the Coulomb friction")
-    G_int = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Internal laminar leakage coefficient A -> B")
-    G_ext = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="External laminar leakage coefficient out of B")
+    v_reg = Parameter(1e-4, unit="m/s", min=0.0,
+                      doc="Regularisation velocity of the Coulomb friction (``tanh(v/v_reg)``)")
+    G_int = Parameter(0.0, unit="m3/(s.Pa)", min=0.0,
+                      doc=("Internal (piston seal) laminar leakage coefficient A -> B, volume flow per pressure "
+                           "difference"))
+    G_ext = Parameter(0.0, unit="m3/(s.Pa)", min=0.0,
+                      doc="External (rod seal) laminar leakage coefficient out of chamber B")
     c_stop = Parameter(1e9, unit="N/m", min=0.0, doc="End-stop contact stiffness")
     d_stop = Parameter(1e5, unit="N.s/m", min=0.0, doc="End-stop contact damping")
-    x_start = Parameter(0.0, unit="m", doc="Initial piston position")
-    v_start = Parameter(0.0, unit="m/s", doc="Initial piston velocity")
-    p_A_start = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Initial pressure in chamber A")
-    p_B_start = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Initial pressure in chamber B")
-    p_amb = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Ambient pressure on the rod (default: fluid.p_ref)")
+    x_start = Parameter(0.0, unit="m", doc="Initial piston position, in [0, ``stroke``] (used if ``x_fixed``)")
+    v_start = Parameter(0.0, unit="m/s", doc="Initial piston velocity (used if ``x_fixed``)")
+    p_A_start = Parameter(1.01325e5, unit="Pa", min=0.0,
+                          doc="Initial absolute pressure in chamber A (used if ``p_fixed``)")
+    p_B_start = Parameter(1.01325e5, unit="Pa", min=0.0,
+                          doc="Initial absolute pressure in chamber B (used if ``p_fixed``)")
+    p_amb = Parameter(1.01325e5, unit="Pa", min=0.0,
+                      doc=("Ambient absolute pressure around the cylinder: acts on the rod cross-section (``-p_amb "
+                           "(A_p - A_r)`` in ``F_hyd``) and receives the rod-seal leakage without a drain; default "
+                           "``fluid.p_ref``, 0 for a force balance in gauge terms"))
 
     x = Variable(unit="m", state_select="prefer", doc="Piston position relative to the housing")
     v = Variable(unit="m/s", state_select="prefer", doc="Piston velocity relative to the housing")

@@ -86,31 +86,8 @@ class DirectionalValve43(PositiveParameters, Component):
 
     Parameters
     ----------
-    Q_nom : float
-        Nominal volume flow of one fully open edge at ``dp_nom`` [m3/s], > 0.
-    dp_nom : float
-        Nominal pressure drop per edge for ``Q_nom`` [Pa], > 0 (35 bar per edge for servo valves,
-        5–10 bar for proportional valves).
-    Cd : float
-        Discharge coefficient [1], > 0.
-    omega : float
-        Natural frequency of the spool [rad/s], > 0.
-    zeta : float
-        Damping ratio of the spool [1], > 0.
-    lap_PA, lap_PB, lap_AT, lap_BT : float
-        Normalised lap of each edge [1], < 1 (> 0 overlap, < 0 underlap).
-    A_leak : float
-        Leakage area of every edge (added to the opening) [m2], >= 0.
-    Q_nom_PT : float
-        Nominal flow of the tandem-centre P→T bypass at ``dp_nom`` [m3/s] (``centre="tandem"`` only).
-    xs_PT : float
-        Spool position at which the tandem bypass is closed [1], > 0.
-    Re_cr : float
-        Critical Reynolds number of the laminar–turbulent transition [1], > 0.
     centre : str
         ``"closed"`` (default), ``"open"``, ``"float"`` or ``"tandem"`` (structural; see above).
-    dp_comp : float
-        Pressure drop held across an open meter-in edge by the compensator [Pa], > 0 (``compensated`` only).
     compensated : bool
         True for pressure-compensated meter-in edges (structural; default False).
     ideal_spool : bool
@@ -122,15 +99,11 @@ class DirectionalValve43(PositiveParameters, Component):
     ----------
     port_P, port_T, port_A, port_B : Port
         Supply, tank and the two consumer ports; m_flow positive into the valve.
-    u : Input [1]
-        Spool command, −1…1 (clipped; see Notes).
 
     Variables
     ---------
-    xs [1], vs [1/s]: spool position and velocity (states, start 0 fixed; with ``ideal_spool``
-    ``xs = u_sat`` and ``vs = 0``); u_sat [1]: clipped command;
-    m_PA, m_PB, m_AT, m_BT (m_PT) [kg/s]: edge mass flows; q_A, q_B [m3/s]: volume flows out of
-    ports A and B.
+    m_PT : kg/s
+        Mass flow through the tandem bypass P->T (only if ``centre="tandem"``).
 
     Notes
     -----
@@ -140,6 +113,9 @@ class DirectionalValve43(PositiveParameters, Component):
     sitting on the indicator's zero). Within the margin the command is clipped continuously. The edge
     openings are clipped without events too (a servo valve around its null would otherwise make an
     event at every crossing).
+
+    ``Q_nom``, ``dp_nom``, ``Cd``, ``omega``, ``zeta``, ``xs_PT``, ``Re_cr`` and ``dp_comp`` must be > 0
+    (checked with the bounds).
 
     References
     ----------
@@ -154,24 +130,30 @@ class DirectionalValve43(PositiveParameters, Component):
 
     _positive = ("Q_nom", "dp_nom", "Cd", "omega", "zeta", "xs_PT", "Re_cr", "dp_comp")
 
-    Q_nom = Parameter(6e-4, unit="m3/s", min=0.0, doc="Nominal flow of one open edge at dp_nom")
-    dp_nom = Parameter(35e5, unit="Pa", min=0.0, doc="Nominal pressure drop per edge")
+    Q_nom = Parameter(6e-4, unit="m3/s", min=0.0, doc="Nominal volume flow of one fully open edge at ``dp_nom``")
+    dp_nom = Parameter(35e5, unit="Pa", min=0.0,
+                       doc=("Nominal pressure drop per edge for ``Q_nom`` (35 bar per edge for servo valves, 5–10 bar "
+                            "for proportional valves)"))
     Cd = Parameter(0.7, unit="1", min=0.0, doc="Discharge coefficient")
     omega = Parameter(2 * math.pi * 30.0, unit="rad/s", min=0.0, doc="Spool natural frequency")
     zeta = Parameter(0.8, unit="1", min=0.0, doc="Spool damping ratio")
-    lap_PA = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge P->A")
-    lap_PB = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge P->B")
-    lap_AT = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge A->T")
-    lap_BT = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge B->T")
-    A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area per edge")
-    Q_nom_PT = Parameter(6e-4, unit="m3/s", min=0.0, doc="Nominal flow of the tandem P->T bypass")
-    xs_PT = Parameter(0.1, unit="1", min=0.0, doc="Spool position closing the tandem bypass")
-    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
-    dp_comp = Parameter(10e5, unit="Pa", min=0.0, doc="Drop held across an open meter-in edge (compensated)")
+    lap_PA = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge P->A (> 0 overlap, < 0 underlap)")
+    lap_PB = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge P->B (> 0 overlap, < 0 underlap)")
+    lap_AT = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge A->T (> 0 overlap, < 0 underlap)")
+    lap_BT = Parameter(0.0, unit="1", max=0.99, doc="Normalised lap of edge B->T (> 0 overlap, < 0 underlap)")
+    A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area of every edge (added to the opening)")
+    Q_nom_PT = Parameter(6e-4, unit="m3/s", min=0.0,
+                         doc='Nominal flow of the tandem-centre P->T bypass at ``dp_nom`` (``centre="tandem"`` only)')
+    xs_PT = Parameter(0.1, unit="1", min=0.0, doc="Spool position at which the tandem bypass is closed")
+    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number of the laminar–turbulent transition")
+    dp_comp = Parameter(10e5, unit="Pa", min=0.0,
+                        doc="Pressure drop held across an open meter-in edge by the compensator (``compensated`` only)")
 
-    u = Input(unit="1", doc="Spool command (-1..1)")
-    xs = Variable(unit="1", fixed=True, state_select="prefer", doc="Normalised spool position")
-    vs = Variable(unit="1/s", fixed=True, state_select="prefer", nominal=100.0, doc="Spool velocity")
+    u = Input(unit="1", doc="Spool command, -1..1 (clipped; see Notes)")
+    xs = Variable(unit="1", fixed=True, state_select="prefer",
+                  doc="Normalised spool position (a state starting at 0; ``u_sat`` with ``ideal_spool``)")
+    vs = Variable(unit="1/s", fixed=True, state_select="prefer", nominal=100.0,
+                  doc="Spool velocity (a state starting at 0; 0 with ``ideal_spool``)")
     u_sat = Variable(unit="1", doc="Spool command clipped to [-1, 1]")
     m_PA = Variable(unit="kg/s", doc="Mass flow through edge P->A")
     m_PB = Variable(unit="kg/s", doc="Mass flow through edge P->B")

@@ -18,8 +18,6 @@ class FlowSource(PartialSource):
 
     Parameters
     ----------
-    q : float
-        Delivered volume flow rate [m3/s] (used if not ``use_input``).
     use_input : bool
         True if the flow comes from the signal input ``q_in`` (structural).
 
@@ -30,19 +28,14 @@ class FlowSource(PartialSource):
     q_in : Input [m3/s]
         Delivered volume flow rate (only if ``use_input``).
 
-    Variables
-    ---------
-    m_flow : kg/s
-        Delivered mass flow rate (= ``-port.m_flow``).
-
     References
     ----------
     MathWorks Simscape Fluids, *Flow Rate Source (IL)* block documentation.
     Hopsan component library, *Flow Source* (``HydraulicFlowSourceQ``).
     """
 
-    q = Parameter(0.0, unit="m3/s", doc="Delivered volume flow rate")
-    m_flow = Variable(unit="kg/s", doc="Delivered mass flow rate")
+    q = Parameter(0.0, unit="m3/s", doc="Delivered volume flow rate (used if not ``use_input``)")
+    m_flow = Variable(unit="kg/s", doc="Delivered mass flow rate (= ``-port.m_flow``)")
     port = Port(doc="Delivery port")
 
     source_parameter = "q"

@@ -50,19 +50,6 @@ class HydraulicMotor(DisplacementParameters, PositiveParameters, PartialFluidCom
     flange : Flange
         Motor shaft; ``flange.tau = -tau``.
 
-    Variables
-    ---------
-    w : rad/s
-        Shaft angular velocity.
-    q : m3/s
-        Consumed volume flow (inlet density).
-    m_flow : kg/s
-        Mass flow from a to b.
-    dp : Pa
-        Pressure drop ``p_a - p_b``.
-    tau : N.m
-        Torque delivered to the shaft.
-
     References
     ----------
     MathWorks Simscape Fluids, *Fixed-Displacement Motor (IL)* block documentation.

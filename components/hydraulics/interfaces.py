@@ -116,15 +116,6 @@ class PartialTwoPort(PartialFluidComponent):
     port_a, port_b : Port
         Flow from a to b is positive.
 
-    Variables
-    ---------
-    m_flow : kg/s
-        Mass flow from a to b.
-    q : m3/s
-        Volume flow from a to b (mean-pressure density).
-    dp : Pa
-        Pressure drop ``port_a.p - port_b.p``.
-
     References
     ----------
     MathWorks Simscape Fluids, isothermal-liquid two-port restrictions (``Local Restriction (IL)``).

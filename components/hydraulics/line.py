@@ -47,12 +47,6 @@ class Line(PositiveParameters, Component):
 
     Parameters
     ----------
-    L : float
-        Length [m], > 0.
-    d : float
-        Inner (bore) diameter [m], > 0.
-    k_wall : float
-        Wall compliance, relative volume change per pressure (1 / wall bulk modulus) [1/Pa], >= 0.
     p_start : float or None
         Initial pressure of both ends [Pa] (structural; also fixes ``m_flow = 0`` at the start
         with inertance). ``None`` leaves them free (``init=`` or steady state). Do not fix
@@ -72,20 +66,9 @@ class Line(PositiveParameters, Component):
     port_a, port_b : Port
         Line ends; ``m_flow`` is positive from a to b.
 
-    Variables
-    ---------
-    p_a, p_b : Pa
-        End pressures.
-    m_a, m_b : kg
-        Masses stored in the end halves.
-    dm_a, dm_b : kg
-        Their deviations from ``rho(p_zero)·V/2`` (states).
-    m_flow : kg/s
-        Mass flow from a to b through the friction element.
-    q : m3/s
-        Volume flow from a to b (mean-pressure density).
-    dp_f : Pa
-        Friction pressure drop.
+    Notes
+    -----
+    ``L`` and ``d`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -99,18 +82,21 @@ class Line(PositiveParameters, Component):
 
     _positive = ("L", "d")
     L = Parameter(unit="m", min=0.0, doc="Length")
-    d = Parameter(unit="m", min=0.0, doc="Inner diameter")
-    k_wall = Parameter(0.0, unit="1/Pa", min=0.0, doc="Wall compliance (1 / wall bulk modulus)")
+    d = Parameter(unit="m", min=0.0, doc="Inner (bore) diameter")
+    k_wall = Parameter(0.0, unit="1/Pa", min=0.0,
+                       doc="Wall compliance, relative volume change per pressure (1 / wall bulk modulus)")
     port_a = Port(doc="End a")
     port_b = Port(doc="End b")
     p_a = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure at end a")
     p_b = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure at end b")
     m_a = Variable(unit="kg", nominal=0.1, doc="Mass in the half at end a")
     m_b = Variable(unit="kg", nominal=0.1, doc="Mass in the half at end b")
-    dm_a = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_a - rho(p_zero)*V/2")
-    dm_b = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="m_b - rho(p_zero)*V/2")
-    m_flow = Variable(unit="kg/s", nominal=1.0, doc="Mass flow from a to b")
-    q = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow from a to b")
+    dm_a = Variable(unit="kg", nominal=1e-3, state_select="prefer",
+                    doc="Deviation of ``m_a`` from ``rho(p_zero)·V/2`` (a state)")
+    dm_b = Variable(unit="kg", nominal=1e-3, state_select="prefer",
+                    doc="Deviation of ``m_b`` from ``rho(p_zero)·V/2`` (a state)")
+    m_flow = Variable(unit="kg/s", nominal=1.0, doc="Mass flow from a to b through the friction element")
+    q = Variable(unit="m3/s", nominal=1e-3, doc="Volume flow from a to b at the mean-pressure density")
     dp_f = Variable(unit="Pa", nominal=1e6, doc="Friction pressure drop")
 
     def __init__(self, p_start: float | None = None, use_turbulence: bool = True, use_inertance: bool = False,

@@ -23,14 +23,9 @@ class Orifice(PositiveParameters, PartialTwoPort):
     pressure. For ``|dp| >> p_cr`` this is ``q = Cd*A*sqrt(2*|dp|/rho)*sign(dp)``; through
     ``dp = 0`` the flow is odd, smooth and laminar with the slope ``Cd*A*sqrt(2*rho/p_cr)``.
 
-    Parameters
-    ----------
-    A : float
-        Opening area [m2], > 0.
-    Cd : float
-        Discharge coefficient [1], > 0.
-    Re_cr : float
-        Critical Reynolds number of the laminar–turbulent transition [1], > 0.
+    Notes
+    -----
+    ``A``, ``Cd`` and ``Re_cr`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -42,7 +37,7 @@ class Orifice(PositiveParameters, PartialTwoPort):
     _positive = ("A", "Cd", "Re_cr")
     A = Parameter(unit="m2", min=0.0, doc="Opening area")
     Cd = Parameter(0.64, unit="1", min=0.0, doc="Discharge coefficient")
-    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
+    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number of the laminar–turbulent transition")
 
     def equations(self) -> list:
         return [*super().equations(), eq(self.m_flow, self.orifice_flow(self.dp, self.A))]

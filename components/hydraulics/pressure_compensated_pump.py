@@ -42,24 +42,6 @@ class PressureCompensatedPump(PartialPump):
 
     Parameters
     ----------
-    D_max : float
-        Maximum displacement [m3/rad], > 0.
-    p_set : float
-        Compensator pressure setting (pressure rise at which de-stroking starts) [Pa], >= 0.
-    dp_reg : float
-        Pressure regulation range, from full to zero displacement [Pa], > 0.
-    dp_margin : float
-        Load-sensing margin, delivery minus load pressure [Pa], >= 0 (used if ``use_load_sensing``).
-    eta_v : float
-        Volumetric efficiency [1], in (0, 1].
-    eta_m : float
-        Mechanical efficiency [1], in (0, 1].
-    C_leak : float
-        Laminar leakage coefficient from delivery to suction [m3/(s.Pa)], >= 0.
-    smoothing : float
-        Width of the corner fillets as a fraction of ``dp_reg`` [1], in [0, 1].
-    T : float
-        Time constant of the displacement control [s], > 0 (used if ``use_dynamics``).
     use_load_sensing : bool
         True to add the load-sensing port ``port_ls`` and controller (structural).
     use_dynamics : bool
@@ -70,10 +52,9 @@ class PressureCompensatedPump(PartialPump):
     port_ls : Port
         Load-sensing pressure (only if ``use_load_sensing``; no flow).
 
-    Variables
-    ---------
-    eps : 1
-        Relative displacement ``D / D_max`` (a state starting at 1 with dynamics).
+    Notes
+    -----
+    ``D_max``, ``dp_reg``, ``eta_v``, ``eta_m`` and ``T`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -85,15 +66,19 @@ class PressureCompensatedPump(PartialPump):
 
     _positive = ("D_max", "dp_reg", "eta_v", "eta_m", "T")
     D_max = Parameter(unit="m3/rad", min=0.0, doc="Maximum displacement")
-    p_set = Parameter(unit="Pa", min=0.0, doc="Compensator pressure setting")
-    dp_reg = Parameter(1e6, unit="Pa", min=0.0, doc="Pressure regulation range")
-    dp_margin = Parameter(1.5e6, unit="Pa", min=0.0, doc="Load-sensing margin")
+    p_set = Parameter(unit="Pa", min=0.0,
+                      doc="Compensator pressure setting (pressure rise at which de-stroking starts)")
+    dp_reg = Parameter(1e6, unit="Pa", min=0.0, doc="Pressure regulation range, from full to zero displacement")
+    dp_margin = Parameter(1.5e6, unit="Pa", min=0.0,
+                          doc="Load-sensing margin, delivery minus load pressure (used if ``use_load_sensing``)")
     eta_v = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Volumetric efficiency")
     eta_m = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Mechanical efficiency")
-    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage coefficient")
-    smoothing = Parameter(0.05, unit="1", min=0.0, max=1.0, doc="Corner fillet width / regulation range")
-    T = Parameter(0.02, unit="s", min=0.0, doc="Time constant of the displacement control")
-    eps = Variable(unit="1", start=1.0, fixed=True, doc="Relative displacement")
+    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage coefficient from delivery to suction")
+    smoothing = Parameter(0.05, unit="1", min=0.0, max=1.0,
+                          doc="Width of the corner fillets as a fraction of ``dp_reg``")
+    T = Parameter(0.02, unit="s", min=0.0, doc="Time constant of the displacement control (used if ``use_dynamics``)")
+    eps = Variable(unit="1", start=1.0, fixed=True,
+                   doc="Relative displacement ``D / D_max`` (a state starting at 1 with dynamics)")
 
     def __init__(self, use_flange: bool = False, use_load_sensing: bool = False, use_dynamics: bool = False,
                  fluid: Fluid = HLP46, **kw: Any) -> None:

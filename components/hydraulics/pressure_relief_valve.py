@@ -47,17 +47,6 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
 
     Parameters
     ----------
-    p_crack : float
-        Cracking pressure difference [Pa], >= 0.
-    p_grad : float
-        Pressure gradient of the open valve, d(dp)/dq [Pa.s/m3], > 0 (e.g. 10 bar per
-        100 L/min = 6e8 Pa.s/m3).
-    G_leak : float
-        Laminar leakage conductance of the closed valve [m3/(s.Pa)], >= 0.
-    dp_smooth : float
-        Half-width of the fillet rounding the cracking corner [Pa], >= 0.
-    T : float
-        Time constant of the poppet (opening) dynamics [s], > 0 (used if ``use_dynamics``).
     use_dynamics : bool
         True if the opening follows the pressure with the first-order lag ``T`` (structural;
         adds the state ``dp_c``).
@@ -67,11 +56,9 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
     port_a, port_b : Port
         Inlet (pressure side) a, outlet (tank side) b.
 
-    Variables
-    ---------
-    dp_c : Pa
-        Control pressure difference setting the opening (= dp without dynamics; a state
-        starting at 0 with dynamics).
+    Notes
+    -----
+    ``p_grad`` and ``T`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -86,12 +73,16 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
 
     _positive = ("p_grad", "T")
     p_crack = Parameter(unit="Pa", min=0.0, doc="Cracking pressure difference")
-    p_grad = Parameter(unit="Pa.s/m3", min=0.0, doc="Pressure gradient of the open valve")
-    G_leak = Parameter(1e-14, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage conductance")
-    dp_smooth = Parameter(1e4, unit="Pa", min=0.0, doc="Half-width of the cracking fillet")
-    T = Parameter(1e-3, unit="s", min=0.0, doc="Time constant of the opening dynamics")
+    p_grad = Parameter(unit="Pa.s/m3", min=0.0,
+                       doc="Pressure gradient of the open valve, d(dp)/dq (e.g. 10 bar per 100 L/min = 6e8 Pa.s/m3)")
+    G_leak = Parameter(1e-14, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage conductance of the closed valve")
+    dp_smooth = Parameter(1e4, unit="Pa", min=0.0, doc="Half-width of the fillet rounding the cracking corner")
+    T = Parameter(1e-3, unit="s", min=0.0,
+                  doc="Time constant of the poppet (opening) dynamics (used if ``use_dynamics``)")
     dp_c = Variable(unit="Pa", nominal=1e7, start=0.0, fixed=True,
-                    doc="Control pressure difference setting the opening")
+
+                        doc=("Control pressure difference setting the opening (= dp without dynamics; a state starting "
+                             "at 0 with dynamics)"))
 
     def __init__(self, use_dynamics: bool = False, fluid: Fluid = HLP46, **kw: Any) -> None:
         super().__init__(fluid=fluid, **kw)

@@ -16,8 +16,6 @@ class PressureSensor(Component):
     ----------
     port : Port
         Measured node.
-    p : Output [Pa]
-        Absolute pressure at the port.
 
     References
     ----------

@@ -14,8 +14,6 @@ class PressureSource(PartialSource):
 
     Parameters
     ----------
-    p : float
-        Imposed absolute pressure [Pa], >= 0 (used if not ``use_input``).
     use_input : bool
         True if the pressure comes from the signal input ``p_in`` (structural).
 
@@ -32,7 +30,7 @@ class PressureSource(PartialSource):
     Hopsan component library, *Pressure Source* (``HydraulicPressureSourceC``).
     """
 
-    p = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Imposed absolute pressure")
+    p = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Imposed absolute pressure (used if not ``use_input``)")
     port = Port(doc="Source port")
 
     source_parameter = "p"

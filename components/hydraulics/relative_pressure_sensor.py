@@ -16,8 +16,6 @@ class RelativePressureSensor(Component):
     ----------
     port_a, port_b : Port
         Measured nodes.
-    dp : Output [Pa]
-        Pressure difference ``port_a.p - port_b.p``.
 
     References
     ----------

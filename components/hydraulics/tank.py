@@ -21,8 +21,6 @@ class Tank(Component):
 
     Parameters
     ----------
-    p : float
-        Absolute pressure of the reservoir [Pa], >= 0 (default atmospheric, 1.01325 bar).
     fluid : Fluid
         Fluid property record (structural; default HLP46).
 
@@ -37,7 +35,7 @@ class Tank(Component):
     Hopsan component library, *Tank* (``HydraulicTankC``).
     """
 
-    p = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Absolute pressure of the reservoir")
+    p = Parameter(1.01325e5, unit="Pa", min=0.0, doc="Absolute pressure of the reservoir (default: atmospheric)")
     port = Port(doc="Tank port")
 
     def __init__(self, fluid: Fluid = HLP46, **kw: Any) -> None:

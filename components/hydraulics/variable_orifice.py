@@ -19,14 +19,9 @@ class VariableOrifice(PositiveParameters, PartialTwoPort):
     ``A_eff = A_leak + max(A, 0)``: a negative or zero command closes the orifice down to
     the leakage area, which keeps the laminar transition pressure finite.
 
-    Parameters
-    ----------
-    Cd : float
-        Discharge coefficient [1], > 0.
-    A_leak : float
-        Leakage area of the closed orifice [m2], > 0.
-    Re_cr : float
-        Critical Reynolds number of the laminar–turbulent transition [1], > 0.
+    Notes
+    -----
+    ``Cd``, ``A_leak`` and ``Re_cr`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -39,7 +34,7 @@ class VariableOrifice(PositiveParameters, PartialTwoPort):
     _positive = ("Cd", "A_leak", "Re_cr")
     Cd = Parameter(0.64, unit="1", min=0.0, doc="Discharge coefficient")
     A_leak = Parameter(1e-12, unit="m2", min=0.0, doc="Leakage area of the closed orifice")
-    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number")
+    Re_cr = Parameter(12.0, unit="1", min=0.0, doc="Critical Reynolds number of the laminar–turbulent transition")
     A = Input(unit="m2", doc="Opening area command")
 
     def equations(self) -> list:

@@ -28,8 +28,6 @@ class Volume(PositiveParameters, Component):
 
     Parameters
     ----------
-    V : float
-        Volume [m3], > 0.
     p_start : float or None
         Initial absolute pressure [Pa] (structural: fixes ``p`` at the start time). ``None``
         leaves the initial pressure free (start guess ``fluid.p_ref``), to be set by
@@ -46,14 +44,9 @@ class Volume(PositiveParameters, Component):
     port : Port
         Node port; ``port.m_flow`` is the mass flow into the volume.
 
-    Variables
-    ---------
-    p : Pa
-        Pressure in the volume.
-    m : kg
-        Stored mass.
-    dm : kg
-        Stored mass minus ``rho(p_zero)·V`` (differential state).
+    Notes
+    -----
+    ``V`` must be > 0 (checked with the bounds).
 
     References
     ----------
@@ -66,7 +59,8 @@ class Volume(PositiveParameters, Component):
     V = Parameter(unit="m3", min=0.0, doc="Volume")
     p = Variable(unit="Pa", nominal=1e7, start=1.01325e5, doc="Pressure in the volume")
     m = Variable(unit="kg", nominal=0.1, doc="Stored mass")
-    dm = Variable(unit="kg", nominal=1e-3, state_select="prefer", doc="Stored mass minus rho(p_zero)*V")
+    dm = Variable(unit="kg", nominal=1e-3, state_select="prefer",
+                  doc="Stored mass minus ``rho(p_zero)·V`` (differential state)")
     port = Port(doc="Node port")
 
     def __init__(self, p_start: float | None = None, fluid: Fluid = HLP46, chamber_form: str = "mass",
