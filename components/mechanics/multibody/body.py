@@ -34,18 +34,6 @@ class Body(Component):
 
     Parameters
     ----------
-    m : float
-        Mass [kg], ≥ 0.
-    r_CM : array_like (3,)
-        Centre of mass from frame_a, resolved in frame_a [m].
-    I : array_like (3, 3)
-        Inertia tensor at the centre of mass, resolved in frame_a [kg.m2]; symmetric positive
-        semi-definite (checked).
-    Q_start : array_like (4,)
-        Start orientation as a quaternion ``(e·sin(φ/2), cos(φ/2))`` [1], used if ``orientation_fixed``
-        (and as the initial guess of a free body's quaternion).
-    w_start : array_like (3,)
-        Start angular velocity resolved in frame_a [rad/s], used if ``w_fixed``.
     orientation_fixed, w_fixed : bool
         True if the start orientation / angular velocity are initial conditions (structural).
 
@@ -67,9 +55,14 @@ class Body(Component):
 
     m = Parameter(1.0, unit="kg", min=0.0, doc="Mass")
     r_CM = Parameter([0.0, 0.0, 0.0], unit="m", shape=3, doc="Centre of mass from frame_a resolved in frame_a")
-    I = Parameter(np.diag([1e-3, 1e-3, 1e-3]), unit="kg.m2", shape=(3, 3), doc="Inertia tensor at CM in frame_a")
-    Q_start = Parameter([0.0, 0.0, 0.0, 1.0], unit="1", shape=4, doc="Start orientation quaternion (e sin, cos)")
-    w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3, doc="Start angular velocity resolved in frame_a")
+    I = Parameter(np.diag([1e-3, 1e-3, 1e-3]), unit="kg.m2", shape=(3, 3),
+                  doc=("Inertia tensor at the centre of mass, resolved in frame_a; symmetric positive semi-definite "
+                       "(checked)"))
+    Q_start = Parameter([0.0, 0.0, 0.0, 1.0], unit="1", shape=4,
+                        doc=("Start orientation as a quaternion ``(e·sin(φ/2), cos(φ/2))``, used if "
+                             "``orientation_fixed`` (and as the initial guess of a free body's quaternion)"))
+    w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3,
+                        doc="Start angular velocity resolved in frame_a, used if ``w_fixed``")
     r_0 = Variable(unit="m", shape=3, state_select="avoid", doc="Origin of frame_a resolved in world")
     v_0 = Variable(unit="m/s", shape=3, state_select="avoid", doc="Velocity of frame_a origin in world")
     a_0 = Variable(unit="m/s2", shape=3, doc="Acceleration of frame_a origin in world")

@@ -42,21 +42,6 @@ class Bushing(Component):
     reaction ``−f`` and ``−t − r_rel × f`` (lever arm of the deflection). Cut forces acting on the element:
     ``f_a = f``, ``t_a = t + r_rel × f``, ``f_b = −T_rel f``, ``t_b = −T_rel t``.
 
-    Parameters
-    ----------
-    c_trans : array_like (3,)
-        Translational stiffness along frame_a's x, y, z [N/m], ≥ 0.
-    d_trans : array_like (3,)
-        Translational damping along frame_a's x, y, z [N.s/m], ≥ 0.
-    c_rot : array_like (3,)
-        Rotational stiffness about the gimbal axes x, y', z'' [N.m/rad], ≥ 0.
-    d_rot : array_like (3,)
-        Rotational damping about the gimbal axes [N.m.s/rad], ≥ 0.
-    f_preload : array_like (3,)
-        Force on frame_b at zero deflection and rate, resolved in frame_a [N].
-    t_preload : array_like (3,)
-        Torques about the gimbal axes on frame_b at zero deflection and rate [N.m].
-
     Connectors
     ----------
     frame_a, frame_b : Frame
@@ -91,12 +76,17 @@ class Bushing(Component):
     ``Forces.Internal.BasicForce`` (force element between two frames without an orientation branch).
     """
 
-    c_trans = Parameter([0.0, 0.0, 0.0], unit="N/m", shape=3, min=0.0, doc="Translational stiffness (frame_a axes)")
-    d_trans = Parameter([0.0, 0.0, 0.0], unit="N.s/m", shape=3, min=0.0, doc="Translational damping (frame_a axes)")
-    c_rot = Parameter([0.0, 0.0, 0.0], unit="N.m/rad", shape=3, min=0.0, doc="Rotational stiffness (gimbal axes)")
+    c_trans = Parameter([0.0, 0.0, 0.0], unit="N/m", shape=3, min=0.0,
+                        doc="Translational stiffness along frame_a's x, y, z")
+    d_trans = Parameter([0.0, 0.0, 0.0], unit="N.s/m", shape=3, min=0.0,
+                        doc="Translational damping along frame_a's x, y, z")
+    c_rot = Parameter([0.0, 0.0, 0.0], unit="N.m/rad", shape=3, min=0.0,
+                      doc="Rotational stiffness about the gimbal axes x, y', z''")
     d_rot = Parameter([0.0, 0.0, 0.0], unit="N.m.s/rad", shape=3, min=0.0, doc="Rotational damping (gimbal axes)")
-    f_preload = Parameter([0.0, 0.0, 0.0], unit="N", shape=3, doc="Preload force on frame_b, resolved in frame_a")
-    t_preload = Parameter([0.0, 0.0, 0.0], unit="N.m", shape=3, doc="Preload torques about the gimbal axes")
+    f_preload = Parameter([0.0, 0.0, 0.0], unit="N", shape=3,
+                          doc="Preload force on frame_b at zero deflection and rate, resolved in frame_a")
+    t_preload = Parameter([0.0, 0.0, 0.0], unit="N.m", shape=3,
+                          doc="Preload torques about the gimbal axes on frame_b at zero deflection and rate")
     r_rel = Variable(unit="m", shape=3, doc="Origin of frame_b from frame_a's, resolved in frame_a")
     v_rel = Variable(unit="m/s", shape=3, doc="der(r_rel)")
     phi_rel = Variable(unit="rad", shape=3, doc="Cardan x-y-z angles of frame_b relative to frame_a")

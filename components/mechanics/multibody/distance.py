@@ -17,17 +17,10 @@ class Distance(Component):
     :func:`~.line_force_base.smooth_length` (exact above it), so its derivatives stay finite when the
     origins coincide. ``f = t = 0`` at both frames; no orientation branch.
 
-    Parameters
-    ----------
-    s_small : float
-        Regularisation length [m], ≥ 1e-12.
-
     Connectors
     ----------
     frame_a, frame_b : Frame
         Measured frames.
-    distance : Output [m]
-        Distance between the frame origins (≥ 0).
 
     References
     ----------

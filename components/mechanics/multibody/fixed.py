@@ -16,11 +16,6 @@ __all__ = ["Fixed"]
 class Fixed(Component):
     """Frame fixed in the world: ``r_0 = r``, ``T = I``, ``w = 0``.
 
-    Parameters
-    ----------
-    r : array_like (3,)
-        Position of the frame origin resolved in world [m].
-
     Connectors
     ----------
     frame_b : Frame
@@ -31,7 +26,7 @@ class Fixed(Component):
     Modelica Standard Library 4.0, ``MultiBody.Parts.Fixed``.
     """
 
-    r = Parameter([0.0, 0.0, 0.0], unit="m", shape=3, doc="Position resolved in world")
+    r = Parameter([0.0, 0.0, 0.0], unit="m", shape=3, doc="Position of the frame origin resolved in world")
     frame_b = Frame(doc="Fixed frame")
 
     def __init__(self, **kwargs: Any) -> None:

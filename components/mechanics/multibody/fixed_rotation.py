@@ -28,15 +28,6 @@ class FixedRotation(PartialTwoFrames):
     coordinates ``T_rel v`` in frame_b; e.g. with ``angle = π/2`` about z, frame_b's x axis is frame_a's
     y axis (a vector ``v`` resolved in frame_b is ``T_relᵀ v`` resolved in frame_a: x ↦ y).
 
-    Parameters
-    ----------
-    r : array_like (3,)
-        Vector from the origin of frame_a to the origin of frame_b, resolved in frame_a [m].
-    n : array_like (3,)
-        Axis of the fixed rotation, resolved in frame_a (= frame_b) [1]; normalised, must not be zero.
-    angle : float
-        Rotation angle of frame_b relative to frame_a about ``n`` [rad].
-
     Variables
     ---------
     None besides the two frames.
@@ -48,7 +39,8 @@ class FixedRotation(PartialTwoFrames):
     """
 
     r = Parameter([0.0, 0.0, 0.0], unit="m", shape=3, doc="Vector from frame_a to frame_b resolved in frame_a")
-    n = Parameter([1.0, 0.0, 0.0], unit="1", shape=3, doc="Axis of rotation resolved in frame_a")
+    n = Parameter([1.0, 0.0, 0.0], unit="1", shape=3,
+                  doc="Axis of the fixed rotation resolved in frame_a (= frame_b); normalised, must not be zero")
     angle = Parameter(0.0, unit="rad", doc="Angle of rotation of frame_b relative to frame_a about n")
 
     def __init__(self, **kwargs: Any) -> None:

@@ -18,11 +18,6 @@ class FixedTranslation(PartialTwoFrames):
     ``r_0,b = r_0,a + T_aᵀ r``; ``T_b = T_a``, ``w_b = w_a``;
     ``f_a + f_b = 0``; ``t_a + t_b + r × f_b = 0``.
 
-    Parameters
-    ----------
-    r : array_like (3,)
-        Vector from frame_a to frame_b resolved in frame_a [m].
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Parts.FixedTranslation``.

@@ -40,12 +40,6 @@ class FreeMotion(PartialTwoFrames):
 
     Parameters
     ----------
-    Q_start : array_like (4,)
-        Start relative orientation as a quaternion ``(e·sin(φ/2), cos(φ/2))`` [1] (rotation of frame_b relative
-        to frame_a); normalised; used if ``orientation_fixed`` and as the start guess of ``Q``.
-    w_start : array_like (3,)
-        Start relative angular velocity of frame_b with respect to frame_a, resolved in frame_b [rad/s]; used
-        if ``w_fixed``.
     orientation_fixed, w_fixed : bool
         True if the start orientation / relative angular velocity are initial conditions (structural).
 
@@ -65,8 +59,12 @@ class FreeMotion(PartialTwoFrames):
     ``enforceStates = true``).
     """
 
-    Q_start = Parameter([0.0, 0.0, 0.0, 1.0], unit="1", shape=4, doc="Start relative orientation quaternion")
-    w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3, doc="Start relative angular velocity in frame_b")
+    Q_start = Parameter([0.0, 0.0, 0.0, 1.0], unit="1", shape=4,
+                        doc=("Start orientation of frame_b relative to frame_a as a quaternion ``(e·sin(φ/2), "
+                             "cos(φ/2))``, normalised; used if ``orientation_fixed`` and as the start guess of ``Q``"))
+    w_start = Parameter([0.0, 0.0, 0.0], unit="rad/s", shape=3,
+                        doc=("Start relative angular velocity of frame_b with respect to frame_a, resolved in frame_b; "
+                             "used if ``w_fixed``"))
     r_rel_a = Variable(unit="m", shape=3, state_select="prefer", doc="Position of frame_b from frame_a in frame_a")
     v_rel_a = Variable(unit="m/s", shape=3, state_select="prefer", doc="der(r_rel_a)")
     a_rel_a = Variable(unit="m/s2", shape=3, doc="der(v_rel_a)")

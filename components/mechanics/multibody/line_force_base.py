@@ -38,12 +38,6 @@ class LineForceBase(Component):
     what it is connected to (a body attached only through line forces rotates freely). A subclass adds
     the six equations of the frame forces and its own law.
 
-    Parameters
-    ----------
-    s_small : float
-        Regularisation length [m]: below it ``length`` is the smooth approximation above and ``e_rel_0``
-        shrinks to zero; ≥ 1e-12.
-
     Connectors
     ----------
     frame_a, frame_b : Frame
@@ -59,7 +53,9 @@ class LineForceBase(Component):
     approximation of ``Modelica.Mechanics.MultiBody.Sensors.Distance``.
     """
 
-    s_small = Parameter(1e-6, unit="m", min=1e-12, doc="Regularisation length for coinciding frames")
+    s_small = Parameter(1e-6, unit="m", min=1e-12,
+                        doc=("Regularisation length for coinciding frames: below it ``length`` is ``smooth_length`` "
+                             "and ``e_rel_0`` shrinks to zero"))
     length = Variable(unit="m", start=1.0, doc="Distance between the frame origins")
     frame_a = Frame(doc="First attachment point")
     frame_b = Frame(doc="Second attachment point")

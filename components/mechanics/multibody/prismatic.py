@@ -24,11 +24,6 @@ class Prismatic(PartialAxisJoint):
 
     Parameters
     ----------
-    n : array_like (3,)
-        Direction of translation resolved in frame_a [1]; normalised, must not be zero.
-    f_drive : float
-        Constant drive force along the axis on frame_b [N] (default 0); a load case, and the channel through
-        which :func:`flexlib.analysis.modal_analysis` holds the joint when it is locked.
     use_axis_flange : bool
         True if the joint has a drive flange ``axis`` and its housing ``support`` (structural).
 
@@ -49,8 +44,11 @@ class Prismatic(PartialAxisJoint):
     Modelica Standard Library 4.0, ``MultiBody.Joints.Prismatic``.
     """
 
-    n = Parameter([1.0, 0.0, 0.0], unit="1", shape=3, doc="Direction of translation resolved in frame_a")
-    f_drive = Parameter(0.0, unit="N", doc="Constant drive force along the axis, acting on frame_b")
+    n = Parameter([1.0, 0.0, 0.0], unit="1", shape=3,
+                  doc="Direction of translation resolved in frame_a; normalised, must not be zero")
+    f_drive = Parameter(0.0, unit="N",
+                        doc=("Constant drive force along the axis on frame_b; a load case, and the channel through "
+                             "which :func:`flexlib.analysis.modal_analysis` holds the joint when it is locked"))
     s = Variable(unit="m", state_select="prefer", doc="Relative distance from frame_a to frame_b along n")
     v = Variable(unit="m/s", state_select="prefer", doc="Relative velocity")
     a = Variable(unit="m/s2", doc="Relative acceleration")

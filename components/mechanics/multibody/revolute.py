@@ -26,27 +26,6 @@ class Revolute(PartialAxisJoint):
 
     Parameters
     ----------
-    n : array_like (3,)
-        Axis of rotation resolved in frame_a (= frame_b) [1]; normalised, must not be zero.
-    mu : float
-        Bearing friction coefficient [1] (journal bearing: Coulomb torque μ·r·|F|).
-    r_bearing : float
-        Bearing (journal) radius [m].
-    F_preload : float
-        Mounting preload added to the radial bearing force [N].
-    tau_c0 : float
-        Load-independent Coulomb friction torque [N.m].
-    stribeck : float
-        Ratio of break-away (static) to Coulomb friction [1], ≥ 1.
-    w_s : float
-        Stribeck velocity [rad/s].
-    d : float
-        Viscous friction coefficient [N.m.s/rad].
-    w_reg : float
-        Regularisation speed of the Coulomb friction [rad/s].
-    tau_drive : float
-        Constant drive torque about the axis on frame_b [N.m] (default 0), added to the flange's; a load case,
-        and the channel through which :func:`flexlib.analysis.modal_analysis` holds the joint when it is locked.
     use_axis_flange : bool
         True if the joint has a drive flange ``axis`` and its housing ``support`` (structural).
     use_friction : bool
@@ -75,8 +54,10 @@ class Revolute(PartialAxisJoint):
     Modelica Standard Library 4.0, ``MultiBody.Joints.Revolute``.
     """
 
-    n = Parameter([0.0, 0.0, 1.0], unit="1", shape=3, doc="Axis of rotation resolved in frame_a")
-    mu = Parameter(0.0, unit="1", min=0.0, doc="Bearing friction coefficient (journal: torque = mu*r*|F|)")
+    n = Parameter([0.0, 0.0, 1.0], unit="1", shape=3,
+                  doc="Axis of rotation resolved in frame_a (= frame_b); normalised, must not be zero")
+    mu = Parameter(0.0, unit="1", min=0.0,
+                   doc="Bearing friction coefficient (journal bearing: Coulomb torque ``mu·r·|F|``)")
     r_bearing = Parameter(0.0, unit="m", min=0.0, doc="Bearing (journal) radius")
     F_preload = Parameter(0.0, unit="N", min=0.0, doc="Mounting preload added to the radial bearing force")
     tau_c0 = Parameter(0.0, unit="N.m", min=0.0, doc="Load-independent Coulomb friction torque")
@@ -84,7 +65,10 @@ class Revolute(PartialAxisJoint):
     w_s = Parameter(0.1, unit="rad/s", min=1e-9, doc="Stribeck velocity")
     d = Parameter(0.0, unit="N.m.s/rad", min=0.0, doc="Viscous friction coefficient")
     w_reg = Parameter(1e-3, unit="rad/s", min=1e-12, doc="Regularisation speed of the Coulomb friction")
-    tau_drive = Parameter(0.0, unit="N.m", doc="Constant drive torque about the axis, acting on frame_b")
+    tau_drive = Parameter(0.0, unit="N.m",
+                          doc=("Constant drive torque about the axis on frame_b, added to the flange's; a load case, "
+                               "and the channel through which :func:`flexlib.analysis.modal_analysis` holds the joint "
+                               "when it is locked"))
     phi = Variable(unit="rad", state_select="prefer", doc="Relative rotation angle from frame_a to frame_b")
     w = Variable(unit="rad/s", state_select="prefer", doc="Relative angular velocity")
     a = Variable(unit="rad/s2", doc="Relative angular acceleration")

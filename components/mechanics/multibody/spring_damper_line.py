@@ -17,15 +17,6 @@ class SpringDamperLine(LineForceBase):
     :class:`~.line_force.LineForce` with a translational ``SpringDamper`` between its flanges. The length is
     regularised below ``s_small`` (see :class:`~.line_force_base.LineForceBase`).
 
-    Parameters
-    ----------
-    c : float
-        Spring constant [N/m], ≥ 0.
-    d : float
-        Damping constant [N.s/m], ≥ 0.
-    s_unstretched : float
-        Unstretched spring length [m], ≥ 0.
-
     Variables
     ---------
     length [m]: distance between the frame origins; f [N]: tension (spring plus damper force).

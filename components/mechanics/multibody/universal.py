@@ -36,11 +36,6 @@ class Universal(Component):
         Axis of the second rotation, resolved in frame_b [1]; default ``(0, 1, 0)``; must not be zero nor
         parallel to ``n_a`` (the joint would have the same rotational freedom twice).
 
-    Variables
-    ---------
-    phi_a, phi_b [rad]: relative angles of revolute_a and revolute_b; w_a, w_b [rad/s]: their derivatives;
-    a_a, a_b [rad/s2]: relative angular accelerations.
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Joints.Universal``.

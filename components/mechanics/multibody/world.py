@@ -22,13 +22,6 @@ class World(Component):
     ``a = −g_0`` (gravity enters the recursive kinematics there, :class:`~.interfaces.Frame`). Bodies find the
     World of their model and use its gravity.
 
-    Parameters
-    ----------
-    g : float
-        Magnitude of the gravity acceleration [m/s2], ≥ 0.
-    n : array_like (3,)
-        Direction of gravity, resolved in world [1] (normalised; default −y).
-
     Connectors
     ----------
     frame_b : Frame
@@ -40,7 +33,7 @@ class World(Component):
     """
 
     g = Parameter(9.81, unit="m/s2", min=0.0, doc="Gravity acceleration magnitude")
-    n = Parameter([0.0, -1.0, 0.0], unit="1", shape=3, doc="Direction of gravity resolved in world")
+    n = Parameter([0.0, -1.0, 0.0], unit="1", shape=3, doc="Direction of gravity resolved in world (normalised)")
     frame_b = Frame(doc="World frame")
     #: Not geometry: the planar-model analysis (``flexlib/compile/constants.py``) never assumes the gravity
     #: magnitude zero, so a run may change it

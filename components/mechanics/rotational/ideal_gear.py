@@ -18,12 +18,6 @@ class IdealGear(PartialTwoFlangesAndSupport):
     Angles are relative to the support, so ``w_b = w_a / ratio`` for a fixed housing, and
     the power flowing in at ``flange_a`` flows out at ``flange_b``.
 
-    Parameters
-    ----------
-    ratio : float
-        Transmission ratio, flange_a.phi/flange_b.phi [1], != 0 (a zero ratio holds flange_a and leaves
-        flange_b free: a singular model).
-
     Connectors
     ----------
     flange_a, flange_b : Flange
@@ -31,17 +25,14 @@ class IdealGear(PartialTwoFlangesAndSupport):
     support : Flange
         Housing (only if ``use_support``); takes ``-(flange_a.tau + flange_b.tau)``.
 
-    Variables
-    ---------
-    phi_a, phi_b : rad
-        Angles of the flanges relative to the support.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Components.IdealGear``.
     """
 
-    ratio = Parameter(unit="1", doc="Transmission ratio (flange_a.phi/flange_b.phi)")
+    ratio = Parameter(unit="1",
+                      doc=("Transmission ratio ``flange_a.phi / flange_b.phi``, nonzero (a zero ratio holds flange_a "
+                           "and leaves flange_b free: a singular model)"))
     phi_a = Variable(unit="rad", doc="Angle of flange_a relative to the support")
     phi_b = Variable(unit="rad", doc="Angle of flange_b relative to the support")
 

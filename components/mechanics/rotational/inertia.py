@@ -15,31 +15,19 @@ class Inertia(PartialTwoFlanges):
     Newton–Euler about the shaft axis: ``J * der(w) = flange_a.tau + flange_b.tau`` with
     ``w = der(phi)`` and ``phi = flange_a.phi = flange_b.phi``.
 
-    Parameters
-    ----------
-    J : float
-        Moment of inertia about the rotation axis [kg.m2], >= 0.
-
     Connectors
     ----------
     flange_a, flange_b : Flange
         Rigidly connected flanges; torques positive into the inertia.
-
-    Variables
-    ---------
-    phi : rad
-        Absolute rotation angle (preferred state).
-    w : rad/s
-        Absolute angular velocity (preferred state).
 
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Components.Inertia``.
     """
 
-    J = Parameter(unit="kg.m2", min=0.0, doc="Moment of inertia")
-    phi = Variable(unit="rad", state_select="prefer", doc="Absolute rotation angle")
-    w = Variable(unit="rad/s", state_select="prefer", doc="Absolute angular velocity")
+    J = Parameter(unit="kg.m2", min=0.0, doc="Moment of inertia about the rotation axis")
+    phi = Variable(unit="rad", state_select="prefer", doc="Absolute rotation angle (preferred state)")
+    w = Variable(unit="rad/s", state_select="prefer", doc="Absolute angular velocity (preferred state)")
     a = Variable(unit="rad/s2", doc="Absolute angular acceleration")
 
     def equations(self) -> list:

@@ -12,11 +12,6 @@ __all__ = ["RelativeAngleSensor"]
 class RelativeAngleSensor(PartialRelativeSensor):
     """Ideal sensor of the relative angle: ``phi_rel = flange_b.phi - flange_a.phi``.
 
-    Connectors
-    ----------
-    phi_rel : Output [rad]
-        Relative angle.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.RelativeAngleSensor``.

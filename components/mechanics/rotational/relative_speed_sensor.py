@@ -12,11 +12,6 @@ __all__ = ["RelativeSpeedSensor"]
 class RelativeSpeedSensor(PartialRelativeSensor):
     """Ideal sensor of the relative angular velocity: ``w_rel = der(flange_b.phi - flange_a.phi)``.
 
-    Connectors
-    ----------
-    w_rel : Output [rad/s]
-        Relative angular velocity.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.RelSpeedSensor``.

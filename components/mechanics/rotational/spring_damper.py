@@ -18,8 +18,6 @@ class SpringDamper(PartialCompliantWithRelativeStates):
     ---------
     tau : N.m
         Total torque.
-    tau_c, tau_d : N.m
-        Spring and damper torques.
 
     References
     ----------

@@ -18,8 +18,6 @@ class TorqueSensor(PartialTwoFlanges):
     ----------
     flange_a, flange_b : Flange
         Rigidly connected flanges, ``flange_b.tau = -flange_a.tau``.
-    tau : Output [N.m]
-        Torque in the sensor, positive from flange_a to flange_b.
 
     References
     ----------

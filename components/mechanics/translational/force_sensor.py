@@ -18,8 +18,6 @@ class ForceSensor(PartialTwoFlanges):
     ----------
     flange_a, flange_b : Flange
         Rigidly connected flanges, ``flange_b.f = -flange_a.f``.
-    f : Output [N]
-        Force in the sensor, positive from flange_a to flange_b.
 
     References
     ----------

@@ -21,8 +21,6 @@ class Mass(PartialRigid):
     ---------
     s : m
         Absolute position of the centre of the mass (preferred state).
-    v : m/s
-        Absolute velocity (preferred state).
 
     References
     ----------
@@ -30,7 +28,7 @@ class Mass(PartialRigid):
     """
 
     m = Parameter(unit="kg", min=0.0, doc="Mass of the sliding mass")
-    v = Variable(unit="m/s", state_select="prefer", doc="Absolute velocity")
+    v = Variable(unit="m/s", state_select="prefer", doc="Absolute velocity (preferred state)")
     a = Variable(unit="m/s2", doc="Absolute acceleration")
 
     def equations(self) -> list:

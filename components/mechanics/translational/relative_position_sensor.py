@@ -12,11 +12,6 @@ __all__ = ["RelativePositionSensor"]
 class RelativePositionSensor(PartialRelativeSensor):
     """Ideal sensor of the relative position: ``s_rel = flange_b.s - flange_a.s``.
 
-    Connectors
-    ----------
-    s_rel : Output [m]
-        Relative position.
-
     References
     ----------
     Modelica Standard Library 4.0,

@@ -12,11 +12,6 @@ __all__ = ["RelativeSpeedSensor"]
 class RelativeSpeedSensor(PartialRelativeSensor):
     """Ideal sensor of the relative velocity: ``v_rel = der(flange_b.s - flange_a.s)``.
 
-    Connectors
-    ----------
-    v_rel : Output [m/s]
-        Relative velocity.
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.Translational.Sensors.RelSpeedSensor``.

@@ -18,8 +18,6 @@ class SpringDamper(PartialCompliantWithRelativeStates):
     ---------
     f : N
         Total force.
-    f_c, f_d : N
-        Spring and damper forces.
 
     References
     ----------
