@@ -19,10 +19,12 @@ class DisplacementParameters:
     """Mixin: the parameters of a fixed-displacement machine (pump or motor), all but ``C_leak`` > 0."""
 
     _positive = ("D", "eta_v", "eta_m")
-    D = Parameter(unit="m3/rad", min=0.0, doc="Displacement")
+    D = Parameter(unit="m3/rad", min=0.0, doc="Displacement per radian (a value in cm3/rev times ``1e-6 / (2 pi)``)")
     eta_v = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Volumetric efficiency")
-    eta_m = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Mechanical efficiency")
-    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0, doc="Laminar leakage coefficient")
+    eta_m = Parameter(1.0, unit="1", min=0.0, max=1.0, doc="Mechanical (hydro-mechanical) efficiency")
+    C_leak = Parameter(0.0, unit="m3/(s.Pa)", min=0.0,
+                       doc=("Laminar leakage coefficient across the unit (pump: delivery to suction; motor: inlet to "
+                            "outlet)"))
 
 
 class PartialPump(PositiveParameters, Component):

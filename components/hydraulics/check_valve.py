@@ -45,7 +45,8 @@ class CheckValve(PositiveParameters, PartialTwoPort):
 
     Notes
     -----
-    ``A_max``, ``A_leak``, ``Cd`` and ``Re_cr`` must be > 0 (checked with the bounds).
+    ``A_max``, ``A_leak``, ``Cd`` and ``Re_cr`` must be > 0 (checked at construction, at flatten and for
+    run-time ``params``).
 
     References
     ----------

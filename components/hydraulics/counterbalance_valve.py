@@ -93,7 +93,7 @@ class CounterbalanceValve(PositiveParameters, Component):
     holding a load) then costs the integrator no corner restarts.
 
     ``p_crack``, ``pilot_ratio``, ``dp_open``, ``Q_nom``, ``dp_check``, ``Q_nom_check``, ``dp_nom``, ``Cd``,
-    ``Re_cr`` and ``T`` must be > 0 (checked with the bounds).
+    ``Re_cr`` and ``T`` must be > 0 (checked at construction, at flatten and for run-time ``params``).
 
     References
     ----------

@@ -118,12 +118,10 @@ class DoubleActingCylinder(PositiveParameters, Component):
     1e3 N), so that a holding cylinder's friction force, steep around ``v = 0``, does not set the step size instead of
     ``v`` (``docs/decisions/032-hydraulic-nominals-follow-the-states.md``).
 
-    Cross-parameter conditions (``d_rod < d_bore``, ``x_start`` within the stroke) are checked by
-    :meth:`check` whenever values are set: on the component, at flatten and for run-time overrides
-    ``run(params=...)``, naming the cylinder.
-
     ``d_bore``, ``d_rod``, ``stroke``, ``V_dead_A``, ``V_dead_B``, ``v_s``, ``v_reg``, ``c_stop``,
-    ``p_A_start`` and ``p_B_start`` must be > 0 (checked with the bounds).
+    ``p_A_start`` and ``p_B_start`` must be > 0, ``d_rod < d_bore`` and ``x_start`` within the stroke:
+    :meth:`check` tests these whenever values are set (on the component, at flatten and for run-time overrides
+    ``run(params=...)``), naming the cylinder.
 
     References
     ----------

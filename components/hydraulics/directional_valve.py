@@ -115,7 +115,7 @@ class DirectionalValve43(PositiveParameters, Component):
     event at every crossing).
 
     ``Q_nom``, ``dp_nom``, ``Cd``, ``omega``, ``zeta``, ``xs_PT``, ``Re_cr`` and ``dp_comp`` must be > 0
-    (checked with the bounds).
+    (checked at construction, at flatten and for run-time ``params``).
 
     References
     ----------

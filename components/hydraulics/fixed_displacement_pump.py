@@ -26,16 +26,10 @@ class FixedDisplacementPump(DisplacementParameters, PartialPump):
     ``C_q,leak``); use either or both. The laws hold for pumping (``w >= 0``, ``dp >= 0``);
     efficiencies are not inverted in motoring quadrants.
 
-    Parameters
-    ----------
-    D : float
-        Displacement [m3/rad], > 0 (cm3/rev: ``1e-6 / (2 pi)``).
-    eta_v : float
-        Volumetric efficiency [1], in (0, 1].
-    eta_m : float
-        Mechanical (hydro-mechanical) efficiency [1], in (0, 1].
-    C_leak : float
-        Laminar leakage coefficient from delivery to suction [m3/(s.Pa)], >= 0.
+    Notes
+    -----
+    ``D``, ``eta_v`` and ``eta_m`` must be > 0 (checked at construction, at flatten and for run-time
+    ``params``).
 
     References
     ----------

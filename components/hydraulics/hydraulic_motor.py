@@ -30,17 +30,6 @@ class HydraulicMotor(DisplacementParameters, PositiveParameters, PartialFluidCom
     (``w >= 0``, ``dp >= 0``); the rotor inertia is a separate
     :class:`~flexlib.components.mechanics.rotational.Inertia`.
 
-    Parameters
-    ----------
-    D : float
-        Displacement [m3/rad], > 0 (cm3/rev: ``1e-6 / (2 pi)``).
-    eta_v : float
-        Volumetric efficiency [1], in (0, 1].
-    eta_m : float
-        Mechanical (hydro-mechanical) efficiency [1], in (0, 1].
-    C_leak : float
-        Laminar leakage coefficient from inlet to outlet [m3/(s.Pa)], >= 0.
-
     Connectors
     ----------
     port_a : Port
@@ -49,6 +38,11 @@ class HydraulicMotor(DisplacementParameters, PositiveParameters, PartialFluidCom
         Outlet.
     flange : Flange
         Motor shaft; ``flange.tau = -tau``.
+
+    Notes
+    -----
+    ``D``, ``eta_v`` and ``eta_m`` must be > 0 (checked at construction, at flatten and for run-time
+    ``params``).
 
     References
     ----------

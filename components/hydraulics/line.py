@@ -68,7 +68,7 @@ class Line(PositiveParameters, Component):
 
     Notes
     -----
-    ``L`` and ``d`` must be > 0 (checked with the bounds).
+    ``L`` and ``d`` must be > 0 (checked at construction, at flatten and for run-time ``params``).
 
     References
     ----------

@@ -25,7 +25,7 @@ class Orifice(PositiveParameters, PartialTwoPort):
 
     Notes
     -----
-    ``A``, ``Cd`` and ``Re_cr`` must be > 0 (checked with the bounds).
+    ``A``, ``Cd`` and ``Re_cr`` must be > 0 (checked at construction, at flatten and for run-time ``params``).
 
     References
     ----------

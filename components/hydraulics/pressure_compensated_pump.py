@@ -54,7 +54,8 @@ class PressureCompensatedPump(PartialPump):
 
     Notes
     -----
-    ``D_max``, ``dp_reg``, ``eta_v``, ``eta_m`` and ``T`` must be > 0 (checked with the bounds).
+    ``D_max``, ``dp_reg``, ``eta_v``, ``eta_m`` and ``T`` must be > 0 (checked at construction, at flatten and
+    for run-time ``params``).
 
     References
     ----------

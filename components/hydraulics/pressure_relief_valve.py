@@ -58,7 +58,7 @@ class PressureReliefValve(PositiveParameters, PartialTwoPort):
 
     Notes
     -----
-    ``p_grad`` and ``T`` must be > 0 (checked with the bounds).
+    ``p_grad`` and ``T`` must be > 0 (checked at construction, at flatten and for run-time ``params``).
 
     References
     ----------

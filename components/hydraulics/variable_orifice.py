@@ -21,7 +21,8 @@ class VariableOrifice(PositiveParameters, PartialTwoPort):
 
     Notes
     -----
-    ``Cd``, ``A_leak`` and ``Re_cr`` must be > 0 (checked with the bounds).
+    ``Cd``, ``A_leak`` and ``Re_cr`` must be > 0 (checked at construction, at flatten and for run-time
+    ``params``).
 
     References
     ----------

@@ -46,7 +46,7 @@ class Volume(PositiveParameters, Component):
 
     Notes
     -----
-    ``V`` must be > 0 (checked with the bounds).
+    ``V`` must be > 0 (checked at construction, at flatten and for run-time ``params``).
 
     References
     ----------

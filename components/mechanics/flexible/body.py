@@ -154,11 +154,12 @@ class FlexibleBody(Component):
 
     Variables
     ---------
-    r_0 [m], v_0 [m/s], a_0 [m/s2]: reference-frame origin in the world; w [rad/s], z [rad/s2]: its angular
-    velocity and acceleration in body axes; alpha [m/s2]: ``α = T (a_0 − g)``, the origin's acceleration less
-    gravity in body axes, from the entry frame (module docstring); q [1], qd [1/s], qdd [1/s2]: modal coordinates and
-    their rates (absent with zero modes; a mode shape is metres per unit ``q``); Q [1]: quaternion of ``frame_a`` of
-    a free body.
+    q : 1, shape (m,)
+        Modal coordinates, one per kept mode (absent with zero modes; a mode shape is metres per unit ``q``).
+    qd : 1/s, shape (m,)
+        Modal velocities ``der(q)``.
+    qdd : 1/s2, shape (m,)
+        Modal accelerations ``der(qd)``.
     """
 
     #: Small-motion (elastic) coordinates: held by ``flexlib.analysis.modal_analysis(lock="rigid")`` to find the
@@ -172,7 +173,10 @@ class FlexibleBody(Component):
     a_0 = Variable(unit="m/s2", shape=3, doc="Acceleration of the reference origin in world")
     w = Variable(unit="rad/s", shape=3, state_select="avoid", doc="Angular velocity of the reference frame, body axes")
     z = Variable(unit="rad/s2", shape=3, doc="Angular acceleration of the reference frame, body axes")
-    alpha = Variable(unit="m/s2", shape=3, doc="Acceleration of the reference origin less gravity, body axes")
+    alpha = Variable(unit="m/s2", shape=3,
+
+                         doc=("Acceleration of the reference origin less gravity, body axes: ``T (a_0 - g)``, from the "
+                              "entry frame"))
     Q = Variable(unit="1", shape=4, start=[0.0, 0.0, 0.0, 1.0], state_select="prefer",
                  doc="Orientation quaternion of frame_a; used only by a free body")
 

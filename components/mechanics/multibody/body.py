@@ -42,11 +42,6 @@ class Body(Component):
     frame_a : Frame
         Body-fixed frame.
 
-    Variables
-    ---------
-    r_0 [m], v_0 [m/s], a_0 [m/s2]: origin of frame_a in world; w_a [rad/s], z_a [rad/s2]: angular
-    velocity and acceleration resolved in frame_a; Q [1]: orientation quaternion (free body only).
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Parts.Body``; Shabana, *Dynamics of Multibody

@@ -48,12 +48,6 @@ class Bushing(Component):
         Reference (ADAMS J marker) and moving (I marker) frame. No orientation branch: each frame must
         get its orientation elsewhere (a World/Fixed, a joint, or a Body that then becomes a free root).
 
-    Variables
-    ---------
-    r_rel [m], v_rel [m/s]: origin of frame_b from frame_a's, in frame_a, and its rate; phi_rel [rad]:
-    Cardan angles of frame_b relative to frame_a; phi_d [rad/s]: ``der(phi_rel)``; f [N], t [N.m]: force and
-    torque on the frame_b side, resolved in frame_a; tau [N.m]: torques about the gimbal axes.
-
     Notes
     -----
     Rotation measure: for small angles ``phi_rel`` equals the small-angle rotation vector (ADAMS' projected

@@ -32,12 +32,6 @@ class Cylindrical(Component):
         Axis of translation and rotation, resolved in frame_a (= frame_b) [1]; default ``(1, 0, 0)``; must
         not be zero.
 
-    Variables
-    ---------
-    s [m], v [m/s], a [m/s2]: relative distance along ``n``, its derivative, relative acceleration;
-    phi [rad], w [rad/s], wd [rad/s2]: relative angle about ``n``, its derivative, relative angular
-    acceleration.
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Joints.Cylindrical``.

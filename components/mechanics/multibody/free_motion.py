@@ -47,12 +47,6 @@ class FreeMotion(PartialTwoFrames):
     ----------
     frame_a, frame_b : Frame
 
-    Variables
-    ---------
-    r_rel_a [m], v_rel_a [m/s], a_rel_a [m/s2]: position of frame_b's origin relative to frame_a's, resolved
-    in frame_a, and its first and second derivatives (of the frame_a coordinates); Q [1]: relative
-    orientation quaternion; w_rel_b [rad/s]: relative angular velocity resolved in frame_b.
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Joints.FreeMotion`` (``useQuaternions = true``,

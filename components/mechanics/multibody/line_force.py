@@ -40,11 +40,6 @@ class LineForce(LineForceBase):
     flange_a, flange_b : translational Flange
         1D ends of the line: ``flange_a.s = 0``, ``flange_b.s = length``.
 
-    Variables
-    ---------
-    length [m]: distance between the frame origins; f_a, f_b [N]: tensions at frame_a and frame_b
-    (positive: the frames are pulled towards each other).
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Forces.LineForceWithMass`` (m = 0, no

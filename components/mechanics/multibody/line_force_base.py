@@ -43,10 +43,6 @@ class LineForceBase(Component):
     frame_a, frame_b : Frame
         The two attachment points (only their origins matter).
 
-    Variables
-    ---------
-    length [m]: distance between the frame origins (regularised below ``s_small``).
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Interfaces.LineForceBase``; the small-length
@@ -56,7 +52,7 @@ class LineForceBase(Component):
     s_small = Parameter(1e-6, unit="m", min=1e-12,
                         doc=("Regularisation length for coinciding frames: below it ``length`` is ``smooth_length`` "
                              "and ``e_rel_0`` shrinks to zero"))
-    length = Variable(unit="m", start=1.0, doc="Distance between the frame origins")
+    length = Variable(unit="m", start=1.0, doc="Distance between the frame origins (regularised below ``s_small``)")
     frame_a = Frame(doc="First attachment point")
     frame_b = Frame(doc="Second attachment point")
 

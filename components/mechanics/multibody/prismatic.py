@@ -35,10 +35,6 @@ class Prismatic(PartialAxisJoint):
         sensors is grounded inside the joint (``support.s = 0``, MSL), so a ``RelativePositionSensor`` between
         ``support`` and ``axis`` reads ``s``; a support connected to a ``Fixed`` or a source takes ``-f``.
 
-    Variables
-    ---------
-    s [m], v [m/s], a [m/s2]: relative position, velocity, acceleration; f [N]: driving force.
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Joints.Prismatic``.

@@ -44,11 +44,6 @@ class Revolute(PartialAxisJoint):
         ``RelativeAngleSensor`` between ``support`` and ``axis`` reads ``phi``; a support connected to a
         ``Fixed``, a housing or a source takes the reaction ``-(tau + tau_f)``.
 
-    Variables
-    ---------
-    phi [rad], w [rad/s], a [rad/s2]: relative angle, speed and acceleration; tau [N.m]: net axial torque on
-    the frame_b side (drive torque minus friction); tau_f [N.m]: friction torque.
-
     References
     ----------
     Modelica Standard Library 4.0, ``MultiBody.Joints.Revolute``.

@@ -17,10 +17,6 @@ class SpringDamperLine(LineForceBase):
     :class:`~.line_force.LineForce` with a translational ``SpringDamper`` between its flanges. The length is
     regularised below ``s_small`` (see :class:`~.line_force_base.LineForceBase`).
 
-    Variables
-    ---------
-    length [m]: distance between the frame origins; f [N]: tension (spring plus damper force).
-
     References
     ----------
     Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Forces.SpringDamperParallel``.
