@@ -193,3 +193,26 @@ def test_a_start_value_may_name_a_frame_kinematic_quantity_before_the_build() ->
     assert model_key(guessed, {}) == key  # a guess decides nothing of the structure
     guessed.rev_crank.frame_b.set_start("a", [0.0, 1.0, 0.0], fixed=True)
     assert model_key(guessed, {}) != key
+
+
+
+class CoupledPin(Revolute):
+    """frame_b's orientation rows recombined (row 0 + row 1 in place of row 0): the same equations, but no row gives
+    ``T_b[0, 0]`` alone, as MSL writes a joint."""
+
+    def equations(self) -> list:
+        rows = super().equations()
+        T_b = ca.vec(self.frame_b.T)
+        k = next(k for k, r in enumerate(rows) if ca.depends_on(r.residual, T_b) and r.residual.numel() == 9)
+        res = ca.vec(rows[k].residual)
+        rows[k] = eq(ca.vertcat(res[0] + res[1], res[1:]), 0.0)
+        return rows
+
+
+def test_a_joint_whose_rows_do_not_place_its_frame_is_named(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The pass refuses to guess the recursion of a joint whose rows give its frame's orientation only in
+    combination, naming the joint and what it needs (it was an unbalanced model naming v, a, z)."""
+    monkeypatch.setattr(pm, "Revolute", CoupledPin)
+    with pytest.raises(fl.ModelError, match=r"rev_crank: declares branch\(rev_crank.frame_a, rev_crank.frame_b\) but "
+                                            r"its rows do not give rev_crank.frame_b's r_0, T and w explicitly"):
+        flatten(pm.FourBarLinkage(), check=False)

@@ -465,7 +465,12 @@ def tree_kinematics(nodes: list[Node], depth: dict[int, int], roots: set[int], e
                 continue  # the component writes the recursion itself
             found = branch_kinematics(node, src, dst, exprs, checked, hashes)
             if found is None:
-                continue
+                if any(isinstance(c, Component) for c in node._children.values()):
+                    continue  # a composite: its parts relate the frames
+                raise ModelError(f"{node.path}: declares branch({a.path}, {b.path}) but its rows do not give "
+                                 f"{dst.path}'s r_0, T and w explicitly from {src.path} (one row each, as MSL's "
+                                 "joints write them), so the multibody pass cannot carry the frames' velocities and "
+                                 f"accelerations; write them so, or write {dst.path}'s v, a and z rows too")
             orientation = set(_hashes(dst, "T"))
             where = next((r for r, h in zip(at, hashes, strict=True) if not orientation.isdisjoint(h)), len(equations))
             insert(where, node, dst, found, src.path)
