@@ -30,6 +30,15 @@ def run(model: fl.Model, t_end: float, **kw) -> fl.Result:
     return fl.Simulation(model).run(t_end, progress=False, **kw)
 
 
+def vented_cylinder(model: fl.Model, L0: float) -> LineCylinder:
+    """The massive cylinder (closed length ``L0``) as ``model.cylinder``, both chambers vented to a tank."""
+    model.cylinder = LineCylinder(L0=L0, m_housing=M_H, L_housing=L_H, m_rod=M_R, L_rod=L_R, **CYL)
+    model.tank_a, model.tank_b = Tank(), Tank()
+    model.connect(model.cylinder.port_A, model.tank_a.port)
+    model.connect(model.cylinder.port_B, model.tank_b.port)
+    return model.cylinder
+
+
 class Pinned(fl.Model):
     """A massive cylinder between two world-fixed pins in a tilted pose, chambers vented to tank; a cut-force
     sensor in each pin."""
@@ -40,14 +49,11 @@ class Pinned(fl.Model):
         self.pin_a, self.pin_b = Fixed(r=r_a), Fixed(r=r_b)
         self.cut_a, self.cut_b = CutForce(resolve_in_frame="world"), CutForce(resolve_in_frame="world")
         L = float(np.linalg.norm(np.subtract(r_b, r_a)))
-        self.cylinder = LineCylinder(L0=L - 0.5, m_housing=M_H, L_housing=L_H, m_rod=M_R, L_rod=L_R, **CYL)
-        self.tank_a, self.tank_b = Tank(), Tank()
+        cyl = vented_cylinder(self, L - 0.5)
         self.connect(self.pin_a.frame_b, self.cut_a.frame_a)
-        self.connect(self.cut_a.frame_b, self.cylinder.frame_a)
+        self.connect(self.cut_a.frame_b, cyl.frame_a)
         self.connect(self.pin_b.frame_b, self.cut_b.frame_a)
-        self.connect(self.cut_b.frame_b, self.cylinder.frame_b)
-        self.connect(self.cylinder.port_A, self.tank_a.port)
-        self.connect(self.cylinder.port_B, self.tank_b.port)
+        self.connect(self.cut_b.frame_b, cyl.frame_b)
 
 
 def test_pin_reactions_of_the_weights():
@@ -93,13 +99,10 @@ class Pendulum(fl.Model):
         self.world = World()
         self.hinge = Revolute(n=[0, 0, 1], init={"phi": theta0, "w": 0.0})
         self.crank = FixedTranslation(r=[0.0, -ell, 0.0])
-        self.cylinder = LineCylinder(L0=ell - 0.5, m_housing=M_H, L_housing=L_H, m_rod=M_R, L_rod=L_R, **CYL)
-        self.tank_a, self.tank_b = Tank(), Tank()
-        self.connect(self.world.frame_b, self.hinge.frame_a, self.cylinder.frame_a)
+        cyl = vented_cylinder(self, ell - 0.5)
+        self.connect(self.world.frame_b, self.hinge.frame_a, cyl.frame_a)
         self.connect(self.hinge.frame_b, self.crank.frame_a)
-        self.connect(self.crank.frame_b, self.cylinder.frame_b)
-        self.connect(self.cylinder.port_A, self.tank_a.port)
-        self.connect(self.cylinder.port_B, self.tank_b.port)
+        self.connect(self.crank.frame_b, cyl.frame_b)
 
 
 def test_compound_pendulum():
@@ -135,12 +138,9 @@ class Drop(fl.Model):
         super().__init__()
         self.world = World()
         self.slide = Prismatic(n=[0, -1, 0], init={"s": s0, "v": 0.0})
-        self.cylinder = LineCylinder(L0=s0 - 0.5, m_housing=M_H, L_housing=L_H, m_rod=M_R, L_rod=L_R, **CYL)
-        self.tank_a, self.tank_b = Tank(), Tank()
-        self.connect(self.world.frame_b, self.slide.frame_a, self.cylinder.frame_a)
-        self.connect(self.slide.frame_b, self.cylinder.frame_b)
-        self.connect(self.cylinder.port_A, self.tank_a.port)
-        self.connect(self.cylinder.port_B, self.tank_b.port)
+        cyl = vented_cylinder(self, s0 - 0.5)
+        self.connect(self.world.frame_b, self.slide.frame_a, cyl.frame_a)
+        self.connect(self.slide.frame_b, cyl.frame_b)
 
 
 def test_rod_mass_falls_along_the_line():
