@@ -86,7 +86,8 @@ class HydraulicAxis(fl.Model):
 
     At start (``free_start=True``) the free chamber (parameter ``free_A``: 1 the cap side, 0 the rod side;
     default the chamber that does not hold) is at ``p_free_start``; the holding chamber's pressure is what holds
-    the load at rest (Merritt: ``p_hold = p_free·A_free/A_hold + F/A_hold``), its start value only a guess.
+    the load at rest (Merritt's static balance, gauge pressures: ``p_hold = (F + p_free·A_free)/A_hold``), its start
+    value only a guess.
 
     Connectors
     ----------
@@ -128,8 +129,8 @@ class HydraulicAxis(fl.Model):
     ----------
     H. E. Merritt, *Hydraulic Control Systems*, Wiley 1967, §5 (valve-controlled actuator, static load balance).
     Sun Hydraulics, *Counterbalance valves* (setting 1.3 × load, pilot ratio 3:1, non-vented).
-    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Forces.LineForceWithTwoMasses``; MSL
-    ``Modelica.Mechanics.Rotational.Examples.RobotR3`` ``OneAxis`` (one drive tested alone).
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.Forces.LineForceWithTwoMasses``;
+    ``Modelica.Mechanics.MultiBody.Examples.Systems.RobotR3.OneAxis`` (one drive tested alone).
     """
 
     def __init__(self, d_bore: float, d_rod: float, stroke: float, L0: float, Q_nom: float, hold: str = "A",

@@ -7,7 +7,8 @@ flow continuity ``Q = A v``; the pressure-compensated meter-in edge passes ``Q_n
 
 The bench: housing pin at the world origin, rod pin on a vertical slide carrying a 12 t body; cylinder Ø100/63 mm,
 1 m stroke; housing 40 kg at 0.5 m from its pin, rod 25 kg at 0.55 m from its pin; supply at 350 bar, tank at
-ambient pressure; counterbalance valve on the cap side (the cylinder pushes) set at 1.3 × the holding pressure.
+ambient pressure; counterbalance valve on the cap side (the cylinder pushes) set at 1.3 × the holding pressure,
+and in a second build one on the rod side as well (set at 100 bar).
 """
 
 from __future__ import annotations
@@ -36,14 +37,14 @@ P_HOLD = (M + M_R) * G / A_P  # gauge holding pressure: the load and the rod on 
 
 
 class Bench(fl.Model):
-    def __init__(self, u: float) -> None:
+    def __init__(self, u: float, over_centre: bool = False) -> None:
         super().__init__()
         self.world = World()
         self.slide = Prismatic(n=[0, 1, 0], init={"s": S0, "v": 0.0, "a": 0.0})
         self.load = Body(m=M)
         self.axis = HydraulicAxis(d_bore=BORE, d_rod=ROD, stroke=STROKE, L0=S0 - X0, Q_nom=Q_NOM, hold="A",
-                                  p_crack_A=1.3 * P_HOLD, m_housing=M_H, L_housing=L_H, m_rod=M_R, L_rod=L_R,
-                                  p_system=P_SYS, p_A_start=P_T + P_HOLD)
+                                  over_centre=over_centre, p_crack_A=1.3 * P_HOLD, p_crack_B=1e7, m_housing=M_H,
+                                  L_housing=L_H, m_rod=M_R, L_rod=L_R, p_system=P_SYS, p_A_start=P_T + P_HOLD)
         self.supply, self.tank = PressureSource(p=P_T + P_SYS), Tank()
         self.command = Constant(k=u)
         self.connect(self.world.frame_b, self.slide.frame_a, self.axis.frame_a)
@@ -53,9 +54,11 @@ class Bench(fl.Model):
         self.connect(self.command.y, self.axis.u)
 
 
-@pytest.fixture(scope="module")
-def sim() -> fl.Simulation:
-    return fl.Simulation(Bench(0.0))
+@pytest.fixture(scope="module", params=[False, True], ids=["hold-A", "both-lines"])
+def sim(request) -> fl.Simulation:
+    """The bench with the counterbalance valve on the cap side only, and on both lines (``over_centre=True``: the
+    load-holding valve on the rod side too, issue 28's joint 1); the checks are the same."""
+    return fl.Simulation(Bench(0.0, over_centre=request.param))
 
 
 def run(sim: fl.Simulation, u: float, t_end: float) -> fl.Result:
