@@ -1,0 +1,5 @@
+"""Parts of a truck-mounted concrete-pump boom, each a model of its own with a bench test."""
+
+from .section import BoomSection
+
+__all__ = ["BoomSection"]
