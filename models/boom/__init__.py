@@ -1,5 +1,6 @@
 """Parts of a truck-mounted concrete-pump boom, each a model of its own with a bench test."""
 
+from .linkage import LeverLink
 from .section import BoomSection
 
-__all__ = ["BoomSection"]
+__all__ = ["BoomSection", "LeverLink"]
