@@ -2,5 +2,6 @@
 
 from .linkage import LeverLink
 from .section import BoomSection
+from .turret import Turret
 
-__all__ = ["BoomSection", "LeverLink"]
+__all__ = ["BoomSection", "LeverLink", "Turret"]
