@@ -9,8 +9,9 @@ References and tolerances:
   joint's drive applies to section k is ``tau = dV/dq − F dl/dq``, with ``dl/dq`` the closed-form lever arm of
   :func:`models.pump_truck.kinematics.fourbar_state` and ``V = g Σ m y`` over section k, lever and link (centres at
   mid-length), ``dV/dq`` by central differences of the closed-form positions (step 1e-6 rad, error ~1e-10); 1e-6
-  relative to ``F |dl/dq|`` (measured 1e-12 … 1e-10), in three poses: extended (q = 0), −90° and −175° (3° from the fold). Massive
-  (the truck's lever and link masses, :func:`models.pump_truck.geometry.linkage_masses`) and massless linkage.
+  relative to ``F |dl/dq|`` (measured 1e-12 … 1e-10), in three poses: extended (q = 0), −90° and −175° (3° from
+  the fold). Massive (the truck's lever and link masses, :func:`models.pump_truck.geometry.linkage_masses`) and
+  massless linkage (they differ by ~400 N.m, the linkage's weight).
 * Kinematics: with the revolutes' start guesses 0.1 rad off, the lever angle ``pivot.phi`` the initialisation
   finds equals the closed-form circle intersection (Norton ch. 4, :meth:`LeverLink.start_angles`) to 1e-9 rad at
   seven joint angles across the range.

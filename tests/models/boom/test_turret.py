@@ -70,7 +70,7 @@ def test_friction_breakaway(sim):
     c, s = math.cos(phi), math.sin(phi)
     np.testing.assert_allclose(slide["turret.top.frame_b.r_0"][-1], top, atol=1e-9)
     np.testing.assert_allclose(slide["turret.housing.frame_b.r_0"][-1],
-                               top + [c * H1[0], H1[1], -s * H1[0]], atol=1e-9)
+                               top + np.array([c * H1[0], H1[1], -s * H1[0]]), atol=1e-9)
 
 
 @pytest.mark.parametrize(("kwargs", "argument"), [
