@@ -61,14 +61,13 @@ class Bench(fl.Model):
         self.push = translational.Force(use_support=True)
         self.force = Constant(k=F)
         self.connect(self.world.frame_b, self.joint.frame_a, self.pin_P.frame_a, self.pin_H.frame_a)
-        self.connect(self.hold.flange, self.joint.axis)
+        pairs = [(self.hold.flange, self.joint.axis), (self.pin_P.frame_b, self.linkage.frame_pivot),
+                 (self.linkage.frame_bracket, self.pin_C.frame_b), (self.pin_H.frame_b, self.line.frame_a),
+                 (self.linkage.frame_tip, self.line.frame_b), (self.line.flange_a, self.push.support),
+                 (self.line.flange_b, self.push.flange)]
+        for a, b in pairs:
+            self.connect(a, b)
         self.connect(self.joint.frame_b, self.section.frame_a, self.pin_C.frame_a)
-        self.connect(self.pin_P.frame_b, self.linkage.frame_pivot)
-        self.connect(self.linkage.frame_bracket, self.pin_C.frame_b)
-        self.connect(self.pin_H.frame_b, self.line.frame_a)
-        self.connect(self.linkage.frame_tip, self.line.frame_b)
-        self.connect(self.line.flange_a, self.push.support)
-        self.connect(self.line.flange_b, self.push.flange)
         self.connect(self.force.y, self.push.f)
 
 
