@@ -16,11 +16,18 @@ from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revol
 from flexlib.components.mechanics.multibody.interfaces import Frame
 from flexlib.components.mechanics.rotational.interfaces import Flange
 from flexlib.errors import ParameterError
-from flexlib.models.pump_truck.model import SLEW_FRICTION, SLEW_W_REG
 from flexlib.models.pump_truck.parameters import DirectDrive
 from flexlib.models.pump_truck.parameters import Turret as TurretRecord
 
-__all__ = ["Turret"]
+__all__ = ["SLEW_FRICTION", "SLEW_W_REG", "Turret"]
+
+# The slewing ring of the 42 m pump truck (today also in models/pump_truck/model.py, which imports this part when it
+# is recomposed; defined here, not imported from model.py, so that import does not go round in a circle).
+#: Slewing-ring friction torque [N.m]: Rothe Erde's estimate mu/2 (4.4 M_k + F_a D_L) with mu = 0.005, tilting
+#: moment M_k = 1.5 MN.m, axial load F_a = 150 kN, raceway diameter D_L = 1.5 m (42 m boom, filled, working pose).
+SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
+#: Regularisation speed of the slewing-ring friction [rad/s] (smaller fails Newton in the truck; decision 024).
+SLEW_W_REG = 1e-2
 
 
 def _number(name: str, value: float, minimum: float, strict: bool) -> float:
@@ -64,10 +71,10 @@ class Turret(fl.Model):
         Joint-1 cylinder housing pin in the joint-1 frame [m] (default (0.45, −2.0):
         ``models.pump_truck.parameters.DirectDrive.H``).
     tau_c : float
-        Slewing-ring Coulomb friction torque [N.m] (default ``models.pump_truck.model.SLEW_FRICTION``, Rothe Erde's
-        estimate for the 42 m boom); 0: no friction.
+        Slewing-ring Coulomb friction torque [N.m] (default :data:`SLEW_FRICTION`, Rothe Erde's estimate for the
+        42 m boom, as ``models.pump_truck.model``); 0: no friction.
     w_reg : float
-        Regularisation speed of the friction [rad/s] (default ``models.pump_truck.model.SLEW_W_REG``).
+        Regularisation speed of the friction [rad/s] (default :data:`SLEW_W_REG`, as ``models.pump_truck.model``).
     phi_start : float
         Start slew angle [rad] (the joint starts there at rest).
 

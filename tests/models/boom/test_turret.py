@@ -73,6 +73,20 @@ def test_friction_breakaway(sim):
                                top + np.array([c * H1[0], H1[1], -s * H1[0]]), atol=1e-9)
 
 
+def test_defaults_are_the_trucks():
+    """Until PumpTruck is recomposed from the parts, the part's defaults are the truck's values."""
+    from flexlib.models.boom import turret
+    from flexlib.models.pump_truck import model
+    from flexlib.models.pump_truck.parameters import PumpTruckParameters
+
+    assert (turret.SLEW_FRICTION, turret.SLEW_W_REG) == (model.SLEW_FRICTION, model.SLEW_W_REG)
+    record = PumpTruckParameters()
+    part = Turret()
+    assert float(part.body.parameter_value("m")) == record.turret.mass
+    assert part.top.parameter_value("r").tolist() == [0.0, record.turret.height, 0.0]
+    assert part.housing.parameter_value("r").tolist() == [*record.joint1.H, 0.0]
+
+
 @pytest.mark.parametrize(("kwargs", "argument"), [
     ({"mass": 0.0}, "mass"), ({"J_slew": -1.0}, "J_slew"), ({"height": float("inf")}, "height"),
     ({"tau_c": -1.0}, "tau_c"), ({"w_reg": 0.0}, "w_reg"), ({"H1": (1.0,)}, "H1"), ({"phi_start": "x"}, "phi_start"),
