@@ -7,7 +7,7 @@ from typing import Any
 
 from flexlib.errors import ParameterError
 
-__all__ = ["positive"]
+__all__ = ["positive", "positives"]
 
 
 def positive(part: str, name: str, value: Any, unit: str, *, allow_zero: bool = False) -> float:
@@ -18,3 +18,8 @@ def positive(part: str, name: str, value: Any, unit: str, *, allow_zero: bool = 
         bound = ">= 0" if allow_zero else "> 0"
         raise ParameterError(f"{part}: {name} must be a finite number {bound} [{unit}], got {value!r}")
     return float(value)
+
+
+def positives(part: str, **arguments: tuple[Any, str]) -> list[float]:
+    """:func:`positive` for each ``name=(value, unit)``, in order."""
+    return [positive(part, name, value, unit) for name, (value, unit) in arguments.items()]

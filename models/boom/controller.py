@@ -21,7 +21,7 @@ from flexlib.components.mechanics.multibody import LineForce
 from flexlib.components.mechanics.multibody.interfaces import Frame
 from flexlib.errors import ParameterError
 
-from ._checks import positive
+from ._checks import positive, positives
 
 __all__ = ["AngleController", "JointController"]
 
@@ -38,7 +38,7 @@ class _Loop(fl.Model):
 
     def _close(self, part: str, measured: Any, k: float, Ti: float, Td: float, T_cmd: float, unit: str,
                feed_forward: bool) -> None:
-        Ti, T_cmd = positive(part, "Ti", Ti, "s"), positive(part, "T_cmd", T_cmd, "s")
+        Ti, T_cmd = positives(part, Ti=(Ti, "s"), T_cmd=(T_cmd, "s"))
         Td = positive(part, "Td", Td, "s", allow_zero=True)
         kind = {"controller_type": "PID", "Td": Td} if Td > 0 else {"controller_type": "PI"}
         self.u_ref = Input(unit=unit, doc="Reference")
@@ -109,8 +109,8 @@ class JointController(_Loop):
                  T_cmd: float = T_CMD, Td: float = 0.0, **kw: Any) -> None:
         super().__init__(**kw)
         part = "JointController"
-        A_p, Q_nom = positive(part, "A_p", A_p, "m2"), positive(part, "Q_nom", Q_nom, "m3/s")
-        omega_c, L_start = positive(part, "omega_c", omega_c, "rad/s"), positive(part, "L_start", L_start, "m")
+        A_p, Q_nom, omega_c, L_start = positives(part, A_p=(A_p, "m2"), Q_nom=(Q_nom, "m3/s"),
+                                                 omega_c=(omega_c, "rad/s"), L_start=(L_start, "m"))
         self.frame_a = Frame(doc="Cylinder housing pin")
         self.frame_b = Frame(doc="Cylinder rod-end pin")
         self.line = LineForce()  # the pin-to-pin line, carrying no force: a length sensor
@@ -161,7 +161,7 @@ class AngleController(_Loop):
                  T_cmd: float = T_CMD, Td: float = 0.0, feed_forward: bool = True, **kw: Any) -> None:
         super().__init__(**kw)
         part = "AngleController"
-        K_v, omega_c = positive(part, "K_v", K_v, "rad/s"), positive(part, "omega_c", omega_c, "rad/s")
+        K_v, omega_c = positives(part, K_v=(K_v, "rad/s"), omega_c=(omega_c, "rad/s"))
         if sign not in (1, -1):
             raise ParameterError(f"{part}: sign must be +1 or -1, got {sign!r}")
         if not isinstance(feed_forward, bool):

@@ -23,7 +23,7 @@ from flexlib.components.hydraulics.fluid import HLP46
 from flexlib.components.hydraulics.interfaces import Port
 from flexlib.errors import ParameterError
 
-from ._checks import positive
+from ._checks import positive, positives
 
 __all__ = ["PowerUnit"]
 
@@ -92,11 +92,9 @@ class PowerUnit(fl.Model):
                  p_start: float | None = None, **kw: Any) -> None:
         super().__init__(**kw)
         part = "PowerUnit"
-        D, speed, V_supply = (positive(part, n, v, u) for n, v, u in
-                              (("D", D, "m3/rad"), ("speed", speed, "rad/s"), ("V_supply", V_supply, "m3")))
-        p_comp, dp_reg = positive(part, "p_comp", p_comp, "Pa"), positive(part, "dp_reg", dp_reg, "Pa")
-        p_relief, p_grad = positive(part, "p_relief", p_relief, "Pa"), positive(part, "p_grad", p_grad, "Pa.s/m3")
-        eta_v = positive(part, "eta_v", eta_v, "1")
+        D, speed, p_comp, dp_reg, V_supply, p_relief, p_grad, eta_v = positives(
+            part, D=(D, "m3/rad"), speed=(speed, "rad/s"), p_comp=(p_comp, "Pa"), dp_reg=(dp_reg, "Pa"),
+            V_supply=(V_supply, "m3"), p_relief=(p_relief, "Pa"), p_grad=(p_grad, "Pa.s/m3"), eta_v=(eta_v, "1"))
         if eta_v > 1.0:
             raise ParameterError(f"{part}: eta_v must be <= 1 [1] (volumetric efficiency), got {eta_v!r}")
         p_tank = HLP46.p_ref

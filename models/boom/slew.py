@@ -19,7 +19,7 @@ from flexlib.components.hydraulics.fluid import HLP46
 from flexlib.components.hydraulics.interfaces import Port
 from flexlib.components.mechanics import rotational
 
-from ._checks import positive
+from ._checks import positives
 
 __all__ = ["SlewDrive"]
 
@@ -85,10 +85,9 @@ class SlewDrive(fl.Model):
                  V_hose: float = V_HOSE, dp_nom: float = DP_NOM, f_spool: float = F_SPOOL, **kw: Any) -> None:
         super().__init__(**kw)
         part = "SlewDrive"
-        D, ratio, Q_nom = (positive(part, n, v, u) for n, v, u in
-                           (("D", D, "m3/rad"), ("ratio", ratio, "1"), ("Q_nom", Q_nom, "m3/s")))
-        J_rotor, V_hose = positive(part, "J_rotor", J_rotor, "kg.m2"), positive(part, "V_hose", V_hose, "m3")
-        dp_nom, f_spool = positive(part, "dp_nom", dp_nom, "Pa"), positive(part, "f_spool", f_spool, "Hz")
+        D, ratio, Q_nom, J_rotor, V_hose, dp_nom, f_spool = positives(
+            part, D=(D, "m3/rad"), ratio=(ratio, "1"), Q_nom=(Q_nom, "m3/s"), J_rotor=(J_rotor, "kg.m2"),
+            V_hose=(V_hose, "m3"), dp_nom=(dp_nom, "Pa"), f_spool=(f_spool, "Hz"))
         self.flange = rotational.Flange(doc="Output shaft: the slewing axis")
         self.port_P, self.port_T = Port(doc="Supply"), Port(doc="Tank")
         self.u = Input(unit="1", doc="Valve command, -1 ... 1")

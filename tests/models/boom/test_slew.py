@@ -43,12 +43,10 @@ class Bench(fl.Model):
         self.turret = rotational.Inertia(J=J_TURRET, init={"phi": 0.0, "w": 0.0})
         self.load = rotational.Torque()
         self.command, self.torque = Constant(k=u), Constant(k=tau)
-        self.connect(self.supply.port, self.drive.port_P)
-        self.connect(self.tank.port, self.drive.port_T)
-        self.connect(self.drive.flange, self.turret.flange_a)
-        self.connect(self.turret.flange_b, self.load.flange)
-        self.connect(self.command.y, self.drive.u)
-        self.connect(self.torque.y, self.load.tau)
+        for a, b in ((self.supply.port, self.drive.port_P), (self.tank.port, self.drive.port_T),
+                     (self.drive.flange, self.turret.flange_a), (self.turret.flange_b, self.load.flange),
+                     (self.command.y, self.drive.u), (self.torque.y, self.load.tau)):
+            self.connect(a, b)
 
 
 def test_full_command_speed():
