@@ -61,15 +61,17 @@ class HermiteTable(TimeTable):
     c : array_like
         ``len(t) − 1`` rows ``(c0, c1, c2, c3)``: the output on segment k is ``c0 + c1 s + c2 s² + c3 s³`` with
         ``s = t − t[k]``; before ``t[0]`` the value at ``t[0]`` is held, after ``t[-1]`` the last segment's end value.
+    hold : float
+        The output of a table of one knot (no segments).
     """
 
-    def __init__(self, t: Any, c: Any, **kw: Any) -> None:
+    def __init__(self, t: Any, c: Any, hold: float = 0.0, **kw: Any) -> None:
         t_arr, c_arr = np.asarray(t, dtype=float), np.asarray(c, dtype=float).reshape(-1, 4)
         if t_arr.ndim != 1 or len(c_arr) != max(len(t_arr) - 1, 0):
             raise ParameterError(f"HermiteTable: c needs {max(t_arr.size - 1, 0)} rows of 4 coefficients for "
                                  f"{t_arr.size} knots, got shape {np.shape(c)}")
-        h = np.diff(t_arr) if t_arr.ndim == 1 else np.zeros(0)
-        y = np.append(c_arr[:, 0], c_arr[-1] @ h[-1] ** np.arange(4)) if len(c_arr) else np.zeros(t_arr.size)
+        h = np.diff(t_arr)
+        y = np.append(c_arr[:, 0], c_arr[-1] @ h[-1] ** np.arange(4)) if len(c_arr) else np.full(t_arr.size, hold)
         super().__init__(t=t_arr, y=y, **kw)
         self.table_c = c_arr
 
@@ -262,7 +264,7 @@ class SmoothReference(fl.Model):
         c = hermite_coefficients(t_arr, y_arr, dy_arr) if t_arr.size > 1 else np.zeros((0, 4))
         dc = np.column_stack([c[:, 1], 2 * c[:, 2], 3 * c[:, 3], np.zeros(len(c))])
         self.y, self.dy = Output(unit="1", doc="Position"), Output(unit="1", doc="Speed dy/dt")
-        self.position, self.speed = HermiteTable(t_arr, c), HermiteTable(t_arr, dc)
+        self.position, self.speed = HermiteTable(t_arr, c, hold=float(y_arr[0])), HermiteTable(t_arr, dc)
         self.connect(self.position.y, self.y)
         self.connect(self.speed.y, self.dy)
         if ff_gain is not None:

@@ -140,6 +140,13 @@ def test_joint_to_length_through_kinematics():
         assert runs_above(np.gradient(dL[seg], t[seg])) <= 2
 
 
+def test_no_moves_holds_the_start():
+    ref = SmoothReference.from_moves(0.3, [(5.0, 0.3, 1.0, 1.0)])  # a move to where it is: nothing moves
+    res = fl.Simulation(ref, use_cache=False).run(1.0, dt_out=0.5)
+    assert np.all(res["y"] == 0.3)
+    assert np.all(res["dy"] == 0.0)
+
+
 @pytest.mark.parametrize(("call", "message"), [
     (lambda: trapezoid_profile(0.0, [(0.0, 1.0, 0.0, 1.0)]), "moves\\[0\\] v_max must"),
     (lambda: trapezoid_profile(0.0, [(0.0, 1.0, 1.0, -1.0)]), "moves\\[0\\] a_max must"),
