@@ -1,4 +1,4 @@
-"""Reusable parts of a truck-mounted concrete-pump boom (issue 28): compose them into your boom."""
+"""Reusable parts of a truck-mounted concrete-pump boom: compose them into your boom."""
 
 from .controller import AngleController, JointController
 from .power import PowerUnit

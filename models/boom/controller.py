@@ -142,7 +142,7 @@ class AngleController(_Loop):
         +1 if a positive command turns the joint positively, −1 otherwise.
     Ti, T_cmd, Td : float
         Integral time, command filter, derivative time [s] (defaults 2, 0.16, 0).
-    feed_forward : bool
+    use_feed_forward : bool
         True (default) for the input ``u_ff``.
 
     Connectors
@@ -152,21 +152,21 @@ class AngleController(_Loop):
     u_ref : Input [rad]
         Angle reference.
     u_ff : Input [1]
-        Feed-forward valve command (``dq_ref/dt / K_v``; only with ``feed_forward``).
+        Feed-forward valve command (``dq_ref/dt / K_v``; only with ``use_feed_forward``).
     y : Output [1]
         Valve command.
     """
 
     def __init__(self, K_v: float, omega_c: float = OMEGA_C, sign: float = 1.0, Ti: float = T_I,
-                 T_cmd: float = T_CMD, Td: float = 0.0, feed_forward: bool = True, **kw: Any) -> None:
+                 T_cmd: float = T_CMD, Td: float = 0.0, use_feed_forward: bool = True, **kw: Any) -> None:
         super().__init__(**kw)
         part = "AngleController"
         K_v, omega_c = positives(part, K_v=(K_v, "rad/s"), omega_c=(omega_c, "rad/s"))
         if sign not in (1, -1):
             raise ParameterError(f"{part}: sign must be +1 or -1, got {sign!r}")
-        if not isinstance(feed_forward, bool):
-            raise ParameterError(f"{part}: feed_forward must be True or False, got {feed_forward!r}")
+        if not isinstance(use_feed_forward, bool):
+            raise ParameterError(f"{part}: use_feed_forward must be True or False, got {use_feed_forward!r}")
         self.flange = rotational.Flange(doc="Joint axis (measured)")
         self.sensor = rotational.AngleSensor()
         self.connect(self.flange, self.sensor.flange)
-        self._close(part, self.sensor.phi, float(sign) * omega_c / K_v, Ti, Td, T_cmd, "rad", feed_forward)
+        self._close(part, self.sensor.phi, float(sign) * omega_c / K_v, Ti, Td, T_cmd, "rad", use_feed_forward)

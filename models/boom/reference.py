@@ -1,10 +1,10 @@
-"""Smooth references for boom joints: position and speed with continuous speed (issue 28, item 4).
+"""Smooth references for boom joints: position and speed with continuous speed.
 
 A motion planner or an operator's joystick moves a joint with a trapezoidal speed profile: constant acceleration
 ``a_max`` up to ``v_max``, cruise, constant deceleration to rest at the target (a triangle when the move is too short
 to reach ``v_max``). The position is C1 (piecewise quadratic), the speed continuous (piecewise linear) and zero at
-every stop, the acceleration bounded; so the feed-forward flow ``A·dL/dt`` ramps instead of jumping (the old
-piecewise-linear reference with a piecewise-constant feed-forward changed the flow stepwise at every knot).
+every stop, the acceleration bounded; so the feed-forward flow ``A·dL/dt`` ramps instead of jumping (a
+piecewise-linear reference with a piecewise-constant feed-forward would change the flow stepwise at every knot).
 
 Representation: knots ``(t_k, y_k, dy_k)`` and the cubic Hermite polynomial through each pair of knots, which
 reproduces a quadratic phase exactly. The position block evaluates those cubics and the speed block their exact

@@ -128,7 +128,7 @@ def test_joint_controller_bad_arguments(kw, arg):
 
 
 @pytest.mark.parametrize(("kw", "arg"), [({"K_v": 0.0}, "K_v"), ({"sign": 0.5}, "sign"), ({"T_cmd": -1.0}, "T_cmd"),
-                                          ({"feed_forward": "yes"}, "feed_forward")])
+                                          ({"use_feed_forward": "yes"}, "use_feed_forward")])
 def test_angle_controller_bad_arguments(kw, arg):
     with pytest.raises(ParameterError, match=rf"AngleController: {arg} must"):
         AngleController(**{"K_v": 0.1, **kw})
