@@ -10,7 +10,8 @@ References:
   ``k = omega_c·A_p/Q_nom``, i.e. ``L(s) = omega_c (1 + 1/(Ti s))/(s (1 + T_cmd s))``: its proportional asymptote
   ``omega_c/ω`` crosses 1 at ``omega_c`` whatever ``A_p`` and ``Q_nom`` (for Ti = 2 s, T_cmd = 0.16 s the full
   ``|L|`` crosses 1 at 0.448 rad/s). Measured: the closed loop ``T = y/u_ref`` from :func:`flexlib.linearize` at
-  rest, ``L = T/(1 − T)`` (unity feedback, set-point weight 1); tolerance 1e-6 relative at 0.05 … 3 rad/s (measured 1e-14).
+  rest, ``L = T/(1 − T)`` (unity feedback, set-point weight 1); tolerance 1e-6 relative at 0.05 … 3 rad/s
+  (measured 1e-14).
 * ramp with feed-forward: a reference with a long constant-speed part and the feed-forward ``A_p/Q_nom·dL/dt``;
   type-1 plant plus integral action plus exact feed-forward: the error and the PI part of the command
   (``pid.y − u_ff``) decay to zero during the cruise, with the closed loop's slowest poles (roots of
