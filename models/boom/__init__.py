@@ -2,8 +2,8 @@
 
 from .controller import AngleController, JointController
 from .power import PowerUnit
-from .reference import SmoothReference, joint_to_length, trapezoid_profile, waypoint_moves
+from .reference import SmoothReference, joint_to_length, motion_profile, waypoint_moves
 from .slew import SlewDrive
 
 __all__ = ["AngleController", "JointController", "PowerUnit", "SlewDrive", "SmoothReference", "joint_to_length",
-           "trapezoid_profile", "waypoint_moves"]
+           "motion_profile", "waypoint_moves"]

@@ -5,10 +5,13 @@ A motion planner or an operator's joystick moves a joint with a trapezoidal spee
 to reach ``v_max``). The position is C1 (piecewise quadratic), the speed continuous (piecewise linear) and zero at
 every stop, the acceleration bounded; so the feed-forward flow ``A·dL/dt`` ramps instead of jumping (a
 piecewise-linear reference with a piecewise-constant feed-forward would change the flow stepwise at every knot).
+With a jerk limit ``j_max`` the corners of the trapezoid are rounded (S-curve: seven phases of constant jerk), so
+the acceleration, and the rate of change of the flow, is continuous too.
 
-Representation: knots ``(t_k, y_k, dy_k)`` and the cubic Hermite polynomial through each pair of knots, which
-reproduces a quadratic phase exactly. The position block evaluates those cubics and the speed block their exact
-derivatives (quadratics), so ``dy`` is the derivative of ``y`` to rounding everywhere, not a second interpolation.
+Representation: knots ``(t_k, y_k, dy_k)`` at the phase boundaries and the cubic Hermite polynomial through each
+pair of knots, which reproduces a phase of constant acceleration (quadratic) or constant jerk (cubic) exactly. The
+position block evaluates those cubics and the speed block their exact derivatives (quadratics), so ``dy`` is the
+derivative of ``y`` to rounding everywhere, not a second interpolation.
 Both are :class:`~flexlib.components.control.TimeTable` blocks (every knot a time event, ends held) with their
 segment polynomials given: the library's ``TimeTable`` offers C1 splines (Akima, Fritsch–Butland) whose knot
 slopes it chooses itself, but no cubic Hermite with *given* knot slopes, which exact planner profiles need
@@ -21,8 +24,9 @@ stays continuous (C1 Hermite), the length within ``O(h⁴)`` of ``L(q(t))`` betw
 References
 ----------
 L. Biagiotti, C. Melchiorri, *Trajectory Planning for Automatic Machines and Robots*, Springer 2008, §3.2
-(trapezoidal velocity profile) and §4.4 (cubic Hermite interpolation with assigned velocities). Modelica Standard
-Library 4.0, ``Blocks.Sources.CombiTimeTable`` and ``Mechanics.Rotational.Sources.KinematicPTP``.
+(trapezoidal velocity profile), §3.4 (double-S, jerk-limited profile) and §4.4 (cubic Hermite interpolation with
+assigned velocities). Modelica Standard Library 4.0, ``Blocks.Sources.CombiTimeTable`` and
+``Mechanics.Rotational.Sources.KinematicPTP``.
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
+from scipy.optimize import brentq
 
 import flexlib as fl
 from flexlib import Output
@@ -40,7 +45,7 @@ from flexlib.errors import ParameterError
 
 from ._checks import positive
 
-__all__ = ["HermiteTable", "SmoothReference", "joint_to_length", "trapezoid_profile", "waypoint_moves"]
+__all__ = ["HermiteTable", "SmoothReference", "joint_to_length", "motion_profile", "waypoint_moves"]
 
 Knots = tuple[np.ndarray, np.ndarray, np.ndarray]
 
@@ -79,21 +84,77 @@ class HermiteTable(TimeTable):
         return self.table_c
 
 
-def trapezoid_profile(q_start: float, moves: Sequence[Sequence[float]]) -> Knots:
-    """Knots ``(t, q, dq)`` of a sequence of point-to-point moves with trapezoidal speed.
+def _accel_phase(v: float, a: float, j: float) -> tuple[float, float, float]:
+    """``(a_peak, T_j, T_ca)`` of a jerk-limited acceleration from rest to ``v``: jerk ``j`` for ``T_j``, constant
+    acceleration for ``T_ca``, jerk ``−j`` for ``T_j`` (``j = inf``: a step to ``a``, ``T_j = 0``)."""
+    if math.isinf(j):
+        return a, 0.0, v / a
+    if v >= a * a / j:
+        return a, a / j, v / a - a / j
+    t_j = math.sqrt(v / j)
+    return j * t_j, t_j, 0.0
+
+
+def _peak_speed(dist: float, v: float, a: float, j: float) -> tuple[float, float]:
+    """Peak speed and cruise time of a rest-to-rest move over ``dist`` with the limits ``v``, ``a``, ``j``.
+
+    The acceleration phase to ``v_p`` is point-symmetric in speed: it covers ``v_p·T_a/2``, ``T_a = 2 T_j + T_ca``.
+    Without cruise ``v_p·T_a = dist``: ``v_p = sqrt(a·dist)`` (no jerk limit), ``v_p (v_p/a + a/j) = dist`` (``a``
+    reached), ``2 v_p^(3/2)/sqrt(j) = dist`` (``a`` not reached)."""
+    _, t_j, t_ca = _accel_phase(v, a, j)
+    d_acc = v * (2 * t_j + t_ca)  # both ramps
+    if d_acc <= dist:
+        return v, (dist - d_acc) / v
+    if math.isinf(j):
+        return math.sqrt(a * dist), 0.0
+    vp = a / 2 * (-a / j + math.sqrt((a / j) ** 2 + 4 * dist / a))
+    return (vp, 0.0) if vp >= a * a / j else ((dist * math.sqrt(j) / 2) ** (2 / 3), 0.0)
+
+
+def _move_duration(dist: float, v: float, a: float, j: float) -> float:
+    vp, t_c = _peak_speed(dist, v, a, j)
+    _, t_j, t_ca = _accel_phase(vp, a, j)
+    return 2 * (2 * t_j + t_ca) + t_c
+
+
+def _move_knots(q: float, dist: float, sgn: float, v: float, a: float, j: float) -> list[tuple[float, float, float]]:
+    """``(duration, q_end, v_end)`` of each phase (of nonzero duration) of one move, phases of constant jerk."""
+    vp, t_c = _peak_speed(dist, v, a, j)
+    ap, t_j, t_ca = _accel_phase(vp, a, j)
+    jerk = 0.0 if math.isinf(j) else ap / t_j if t_j > 0 else 0.0
+    # (duration, acceleration at its start, jerk): up, constant, down, cruise, and the mirror image
+    phases = [(t_j, 0.0, jerk), (t_ca, ap, 0.0), (t_j, ap, -jerk), (t_c, 0.0, 0.0),
+              (t_j, 0.0, -jerk), (t_ca, -ap, 0.0), (t_j, -ap, jerk)]
+    if math.isinf(j):  # steps of acceleration: the ramps carry it as their start value
+        phases = [(0.0, 0.0, 0.0), (t_ca, ap, 0.0), (0.0, 0.0, 0.0), (t_c, 0.0, 0.0),
+                  (0.0, 0.0, 0.0), (t_ca, -ap, 0.0), (0.0, 0.0, 0.0)]
+    out, x, w = [], 0.0, 0.0
+    for tau, acc, jk in phases:
+        if tau <= 1e-12 * (t_c + 4 * t_j + 2 * t_ca):
+            continue
+        x, w = x + w * tau + acc * tau**2 / 2 + jk * tau**3 / 6, w + acc * tau + jk * tau**2 / 2
+        out.append((tau, q + sgn * x, sgn * w))
+    out[-1] = (out[-1][0], q + sgn * dist, 0.0)  # at rest on the target, exactly
+    return out
+
+
+def motion_profile(q_start: float, moves: Sequence[Sequence[float]]) -> Knots:
+    """Knots ``(t, q, dq)`` of a sequence of rest-to-rest moves with trapezoidal speed, optionally jerk-limited.
 
     Parameters
     ----------
     q_start : float
         Position before the first move.
-    moves : sequence of (t_start, target, v_max, a_max)
-        Each move starts at rest at ``t_start`` [s] (not before the previous move has ended), accelerates at
-        ``a_max`` to ``v_max`` (or less, for a short move), cruises and decelerates to rest at ``target``.
+    moves : sequence of (t_start, target, v_max, a_max) or (t_start, target, v_max, a_max, j_max)
+        Each move starts at rest at ``t_start`` [s] (not before the previous move has ended), accelerates to
+        ``v_max`` (or less, for a short move), cruises and decelerates to rest at ``target``: with a constant
+        acceleration ``a_max`` (trapezoidal speed, C1 position), or with the acceleration ramped at the jerk
+        ``j_max`` (S-curve: 7 phases of constant jerk, C2 position, the acceleration continuous).
 
     Returns
     -------
     t, q, dq : ndarray
-        Knot times, positions and speeds (zero at the start and end of every move).
+        Knot times (one per phase boundary), positions and speeds (zero at the start and end of every move).
     """
     part = "SmoothReference"
     q = float(q_start)
@@ -102,61 +163,61 @@ def trapezoid_profile(q_start: float, moves: Sequence[Sequence[float]]) -> Knots
     t_k, q_k, dq_k = [], [], []
     t_free = -math.inf
     for i, move in enumerate(moves):
-        if len(move) != 4:
-            raise ParameterError(f"{part}: moves[{i}] must be (t_start, target, v_max, a_max), got {move!r}")
+        if len(move) not in (4, 5):
+            raise ParameterError(f"{part}: moves[{i}] must be (t_start, target, v_max, a_max[, j_max]), got {move!r}")
         t0, target = float(move[0]), float(move[1])
         v, a = positive(part, f"moves[{i}] v_max", move[2], "1/s"), positive(part, f"moves[{i}] a_max", move[3], "1/s2")
+        j = positive(part, f"moves[{i}] j_max", move[4], "1/s3") if len(move) == 5 else math.inf
         if not (math.isfinite(t0) and math.isfinite(target)):
             raise ParameterError(f"{part}: moves[{i}] t_start and target must be finite, got {move!r}")
-        if t0 < t_free - 1e-12:
+        if t0 < t_free - 1e-9 * max(1.0, abs(t0)):
             raise ParameterError(f"{part}: moves[{i}] starts at t = {t0:g} s, before the previous move ends "
                                  f"({t_free:g} s)")
-        d = target - q
-        if d == 0.0:
+        if target == q:
             continue
-        sgn, dist = math.copysign(1.0, d), abs(d)
-        v = min(v, math.sqrt(dist * a))  # a triangle if v_max is not reached
-        t_acc, t_cru = v / a, dist / v - v / a
-        ts = [t0, t0 + t_acc, t0 + t_acc + t_cru, t0 + 2 * t_acc + t_cru]
-        qs = [q, q + sgn * v * t_acc / 2, target - sgn * v * t_acc / 2, target]
-        vs = [0.0, sgn * v, sgn * v, 0.0]
-        keep = [0, 1, 3] if t_cru <= 1e-12 * ts[-1] + 1e-15 else [0, 1, 2, 3]
-        if t_k and t_k[-1] >= ts[0]:  # moves back to back: the end knot of one is the start of the next
-            keep = keep[1:]
-        t_k += [ts[j] for j in keep]
-        q_k += [qs[j] for j in keep]
-        dq_k += [vs[j] for j in keep]
-        q, t_free = target, ts[-1]
+        if not (t_k and t_k[-1] >= t0 - 1e-9 * max(1.0, abs(t0))):  # else back to back: one knot between them
+            t_k, q_k, dq_k = [*t_k, t0], [*q_k, q], [*dq_k, 0.0]
+        for tau, q_end, v_end in _move_knots(q, abs(target - q), math.copysign(1.0, target - q), v, a, j):
+            t_k, q_k, dq_k = [*t_k, t_k[-1] + tau], [*q_k, q_end], [*dq_k, v_end]
+        q, t_free = target, t_k[-1]
     if not t_k:
         return np.zeros(1), np.array([q]), np.zeros(1)
     return np.array(t_k), np.array(q_k), np.array(dq_k)
 
 
-def waypoint_moves(t: Sequence[float], q: Sequence[float], a_max: float) -> list[tuple[float, float, float, float]]:
-    """Moves through waypoints ``(t_k, q_k)``: from each to the next, at rest at both, arriving exactly at ``t_k+1``.
+def waypoint_moves(t: Sequence[float], q: Sequence[float], a_max: float,
+                   j_max: float | None = None) -> list[tuple[float, ...]]:
+    """Moves through waypoints ``(t_k, q_k)``: from each to the next, at rest at both, arriving at ``t_k+1``.
 
-    The cruise speed of a trapezoid covering ``d = |q_k+1 − q_k|`` in ``T = t_k+1 − t_k`` at acceleration ``a_max``
-    is ``v = (a T − sqrt(a² T² − 4 a d))/2`` (it exists if ``a T² >= 4 d``).
+    The cruise speed of a move covering ``d = |q_k+1 − q_k|`` in ``T = t_k+1 − t_k``: without a jerk limit the
+    trapezoid's ``v = (a T − sqrt(a² T² − 4 a d))/2`` (it exists if ``a T² >= 4 d``); with ``j_max`` the root of
+    the S-curve's duration ``T(v) = T`` (Brent's method, to 1e-14 relative).
     """
     part = "SmoothReference"
     t_arr, q_arr = np.asarray(t, dtype=float), np.asarray(q, dtype=float)
     a = positive(part, "a_max", a_max, "1/s2")
+    j = math.inf if j_max is None else positive(part, "j_max", j_max, "1/s3")
     if t_arr.ndim != 1 or t_arr.shape != q_arr.shape or t_arr.size < 1 or not np.all(np.isfinite([*t_arr, *q_arr])):
         raise ParameterError(f"{part}: waypoints t and q must be finite vectors of the same length, got shapes "
                              f"{t_arr.shape}, {q_arr.shape}")
     if np.any(np.diff(t_arr) <= 0):
         raise ParameterError(f"{part}: waypoint times must be strictly increasing, got {t_arr.tolist()}")
-    moves = []
+    moves: list[tuple[float, ...]] = []
     for k in range(t_arr.size - 1):
-        T, d = t_arr[k + 1] - t_arr[k], abs(q_arr[k + 1] - q_arr[k])
+        T, d = float(t_arr[k + 1] - t_arr[k]), float(abs(q_arr[k + 1] - q_arr[k]))
         if d == 0.0:
             continue
-        disc = a * a * T * T - 4 * a * d
-        if disc < 0:
-            raise ParameterError(f"{part}: waypoint {k + 1} cannot be reached from waypoint {k} in {T:g} s at a_max = "
-                                 f"{a:g} (needs a_max >= 4|dq|/T² = {4 * d / T**2:g})")
-        v = (a * T - math.sqrt(disc)) / 2
-        moves.append((float(t_arr[k]), float(q_arr[k + 1]), v, a))
+        v_free = _peak_speed(d, math.inf, a, j)[0]  # no cruise
+        if _move_duration(d, v_free, a, j) > T:
+            raise ParameterError(f"{part}: waypoint {k + 1} cannot be reached from waypoint {k} in {T:g} s at a_max "
+                                 f"= {a:g}" + ("" if math.isinf(j) else f", j_max = {j:g}") +
+                                 f" (it takes {_move_duration(d, v_free, a, j):g} s at least)")
+        if math.isinf(j):
+            v = (a * T - math.sqrt(max(a * a * T * T - 4 * a * d, 0.0))) / 2
+            moves.append((float(t_arr[k]), float(q_arr[k + 1]), v, a))
+        else:
+            v = brentq(lambda w, d=d, T=T: _move_duration(d, w, a, j) - T, d / T, v_free, rtol=1e-14, xtol=1e-300)
+            moves.append((float(t_arr[k]), float(q_arr[k + 1]), v, a, j))
     return moves
 
 
@@ -185,7 +246,7 @@ def joint_to_length(knots: Knots, L: Callable[[float], float], dt: float = 1.0, 
     Parameters
     ----------
     knots : (t, q, dq) arrays
-        Joint profile (e.g. from :func:`trapezoid_profile`).
+        Joint profile (e.g. from :func:`motion_profile`).
     L : callable
         Pin-to-pin length [m] of the joint's cylinder at the joint angle ``q`` [rad] (e.g.
         ``lambda q: record.drive(k).state(q).length``).
@@ -226,7 +287,7 @@ class SmoothReference(fl.Model):
     cylinder's feed-forward valve command: ``A_p/Q_nom`` extending, ``A_r/Q_nom`` retracting); continuous because
     the speed changes sign only at knots where it is zero (a stop).
 
-    Build the knots with :func:`trapezoid_profile` (moves), :func:`waypoint_moves` (waypoints) and
+    Build the knots with :func:`motion_profile` (moves), :func:`waypoint_moves` (waypoints) and
     :func:`joint_to_length` (joint angle → cylinder length), or use :meth:`from_moves`.
 
     Parameters
@@ -278,8 +339,8 @@ class SmoothReference(fl.Model):
 
     @classmethod
     def from_moves(cls, q_start: float, moves: Sequence[Sequence[float]], **kw: Any) -> SmoothReference:
-        """The reference of :func:`trapezoid_profile` ``(q_start, moves)``."""
-        return cls(*trapezoid_profile(q_start, moves), **kw)
+        """The reference of :func:`motion_profile` ``(q_start, moves)``."""
+        return cls(*motion_profile(q_start, moves), **kw)
 
     def evaluate(self, ts: Any) -> tuple[np.ndarray, np.ndarray]:
         """Position and speed at times ``ts`` [s] (the same profile, in numpy)."""
