@@ -1,0 +1,347 @@
+"""Smooth references for boom joints: position and speed with continuous speed.
+
+A motion planner or an operator's joystick moves a joint with a trapezoidal speed profile: constant acceleration
+``a_max`` up to ``v_max``, cruise, constant deceleration to rest at the target (a triangle when the move is too short
+to reach ``v_max``). The position is C1 (piecewise quadratic), the speed continuous (piecewise linear) and zero at
+every stop, the acceleration bounded; so the feed-forward flow ``A·dL/dt`` ramps instead of jumping (a
+piecewise-linear reference with a piecewise-constant feed-forward would change the flow stepwise at every knot).
+With a jerk limit ``j_max`` the corners of the trapezoid are rounded (S-curve: seven phases of constant jerk), so
+the acceleration, and the rate of change of the flow, is continuous too.
+
+Representation: knots ``(t_k, y_k, dy_k)`` at the phase boundaries and the cubic Hermite polynomial through each
+pair of knots, which reproduces a phase of constant acceleration (quadratic) or constant jerk (cubic) exactly. The
+position block evaluates those cubics and the speed block their exact derivatives (quadratics), so ``dy`` is the
+derivative of ``y`` to rounding everywhere, not a second interpolation.
+Both are :class:`~flexlib.components.control.TimeTable` blocks (every knot a time event, ends held) with their
+segment polynomials given: the library's ``TimeTable`` offers C1 splines (Akima, Fritsch–Butland) whose knot
+slopes it chooses itself, but no cubic Hermite with *given* knot slopes, which exact planner profiles need
+(:class:`HermiteTable` adds that by overriding :meth:`~flexlib.components.control.TimeTable.coefficients`).
+
+A joint profile becomes a cylinder-length profile through the kinematics ``L(q)`` (:func:`joint_to_length`): the
+joint profile sampled densely, ``L(q(t))`` and ``dL/dt = dL/dq·dq/dt`` at each sample as the new knots; the speed
+stays continuous (C1 Hermite), the length within ``O(h⁴)`` of ``L(q(t))`` between the samples.
+
+References
+----------
+L. Biagiotti, C. Melchiorri, *Trajectory Planning for Automatic Machines and Robots*, Springer 2008, §3.2
+(trapezoidal velocity profile), §3.4 (double-S, jerk-limited profile) and §4.4 (cubic Hermite interpolation with
+assigned velocities). Modelica Standard Library 4.0, ``Blocks.Sources.CombiTimeTable`` and
+``Mechanics.Rotational.Sources.KinematicPTP``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+import flexlib as fl
+from flexlib import Output
+from flexlib.components.control import TimeTable
+from flexlib.errors import ParameterError
+
+from ._checks import positive
+
+__all__ = ["HermiteTable", "SmoothReference", "joint_to_length", "motion_profile", "waypoint_moves"]
+
+Knots = tuple[np.ndarray, np.ndarray, np.ndarray]
+
+
+def hermite_coefficients(t: np.ndarray, y: np.ndarray, dy: np.ndarray) -> np.ndarray:
+    """Coefficients ``c[k] = (c0, c1, c2, c3)`` in ``s = t − t[k]`` of the cubic through ``(y, dy)`` at both ends."""
+    h, m = np.diff(t), np.diff(y) / np.diff(t)
+    return np.column_stack([y[:-1], dy[:-1], (3 * m - 2 * dy[:-1] - dy[1:]) / h, (dy[:-1] + dy[1:] - 2 * m) / h**2])
+
+
+class HermiteTable(TimeTable):
+    """A :class:`~flexlib.components.control.TimeTable` whose segments are given cubic polynomials.
+
+    Parameters
+    ----------
+    t : array_like
+        Knot times [s], strictly increasing.
+    c : array_like
+        ``len(t) − 1`` rows ``(c0, c1, c2, c3)``: the output on segment k is ``c0 + c1 s + c2 s² + c3 s³`` with
+        ``s = t − t[k]``; before ``t[0]`` the value at ``t[0]`` is held, after ``t[-1]`` the last segment's end value.
+    hold : float
+        The output of a table of one knot (no segments).
+    """
+
+    def __init__(self, t: Any, c: Any, hold: float = 0.0, **kw: Any) -> None:
+        t_arr, c_arr = np.asarray(t, dtype=float), np.asarray(c, dtype=float).reshape(-1, 4)
+        if t_arr.ndim != 1 or len(c_arr) != max(len(t_arr) - 1, 0):
+            raise ParameterError(f"HermiteTable: c needs {max(t_arr.size - 1, 0)} rows of 4 coefficients for "
+                                 f"{t_arr.size} knots, got shape {np.shape(c)}")
+        h = np.diff(t_arr)
+        y = np.append(c_arr[:, 0], c_arr[-1] @ h[-1] ** np.arange(4)) if len(c_arr) else np.full(t_arr.size, hold)
+        super().__init__(t=t_arr, y=y, **kw)
+        self.table_c = c_arr
+
+    def coefficients(self) -> np.ndarray:
+        return self.table_c
+
+
+def _accel_phase(v: float, a: float, j: float) -> tuple[float, float, float]:
+    """``(a_peak, T_j, T_ca)`` of a jerk-limited acceleration from rest to ``v``: jerk ``j`` for ``T_j``, constant
+    acceleration for ``T_ca``, jerk ``−j`` for ``T_j`` (``j = inf``: a step to ``a``, ``T_j = 0``)."""
+    if math.isinf(j):
+        return a, 0.0, v / a
+    if v >= a * a / j:
+        return a, a / j, v / a - a / j
+    t_j = math.sqrt(v / j)
+    return j * t_j, t_j, 0.0
+
+
+def _peak_speed(dist: float, v: float, a: float, j: float) -> tuple[float, float]:
+    """Peak speed and cruise time of a rest-to-rest move over ``dist`` with the limits ``v``, ``a``, ``j``.
+
+    The acceleration phase to ``v_p`` is point-symmetric in speed: it covers ``v_p·T_a/2``, ``T_a = 2 T_j + T_ca``.
+    Without cruise ``v_p·T_a = dist``: ``v_p = sqrt(a·dist)`` (no jerk limit), ``v_p (v_p/a + a/j) = dist`` (``a``
+    reached), ``2 v_p^(3/2)/sqrt(j) = dist`` (``a`` not reached)."""
+    _, t_j, t_ca = _accel_phase(v, a, j)
+    d_acc = v * (2 * t_j + t_ca)  # both ramps
+    if d_acc <= dist:
+        return v, (dist - d_acc) / v
+    if math.isinf(j):
+        return math.sqrt(a * dist), 0.0
+    vp = a / 2 * (-a / j + math.sqrt((a / j) ** 2 + 4 * dist / a))
+    return (vp, 0.0) if vp >= a * a / j else ((dist * math.sqrt(j) / 2) ** (2 / 3), 0.0)
+
+
+def _move_duration(dist: float, v: float, a: float, j: float) -> float:
+    vp, t_c = _peak_speed(dist, v, a, j)
+    _, t_j, t_ca = _accel_phase(vp, a, j)
+    return 2 * (2 * t_j + t_ca) + t_c
+
+
+def _move_knots(q: float, dist: float, sgn: float, v: float, a: float, j: float) -> list[tuple[float, float, float]]:
+    """``(duration, q_end, v_end)`` of each phase (of nonzero duration) of one move, phases of constant jerk."""
+    vp, t_c = _peak_speed(dist, v, a, j)
+    ap, t_j, t_ca = _accel_phase(vp, a, j)
+    jerk = 0.0 if math.isinf(j) else ap / t_j if t_j > 0 else 0.0
+    # (duration, acceleration at its start, jerk): up, constant, down, cruise, and the mirror image
+    phases = [(t_j, 0.0, jerk), (t_ca, ap, 0.0), (t_j, ap, -jerk), (t_c, 0.0, 0.0),
+              (t_j, 0.0, -jerk), (t_ca, -ap, 0.0), (t_j, -ap, jerk)]
+    if math.isinf(j):  # steps of acceleration: the ramps carry it as their start value
+        phases = [(0.0, 0.0, 0.0), (t_ca, ap, 0.0), (0.0, 0.0, 0.0), (t_c, 0.0, 0.0),
+                  (0.0, 0.0, 0.0), (t_ca, -ap, 0.0), (0.0, 0.0, 0.0)]
+    out, x, w = [], 0.0, 0.0
+    for tau, acc, jk in phases:
+        if tau <= 1e-12 * (t_c + 4 * t_j + 2 * t_ca):
+            continue
+        x, w = x + w * tau + acc * tau**2 / 2 + jk * tau**3 / 6, w + acc * tau + jk * tau**2 / 2
+        out.append((tau, q + sgn * x, sgn * w))
+    out[-1] = (out[-1][0], q + sgn * dist, 0.0)  # at rest on the target, exactly
+    return out
+
+
+def motion_profile(q_start: float, moves: Sequence[Sequence[float]]) -> Knots:
+    """Knots ``(t, q, dq)`` of a sequence of rest-to-rest moves with trapezoidal speed, optionally jerk-limited.
+
+    Parameters
+    ----------
+    q_start : float
+        Position before the first move.
+    moves : sequence of (t_start, target, v_max, a_max) or (t_start, target, v_max, a_max, j_max)
+        Each move starts at rest at ``t_start`` [s] (not before the previous move has ended), accelerates to
+        ``v_max`` (or less, for a short move), cruises and decelerates to rest at ``target``: with a constant
+        acceleration ``a_max`` (trapezoidal speed, C1 position), or with the acceleration ramped at the jerk
+        ``j_max`` (S-curve: 7 phases of constant jerk, C2 position, the acceleration continuous).
+
+    Returns
+    -------
+    t, q, dq : ndarray
+        Knot times (one per phase boundary), positions and speeds (zero at the start and end of every move).
+    """
+    part = "SmoothReference"
+    q = float(q_start)
+    if not math.isfinite(q):
+        raise ParameterError(f"{part}: q_start must be a finite number, got {q_start!r}")
+    t_k, q_k, dq_k = [], [], []
+    t_free = -math.inf
+    for i, move in enumerate(moves):
+        if len(move) not in (4, 5):
+            raise ParameterError(f"{part}: moves[{i}] must be (t_start, target, v_max, a_max[, j_max]), got {move!r}")
+        t0, target = float(move[0]), float(move[1])
+        v, a = positive(part, f"moves[{i}] v_max", move[2], "1/s"), positive(part, f"moves[{i}] a_max", move[3], "1/s2")
+        j = positive(part, f"moves[{i}] j_max", move[4], "1/s3") if len(move) == 5 else math.inf
+        if not (math.isfinite(t0) and math.isfinite(target)):
+            raise ParameterError(f"{part}: moves[{i}] t_start and target must be finite, got {move!r}")
+        if t0 < t_free - 1e-9 * max(1.0, abs(t0)):
+            raise ParameterError(f"{part}: moves[{i}] starts at t = {t0:g} s, before the previous move ends "
+                                 f"({t_free:g} s)")
+        if target == q:
+            continue
+        if not (t_k and t_k[-1] >= t0 - 1e-9 * max(1.0, abs(t0))):  # else back to back: one knot between them
+            t_k, q_k, dq_k = [*t_k, t0], [*q_k, q], [*dq_k, 0.0]
+        for tau, q_end, v_end in _move_knots(q, abs(target - q), math.copysign(1.0, target - q), v, a, j):
+            t_k, q_k, dq_k = [*t_k, t_k[-1] + tau], [*q_k, q_end], [*dq_k, v_end]
+        q, t_free = target, t_k[-1]
+    if not t_k:
+        return np.zeros(1), np.array([q]), np.zeros(1)
+    return np.array(t_k), np.array(q_k), np.array(dq_k)
+
+
+def waypoint_moves(t: Sequence[float], q: Sequence[float], a_max: float,
+                   j_max: float | None = None) -> list[tuple[float, ...]]:
+    """Moves through waypoints ``(t_k, q_k)``: from each to the next, at rest at both, arriving at ``t_k+1``.
+
+    The cruise speed of a move covering ``d = |q_k+1 − q_k|`` in ``T = t_k+1 − t_k``: without a jerk limit the
+    trapezoid's ``v = (a T − sqrt(a² T² − 4 a d))/2`` (it exists if ``a T² >= 4 d``); with ``j_max`` the root of
+    the S-curve's duration ``T(v) = T`` (Brent's method, to 1e-14 relative).
+    """
+    part = "SmoothReference"
+    t_arr, q_arr = np.asarray(t, dtype=float), np.asarray(q, dtype=float)
+    a = positive(part, "a_max", a_max, "1/s2")
+    j = math.inf if j_max is None else positive(part, "j_max", j_max, "1/s3")
+    if t_arr.ndim != 1 or t_arr.shape != q_arr.shape or t_arr.size < 1 or not np.all(np.isfinite([*t_arr, *q_arr])):
+        raise ParameterError(f"{part}: waypoints t and q must be finite vectors of the same length, got shapes "
+                             f"{t_arr.shape}, {q_arr.shape}")
+    if np.any(np.diff(t_arr) <= 0):
+        raise ParameterError(f"{part}: waypoint times must be strictly increasing, got {t_arr.tolist()}")
+    moves: list[tuple[float, ...]] = []
+    for k in range(t_arr.size - 1):
+        T, d = float(t_arr[k + 1] - t_arr[k]), float(abs(q_arr[k + 1] - q_arr[k]))
+        if d == 0.0:
+            continue
+        v_free = _peak_speed(d, math.inf, a, j)[0]  # no cruise
+        if _move_duration(d, v_free, a, j) > T:
+            raise ParameterError(f"{part}: waypoint {k + 1} cannot be reached from waypoint {k} in {T:g} s at a_max "
+                                 f"= {a:g}" + ("" if math.isinf(j) else f", j_max = {j:g}") +
+                                 f" (it takes {_move_duration(d, v_free, a, j):g} s at least)")
+        if math.isinf(j):
+            v = (a * T - math.sqrt(max(a * a * T * T - 4 * a * d, 0.0))) / 2
+            moves.append((float(t_arr[k]), float(q_arr[k + 1]), v, a))
+        else:
+            v = brentq(lambda w, d=d, T=T: _move_duration(d, w, a, j) - T, d / T, v_free, rtol=1e-14, xtol=1e-300)
+            moves.append((float(t_arr[k]), float(q_arr[k + 1]), v, a, j))
+    return moves
+
+
+def _evaluate(knots: Knots, ts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Position and speed of the Hermite profile through ``knots`` at times ``ts`` (ends held)."""
+    t, y, dy = knots
+    if t.size < 2:
+        return np.full(ts.shape, y[0]), np.zeros(ts.shape)
+    c = hermite_coefficients(t, y, dy)
+    k = np.clip(np.searchsorted(t, ts, side="right") - 1, 0, t.size - 2)
+    s = np.clip(ts, t[0], t[-1]) - t[k]
+    ck = c[k]
+    return (ck[:, 0] + s * (ck[:, 1] + s * (ck[:, 2] + s * ck[:, 3])),
+            np.where((ts < t[0]) | (ts > t[-1]), 0.0, ck[:, 1] + s * (2 * ck[:, 2] + 3 * s * ck[:, 3])))
+
+
+def joint_to_length(knots: Knots, L: Callable[[float], float], dt: float = 1.0, n: int = 4, dq: float = 1e-6,
+                    dL: Callable[[float], float] | None = None) -> Knots:
+    """Cylinder-length knots ``(t, L, dL/dt)`` of a joint profile through the kinematics ``L(q)``.
+
+    Each moving segment of the joint profile is split into equal steps of at most ``dt``, at least ``n``; at every
+    sample ``L(q(t))`` and
+    ``dL/dt = L'(q)·dq/dt`` (``L'`` given as ``dL``, or a central difference of step ``dq``) are the new knots.
+    Segments where the joint rests stay one segment.
+
+    Parameters
+    ----------
+    knots : (t, q, dq) arrays
+        Joint profile (e.g. from :func:`motion_profile`).
+    L : callable
+        Pin-to-pin length [m] of the joint's cylinder at the joint angle ``q`` [rad] (e.g.
+        ``lambda q: record.drive(k).state(q).length``).
+    dt : float
+        Largest sample step [s] (default 1 s: a length error ``O(dt⁴)``, about 1e-8 m on a 42 m boom's joint).
+    n : int
+        Least number of steps per moving segment (>= 1).
+    dq : float
+        Step of the central difference of ``L`` [rad] (without ``dL``).
+    dL : callable, optional
+        ``dL/dq`` [m/rad] at ``q`` (e.g. ``lambda q: record.drive(k).state(q).lever_arm``).
+    """
+    if not isinstance(n, int) or isinstance(n, bool) or n < 1:
+        raise ParameterError(f"SmoothReference: n must be an integer >= 1, got {n!r}")
+    dq, dt = positive("SmoothReference", "dq", dq, "rad"), positive("SmoothReference", "dt", dt, "s")
+    t, q, v = (np.asarray(a, dtype=float) for a in knots)
+    samples = [t[:1]]
+    for k in range(t.size - 1):
+        moving = not (q[k] == q[k + 1] and v[k] == 0.0 and v[k + 1] == 0.0)
+        steps = max(n, math.ceil((t[k + 1] - t[k]) / dt - 1e-9))
+        samples.append(np.linspace(t[k], t[k + 1], steps + 1)[1:] if moving else t[k + 1:k + 2])
+    ts = np.concatenate(samples)
+    qs, vs = _evaluate((t, q, v), ts)
+    at_knot = np.isin(ts, t)  # the knots themselves exactly (a stop stays a stop, not a rounding of it)
+    qs[at_knot], vs[at_knot] = q[np.searchsorted(t, ts[at_knot])], v[np.searchsorted(t, ts[at_knot])]
+    lengths = np.array([float(L(x)) for x in qs])
+    slopes = np.array([float(dL(x)) if dL is not None else (float(L(x + dq)) - float(L(x - dq))) / (2 * dq)
+                       for x in qs])
+    return ts, lengths, slopes * vs
+
+
+class SmoothReference(fl.Model):
+    """Reference with continuous speed: position ``y`` and speed ``dy`` of a C1 cubic Hermite profile.
+
+    Contains ``position`` and ``speed`` (:class:`HermiteTable`): the Hermite cubics through the knots
+    ``(t_k, y_k, dy_k)`` and their exact derivatives (module docstring). With ``ff_gain = (k_pos, k_neg)`` a third
+    table ``feed_forward`` gives ``k_pos·dy`` where the speed is positive and ``k_neg·dy`` where it is negative (a
+    cylinder's feed-forward valve command: ``A_p/Q_nom`` extending, ``A_r/Q_nom`` retracting); continuous because
+    the speed changes sign only at knots where it is zero (a stop).
+
+    Build the knots with :func:`motion_profile` (moves), :func:`waypoint_moves` (waypoints) and
+    :func:`joint_to_length` (joint angle → cylinder length), or use :meth:`from_moves`.
+
+    Parameters
+    ----------
+    t, y, dy : array_like
+        Knot times [s] (strictly increasing), positions and speeds (the signal's unit and per second).
+    ff_gain : (float, float), optional
+        Gains of the feed-forward output for positive and negative speed.
+
+    Connectors
+    ----------
+    y : Output
+        Position.
+    dy : Output
+        Speed ``dy/dt``.
+    ff : Output [1]
+        Feed-forward (only with ``ff_gain``).
+    """
+
+    def __init__(self, t: Any, y: Any, dy: Any, ff_gain: Sequence[float] | None = None, **kw: Any) -> None:
+        super().__init__(**kw)
+        part = "SmoothReference"
+        t_arr, y_arr, dy_arr = (np.asarray(a, dtype=float) for a in (t, y, dy))
+        if not (t_arr.ndim == 1 and t_arr.size >= 1 and t_arr.shape == y_arr.shape == dy_arr.shape):
+            raise ParameterError(f"{part}: t, y and dy must be vectors of one length, got shapes {t_arr.shape}, "
+                                 f"{y_arr.shape}, {dy_arr.shape}")
+        if not np.all(np.isfinite([*t_arr, *y_arr, *dy_arr])):
+            raise ParameterError(f"{part}: t, y and dy must be finite")
+        if np.any(np.diff(t_arr) <= 0):
+            raise ParameterError(f"{part}: t must be strictly increasing")
+        if dy_arr[0] != 0.0 or dy_arr[-1] != 0.0:
+            raise ParameterError(f"{part}: the speed must be 0 at the first and last knot (the ends are held), got "
+                                 f"dy[0] = {dy_arr[0]:g}, dy[-1] = {dy_arr[-1]:g}")
+        self.knots = (t_arr, y_arr, dy_arr)
+        c = hermite_coefficients(t_arr, y_arr, dy_arr) if t_arr.size > 1 else np.zeros((0, 4))
+        dc = np.column_stack([c[:, 1], 2 * c[:, 2], 3 * c[:, 3], np.zeros(len(c))])
+        self.y, self.dy = Output(unit="1", doc="Position"), Output(unit="1", doc="Speed dy/dt")
+        self.position, self.speed = HermiteTable(t_arr, c, hold=float(y_arr[0])), HermiteTable(t_arr, dc)
+        self.connect(self.position.y, self.y)
+        self.connect(self.speed.y, self.dy)
+        if ff_gain is not None:
+            if len(ff_gain) != 2:
+                raise ParameterError(f"{part}: ff_gain must be (gain for dy > 0, gain for dy < 0), got {ff_gain!r}")
+            k_pos, k_neg = (positive(part, f"ff_gain[{i}]", g, "1") for i, g in enumerate(ff_gain))
+            mid = dc[:, 0] + dc[:, 1] * np.diff(t_arr) / 2 + dc[:, 2] * (np.diff(t_arr) / 2) ** 2
+            self.ff = Output(unit="1", doc="Feed-forward: ff_gain[0]·dy (dy > 0), ff_gain[1]·dy (dy < 0)")
+            self.feed_forward = HermiteTable(t_arr, dc * np.where(mid >= 0, k_pos, k_neg)[:, None])
+            self.connect(self.feed_forward.y, self.ff)
+
+    @classmethod
+    def from_moves(cls, q_start: float, moves: Sequence[Sequence[float]], **kw: Any) -> SmoothReference:
+        """The reference of :func:`motion_profile` ``(q_start, moves)``."""
+        return cls(*motion_profile(q_start, moves), **kw)
+
+    def evaluate(self, ts: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Position and speed at times ``ts`` [s] (the same profile, in numpy)."""
+        return _evaluate(self.knots, np.asarray(ts, dtype=float))
