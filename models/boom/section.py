@@ -10,7 +10,6 @@ This is what ``PumpTruck._section`` with :func:`models.pump_truck.flexible.flexi
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -21,6 +20,8 @@ from flexlib.components.mechanics.multibody import Body, FixedTranslation, Relat
 from flexlib.components.mechanics.multibody.interfaces import Frame
 from flexlib.errors import ParameterError
 from flexlib.fe import ModalData
+
+from ._checks import positive
 
 __all__ = ["BoomSection"]
 
@@ -34,17 +35,6 @@ def _vector(part: str, name: str, value: Any, sizes: tuple[int, ...] = (2, 3)) -
     if v.ndim != 1 or v.size not in sizes or not np.all(np.isfinite(v)):
         raise ParameterError(f"{part}: {name} must be {' or '.join(map(str, sizes))} finite numbers [m], got {value!r}")
     return np.append(v, 0.0) if v.size == 2 else v
-
-
-def _positive(part: str, name: str, value: Any) -> float:
-    """``value`` as a float > 0; ``ParameterError`` naming ``part.name``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if isinstance(value, bool) or not (math.isfinite(v) and v > 0.0):
-        raise ParameterError(f"{part}: {name} must be a finite number > 0, got {value!r}")
-    return v
 
 
 def lumped(m: float, com: np.ndarray, inertia: np.ndarray,
@@ -124,9 +114,10 @@ class BoomSection(fl.Model):
                  modes: int | Sequence[int] | None = None) -> None:
         super().__init__()
         part = "BoomSection"
-        self.length = _positive(part, "length", length)
+        self.length = positive(part, "length", length, "m")
         self.pins = self._check_pins(part, pins)
-        self.payload = [(_positive(part, f"payload[{i}] mass", p[0]), _vector(part, f"payload[{i}] position", p[1]))
+        self.payload = [(positive(part, f"payload[{i}] mass", p[0], "kg"),
+                         _vector(part, f"payload[{i}] position", p[1]))
                         if isinstance(p, Sequence) and len(p) == 2 else self._bad_payload(part, i, p)
                         for i, p in enumerate(payload)]
         self.flexible = modal_data is not None
@@ -146,7 +137,7 @@ class BoomSection(fl.Model):
         inertia = np.asarray(I, dtype=float)
         if inertia.shape != (3, 3) or not np.all(np.isfinite(inertia)):
             raise ParameterError(f"{part}: I must be a 3x3 inertia tensor [kg.m2], got {I!r}")
-        mass, com, inertia = lumped(_positive(part, "m", m), _vector(part, "r_CM", r_CM), inertia, self.payload)
+        mass, com, inertia = lumped(positive(part, "m", m, "kg"), _vector(part, "r_CM", r_CM), inertia, self.payload)
         self.body = Body(m=mass, r_CM=[float(v) for v in com], I=inertia)
         self.tip = FixedTranslation(r=[self.length, 0.0, 0.0])
         self.connect(self.frame_root, self.body.frame_a, self.tip.frame_a)
@@ -188,7 +179,7 @@ class BoomSection(fl.Model):
 
         if not isinstance(data, ModalData):
             raise ParameterError(f"{part}: modal_data must be a ModalData, got {type(data).__name__}")
-        if m is not None and abs(_positive(part, "m", m) - data.mass) > 1e-3 * data.mass:
+        if m is not None and abs(positive(part, "m", m, "kg") - data.mass) > 1e-3 * data.mass:
             raise ParameterError(f"{part}: m = {m!r} kg differs from the modal data's mass {data.mass:.6g} kg")
         if r_CM is not None and np.abs(_vector(part, "r_CM", r_CM) - data.center_of_mass).max() > 1e-3 * self.length:
             raise ParameterError(f"{part}: r_CM = {r_CM!r} m differs from the modal data's centre of mass "
