@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import flexlib as fl
 from flexlib import Input
@@ -20,7 +19,11 @@ from flexlib.components.hydraulics import (
 from flexlib.components.mechanics.multibody import Frame
 from flexlib.errors import ParameterError
 
+from ._checks import positive
+
 __all__ = ["HydraulicAxis"]
+
+PART = "HydraulicAxis"
 
 # Defaults: the values of models/pump_truck/model.py's constants of the same name (generic valve-block and seal data;
 # their sources are given there and in the docstring below).
@@ -43,16 +46,6 @@ MAKEUP_CRACK = 0.2e5  # anti-cavitation make-up check valves: cracking pressure 
 MAKEUP_OPEN = 1e5  # ... pressure difference at full opening [Pa]
 MAKEUP_AREA = 2e-4  # ... full opening area [m2]
 VALVE_LEAK = 1e-10  # leakage area of each spool edge [m2]
-
-
-def _number(name: str, value: Any, unit: str, *, low: float = 0.0, strict: bool = True) -> float:
-    """``value`` as a finite float above ``low`` (``>= low`` unless ``strict``); else ``ParameterError`` naming
-    ``HydraulicAxis`` and ``name``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
-            or value < low or (strict and value == low):
-        raise ParameterError(f"HydraulicAxis: {name} must be a finite number {'>' if strict else '>='} {low:g} "
-                             f"[{unit}], got {value!r}")
-    return float(value)
 
 
 class HydraulicAxis(fl.Model):
@@ -141,7 +134,7 @@ class HydraulicAxis(fl.Model):
                  V_hose: float = V_HOSE, p_free_start: float = P_TANK, p_A_start: float = P_TANK,
                  p_B_start: float = P_TANK, free_start: bool = True) -> None:
         super().__init__()
-        bore, rod = _number("d_bore", d_bore, "m"), _number("d_rod", d_rod, "m")
+        bore, rod = positive(PART, "d_bore", d_bore, "m"), positive(PART, "d_rod", d_rod, "m")
         if rod >= bore:
             raise ParameterError(f"HydraulicAxis: d_rod = {rod!r} must be < d_bore = {bore!r} [m]")
         if hold not in ("A", "B"):
@@ -155,28 +148,29 @@ class HydraulicAxis(fl.Model):
             if crack[side] is None:
                 raise ParameterError(f"HydraulicAxis: p_crack_{side} is needed (line {side} carries a counterbalance "
                                      "valve)")
-            _number(f"p_crack_{side}", crack[side], "Pa")
-        masses = {name: _number(name, value, unit, strict=False) for name, value, unit in
+            positive(PART, f"p_crack_{side}", crack[side], "Pa")
+        masses = {name: positive(PART, name, value, unit, allow_zero=True) for name, value, unit in
                   (("m_housing", m_housing, "kg"), ("L_housing", L_housing, "m"), ("m_rod", m_rod, "kg"),
                    ("L_rod", L_rod, "m"))}
         A_p, A_r = math.pi / 4 * bore**2, math.pi / 4 * (bore**2 - rod**2)
-        stroke, Q_nom = _number("stroke", stroke, "m"), _number("Q_nom", Q_nom, "m3/s")
-        p_system = _number("p_system", p_system, "Pa")
+        stroke, Q_nom = positive(PART, "stroke", stroke, "m"), positive(PART, "Q_nom", Q_nom, "m3/s")
+        p_system = positive(PART, "p_system", p_system, "Pa")
         self.frame_a, self.frame_b = Frame(doc="Housing pin"), Frame(doc="Rod pin")
         self.port_P, self.port_T = Port(doc="Supply"), Port(doc="Tank")
         self.u = Input(unit="1", doc="Valve command, -1 ... 1 (u > 0 extends the cylinder)")
-        self.cylinder = LineCylinder(d_bore=bore, d_rod=rod, stroke=stroke, L0=_number("L0", L0, "m"), m=0.0,
-                                     d=_number("d", d, "N.s/m", strict=False), v_reg=_number("v_reg", v_reg, "m/s"),
-                                     F_c=_number("p_friction", p_friction, "Pa", strict=False) * A_p,
+        friction = positive(PART, "p_friction", p_friction, "Pa", allow_zero=True) * A_p
+        self.cylinder = LineCylinder(d_bore=bore, d_rod=rod, stroke=stroke, L0=positive(PART, "L0", L0, "m"), m=0.0,
+                                     d=positive(PART, "d", d, "N.s/m", allow_zero=True),
+                                     v_reg=positive(PART, "v_reg", v_reg, "m/s"), F_c=friction,
                                      V_dead_A=0.1 * A_p * stroke + 1e-4, V_dead_B=0.1 * A_r * stroke + 1e-4,
                                      p_fixed=False, **masses)
-        self.cylinder.cylinder.set_start("p_A", _number("p_A_start", p_A_start, "Pa"), fixed=False)
-        self.cylinder.cylinder.set_start("p_B", _number("p_B_start", p_B_start, "Pa"), fixed=False)
-        dp_nom, omega = _number("dp_nom", dp_nom, "Pa"), 2 * math.pi * _number("f_spool", f_spool, "Hz")
+        self.cylinder.cylinder.set_start("p_A", positive(PART, "p_A_start", p_A_start, "Pa"), fixed=False)
+        self.cylinder.cylinder.set_start("p_B", positive(PART, "p_B_start", p_B_start, "Pa"), fixed=False)
+        dp_nom, omega = positive(PART, "dp_nom", dp_nom, "Pa"), 2 * math.pi * positive(PART, "f_spool", f_spool, "Hz")
         self.valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=dp_nom, omega=omega, zeta=0.7,
                                         A_leak=VALVE_LEAK, compensated=True, dp_comp=dp_nom)
-        cbv = {"pilot_ratio": _number("pilot_ratio", pilot_ratio, "1"), "Q_nom": 2 * Q_nom, "dp_nom": dp_nom,
-               "V_hose": _number("V_hose", V_hose, "m3")}
+        cbv = {"pilot_ratio": positive(PART, "pilot_ratio", pilot_ratio, "1"), "Q_nom": 2 * Q_nom, "dp_nom": dp_nom,
+               "V_hose": positive(PART, "V_hose", V_hose, "m3")}
         self.cbv_hold, self.hose_hold = _counterbalance(crack[hold], **cbv)
         if over_centre:
             self.cbv_over, self.hose_over = _counterbalance(crack[other], **cbv)
@@ -185,7 +179,7 @@ class HydraulicAxis(fl.Model):
         self.hold, self.over_centre, self.free_start = hold, over_centre, free_start
         self.free_A = fl.Parameter(1.0 if hold == "B" else 0.0, unit="1",
                                    doc="1: the cap chamber (A) starts at p_free_start; 0: the rod chamber (B) does")
-        self.p_free_start = fl.Parameter(_number("p_free_start", p_free_start, "Pa"), unit="Pa",
+        self.p_free_start = fl.Parameter(positive(PART, "p_free_start", p_free_start, "Pa"), unit="Pa",
                                          doc="Start pressure of the free chamber")
         self._connect_lines(hold, other)
 
