@@ -18,19 +18,11 @@ from flexlib.errors import ParameterError
 from flexlib.models.boom_proxy import link_body
 from flexlib.models.pump_truck.kinematics import fourbar_state
 
+from ._checks import positive
+
 __all__ = ["LeverLink"]
 
-
-def _number(name: str, value: float, positive: bool) -> float:
-    """``value`` as a finite float (> 0, or ≥ 0); ``ParameterError`` naming ``LeverLink.name``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if isinstance(value, bool) or not math.isfinite(v) or (v <= 0.0 if positive else v < 0.0):
-        raise ParameterError(f"LeverLink: {name} must be a finite number {'> 0' if positive else '>= 0'}, "
-                             f"got {value!r}")
-    return v
+PART = "LeverLink"
 
 
 class LeverLink(fl.Model):
@@ -80,8 +72,9 @@ class LeverLink(fl.Model):
     def __init__(self, r: float, s: float, m_lever: float = 0.0, m_link: float = 0.0,
                  guess: Sequence[float] = (0.0, 0.0, 0.0)) -> None:
         super().__init__()
-        self.r, self.s = _number("r", r, True), _number("s", s, True)
-        m_lever, m_link = _number("m_lever", m_lever, False), _number("m_link", m_link, False)
+        self.r, self.s = positive(PART, "r", r, "m"), positive(PART, "s", s, "m")
+        m_lever = positive(PART, "m_lever", m_lever, "kg", allow_zero=True)
+        m_link = positive(PART, "m_link", m_link, "kg", allow_zero=True)
         g = np.asarray(guess, dtype=float) if not isinstance(guess, str) else np.array([])
         if g.shape != (3,) or not np.all(np.isfinite(g)):
             raise ParameterError(f"LeverLink: guess must be 3 finite angles [rad] (pivot, hinge, bracket), "
@@ -128,7 +121,7 @@ class LeverLink(fl.Model):
     def at_pose(cls, q: float, P: Sequence[float], c: Sequence[float], r: float, s: float, sigma: int,
                 m_lever: float = 0.0, m_link: float = 0.0) -> LeverLink:
         """A LeverLink whose revolutes start from :meth:`start_angles` at joint angle ``q`` [rad]."""
-        r, s = _number("r", r, True), _number("s", s, True)
+        r, s = positive(PART, "r", r, "m"), positive(PART, "s", s, "m")
         try:
             guess = cls.start_angles(q, P, c, r, s, sigma)
         except ValueError as err:

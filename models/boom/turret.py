@@ -6,7 +6,6 @@ What ``PumpTruck.__init__`` builds under the boom today (``slew``, ``turret``, `
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -19,7 +18,11 @@ from flexlib.errors import ParameterError
 from flexlib.models.pump_truck.parameters import DirectDrive
 from flexlib.models.pump_truck.parameters import Turret as TurretRecord
 
+from ._checks import finite, positive
+
 __all__ = ["SLEW_FRICTION", "SLEW_W_REG", "Turret"]
+
+PART = "Turret"
 
 # The slewing ring of the 42 m pump truck (today also in models/pump_truck/model.py, which imports this part when it
 # is recomposed; defined here, not imported from model.py, so that import does not go round in a circle).
@@ -28,18 +31,6 @@ __all__ = ["SLEW_FRICTION", "SLEW_W_REG", "Turret"]
 SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
 #: Regularisation speed of the slewing-ring friction [rad/s] (smaller fails Newton in the truck; decision 024).
 SLEW_W_REG = 1e-2
-
-
-def _number(name: str, value: float, minimum: float, strict: bool) -> float:
-    """``value`` as a finite float above ``minimum``; ``ParameterError`` naming ``Turret.name``."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        v = math.nan
-    if isinstance(value, bool) or not math.isfinite(v) or (v <= minimum if strict else v < minimum):
-        raise ParameterError(f"Turret: {name} must be a finite number {'>' if strict else '>='} {minimum:g}, "
-                             f"got {value!r}")
-    return v
 
 
 class Turret(fl.Model):
@@ -99,10 +90,10 @@ class Turret(fl.Model):
                  height: float = TurretRecord.height, H1: Sequence[float] = DirectDrive.H,
                  tau_c: float = SLEW_FRICTION, w_reg: float = SLEW_W_REG, phi_start: float = 0.0) -> None:
         super().__init__()
-        mass, J_slew = _number("mass", mass, 0.0, True), _number("J_slew", J_slew, 0.0, True)
-        self.height = _number("height", height, 0.0, False)
-        tau_c, w_reg = _number("tau_c", tau_c, 0.0, False), _number("w_reg", w_reg, 0.0, True)
-        phi_start = _number("phi_start", phi_start, -math.inf, True)
+        mass, J_slew = positive(PART, "mass", mass, "kg"), positive(PART, "J_slew", J_slew, "kg.m2")
+        self.height = positive(PART, "height", height, "m", allow_zero=True)
+        tau_c, w_reg = positive(PART, "tau_c", tau_c, "N.m", allow_zero=True), positive(PART, "w_reg", w_reg, "rad/s")
+        phi_start = finite(PART, "phi_start", phi_start, "rad")
         h1 = np.asarray(H1, dtype=float) if not isinstance(H1, str) else np.array([])
         if h1.shape != (2,) or not np.all(np.isfinite(h1)):
             raise ParameterError(f"Turret: H1 must be 2 finite numbers (x, y) [m], got {H1!r}")
