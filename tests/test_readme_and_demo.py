@@ -1,25 +1,20 @@
 """The README's examples and the demo run as written (keeps the front door true)."""
 
-import re
-import textwrap
 from pathlib import Path
 
 import matplotlib
 import numpy as np
 import pytest
 
+from tests.doc_blocks import python_blocks
+
 ROOT = Path(__file__).resolve().parent.parent
 matplotlib.use("Agg")
 
 
-def _python_blocks() -> list[str]:
-    text = (ROOT / "README.md").read_text()
-    return [textwrap.dedent(b) for b in re.findall(r"```python\n(.*?)```", text, flags=re.S)]
-
-
 def test_readme_examples_run(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    blocks = _python_blocks()
+    blocks = python_blocks("README.md")
     assert len(blocks) >= 2
     namespace: dict = {}
     for block in blocks:
