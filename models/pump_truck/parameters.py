@@ -193,8 +193,8 @@ class Turret:
 class DirectDrive:
     """Joint 1: cylinder from ``H`` (turret) to ``c`` (on section 1) [m], joint range ``q_min``–``q_max`` [rad]."""
 
-    H: tuple[float, float] = (0.45, -2.0)
-    c: tuple[float, float] = (1.8, -0.55)
+    H: tuple[float, float] = (1.0, -2.2)
+    c: tuple[float, float] = (1.36, 0.0)
     q_min: float = math.radians(-5.0)
     q_max: float = math.radians(80.0)
     source: str = "sized here: joint-1 mount points (lever arm ~1.2 m, stroke ~1.7 m)"
@@ -211,7 +211,7 @@ class DirectDrive:
 
 #: Lever-and-link base design (folds upwards, positive q, 0–178 deg), from a differential-evolution search that
 #: maximises the smallest transmission angle with cylinder length ratio <= 1.7; scaled per joint.
-_BASE = {"P": (-0.2, 0.29), "H": (-1.65, 0.5), "c": (-0.3, 0.0), "r": 0.48, "s": 0.43, "sigma": -1}
+_BASE = {"P": (0.30, 0.77), "H": (-6.0, 0.34), "c": (-1.09, -0.80), "r": 1.50, "s": 0.817, "sigma": -1}
 
 
 @dataclass(frozen=True)
@@ -256,7 +256,7 @@ class FourBar:
 _SECTIONS = (SectionSpec(9.0, 2200.0, 0.45, 0.70), SectionSpec(7.7, 1500.0, 0.40, 0.60),
              SectionSpec(7.6, 1100.0, 0.35, 0.50), SectionSpec(7.4, 700.0, 0.30, 0.40),
              SectionSpec(5.9, 350.0, 0.25, 0.30))
-_LINKAGES = (FourBar.scaled(3.0, +1), FourBar.scaled(2.6, -1), FourBar.scaled(2.0, +1), FourBar.scaled(1.5, -1))
+_LINKAGES = (FourBar.scaled(1.0, +1), FourBar.scaled(0.8, -1), FourBar.scaled(0.6, +1), FourBar.scaled(0.35, -1))
 
 
 @dataclass(frozen=True)
