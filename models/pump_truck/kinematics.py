@@ -66,6 +66,8 @@ class LinkageState:
         Bracket on section ``k`` and lever tip (``T = C`` for a direct drive) [m].
     transmission : dict
         Transmission angles [deg] (see the module docstring).
+    T_rate : ndarray or None
+        ``dT/dq`` [m/rad]: velocity of the cylinder's rod pin per unit joint rate (``ẑ × C`` for a direct drive).
     """
 
     length: float
@@ -73,6 +75,7 @@ class LinkageState:
     C: np.ndarray
     T: np.ndarray
     transmission: dict
+    T_rate: np.ndarray | None = None
 
 
 def direct_state(q: float, H: np.ndarray, c: np.ndarray) -> LinkageState:
@@ -81,7 +84,7 @@ def direct_state(q: float, H: np.ndarray, c: np.ndarray) -> LinkageState:
     d = C - np.asarray(H, float)
     length = float(np.linalg.norm(d))
     return LinkageState(length, float(d @ _perp(C)) / length, C, C,
-                        {"cylinder-arm": transmission_deg(d, C)})
+                        {"cylinder-arm": transmission_deg(d, C)}, _perp(C))
 
 
 def fourbar_state(q: float, P: np.ndarray, H: np.ndarray, c: np.ndarray, r: float, s: float,
@@ -111,4 +114,4 @@ def fourbar_state(q: float, P: np.ndarray, H: np.ndarray, c: np.ndarray, r: floa
     length = float(np.linalg.norm(e))
     tr = {"lever-link": transmission_deg(a, b), "link-arm": transmission_deg(b, C),
           "cylinder-lever": transmission_deg(e, a)}
-    return LinkageState(length, float(e @ Tdot) / length, C, T, tr)
+    return LinkageState(length, float(e @ Tdot) / length, C, T, tr, Tdot)

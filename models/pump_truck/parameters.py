@@ -10,6 +10,24 @@ turret, relative joint angles ``q`` [rad] (``q = 0``: all sections in line; ``q1
 geometry is given in each joint's frame (see :mod:`models.pump_truck.kinematics`).
 
 ``python -m flexlib.models.pump_truck.parameters`` prints the mass properties and the cylinder sizing table.
+
+Geometry (issue 28, item 3): the linkages are sized so that every cylinder is an ISO 3320 bore of 100–280 mm holding
+the worst case at 80 % of 350 bar. Sources looked for and what they gave:
+
+* Power & Motion (powermotiontech.com), "Lightweight cylinders expand realm of possibilities" (Lingk & Sturzebecher
+  CFRP cylinders on the Putzmeister M55): 350 bar maximum working pressure of the boom cylinders (taken: system
+  pressure); in a steel cylinder the barrel is up to 75 % of the cylinder's weight (consistent with the housing/rod
+  split of :func:`~models.pump_truck.statics.cylinder_masses`).
+* Source by Spec, "Truck-mounted concrete pump" guide (quotes the Putzmeister M42-5 and Schwing S 36 X data sheets):
+  reach class and five-section RZ fold only; no cylinder data.
+* J. Henikl, W. Kemmetmüller, M. Bader, A. Kugi, "Modeling, simulation and identification of a mobile concrete
+  pump", Mathematical and Computer Modelling of Dynamical Systems 21(2), 2015; G. Cazzulani et al., "A test rig and
+  numerical model for investigating truck mounted concrete pumps", Automation in Construction 20, 2011: lever-and-link
+  (four-bar) joint drives as modelled here; no bores or pin coordinates published.
+* The bore band 100–250 mm at ≤ 350 bar for 36–42 m booms is issue 28's statement; no data sheet with boom-cylinder
+  bores was found. The pin positions are therefore an engineering choice: a numerical search (``_BASE``) for the
+  smallest bore within an envelope of the sections' proportions, keeping the record's transmission-angle check and a
+  retracted length of at least stroke + dead length (:func:`~models.pump_truck.statics.dead_length`).
 """
 
 from __future__ import annotations
@@ -193,11 +211,14 @@ class Turret:
 class DirectDrive:
     """Joint 1: cylinder from ``H`` (turret) to ``c`` (on section 1) [m], joint range ``q_min``–``q_max`` [rad]."""
 
-    H: tuple[float, float] = (0.45, -2.0)
-    c: tuple[float, float] = (1.8, -0.55)
+    H: tuple[float, float] = (1.0, -2.2)
+    c: tuple[float, float] = (1.36, 0.0)
     q_min: float = math.radians(-5.0)
     q_max: float = math.radians(80.0)
-    source: str = "sized here: joint-1 mount points (lever arm ~1.2 m, stroke ~1.7 m)"
+    source: str = ("engineering choice (no published pin coordinates found): housing low on the turret front, bracket "
+                   "1.36 m out on section 1, from a differential-evolution search for the smallest bore with "
+                   "transmission >= 22.5 deg and retracted length >= stroke + dead length; lever arm 1.34 m "
+                   "extended, stroke 1.51 m, bore 220 mm (real 36-42 m booms: ~200-250 mm)")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "H", _point("joint1.H", self.H))
@@ -209,9 +230,12 @@ class DirectDrive:
         return direct_state(q, np.array(self.H), np.array(self.c))
 
 
-#: Lever-and-link base design (folds upwards, positive q, 0–178 deg), from a differential-evolution search that
-#: maximises the smallest transmission angle with cylinder length ratio <= 1.7; scaled per joint.
-_BASE = {"P": (-0.2, 0.29), "H": (-1.65, 0.5), "c": (-0.3, 0.0), "r": 0.48, "s": 0.43, "sigma": -1}
+#: Lever-and-link base design at joint 2's size (folds upwards, positive q, −2…178 deg), from a differential-evolution
+#: search (issue 28) for the smallest bore that holds 700 kN.m ∝ cos q over the range at 280 bar (rod 0.7 bore), with
+#: every transmission angle >= 22.5 deg, retracted length >= stroke + dead length, flow <= 144 L/min at 0.03 rad/s,
+#: pins inside an envelope of the sections' proportions (housing up to 6 m behind the joint, pins up to 0.8 m off the
+#: section axis, lever up to 1.5 m); scaled per joint. Extended lever arm 0.70 m at joint 2 (was 0.31 m).
+_BASE = {"P": (0.30, 0.77), "H": (-6.0, 0.34), "c": (-1.09, -0.80), "r": 1.50, "s": 0.817, "sigma": -1}
 
 
 @dataclass(frozen=True)
@@ -228,7 +252,8 @@ class FourBar:
     sigma: int
     q_min: float
     q_max: float
-    source: str = "sized here: base lever-and-link design scaled per joint (see _BASE)"
+    source: str = ("engineering choice (no published pin coordinates found): base lever-and-link design scaled per "
+                   "joint (see _BASE)")
 
     def __post_init__(self) -> None:
         for name in ("P", "H", "c"):
@@ -256,7 +281,7 @@ class FourBar:
 _SECTIONS = (SectionSpec(9.0, 2200.0, 0.45, 0.70), SectionSpec(7.7, 1500.0, 0.40, 0.60),
              SectionSpec(7.6, 1100.0, 0.35, 0.50), SectionSpec(7.4, 700.0, 0.30, 0.40),
              SectionSpec(5.9, 350.0, 0.25, 0.30))
-_LINKAGES = (FourBar.scaled(3.0, +1), FourBar.scaled(2.6, -1), FourBar.scaled(2.0, +1), FourBar.scaled(1.5, -1))
+_LINKAGES = (FourBar.scaled(1.0, +1), FourBar.scaled(0.8, -1), FourBar.scaled(0.6, +1), FourBar.scaled(0.35, -1))
 
 
 @dataclass(frozen=True)
@@ -297,7 +322,10 @@ class PumpTruckParameters:
     p_system: float = 35e6
     p_hold_fraction: float = 0.8
     min_transmission_deg: float = 20.0
-    source: str = "issue 11 (42 m class, five sections); system pressure 350 bar as on Putzmeister/Schwing booms"
+    source: str = ("issue 11 (42 m class, five sections); system pressure 350 bar as on Putzmeister/Schwing booms "
+                   "(350 bar working pressure of the boom cylinders of the Putzmeister M55: Power & Motion, "
+                   "'Lightweight cylinders expand realm of possibilities'); linkage proportions: engineering choice "
+                   "(module docstring)")
 
     def __post_init__(self) -> None:
         for name, cls, count in (("sections", SectionSpec, 5), ("linkages", FourBar, 4)):
@@ -362,16 +390,20 @@ def _describe(record: PumpTruckParameters) -> str:
     lines.append(f"pipe {record.pipe.mass_per_m:.2f} kg/m ({'filled' if record.pipe.filled else 'empty'}), "
                  f"hose {record.hose.mass:.0f} kg at the tip")
     lines.append("")
-    lines.append("joint  bore/rod [mm]  stroke [m]  l_min [m]  min transm. [deg]  lever arm ext. [m]  "
-                 "F ext. [kN]  p ext. [MPa]  worst p [MPa] at q [deg]")
+    lines.append("joint  bore/rod [mm]  stroke [m]  l_min [m]  dead [m]  min transm. [deg]  lever arm ext. [m]  "
+                 "F ext. [kN]  p ext. [MPa]  worst p [MPa] at q [deg]  flow [L/min]  housing/rod [kg]  cyl. share")
     for row in sizing(record):
         lines.append(f"{row['joint']:5d}  {row['bore'] * 1e3:4.0f}/{row['rod'] * 1e3:4.0f}    {row['stroke']:9.3f}  "
-                     f"{row['l_min']:9.3f}  {row['min_transmission_deg']:17.1f}  {row['lever_arm']:18.3f}  "
-                     f"{row['F'] / 1e3:11.1f}  {row['p'] / 1e6:12.2f}  {row['p_worst'] / 1e6:13.2f} at "
-                     f"{math.degrees(row['q_worst']):6.1f}")
+                     f"{row['l_min']:9.3f}  {row['dead']:8.3f}  {row['min_transmission_deg']:17.1f}  "
+                     f"{row['lever_arm']:18.3f}  {row['F'] / 1e3:11.1f}  {row['p'] / 1e6:12.2f}  "
+                     f"{row['p_worst'] / 1e6:13.2f} at {math.degrees(row['q_worst']):6.1f}  {row['flow'] * 6e4:12.0f}  "
+                     f"{row['m_housing']:7.0f}/{row['m_rod']:4.0f}  {row['cylinder_share']:10.1%}")
     lines.append(f"limit {record.p_hold_fraction * record.p_system / 1e6:.1f} MPa "
-                 f"({record.p_hold_fraction:.0%} of {record.p_system / 1e6:.0f} MPa); 'ext.' = fully extended, "
-                 "horizontal, filled; worst = joint swept over its range, the others extended")
+                 f"({record.p_hold_fraction:.0%} of {record.p_system / 1e6:.0f} MPa); sized once on the worst case "
+                 "(pipe filled, whatever the record's pipe state); 'ext.' = fully extended, horizontal; worst = joint "
+                 "swept over its range, the others extended; dead = smallest retracted length minus stroke; flow at "
+                 "0.03 rad/s and the largest lever arm; cyl. share = the cylinders' share of the joint's gravity "
+                 "torque, extended")
     return "\n".join(lines)
 
 

@@ -3,9 +3,12 @@
 * Mass properties of a section: the steel box meshed by :func:`beam_mesh` (consistent mass, rotary inertia) and
   summed over its mass points, plus the delivery pipe as a slender line mass ``mu L`` along ``y_p = h/2 +
   offset`` (its own inertia ``mu L³/12`` about ``y`` and ``z``).
-* Joint torques: ``tau_k = g Σ m_i (x_i − x_k)`` over the sections, pipes and hose outboard of joint ``k``
-  (centres of mass ``x_i``, joint ``x_k``; the hose's weight acts at the tip pin); rockers, links and cylinders
-  are not counted (≈ 3 % of the boom mass).
+* Joint torques by virtual work, ``tau_k = ∂V/∂q_k`` with ``V = g Σ m_i y_i``: ``g Σ m_i (x_i − x_k)`` over the
+  sections, pipes and hose outboard of joint ``k`` (centres of mass ``x_i``, joint ``x_k``; the hose's weight acts at
+  the tip pin), plus each cylinder's housing and rod (steel, :func:`cylinder_masses`: 0.6–0.9 t for the 220 mm
+  cylinders, 2.5 t in all, a third of the 7.5 t of sections, filled pipe and hose): they raise the gravity torque of the
+  extended boom by 16 % at joint 1, 10 % at joint 2, 5 % at joint 3 and 3 % at joint 4 (the sizing table's ``cyl.
+  share``). Rockers and links are not counted (≤ 0.5 % of a joint's holding torque).
 * Cylinder force ``F = tau / (dl/dq)`` (extending force positive: the cylinder pushes), chamber pressure
   ``F / A_piston`` when pushing, ``−F / A_annulus`` when pulling.
 
@@ -18,6 +21,7 @@ rigid bodies) and ch. 7 (virtual work). ISO 3320:2013 (cylinder bores and rod di
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from functools import lru_cache
 
 import numpy as np
@@ -28,7 +32,8 @@ from flexlib.fe.sections import box
 from .kinematics import rot
 from .parameters import CYLINDER_BORES, CYLINDER_RODS, PumpTruckParameters
 
-__all__ = ["cylinder_forces", "joint_torques", "mass_properties", "point_masses", "sizing"]
+__all__ = ["DESIGN_JOINT_SPEED", "cylinder_forces", "cylinder_masses", "dead_length", "design_cylinders",
+           "joint_torques", "mass_properties", "point_masses", "sizing", "worst_case"]
 
 
 def mass_properties(record: PumpTruckParameters, k: int, pipe: bool = True, n_elements: int = 8) -> dict:
@@ -67,38 +72,101 @@ def _mass_properties(record: PumpTruckParameters, k: int, pipe: bool, n_elements
     return float(m), com, inertia
 
 
-def point_masses(record: PumpTruckParameters, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+#: Cylinder construction (engineering estimates, see :func:`cylinder_masses`): tube steel E355 (EN 10305-1 honed
+#: tube, yield 355 MPa) at Re/1.5 under the ISO 10100 proof pressure 1.5 × p_system; dead length (retracted pin-to-pin
+#: length minus stroke: base, eye, piston, gland) ``DEAD_BORES`` bores + ``DEAD_EYES`` [m].
+TUBE_YIELD = 355e6
+PROOF_FACTOR = 1.5
+DEAD_BORES = 1.5
+DEAD_EYES = 0.2
+#: Joint speed at full valve command [rad/s] for the flow column (``models.pump_truck.model.W_MAX``).
+DESIGN_JOINT_SPEED = 0.03
+
+
+def dead_length(bore: float) -> float:
+    """Smallest retracted length minus stroke of a cylinder of ``bore`` [m]: ``DEAD_BORES·bore + DEAD_EYES`` [m]."""
+    return DEAD_BORES * bore + DEAD_EYES
+
+
+def cylinder_masses(record: PumpTruckParameters, bore: float, rod: float, stroke: float) -> dict:
+    """Housing and rod of a steel cylinder [kg], and where their centres sit [m] (``LineForceWithTwoMasses``).
+
+    Tube wall ``t = PROOF_FACTOR p_system bore / (2 TUBE_YIELD / 1.5)`` (Barlow); housing = tube of length
+    ``stroke + bore`` plus base and gland (one bore length of solid ``(bore + 2t)`` round), centre ``L_housing =
+    (stroke + bore)/2 + DEAD_EYES/2`` from the housing pin; rod = bar ``rod`` × ``(stroke + bore)`` plus piston
+    (half a bore of solid ``bore`` round), centre ``L_rod`` the same distance from the rod pin.
+    """
+    rho = record.steel.rho
+    t = PROOF_FACTOR * record.p_system * bore / (2.0 * TUBE_YIELD / 1.5)
+    length = stroke + bore
+    outer = math.pi / 4 * (bore + 2 * t) ** 2
+    m_housing = rho * ((outer - math.pi / 4 * bore**2) * length + outer * bore)
+    m_rod = rho * (math.pi / 4 * rod**2 * length + math.pi / 4 * bore**2 * 0.5 * bore)
+    reach = length / 2 + DEAD_EYES / 2
+    return {"bore": bore, "rod": rod, "stroke": stroke, "wall": t, "m_housing": m_housing, "L_housing": reach,
+            "m_rod": m_rod, "L_rod": reach}
+
+
+def _masses(record: PumpTruckParameters, q: np.ndarray, cylinders) -> tuple[list, list]:
+    """Joint positions and the lumped masses ``(m, x, rigid_to, own)``: ``x`` [m] in the turret frame, rigid with
+    joints ``0 … rigid_to − 1``; ``own = (k, dx/dq_k)`` for a cylinder point that moves with its own joint ``k``
+    through the drive's kinematics (``None`` for a point rigid on a section)."""
+    J, theta, masses = [np.zeros(2)], [0.0], []
+    for k, sec in enumerate(record.sections):
+        th = theta[-1] + q[k]
+        mp = mass_properties(record, k)
+        masses.append((mp["m"], J[-1] + rot(th) @ mp["com"][:2], k + 1, None))
+        if cylinders is not None:
+            cyl, st = cylinders[k], record.drive(k + 1).state(float(q[k]))
+            R = rot(theta[-1])
+            H = np.array(record.drive(k + 1).H)
+            e = (st.T - H) / st.length
+            de = (st.T_rate - e * (e @ st.T_rate)) / st.length
+            masses.append((cyl["m_housing"], J[-1] + R @ (H + cyl["L_housing"] * e), k,
+                           (k, R @ (cyl["L_housing"] * de))))
+            masses.append((cyl["m_rod"], J[-1] + R @ (st.T - cyl["L_rod"] * e), k,
+                           (k, R @ (st.T_rate - cyl["L_rod"] * de))))
+        J.append(J[-1] + rot(th) @ np.array([sec.length, 0.0]))
+        theta.append(th)
+    masses.append((record.hose.mass, J[-1], 5, None))
+    return J, masses
+
+
+def point_masses(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> tuple[np.ndarray, np.ndarray,
+                                                                                       np.ndarray]:
     """Joint positions ``J`` (6 × 2, joint 1 … tip) [m], and the boom's lumped masses [kg] with positions [m].
 
-    Masses: each section (box + pipe) at its centre of mass, then the hose at the tip.
+    Masses: each section (box + pipe) at its centre of mass, each cylinder's housing and rod (after its section's
+    inboard joint; ``cylinders`` as :func:`design_cylinders`, default the record's own), then the hose at the tip.
     """
     q = np.asarray(q, dtype=float)
-    J, m, x = [np.zeros(2)], [], []
-    theta = 0.0
-    for k, sec in enumerate(record.sections):
-        theta += q[k]
-        mp = mass_properties(record, k)
-        m.append(mp["m"])
-        x.append(J[-1] + rot(theta) @ mp["com"][:2])
-        J.append(J[-1] + rot(theta) @ np.array([sec.length, 0.0]))
-    m.append(record.hose.mass)
-    x.append(J[-1])
-    return np.array(J), np.array(m), np.array(x)
+    J, masses = _masses(record, q, design_cylinders(record) if cylinders is None else cylinders)
+    return np.array(J), np.array([m[0] for m in masses]), np.array([m[1] for m in masses])
 
 
-def joint_torques(record: PumpTruckParameters, q: np.ndarray) -> np.ndarray:
-    """Gravity torque about each joint of the masses outboard of it, ``tau_k = g Σ m_i (x_i − x_k)`` [N.m].
+def joint_torques(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> np.ndarray:
+    """Gravity torque about each joint, ``tau_k = ∂V/∂q_k`` with ``V = g Σ m_i y_i`` [N.m].
 
-    Positive: gravity tends to decrease ``q_k`` (fold the boom down); the drive must supply ``+tau_k``.
+    A point rigid with joint ``k`` contributes ``g m_i (x_i − x_k)``; a cylinder point of drive ``k`` contributes
+    ``g m_i ∂y_i/∂q_k`` from the drive's kinematics (:attr:`LinkageState.T_rate`). ``cylinders``: as
+    :func:`point_masses`; ``False`` leaves the cylinders out. Positive: gravity tends to decrease ``q_k`` (fold the
+    boom down); the drive must supply ``+tau_k``.
     """
-    J, m, x = point_masses(record, q)
-    # masses 0..4 are sections 1..5 (outboard of joints 1..k+1), mass 5 the hose (outboard of all)
-    return np.array([record.g * sum(m[i] * (x[i, 0] - J[k, 0]) for i in range(k, 6)) for k in range(5)])
+    q = np.asarray(q, dtype=float)
+    cyl = None if cylinders is False else (design_cylinders(record) if cylinders is None else cylinders)
+    J, masses = _masses(record, q, cyl)
+    tau = np.zeros(5)
+    for m, x, rigid_to, own in masses:
+        for k in range(rigid_to):
+            tau[k] += m * (x[0] - J[k][0])
+        if own is not None:
+            tau[own[0]] += m * own[1][1]
+    return record.g * tau
 
 
-def cylinder_forces(record: PumpTruckParameters, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def cylinder_forces(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> tuple[np.ndarray, np.ndarray]:
     """Holding force of each cylinder ``F = tau / (dl/dq)`` [N] (positive pushes) and the lever arms [m/rad]."""
-    tau = joint_torques(record, q)
+    tau = joint_torques(record, q, cylinders)
     arm = np.array([record.drive(k + 1).state(float(q[k])).lever_arm for k in range(5)])
     return tau / arm, arm
 
@@ -108,51 +176,90 @@ def _pressure(F: float, bore: float, rod: float) -> float:
     return abs(F) / area
 
 
-def sizing(record: PumpTruckParameters, n_sweep: int = 91) -> list[dict]:
-    """Size each cylinder from ISO 3320 bores and rods (rod the largest ≤ 0.7 bore).
+def worst_case(record: PumpTruckParameters) -> PumpTruckParameters:
+    """The record the machine is designed for: the same machine with its pipe filled (the heaviest load)."""
+    return record if record.pipe.filled else replace(record, pipe=replace(record.pipe, filled=True))
 
-    The bore is the smallest that holds every pose of the sweep (joint ``k`` over its range, all other joints
-    extended: ``q = 0``; fully extended horizontal included) at ``p_hold_fraction * p_system``.
+
+@lru_cache(maxsize=64)
+def design_cylinders(record: PumpTruckParameters) -> tuple[dict, ...]:
+    """The five cylinders of the machine (:func:`cylinder_masses` of the :func:`sizing` bores), sized on its worst
+    case whatever ``record.pipe.filled`` says."""
+    return tuple(cylinder_masses(record, row["bore"], row["rod"], row["stroke"]) for row in sizing(record))
+
+
+def _sweep(record: PumpTruckParameters, k: int, n_sweep: int) -> np.ndarray:
+    drive = record.drive(k + 1)
+    return np.unique(np.append(np.linspace(drive.q_min, drive.q_max, n_sweep), 0.0))
+
+
+def _choose(forces: list[float], p_max: float) -> tuple[float, float, bool]:
+    for bore in CYLINDER_BORES:
+        rod = max(r for r in CYLINDER_RODS if r <= 0.7 * bore)
+        if max(_pressure(F, bore, rod) for F in forces) <= p_max:
+            return bore, rod, True
+    return CYLINDER_BORES[-1], max(r for r in CYLINDER_RODS if r <= 0.7 * CYLINDER_BORES[-1]), False
+
+
+def sizing(record: PumpTruckParameters, n_sweep: int = 91) -> list[dict]:
+    """Size each cylinder from ISO 3320 bores and rods (rod the largest ≤ 0.7 bore), once per machine.
+
+    The machine is sized on its worst case (:func:`worst_case`: pipe filled, whatever ``record.pipe.filled``): the
+    bore is the smallest that holds every pose of the sweep (joint ``k`` over its range, all other joints extended:
+    ``q = 0``; fully extended horizontal included) at ``p_hold_fraction * p_system``, with the weight of every
+    cylinder (:func:`cylinder_masses`) in the load. The cylinders' masses depend on their bores, so the sizing
+    repeats until no bore changes (two or three rounds).
 
     Returns
     -------
     list of dict
-        Per joint: ``bore``, ``rod`` [m], ``l_min``, ``l_max``, ``stroke`` [m], ``min_transmission_deg``,
-        extended-horizontal ``lever_arm`` [m], ``F`` [N], ``p`` [Pa], the worst pose ``q_worst`` [rad] with
-        its pressure ``p_worst`` [Pa], and the largest holding pressure on each side over the sweep, ``p_worst_A``
-        (cap side, the cylinder pushes) and ``p_worst_B`` (rod side, it pulls) [Pa]; 0 for a side that never holds.
+        Per joint: ``bore``, ``rod`` [m], ``l_min``, ``l_max``, ``stroke`` [m], ``dead`` (smallest dead length,
+        :func:`dead_length`) [m] and ``fits`` (``l_min >= stroke + dead``), ``min_transmission_deg``,
+        extended-horizontal ``lever_arm`` [m], ``F`` [N], ``p`` [Pa], the worst pose ``q_worst`` [rad] with its
+        pressure ``p_worst`` [Pa], the largest holding pressure on each side over the sweep, ``p_worst_A`` (cap side,
+        the cylinder pushes) and ``p_worst_B`` (rod side, it pulls) [Pa] (0 for a side that never holds), ``flow``
+        [m3/s] at ``DESIGN_JOINT_SPEED`` and the largest lever arm, the cylinder's ``m_housing`` and ``m_rod``
+        [kg], and ``cylinder_share``: the cylinders' share of the joint's gravity torque, extended horizontal [1].
     """
-    p_max = record.p_hold_fraction * record.p_system
+    design = worst_case(record)
+    p_max = design.p_hold_fraction * design.p_system
+    sweeps = [_sweep(design, k, n_sweep) for k in range(5)]
+    states = [[design.drive(k + 1).state(float(qk)) for qk in sweeps[k]] for k in range(5)]
+    strokes = [max(s.length for s in st) - min(s.length for s in st) for st in states]
+    chosen = [(CYLINDER_BORES[0], CYLINDER_RODS[0], True)] * 5
+    for _ in range(20):
+        cyls = tuple(cylinder_masses(design, b, r, s) for (b, r, _), s in zip(chosen, strokes, strict=True))
+        forces = []
+        for k in range(5):
+            fk = []
+            for qk in sweeps[k]:
+                q = np.zeros(5)
+                q[k] = qk
+                fk.append(float(cylinder_forces(design, q, cyls)[0][k]))
+            forces.append(fk)
+        new = [_choose(f, p_max) for f in forces]
+        if new == chosen:
+            break
+        chosen = new
+    tau_bare = joint_torques(design, np.zeros(5), False)
+    tau_full = joint_torques(design, np.zeros(5), cyls)
     rows = []
     for k in range(5):
-        drive = record.drive(k + 1)
-        qs = np.unique(np.append(np.linspace(drive.q_min, drive.q_max, n_sweep), 0.0))
-        forces, lengths, trans = [], [], []
-        for qk in qs:
-            q = np.zeros(5)
-            q[k] = qk
-            F, _ = cylinder_forces(record, q)
-            st = drive.state(float(qk))
-            forces.append(F[k])
-            lengths.append(st.length)
-            trans.append(min(st.transmission.values()))
-        chosen = None
-        for bore in CYLINDER_BORES:
-            rod = max(r for r in CYLINDER_RODS if r <= 0.7 * bore)
-            if max(_pressure(F, bore, rod) for F in forces) <= p_max:
-                chosen = (bore, rod)
-                break
-        if chosen is None:
-            bore, rod = CYLINDER_BORES[-1], max(r for r in CYLINDER_RODS if r <= 0.7 * CYLINDER_BORES[-1])
-        else:
-            bore, rod = chosen
-        pressures = [_pressure(F, bore, rod) for F in forces]
+        bore, rod, ok = chosen[k]
+        qs, fk, st = sweeps[k], forces[k], states[k]
+        lengths = [s.length for s in st]
+        pressures = [_pressure(F, bore, rod) for F in fk]
         i_ext, i_worst = int(np.argmin(np.abs(qs))), int(np.argmax(pressures))
-        side = {c: max([p for F, p in zip(forces, pressures, strict=True) if (F >= 0) == (c == "A")], default=0.0)
+        side = {c: max([p for F, p in zip(fk, pressures, strict=True) if (F >= 0) == (c == "A")], default=0.0)
                 for c in ("A", "B")}
+        arm_max = max(abs(s.lever_arm) for s in st)
         rows.append({"joint": k + 1, "bore": bore, "rod": rod, "l_min": min(lengths), "l_max": max(lengths),
-                     "stroke": max(lengths) - min(lengths), "min_transmission_deg": min(trans),
-                     "lever_arm": drive.state(0.0).lever_arm, "F": forces[i_ext], "p": pressures[i_ext],
+                     "stroke": strokes[k], "dead": dead_length(bore),
+                     "fits": min(lengths) >= strokes[k] + dead_length(bore),
+                     "min_transmission_deg": min(min(s.transmission.values()) for s in st),
+                     "lever_arm": st[i_ext].lever_arm, "F": fk[i_ext], "p": pressures[i_ext],
                      "q_worst": float(qs[i_worst]), "p_worst": pressures[i_worst], "p_worst_A": side["A"],
-                     "p_worst_B": side["B"], "sized": chosen is not None})
+                     "p_worst_B": side["B"], "sized": ok, "flow": math.pi / 4 * bore**2 * arm_max * DESIGN_JOINT_SPEED,
+                     "m_housing": cyls[k]["m_housing"], "m_rod": cyls[k]["m_rod"],
+                     "cylinder_share": 1.0 - tau_bare[k] / tau_full[k]})
     return rows

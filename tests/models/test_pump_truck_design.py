@@ -135,3 +135,39 @@ def test_statics_against_virtual_work(q_deg):
         dl = (REC.drive(k + 1).state(q[k] + hstep).length - REC.drive(k + 1).state(q[k] - hstep).length) / (2 * hstep)
         assert tau[k] == pytest.approx(dV, rel=1e-6)
         assert F[k] == pytest.approx(dV / dl, rel=1e-6)  # Q + F dl/dq = 0 with Q = -dV/dq
+
+
+def test_design_bores_strokes_and_flows():
+    """Issue 28 item 3 (design test: the numbers of this record's geometry): every bore 100–280 mm at 80 % of
+    p_system <= 350 bar, retracted length >= stroke + dead length, flow <= 150 L/min at the design joint speed."""
+    assert REC.p_system <= 35e6
+    for row in sizing(REC):
+        assert 0.1 <= row["bore"] <= 0.28, row
+        assert row["fits"] and row["l_min"] >= row["stroke"] + row["dead"]
+        assert row["flow"] * 6e4 <= 150.0
+    assert [round(r["bore"] * 1e3) for r in sizing(REC)] == [220, 220, 220, 125, 100]
+
+
+def test_machine_sized_once_on_its_worst_case():
+    """The empty-pipe record is the same machine: same cylinders (sized with the pipe filled)."""
+    empty = replace(REC, pipe=replace(REC.pipe, filled=False))
+    keys = ("bore", "rod", "stroke", "m_housing", "m_rod", "p_worst_A", "p_worst_B")
+    assert [[r[k] for k in keys] for r in sizing(empty)] == [[r[k] for k in keys] for r in sizing(REC)]
+    # the load does change with the pipe state
+    assert joint_torques(empty, np.zeros(5))[0] < joint_torques(REC, np.zeros(5))[0]
+
+
+def test_cylinder_masses_in_the_load():
+    """Cylinder housing and rod weigh in the gravity torque: at joint 1, extended, the torque with them minus without
+    them is g Σ m_i x_i over cylinders 2–5 (rigid with joint 1) plus d(g Σ m_i y_i)/dq1 of cylinder 1's own points
+    (central differences, 1e-6 rad), to 1e-6."""
+    q = np.zeros(5)
+    with_c, bare = joint_torques(REC, q), joint_torques(REC, q, cylinders=False)
+    _, m, x = point_masses(REC, q)
+    rigid = [i for i in range(4, 15) if i % 3 != 0]  # masses: section 1, housing 1, rod 1, section 2, ..., hose
+    own = [1, 2]
+    h = 1e-6
+    e = np.array([h, 0, 0, 0, 0])
+    dV = (point_masses(REC, q + e)[2][own, 1] - point_masses(REC, q - e)[2][own, 1]) / (2 * h) @ m[own]
+    assert with_c[0] - bare[0] == pytest.approx(REC.g * (float(m[rigid] @ x[rigid, 0]) + dV), rel=1e-6)
+    assert with_c[0] / bare[0] > 1.1  # issue 28: the rods alone add ~15 % at hinge 1
