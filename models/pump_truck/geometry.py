@@ -21,13 +21,13 @@ import numpy as np
 
 from .kinematics import rot
 from .parameters import PumpTruckParameters
+from .statics import LINK_PLATE, linkage_masses
 from .statics import mass_properties as _mass_properties
 from .statics import sizing as _sizing
 
 __all__ = ["LINK_PLATE", "holding_forces", "length_reference", "linkage_masses", "mass_properties",
            "section_mass_properties", "sizing"]
 
-LINK_PLATE = 2 * 0.025 * 0.12  # lever/link cross-section at joint scale 3.0: two 25 x 120 mm plates [m2]
 
 
 @lru_cache(maxsize=64)
@@ -41,15 +41,6 @@ def mass_properties(record: PumpTruckParameters, k: int) -> dict:
 def sizing(record: PumpTruckParameters) -> list[dict]:
     """:func:`models.pump_truck.statics.sizing`, memoised per record."""
     return _sizing(record)
-
-
-def linkage_masses(record: PumpTruckParameters, k: int, link_plate: float = LINK_PLATE) -> tuple[float, float]:
-    """Masses [kg] of lever and link of joint ``k`` (2–5): steel bars of cross-section ``link_plate`` [m2] at joint
-    scale 3, scaled by (scale/3)²."""
-    fb = record.drive(k)
-    scale = fb.r / 0.48
-    area = link_plate * (scale / 3.0) ** 2
-    return record.steel.rho * area * fb.r, record.steel.rho * area * fb.s
 
 
 def boom_pose(record: PumpTruckParameters, q: np.ndarray, link_plate: float = LINK_PLATE) -> dict[str, Any]:

@@ -32,8 +32,10 @@ from flexlib.fe.sections import box
 from .kinematics import rot
 from .parameters import CYLINDER_BORES, CYLINDER_RODS, PumpTruckParameters
 
-__all__ = ["DESIGN_JOINT_SPEED", "cylinder_forces", "cylinder_masses", "dead_length", "design_cylinders",
-           "joint_torques", "mass_properties", "point_masses", "sizing", "worst_case"]
+__all__ = ["DESIGN_JOINT_SPEED", "LINK_PLATE", "cylinder_forces", "cylinder_masses", "dead_length", "design_cylinders",
+           "joint_torques", "linkage_masses", "mass_properties", "point_masses", "sizing", "worst_case"]
+
+LINK_PLATE = 2 * 0.025 * 0.12  # lever/link cross-section at joint scale 3.0: two 25 x 120 mm plates [m2]
 
 
 def mass_properties(record: PumpTruckParameters, k: int, pipe: bool = True, n_elements: int = 8) -> dict:
@@ -83,6 +85,15 @@ DEAD_EYES = 0.2
 DESIGN_JOINT_SPEED = 0.03
 
 
+def linkage_masses(record: PumpTruckParameters, k: int, link_plate: float = LINK_PLATE) -> tuple[float, float]:
+    """Masses [kg] of lever and link of joint ``k`` (2–5): steel bars of cross-section ``link_plate`` [m2] at joint
+    scale 3, scaled by (scale/3)²."""
+    fb = record.drive(k)
+    scale = fb.r / 0.48
+    area = link_plate * (scale / 3.0) ** 2
+    return record.steel.rho * area * fb.r, record.steel.rho * area * fb.s
+
+
 def dead_length(bore: float) -> float:
     """Smallest retracted length minus stroke of a cylinder of ``bore`` [m]: ``DEAD_BORES·bore + DEAD_EYES`` [m]."""
     return DEAD_BORES * bore + DEAD_EYES
@@ -126,6 +137,13 @@ def _masses(record: PumpTruckParameters, q: np.ndarray, cylinders) -> tuple[list
                            (k, R @ (cyl["L_housing"] * de))))
             masses.append((cyl["m_rod"], J[-1] + R @ (st.T - cyl["L_rod"] * e), k,
                            (k, R @ (st.T_rate - cyl["L_rod"] * de))))
+        if k > 0:  # the lever (P → T) and link (T → C) of a lever-and-link drive, slender bars moving with joint k
+            st, R = record.drive(k + 1).state(float(q[k])), rot(theta[-1])
+            P = np.array(record.drive(k + 1).P)
+            C_rate = np.array([-st.C[1], st.C[0]])  # the bracket turns with section k about the joint: ẑ × C
+            m_lever, m_link = linkage_masses(record, k + 1)
+            masses.append((m_lever, J[-1] + R @ ((P + st.T) / 2), k, (k, R @ (st.T_rate / 2))))
+            masses.append((m_link, J[-1] + R @ ((st.T + st.C) / 2), k, (k, R @ ((st.T_rate + C_rate) / 2))))
         J.append(J[-1] + rot(th) @ np.array([sec.length, 0.0]))
         theta.append(th)
     masses.append((record.hose.mass, J[-1], 5, None))
