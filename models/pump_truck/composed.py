@@ -34,7 +34,7 @@ from flexlib.models.boom import (
 from .flexible import PIN_POINTS, attachment_points, section_modal_data
 from .geometry import linkage_masses, section_mass_properties, sizing
 from .parameters import PumpTruckParameters
-from .statics import design_cylinders
+from .statics import cylinder_forces, design_cylinders
 
 __all__ = ["ComposedPumpTruck"]
 
@@ -58,6 +58,7 @@ class ComposedPumpTruck(fl.Model):
         self.record, q0 = record, np.asarray(q0, dtype=float)
         moves = moves or {}
         rows = sizing(record)
+        self._F_hold = cylinder_forces(record, q0[1:], design_cylinders(record))[0]
         self.world = World()
         self.power = PowerUnit(p_relief=record.p_system)
         if slewing:
@@ -139,6 +140,12 @@ class ComposedPumpTruck(fl.Model):
         axis = HydraulicAxis(d_bore=bore, d_rod=rod, stroke=stroke, L0=row["l_min"] - STOP_MARGIN, Q_nom=Q_nom,
                              hold=hold, over_centre=over, m_housing=cyl["m_housing"], L_housing=cyl["L_housing"],
                              m_rod=cyl["m_rod"], L_rod=cyl["L_rod"], p_system=record.p_system, **crack)
+        # at rest in the start pose: the chamber the hand statics says holds carries the load, the other is at tank
+        # (a parameter: one build serves every pose); the statics' pressure is the holding chamber's start guess
+        F = self._F_hold[n - 1]
+        axis.free_A = 1.0 if F < 0 else 0.0
+        axis.cylinder.cylinder.set_start("p_A" if F >= 0 else "p_B", 1.01325e5 + abs(F) / (A_p if F >= 0 else A_r),
+                                         fixed=False)
         L0 = drive.state(q0).length
         ctrl = JointController(A_p=A_p, Q_nom=Q_nom, L_start=L0)
         knots = motion_profile(q0, moves)
