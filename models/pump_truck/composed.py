@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 import flexlib as fl
-from flexlib.components.control import Constant, TimeTable
+from flexlib.components.control import TimeTable
 from flexlib.components.mechanics.multibody import FixedTranslation, Revolute, World
 from flexlib.models.boom import (
     AngleController,
@@ -29,8 +29,10 @@ from flexlib.models.boom import (
     Turret,
     joint_to_length,
     motion_profile,
+    waypoint_moves,
 )
 
+from .arguments import JOINTS, check_pose, check_sources, check_table
 from .flexible import PIN_POINTS, attachment_points, section_modal_data
 from .geometry import linkage_masses, section_mass_properties, sizing
 from .parameters import PumpTruckParameters
@@ -43,20 +45,35 @@ W_MAX = 0.03  # joint speed at full valve command at the largest lever arm [rad/
 SLEW_D = 50e-6 / (2 * math.pi)  # slewing motor [m3/rad]
 SLEW_RATIO = 300.0
 SLEW_Q = 25.0 / 60000  # slew valve rating [m3/s]
+A_MAX = 0.01  # joint acceleration of the reference moves [rad/s2]
+J_MAX = 0.01  # joint jerk of the reference moves [rad/s3]
+TRANSPORT_POSE_DEG = (0.0, 0.0, 176.0, -176.0, 176.0, -176.0)
 
 
 class ComposedPumpTruck(fl.Model):
     """The five-section boom as a composition of boom parts (draft; arguments as :class:`PumpTruck`'s)."""
 
-    def __init__(self, record: PumpTruckParameters | None = None, q0: Sequence[float] = (0, 0.3, 0.2, -0.2, 0.2, -0.2),
-                 moves: Mapping[int, Sequence[tuple]] | None = None, filled: bool | None = None,
-                 flexible: bool = False, slewing: bool = True, modes: int = 8) -> None:
+    def __init__(self, record: PumpTruckParameters | None = None, pose: Sequence[float] | None = None,
+                 targets: Mapping[str, Any] | None = None, commands: Mapping[str, Any] | None = None,
+                 filled: bool | None = None, flexible: bool = False, slewing: bool = True, modes: int = 8,
+                 q0: Sequence[float] | None = None, moves: Mapping[int, Sequence[tuple]] | None = None) -> None:
         super().__init__()
         record = PumpTruckParameters() if record is None else record
         if filled is not None:  # the load only: the machine is sized on its worst case (statics.sizing)
             record = replace(record, pipe=replace(record.pipe, filled=filled))
-        self.record, q0 = record, np.asarray(q0, dtype=float)
-        moves = moves or {}
+        self.record = record
+        if q0 is None:  # the start pose [deg], each joint inside its range (a pose outside gave a garbage start)
+            q0 = check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record)
+        q0 = np.asarray(q0, dtype=float)
+        t_ref, ref_cols = check_table("targets", targets) if targets is not None else (np.zeros(1), {})
+        t_cmd, cmd_cols = check_table("commands", commands) if commands is not None else (np.zeros(1), {})
+        check_sources(ref_cols, cmd_cols)
+        moves = dict(moves or {})
+        for name, col in ref_cols.items():  # the targets' knots as waypoints of jerk-limited moves (C1 speed)
+            k = JOINTS.index(name)
+            if k > 0:
+                moves[k] = waypoint_moves(t_ref, np.radians(col), a_max=A_MAX, j_max=J_MAX)
+        self._commands = {JOINTS.index(name): (t_cmd, col) for name, col in cmd_cols.items()}
         rows = sizing(record)
         self._F_hold = cylinder_forces(record, q0[1:], design_cylinders(record))[0]
         self.world = World()
@@ -68,10 +85,16 @@ class ComposedPumpTruck(fl.Model):
             parent, housing1 = self.turret.frame_joint1, self.turret.frame_housing1
             self.slew_drive = SlewDrive(D=SLEW_D, ratio=SLEW_RATIO, Q_nom=SLEW_Q)
             self.slew_loop = AngleController(K_v=SLEW_Q / SLEW_D / SLEW_RATIO, use_feed_forward=False)
-            self.slew_ref = Constant(k=float(q0[0]))
+            slew_moves = (waypoint_moves(t_ref, np.radians(ref_cols["slew"]), a_max=A_MAX, j_max=J_MAX)
+                          if "slew" in ref_cols else [])
+            self.slew_ref = SmoothReference(*motion_profile(float(q0[0]), slew_moves))
             self.connect(self.slew_drive.flange, self.turret.axis, self.slew_loop.flange)
             self.connect(self.slew_ref.y, self.slew_loop.u_ref)
-            self.connect(self.slew_loop.y, self.slew_drive.u)
+            if 0 in self._commands:
+                self.slew_command = TimeTable(t=self._commands[0][0], y=self._commands[0][1])
+                self.connect(self.slew_command.y, self.slew_drive.u)
+            else:
+                self.connect(self.slew_loop.y, self.slew_drive.u)
             self.connect(self.power.port_P, self.slew_drive.port_P)
             self.connect(self.power.port_T, self.slew_drive.port_T)
         else:
@@ -108,7 +131,12 @@ class ComposedPumpTruck(fl.Model):
             self.connect(self.power.port_T, axis.port_T)
             self.connect(ref.y, ctrl.u_ref)
             self.connect(ref.ff, ctrl.u_ff)
-            self.connect(ctrl.y, axis.u)
+            if n in self._commands:  # open loop: the joystick's valve command
+                command = TimeTable(t=self._commands[n][0], y=self._commands[n][1])
+                setattr(self, f"command{n}", command)
+                self.connect(command.y, axis.u)
+            else:
+                self.connect(ctrl.y, axis.u)
             parent, prev = section.frame_tip, section
 
     def _section(self, n: int, flexible: bool, modes: int) -> BoomSection:
@@ -154,5 +182,3 @@ class ComposedPumpTruck(fl.Model):
         return axis, ctrl, ref
 
 
-def _unused() -> tuple:  # keep the imports the draft will need (TimeTable for joystick commands)
-    return TimeTable, Constant
