@@ -83,6 +83,18 @@ class HermiteTable(TimeTable):
     def coefficients(self) -> np.ndarray:
         return self.table_c
 
+    def equations(self) -> list:
+        """The piecewise polynomial without time events: the profile's value and speed are continuous at every
+        knot (a C1 or, jerk-limited, C2 motion profile), so the integrator may step across a knot."""
+        t = self.table_t
+        tau = fl.time - self.shift_time
+        value: Any = float(self.table_y[-1])
+        for k, (c0, c1, c2, c3) in reversed(list(enumerate(self.table_c))):
+            s = tau - float(t[k])
+            value = fl.no_event(tau < float(t[k + 1]), c0 + s * (c1 + s * (c2 + s * c3)), value)
+        value = fl.no_event(tau < float(t[0]), float(self.table_y[0]), value)
+        return [fl.eq(self.y, self.offset + value)]
+
 
 def _accel_phase(v: float, a: float, j: float) -> tuple[float, float, float]:
     """``(a_peak, T_j, T_ca)`` of a jerk-limited acceleration from rest to ``v``: jerk ``j`` for ``T_j``, constant
