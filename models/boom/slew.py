@@ -20,6 +20,7 @@ from flexlib.components.hydraulics.interfaces import Port
 from flexlib.components.mechanics import rotational
 
 from ._checks import positives
+from .axis import V_HOSE, VALVE_DP, VALVE_HZ, VALVE_LEAK  # the same valve block and hoses as a boom axis
 
 __all__ = ["SlewDrive"]
 
@@ -29,9 +30,6 @@ D_MOTOR = 50e-6 / (2 * math.pi)  # 50 cm3/rev [m3/rad]
 RATIO = 300.0  # motor / turret speed (planetary gearbox and slewing ring)
 Q_VALVE = 25.0 / 60000  # valve rating [m3/s]: 25 L/min
 J_ROTOR = 0.02  # motor rotor and gearbox input [kg.m2]
-V_HOSE = 1.0e-3  # each motor line [m3]
-DP_NOM = 35e5  # valve rating pressure drop per edge, and its compensator setting [Pa]
-F_SPOOL = 20.0  # spool bandwidth [Hz]
 
 
 class SlewDrive(fl.Model):
@@ -82,7 +80,7 @@ class SlewDrive(fl.Model):
     """
 
     def __init__(self, D: float = D_MOTOR, ratio: float = RATIO, Q_nom: float = Q_VALVE, J_rotor: float = J_ROTOR,
-                 V_hose: float = V_HOSE, dp_nom: float = DP_NOM, f_spool: float = F_SPOOL, **kw: Any) -> None:
+                 V_hose: float = V_HOSE, dp_nom: float = VALVE_DP, f_spool: float = VALVE_HZ, **kw: Any) -> None:
         super().__init__(**kw)
         part = "SlewDrive"
         D, ratio, Q_nom, J_rotor, V_hose, dp_nom, f_spool = positives(
@@ -92,7 +90,7 @@ class SlewDrive(fl.Model):
         self.port_P, self.port_T = Port(doc="Supply"), Port(doc="Tank")
         self.u = Input(unit="1", doc="Valve command, -1 ... 1")
         self.valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=dp_nom, omega=2 * math.pi * f_spool, zeta=0.7,
-                                        A_leak=1e-10, compensated=True, dp_comp=dp_nom)
+                                        A_leak=VALVE_LEAK, compensated=True, dp_comp=dp_nom)
         self.line_a, self.line_b = Volume(V=V_hose, p_start=HLP46.p_ref), Volume(V=V_hose, p_start=HLP46.p_ref)
         self.motor = HydraulicMotor(D=D)
         self.rotor = rotational.Inertia(J=J_rotor)

@@ -118,6 +118,34 @@ from flexlib.components.mechanics.multibody import (
     World,
 )
 from flexlib.errors import ParameterError
+from flexlib.models.boom.axis import (
+    CBV_A_LEAK,
+    CBV_DP_CHECK,
+    CBV_DP_OPEN,
+    CBV_SMOOTHING,
+    CBV_T,
+    CYL_FC,
+    CYL_VREG,
+    D_CYL,
+    MAKEUP_AREA,
+    MAKEUP_CRACK,
+    MAKEUP_OPEN,
+    PILOT_RATIO,
+    SHOCK_FACTOR,
+    SHOCK_LEAK,
+    V_HOSE,
+    VALVE_DP,
+    VALVE_HZ,
+)
+from flexlib.models.boom.controller import OMEGA_C, T_CMD, T_I
+from flexlib.models.boom.power import D_PUMP as PUMP_D
+from flexlib.models.boom.power import DP_REG, P_COMP, V_SUPPLY
+from flexlib.models.boom.power import SPEED as PUMP_SPEED
+from flexlib.models.boom.slew import D_MOTOR as SLEW_D
+from flexlib.models.boom.slew import J_ROTOR as SLEW_ROTOR_J
+from flexlib.models.boom.slew import Q_VALVE as SLEW_Q
+from flexlib.models.boom.slew import RATIO as SLEW_RATIO
+from flexlib.models.boom.turret import SLEW_FRICTION, SLEW_W_REG
 from flexlib.models.boom_proxy import link_body
 
 from .arguments import JOINTS, check_modes, check_pose, check_sources, check_table, option
@@ -144,41 +172,8 @@ EXTENDED_POSE_DEG = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 P_TANK = HLP46.p_ref  # tank pressure [Pa] (atmospheric)
 STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
-PUMP_D = 140e-6 / (2 * math.pi)  # 140 cm3/rev [m3/rad]: 210 L/min at 1500 rpm
-PUMP_SPEED = 1500 * 2 * math.pi / 60  # [rad/s]
-P_COMP = 32e6  # compensator setting [Pa]; the pump de-strokes over DP_REG above it
-DP_REG = 1e6
-V_SUPPLY = 5e-3  # supply line and accumulator-free manifold [m3]
-V_HOSE = 1.0e-3  # hose volume between directional and counterbalance valve, and each slew line [m3]
 W_MAX = 0.03  # joint speed at full valve command, 35 bar per edge, largest lever arm [rad/s] (valve sizing)
-VALVE_DP = 35e5  # nominal pressure drop per edge [Pa]
-VALVE_HZ = 20.0  # spool bandwidth [Hz]
-CYL_FC = 0.01  # Coulomb seal friction / force of p_system on the piston [1] (3.5 bar breakaway pressure)
-CYL_VREG = 0.005  # regularisation velocity of the seal friction [m/s]
-PILOT_RATIO = 3.0  # counterbalance pilot ratio (Sun standard 3:1)
-CBV_T = 0.05  # counterbalance poppet lag: pilot damping orifice [s]
-CBV_DP_OPEN = 30e5  # counterbalance: pressure rise above the setting for full opening [Pa]
-CBV_DP_CHECK = 2e5  # counterbalance: check valve pressure rise for full opening [Pa]
-CBV_SMOOTHING = 0.1  # counterbalance openings: C1 corners over 10 % of their ranges (Simscape smoothing factor)
-SHOCK_FACTOR = 1.1  # cylinder-port shock relief valves: setting / system pressure [1]
-SHOCK_LEAK = 1e-16  # ... leakage conductance [m3/(s.Pa)]: 0.2 cm3/min at 350 bar (Sun cartridges: <= 0.33 cm3/min)
-MAKEUP_CRACK = 0.2e5  # anti-cavitation make-up check valves: cracking pressure [Pa]
-MAKEUP_OPEN = 1e5  # ... pressure difference at full opening [Pa]
-MAKEUP_AREA = 2e-4  # ... full opening area [m2]
-CBV_A_LEAK = 1e-11  # counterbalance: leakage area of both paths [m2]
-D_CYL = 5e4  # viscous friction of each cylinder (seals, guides) [N.s/m]
-OMEGA_C = 0.3  # crossover of the joint loops [rad/s] (1 rad/s with D: limit cycle with the boom's hydraulic modes)
-T_I = 2.0  # integral time [s]
 T_D = 0.0  # derivative time [s]; 0: PI (a D part excites the boom's hydraulic modes; docs/decisions/024-*)
-T_CMD = 0.16  # valve amplifier command filter (ramp) [s]: 1 Hz; keeps the loops off the boom's 5-6 Hz oil modes
-SLEW_D = 50e-6 / (2 * math.pi)  # slewing motor 50 cm3/rev [m3/rad]
-SLEW_RATIO = 300.0  # motor / turret speed (planetary gearbox and slewing ring)
-SLEW_Q = 25.0 / 60000  # slew valve rating [m3/s]
-SLEW_ROTOR_J = 0.02  # motor rotor and gearbox input inertia [kg.m2]
-# slewing-ring friction torque [N.m]: Rothe Erde's estimate mu/2 (4.4 M_k + F_a D_L) with mu = 0.005, tilting moment
-# M_k = 1.5 MN.m, axial load F_a = 150 kN, raceway diameter D_L = 1.5 m (42 m boom, filled, working pose)
-SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
-SLEW_W_REG = 1e-2  # regularisation speed of the slewing-ring friction [rad/s] (smaller fails Newton; decision 024)
 
 
 class PumpTruck(fl.Model):

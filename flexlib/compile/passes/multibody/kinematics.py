@@ -56,13 +56,20 @@ def _hashes(node: Node, name: str) -> list[int]:
     return [s.element_hash() for s in ca.symvar(node._symbol(name))]
 
 
-def _difference(expr: ca.SX) -> tuple[SymInfo, SymInfo] | None:
-    """``(der(x), y)`` of a row ``der(x) − y`` or ``y − der(x)`` of two symbols, else None (no graph walk)."""
+def _symbol_pair(expr: ca.SX) -> tuple[SymInfo, SymInfo] | None:
+    """``(p, q)`` of a row ``p − q`` of two flexlib symbols, else None (no graph walk)."""
     if expr.n_dep() != 2 or expr.op() != ca.OP_SUB or not (expr.dep(0).is_symbolic() and expr.dep(1).is_symbolic()):
         return None
     p, q = lookup(expr.dep(0)), lookup(expr.dep(1))
-    if p is None or q is None:
+    return None if p is None or q is None else (p, q)
+
+
+def _difference(expr: ca.SX) -> tuple[SymInfo, SymInfo] | None:
+    """``(der(x), y)`` of a row ``der(x) − y`` or ``y − der(x)`` of two symbols, else None (no graph walk)."""
+    pair = _symbol_pair(expr)
+    if pair is None:
         return None
+    p, q = pair
     if p.kind == "der" and q.kind == "variable" and p.base is not None:
         return p, q
     if q.kind == "der" and p.kind == "variable" and q.base is not None:
@@ -133,11 +140,10 @@ def _aliased(rows: list[ca.SX], rates: dict[int, ca.SX]) -> dict[int, ca.SX]:
     frame_a.r_0`` beside ``v_0 = der(r_0)``)."""
     out = dict(rates)
     for expr in rows:
-        if expr.n_dep() != 2 or expr.op() != ca.OP_SUB or not (expr.dep(0).is_symbolic() and expr.dep(1).is_symbolic()):
+        pair = _symbol_pair(expr)
+        if pair is None or pair[0].kind != "variable" or pair[1].kind != "variable":
             continue
-        p, q = lookup(expr.dep(0)), lookup(expr.dep(1))
-        if p is None or q is None or p.kind != "variable" or q.kind != "variable":
-            continue
+        p, q = pair
         hp, hq = p.sym.element_hash(), q.sym.element_hash()
         if hq in out and hp not in out:
             out[hp] = out[hq]
@@ -224,11 +230,11 @@ def _source(owner: Component, src: Connector, dst: Connector, T_def: ca.SX) -> C
     return read[0] if len(read) == 1 else src
 
 
-def _expanded(owner: Component, rows: list[ca.SX], *defs: ca.SX) -> list[ca.SX]:
+def _expanded(owner: Component, rows: list[ca.SX], rates: dict[int, ca.SX], *defs: ca.SX) -> list[ca.SX]:
     """``defs`` with the component's intermediate unknowns replaced by what its rows define them as: an unknown
-    ``u`` of ``owner`` itself with a row ``u − f`` (``f`` free of ``u`` and of derivatives) and no rate row, such as
-    a flexible body's angular velocity in body axes in ``w_frame = T_k w + w_k``."""
-    rates = _rates(rows)
+    ``u`` of ``owner`` itself with a row ``u − f`` (``f`` free of ``u`` and of derivatives) and no rate in ``rates``
+    (:func:`_rates` of ``rows``), such as a flexible body's angular velocity in body axes in
+    ``w_frame = T_k w + w_k``."""
     known: dict[int, tuple[ca.SX, ca.SX]] = {}
     for expr in rows:
         if expr.n_dep() != 2 or expr.op() != ca.OP_SUB or not expr.dep(0).is_symbolic():
@@ -279,7 +285,8 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: li
     T_def = ca.reshape(ca.vertcat(*T_defs), 3, 3)
     src = _source(owner, src, dst, T_def)
     T_syms = dst._symbol("T")
-    r_own, w_own = _expanded(owner, rows, ca.vertcat(*rw_defs[:3]), ca.vertcat(*rw_defs[3:]))
+    rates = _rates(rows)
+    r_own, w_own = _expanded(owner, rows, rates, ca.vertcat(*rw_defs[:3]), ca.vertcat(*rw_defs[3:]))
     r_def = ca.substitute(r_own, ca.vec(T_syms), ca.vec(T_def))
     w_def = ca.substitute(w_own, ca.vec(T_syms), ca.vec(T_def))
     T_src, r_src, w_src = src._symbol("T"), src._symbol("r_0"), src._symbol("w")
@@ -295,7 +302,6 @@ def branch_kinematics(owner: Component, src: Connector, dst: Connector, rows: li
                         T_src)
         if checked is not None:
             checked.add(key)
-    rates = _rates(rows)
     relative = ca.depends_on(ca.vertcat(r_own, w_own), ca.vec(T_syms))
     if relative:  # the rows give r_0 or w from dst's own T (a joint written from frame_b, rooted there): with
         # T_src = I that T stands for T_rel, whose rate is −[w_rel×] T_rel; no derivative of the coordinates T_rel is
