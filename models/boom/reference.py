@@ -10,16 +10,15 @@ the acceleration, and the rate of change of the flow, is continuous too.
 
 Representation: knots ``(t_k, y_k, dy_k)`` at the phase boundaries and the cubic Hermite polynomial through each
 pair of knots, which reproduces a phase of constant acceleration (quadratic) or constant jerk (cubic) exactly. The
-position block evaluates those cubics and the speed block their exact derivatives (quadratics), so ``dy`` is the
-derivative of ``y`` to rounding everywhere, not a second interpolation.
-Both are :class:`~flexlib.components.control.TimeTable` blocks (every knot a time event, ends held) with their
-segment polynomials given: the library's ``TimeTable`` offers C1 splines (Akima, Fritsch–Butland) whose knot
-slopes it chooses itself, but no cubic Hermite with *given* knot slopes, which exact planner profiles need
-(:class:`HermiteTable` adds that by overriding :meth:`~flexlib.components.control.TimeTable.coefficients`).
+part selects the segment that holds the time (its start ``t_k`` and four coefficients: one comparison and five
+selections per knot, no time events: the profile's value and speed are continuous at every knot, so the integrator
+may step across one) and evaluates the cubic for ``y`` and its exact derivative for ``dy``, so ``dy`` is the
+derivative of ``y`` to rounding everywhere, not a second interpolation. (A ``TimeTable`` per output would evaluate
+every segment's polynomial at every residual call, and stop the integrator at every knot.)
 
 A joint profile becomes a cylinder-length profile through the kinematics ``L(q)`` (:func:`joint_to_length`): the
 joint profile sampled densely, ``L(q(t))`` and ``dL/dt = dL/dq·dq/dt`` at each sample as the new knots; the speed
-stays continuous (C1 Hermite), the length within ``O(h⁴)`` of ``L(q(t))`` between the samples.
+stays continuous (C1 Hermite); the samples are refined until the length is within a tolerance of ``L(q(t))``.
 
 References
 ----------
@@ -40,12 +39,11 @@ from scipy.optimize import brentq
 
 import flexlib as fl
 from flexlib import Output
-from flexlib.components.control import TimeTable
 from flexlib.errors import ParameterError
 
 from ._checks import positive
 
-__all__ = ["HermiteTable", "SmoothReference", "joint_to_length", "motion_profile", "waypoint_moves"]
+__all__ = ["SmoothReference", "joint_to_length", "motion_profile", "waypoint_moves"]
 
 Knots = tuple[np.ndarray, np.ndarray, np.ndarray]
 
@@ -54,46 +52,6 @@ def hermite_coefficients(t: np.ndarray, y: np.ndarray, dy: np.ndarray) -> np.nda
     """Coefficients ``c[k] = (c0, c1, c2, c3)`` in ``s = t − t[k]`` of the cubic through ``(y, dy)`` at both ends."""
     h, m = np.diff(t), np.diff(y) / np.diff(t)
     return np.column_stack([y[:-1], dy[:-1], (3 * m - 2 * dy[:-1] - dy[1:]) / h, (dy[:-1] + dy[1:] - 2 * m) / h**2])
-
-
-class HermiteTable(TimeTable):
-    """A :class:`~flexlib.components.control.TimeTable` whose segments are given cubic polynomials.
-
-    Parameters
-    ----------
-    t : array_like
-        Knot times [s], strictly increasing.
-    c : array_like
-        ``len(t) − 1`` rows ``(c0, c1, c2, c3)``: the output on segment k is ``c0 + c1 s + c2 s² + c3 s³`` with
-        ``s = t − t[k]``; before ``t[0]`` the value at ``t[0]`` is held, after ``t[-1]`` the last segment's end value.
-    hold : float
-        The output of a table of one knot (no segments).
-    """
-
-    def __init__(self, t: Any, c: Any, hold: float = 0.0, **kw: Any) -> None:
-        t_arr, c_arr = np.asarray(t, dtype=float), np.asarray(c, dtype=float).reshape(-1, 4)
-        if t_arr.ndim != 1 or len(c_arr) != max(len(t_arr) - 1, 0):
-            raise ParameterError(f"HermiteTable: c needs {max(t_arr.size - 1, 0)} rows of 4 coefficients for "
-                                 f"{t_arr.size} knots, got shape {np.shape(c)}")
-        h = np.diff(t_arr)
-        y = np.append(c_arr[:, 0], c_arr[-1] @ h[-1] ** np.arange(4)) if len(c_arr) else np.full(t_arr.size, hold)
-        super().__init__(t=t_arr, y=y, **kw)
-        self.table_c = c_arr
-
-    def coefficients(self) -> np.ndarray:
-        return self.table_c
-
-    def equations(self) -> list:
-        """The piecewise polynomial without time events: the profile's value and speed are continuous at every
-        knot (a C1 or, jerk-limited, C2 motion profile), so the integrator may step across a knot."""
-        t = self.table_t
-        tau = fl.time - self.shift_time
-        value: Any = float(self.table_y[-1])
-        for k, (c0, c1, c2, c3) in reversed(list(enumerate(self.table_c))):
-            s = tau - float(t[k])
-            value = fl.no_event(tau < float(t[k + 1]), c0 + s * (c1 + s * (c2 + s * c3)), value)
-        value = fl.no_event(tau < float(t[0]), float(self.table_y[0]), value)
-        return [fl.eq(self.y, self.offset + value)]
 
 
 def _accel_phase(v: float, a: float, j: float) -> tuple[float, float, float]:
@@ -246,14 +204,17 @@ def _evaluate(knots: Knots, ts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             np.where((ts < t[0]) | (ts > t[-1]), 0.0, ck[:, 1] + s * (2 * ck[:, 2] + 3 * s * ck[:, 3])))
 
 
-def joint_to_length(knots: Knots, L: Callable[[float], float], dt: float = 1.0, n: int = 4, dq: float = 1e-6,
-                    dL: Callable[[float], float] | None = None) -> Knots:
-    """Cylinder-length knots ``(t, L, dL/dt)`` of a joint profile through the kinematics ``L(q)``.
+def joint_to_length(knots: Knots, L: Callable[[float], float], tol: float = 1e-6, dq: float = 1e-6,
+                    dL: Callable[[float], float] | None = None, max_knots: int = 100_000) -> Knots:
+    """Cylinder-length knots ``(t, L, dL/dt)`` of a joint profile through the kinematics ``L(q)``, to ``tol``.
 
-    Each moving segment of the joint profile is split into equal steps of at most ``dt``, at least ``n``; at every
-    sample ``L(q(t))`` and
-    ``dL/dt = L'(q)·dq/dt`` (``L'`` given as ``dL``, or a central difference of step ``dq``) are the new knots.
-    Segments where the joint rests stay one segment.
+    At each knot ``L(q(t))`` and ``dL/dt = L'(q)·dq/dt`` (``L'`` given as ``dL``, or a central difference of step
+    ``dq``); between knots the cubic Hermite polynomial through them (C1: the speed continuous). Starting from the
+    joint profile's own knots, every moving segment is halved until the polynomial's position at the segment's
+    midpoint is within ``tol`` of ``L(q(t))`` and its speed at ``h(1/2 − 1/(2√3))`` within ``tol`` per second of
+    ``dL/dt`` (where the leading error terms of cubic Hermite interpolation, ``O(h⁴)`` in position and ``O(h³)`` in
+    speed, peak); so knots gather where the kinematics bends and a long cruise needs few. Segments where the joint
+    rests stay one.
 
     Parameters
     ----------
@@ -262,42 +223,66 @@ def joint_to_length(knots: Knots, L: Callable[[float], float], dt: float = 1.0, 
     L : callable
         Pin-to-pin length [m] of the joint's cylinder at the joint angle ``q`` [rad] (e.g.
         ``lambda q: record.drive(k).state(q).length``).
-    dt : float
-        Largest sample step [s] (default 1 s: a length error ``O(dt⁴)``, about 1e-8 m on a 42 m boom's joint).
-    n : int
-        Least number of steps per moving segment (>= 1).
+    tol : float
+        Largest position error at the midpoints [m] (and speed error [m/s]); default 1 µm.
     dq : float
         Step of the central difference of ``L`` [rad] (without ``dL``).
     dL : callable, optional
         ``dL/dq`` [m/rad] at ``q`` (e.g. ``lambda q: record.drive(k).state(q).lever_arm``).
+    max_knots : int
+        Refuse to go beyond this many knots (``L`` not smooth enough for ``tol``).
     """
-    if not isinstance(n, int) or isinstance(n, bool) or n < 1:
-        raise ParameterError(f"SmoothReference: n must be an integer >= 1, got {n!r}")
-    dq, dt = positive("SmoothReference", "dq", dq, "rad"), positive("SmoothReference", "dt", dt, "s")
+    part = "SmoothReference"
+    tol, dq = positive(part, "tol", tol, "m"), positive(part, "dq", dq, "rad")
     t, q, v = (np.asarray(a, dtype=float) for a in knots)
-    samples = [t[:1]]
-    for k in range(t.size - 1):
-        moving = not (q[k] == q[k + 1] and v[k] == 0.0 and v[k + 1] == 0.0)
-        steps = max(n, math.ceil((t[k + 1] - t[k]) / dt - 1e-9))
-        samples.append(np.linspace(t[k], t[k + 1], steps + 1)[1:] if moving else t[k + 1:k + 2])
-    ts = np.concatenate(samples)
-    qs, vs = _evaluate((t, q, v), ts)
-    at_knot = np.isin(ts, t)  # the knots themselves exactly (a stop stays a stop, not a rounding of it)
-    qs[at_knot], vs[at_knot] = q[np.searchsorted(t, ts[at_knot])], v[np.searchsorted(t, ts[at_knot])]
-    lengths = np.array([float(L(x)) for x in qs])
-    slopes = np.array([float(dL(x)) if dL is not None else (float(L(x + dq)) - float(L(x - dq))) / (2 * dq)
-                       for x in qs])
-    return ts, lengths, slopes * vs
+
+    def sample(ts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        qs, vs = _evaluate((t, q, v), ts)
+        at_knot = np.isin(ts, t)  # the joint profile's knots exactly (a stop stays a stop, not a rounding of it)
+        qs[at_knot], vs[at_knot] = q[np.searchsorted(t, ts[at_knot])], v[np.searchsorted(t, ts[at_knot])]
+        lengths = np.array([float(L(x)) for x in qs])
+        slopes = np.array([float(dL(x)) if dL is not None else (float(L(x + dq)) - float(L(x - dq))) / (2 * dq)
+                           for x in qs])
+        return lengths, slopes * vs
+
+    ts = t.copy()
+    ys, dys = sample(ts)
+    moving = ~((q[:-1] == q[1:]) & (v[:-1] == 0.0) & (v[1:] == 0.0))
+    split = np.flatnonzero(moving)  # segments (between ts[i] and ts[i + 1]) to check
+    while split.size:
+        h, y0, y1, d0, d1 = ts[split + 1] - ts[split], ys[split], ys[split + 1], dys[split], dys[split + 1]
+        m = (y1 - y0) / h
+        c2, c3 = (3 * m - 2 * d0 - d1) / h, (d0 + d1 - 2 * m) / h**2
+        # the leading error terms peak at the midpoint (position, ∝ s²(h − s)²) and at s = h(1/2 − 1/(2√3)) (speed)
+        s_y, s_v = h / 2, h * (0.5 - 0.5 / math.sqrt(3.0))
+        mid = ts[split] + s_y
+        y_mid, dy_mid = sample(mid)
+        _, dy_v = sample(ts[split] + s_v)
+        bad = ((np.abs(y0 + s_y * (d0 + s_y * (c2 + s_y * c3)) - y_mid) > tol)
+               | (np.abs(d0 + s_v * (2 * c2 + 3 * s_v * c3) - dy_v) > tol))
+        if not np.any(bad):
+            break
+        if ts.size + np.count_nonzero(bad) > max_knots:
+            raise ParameterError(f"{part}: the length profile needs more than {max_knots} knots for tol = {tol:g} m "
+                                 "(is L(q) smooth over the joint's range?)")
+        order = np.argsort(np.concatenate([ts, mid[bad]]), kind="stable")
+        new = np.concatenate([np.zeros(ts.size, bool), np.ones(np.count_nonzero(bad), bool)])[order]
+        ts = np.concatenate([ts, mid[bad]])[order]
+        ys, dys = np.concatenate([ys, y_mid[bad]])[order], np.concatenate([dys, dy_mid[bad]])[order]
+        # the two halves of each split segment are checked next
+        idx = np.flatnonzero(new)
+        split = np.unique(np.concatenate([idx - 1, idx]))
+    return ts, ys, dys
 
 
 class SmoothReference(fl.Model):
     """Reference with continuous speed: position ``y`` and speed ``dy`` of a C1 cubic Hermite profile.
 
-    Contains ``position`` and ``speed`` (:class:`HermiteTable`): the Hermite cubics through the knots
-    ``(t_k, y_k, dy_k)`` and their exact derivatives (module docstring). With ``ff_gain = (k_pos, k_neg)`` a third
-    table ``feed_forward`` gives ``k_pos·dy`` where the speed is positive and ``k_neg·dy`` where it is negative (a
-    cylinder's feed-forward valve command: ``A_p/Q_nom`` extending, ``A_r/Q_nom`` retracting); continuous because
-    the speed changes sign only at knots where it is zero (a stop).
+    The cubic Hermite polynomials through the knots ``(t_k, y_k, dy_k)`` give ``y``, their exact derivatives ``dy``
+    (module docstring); before the first knot and after the last the end positions are held at zero speed. With
+    ``ff_gain = (k_pos, k_neg)`` the output ``ff`` is ``k_pos·dy`` where the speed is positive and ``k_neg·dy`` where
+    it is negative (a cylinder's feed-forward valve command: ``A_p/Q_nom`` extending, ``A_r/Q_nom`` retracting);
+    continuous, as the speed changes sign only through zero.
 
     Build the knots with :func:`motion_profile` (moves), :func:`waypoint_moves` (waypoints) and
     :func:`joint_to_length` (joint angle → cylinder length), or use :meth:`from_moves`.
@@ -334,20 +319,34 @@ class SmoothReference(fl.Model):
             raise ParameterError(f"{part}: the speed must be 0 at the first and last knot (the ends are held), got "
                                  f"dy[0] = {dy_arr[0]:g}, dy[-1] = {dy_arr[-1]:g}")
         self.knots = (t_arr, y_arr, dy_arr)
-        c = hermite_coefficients(t_arr, y_arr, dy_arr) if t_arr.size > 1 else np.zeros((0, 4))
-        dc = np.column_stack([c[:, 1], 2 * c[:, 2], 3 * c[:, 3], np.zeros(len(c))])
-        self.y, self.dy = Output(unit="1", doc="Position"), Output(unit="1", doc="Speed dy/dt")
-        self.position, self.speed = HermiteTable(t_arr, c, hold=float(y_arr[0])), HermiteTable(t_arr, dc)
-        self.connect(self.position.y, self.y)
-        self.connect(self.speed.y, self.dy)
+        self.ff_gain = None
         if ff_gain is not None:
-            if len(ff_gain) != 2:
+            if isinstance(ff_gain, str | bytes) or not hasattr(ff_gain, "__len__") or len(ff_gain) != 2:
                 raise ParameterError(f"{part}: ff_gain must be (gain for dy > 0, gain for dy < 0), got {ff_gain!r}")
-            k_pos, k_neg = (positive(part, f"ff_gain[{i}]", g, "1") for i, g in enumerate(ff_gain))
-            mid = dc[:, 0] + dc[:, 1] * np.diff(t_arr) / 2 + dc[:, 2] * (np.diff(t_arr) / 2) ** 2
+            self.ff_gain = tuple(positive(part, f"ff_gain[{i}]", g, "1") for i, g in enumerate(ff_gain))
             self.ff = Output(unit="1", doc="Feed-forward: ff_gain[0]·dy (dy > 0), ff_gain[1]·dy (dy < 0)")
-            self.feed_forward = HermiteTable(t_arr, dc * np.where(mid >= 0, k_pos, k_neg)[:, None])
-            self.connect(self.feed_forward.y, self.ff)
+        self.y, self.dy = Output(unit="1", doc="Position"), Output(unit="1", doc="Speed dy/dt")
+
+    def equations(self) -> list:
+        """``y = c0 + s(c1 + s(c2 + s c3))``, ``dy = c1 + s(2 c2 + 3 s c3)``, ``s = t − t_k``, with ``t_k`` and
+        ``c`` those of the segment holding ``t`` (the held ends: ``c = (y_end, 0, 0, 0)``)."""
+        t, y, dy = self.knots
+        c = hermite_coefficients(t, y, dy) if t.size > 1 else np.zeros((0, 4))
+        # segments: the held start, the cubics, the held end; each (t_k, c0, c1, c2, c3)
+        rows = [(t[0], y[0], 0.0, 0.0, 0.0), *((t[k], *c[k]) for k in range(len(c))), (t[-1], y[-1], 0.0, 0.0, 0.0)]
+        bounds = [t[0], *t[1:], np.inf]  # segment i holds the times before bounds[i]
+        seg: list[Any] = [float(v) for v in rows[-1]]
+        for i in range(len(rows) - 2, -1, -1):
+            below = fl.time < float(bounds[i])
+            seg = [fl.no_event(below, float(v), s) for v, s in zip(rows[i], seg, strict=True)]
+        s = fl.time - seg[0]
+        c0, c1, c2, c3 = seg[1:]
+        out = [fl.eq(self.y, c0 + s * (c1 + s * (c2 + s * c3))),
+               fl.eq(self.dy, c1 + s * (2 * c2 + 3 * s * c3))]
+        if self.ff_gain is not None:
+            k_pos, k_neg = self.ff_gain
+            out.append(fl.eq(self.ff, fl.no_event(self.dy > 0, k_pos, k_neg) * self.dy))
+        return out
 
     @classmethod
     def from_moves(cls, q_start: float, moves: Sequence[Sequence[float]], **kw: Any) -> SmoothReference:

@@ -47,6 +47,8 @@ SLEW_RATIO = 300.0
 SLEW_Q = 25.0 / 60000  # slew valve rating [m3/s]
 A_MAX = 0.01  # joint acceleration of the reference moves [rad/s2]
 J_MAX = 0.01  # joint jerk of the reference moves [rad/s3]
+import os
+TOLK = float(os.environ.get("TOLK", 1e-6))
 TRANSPORT_POSE_DEG = (0.0, 0.0, 176.0, -176.0, 176.0, -176.0)
 
 
@@ -106,7 +108,8 @@ class ComposedPumpTruck(fl.Model):
         prev = None
         for k in range(5):
             n = k + 1
-            joint = Revolute(use_axis_flange=True, init={"phi": float(q0[n]), "w": 0.0, "a": 0.0})
+            joint = Revolute(use_axis_flange=True, init={"phi": float(q0[n]), "w": 0.0, "a": 0.0},
+                             state_select={"phi": "always", "w": "always"})
             section = self._section(n, flexible, modes)
             axis, ctrl, ref = self._drive(n, rows[k], float(q0[n]), moves.get(n, []))
             for name, part in (("joint", joint), ("section", section), ("axis", axis), ("loop", ctrl),
@@ -177,7 +180,7 @@ class ComposedPumpTruck(fl.Model):
         L0 = drive.state(q0).length
         ctrl = JointController(A_p=A_p, Q_nom=Q_nom, L_start=L0)
         knots = motion_profile(q0, moves)
-        ref = SmoothReference(*joint_to_length(knots, lambda q: drive.state(q).length),
+        ref = SmoothReference(*joint_to_length(knots, lambda q: drive.state(q).length, tol=TOLK),
                               ff_gain=(A_p / Q_nom, A_r / Q_nom))
         return axis, ctrl, ref
 
