@@ -2,9 +2,9 @@
 
 References: issue 28's design check (every bore 100–280 mm at a system pressure <= 350 bar, holding at
 ``p_hold_fraction`` of it, transmission angles >= the record's minimum, retracted length >= stroke + dead length),
-evaluated by the same sizing code as the 42 m record (:func:`statics.sizing`); the statics of the four-section boom
-against virtual work (central differences of the potential energy through the forward kinematics) at 1e-6, as
-``test_pump_truck_design.py`` does for the 42 m record.
+evaluated by the same sizing code as the 42 m record (:func:`statics.sizing`); the four-section statics: the joint-1
+torque against the gravity moment in closed form at 1e-12 (every cylinder force against free-body statics in
+``test_hand_statics.py``).
 """
 
 from __future__ import annotations
@@ -18,7 +18,14 @@ import pytest
 from flexlib.errors import ParameterError
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
 from flexlib.models.pump_truck.record32 import BOOM32
-from flexlib.models.pump_truck.statics import cylinder_forces, joint_torques, mass_properties, point_masses, sizing
+from flexlib.models.pump_truck.statics import (
+    cylinder_forces,
+    design_cylinders,
+    joint_torques,
+    mass_properties,
+    point_masses,
+    sizing,
+)
 
 REC42 = PumpTruckParameters()
 
@@ -64,25 +71,18 @@ def test_no_dead_centre_inside_the_range(k):
 
 
 @pytest.mark.parametrize("q_deg", [(0, 0, 0, 0), (50, 10, -30, 20), (30, 120, -90, 150)])
-def test_statics_of_four_sections_against_virtual_work(q_deg):
+def test_four_section_torques_at_joint_1_are_the_gravity_moment(q_deg):
+    """Every mass but cylinder 1's turns rigidly with joint 1 (drives 2-4 ride on the boom): with cylinder 1 taken
+    massless, ``tau_1 = g Σ m_i x_i`` about the origin (every cylinder force against free-body statics, cylinder 1's
+    weight included: ``test_hand_statics.py``)."""
     q = np.radians(q_deg)
-
-    def V(qq):
-        _, m, x = point_masses(BOOM32, qq)
-        return BOOM32.g * float(m @ x[:, 1])
-
-    F, _ = cylinder_forces(BOOM32, q)
-    tau = joint_torques(BOOM32, q)
-    assert F.shape == tau.shape == (4,)
-    hstep = 1e-5
-    for k in range(4):
-        e = np.zeros(4)
-        e[k] = hstep
-        dV = (V(q + e) - V(q - e)) / (2 * hstep)
-        dl = (BOOM32.drive(k + 1).state(q[k] + hstep).length
-              - BOOM32.drive(k + 1).state(q[k] - hstep).length) / (2 * hstep)
-        assert tau[k] == pytest.approx(dV, rel=1e-6)
-        assert F[k] == pytest.approx(dV / dl, rel=1e-6)
+    cyls = (dict(design_cylinders(BOOM32)[0], m_housing=0.0, m_rod=0.0), *design_cylinders(BOOM32)[1:])
+    J, m, x = point_masses(BOOM32, q, cyls)
+    tau = joint_torques(BOOM32, q, cyls)
+    F, arm = cylinder_forces(BOOM32, q, cyls)
+    assert J.shape == (5, 2) and tau.shape == F.shape == arm.shape == (4,)
+    assert tau[0] == pytest.approx(BOOM32.g * float(m @ x[:, 0]), rel=1e-12)
+    np.testing.assert_allclose(F * arm, tau, rtol=1e-12)
 
 
 def test_a_six_section_record_is_sized_joint_by_joint():
