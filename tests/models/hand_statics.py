@@ -144,7 +144,11 @@ def hand_statics(record: PumpTruckParameters, q, cylinders=None) -> dict:
     A simulation's hinge force compares as follows (flexlib/MSL cut forces act *on the component*, resolved in the
     connector's frame): for a revolute ``joint{n}`` with ``frame_a`` on section ``n − 1`` and ``frame_b`` on section
     ``n``, ``F_hinge[n−1] = R_a · joint{n}.frame_a.f = −R_b · joint{n}.frame_b.f`` (``R`` the frame's rotation
-    to the turret frame, ``R = Tᵀ`` in MSL's ``T``). The slewing plane: rotate world vectors by the slew angle.
+    to the turret frame, ``R = Tᵀ`` in MSL's ``T``). With ``frame_b`` on section ``n``'s root frame (``x`` along the
+    section, ``y`` up when it is horizontal), simply ``F_hinge_section[n−1] = −joint{n}.frame_b.f[:2]`` (the slew
+    angle drops out; ``frame_b.f[2]`` is 0 in the boom's plane). A cylinder's ``F_cyl`` is its chamber force
+    ``p_A A_A − p_B A_B`` at rest (seal friction aside), not the force on its pins: its own weight puts a transverse
+    component on them.
     """
     q = np.asarray(q, dtype=float)
     n_sec = len(record.sections)
