@@ -83,10 +83,11 @@ def holding_forces(record: PumpTruckParameters, q: Sequence[float],
     def V(qq: np.ndarray) -> float:
         return record.g * sum(m * x[1] for m, x in boom_pose(record, qq, link_plate)["masses"])
 
-    F, lengths = np.zeros(5), np.zeros(5)
+    n = len(record.sections)
+    F, lengths = np.zeros(n), np.zeros(n)
     h = 1e-6
-    for k in range(5):
-        dq = np.zeros(5)
+    for k in range(n):
+        dq = np.zeros(n)
         dq[k] = h
         dV = (V(q + dq) - V(q - dq)) / (2 * h)
         st = record.drive(k + 1).state(float(q[k]))
@@ -114,7 +115,7 @@ def section_mass_properties(record: PumpTruckParameters, k: int) -> dict:
 
 def length_reference(record: PumpTruckParameters, n: int, t: np.ndarray, q_deg: np.ndarray | None,
                      q0: float, step_deg: float = 10.0) -> tuple[np.ndarray, np.ndarray]:
-    """Pin-to-pin length reference [m] of cylinder ``n`` (1–5) for the joint-angle table ``(t, q_deg)``.
+    """Pin-to-pin length reference [m] of cylinder ``n`` (1 … N) for the joint-angle table ``(t, q_deg)``.
 
     The angle table is linear between its knots; the length is not, so each interval is resampled at most
     ``step_deg`` [deg] apart and mapped through the record's closed-form kinematics

@@ -7,7 +7,7 @@ section ``k`` sits at ``R(q) c``.
 
 * **Direct drive** (joint 1): the cylinder runs from the housing pin ``H`` (on the turret) to the bracket
   ``C`` on section 1: ``l(q) = |R(q) c − H|``, ``dl/dq = (R(q) c − H) · (ẑ × R(q) c) / l``.
-* **Four-bar lever-and-link** (joints 2–5, as on truck-mounted concrete pumps): a lever (rocker) of length
+* **Four-bar lever-and-link** (joints 2 … N, as on truck-mounted concrete pumps): a lever (rocker) of length
   ``r`` pivots at ``P`` on section ``k−1``; a link of length ``s`` joins the lever tip ``T`` to the bracket
   ``C`` on section ``k``; the cylinder pushes the lever tip from the housing ``H`` on section ``k−1``.
   ``T`` is the intersection of the circles ``|T − P| = r`` and ``|T − C(q)| = s`` on the branch ``sigma``
@@ -23,7 +23,7 @@ References
 ----------
 R. L. Norton, *Design of Machinery*, 5th ed., McGraw-Hill 2012, ch. 4 (position analysis of the four-bar,
 circle intersection) and §3.3 (transmission angle, keep above about 40° in fast machines, ~20° acceptable for
-slow, statically loaded linkages). Putzmeister / Schwing boom drawings (lever-and-link joints 2–5).
+slow, statically loaded linkages). Putzmeister / Schwing boom drawings (lever-and-link joints 2 … N).
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Parameter record of the 42 m-class concrete-pump truck boom: every number, its unit, its source.
+"""Parameter record of a concrete-pump truck boom of ``N`` = 4 … 6 sections (default: the 42 m-class five-section
+boom; :mod:`models.pump_truck.record32` the 32 m-class four-section one): every number, its unit, its source.
 
 The record is a frozen dataclass: copy it with :func:`dataclasses.replace` and change any number, e.g.
 ``replace(PumpTruckParameters(), pipe=replace(PIPE, filled=False))``. Construction checks every field and the
@@ -6,7 +7,8 @@ linkages (each must close and keep its transmission angles over its range); a ba
 :class:`flexlib.errors.ParameterError` naming the field.
 
 Conventions: planar boom in the vertical ``x``–``y`` plane (``y`` up), joint 1 at the origin on top of the
-turret, relative joint angles ``q`` [rad] (``q = 0``: all sections in line; ``q1 = 0``: horizontal). Joint
+turret, relative joint angles ``q`` [rad] (``q = 0``: all sections in line; ``q1 = 0``: horizontal), one per section:
+joint 1 a direct cylinder drive, joints 2 … N lever-and-link drives (``len(linkages) == len(sections) − 1``). Joint
 geometry is given in each joint's frame (see :mod:`models.pump_truck.kinematics`).
 
 ``python -m flexlib.models.pump_truck.parameters`` prints the mass properties and the cylinder sizing table.
@@ -41,8 +43,11 @@ from flexlib.errors import ParameterError
 
 from .kinematics import direct_state, fourbar_state
 
-__all__ = ["CYLINDER_BORES", "CYLINDER_RODS", "DirectDrive", "EndHose", "FourBar", "Pipe", "PumpTruckParameters",
-           "SectionSpec", "Steel", "Turret", "box_wall_thickness"]
+__all__ = ["CYLINDER_BORES", "CYLINDER_RODS", "N_SECTIONS", "DirectDrive", "EndHose", "FourBar", "Pipe",
+           "PumpTruckParameters", "SectionSpec", "Steel", "Turret", "box_wall_thickness"]
+
+#: Section counts a record may have (smallest, largest): truck-mounted booms have 3 to 6 sections; 4 to 6 here.
+N_SECTIONS = (4, 6)
 
 #: ISO 3320 cylinder bores [m] (R10 series, 25–400 mm).
 CYLINDER_BORES = tuple(d / 1000 for d in (25, 32, 40, 50, 63, 80, 100, 125, 140, 160, 180, 200, 220, 250, 280,
@@ -240,7 +245,7 @@ _BASE = {"P": (0.30, 0.77), "H": (-6.0, 0.34), "c": (-1.09, -0.80), "r": 1.50, "
 
 @dataclass(frozen=True)
 class FourBar:
-    """Lever-and-link drive of one joint (2–5), in the joint frame [m]: lever pivot ``P`` and cylinder housing
+    """Lever-and-link drive of one joint (2 … N), in the joint frame [m]: lever pivot ``P`` and cylinder housing
     ``H`` on section k−1, link bracket ``c`` on section k, lever length ``r``, link length ``s``, assembly
     branch ``sigma`` (±1), range ``q_min``–``q_max`` [rad]."""
 
@@ -291,13 +296,13 @@ class PumpTruckParameters:
     Attributes
     ----------
     sections : tuple of SectionSpec
-        Five boom sections, root to tip.
+        The ``N`` boom sections, root to tip, ``N`` in :data:`N_SECTIONS` (4 … 6; this record: five).
     steel, pipe, hose, turret : Steel, Pipe, EndHose, Turret
         Material, delivery pipe, end hose, turret.
     joint1 : DirectDrive
         Joint 1 cylinder.
     linkages : tuple of FourBar
-        Joints 2–5 lever-and-link drives.
+        Lever-and-link drives of joints 2 … ``N``: ``len(linkages) == len(sections) − 1`` (checked).
     g : float
         Gravity [m/s2], > 0.
     p_system : float
@@ -328,16 +333,25 @@ class PumpTruckParameters:
                    "(module docstring)")
 
     def __post_init__(self) -> None:
-        for name, cls, count in (("sections", SectionSpec, 5), ("linkages", FourBar, 4)):
+        for name, cls in (("sections", SectionSpec), ("linkages", FourBar)):
             value = getattr(self, name)
-            if isinstance(value, str | bytes) or not hasattr(value, "__len__") or len(value) != count \
+            if isinstance(value, str | bytes) or not hasattr(value, "__len__") \
                     or not all(isinstance(v, cls) for v in value):
                 got = (f"{type(value).__name__} of {len(value)}: "
                        f"{', '.join(type(v).__name__ for v in value)}" if isinstance(value, list | tuple)
                        else repr(value))
-                raise ParameterError(f"pump-truck record: {name} must be {count} {cls.__name__} records "
-                                     f"({'root to tip' if count == 5 else 'joints 2-5'}), got {got}")
+                raise ParameterError(f"pump-truck record: {name} must be a sequence of {cls.__name__} records "
+                                     f"({'root to tip' if name == 'sections' else 'joints 2 ... N'}), got {got}")
             object.__setattr__(self, name, tuple(value))  # hashable: the record is a cache key
+        n = len(self.sections)
+        if not N_SECTIONS[0] <= n <= N_SECTIONS[1]:
+            raise ParameterError(f"pump-truck record: sections must be {N_SECTIONS[0]} to {N_SECTIONS[1]} "
+                                 f"SectionSpec records (root to tip), got {n}")
+        if len(self.linkages) != n - 1:  # one lever-and-link drive per joint 2 ... N
+            m = len(self.linkages)
+            raise ParameterError(f"pump-truck record: sections must be {m + 1} SectionSpec records (root to tip), "
+                                 f"got tuple of {n}, for {m} linkages (joints 2 ... {m + 1}): sections and linkages "
+                                 f"disagree, len(linkages) must be len(sections) - 1")
         for name, cls in (("steel", Steel), ("pipe", Pipe), ("hose", EndHose), ("turret", Turret),
                           ("joint1", DirectDrive)):
             _instance(name, getattr(self, name), cls)
@@ -372,8 +386,13 @@ class PumpTruckParameters:
                         f"pump-truck record: {name} cannot reach its range: transmission angle {worst:.1f} deg "
                         f"< min_transmission_deg {self.min_transmission_deg} at q = {math.degrees(q):.1f} deg")
 
+    @property
+    def n_sections(self) -> int:
+        """Number of boom sections ``N`` (= number of boom joints; joint 1 the direct drive, 2 … N lever and link)."""
+        return len(self.sections)
+
     def drive(self, k: int):
-        """Drive of joint ``k`` (1–5)."""
+        """Drive of joint ``k`` (1 … ``n_sections``)."""
         return self.joint1 if k == 1 else self.linkages[k - 2]
 
 

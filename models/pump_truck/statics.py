@@ -86,7 +86,7 @@ DESIGN_JOINT_SPEED = 0.03
 
 
 def linkage_masses(record: PumpTruckParameters, k: int, link_plate: float = LINK_PLATE) -> tuple[float, float]:
-    """Masses [kg] of lever and link of joint ``k`` (2–5): steel bars of cross-section ``link_plate`` [m2] at joint
+    """Masses [kg] of lever and link of joint ``k`` (2 … N): steel bars of cross-section ``link_plate`` [m2] at joint
     scale 3, scaled by (scale/3)²."""
     fb = record.drive(k)
     scale = fb.r / 0.48
@@ -146,13 +146,13 @@ def _masses(record: PumpTruckParameters, q: np.ndarray, cylinders) -> tuple[list
             masses.append((m_link, J[-1] + R @ ((st.T + st.C) / 2), k, (k, R @ ((st.T_rate + C_rate) / 2))))
         J.append(J[-1] + rot(th) @ np.array([sec.length, 0.0]))
         theta.append(th)
-    masses.append((record.hose.mass, J[-1], 5, None))
+    masses.append((record.hose.mass, J[-1], len(record.sections), None))
     return J, masses
 
 
 def point_masses(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> tuple[np.ndarray, np.ndarray,
                                                                                        np.ndarray]:
-    """Joint positions ``J`` (6 × 2, joint 1 … tip) [m], and the boom's lumped masses [kg] with positions [m].
+    """Joint positions ``J`` ((N + 1) × 2, joint 1 … tip) [m], and the boom's lumped masses [kg] with positions [m].
 
     Masses: each section (box + pipe) at its centre of mass, each cylinder's housing and rod (after its section's
     inboard joint; ``cylinders`` as :func:`design_cylinders`, default the record's own), then the hose at the tip.
@@ -173,7 +173,7 @@ def joint_torques(record: PumpTruckParameters, q: np.ndarray, cylinders=None) ->
     q = np.asarray(q, dtype=float)
     cyl = None if cylinders is False else (design_cylinders(record) if cylinders is None else cylinders)
     J, masses = _masses(record, q, cyl)
-    tau = np.zeros(5)
+    tau = np.zeros(len(record.sections))
     for m, x, rigid_to, own in masses:
         for k in range(rigid_to):
             tau[k] += m * (x[0] - J[k][0])
@@ -185,7 +185,7 @@ def joint_torques(record: PumpTruckParameters, q: np.ndarray, cylinders=None) ->
 def cylinder_forces(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> tuple[np.ndarray, np.ndarray]:
     """Holding force of each cylinder ``F = tau / (dl/dq)`` [N] (positive pushes) and the lever arms [m/rad]."""
     tau = joint_torques(record, q, cylinders)
-    arm = np.array([record.drive(k + 1).state(float(q[k])).lever_arm for k in range(5)])
+    arm = np.array([record.drive(k + 1).state(float(q[k])).lever_arm for k in range(len(record.sections))])
     return tau / arm, arm
 
 
@@ -201,8 +201,8 @@ def worst_case(record: PumpTruckParameters) -> PumpTruckParameters:
 
 @lru_cache(maxsize=64)
 def design_cylinders(record: PumpTruckParameters) -> tuple[dict, ...]:
-    """The five cylinders of the machine (:func:`cylinder_masses` of the :func:`sizing` bores), sized on its worst
-    case whatever ``record.pipe.filled`` says."""
+    """The cylinders of the machine, one per boom joint (:func:`cylinder_masses` of the :func:`sizing` bores), sized
+    on its worst case whatever ``record.pipe.filled`` says."""
     return tuple(cylinder_masses(record, row["bore"], row["rod"], row["stroke"]) for row in sizing(record))
 
 
@@ -241,17 +241,18 @@ def sizing(record: PumpTruckParameters, n_sweep: int = 91) -> list[dict]:
     """
     design = worst_case(record)
     p_max = design.p_hold_fraction * design.p_system
-    sweeps = [_sweep(design, k, n_sweep) for k in range(5)]
-    states = [[design.drive(k + 1).state(float(qk)) for qk in sweeps[k]] for k in range(5)]
+    n = len(design.sections)
+    sweeps = [_sweep(design, k, n_sweep) for k in range(n)]
+    states = [[design.drive(k + 1).state(float(qk)) for qk in sweeps[k]] for k in range(n)]
     strokes = [max(s.length for s in st) - min(s.length for s in st) for st in states]
-    chosen = [(CYLINDER_BORES[0], CYLINDER_RODS[0], True)] * 5
+    chosen = [(CYLINDER_BORES[0], CYLINDER_RODS[0], True)] * n
     for _ in range(20):
         cyls = tuple(cylinder_masses(design, b, r, s) for (b, r, _), s in zip(chosen, strokes, strict=True))
         forces = []
-        for k in range(5):
+        for k in range(n):
             fk = []
             for qk in sweeps[k]:
-                q = np.zeros(5)
+                q = np.zeros(n)
                 q[k] = qk
                 fk.append(float(cylinder_forces(design, q, cyls)[0][k]))
             forces.append(fk)
@@ -259,10 +260,10 @@ def sizing(record: PumpTruckParameters, n_sweep: int = 91) -> list[dict]:
         if new == chosen:
             break
         chosen = new
-    tau_bare = joint_torques(design, np.zeros(5), False)
-    tau_full = joint_torques(design, np.zeros(5), cyls)
+    tau_bare = joint_torques(design, np.zeros(n), False)
+    tau_full = joint_torques(design, np.zeros(n), cyls)
     rows = []
-    for k in range(5):
+    for k in range(n):
         bore, rod, ok = chosen[k]
         qs, fk, st = sweeps[k], forces[k], states[k]
         lengths = [s.length for s in st]
