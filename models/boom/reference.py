@@ -159,6 +159,10 @@ def waypoint_moves(t: Sequence[float], q: Sequence[float], a_max: float,
                    j_max: float | None = None) -> list[tuple[float, ...]]:
     """Moves through waypoints ``(t_k, q_k)``: from each to the next, at rest at both, arriving at ``t_k+1``.
 
+    A waypoint inside a stretch of constant speed (the same slope before and after it, as in a piecewise-linear
+    time table where another joint's knot falls) is passed, not stopped at: each stretch of constant speed of the
+    piecewise-linear path through the waypoints becomes one rest-to-rest move over the same time.
+
     The cruise speed of a move covering ``d = |q_k+1 − q_k|`` in ``T = t_k+1 − t_k``: without a jerk limit the
     trapezoid's ``v = (a T − sqrt(a² T² − 4 a d))/2`` (it exists if ``a T² >= 4 d``); with ``j_max`` the root of
     the S-curve's duration ``T(v) = T`` (Brent's method, to 1e-14 relative).
@@ -172,6 +176,10 @@ def waypoint_moves(t: Sequence[float], q: Sequence[float], a_max: float,
                              f"{t_arr.shape}, {q_arr.shape}")
     if np.any(np.diff(t_arr) <= 0):
         raise ParameterError(f"{part}: waypoint times must be strictly increasing, got {t_arr.tolist()}")
+    slope = np.diff(q_arr) / np.diff(t_arr)
+    keep = np.ones(t_arr.size, dtype=bool)  # corners of the piecewise-linear path (and its ends)
+    keep[1:-1] = ~np.isclose(slope[1:], slope[:-1], rtol=1e-9, atol=1e-12 * max(1.0, float(np.max(np.abs(slope)))))
+    t_arr, q_arr = t_arr[keep], q_arr[keep]
     moves: list[tuple[float, ...]] = []
     for k in range(t_arr.size - 1):
         T, d = float(t_arr[k + 1] - t_arr[k]), float(abs(q_arr[k + 1] - q_arr[k]))

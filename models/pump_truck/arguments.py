@@ -15,8 +15,8 @@ from flexlib.registry import ModelOption
 from .geometry import LINK_PLATE
 from .parameters import PumpTruckParameters
 
-__all__ = ["JOINTS", "OPTIONS", "check_modes", "check_modes_form", "check_pose", "check_sources", "check_table",
-           "option"]
+__all__ = ["JOINTS", "OPTIONS", "check_commands", "check_modes", "check_modes_form", "check_pose", "check_sources",
+           "check_table", "check_targets", "option"]
 
 #: Joint names: the slewing joint and the five boom joints.
 JOINTS = ("slew", "joint1", "joint2", "joint3", "joint4", "joint5")
@@ -119,6 +119,25 @@ def check_sources(ref_cols: Mapping[str, Any], cmd_cols: Mapping[str, Any]) -> N
         raise ParameterError(f"PumpTruck: {', '.join(both)} {'is' if len(both) == 1 else 'are'} given in both "
                              "targets and commands; give either a target (closed loop) or a command (open loop) "
                              "per joint")
+
+
+def check_commands(cmd_cols: Mapping[str, np.ndarray]) -> None:
+    """Valve commands stay within −1 … 1."""
+    for name, col in cmd_cols.items():
+        if np.any(np.abs(col) > 1.0):
+            raise ParameterError(f"PumpTruck: commands[{name!r}] must stay within -1 ... 1 (valve command)")
+
+
+def check_targets(ref_cols: Mapping[str, np.ndarray], record: PumpTruckParameters) -> None:
+    """Each boom joint's waypoints [deg] inside its range."""
+    for name, col in ref_cols.items():
+        k = JOINTS.index(name)
+        if k > 0:
+            drive = record.drive(k)
+            lo, hi = math.degrees(drive.q_min), math.degrees(drive.q_max)
+            if np.any(col < lo - 1e-9) or np.any(col > hi + 1e-9):
+                raise ParameterError(f"PumpTruck: targets[{name!r}] leaves the joint's range {lo:.1f} ... "
+                                     f"{hi:.1f} deg")
 
 
 def check_table(owner: str, spec: Any, n_values: int | None = None) -> tuple[np.ndarray, dict[str, np.ndarray]]:

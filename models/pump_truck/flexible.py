@@ -266,8 +266,8 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
     The section's frame is its root joint's ``frame_b``; its loads are those a FlexibleBody in its place would get
     (:meth:`~flexlib.components.mechanics.flexible.FlexibleBody.load_amplitudes`): ``acc_*`` = ``T (a_0 − g)``
     of the section body, ``alpha_*`` / ``omega_**`` from its angular acceleration and velocity, and at each pin the
-    force its rigid offset carries (``section{j}_{pin}.frame_b``), moved to the pin's axis node (moment plus
-    offset × force), the tip's (``section{j}_tip.frame_b``) and the root joint's reaction on the section.
+    force its rigid offset carries (``section{j}.pin_{pin}.frame_b``), moved to the pin's axis node (moment plus
+    offset × force), the tip's (``section{j}.tip.frame_b``) and the root joint's reaction on the section.
 
     Parameters
     ----------
@@ -292,9 +292,9 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
     L = record.sections[j - 1].length
     T = np.asarray(result[f"joint{j}.frame_b.T"], dtype=float).reshape(nt, 3, 3, order="F")
     g = np.array([0.0, -record.g, 0.0])
-    a_0 = np.asarray(result[f"section{j}.a_0"], dtype=float).reshape(nt, 3)
-    w = np.asarray(result[f"section{j}.w_a"], dtype=float).reshape(nt, 3)
-    z = np.asarray(result[f"section{j}.z_a"], dtype=float).reshape(nt, 3)
+    a_0 = np.asarray(result[f"section{j}.body.a_0"], dtype=float).reshape(nt, 3)
+    w = np.asarray(result[f"section{j}.body.w_a"], dtype=float).reshape(nt, 3)
+    z = np.asarray(result[f"section{j}.body.z_a"], dtype=float).reshape(nt, 3)
     values = inertial_load_amplitudes(np.einsum("kij,kj->ki", T, a_0 - g), z, w)
     points = attachment_points(record, j)
 
@@ -306,7 +306,7 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
             key = f"F{node}_{comp}"
             values[key] = values.get(key, 0.0) + M[:, i]
 
-    frames = [(f"section{j}_tip", (L, 0.0))] + [(f"section{j}_{pin}", points[name]) for pin, name in PIN_POINTS.items()
+    frames = [(f"section{j}.tip", (L, 0.0))] + [(f"section{j}.pin_{pin}", points[name]) for pin, name in PIN_POINTS.items()
                                                  if name in points]
     for path, (px, py) in frames:
         if f"{path}.frame_b.f[0]" not in result.names:

@@ -3,11 +3,11 @@
 A golden is a small result file (``tests/models/goldens/<scenario>[-flexible].h5``, the HDF5 layout of
 ``docs/results.md``) holding the signals the boom is judged by, sampled on a decimated grid:
 
-* per cylinder ``n``: the port flows ``cylinder{n}.cylinder.q_A``, ``q_B`` [m3/s] and the chamber pressures
+* per cylinder ``n``: the port flows ``axis{n}.cylinder.cylinder.q_A``, ``q_B`` [m3/s] and the chamber pressures
   ``p_A``, ``p_B`` [Pa];
 * per joint ``n``: the hinge force on section ``n`` in its frame, components ``joint{n}.frame_b.f[0]``, ``f[1]`` and
   magnitude ``joint{n}.F_hinge`` [N] (the magnitude is derived here; the components come from the run);
-* the joint angles ``joint{n}.phi`` [rad] (and ``slew.phi`` if the model slews).
+* the joint angles ``joint{n}.phi`` [rad] (and ``turret.slew.phi`` if the model slews).
 
 Its metadata record the scenario, the model options and run settings, the flexlib version and git commit and the
 command that made it. :func:`compare` interpolates a new result onto the golden's grid and checks every signal
@@ -99,9 +99,9 @@ def _kind(name: str) -> str:
 
 def golden_signals(result: fl.Result) -> list[str]:
     """The golden's signals present in ``result`` (the derived hinge-force magnitudes excluded)."""
-    names = [f"cylinder{n}.cylinder.{v}" for n in range(1, 6) for v in ("q_A", "q_B", "p_A", "p_B")]
+    names = [f"axis{n}.cylinder.cylinder.{v}" for n in range(1, 6) for v in ("q_A", "q_B", "p_A", "p_B")]
     names += [f"joint{n}.frame_b.f[{i}]" for n in range(1, 6) for i in (0, 1)]
-    names += [f"joint{n}.phi" for n in range(1, 6)] + ["slew.phi"]
+    names += [f"joint{n}.phi" for n in range(1, 6)] + ["turret.slew.phi"]
     return [n for n in names if n in result.names]
 
 

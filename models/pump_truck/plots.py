@@ -62,7 +62,7 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     t = np.asarray(result.t, dtype=float)
     out = [_flows(result, t, directory), _pressures(result, t, directory), _hinge_forces(result, t, directory),
            _section_lengths(model, result, t, directory)]
-    flexible = [n for n in _JOINTS if _has(result, f"section{n}.q")]
+    flexible = [n for n in _JOINTS if _has(result, f"section{n}.body.q")]
     if flexible:
         out.append(_modal_coordinates(result, t, flexible, directory))
     out.append(_tip_path(result, t, directory))
@@ -76,7 +76,7 @@ def _flows(result: Any, t: np.ndarray, directory: Path) -> Path:
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
     for n in _JOINTS:
-        q, unit = result.display(f"cylinder{n}.cylinder.q_A")
+        q, unit = result.display(f"axis{n}.cylinder.cylinder.q_A")
         ax.plot(t, q, label=f"cylinder {n}")
     ax.set(xlabel="time [s]", ylabel=f"flow into port A [{unit}]", title="Cylinder port A flows")
     ax.grid(True, alpha=0.3)
@@ -91,7 +91,7 @@ def _pressures(result: Any, t: np.ndarray, directory: Path) -> Path:
     fig, axes = plt.subplots(5, 1, figsize=(9, 9), sharex=True)
     for n, ax in zip(_JOINTS, axes, strict=True):
         for side in ("A", "B"):
-            p, unit = result.display(f"cylinder{n}.cylinder.p_{side}")
+            p, unit = result.display(f"axis{n}.cylinder.cylinder.p_{side}")
             ax.plot(t, p, label=f"p_{side}")
         ax.set_ylabel(f"cyl. {n} [{unit}]")
         ax.grid(True, alpha=0.3)
@@ -127,7 +127,7 @@ def _section_lengths(model: Any, result: Any, t: np.ndarray, directory: Path) ->
     record = model.record
     for n in _JOINTS:
         root = np.asarray(result[f"joint{n}.frame_b.r_0"], dtype=float).reshape(len(t), 3)
-        tip_name = f"joint{n + 1}.frame_a.r_0" if n < 5 else "section5_tip.frame_b.r_0"
+        tip_name = f"joint{n + 1}.frame_a.r_0" if n < 5 else "section5.frame_tip.r_0"
         if not _has(result, tip_name):
             continue
         tip = np.asarray(result[tip_name], dtype=float).reshape(len(t), 3)
@@ -145,7 +145,7 @@ def _modal_coordinates(result: Any, t: np.ndarray, flexible: list[int], director
 
     fig, axes = plt.subplots(len(flexible), 1, figsize=(9, 2 + 1.6 * len(flexible)), sharex=True, squeeze=False)
     for n, ax in zip(flexible, axes[:, 0], strict=True):
-        q = np.asarray(result[f"section{n}.q"], dtype=float).reshape(len(t), -1)
+        q = np.asarray(result[f"section{n}.body.q"], dtype=float).reshape(len(t), -1)
         for j in range(q.shape[1]):
             ax.plot(t, q[:, j], lw=0.8, label=f"q{j}")
         ax.set_ylabel(f"section {n}")
@@ -160,7 +160,7 @@ def _tip_path(result: Any, t: np.ndarray, directory: Path) -> Path:
     import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
-    tip = np.asarray(result["section5_tip.frame_b.r_0"], dtype=float).reshape(len(t), 3)
+    tip = np.asarray(result["section5.frame_tip.r_0"], dtype=float).reshape(len(t), 3)
     ax.plot(tip[:, 0], tip[:, 1])
     ax.plot(tip[0, 0], tip[0, 1], "o", label="start")
     ax.plot(tip[-1, 0], tip[-1, 1], "s", label="end")
@@ -181,11 +181,11 @@ def write_boom_vtk(model: Any, result: Any, path: Path, dt: float = VTK_DT) -> P
 
     lines: dict[str, list[str]] = {}
     for n in _JOINTS:
-        if not _has(result, f"section{n}.q"):  # a rigid section: its pins
-            lines[f"section{n}"] = [f"joint{n}.frame_b", f"section{n}_tip.frame_b"]
-        lines[f"cylinder{n}"] = [f"cylinder{n}.frame_a", f"cylinder{n}.frame_b"]
+        if not _has(result, f"section{n}.body.q"):  # a rigid section: its pins
+            lines[f"section{n}"] = [f"joint{n}.frame_b", f"section{n}.frame_tip"]
+        lines[f"cylinder{n}"] = [f"axis{n}.frame_a", f"axis{n}.frame_b"]
         if n > 1:
-            lines[f"linkage{n}"] = [f"lever_joint{n}.frame_a", f"lever_tip{n}.frame_b", f"link_tip{n}.frame_b"]
+            lines[f"linkage{n}"] = [f"linkage{n}.frame_pivot", f"linkage{n}.frame_tip", f"linkage{n}.frame_bracket"]
     t = np.asarray(result.t, dtype=float)
     stride = max(1, round(dt / max(float(np.median(np.diff(t))), 1e-12))) if t.size > 1 else 1
     return write_model_vtk(path, model, result, lines=lines, stride=stride)

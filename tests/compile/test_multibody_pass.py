@@ -18,6 +18,8 @@ import numpy as np
 import pytest
 
 import flexlib as fl
+import flexlib.models.boom.linkage as boom_linkage
+import flexlib.models.boom.turret as boom_turret
 import flexlib.models.planar_mechanisms as pm
 import flexlib.models.pump_truck.model as pump_truck_model
 from flexlib import eq
@@ -148,7 +150,8 @@ def _boom(monkeypatch: pytest.MonkeyPatch | None) -> tuple[fl.Model, dict]:
     entry = get_model("pump-truck")
     scenario = entry.scenario("expand")
     if monkeypatch is not None:
-        monkeypatch.setattr(pump_truck_model, "Revolute", HandRevolute)
+        for module in (pump_truck_model, boom_turret, boom_linkage):  # the boom's joints, the slew, the linkages
+            monkeypatch.setattr(module, "Revolute", HandRevolute)
     return entry.factory(scenario), dict(scenario.run)
 
 
@@ -158,7 +161,8 @@ def test_pump_truck_linkage_runs_with_msl_joints_as_with_hand_written_ones(monke
     2 s of the expand scenario (module doc)."""
     lib_model, run = _boom(None)
     hand_model, _ = _boom(monkeypatch)
-    assert isinstance(hand_model.slew, HandRevolute) and not isinstance(lib_model.slew, HandRevolute)
+    assert isinstance(hand_model.turret.slew, HandRevolute) and not isinstance(lib_model.turret.slew, HandRevolute)
+    assert isinstance(hand_model.linkage3.bracket, HandRevolute) and isinstance(hand_model.joint2, HandRevolute)
     lib = fl.Simulation(lib_model, use_cache=False, codegen=False)
     hand = fl.Simulation(hand_model, use_cache=False, codegen=False)
     a, b = lib.compiled, hand.compiled
@@ -173,7 +177,7 @@ def test_pump_truck_linkage_runs_with_msl_joints_as_with_hand_written_ones(monke
     res_lib = lib.run(2.0, progress=False, **run)
     res_hand = hand.run(2.0, progress=False, **run)
     assert res_lib.stats["steps"] == res_hand.stats["steps"]
-    for name in ("joint1.phi", "joint2.w", "link_pin3.phi", "slew.frame_b.t[1]"):
+    for name in ("joint1.phi", "joint2.w", "linkage3.bracket.phi", "turret.slew.frame_b.t[1]"):
         x, ref = res_lib[name], res_hand[name]
         np.testing.assert_allclose(x, ref, rtol=1e-12, atol=1e-12 * max(np.abs(ref).max(), 1e-300))
 

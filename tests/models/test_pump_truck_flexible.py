@@ -16,7 +16,7 @@ import pytest
 
 from flexlib.fe import box
 from flexlib.models.pump_truck.flexible import attachment_points, section_fe, section_modal_data
-from flexlib.models.pump_truck.model import section_mass_properties
+from flexlib.models.pump_truck.geometry import section_mass_properties
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
 
 RECORD = PumpTruckParameters()

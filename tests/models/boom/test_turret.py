@@ -74,12 +74,9 @@ def test_friction_breakaway(sim):
 
 
 def test_defaults_are_the_trucks():
-    """Until PumpTruck is recomposed from the parts, the part's defaults are the truck's values."""
-    from flexlib.models.boom import turret
-    from flexlib.models.pump_truck import model
+    """The part's defaults are the 42 m record's turret."""
     from flexlib.models.pump_truck.parameters import PumpTruckParameters
 
-    assert (turret.SLEW_FRICTION, turret.SLEW_W_REG) == (model.SLEW_FRICTION, model.SLEW_W_REG)
     record = PumpTruckParameters()
     part = Turret()
     assert float(part.body.parameter_value("m")) == record.turret.mass
