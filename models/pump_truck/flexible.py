@@ -306,8 +306,8 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
             key = f"F{node}_{comp}"
             values[key] = values.get(key, 0.0) + M[:, i]
 
-    frames = [(f"section{j}.tip", (L, 0.0))] + [(f"section{j}.pin_{pin}", points[name]) for pin, name in PIN_POINTS.items()
-                                                 if name in points]
+    frames = [(f"section{j}.tip", (L, 0.0))] + [(f"section{j}.pin_{pin}", points[name])
+                                                for pin, name in PIN_POINTS.items() if name in points]
     for path, (px, py) in frames:
         if f"{path}.frame_b.f[0]" not in result.names:
             continue
