@@ -102,15 +102,16 @@ def option(name: str, value: Any, model: str = "PumpTruck", options: Sequence[Mo
 
 
 def check_modes(modes: Any, record: PumpTruckParameters, model: str = "PumpTruck",
-                factory: Callable[..., Any] | None = None) -> int | dict[int, list[int]]:
-    """``PumpTruck(modes=...)`` of a flexible boom: ``"mpf"`` (the selection of
-    :func:`~models.pump_truck.flexible.mpf_modes` for ``record``, on the rigid machine ``factory``, default
-    ``PumpTruck``), a count >= 1, or a list of mode indices for every section 1–N of ``record``."""
+                select: Callable[[PumpTruckParameters], dict[int, list[int]]] | None = None
+                ) -> int | dict[int, list[int]]:
+    """``PumpTruck(modes=...)`` of a flexible boom: ``"mpf"`` (the machine's modal participation factor selection
+    ``select(record)``, default :func:`~models.pump_truck.flexible.mpf_modes` on the rigid ``PumpTruck``), a count
+    >= 1, or a list of mode indices for every section 1–N of ``record``."""
     modes = option("modes", modes, model, OPTIONS if record.n_sections == 5 else model_options(record.n_sections))
     if modes == "mpf":
-        from .flexible import mpf_modes
-
-        return mpf_modes(record) if factory is None else mpf_modes(record, model=factory)
+        if select is None:
+            from .flexible import mpf_modes as select
+        return select(record)
     return modes
 
 
