@@ -41,6 +41,7 @@ from flexlib.models.pump_truck.flexible import mpf_modes, unfolding_poses
 from flexlib.models.pump_truck.machine import (
     boom_joint,
     boom_section,
+    design_sizing,
     fixed_turret,
     hydraulic_axis,
     joint_inputs,
@@ -50,7 +51,7 @@ from flexlib.models.pump_truck.machine import (
 )
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
 from flexlib.models.pump_truck.record32 import BOOM32
-from flexlib.models.pump_truck.statics import cylinder_forces, design_cylinders, sizing
+from flexlib.models.pump_truck.statics import cylinder_forces, design_cylinders
 
 __all__ = ["EXTENDED_POSE_DEG", "JOINTS", "OPTIONS", "TRANSPORT_POSE_DEG", "WORKING_POSE_DEG", "Boom32"]
 
@@ -146,7 +147,7 @@ class Boom32(fl.Model):
             parent, housing = self.turret_top.frame_b, self.housing1.frame_b
 
         prev = None
-        for n, row in enumerate(sizing(record), start=1):  # sized once, on the worst case
+        for n, row in enumerate(design_sizing(record), start=1):  # sized once, on the worst case
             q = float(self.q0[n])
             joint, section = boom_joint(q), boom_section(record, n, self.modes)
             axis, cylinder = hydraulic_axis(record, n, row, float(self.F_hold[n - 1]))

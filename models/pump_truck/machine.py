@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -43,10 +44,11 @@ from flexlib.models.boom.slew import RATIO as SLEW_RATIO
 from .arguments import check_commands, check_sources, check_table, check_targets, joint_names
 from .geometry import LINK_PLATE, linkage_masses, section_mass_properties
 from .parameters import PumpTruckParameters
-from .statics import design_cylinders
+from .statics import design_cylinders, sizing, worst_case
 
 __all__ = ["A_MAX", "J_MAX", "LENGTH_TOL", "P_TANK", "STOP_MARGIN", "W_MAX", "boom_joint", "boom_section",
-           "fixed_turret", "hydraulic_axis", "joint_inputs", "joint_loop", "lever_link", "slewing_turret"]
+           "design_sizing", "fixed_turret", "hydraulic_axis", "joint_inputs", "joint_loop", "lever_link",
+           "slewing_turret"]
 
 P_TANK = HLP46.p_ref  # tank pressure [Pa] (atmospheric)
 STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
@@ -54,6 +56,17 @@ W_MAX = 0.03  # joint speed at full valve command at the largest lever arm [rad/
 A_MAX = 0.01  # joint acceleration of the reference moves [rad/s2]
 J_MAX = 0.01  # joint jerk of the reference moves [rad/s3]
 LENGTH_TOL = 1e-6  # length references within 1 µm of the kinematics [m]
+
+
+def design_sizing(record: PumpTruckParameters) -> tuple[dict[str, Any], ...]:
+    """The machine's cylinders, one row per joint (:func:`~models.pump_truck.statics.sizing`), sized once on its
+    worst case: every pipe state of the record gives the same rows (and the same objects: do not change them)."""
+    return _sizing(worst_case(record))
+
+
+@lru_cache(maxsize=16)
+def _sizing(design: PumpTruckParameters) -> tuple[dict[str, Any], ...]:
+    return tuple(sizing(design))
 
 
 def joint_inputs(record: PumpTruckParameters, targets: Mapping[str, Any] | None,
