@@ -42,6 +42,7 @@ from flexlib.models.pump_truck.machine import (
     boom_joint,
     boom_section,
     design_sizing,
+    feed_and_drive,
     fixed_turret,
     hydraulic_axis,
     joint_inputs,
@@ -136,9 +137,7 @@ class Boom32(fl.Model):
             self.connect(self.world.frame_b, self.turret.frame_a)
             self.connect(self.slew_drive.flange, self.turret.axis, self.slew_loop.flange)
             self.connect(self.slew_ref.y, self.slew_loop.u_ref)
-            self.connect(self.power.port_P, self.slew_drive.port_P)
-            self.connect(self.power.port_T, self.slew_drive.port_T)
-            self._drive(self.slew_drive, self.slew_loop, commands.get(0), "slew_command")
+            feed_and_drive(self, self.power, self.slew_drive, self.slew_loop, commands.get(0), "slew_command")
             parent, housing = self.turret.frame_joint1, self.turret.frame_housing1
         else:
             self.turret_top, self.housing1 = fixed_turret(record)
@@ -157,30 +156,20 @@ class Boom32(fl.Model):
                 setattr(self, f"{name}{n}", part)
             self.connect(parent, joint.frame_a)
             self.connect(joint.frame_b, section.frame_root)
-            if n == 1:  # the direct cylinder from the turret to section 1's bracket
-                rod_end = section.frame_C
-            else:  # the lever on the section before, its link to this section's bracket, the cylinder to the lever
+            if n > 1:  # joints 2-4: the lever pivoted on the section before, its link to this section's bracket
                 linkage = lever_link(record, n, q)
                 setattr(self, f"linkage{n}", linkage)
                 self.connect(prev.frame_P_next, linkage.frame_pivot)
                 self.connect(linkage.frame_bracket, section.frame_C)
-                housing, rod_end = prev.frame_H_next, linkage.frame_tip
+            # the cylinder and its length loop on the same pins: joint 1 from the turret to section 1's bracket (a
+            # direct cylinder), the others from the section before to the lever tip
+            housing, rod_end = (housing, section.frame_C) if n == 1 else (prev.frame_H_next, linkage.frame_tip)
             self.connect(housing, axis.frame_a, loop.frame_a)
             self.connect(rod_end, axis.frame_b, loop.frame_b)
-            self.connect(self.power.port_P, axis.port_P)
-            self.connect(self.power.port_T, axis.port_T)
             self.connect(ref.y, loop.u_ref)
             self.connect(ref.ff, loop.u_ff)
-            self._drive(axis, loop, commands.get(n), f"command{n}")
+            feed_and_drive(self, self.power, axis, loop, commands.get(n), f"command{n}")
             parent, prev = section.frame_tip, section
-
-    def _drive(self, drive: Any, loop: Any, command: Any, name: str) -> None:
-        """The valve command of ``drive``: the joystick's ``command`` (a TimeTable, named ``name``) or the loop's."""
-        if command is not None:
-            setattr(self, name, command)
-            self.connect(command.y, drive.u)
-        else:
-            self.connect(loop.y, drive.u)
 
 
 #: Poses [deg] whose static loads select the flexible sections' modes: the unfolding's stations and the extended boom.

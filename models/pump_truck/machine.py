@@ -47,8 +47,8 @@ from .parameters import PumpTruckParameters
 from .statics import design_cylinders, sizing, worst_case
 
 __all__ = ["A_MAX", "J_MAX", "LENGTH_TOL", "P_TANK", "STOP_MARGIN", "W_MAX", "boom_joint", "boom_section",
-           "design_sizing", "fixed_turret", "hydraulic_axis", "joint_inputs", "joint_loop", "lever_link",
-           "slewing_turret"]
+           "design_sizing", "feed_and_drive", "fixed_turret", "hydraulic_axis", "joint_inputs", "joint_loop",
+           "lever_link", "slewing_turret"]
 
 P_TANK = HLP46.p_ref  # tank pressure [Pa] (atmospheric)
 STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
@@ -178,3 +178,17 @@ def fixed_turret(record: PumpTruckParameters) -> tuple[FixedTranslation, FixedTr
     frame) and from there to joint 1's cylinder housing pin ``H``."""
     top = FixedTranslation(r=[0.0, record.turret.height, 0.0])
     return top, FixedTranslation(r=[*record.joint1.H, 0.0])
+
+
+def feed_and_drive(owner: Any, power: Any, drive: Any, loop: Any, command: TimeTable | None = None,
+                   name: str = "") -> None:
+    """Connect a hydraulic ``drive`` (an axis, the slew drive) in ``owner``: its supply and tank lines to the
+    ``power`` unit's ``port_P`` and ``port_T``, its valve command ``u`` to the joystick's ``command`` (a TimeTable,
+    added to ``owner`` as ``name``: open loop) or else to its controller ``loop``'s output ``y``."""
+    owner.connect(power.port_P, drive.port_P)
+    owner.connect(power.port_T, drive.port_T)
+    if command is not None:
+        setattr(owner, name, command)
+        owner.connect(command.y, drive.u)
+    else:
+        owner.connect(loop.y, drive.u)
