@@ -123,3 +123,12 @@ def test_registered_with_its_scenarios_and_expand_moves_joints_together():
 def test_bad_arguments_name_the_machine_and_the_argument(kwargs, match):
     with pytest.raises(ParameterError, match=match):
         Boom32(**kwargs)
+
+
+def test_the_docs_example_runs_as_written(capsys):
+    """``docs/boom32.md``'s Python block: the machine in its working pose, its bores and holding forces."""
+    from tests.doc_blocks import run_blocks
+
+    ns = run_blocks("docs/boom32.md")
+    assert "[180, 180, 180, 100]" in capsys.readouterr().out
+    assert ns["boom"].F_hold.shape == (4,) and ns["boom"].F_hold[0] > 0
