@@ -1,21 +1,21 @@
 """Flexible boom sections: each section's beam mesh, its Craig–Bampton modal data, and modal files cached by content.
 
-A section ``j`` (1–5) is a uniform steel box (the record's ``b``, ``h`` and wall thickness) meshed along its
-axis by :func:`~flexlib.fe.beam_mesh` from its root pin (x = 0) to the next pin
-(x = length), with nodes at every station where something attaches (:func:`attachment_points`). The delivery
-pipe rides on top as non-structural mass: point masses on the nodes (each node's share of ``mass_per_m`` times its
-tributary length), offset ``h/2 + pipe.offset`` above the axis
+A section ``j`` (1–N, N = 4 … 6 the record's sections; the 42 m boom's 1–5) is a uniform steel box (the record's
+``b``, ``h`` and wall thickness) meshed along its axis by :func:`~flexlib.fe.beam_mesh` from its root pin (x = 0) to
+the next pin (x = length), with nodes at every station where something attaches (:func:`attachment_points`). The
+delivery pipe rides on top as non-structural mass: point masses on the nodes (each node's share of ``mass_per_m``
+times its tributary length), offset ``h/2 + pipe.offset`` above the axis
 (:meth:`~flexlib.fe.FEModel.with_point_masses`; Nastran's ``CONM2``); its mass, centre
 of mass and inertia are those of :func:`models.pump_truck.statics.mass_properties` (the pipe lumped at the nodes).
-The end hose is a point mass at section 5's tip pin, as in the rigid model.
+The end hose is a point mass at the last section's tip pin, as in the rigid model.
 The reduction is Craig–Bampton with the attachment nodes as interface
 (their static constraint modes) plus fixed-interface normal modes, orthonormalised, with the reference frame
 pinned at the root (the hinged section's own modes: the frame carries the rotation about the root pin), and the
 static load responses for mode-acceleration recovery.
 
 Attachment points (section frame: origin at the root pin, ``x`` to the next pin, ``y`` up when horizontal) come
-from the record: the drive bracket ``c`` of the section's own joint (joint 1: direct cylinder; 2–5: the link's
-bracket), and on sections 1–4 the next joint's lever pivot ``P`` and cylinder housing ``H`` (given in that
+from the record: the drive bracket ``c`` of the section's own joint (joint 1: direct cylinder; 2–N: the link's
+bracket), and on sections 1 … N−1 the next joint's lever pivot ``P`` and cylinder housing ``H`` (given in that
 joint's frame, whose origin is this section's tip). Points off the axis — or beyond its ends, like a link bracket
 on a horn behind the root pin — are reached from the nearest axis node (the station, clamped to the section) by a
 rigid offset in the model (``FixedTranslation``), as a stiff bracket would carry them.
@@ -31,7 +31,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -44,7 +44,7 @@ from flexlib.fe.geometric import inertial_load_amplitudes
 from .parameters import PumpTruckParameters
 
 __all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "flexible_section", "in_plane_modes", "mpf_modes",
-           "rigid_section_loads", "section_fe", "section_modal_data"]
+           "rigid_section_loads", "section_fe", "section_modal_data", "unfolding_poses"]
 
 #: Default number of beam elements per section.
 N_ELEMENTS = 48
@@ -53,20 +53,21 @@ N_FIXED_MODES = 12
 
 
 def attachment_points(record: PumpTruckParameters, j: int) -> dict[str, tuple[float, float]]:
-    """Where section ``j`` (1–5) carries pins, in its section frame [m].
+    """Where section ``j`` (1–N) carries pins, in its section frame [m].
 
     Returns
     -------
     dict
         ``root`` (its own joint's pin, the origin), ``bracket`` (its own drive's bracket ``c``), ``tip`` (the next
-        joint's pin, or the hose hanger on section 5) and, on sections 1–4, ``lever_pivot`` and ``housing`` of the
-        next joint's lever-and-link drive.
+        joint's pin, or the hose hanger on the last section N) and, on sections 1 … N−1, ``lever_pivot`` and
+        ``housing`` of the next joint's lever-and-link drive.
     """
-    if not 1 <= j <= 5:
-        raise ValueError(f"attachment_points: section number must be 1..5, got {j!r}")
+    N = record.n_sections
+    if not 1 <= j <= N:
+        raise ValueError(f"attachment_points: section number must be 1..{N}, got {j!r}")
     L = record.sections[j - 1].length
     points = {"root": (0.0, 0.0), "bracket": tuple(float(v) for v in record.drive(j).c), "tip": (L, 0.0)}
-    if j < 5:
+    if j < N:
         nxt = record.drive(j + 1)
         points["lever_pivot"] = (L + float(nxt.P[0]), float(nxt.P[1]))
         points["housing"] = (L + float(nxt.H[0]), float(nxt.H[1]))
@@ -96,8 +97,8 @@ def station_node(x: np.ndarray, node_ids: np.ndarray, position: float, length: f
 
 
 def section_fe(record: PumpTruckParameters, j: int, n_elements: int = N_ELEMENTS) -> tuple[FEModel, dict[str, int]]:
-    """Beam FE model of section ``j`` (1–5) with its pipe as offset point masses (section 5: and the end hose at
-    its tip).
+    """Beam FE model of section ``j`` (1–N) with its pipe as offset point masses (the last section: and the end hose
+    at its tip).
 
     Returns
     -------
@@ -120,7 +121,7 @@ def section_fe(record: PumpTruckParameters, j: int, n_elements: int = N_ELEMENTS
     mu = record.pipe.mass_per_m
     offset = [0.0, sec.h / 2 + record.pipe.offset, 0.0]
     fe = fe.with_point_masses(fe.node_ids, mu * tributary, offsets=np.tile(offset, (x.size, 1)))
-    if j == 5:
+    if j == record.n_sections:
         fe = fe.with_point_masses([int(fe.node_ids[-1])], [record.hose.mass])
     nodes = {name: station_node(x, fe.node_ids, px, L) for name, (px, _py) in points.items()}
     return fe, nodes
@@ -136,7 +137,7 @@ def section_modal_data(record: PumpTruckParameters, j: int, *, n_elements: int =
     record : PumpTruckParameters
         The machine's design record.
     j : int
-        Section number 1–5.
+        Section number 1–N.
     n_elements : int
         Beam elements.
     n_fixed_modes : int
@@ -153,7 +154,7 @@ def section_modal_data(record: PumpTruckParameters, j: int, *, n_elements: int =
         Interface node id of each attachment point.
     """
     key = json.dumps({"section": asdict(record.sections[j - 1]), "steel": asdict(record.steel),
-                      "pipe": asdict(record.pipe), "hose": asdict(record.hose) if j == 5 else None,
+                      "pipe": asdict(record.pipe), "hose": asdict(record.hose) if j == record.n_sections else None,
                       "points": attachment_points(record, j), "n_elements": n_elements,
                       "n_fixed_modes": n_fixed_modes, "version": 1}, sort_keys=True, default=str)
     digest = hashlib.sha256(key.encode()).hexdigest()[:24]
@@ -173,15 +174,19 @@ def section_modal_data(record: PumpTruckParameters, j: int, *, n_elements: int =
     return data, nodes
 
 
-def _source_hash() -> str:
-    """SHA-256 of the boom package's, the component library's and the engine's Python sources (what the rigid
-    loads depend on)."""
+def _source_hash(*modules: Any) -> str:
+    """SHA-256 of the pump-truck package's, the boom parts', the component library's and the engine's Python
+    sources and of the packages defining ``modules`` (what the rigid loads depend on)."""
+    import inspect
+
     import flexlib
     import flexlib.components
+    import flexlib.models.boom
 
     h = hashlib.sha256()
-    roots = (Path(__file__).resolve().parent, Path(flexlib.__file__).resolve().parent,
-             Path(flexlib.components.__file__).resolve().parent)
+    roots = {Path(__file__).resolve().parent, Path(flexlib.__file__).resolve().parent,
+             Path(flexlib.components.__file__).resolve().parent, Path(flexlib.models.boom.__file__).resolve().parent,
+             *(Path(inspect.getfile(m)).resolve().parent for m in modules)}
     for path in sorted(p for root in roots for p in root.rglob("*.py")):
         h.update(path.name.encode())
         h.update(path.read_bytes())
@@ -196,7 +201,7 @@ def _cache_dir() -> Path:
 
 def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[float]],
                      record: PumpTruckParameters, modes: int | Sequence[int] = 8) -> dict[str, Any]:
-    """Section ``j`` (1–5) as a :class:`~flexlib.components.mechanics.flexible.FlexibleBody` on the frame ``root``,
+    """Section ``j`` (1–N) as a :class:`~flexlib.components.mechanics.flexible.FlexibleBody` on the frame ``root``,
     with a frame at each named pin — the same frames a rigid section gives.
 
     Parameters
@@ -204,7 +209,7 @@ def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[
     owner : flexlib.Model
         The model the components are added to (``section{j}`` and ``section{j}_{pin}`` offsets).
     j : int
-        Section number 1–5.
+        Section number 1–N.
     root : Frame
         The root joint's frame (the section's root pin).
     pins : mapping of str to 3 floats
@@ -276,7 +281,7 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
     record : PumpTruckParameters
         Its design record.
     j : int
-        Section number 1–5.
+        Section number 1–N.
     data : ModalData, optional
         The section's modal data (default :func:`section_modal_data`).
 
@@ -323,9 +328,18 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
     return np.column_stack([np.broadcast_to(values.get(c, zero), (nt,)) for c in data.load_cases])
 
 
-#: Poses [deg] (slew, q1 … q5) whose static loads select the sections' modes (:func:`mpf_modes`): the transport
-#: fold, the stations of the unfolding (each joint in turn moved to the working pose), the working pose and the
-#: extended horizontal boom.
+def unfolding_poses(fold: Sequence[float], working: Sequence[float]) -> tuple[tuple[float, ...], ...]:
+    """The poses [deg] (slew, q1 … qN) of an unfolding from ``fold`` to ``working``: the fold, then joint 1, 2, …, N
+    moved in turn to the working pose (the last is the working pose), then the extended horizontal boom (the poses
+    whose static loads select the sections' modes, :func:`mpf_modes`)."""
+    fold, working = tuple(map(float, fold)), tuple(map(float, working))
+    stations = [fold] + [(fold[0], *working[1:k + 1], *fold[k + 1:]) for k in range(1, len(fold))]
+    return (*stations, (0.0,) * len(fold))
+
+
+#: Poses [deg] (slew, q1 … q5) of the 42 m boom whose static loads select the sections' modes (:func:`mpf_modes`):
+#: the transport fold, the stations of the unfolding (each joint in turn moved to the working pose), the working pose
+#: and the extended horizontal boom (:func:`unfolding_poses` of its transport fold and working pose).
 MPF_POSES_DEG = (
     (0.0, 0.0, 176.0, -176.0, 176.0, -176.0),
     (0.0, 50.0, 176.0, -176.0, 176.0, -176.0),
@@ -338,11 +352,12 @@ MPF_POSES_DEG = (
 
 
 def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes: int = 8,
-              poses: Sequence[Sequence[float]] = MPF_POSES_DEG, cache: bool = True) -> dict[int, list[int]]:
+              poses: Sequence[Sequence[float]] | None = None, cache: bool = True,
+              model: Callable[..., Any] | None = None) -> dict[int, list[int]]:
     """Each section's modes chosen by the modal participation factor method (seed 001).
 
     The loads on each section in the rigid boom's static equilibrium at ``poses`` (:func:`rigid_section_loads` of
-    a rigid :class:`~models.pump_truck.model.PumpTruck` at rest there, filled as the record says) give each mode's
+    the rigid machine ``model`` at rest there, filled as the record says) give each mode's
     static amplitude ``q_i = φ_iᵀ F / k_i``; a mode is kept if at some pose it reaches ``threshold`` of the largest
     (:func:`~flexlib.fe.participation_from_load_cases`) and moves the section in its
     plane (:func:`in_plane_modes`); of those, the ``max_modes`` with the largest shares, in frequency order.
@@ -355,43 +370,53 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
         Share of the largest static modal amplitude a kept mode reaches at some pose [1].
     max_modes : int
         Most modes kept per section.
-    poses : sequence of 6 floats
-        Poses [deg] (slew, q1 … q5) whose loads are used.
+    poses : sequence of sequences of N + 1 floats, optional
+        Poses [deg] (slew, q1 … qN) whose loads are used (default :data:`MPF_POSES_DEG`, the 42 m boom's; another
+        machine gives its own, e.g. :func:`unfolding_poses` of its fold and working pose).
     cache : bool
         Read and write the selection under ``$FLEXLIB_CACHE_DIR/pump_truck`` (keyed by everything it depends on).
+    model : callable, optional
+        The rigid machine: ``model(record, pose=..., slewing=False)`` a model whose section ``j`` is ``section{j}``
+        on ``joint{j}`` (default :class:`~models.pump_truck.model.PumpTruck`).
 
     Returns
     -------
     dict of int to list of int
-        Section number (1–5) to mode indices into :func:`section_modal_data`.
+        Section number (1–N) to mode indices into :func:`section_modal_data`.
     """
     import flexlib as fl
     from flexlib.fe import participation_from_load_cases
 
-    from .model import PumpTruck
+    if model is None:
+        from .model import PumpTruck
 
+        model = PumpTruck
+    if poses is None:
+        poses = MPF_POSES_DEG
     if not 0.0 < threshold <= 1.0 or int(max_modes) < 1:
         raise ValueError(f"mpf_modes: threshold must be in (0, 1] and max_modes >= 1, got {threshold!r}, "
                          f"{max_modes!r}")
-    datas = {j: section_modal_data(record, j, cache=cache)[0] for j in range(1, 6)}
+    sections = range(1, record.n_sections + 1)
+    datas = {j: section_modal_data(record, j, cache=cache)[0] for j in sections}
     key = json.dumps({"record": asdict(record), "modal": {j: d.content_hash() for j, d in datas.items()},
                       "threshold": threshold, "max_modes": int(max_modes),
                       "poses": [list(map(float, p)) for p in poses], "version": 2,
+                      "model": f"{model.__module__}.{model.__qualname__}",
                       # the loads come from the rigid model: a change of its code or of the engine selects anew
-                      "code": _source_hash(), "flexlib": fl.__version__}, sort_keys=True, default=str)
+                      "code": _source_hash(model), "flexlib": fl.__version__}, sort_keys=True, default=str)
     path = _cache_dir() / f"mpf-{hashlib.sha256(key.encode()).hexdigest()[:24]}.json"
     if cache and path.exists():
         try:
             return {int(j): [int(k) for k in v] for j, v in json.loads(path.read_text())["modes"].items()}
         except (ValueError, KeyError, TypeError):
             pass  # a damaged file: select again and replace it
-    rows: dict[int, list[np.ndarray]] = {j: [] for j in range(1, 6)}
+    rows: dict[int, list[np.ndarray]] = {j: [] for j in sections}
     sim = None
     for pose in poses:
         # a static start (no integration) of each pose, on one build (the pose is a start value: one build serves
         # every pose) and CasADi's virtual machine (no C library compiled for it in the background)
-        model = PumpTruck(record, pose=pose, slewing=False)
-        sim = fl.Simulation(model, codegen=False) if sim is None else sim.with_model(model)
+        machine = model(record, pose=pose, slewing=False)
+        sim = fl.Simulation(machine, codegen=False) if sim is None else sim.with_model(machine)
         result = sim.initialize()
         for j, data in datas.items():
             rows[j].append(rigid_section_loads(result, record, j, data)[:1])

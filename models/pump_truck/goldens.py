@@ -105,9 +105,9 @@ def golden_signals(result: fl.Result) -> list[str]:
     return [n for n in names if n in result.names]
 
 
-def golden_path(scenario: str, flexible: bool = False, directory: Path | None = None) -> Path:
-    """File of the golden of ``scenario`` (rigid or flexible)."""
-    return (directory or GOLDEN_DIR) / f"{scenario}{'-flexible' if flexible else ''}.h5"
+def golden_path(scenario: str, flexible: bool = False, directory: Path | None = None, prefix: str = "") -> Path:
+    """File of the golden of ``scenario`` (rigid or flexible; ``prefix`` names another machine's, ``"boom32-"``)."""
+    return (directory or GOLDEN_DIR) / f"{prefix}{scenario}{'-flexible' if flexible else ''}.h5"
 
 
 def _sampled(result: fl.Result, grid: np.ndarray) -> tuple[list[str], np.ndarray, list[str]]:
@@ -134,9 +134,10 @@ def _commit() -> str:
 
 
 def make_golden(scenario: str, flexible: bool = False, dt: float = 1.0, directory: Path | None = None,
-                twins: tuple[dict[str, float], ...] = TWINS) -> Path:
-    """Run ``scenario`` of the registered ``pump-truck`` model and write its golden (atomically), with the measured
-    round-off spread of every sample (see the module docstring).
+                twins: tuple[dict[str, float], ...] = TWINS, model: str = "pump-truck", prefix: str = "",
+                command: str | None = None) -> Path:
+    """Run ``scenario`` of the registered ``model`` (default ``pump-truck``) and write its golden (atomically), with
+    the measured round-off spread of every sample (see the module docstring).
 
     Parameters
     ----------
@@ -150,16 +151,20 @@ def make_golden(scenario: str, flexible: bool = False, dt: float = 1.0, director
         Where to write (default :data:`GOLDEN_DIR`).
     twins : tuple of dict
         Round-off twins run to measure the spread (default :data:`TWINS`; empty: none recorded).
+    model, prefix : str
+        The registered model run, and the prefix of its golden files (:func:`golden_path`).
+    command : str, optional
+        The command that regenerates it, recorded (default: this module's for ``pump-truck``).
     """
     if not dt > 0:
         raise ValueError(f"make_golden: dt must be > 0 [s], got {dt!r}")
-    entry = get_model("pump-truck")
+    entry = get_model(model)
     sc = entry.scenario(scenario)
     options = {**sc.options, "flexible": bool(flexible)} if flexible else dict(sc.options)
     from dataclasses import replace
 
     scen = replace(sc, options=options)
-    res = run_scenario("pump-truck", scen, progress=False).result
+    res = run_scenario(model, scen, progress=False).result
     if not res.success:
         raise fl.SolverError(f"golden {scenario}: the run failed at t = {res.t[-1]:g} s: {res.message}")
     grid = np.arange(res.t[0], res.t[-1] + 1e-9, dt)
@@ -167,7 +172,7 @@ def make_golden(scenario: str, flexible: bool = False, dt: float = 1.0, director
     spread = np.zeros_like(values)
     for factors in twins:  # the same scenario, only round-off changed: what the run does not determine
         run = {k: float(dict(sc.run)[k]) * f for k, f in factors.items()}
-        twin = run_scenario("pump-truck", scen, progress=False, **run).result
+        twin = run_scenario(model, scen, progress=False, **run).result
         if not twin.success:
             raise fl.SolverError(f"golden {scenario}: the round-off twin {factors} failed at t = {twin.t[-1]:g} s: "
                                  f"{twin.message}")
@@ -177,8 +182,8 @@ def make_golden(scenario: str, flexible: bool = False, dt: float = 1.0, director
     if twins:
         names, units = names + [SPREAD.format(n) for n in names], units + units
         values = np.hstack([values, spread])
-    cmd = f"python -m flexlib.models.pump_truck.goldens --regenerate --scenario {scenario}" + (" --flexible" if flexible
-                                                                                      else "")
+    cmd = command or f"python -m flexlib.models.pump_truck.goldens --regenerate --scenario {scenario}" + (
+        " --flexible" if flexible else "")
     meta = {"golden_scenario": scenario, "golden_options": json.dumps(options, sort_keys=True),
             "golden_run": json.dumps(dict(sc.run), sort_keys=True), "golden_dt": repr(float(dt)),
             "golden_flexlib": getattr(fl, "__version__", "unknown"), "golden_commit": _commit(),
@@ -186,7 +191,7 @@ def make_golden(scenario: str, flexible: bool = False, dt: float = 1.0, director
     kinds = ["golden spread" if n.startswith("spread(") else "golden" for n in names]
     golden = fl.Result(model=res.model, t=grid, names=names, values=values, units=units, docs=[""] * len(names),
                        kinds=kinds, parameters={}, stats={}, metadata=meta)
-    path = golden_path(scenario, flexible, directory)
+    path = golden_path(scenario, flexible, directory, prefix)
     path.parent.mkdir(parents=True, exist_ok=True)
     golden.save(path)
     return path

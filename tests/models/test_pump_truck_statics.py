@@ -15,14 +15,11 @@ Both pipe states: filled (the worst case the machine is sized on) and empty (onl
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
 import pytest
 
 import flexlib as fl
 from flexlib.models.pump_truck.model import P_TANK, PumpTruck
-from tests.models.hand_statics import hand_statics
+from tests.models import hand_statics as hand
 
 POSES_DEG = {  # q1 … q5
     "extended": (0.0, 0.0, 0.0, 0.0, 0.0),
@@ -36,26 +33,10 @@ POSES_DEG = {  # q1 … q5
 @pytest.fixture(scope="module", params=[True, False], ids=["filled", "empty"])
 def static_starts(request) -> tuple[PumpTruck, dict[str, fl.Result]]:
     """The static start of every pose, on one build (the pose is a start value)."""
-    sim, out, model = None, {}, None
-    for name, q in POSES_DEG.items():
-        model = PumpTruck(pose=(0.0, *q), slewing=False, filled=request.param)
-        sim = fl.Simulation(model, codegen=False) if sim is None else sim.with_model(model)
-        out[name] = sim.initialize()
-    return model, out
+    return hand.static_starts(lambda q: PumpTruck(pose=(0.0, *q), slewing=False, filled=request.param), POSES_DEG)
 
 
 @pytest.mark.parametrize("pose", POSES_DEG)
 def test_static_start_has_the_hand_statics_forces(static_starts, pose: str) -> None:
     model, results = static_starts
-    res = results[pose]
-    hand = hand_statics(model.record, np.radians(POSES_DEG[pose]))
-    for n, cyl in enumerate(model.cylinders, start=1):
-        A_p = math.pi / 4 * cyl["bore"] ** 2
-        A_r = A_p - math.pi / 4 * cyl["rod"] ** 2
-        c = f"axis{n}.cylinder.cylinder"
-        F = (res[f"{c}.p_A"][0] - P_TANK) * A_p - (res[f"{c}.p_B"][0] - P_TANK) * A_r
-        assert F == pytest.approx(hand["F_cyl"][n - 1], rel=1e-2), (pose, f"cylinder {n}")
-        f = -np.array([res[f"joint{n}.frame_b.f[{i}]"][0] for i in range(2)])
-        scale = hand["F_hinge_abs"][n - 1]
-        assert np.linalg.norm(f) == pytest.approx(scale, rel=1e-2), (pose, f"joint {n} |F|")
-        assert np.allclose(f, hand["F_hinge_section"][n - 1], atol=1e-2 * scale), (pose, f"joint {n} components")
+    hand.check_static_start(model, results[pose], POSES_DEG[pose], P_TANK, rel=1e-2, label=pose)
