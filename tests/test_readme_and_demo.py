@@ -67,7 +67,10 @@ def test_readme_main_job_runs_as_written(tmp_path, monkeypatch):
 
     result = fl.load_result(out / "expand_fold.h5")
     assert result.success and result.t[-1] == pytest.approx(560.524, abs=0.01)
-    i_work = int(np.searchsorted(result.t, 459.5))  # the working pose reached at 457.6 s, in the 2 s pause
+    from flexlib.registry import get_model
+
+    t_work = get_model("pump-truck").scenario("expand").data["targets"]["t"][-1]  # then a 2 s pause before folding
+    i_work = int(np.searchsorted(result.t, t_work + 1.0))
     for n in range(1, 6):
         phi = np.degrees(result[f"joint{n}.phi"])
         assert phi[i_work] == pytest.approx(WORKING_POSE_DEG[n], abs=1.0), f"joint{n} working pose"

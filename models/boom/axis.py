@@ -190,8 +190,8 @@ class HydraulicAxis(fl.Model):
         self.cbv_hold, self.hose_hold = _counterbalance(crack[hold], **cbv)
         if over_centre:
             self.cbv_over, self.hose_over = _counterbalance(crack[other], **cbv)
-        self.shock_A, self.makeup_A = _cartridges(p_system)
-        self.shock_B, self.makeup_B = _cartridges(p_system)
+        self.shock_A, self.makeup_A = port_cartridges(p_system)
+        self.shock_B, self.makeup_B = port_cartridges(p_system)
         self.hold, self.over_centre, self.free_start = hold, over_centre, free_start
         self.free_A = fl.Parameter(1.0 if hold == "B" else 0.0, unit="1",
                                    doc="1: the cap chamber (A) starts at p_free_start; 0: the rod chamber (B) does")
@@ -240,7 +240,7 @@ def _counterbalance(p_crack: float, *, pilot_ratio: float, Q_nom: float, dp_nom:
     return cbv, Volume(V=V_hose, p_start=P_TANK)
 
 
-def _cartridges(p_system: float) -> tuple[PressureReliefValve, CheckValve]:
+def port_cartridges(p_system: float) -> tuple[PressureReliefValve, CheckValve]:
     """The valve block's cartridges on one cylinder port: shock relief to tank, make-up check from tank."""
     return (PressureReliefValve(p_crack=SHOCK_FACTOR * p_system, p_grad=1e10, G_leak=SHOCK_LEAK),
             CheckValve(p_crack=MAKEUP_CRACK, p_open=MAKEUP_OPEN, A_max=MAKEUP_AREA))

@@ -5,6 +5,7 @@ Diagram::
     port_P ─┐                 ┌─ line_a (Volume) ─┐
     port_T ─┴─ valve (4/3) ───┤                   ├── motor (HydraulicMotor) ── rotor (Inertia) ── gear ── flange
     u ───────> valve.u        └─ line_b (Volume) ─┘
+                    (shock_a, makeup_a on line_a, shock_b, makeup_b on line_b, to and from port_T)
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from flexlib.components.hydraulics.interfaces import Port
 from flexlib.components.mechanics import rotational
 
 from ._checks import positives
-from .axis import V_HOSE, VALVE_DP, VALVE_HZ, VALVE_LEAK  # the same valve block and hoses as a boom axis
+from .axis import V_HOSE, VALVE_DP, VALVE_HZ, VALVE_LEAK, port_cartridges  # a boom axis's valve block and hoses
 
 __all__ = ["SlewDrive"]
 
@@ -44,7 +45,11 @@ class SlewDrive(fl.Model):
     (:class:`~flexlib.components.mechanics.rotational.IdealGear`, motor speed = ``ratio`` × turret speed).
 
     At full command the motor turns at ``Q_nom/D`` and the turret at ``Q_nom/(D·ratio)`` (default 52.4 rad/s,
-    0.175 rad/s = 10°/s); with ``u = 0`` the closed centre holds the turret (leakage only).
+    0.175 rad/s = 10°/s); with ``u = 0`` the closed centre holds the turret (leakage only). On each motor line the
+    valve block's port cartridges (as a boom axis's, :func:`~flexlib.models.boom.axis.port_cartridges`): a shock
+    relief valve to tank at ``1.1·p_system`` and a make-up check valve from tank; when the valve closes on a turning
+    turret, its inertia drives the motor as a pump, and the make-up valve feeds the line it empties (without them
+    that line reached −83 bar absolute in the pump truck's slew scenario) while the shock valve caps the other.
 
     Parameters
     ----------
@@ -62,6 +67,8 @@ class SlewDrive(fl.Model):
         Rated pressure drop per edge and compensator setting [Pa] (default 35 bar).
     f_spool : float
         Spool bandwidth [Hz] (default 20).
+    p_system : float
+        System pressure [Pa] (default 350 bar); the shock valves are set at ``1.1·p_system``.
 
     Connectors
     ----------
@@ -80,12 +87,13 @@ class SlewDrive(fl.Model):
     """
 
     def __init__(self, D: float = D_MOTOR, ratio: float = RATIO, Q_nom: float = Q_VALVE, J_rotor: float = J_ROTOR,
-                 V_hose: float = V_HOSE, dp_nom: float = VALVE_DP, f_spool: float = VALVE_HZ, **kw: Any) -> None:
+                 V_hose: float = V_HOSE, dp_nom: float = VALVE_DP, f_spool: float = VALVE_HZ, p_system: float = 35e6,
+                 **kw: Any) -> None:
         super().__init__(**kw)
         part = "SlewDrive"
-        D, ratio, Q_nom, J_rotor, V_hose, dp_nom, f_spool = positives(
+        D, ratio, Q_nom, J_rotor, V_hose, dp_nom, f_spool, p_system = positives(
             part, D=(D, "m3/rad"), ratio=(ratio, "1"), Q_nom=(Q_nom, "m3/s"), J_rotor=(J_rotor, "kg.m2"),
-            V_hose=(V_hose, "m3"), dp_nom=(dp_nom, "Pa"), f_spool=(f_spool, "Hz"))
+            V_hose=(V_hose, "m3"), dp_nom=(dp_nom, "Pa"), f_spool=(f_spool, "Hz"), p_system=(p_system, "Pa"))
         self.flange = rotational.Flange(doc="Output shaft: the slewing axis")
         self.port_P, self.port_T = Port(doc="Supply"), Port(doc="Tank")
         self.u = Input(unit="1", doc="Valve command, -1 ... 1")
@@ -100,6 +108,12 @@ class SlewDrive(fl.Model):
         self.connect(self.port_T, self.valve.port_T)
         self.connect(self.valve.port_A, self.line_a.port, self.motor.port_a)
         self.connect(self.valve.port_B, self.line_b.port, self.motor.port_b)
+        self.shock_a, self.makeup_a = port_cartridges(p_system)
+        self.shock_b, self.makeup_b = port_cartridges(p_system)
+        for line, shock, makeup in ((self.line_a, self.shock_a, self.makeup_a),
+                                    (self.line_b, self.shock_b, self.makeup_b)):
+            self.connect(line.port, shock.port_a, makeup.port_b)
+            self.connect(self.port_T, shock.port_b, makeup.port_a)
         self.connect(self.motor.flange, self.rotor.flange_a)
         self.connect(self.rotor.flange_b, self.gear.flange_a)
         self.connect(self.gear.flange_b, self.flange)

@@ -170,7 +170,7 @@ def slewing_turret(record: PumpTruckParameters, q: float, moves: Sequence[tuple]
     tr = record.turret
     turret = Turret(mass=tr.mass, J_slew=tr.J_slew, height=tr.height, H1=record.joint1.H, phi_start=q)
     loop = AngleController(K_v=SLEW_Q / SLEW_D / SLEW_RATIO, use_feed_forward=False)
-    return turret, SlewDrive(), loop, SmoothReference(*motion_profile(q, moves))
+    return turret, SlewDrive(p_system=record.p_system), loop, SmoothReference(*motion_profile(q, moves))
 
 
 def fixed_turret(record: PumpTruckParameters) -> tuple[FixedTranslation, FixedTranslation]:

@@ -55,7 +55,6 @@ Schwing / Putzmeister 42 m booms (five sections, lever-and-link joints, counterb
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
@@ -64,41 +63,32 @@ import numpy as np
 
 import flexlib as fl
 from flexlib.components.control import TimeTable
-from flexlib.components.hydraulics.fluid import HLP46
-from flexlib.components.mechanics.multibody import FixedTranslation, Revolute, World
+from flexlib.components.mechanics.multibody import World
 from flexlib.errors import ParameterError
-from flexlib.models.boom import (
-    AngleController,
-    BoomSection,
-    HydraulicAxis,
-    JointController,
-    LeverLink,
-    PowerUnit,
-    SlewDrive,
-    SmoothReference,
-    Turret,
-    joint_to_length,
-    motion_profile,
-    waypoint_moves,
-)
-from flexlib.models.boom.controller import OMEGA_C
-from flexlib.models.boom.slew import D_MOTOR as SLEW_D
-from flexlib.models.boom.slew import Q_VALVE as SLEW_Q
-from flexlib.models.boom.slew import RATIO as SLEW_RATIO
+from flexlib.models.boom import PowerUnit
 
-from .arguments import (
-    JOINTS,
-    check_commands,
-    check_modes,
-    check_pose,
-    check_sources,
-    check_table,
-    check_targets,
-    option,
+from .arguments import JOINTS, check_modes, check_pose, option
+from .geometry import LINK_PLATE
+from .machine import (  # noqa: F401  (A_MAX ... W_MAX, P_TANK: the machine's constants, read from here too)
+    A_MAX,
+    J_MAX,
+    LENGTH_TOL,
+    P_TANK,
+    STOP_MARGIN,
+    W_MAX,
+    boom_joint,
+    boom_section,
+    design_sizing,
+    feed_and_drive,
+    fixed_turret,
+    hydraulic_axis,
+    joint_inputs,
+    joint_loop,
+    lever_link,
+    slewing_turret,
 )
-from .geometry import LINK_PLATE, linkage_masses, section_mass_properties
 from .parameters import PumpTruckParameters
-from .statics import cylinder_forces, design_cylinders, sizing
+from .statics import cylinder_forces, design_cylinders
 
 __all__ = ["JOINTS", "TRANSPORT_POSE_DEG", "WORKING_POSE_DEG", "PumpTruck"]
 
@@ -108,13 +98,6 @@ TRANSPORT_POSE_DEG = (0.0, 0.0, 176.0, -176.0, 176.0, -176.0)
 WORKING_POSE_DEG = (0.0, 50.0, 10.0, -30.0, 20.0, -40.0)
 #: Fully extended, horizontal [deg].
 EXTENDED_POSE_DEG = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-
-P_TANK = HLP46.p_ref  # tank pressure [Pa] (atmospheric)
-STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
-W_MAX = 0.03  # joint speed at full valve command at the largest lever arm [rad/s] (valve sizing)
-A_MAX = 0.01  # joint acceleration of the reference moves [rad/s2]
-J_MAX = 0.01  # joint jerk of the reference moves [rad/s3]
-LENGTH_TOL = 1e-6  # length references within 1 µm of the kinematics [m]
 
 
 class PumpTruck(fl.Model):
@@ -186,14 +169,7 @@ class PumpTruck(fl.Model):
         self.record = record
         self._q0 = check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record)
         self.modes = check_modes(modes, record) if self.flexible else modes
-        t_ref, ref_cols = check_table("targets", targets) if targets is not None else (np.zeros(1), {})
-        t_cmd, cmd_cols = check_table("commands", commands) if commands is not None else (np.zeros(1), {})
-        check_sources(ref_cols, cmd_cols)
-        check_commands(cmd_cols)
-        check_targets(ref_cols, record)
-        moves = {JOINTS.index(name): waypoint_moves(t_ref, np.radians(col), a_max=A_MAX, j_max=J_MAX)
-                 for name, col in ref_cols.items()}
-        commands_by_joint = {JOINTS.index(name): TimeTable(t=t_cmd, y=col) for name, col in cmd_cols.items()}
+        moves, commands_by_joint = joint_inputs(record, targets, commands)
         self._F_hold = cylinder_forces(record, self._q0[1:], design_cylinders(record))[0]
         self.cylinders: list[dict[str, Any]] = []
 
@@ -201,12 +177,12 @@ class PumpTruck(fl.Model):
         self.power = PowerUnit(p_relief=record.p_system)
         parent, housing1 = self._turret(moves.get(0, []), commands_by_joint.pop(0, None))
         prev = None
-        for n, row in enumerate(sizing(record), start=1):
+        for n, row in enumerate(design_sizing(record), start=1):
             q_n = float(self._q0[n])
-            joint = Revolute(use_axis_flange=True, init={"phi": q_n, "w": 0.0, "a": 0.0},
-                             state_select={"phi": "always", "w": "always"})
-            section, axis = self._section(n), self._axis(n, row)
-            loop, ref = self._loop(n, axis, q_n, moves.get(n, []))
+            joint, section = boom_joint(q_n), boom_section(record, n, self.modes if self.flexible else None)
+            axis, cylinder = hydraulic_axis(record, n, row, float(self._F_hold[n - 1]))
+            self.cylinders.append(cylinder)
+            loop, ref = joint_loop(record, n, cylinder, q_n, moves.get(n, []))
             for name, part in (("joint", joint), ("section", section), ("axis", axis), ("loop", loop), ("ref", ref)):
                 setattr(self, f"{name}{n}", part)
             self.connect(parent, joint.frame_a)
@@ -214,23 +190,16 @@ class PumpTruck(fl.Model):
             if prev is None:  # joint 1: the direct cylinder from the turret to the section's bracket
                 housing, rod_end = housing1, section.frame_C
             else:  # the lever and link on the section before, the cylinder to the lever tip
-                linkage = self._linkage(n, q_n)
+                linkage = lever_link(record, n, q_n, self.link_plate)
                 setattr(self, f"linkage{n}", linkage)
                 self.connect(prev.frame_P_next, linkage.frame_pivot)
                 self.connect(linkage.frame_bracket, section.frame_C)
                 housing, rod_end = prev.frame_H_next, linkage.frame_tip
             self.connect(housing, axis.frame_a, loop.frame_a)
             self.connect(rod_end, axis.frame_b, loop.frame_b)
-            self.connect(self.power.port_P, axis.port_P)
-            self.connect(self.power.port_T, axis.port_T)
             self.connect(ref.y, loop.u_ref)
             self.connect(ref.ff, loop.u_ff)
-            command = commands_by_joint.get(n)
-            if command is not None:  # open loop: the joystick's valve command
-                setattr(self, f"command{n}", command)
-                self.connect(command.y, axis.u)
-            else:
-                self.connect(loop.y, axis.u)
+            feed_and_drive(self, self.power, axis, loop, commands_by_joint.get(n), f"command{n}")
             parent, prev = section.frame_tip, section
 
     @property
@@ -247,81 +216,15 @@ class PumpTruck(fl.Model):
     def _turret(self, moves: Sequence[tuple], command: TimeTable | None) -> tuple[Any, Any]:
         """The turret on the slewing bearing with its drive and angle loop (or fixed): joint 1's frame and the
         joint-1 cylinder's housing pin."""
-        tr, q_slew = self.record.turret, float(self._q0[0])
         if not self.slewing:
-            self.turret_top = FixedTranslation(r=[0.0, tr.height, 0.0])
-            self.housing1 = FixedTranslation(r=[*self.record.joint1.H, 0.0])
+            self.turret_top, self.housing1 = fixed_turret(self.record)
             self.connect(self.world.frame_b, self.turret_top.frame_a)
             self.connect(self.turret_top.frame_b, self.housing1.frame_a)
             return self.turret_top.frame_b, self.housing1.frame_b
-        self.turret = Turret(mass=tr.mass, J_slew=tr.J_slew, height=tr.height, H1=self.record.joint1.H,
-                             phi_start=q_slew)
-        self.slew_drive = SlewDrive()
-        self.slew_loop = AngleController(K_v=SLEW_Q / SLEW_D / SLEW_RATIO, use_feed_forward=False)
-        self.slew_ref = SmoothReference(*motion_profile(q_slew, moves))
+        self.turret, self.slew_drive, self.slew_loop, self.slew_ref = slewing_turret(
+            self.record, float(self._q0[0]), moves)
         self.connect(self.world.frame_b, self.turret.frame_a)
         self.connect(self.slew_drive.flange, self.turret.axis, self.slew_loop.flange)
         self.connect(self.slew_ref.y, self.slew_loop.u_ref)
-        self.connect(self.power.port_P, self.slew_drive.port_P)
-        self.connect(self.power.port_T, self.slew_drive.port_T)
-        if command is not None:
-            self.slew_command = command
-            self.connect(command.y, self.slew_drive.u)
-        else:
-            self.connect(self.slew_loop.y, self.slew_drive.u)
+        feed_and_drive(self, self.power, self.slew_drive, self.slew_loop, command, "slew_command")
         return self.turret.frame_joint1, self.turret.frame_housing1
-
-    def _section(self, n: int) -> BoomSection:
-        """Section ``n`` with its pins (bracket ``C``, next joint's lever pivot and housing), rigid or flexible."""
-        from .flexible import PIN_POINTS, attachment_points, mpf_modes, section_modal_data
-
-        points = attachment_points(self.record, n)
-        pins = {name: points[point] for name, point in PIN_POINTS.items() if point in points}
-        length = self.record.sections[n - 1].length
-        if self.flexible:
-            modes = self.modes if self.modes != "mpf" else mpf_modes(self.record)
-            data, _ = section_modal_data(self.record, n)
-            return BoomSection(length, pins=pins, modal_data=data, modes=modes if isinstance(modes, int) else modes[n])
-        mp = section_mass_properties(self.record, n - 1)
-        return BoomSection(length, m=mp["m"], r_CM=mp["com"], I=mp["I"], pins=pins)
-
-    def _linkage(self, n: int, q: float) -> LeverLink:
-        """Joint ``n``'s lever and link, assembled at the joint angle ``q`` [rad]."""
-        drive = self.record.drive(n)
-        m_lever, m_link = linkage_masses(self.record, n, self.link_plate)
-        return LeverLink.at_pose(q, drive.P, drive.c, drive.r, drive.s, drive.sigma, m_lever, m_link)
-
-    def _axis(self, n: int, row: Mapping[str, Any]) -> HydraulicAxis:
-        """Joint ``n``'s hydraulic axis, sized by its row of :func:`sizing`, at rest in the start pose."""
-        drive = self.record.drive(n)
-        bore, rod = row["bore"], row["rod"]
-        A_p, A_r = math.pi / 4 * bore**2, math.pi / 4 * (bore**2 - rod**2)
-        arm = max(abs(drive.state(float(q)).lever_arm) for q in np.linspace(drive.q_min, drive.q_max, 37))
-        Q_nom = A_p * arm * W_MAX
-        hold, free = ("A", "B") if row["F"] >= 0 else ("B", "A")
-        p_hold = 1.3 * row[f"p_worst_{hold}"]  # Sun: 1.3 × the worst holding pressure of the line
-        p_free = 1.3 * row[f"p_worst_{free}"] if row[f"p_worst_{free}"] > 0 else p_hold
-        stroke, L0 = row["stroke"] + 2 * STOP_MARGIN, row["l_min"] - STOP_MARGIN
-        cyl = design_cylinders(self.record)[n - 1]  # housing and rod masses where the hand statics puts them
-        axis = HydraulicAxis(d_bore=bore, d_rod=rod, stroke=stroke, L0=L0, Q_nom=Q_nom, hold=hold, over_centre=True,
-                             m_housing=cyl["m_housing"], L_housing=cyl["L_housing"], m_rod=cyl["m_rod"],
-                             L_rod=cyl["L_rod"], p_system=self.record.p_system,
-                             **{f"p_crack_{hold}": p_hold, f"p_crack_{free}": p_free})
-        # at rest: the chamber the hand statics says holds carries the load, the other is at tank (a parameter:
-        # one build serves every pose); the statics' pressure is the holding chamber's start guess
-        F = float(self._F_hold[n - 1])
-        axis.free_A = 1.0 if F < 0 else 0.0
-        axis.cylinder.cylinder.set_start("p_A" if F >= 0 else "p_B", P_TANK + abs(F) / (A_p if F >= 0 else A_r),
-                                         fixed=False)
-        self.cylinders.append({"bore": bore, "rod": rod, "stroke": stroke, "L0": L0, "hold": hold, "Q_nom": Q_nom})
-        return axis
-
-    def _loop(self, n: int, axis: HydraulicAxis, q: float,
-              moves: Sequence[tuple]) -> tuple[JointController, SmoothReference]:
-        """Joint ``n``'s cylinder-length loop and its smooth reference from the joint's ``moves`` (start ``q``)."""
-        drive, row = self.record.drive(n), self.cylinders[n - 1]
-        A_p = math.pi / 4 * row["bore"] ** 2
-        A_r = A_p - math.pi / 4 * row["rod"] ** 2
-        loop = JointController(A_p=A_p, Q_nom=row["Q_nom"], L_start=drive.state(q).length, omega_c=OMEGA_C)
-        knots = joint_to_length(motion_profile(q, moves), lambda x: drive.state(x).length, tol=LENGTH_TOL)
-        return loop, SmoothReference(*knots, ff_gain=(A_p / row["Q_nom"], A_r / row["Q_nom"]))

@@ -21,7 +21,7 @@ import flexlib as fl
 import flexlib.models.boom.linkage as boom_linkage
 import flexlib.models.boom.turret as boom_turret
 import flexlib.models.planar_mechanisms as pm
-import flexlib.models.pump_truck.model as pump_truck_model
+import flexlib.models.pump_truck.machine as pump_truck_machine
 from flexlib import eq
 from flexlib.compile.cache_key import model_key
 from flexlib.compile.flatten import FlatSystem, flatten
@@ -150,7 +150,7 @@ def _boom(monkeypatch: pytest.MonkeyPatch | None) -> tuple[fl.Model, dict]:
     entry = get_model("pump-truck")
     scenario = entry.scenario("expand")
     if monkeypatch is not None:
-        for module in (pump_truck_model, boom_turret, boom_linkage):  # the boom's joints, the slew, the linkages
+        for module in (pump_truck_machine, boom_turret, boom_linkage):  # the boom's joints, the slew, the linkages
             monkeypatch.setattr(module, "Revolute", HandRevolute)
     return entry.factory(scenario), dict(scenario.run)
 

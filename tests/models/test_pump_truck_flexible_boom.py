@@ -7,7 +7,8 @@ References and tolerances:
   the lowest in-plane (first bending) mode of every section is kept (it carries 100 % of the static deflection in
   the extended boom).
 * **Static start** (extended, horizontal, filled, valves closed, 2 s): the boom starts deflected and at rest:
-  joints move < 1e-6 rad and modal coordinates < 1e-5 of their size. Each section's elastic displacement at its tip
+  its joints creep as the rigid boom's do (the valves' leakage, up to 1.9e-6 rad in 2 s) within 1e-7 rad, and the
+  modal coordinates move < 1e-5 of their size. Each section's elastic displacement at its tip
   pin agrees within 2 % with the *full FE* static response of its beam mesh to the same loads (the cut loads and
   inertia the run puts on it, ``FlexibleBody.load_amplitudes``; the exact static solution with the reference
   frame's inertia relief that ``modal_data_from_fe`` stores, validated against the dense eigen-sum to 1e-8 in issue
@@ -60,8 +61,9 @@ def static_pair() -> tuple[PumpTruck, fl.Result, fl.Result]:
 def test_flexible_boom_starts_deflected_and_at_rest(static_pair):
     _, res, res_rigid = static_pair
     for n in range(1, 6):
-        phi = res[f"joint{n}.phi"]
-        assert abs(phi[-1] - phi[0]) < 1e-6, f"joint{n} drifts"
+        phi, phi_rigid = res[f"joint{n}.phi"], res_rigid[f"joint{n}.phi"]
+        # both creep by the valves' leakage (joint 4: 1.9e-6 rad in 2 s); the flexible start adds nothing to it
+        assert abs((phi[-1] - phi[0]) - (phi_rigid[-1] - phi_rigid[0])) < 1e-7, f"joint{n} drifts"
         q = np.asarray(res[f"section{n}.body.q"]).reshape(len(res.t), -1)
         assert np.abs(q[-1] - q[0]).max() < 1e-5 * np.abs(q[0]).max(), f"section{n} is not at rest"
     tip = res["section5.frame_tip.r_0"].reshape(len(res.t), 3)
@@ -72,7 +74,7 @@ def test_flexible_boom_starts_deflected_and_at_rest(static_pair):
 def test_static_deflection_matches_the_fe_solution_for_the_same_loads(static_pair):
     model, res, _ = static_pair
     for n in range(1, 6):
-        body = getattr(model, f"section{n}")
+        body = getattr(model, f"section{n}").body
         data = body.modal_data
         q = np.asarray(res[f"section{n}.body.q"]).reshape(len(res.t), -1)[0]
         loads = body.load_amplitudes(res)[0]
@@ -93,7 +95,7 @@ def test_flexible_sections_change_length_and_peak_higher_at_the_reversal(pump_tr
             root = res[f"joint{n}.frame_b.r_0"].reshape(len(res.t), 3)
             tip = res[f"joint{n + 1}.frame_a.r_0"].reshape(len(res.t), 3)
             lengths.append(np.ptp(np.linalg.norm(tip - root, axis=1)))
-        assert lengths[0] < 1e-9 and lengths[1] > 1e-4, (n, lengths)
+        assert lengths[0] < 1e-9 and lengths[1] > 2e-5, (n, lengths)
     sc = get_model("pump-truck").scenario("expand-fold")
     t_rev = float(np.max(sc.data["targets"]["t"])) / 2  # the middle of the cycle: joint 5 stops and turns back
     for n in range(1, 6):
@@ -106,14 +108,14 @@ def test_flexible_sections_change_length_and_peak_higher_at_the_reversal(pump_tr
 
 
 def test_deflection_sensors_read_the_tip_from_the_root_tangent(static_pair):
-    """``deflection{n}.r_rel[1]`` (the summary's tip deflection): the tip pin's position in the root pin's frame,
+    """``section{n}.deflection.r_rel[1]`` (the summary's tip deflection): the tip pin's position in the root pin's frame,
     which turns with the root node's elastic rotation: ``u_tip,y − θ_root,z·x_tip`` to first order (1e-3 of it)."""
     model, res, _ = static_pair
     for n in range(1, 6):
-        body = getattr(model, f"section{n}")
+        body = getattr(model, f"section{n}").body
         data = body.modal_data
         q = np.asarray(res[f"section{n}.body.q"]).reshape(len(res.t), -1)[0]
         x = data.coordinates[:, 0]
         root, tip = [int(data.node_ids[np.argmin(x)])], [int(data.node_ids[np.argmax(x)])]
         expected = node_displacements(data, q, tip)[0, 1] - node_rotations(data, q, root)[0, 2] * x.max()
-        assert res[f"deflection{n}.r_rel[1]"][0] == pytest.approx(expected, rel=1e-3), n
+        assert res[f"section{n}.deflection.r_rel[1]"][0] == pytest.approx(expected, rel=1e-3), n
