@@ -15,7 +15,7 @@ the one before it is half done, and the solver settings ``RUN``):
 
 from __future__ import annotations
 
-from flexlib.models.pump_truck.scenarios import OVERLAP, RUN, _reverse_after, expand_targets
+from flexlib.models.pump_truck.scenarios import OVERLAP, RUN, expand_targets, reverse_after
 from flexlib.registry import Scenario, register_model
 
 from .model import EXTENDED_POSE_DEG, JOINTS, OPTIONS, TRANSPORT_POSE_DEG, WORKING_POSE_DEG, Boom32
@@ -24,7 +24,7 @@ __all__ = ["DATA_KEYS", "SCENARIOS", "summary_signals"]
 
 _ORDER = (1, 2, 3, 4)
 _EXPAND = expand_targets(TRANSPORT_POSE_DEG, WORKING_POSE_DEG, order=_ORDER, overlap=OVERLAP)
-_EXPAND_FOLD = _reverse_after(_EXPAND, 2.0)
+_EXPAND_FOLD = reverse_after(_EXPAND, 2.0)
 _CLOSED = {"t": [0.0], **{name: [0.0] for name in JOINTS}}
 _SLEW = expand_targets(WORKING_POSE_DEG, (90.0, *WORKING_POSE_DEG[1:]), w=0.06, order=(0,))
 

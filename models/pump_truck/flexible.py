@@ -391,8 +391,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
         from .model import PumpTruck
 
         model = PumpTruck
-    if poses is None:
-        poses = MPF_POSES_DEG
+    poses = MPF_POSES_DEG if poses is None else poses
     if not 0.0 < threshold <= 1.0 or int(max_modes) < 1:
         raise ValueError(f"mpf_modes: threshold must be in (0, 1] and max_modes >= 1, got {threshold!r}, "
                          f"{max_modes!r}")
@@ -413,8 +412,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     rows: dict[int, list[np.ndarray]] = {j: [] for j in sections}
     sim = None
     for pose in poses:
-        # a static start (no integration) of each pose, on one build (the pose is a start value: one build serves
-        # every pose) and CasADi's virtual machine (no C library compiled for it in the background)
+        # static starts (no integration) on one build (the pose is a start value) in CasADi's VM (no C library)
         machine = model(record, pose=pose, slewing=False)
         sim = fl.Simulation(machine, codegen=False) if sim is None else sim.with_model(machine)
         result = sim.initialize()

@@ -396,7 +396,7 @@ class PumpTruckParameters:
         return self.joint1 if k == 1 else self.linkages[k - 2]
 
 
-def _describe(record: PumpTruckParameters) -> str:
+def describe(record: PumpTruckParameters) -> str:
     from .statics import mass_properties, sizing
 
     lines = ["section  L [m]  m [kg]  b x h x t [mm]        mesher m [kg]  com x,y [m]      Izz(com) [kg.m2]"]
@@ -427,4 +427,4 @@ def _describe(record: PumpTruckParameters) -> str:
 
 
 if __name__ == "__main__":
-    print(_describe(PumpTruckParameters()))
+    print(describe(PumpTruckParameters()))

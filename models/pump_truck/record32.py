@@ -62,6 +62,6 @@ BOOM32 = PumpTruckParameters(
 )
 
 if __name__ == "__main__":
-    from .parameters import _describe
+    from .parameters import describe
 
-    print(_describe(BOOM32))
+    print(describe(BOOM32))

@@ -24,7 +24,7 @@ from .arguments import OPTIONS
 from .model import EXTENDED_POSE_DEG, JOINTS, TRANSPORT_POSE_DEG, WORKING_POSE_DEG, PumpTruck
 from .plots import figures
 
-__all__ = ["SCENARIOS", "W_REF", "expand_targets", "summary_signals"]
+__all__ = ["OVERLAP", "SCENARIOS", "W_REF", "expand_targets", "reverse_after", "summary_signals"]
 
 W_REF = 0.025  # joint speed of the reference moves [rad/s]
 OVERLAP = 0.5  # each joint starts when the one before it is half done
@@ -63,7 +63,7 @@ def _end(table: dict[str, list]) -> float:
     return float(table["t"][-1])
 
 
-def _reverse_after(table: dict[str, list], shift: float) -> dict[str, list]:
+def reverse_after(table: dict[str, list], shift: float) -> dict[str, list]:
     """``table`` followed, ``shift`` seconds later, by the same moves backwards in reverse joint order."""
     t = np.asarray(table["t"])
     T = t[-1]
@@ -77,7 +77,7 @@ def _reverse_after(table: dict[str, list], shift: float) -> dict[str, list]:
 
 _EXPAND = expand_targets(TRANSPORT_POSE_DEG, WORKING_POSE_DEG, overlap=OVERLAP)
 _FOLD = expand_targets(WORKING_POSE_DEG, TRANSPORT_POSE_DEG, order=(5, 4, 3, 2, 1), overlap=OVERLAP)
-_EXPAND_FOLD = _reverse_after(_EXPAND, 2.0)
+_EXPAND_FOLD = reverse_after(_EXPAND, 2.0)
 _ZERO = {"t": [0.0], **{name: [0.0] for name in JOINTS}}
 # emergency stop: joints 1 and 2 lowered on open-loop commands, all valves closed abruptly at 4 s
 _ESTOP = {"t": [0.0, 0.5, 1.0, 4.0, 4.02], "slew": [0.0] * 5, "joint1": [0.0, 0.0, -0.5, -0.5, 0.0],

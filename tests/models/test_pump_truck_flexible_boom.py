@@ -108,8 +108,9 @@ def test_flexible_sections_change_length_and_peak_higher_at_the_reversal(pump_tr
 
 
 def test_deflection_sensors_read_the_tip_from_the_root_tangent(static_pair):
-    """``section{n}.deflection.r_rel[1]`` (the summary's tip deflection): the tip pin's position in the root pin's frame,
-    which turns with the root node's elastic rotation: ``u_tip,y − θ_root,z·x_tip`` to first order (1e-3 of it)."""
+    """``section{n}.deflection.r_rel[1]`` (the summary's tip deflection): the tip pin's position in the root pin's
+    frame, which turns with the root node's elastic rotation: ``u_tip,y − θ_root,z·x_tip`` to first order (1e-3 of
+    it)."""
     model, res, _ = static_pair
     for n in range(1, 6):
         body = getattr(model, f"section{n}").body

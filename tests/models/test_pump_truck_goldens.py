@@ -14,7 +14,6 @@ import pytest
 import flexlib as fl
 from flexlib.errors import ResultFileError
 from flexlib.models.pump_truck.goldens import GOLDENS, SPREAD, TWINS, compare, golden_path, make_golden, report
-from flexlib.registry import get_model
 
 
 @pytest.fixture(scope="module")
@@ -30,31 +29,53 @@ def test_pump_truck_matches_its_golden(scenario, flexible, tmp_path, pump_truck_
     assert not bad, report(bad, path, tmp_path)
 
 
-def test_a_two_percent_larger_bore_fails_the_hold_golden_naming_the_signals(tmp_path):
-    """A 2 % larger joint-2 bore lowers its holding pressure by 4 % (the static start finds it): the comparison must
-    fail, name cylinder 2's pressure with golden and new values, and write the overlay plot."""
-    from flexlib.models.pump_truck import model as truck
+def _mutated(scenario: str, params: dict[str, float]) -> fl.Result:
+    from flexlib.registry import run_scenario
 
-    sc = get_model("pump-truck").scenario("hold")
-    record = truck.PumpTruckParameters()
-    rows = truck.sizing(record)
-    model = truck.PumpTruck(pose=sc.data["pose"], commands=sc.data["commands"], filled=True)
-    sim = fl.Simulation(model)
-    res = sim.run(30.0, progress=False, **sc.run, params={"cylinder2.cylinder.d_bore": 1.02 * rows[1]["bore"]})
-    bad = compare(res, golden_path("hold"), plot_dir=tmp_path)
-    names = [m.name for m in bad]
-    assert "cylinder2.cylinder.p_A" in names
-    text = report(bad, golden_path("hold"), tmp_path)
-    assert "cylinder2.cylinder.p_A: at t = " in text and "golden" in text and "tolerance" in text
-    assert (tmp_path / "golden-hold.png").stat().st_size > 1000
+    return run_scenario("pump-truck", scenario, params=params, progress=False).result
+
+
+def _design() -> tuple:
+    from flexlib.models.pump_truck.model import PumpTruck
+
+    model = PumpTruck(filled=True)
+    return model, model.cylinders
+
+
+@pytest.mark.parametrize(("mutation", "scenario", "expected"), [
+    ("bore", "hold", "axis2.cylinder.cylinder.p_A"),
+    ("section mass", "hold", "axis3.cylinder.cylinder.p_"),
+    ("pilot ratio", "expand-fold", "axis2."),
+    ("PI gain", "expand-fold", None),
+])
+def test_each_design_mutation_fails_a_golden(mutation, scenario, expected, tmp_path):
+    """Issue 28's check: each of these changes of the machine makes at least one golden fail — a cylinder bore +1 %
+    (joint 2: its holding pressure −2 %), a section mass +2 % (section 3: every inboard holding pressure rises), a
+    counterbalance pilot ratio 3 → 3.3 (both valves of joint 2: they open at a lower inlet pressure while the boom
+    moves) and a PI gain × 1.25 (joint 2's length loop) — and the report names the signals, golden and new values."""
+    model, cylinders = _design()
+    params = {
+        "bore": {"axis2.cylinder.cylinder.d_bore": 1.01 * cylinders[1]["bore"]},
+        "section mass": {"section3.body.m": 1.02 * float(model.section3.body.parameter_value("m"))},
+        "pilot ratio": {"axis2.cbv_hold.pilot_ratio": 3.3, "axis2.cbv_over.pilot_ratio": 3.3},
+        "PI gain": {"loop2.pid.k": 1.25 * float(model.loop2.pid.parameter_value("k"))},
+    }[mutation]
+    res = _mutated(scenario, params)
+    bad = compare(res, golden_path(scenario), plot_dir=tmp_path)
+    assert bad, f"{mutation}: no golden signal moved beyond its tolerance"
+    if expected is not None:
+        assert any(m.name.startswith(expected) for m in bad), [m.name for m in bad]
+    text = report(bad, golden_path(scenario), tmp_path)
+    assert ": at t = " in text and "golden" in text and "tolerance" in text
+    assert (tmp_path / f"golden-{scenario}.png").stat().st_size > 1000
 
 
 def test_a_perturbed_flow_fails_and_a_missing_golden_is_named(tmp_path, hold_run):
     golden = fl.load_result(golden_path("hold"))
-    k = golden.names.index("cylinder1.cylinder.p_A")
+    k = golden.names.index("axis1.cylinder.cylinder.p_A")
     golden.values[:, k] *= 1.05  # a golden 5 % off in one pressure: exactly that signal fails
     bad = compare(hold_run, golden)
-    assert [m.name for m in bad] == ["cylinder1.cylinder.p_A"]
+    assert [m.name for m in bad] == ["axis1.cylinder.cylinder.p_A"]
     with pytest.raises(ResultFileError, match=r"nowhere\.h5 does not exist"):
         compare(hold_run, tmp_path / "nowhere.h5")
 
@@ -67,16 +88,16 @@ def test_goldens_record_how_they_were_made(tmp_path):
     assert "rtol" in g.metadata["golden_run"] and g.metadata["golden_commit"]
     assert "joint2.F_hinge" in g.names and g.t[-1] == pytest.approx(30.0)
     # the measured round-off spread of every signal: the hold scenario is determined to far below its tolerance
-    p = g["cylinder2.cylinder.p_A"]
-    assert SPREAD.format("cylinder2.cylinder.p_A") in g.names
-    assert np.all(g[SPREAD.format("cylinder2.cylinder.p_A")] < 1e-3 * (1e5 + 0.01 * np.ptp(p)))
+    p = g["axis2.cylinder.cylinder.p_A"]
+    assert SPREAD.format("axis2.cylinder.cylinder.p_A") in g.names
+    assert np.all(g[SPREAD.format("axis2.cylinder.cylinder.p_A")] < 1e-3 * (1e5 + 0.01 * np.ptp(p)))
 
 
 def test_the_measured_spread_widens_only_its_own_sample(hold_run):
     """A golden sample 2 tolerances off fails; with a recorded round-off spread of 1.5 tolerances at that sample it
     passes, and the same offset one sample later (no spread there) still fails, its report naming the spread."""
     golden = fl.load_result(golden_path("hold"))
-    name = "cylinder1.cylinder.p_A"
+    name = "axis1.cylinder.cylinder.p_A"
     k, ks = golden.names.index(name), golden.names.index(SPREAD.format(name))
     tol = 1e5 + 0.01 * np.ptp(golden.values[:, k])
     golden.values[40, k] += 2.0 * tol
