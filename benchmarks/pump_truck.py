@@ -11,7 +11,10 @@ same process. Targets on this machine: rigid ≥ 20× real time, flexible (five 
 flexible/rigid ≤ 2, cold build ≤ 10 s, cached ≤ 1 s. No timing is asserted; on a shared machine compare CPU times
 and step counts.
 
-Run: ``python benchmarks/pump_truck.py [--variant both] [--scenario expand-fold] [--t-end 20]`` (repository root).
+``--model boom-32`` measures the second machine (the 4-section 28 m boom composed of the same parts) the same way.
+
+Run: ``python benchmarks/pump_truck.py [--model pump-truck] [--variant both] [--scenario expand-fold] [--t-end 20]``
+(repository root).
 """
 
 from __future__ import annotations
@@ -33,13 +36,14 @@ def _cpu() -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--model", default="pump-truck", help="registered machine (pump-truck or boom-32)")
     parser.add_argument("--variant", choices=("rigid", "flexible", "both"), default="both")
     parser.add_argument("--scenario", default="expand-fold")
     parser.add_argument("--t-end", type=float, default=None, help="cut the scenario at this time [s]")
     args = parser.parse_args()
     found = {}
     for flexible in {"rigid": (False,), "flexible": (True,), "both": (False, True)}[args.variant]:
-        found[flexible] = bench(args.scenario, args.t_end, flexible)
+        found[flexible] = bench(args.scenario, args.t_end, flexible, args.model)
     if len(found) == 2:
         print(f"flexible / rigid CPU time of the run: {found[True]['run'] / found[False]['run']:.2f}")
 
@@ -55,12 +59,13 @@ def main() -> None:
                "run [s]", "rtf", "steps", "nfev", "events"]
     keys = ["variant", "unknowns", "states", "cold", "background", "cached", "t_sim", "run", "rtf", "steps", "nfev",
             "events"]
-    report.write_results(__file__, figures, tables=[report.table(
-        f"Pump truck, scenario {args.scenario}; CPU of this process and its gcc children", columns,
+    script = __file__ if args.model == "pump-truck" else f"pump_truck-{args.model}.py"  # one results file per machine
+    report.write_results(script, figures, tables=[report.table(
+        f"{args.model}, scenario {args.scenario}; CPU of this process and its gcc children", columns,
         [[r[k] for k in keys] for r in found.values()])])
 
 
-def bench(name: str, t_end: float | None, flexible: bool) -> dict:
+def bench(name: str, t_end: float | None, flexible: bool, machine: str = "pump-truck") -> dict:
     """Build (cold, cached) and run one variant in a fresh cache; print the figures; return them."""
     from dataclasses import replace
 
@@ -69,7 +74,7 @@ def bench(name: str, t_end: float | None, flexible: bool) -> dict:
         import flexlib as fl
         from flexlib.registry import get_model
 
-        entry = get_model("pump-truck")
+        entry = get_model(machine)
         scenario = entry.scenario(name)
         if flexible:
             scenario = replace(scenario, options={**scenario.options, "flexible": True})
@@ -92,7 +97,7 @@ def bench(name: str, t_end: float | None, flexible: bool) -> dict:
     t_sim = float(res.t[-1] - res.t[0])
     variant = "flexible" if flexible else "rigid"
     modes = f", modes {dict(model.modes)}" if flexible else ""
-    print(f"pump-truck / {scenario.name} / {variant}: {res.stats.get('n_unknowns')} unknowns, "
+    print(f"{machine} / {scenario.name} / {variant}: {res.stats.get('n_unknowns')} unknowns, "
           f"{res.stats.get('n_states')} states{modes}")
     print(f"build: cold {cold:.2f} s CPU (runnable; the C library was ready {background:.1f} s of wall time later, "
           f"compiled in the background), cached {cached:.2f} s CPU")

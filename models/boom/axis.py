@@ -46,7 +46,6 @@ MAKEUP_CRACK = 0.2e5  # anti-cavitation make-up check valves: cracking pressure 
 MAKEUP_OPEN = 1e5  # ... pressure difference at full opening [Pa]
 MAKEUP_AREA = 2e-4  # ... full opening area [m2]
 VALVE_LEAK = 1e-10  # leakage area of each spool edge [m2]
-LAP_RETURN = 0.1  # positive overlap of the return edges A->T, B->T [1] (share of the spool stroke; ISO 5598 >= 3 %)
 
 
 class HydraulicAxis(fl.Model):
@@ -67,15 +66,7 @@ class HydraulicAxis(fl.Model):
     - ``valve``: closed-centre proportional :class:`~flexlib.components.hydraulics.DirectionalValve43`, ``Q_nom`` at
       ``dp_nom`` per edge, spool second order (``f_spool``, ζ = 0.7), pressure-compensated meter-in edges
       (``dp_comp = dp_nom``: the individual compensators of load-sensing valve blocks; the flow follows the spool,
-      not the load). Valve port A feeds the cap side: ``u > 0`` extends the cylinder. The return edges (A→T, B→T)
-      have a positive overlap ``lap_return`` (10 % of the stroke; a proportional valve has a dead band of at least
-      3 % by ISO 5598's definition, mobile valves 10–20 %, and a spool's edges may have different overlaps), the
-      inlet edges none (the amplifier's dead-band compensation takes up their overlap): small commands, such as a
-      loop holding its joint, open only the inlet edge, so the counterbalance valves stay closed instead of
-      chattering against a barely open return edge (the back-pressure at a non-vented counterbalance valve's valve
-      port works against its pilot; measured on the 42 m expand-fold with zero overlap: the valves open and close
-      at ~50 Hz while a loop dithers, 2.6 times the integration steps, and flow spikes at the start and end of
-      moves).
+      not the load). Valve port A feeds the cap side: ``u > 0`` extends the cylinder.
     - ``cbv_hold`` + ``hose_hold``: :class:`~flexlib.components.hydraulics.CounterbalanceValve` on the holding line
       ``hold`` (``"A"``: cap side holds, the cylinder pushes), pilot from the other line, pilot ratio 3:1, setting
       ``p_crack_<hold>`` (Sun: 1.3 × the worst holding pressure), poppet lag ``CBV_T`` (pilot damping orifice,
@@ -122,8 +113,6 @@ class HydraulicAxis(fl.Model):
         Viscous friction [N.s/m] and regularisation velocity of the seal friction [m/s].
     dp_nom, f_spool, pilot_ratio, V_hose : float
         Valve edge pressure drop [Pa], spool bandwidth [Hz], counterbalance pilot ratio [1], hose volume [m3].
-    lap_return : float
-        Positive overlap of the valve's return edges, share of the spool stroke [1], ``0 <= lap_return < 0.5``.
     p_free_start, p_A_start, p_B_start : float
         Free chamber's start pressure [Pa]; start guesses of the chamber pressures [Pa].
     free_start : bool
@@ -143,7 +132,7 @@ class HydraulicAxis(fl.Model):
                  p_system: float = 35e6, p_friction: float = CYL_FC * 35e6, d: float = D_CYL, v_reg: float = CYL_VREG,
                  dp_nom: float = VALVE_DP, f_spool: float = VALVE_HZ, pilot_ratio: float = PILOT_RATIO,
                  V_hose: float = V_HOSE, p_free_start: float = P_TANK, p_A_start: float = P_TANK,
-                 p_B_start: float = P_TANK, free_start: bool = True, lap_return: float = LAP_RETURN) -> None:
+                 p_B_start: float = P_TANK, free_start: bool = True) -> None:
         super().__init__()
         bore, rod = positive(PART, "d_bore", d_bore, "m"), positive(PART, "d_rod", d_rod, "m")
         if rod >= bore:
@@ -178,13 +167,8 @@ class HydraulicAxis(fl.Model):
         self.cylinder.cylinder.set_start("p_A", positive(PART, "p_A_start", p_A_start, "Pa"), fixed=False)
         self.cylinder.cylinder.set_start("p_B", positive(PART, "p_B_start", p_B_start, "Pa"), fixed=False)
         dp_nom, omega = positive(PART, "dp_nom", dp_nom, "Pa"), 2 * math.pi * positive(PART, "f_spool", f_spool, "Hz")
-        lap_return = positive(PART, "lap_return", lap_return, "1", allow_zero=True)
-        if lap_return >= 0.5:
-            raise ParameterError(f"HydraulicAxis: lap_return = {lap_return!r} must be < 0.5 [1] (share of the spool "
-                                 "stroke before a return edge opens)")
         self.valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=dp_nom, omega=omega, zeta=0.7,
-                                        A_leak=VALVE_LEAK, compensated=True, dp_comp=dp_nom, lap_AT=lap_return,
-                                        lap_BT=lap_return)
+                                        A_leak=VALVE_LEAK, compensated=True, dp_comp=dp_nom)
         cbv = {"pilot_ratio": positive(PART, "pilot_ratio", pilot_ratio, "1"), "Q_nom": 2 * Q_nom, "dp_nom": dp_nom,
                "V_hose": positive(PART, "V_hose", V_hose, "m3")}
         self.cbv_hold, self.hose_hold = _counterbalance(crack[hold], **cbv)

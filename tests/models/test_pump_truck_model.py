@@ -6,10 +6,9 @@ References and tolerances:
 * **Hold drift** (``hold`` scenario shortened to 10 s, default levers and links): every joint drifts less than
   2e-4 rad (the closed valves' and counterbalance valves' leakage; measured ~4e-5 rad).
 * **Expand** (short variant: from the transport fold, joint 1 up 2° and joint 5 unfolded 4° together on jerk-limited
-  moves of 7 s, 2.5 s at rest, back in 7 s, 3 s at rest): every joint within 0.3° of its target at 10 s and of its
-  start at 20 s (the feed-forward does the move; a move ends 2 mm of cylinder length past its target, the command
-  filter's lag, and the PI integrates back through the 10 % overlap of the valve's return edges, slowly: measured
-  0.21° at 10 s, 0.19° at 20 s).
+  moves of 7 s, 2.5 s at rest, back in 7 s, 3 s at rest): every joint within 0.2° of its target at 10 s and of its
+  start at 20 s (the feed-forward does the move, the PI loops correct: a move ends about 2 mm of cylinder length past
+  its target, the command filter's lag; measured 0.09° at 10 s and at 20 s).
 * **Oil mass balance** over that out-and-back cycle: ``∫ (pump − relief − return to tank) dt`` (the return
   through the directional valves and the cylinder-port shock and make-up valves) equals the change
   of the oil stored in cylinders, hoses and supply volume within 1e-3 of the pumped mass (trapezoidal
@@ -33,7 +32,7 @@ from flexlib.models.pump_truck.model import (
     PumpTruck,
 )
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
-from flexlib.registry import get_model, run_scenario
+from flexlib.registry import run_scenario
 
 CLOSED = {"t": [0.0], **{name: [0.0] for name in JOINTS}}
 
@@ -62,9 +61,9 @@ def test_expand_reaches_its_targets(short_cycle):
     _, res, end = short_cycle
     i = int(np.searchsorted(res.t, 10.0))
     for j in range(1, 6):
-        assert math.degrees(res[f"joint{j}.phi"][i]) == pytest.approx(end[j], abs=0.3), f"joint{j} at 10 s"
+        assert math.degrees(res[f"joint{j}.phi"][i]) == pytest.approx(end[j], abs=0.2), f"joint{j} at 10 s"
     for j in (1, 5):
-        assert math.degrees(res[f"joint{j}.phi"][-1]) == pytest.approx(TRANSPORT_POSE_DEG[j], abs=0.3)
+        assert math.degrees(res[f"joint{j}.phi"][-1]) == pytest.approx(TRANSPORT_POSE_DEG[j], abs=0.2)
 
 
 def test_oil_mass_balance_over_a_cycle(short_cycle):
@@ -157,35 +156,3 @@ def test_emergency_stop_is_limited_by_the_port_cartridges(pump_truck_run):
     moving, after = (res.t > 1.0) & (res.t < 4.0), res.t > 4.0
     assert F[after].max() > F[moving].max()
 
-
-def _peak_runs(x: np.ndarray, fraction: float = 0.2) -> int:
-    """Number of runs of |x| above ``fraction`` of its maximum."""
-    above = np.abs(x) > fraction * np.max(np.abs(x))
-    return int(np.count_nonzero(above[1:] & ~above[:-1]) + above[0])
-
-
-def test_cylinder_flows_follow_smooth_moves(pump_truck_run):
-    """The expand-fold's cylinder port flows, per move of their joint (the times its reference moves): no staircase
-    (the old piecewise-constant feed-forward stepped every ~7 s: 10-15 peaks per move) — the rate of change of
-    each flow has at most four runs above 20 % of its largest value in the move (an acceleration, a deceleration,
-    and where a counterbalance valve cracks open at the start of a move or the loop corrects after its end, a short
-    transient). Measured: 16 of the 20 moves of a cylinder have the issue's at most two, three have three, one has
-    four (joint 5's rod side at the start of its fold)."""
-    res = pump_truck_run("expand-fold")
-    t, keep = np.unique(res.t, return_index=True)
-    table = get_model("pump-truck").scenario("expand-fold").data["targets"]
-    tt = np.asarray(table["t"])
-    counts = []
-    for n in range(1, 6):
-        col = np.asarray(table[f"joint{n}"])
-        moving = np.flatnonzero(col[1:] != col[:-1])
-        starts = moving[np.r_[True, np.diff(moving) > 1]]
-        ends = moving[np.r_[np.diff(moving) > 1, True]]
-        for a, b in zip(tt[starts], tt[ends + 1], strict=True):
-            window = (t >= a) & (t <= b)
-            for side in "AB":
-                q = np.asarray(res[f"axis{n}.cylinder.cylinder.q_{side}"])[keep]
-                counts.append(_peak_runs(np.gradient(q, t)[window]))
-    assert len(counts) == 20
-    assert max(counts) <= 4, counts
-    assert sum(c <= 2 for c in counts) >= 16, counts
