@@ -155,4 +155,3 @@ def test_emergency_stop_is_limited_by_the_port_cartridges(pump_truck_run):
     F = np.hypot(res["joint1.frame_b.f[0]"], res["joint1.frame_b.f[1]"])
     moving, after = (res.t > 1.0) & (res.t < 4.0), res.t > 4.0
     assert F[after].max() > F[moving].max()
-
