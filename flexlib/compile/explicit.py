@@ -34,10 +34,7 @@ cycle), which also guarantees that ``c`` is the row's own coefficient of ``v``.
 **Kept as they are:** states and every unknown whose derivative appears, dummy-derivative candidates
 of every selection level (the state-selection monitor re-selects among them and reads them by name),
 alias eliminations already made, and (unless ``explicit="all"``) every unknown inside IDA's error
-test, so the test checks exactly what it checked before (``post_simplify`` passes that mask) — except the
-*functions of time*: an unknown whose row reads only time, parameters and other functions of time (a reference
-profile, a time table's output) carries no integration error, and eliminated it is computed exactly at every
-output point instead of being IDA's interpolation of itself (:func:`time_functions`);
+test, so the test checks exactly what it checked before (``post_simplify`` passes that mask);
 ``derivative_level`` (IDA's error-test mask) is computed again on the reduced DAE by
 :func:`flexlib.compile.codegen.compile_dae`.
 
@@ -227,25 +224,6 @@ def _select(pattern: list[set[int]], pivots: dict[tuple[int, int], float],
         if not accepted:
             break
     return order
-
-
-def time_functions(rows: list[ca.SX], y: ca.SX, yp: ca.SX, differential: np.ndarray) -> np.ndarray:
-    """Entries of ``y`` that are functions of time and parameters only: an algebraic entry ``v`` with a row free of
-    derivatives whose unknowns are ``v`` and entries already found (a fixed point over the rows)."""
-    found = np.zeros(y.numel(), dtype=bool)
-    if not rows:
-        return found
-    pattern = _patterns(rows, y, ca.SX(0, 1))
-    has_yp = np.diff(np.asarray(ca.jacobian_sparsity(ca.vertcat(*rows), yp).T.colind())) > 0
-    open_rows = [r for r in range(len(rows)) if not has_yp[r] and pattern[r]]
-    changed = True
-    while changed:
-        changed = False
-        for r in open_rows:
-            rest = [v for v in pattern[r] if not found[v]]
-            if len(rest) == 1 and not differential[rest[0]]:
-                found[rest[0]] = changed = True
-    return found
 
 
 def _resolve_definitions(defs: list[ca.SX], vs: ca.SX) -> ca.SX:

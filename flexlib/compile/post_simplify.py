@@ -12,7 +12,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from flexlib.compile.explicit import eliminate_explicit_algebraics, time_functions
+from flexlib.compile.explicit import eliminate_explicit_algebraics
 from flexlib.compile.structure import derivative_level
 
 __all__ = ["post_simplify"]
@@ -139,7 +139,6 @@ def post_simplify(F: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray,
             free = derivative_level(ca.vertcat(*rows), y, yp, differential, untested)
             if intermediate is not None:
                 free |= intermediate
-            free |= time_functions(rows, y, yp, differential)  # known at every time: no integration error
             fixed |= ~free
         kept2, explicit, values, new = eliminate_explicit_algebraics(rows, y, yp, differential, fixed)
         if explicit and _states_kept(new, yp, differential, set(explicit) | set(alias)):

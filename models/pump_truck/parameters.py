@@ -223,7 +223,8 @@ class DirectDrive:
     source: str = ("engineering choice (no published pin coordinates found): housing low on the turret front, bracket "
                    "1.36 m out on section 1, from a differential-evolution search for the smallest bore with "
                    "transmission >= 22.5 deg and retracted length >= stroke + dead length; lever arm 1.34 m "
-                   "extended, stroke 1.51 m, bore 220 mm (real 36-42 m booms: ~200-250 mm)")
+                   "extended, stroke 1.51 m, bore 250 mm with levers and links counted (220 mm reaches 280.7 bar, "
+                   "over the 280 bar limit; real 36-42 m booms: ~200-250 mm)")
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "H", _point("joint1.H", self.H))

@@ -10,7 +10,7 @@ Timing of the unfolding: as an operator does, several joints move at once: each 
 before it is half done (``OVERLAP``), at ``W_REF`` (1.4°/s) in a jerk-limited profile (the model smooths each
 stretch of the table's constant speed, :class:`~models.pump_truck.model.PumpTruck`). Joint 4 passes its load
 reversal (the gravity moment changes sign, the holding chamber changes side) in ``expand``, ``fold`` and
-``expand-fold`` while joints 3 and 5 move (seed 000, Fig. 14).
+``expand-fold`` while joint 5 moves too (seed 000, Fig. 14).
 """
 
 from __future__ import annotations

@@ -5,10 +5,11 @@
   offset`` (its own inertia ``mu L³/12`` about ``y`` and ``z``).
 * Joint torques by virtual work, ``tau_k = ∂V/∂q_k`` with ``V = g Σ m_i y_i``: ``g Σ m_i (x_i − x_k)`` over the
   sections, pipes and hose outboard of joint ``k`` (centres of mass ``x_i``, joint ``x_k``; the hose's weight acts at
-  the tip pin), plus each cylinder's housing and rod (steel, :func:`cylinder_masses`: 0.6–0.9 t for the 220 mm
-  cylinders, 2.5 t in all, a third of the 7.5 t of sections, filled pipe and hose): they raise the gravity torque of the
-  extended boom by 16 % at joint 1, 10 % at joint 2, 5 % at joint 3 and 3 % at joint 4 (the sizing table's ``cyl.
-  share``). Rockers and links are not counted (≤ 0.5 % of a joint's holding torque).
+  the tip pin), plus each cylinder's housing and rod (steel, :func:`cylinder_masses`: 0.6–0.9 t for the 220–250 mm
+  cylinders, 2.7 t in all, a third of the 7.5 t of sections, filled pipe and hose) and the levers and links of joints
+  2… (slender steel bars moving with their joint, :func:`linkage_masses`: 0.2 t in all): the cylinders raise the
+  gravity torque of the extended boom by 16 % at joint 1, 10 % at joint 2, 5 % at joint 3 and 3 % at joint 4 (the
+  sizing table's ``cyl. share``).
 * Cylinder force ``F = tau / (dl/dq)`` (extending force positive: the cylinder pushes), chamber pressure
   ``F / A_piston`` when pushing, ``−F / A_annulus`` when pulling.
 
