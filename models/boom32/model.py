@@ -36,20 +36,9 @@ import flexlib as fl
 from flexlib.components.mechanics.multibody import World
 from flexlib.errors import ParameterError
 from flexlib.models.boom import PowerUnit
+from flexlib.models.pump_truck import machine  # the parts made from a design record
 from flexlib.models.pump_truck.arguments import check_modes, check_pose, joint_names, model_options, option
 from flexlib.models.pump_truck.flexible import mpf_modes, unfolding_poses
-from flexlib.models.pump_truck.machine import (
-    boom_joint,
-    boom_section,
-    design_sizing,
-    feed_and_drive,
-    fixed_turret,
-    hydraulic_axis,
-    joint_inputs,
-    joint_loop,
-    lever_link,
-    slewing_turret,
-)
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
 from flexlib.models.pump_truck.record32 import BOOM32
 from flexlib.models.pump_truck.statics import cylinder_forces, design_cylinders
@@ -125,39 +114,39 @@ class Boom32(fl.Model):
             record = replace(record, pipe=replace(record.pipe, filled=filled))
         self.record, self.q0 = record, check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record, NAME)
         self.modes = check_modes(modes, record, NAME, mpf_selection) if self.flexible else None
-        moves, commands = joint_inputs(record, targets, commands, NAME)
+        moves, commands = machine.joint_inputs(record, targets, commands, NAME)
         self.F_hold = cylinder_forces(record, self.q0[1:], design_cylinders(record))[0]
         self.cylinders: list[dict[str, Any]] = []
 
         self.world = World()
         self.power = PowerUnit(p_relief=record.p_system)
         if self.slewing:
-            self.turret, self.slew_drive, self.slew_loop, self.slew_ref = slewing_turret(
+            self.turret, self.slew_drive, self.slew_loop, self.slew_ref = machine.slewing_turret(
                 record, float(self.q0[0]), moves.get(0, []))
             self.connect(self.world.frame_b, self.turret.frame_a)
             self.connect(self.slew_drive.flange, self.turret.axis, self.slew_loop.flange)
             self.connect(self.slew_ref.y, self.slew_loop.u_ref)
-            feed_and_drive(self, self.power, self.slew_drive, self.slew_loop, commands.get(0), "slew_command")
+            machine.feed_and_drive(self, self.power, self.slew_drive, self.slew_loop, commands.get(0), "slew_command")
             parent, housing = self.turret.frame_joint1, self.turret.frame_housing1
         else:
-            self.turret_top, self.housing1 = fixed_turret(record)
+            self.turret_top, self.housing1 = machine.fixed_turret(record)
             self.connect(self.world.frame_b, self.turret_top.frame_a)
             self.connect(self.turret_top.frame_b, self.housing1.frame_a)
             parent, housing = self.turret_top.frame_b, self.housing1.frame_b
 
         prev = None
-        for n, row in enumerate(design_sizing(record), start=1):  # sized once, on the worst case
+        for n, row in enumerate(machine.design_sizing(record), start=1):  # sized once, on the worst case
             q = float(self.q0[n])
-            joint, section = boom_joint(q), boom_section(record, n, self.modes)
-            axis, cylinder = hydraulic_axis(record, n, row, float(self.F_hold[n - 1]))
-            loop, ref = joint_loop(record, n, cylinder, q, moves.get(n, []))
+            joint, section = machine.boom_joint(q), machine.boom_section(record, n, self.modes)
+            axis, cylinder = machine.hydraulic_axis(record, n, row, float(self.F_hold[n - 1]))
+            loop, ref = machine.joint_loop(record, n, cylinder, q, moves.get(n, []))
             self.cylinders.append(cylinder)
             for name, part in (("joint", joint), ("section", section), ("axis", axis), ("loop", loop), ("ref", ref)):
                 setattr(self, f"{name}{n}", part)
             self.connect(parent, joint.frame_a)
             self.connect(joint.frame_b, section.frame_root)
             if n > 1:  # joints 2-4: the lever pivoted on the section before, its link to this section's bracket
-                linkage = lever_link(record, n, q)
+                linkage = machine.lever_link(record, n, q)
                 setattr(self, f"linkage{n}", linkage)
                 self.connect(prev.frame_P_next, linkage.frame_pivot)
                 self.connect(linkage.frame_bracket, section.frame_C)
@@ -168,7 +157,7 @@ class Boom32(fl.Model):
             self.connect(rod_end, axis.frame_b, loop.frame_b)
             self.connect(ref.y, loop.u_ref)
             self.connect(ref.ff, loop.u_ff)
-            feed_and_drive(self, self.power, axis, loop, commands.get(n), f"command{n}")
+            machine.feed_and_drive(self, self.power, axis, loop, commands.get(n), f"command{n}")
             parent, prev = section.frame_tip, section
 
 
