@@ -5,7 +5,7 @@ bracket ``C`` its own joint's drive pushes on, and (on all but the last section)
 cylinder housing. :class:`BoomSection` gives each of them a frame, so drives, levers and the next section attach to
 the same connectors whether the section is a rigid ``Body`` or a Craig–Bampton ``FlexibleBody``.
 
-This is what ``PumpTruck._section`` with :func:`models.pump_truck.flexible.flexible_section` builds today, as a part.
+The pump truck's and the 28 m boom's sections are these (:func:`models.pump_truck.machine.boom_section`).
 """
 
 from __future__ import annotations

@@ -31,7 +31,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -43,7 +43,7 @@ from flexlib.fe.geometric import inertial_load_amplitudes
 
 from .parameters import PumpTruckParameters
 
-__all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "flexible_section", "in_plane_modes", "mpf_modes",
+__all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "in_plane_modes", "mpf_modes",
            "rigid_section_loads", "section_fe", "section_modal_data", "unfolding_poses"]
 
 #: Default number of beam elements per section.
@@ -197,67 +197,6 @@ def _cache_dir() -> Path:
     from flexlib.compile.cache import cache_dir
 
     return Path(os.environ.get("FLEXLIB_CACHE_DIR") or cache_dir()) / "pump_truck"
-
-
-def flexible_section(owner: Any, j: int, root: Any, pins: Mapping[str, Sequence[float]],
-                     record: PumpTruckParameters, modes: int | Sequence[int] = 8) -> dict[str, Any]:
-    """Section ``j`` (1–N) as a :class:`~flexlib.components.mechanics.flexible.FlexibleBody` on the frame ``root``,
-    with a frame at each named pin — the same frames a rigid section gives.
-
-    Parameters
-    ----------
-    owner : flexlib.Model
-        The model the components are added to (``section{j}`` and ``section{j}_{pin}`` offsets).
-    j : int
-        Section number 1–N.
-    root : Frame
-        The root joint's frame (the section's root pin).
-    pins : mapping of str to 3 floats
-        Points fixed on the section, in its frame [m]; each gets a frame: the FlexibleBody's frame at the node of
-        its station, plus a rigid offset to the point where it lies off the axis.
-    record : PumpTruckParameters
-        The design record.
-    modes : int or sequence of int
-        Modes kept: the lowest ``modes`` in-plane modes (:func:`in_plane_modes`), or their indices into the
-        section's modal data.
-
-    Returns
-    -------
-    dict of str to Frame
-        ``root``, ``tip`` and one frame per pin.
-    """
-    from flexlib.components.mechanics.flexible import FlexibleBody
-    from flexlib.components.mechanics.multibody import FixedTranslation
-
-    data, nodes = section_modal_data(record, j)
-    L = record.sections[j - 1].length
-    x = data.coordinates[:, 0]
-
-    at = {name: station_node(x, data.node_ids, float(p[0]), L) for name, p in pins.items()}
-    frame_nodes = list(dict.fromkeys([nodes["root"], nodes["tip"], *at.values()]))
-    missing = sorted(set(frame_nodes) - set(data.interface_nodes.tolist()))
-    if missing:
-        raise ValueError(f"flexible_section: section {j} pins {sorted(k for k, n in at.items() if n in missing)} "
-                         "are not at attachment stations of the record (attachment_points)")
-    kept = in_plane_modes(data)[:modes] if isinstance(modes, int) else [int(k) for k in modes]
-    body = FlexibleBody(data, modes=kept, frames=frame_nodes)
-    # the static start: at rest (qd = 0) with zero modal accelerations; the deflection q follows from the loads
-    body.set_start("qd", np.zeros(len(kept)), fixed=True)
-    body.set_start("qdd", np.zeros(len(kept)), fixed=True)
-    setattr(owner, f"section{j}", body)
-    owner.connect(root, body.frame_at(nodes["root"]))
-    frames: dict[str, Any] = {"root": root, "tip": body.frame_at(nodes["tip"])}
-    for name, point in pins.items():
-        node = at[name]
-        offset = np.asarray(point, dtype=float) - data.coordinates[data.node_index(node)]
-        if np.abs(offset).max() < 1e-12:
-            frames[name] = body.frame_at(node)
-            continue
-        arm = FixedTranslation(r=[float(v) for v in offset])
-        setattr(owner, f"section{j}_{name}", arm)
-        owner.connect(body.frame_at(node), arm.frame_a)
-        frames[name] = arm.frame_b
-    return frames
 
 
 #: The rigid model's pin names (``PumpTruck._section``) and the attachment points they are.

@@ -76,18 +76,21 @@ def test_modal_files_are_cached_by_content(tmp_path, monkeypatch):
 
 
 def _clamped_section(modes):
-    """Section 1 as a FlexibleBody clamped at its root pin under gravity, statics by steady-state initialisation."""
+    """Section 1 as a flexible :class:`~flexlib.models.boom.BoomSection` clamped at its root pin under gravity, with
+    the cylinder-housing pin of joint 2; statics by steady-state initialisation."""
     import flexlib as fl
     from flexlib.components.mechanics.multibody import World
-    from flexlib.models.pump_truck.flexible import flexible_section
+    from flexlib.models.boom import BoomSection
 
-    pins = {"housing": [*attachment_points(RECORD, 1)["housing"], 0.0]}
+    data, _ = section_modal_data(RECORD, 1)
 
     class ClampedSection(fl.Model):
         def __init__(self):
             super().__init__()
             self.world = World()
-            self.frames = flexible_section(self, 1, self.world.frame_b, pins, RECORD, modes=modes)
+            self.section1 = BoomSection(RECORD.sections[0].length, pins={"housing": attachment_points(RECORD, 1)[
+                "housing"]}, modal_data=data, modes=modes)
+            self.connect(self.world.frame_b, self.section1.frame_root)
 
     model = ClampedSection()
     return model, fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, progress=False)
@@ -113,16 +116,16 @@ def test_flexible_section_on_a_clamp_sags_as_the_fe_model():
     sag_fe = trans[0, nodes["tip"], 1]
 
     model, res = _clamped_section(36)
-    assert res["section1.frame_b.r_0"][0, 1] == pytest.approx(sag_fe, rel=2e-4)
-    housing = res["section1_housing.frame_b.r_0"][0]
+    assert res["section1.frame_tip.r_0"][0, 1] == pytest.approx(sag_fe, rel=2e-4)
+    housing = res["section1.frame_housing.r_0"][0]
     point = np.array([*attachment_points(RECORD, 1)["housing"], 0.0])
     offset = point - fe.nodes[nodes["housing"]]
     expected = point + trans[0, nodes["housing"]] + np.cross(rot[0, nodes["housing"]], offset)
     np.testing.assert_allclose(housing, expected, atol=1e-3 * abs(sag_fe))
 
     model, res = _clamped_section(8)
-    assert abs(res["section1.frame_b.r_0"][0, 1] / sag_fe - 1) > 0.1
-    body = model.section1
+    assert abs(res["section1.frame_tip.r_0"][0, 1] / sag_fe - 1) > 0.1
+    body = model.section1.body
     _t, q, _r0, _T = body.motion(res)
     data, loads = body.modal_data, body.load_amplitudes(res)[:1]
     x = data.coordinates[[data.node_index(nodes["root"]), data.node_index(nodes["tip"])]] + node_displacements(
