@@ -326,7 +326,8 @@ class SmoothReference(fl.Model):
         if dy_arr[0] != 0.0 or dy_arr[-1] != 0.0:
             raise ParameterError(f"{part}: the speed must be 0 at the first and last knot (the ends are held), got "
                                  f"dy[0] = {dy_arr[0]:g}, dy[-1] = {dy_arr[-1]:g}")
-        self.knots = (t_arr, y_arr, dy_arr)
+        # structure: the knots relative to the first (public: in the build's key); the start value is a parameter
+        self.profile = (t_arr, y_arr - y_arr[0], dy_arr)
         self.ff_gain = None
         if ff_gain is not None:
             if isinstance(ff_gain, str | bytes) or not hasattr(ff_gain, "__len__") or len(ff_gain) != 2:
@@ -334,11 +335,21 @@ class SmoothReference(fl.Model):
             self.ff_gain = tuple(positive(part, f"ff_gain[{i}]", g, "1") for i, g in enumerate(ff_gain))
             self.ff = Output(unit="1", doc="Feed-forward: ff_gain[0]·dy (dy > 0), ff_gain[1]·dy (dy < 0)")
         self.y, self.dy = Output(unit="1", doc="Position"), Output(unit="1", doc="Speed dy/dt")
+        # the start value is a parameter, the profile relative to it structure: a joint held in another pose is the
+        # same build (a machine's static starts in many poses share one)
+        self.y_start = fl.Parameter(float(y_arr[0]), unit="1", doc="Position at the first knot")
+
+    @property
+    def knots(self) -> Knots:
+        """The knots ``(t, y, dy)`` as given."""
+        t, y, dy = self.profile
+        return t, y + float(self.parameter_value("y_start")), dy
 
     def equations(self) -> list:
-        """``y = c0 + s(c1 + s(c2 + s c3))``, ``dy = c1 + s(2 c2 + 3 s c3)``, ``s = t − t_k``, with ``t_k`` and
-        ``c`` those of the segment holding ``t`` (the held ends: ``c = (y_end, 0, 0, 0)``)."""
-        t, y, dy = self.knots
+        """``y = y_start + c0 + s(c1 + s(c2 + s c3))``, ``dy = c1 + s(2 c2 + 3 s c3)``, ``s = t − t_k``, with ``t_k``
+        and ``c`` those of the segment holding ``t`` (relative to the first knot; the held ends: ``c = (y_end − y_start,
+        0, 0, 0)``)."""
+        t, y, dy = self.profile  # relative to y_start
         c = hermite_coefficients(t, y, dy) if t.size > 1 else np.zeros((0, 4))
         # segments: the held start, the cubics, the held end; each (t_k, c0, c1, c2, c3)
         rows = [(t[0], y[0], 0.0, 0.0, 0.0), *((t[k], *c[k]) for k in range(len(c))), (t[-1], y[-1], 0.0, 0.0, 0.0)]
@@ -349,7 +360,7 @@ class SmoothReference(fl.Model):
             seg = [fl.no_event(below, float(v), s) for v, s in zip(rows[i], seg, strict=True)]
         s = fl.time - seg[0]
         c0, c1, c2, c3 = seg[1:]
-        out = [fl.eq(self.y, c0 + s * (c1 + s * (c2 + s * c3))),
+        out = [fl.eq(self.y, self.y_start + c0 + s * (c1 + s * (c2 + s * c3))),
                fl.eq(self.dy, c1 + s * (2 * c2 + 3 * s * c3))]
         if self.ff_gain is not None:
             k_pos, k_neg = self.ff_gain
