@@ -32,6 +32,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
+
 import flexlib as fl
 from flexlib.components.mechanics.multibody import World
 from flexlib.errors import ParameterError
@@ -112,17 +114,17 @@ class Boom32(fl.Model):
                                  "is rigid (flexible=False); give flexible=True as well, or leave modes out")
         if filled is not None:  # the load only: the machine is sized on its worst case
             record = replace(record, pipe=replace(record.pipe, filled=filled))
-        self.record, self.q0 = record, check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record, NAME)
+        self.record, self._q0 = record, check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record, NAME)
         self.modes = check_modes(modes, record, NAME, mpf_selection) if self.flexible else None
         moves, commands = machine.joint_inputs(record, targets, commands, NAME)
-        self.F_hold = cylinder_forces(record, self.q0[1:], design_cylinders(record))[0]
+        self._F_hold = cylinder_forces(record, self._q0[1:], design_cylinders(record))[0]  # values, not structure
         self.cylinders: list[dict[str, Any]] = []
 
         self.world = World()
         self.power = PowerUnit(p_relief=record.p_system)
         if self.slewing:
             self.turret, self.slew_drive, self.slew_loop, self.slew_ref = machine.slewing_turret(
-                record, float(self.q0[0]), moves.get(0, []))
+                record, float(self._q0[0]), moves.get(0, []))
             self.connect(self.world.frame_b, self.turret.frame_a)
             self.connect(self.slew_drive.flange, self.turret.axis, self.slew_loop.flange)
             self.connect(self.slew_ref.y, self.slew_loop.u_ref)
@@ -136,9 +138,9 @@ class Boom32(fl.Model):
 
         prev = None
         for n, row in enumerate(machine.design_sizing(record), start=1):  # sized once, on the worst case
-            q = float(self.q0[n])
+            q = float(self._q0[n])
             joint, section = machine.boom_joint(q), machine.boom_section(record, n, self.modes)
-            axis, cylinder = machine.hydraulic_axis(record, n, row, float(self.F_hold[n - 1]))
+            axis, cylinder = machine.hydraulic_axis(record, n, row, float(self._F_hold[n - 1]))
             loop, ref = machine.joint_loop(record, n, cylinder, q, moves.get(n, []))
             self.cylinders.append(cylinder)
             for name, part in (("joint", joint), ("section", section), ("axis", axis), ("loop", loop), ("ref", ref)):
@@ -159,6 +161,16 @@ class Boom32(fl.Model):
             self.connect(ref.ff, loop.u_ff)
             machine.feed_and_drive(self, self.power, axis, loop, commands.get(n), f"command{n}")
             parent, prev = section.frame_tip, section
+
+    @property
+    def q0(self) -> np.ndarray:
+        """Start angles [rad] (slew, q1 … q4): a start value, not structure (one build serves every pose)."""
+        return self._q0.copy()
+
+    @property
+    def F_hold(self) -> np.ndarray:
+        """The hand statics' cylinder forces at the start [N] (positive pushes)."""
+        return self._F_hold.copy()
 
 
 #: Poses [deg] whose static loads select the flexible sections' modes: the unfolding's stations and the extended boom.
