@@ -32,8 +32,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
-import numpy as np
-
 import flexlib as fl
 from flexlib.components.mechanics.multibody import World
 from flexlib.errors import ParameterError
@@ -60,7 +58,7 @@ OPTIONS = tuple(o for o in model_options(4) if o.name != "link_plate")
 NAME = "Boom32"
 
 
-class Boom32(fl.Model):
+class Boom32(machine.HeldStart, fl.Model):
     """The 32 m four-section boom, rigid or with flexible sections, composed of boom parts (module docstring).
 
     Parameters
@@ -162,15 +160,6 @@ class Boom32(fl.Model):
             machine.feed_and_drive(self, self.power, axis, loop, commands.get(n), f"command{n}")
             parent, prev = section.frame_tip, section
 
-    @property
-    def q0(self) -> np.ndarray:
-        """Start angles [rad] (slew, q1 … q4): a start value, not structure (one build serves every pose)."""
-        return self._q0.copy()
-
-    @property
-    def F_hold(self) -> np.ndarray:
-        """The hand statics' cylinder forces at the start [N] (positive pushes)."""
-        return self._F_hold.copy()
 
 
 #: Poses [deg] whose static loads select the flexible sections' modes: the unfolding's stations and the extended boom.

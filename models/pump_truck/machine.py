@@ -46,7 +46,7 @@ from .geometry import LINK_PLATE, linkage_masses, section_mass_properties
 from .parameters import PumpTruckParameters
 from .statics import design_cylinders, sizing, worst_case
 
-__all__ = ["A_MAX", "J_MAX", "LENGTH_TOL", "P_TANK", "STOP_MARGIN", "W_MAX", "boom_joint", "boom_section",
+__all__ = ["A_MAX", "J_MAX", "LENGTH_TOL", "P_TANK", "STOP_MARGIN", "W_MAX", "HeldStart", "boom_joint", "boom_section",
            "design_sizing", "feed_and_drive", "fixed_turret", "hydraulic_axis", "joint_inputs", "joint_loop",
            "lever_link", "slewing_turret"]
 
@@ -56,6 +56,24 @@ W_MAX = 0.03  # joint speed at full valve command at the largest lever arm [rad/
 A_MAX = 0.01  # joint acceleration of the reference moves [rad/s2]
 J_MAX = 0.01  # joint jerk of the reference moves [rad/s3]
 LENGTH_TOL = 1e-6  # length references within 1 µm of the kinematics [m]
+
+
+class HeldStart:
+    """A machine's start pose and holding forces, kept as values (``_q0``, ``_F_hold``), not structure: attributes
+    without a leading underscore enter the build's key, so one build serves every start pose."""
+
+    _q0: np.ndarray
+    _F_hold: np.ndarray
+
+    @property
+    def q0(self) -> np.ndarray:
+        """Start angles [rad] (slew, q1 … qN)."""
+        return self._q0.copy()
+
+    @property
+    def F_hold(self) -> np.ndarray:
+        """Holding forces of the cylinders at the start, by the hand statics [N] (positive pushes)."""
+        return self._F_hold.copy()
 
 
 def design_sizing(record: PumpTruckParameters) -> tuple[dict[str, Any], ...]:

@@ -59,8 +59,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
-import numpy as np
-
 import flexlib as fl
 from flexlib.components.control import TimeTable
 from flexlib.components.mechanics.multibody import World
@@ -76,6 +74,7 @@ from .machine import (  # noqa: F401  (A_MAX ... W_MAX, P_TANK: the machine's co
     P_TANK,
     STOP_MARGIN,
     W_MAX,
+    HeldStart,
     boom_joint,
     boom_section,
     design_sizing,
@@ -100,7 +99,7 @@ WORKING_POSE_DEG = (0.0, 50.0, 10.0, -30.0, 20.0, -40.0)
 EXTENDED_POSE_DEG = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
-class PumpTruck(fl.Model):
+class PumpTruck(HeldStart, fl.Model):
     """The pump-truck boom, rigid or with flexible sections, composed of boom parts (module docstring).
 
     Parameters
@@ -201,16 +200,6 @@ class PumpTruck(fl.Model):
             self.connect(ref.ff, loop.u_ff)
             feed_and_drive(self, self.power, axis, loop, commands_by_joint.get(n), f"command{n}")
             parent, prev = section.frame_tip, section
-
-    @property
-    def q0(self) -> np.ndarray:
-        """Start angles [rad] (slew, q1 … qN)."""
-        return self._q0.copy()
-
-    @property
-    def F_hold(self) -> np.ndarray:
-        """Holding forces of the cylinders at the start, by the hand statics [N] (positive pushes)."""
-        return self._F_hold.copy()
 
     # ---- the parts, each made from the record --------------------------------------------------------------------
     def _turret(self, moves: Sequence[tuple], command: TimeTable | None) -> tuple[Any, Any]:
