@@ -41,7 +41,7 @@ from flexlib.models.pump_truck.arguments import check_modes, check_pose, joint_n
 from flexlib.models.pump_truck.flexible import mpf_modes, unfolding_poses
 from flexlib.models.pump_truck.parameters import PumpTruckParameters
 from flexlib.models.pump_truck.record32 import BOOM32
-from flexlib.models.pump_truck.statics import cylinder_forces, design_cylinders
+from flexlib.models.pump_truck.statics import cylinder_forces
 
 __all__ = ["EXTENDED_POSE_DEG", "JOINTS", "OPTIONS", "TRANSPORT_POSE_DEG", "WORKING_POSE_DEG", "Boom32"]
 
@@ -115,7 +115,7 @@ class Boom32(machine.HeldStart, fl.Model):
         self.record, self._q0 = record, check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record, NAME)
         self.modes = check_modes(modes, record, NAME, mpf_selection) if self.flexible else None
         moves, commands = machine.joint_inputs(record, targets, commands, NAME)
-        self._F_hold = cylinder_forces(record, self._q0[1:], design_cylinders(record))[0]  # values, not structure
+        self._F_hold = cylinder_forces(record, self._q0[1:])[0]  # values, not structure
         self.cylinders: list[dict[str, Any]] = []
 
         self.world = World()

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -44,7 +43,7 @@ from flexlib.models.boom.slew import RATIO as SLEW_RATIO
 from .arguments import check_commands, check_sources, check_table, check_targets, joint_names
 from .geometry import LINK_PLATE, linkage_masses, section_mass_properties
 from .parameters import PumpTruckParameters
-from .statics import design_cylinders, sizing, worst_case
+from .statics import design_cylinders, design_sizing
 
 __all__ = ["A_MAX", "J_MAX", "LENGTH_TOL", "P_TANK", "STOP_MARGIN", "W_MAX", "HeldStart", "boom_joint", "boom_section",
            "design_sizing", "feed_and_drive", "fixed_turret", "hydraulic_axis", "joint_inputs", "joint_loop",
@@ -74,17 +73,6 @@ class HeldStart:
     def F_hold(self) -> np.ndarray:
         """Holding forces of the cylinders at the start, by the hand statics [N] (positive pushes)."""
         return self._F_hold.copy()
-
-
-def design_sizing(record: PumpTruckParameters) -> tuple[dict[str, Any], ...]:
-    """The machine's cylinders, one row per joint (:func:`~models.pump_truck.statics.sizing`), sized once on its
-    worst case: every pipe state of the record gives the same rows (and the same objects: do not change them)."""
-    return _sizing(worst_case(record))
-
-
-@lru_cache(maxsize=16)
-def _sizing(design: PumpTruckParameters) -> tuple[dict[str, Any], ...]:
-    return tuple(sizing(design))
 
 
 def joint_inputs(record: PumpTruckParameters, targets: Mapping[str, Any] | None,

@@ -87,7 +87,7 @@ from .machine import (  # noqa: F401  (A_MAX ... W_MAX, P_TANK: the machine's co
     slewing_turret,
 )
 from .parameters import PumpTruckParameters
-from .statics import cylinder_forces, design_cylinders
+from .statics import cylinder_forces
 
 __all__ = ["JOINTS", "TRANSPORT_POSE_DEG", "WORKING_POSE_DEG", "PumpTruck"]
 
@@ -169,7 +169,7 @@ class PumpTruck(HeldStart, fl.Model):
         self._q0 = check_pose(TRANSPORT_POSE_DEG if pose is None else pose, record)
         self.modes = check_modes(modes, record) if self.flexible else modes
         moves, commands_by_joint = joint_inputs(record, targets, commands)
-        self._F_hold = cylinder_forces(record, self._q0[1:], design_cylinders(record))[0]
+        self._F_hold = cylinder_forces(record, self._q0[1:])[0]
         self.cylinders: list[dict[str, Any]] = []
 
         self.world = World()

@@ -34,7 +34,8 @@ from .kinematics import rot
 from .parameters import CYLINDER_BORES, CYLINDER_RODS, PumpTruckParameters
 
 __all__ = ["DESIGN_JOINT_SPEED", "LINK_PLATE", "cylinder_forces", "cylinder_masses", "dead_length", "design_cylinders",
-           "joint_torques", "linkage_masses", "mass_properties", "point_masses", "sizing", "worst_case"]
+           "design_sizing", "joint_torques", "linkage_masses", "mass_properties", "point_masses", "sizing",
+           "worst_case"]
 
 LINK_PLATE = 2 * 0.025 * 0.12  # lever/link cross-section at joint scale 3.0: two 25 x 120 mm plates [m2]
 
@@ -200,11 +201,22 @@ def worst_case(record: PumpTruckParameters) -> PumpTruckParameters:
     return record if record.pipe.filled else replace(record, pipe=replace(record.pipe, filled=True))
 
 
+def design_sizing(record: PumpTruckParameters) -> tuple[dict, ...]:
+    """The machine's cylinders, one :func:`sizing` row per joint, sized once on its worst case: every pipe state of
+    the record gives the same rows (and the same objects: do not change them)."""
+    return _design_sizing(worst_case(record))
+
+
+@lru_cache(maxsize=16)
+def _design_sizing(design: PumpTruckParameters) -> tuple[dict, ...]:
+    return tuple(sizing(design))
+
+
 @lru_cache(maxsize=64)
 def design_cylinders(record: PumpTruckParameters) -> tuple[dict, ...]:
-    """The cylinders of the machine, one per boom joint (:func:`cylinder_masses` of the :func:`sizing` bores), sized
-    on its worst case whatever ``record.pipe.filled`` says."""
-    return tuple(cylinder_masses(record, row["bore"], row["rod"], row["stroke"]) for row in sizing(record))
+    """The cylinders of the machine, one per boom joint (:func:`cylinder_masses` of the :func:`design_sizing` bores),
+    sized on its worst case whatever ``record.pipe.filled`` says."""
+    return tuple(cylinder_masses(record, row["bore"], row["rod"], row["stroke"]) for row in design_sizing(record))
 
 
 def _sweep(record: PumpTruckParameters, k: int, n_sweep: int) -> np.ndarray:
