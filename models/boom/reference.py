@@ -290,7 +290,10 @@ class SmoothReference(fl.Model):
     (module docstring); before the first knot and after the last the end positions are held at zero speed. With
     ``ff_gain = (k_pos, k_neg)`` the output ``ff`` is ``k_pos·dy`` where the speed is positive and ``k_neg·dy`` where
     it is negative (a cylinder's feed-forward valve command: ``A_p/Q_nom`` extending, ``A_r/Q_nom`` retracting);
-    continuous, as the speed changes sign only through zero.
+    continuous, as the speed changes sign only through zero. With ``ff_lead > 0`` the feed-forward is the speed
+    ``ff_lead`` ahead, ``k·dy(t + ff_lead)``: it makes up for the lags between the command and the flow (the valve
+    amplifier's command filter and the spool), so the cylinder follows the reference instead of trailing it by the
+    lag and the loop does not brake it past the end of a move (the same segment selection, at the shifted time).
 
     Build the knots with :func:`motion_profile` (moves), :func:`waypoint_moves` (waypoints) and
     :func:`joint_to_length` (joint angle → cylinder length), or use :meth:`from_moves`.
@@ -301,6 +304,8 @@ class SmoothReference(fl.Model):
         Knot times [s] (strictly increasing), positions and speeds (the signal's unit and per second).
     ff_gain : (float, float), optional
         Gains of the feed-forward output for positive and negative speed.
+    ff_lead : float
+        Time by which the feed-forward leads the reference [s] (default 0; structural).
 
     Connectors
     ----------
@@ -312,7 +317,8 @@ class SmoothReference(fl.Model):
         Feed-forward (only with ``ff_gain``).
     """
 
-    def __init__(self, t: Any, y: Any, dy: Any, ff_gain: Sequence[float] | None = None, **kw: Any) -> None:
+    def __init__(self, t: Any, y: Any, dy: Any, ff_gain: Sequence[float] | None = None, ff_lead: float = 0.0,
+                 **kw: Any) -> None:
         super().__init__(**kw)
         part = "SmoothReference"
         t_arr, y_arr, dy_arr = (np.asarray(a, dtype=float) for a in (t, y, dy))
@@ -329,6 +335,7 @@ class SmoothReference(fl.Model):
         # structure: the knots relative to the first (public: in the build's key); the start value is a parameter
         self.profile = (t_arr, y_arr - y_arr[0], dy_arr)
         self.ff_gain = None
+        self.ff_lead = positive(part, "ff_lead", ff_lead, "s", allow_zero=True)  # structure: a second selection
         if ff_gain is not None:
             if isinstance(ff_gain, str | bytes) or not hasattr(ff_gain, "__len__") or len(ff_gain) != 2:
                 raise ParameterError(f"{part}: ff_gain must be (gain for dy > 0, gain for dy < 0), got {ff_gain!r}")
@@ -345,10 +352,9 @@ class SmoothReference(fl.Model):
         t, y, dy = self.profile
         return t, y + float(self.parameter_value("y_start")), dy
 
-    def equations(self) -> list:
-        """``y = y_start + c0 + s(c1 + s(c2 + s c3))``, ``dy = c1 + s(2 c2 + 3 s c3)``, ``s = t − t_k``, with ``t_k``
-        and ``c`` those of the segment holding ``t`` (relative to the first knot; the held ends: ``c = (y_end − y_start,
-        0, 0, 0)``)."""
+    def _segment(self, time: Any) -> tuple[Any, list[Any]]:
+        """``(s, [c0, c1, c2, c3])`` of the segment holding ``time``, ``s = time − t_k`` (relative to the first knot;
+        the held ends: ``c = (y_end − y_start, 0, 0, 0)``): one comparison and five selections per knot."""
         t, y, dy = self.profile  # relative to y_start
         c = hermite_coefficients(t, y, dy) if t.size > 1 else np.zeros((0, 4))
         # segments: the held start, the cubics, the held end; each (t_k, c0, c1, c2, c3)
@@ -356,15 +362,22 @@ class SmoothReference(fl.Model):
         bounds = [t[0], *t[1:], np.inf]  # segment i holds the times before bounds[i]
         seg: list[Any] = [float(v) for v in rows[-1]]
         for i in range(len(rows) - 2, -1, -1):
-            below = fl.time < float(bounds[i])
+            below = time < float(bounds[i])
             seg = [fl.no_event(below, float(v), s) for v, s in zip(rows[i], seg, strict=True)]
-        s = fl.time - seg[0]
-        c0, c1, c2, c3 = seg[1:]
+        return time - seg[0], seg[1:]
+
+    def equations(self) -> list:
+        """``y = y_start + c0 + s(c1 + s(c2 + s c3))``, ``dy = c1 + s(2 c2 + 3 s c3)``, ``s = t − t_k``, with ``t_k``
+        and ``c`` those of the segment holding ``t``; ``ff = k·dy(t + ff_lead)`` (the speed ``ff_lead`` ahead)."""
+        s, (c0, c1, c2, c3) = self._segment(fl.time)
         out = [fl.eq(self.y, self.y_start + c0 + s * (c1 + s * (c2 + s * c3))),
                fl.eq(self.dy, c1 + s * (2 * c2 + 3 * s * c3))]
         if self.ff_gain is not None:
             k_pos, k_neg = self.ff_gain
-            out.append(fl.eq(self.ff, fl.no_event(self.dy > 0, k_pos, k_neg) * self.dy))
+            if self.ff_lead > 0:
+                s, (_, c1, c2, c3) = self._segment(fl.time + self.ff_lead)
+            speed = c1 + s * (2 * c2 + 3 * s * c3)
+            out.append(fl.eq(self.ff, fl.no_event(speed > 0, k_pos, k_neg) * speed))
         return out
 
     @classmethod

@@ -14,10 +14,11 @@ joint 3 down; cylinder bores 180/180/180/100 mm at ≤ 80 % of 350 bar). Its dia
 Every part is made from the record by :mod:`models.pump_truck.machine` with the choices of the 42 m
 :class:`~models.pump_truck.model.PumpTruck` (its module docstring): designed once on the worst case
 (:func:`~models.pump_truck.statics.sizing`: pipe filled, full reach, cylinder housings and rods, levers and links
-counted; ``filled`` changes only the load), counterbalance valves 3:1 on both lines of every axis at 1.3 × the line's
-worst holding pressure, static-equilibrium start in any pose (joints at rest, each free chamber at tank pressure),
-joint angles the states (``state_select="always"``), targets as waypoints of jerk-limited moves mapped to cylinder
-lengths within 1 µm. Result names are those of PumpTruck: ``axis2.cylinder.cylinder.p_A``, ``joint2.frame_b.f``,
+counted; ``filled`` changes only the load), counterbalance valves 3:1 on both lines of every axis at 1.3 × the
+line's worst holding pressure (at least 70 bar), feed-forward ahead by the command filter and spool lag,
+static-equilibrium start in any pose (joints at rest, each free chamber at tank pressure), joint angles the states
+(``state_select="always"``), targets as waypoints of jerk-limited moves mapped to cylinder lengths within 1 µm.
+Result names are those of PumpTruck: ``axis2.cylinder.cylinder.p_A``, ``joint2.frame_b.f``,
 ``section4.frame_tip.r_0``, ``loop2.pid.y``, ``ref2.y``, ``turret.slew.phi``.
 
 References

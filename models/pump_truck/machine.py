@@ -2,13 +2,13 @@
 
 Functions shared by the machines composed on a :class:`~models.pump_truck.parameters.PumpTruckParameters` record of
 N = 4 … 6 sections (the 42 m :class:`~models.pump_truck.model.PumpTruck`, the 32 m
-:class:`~flexlib.models.boom32.Boom32`): each returns a part (or a few) sized and placed as the record says, at rest in
-the start pose; the machine's class names them and connects them (its composition). The choices are PumpTruck's
+:class:`~flexlib.models.boom32.Boom32`): each returns a part (or a few) sized and placed as the record says, at rest
+in the start pose; the machine's class names them and connects them (its composition). The choices are PumpTruck's
 (its module docstring): cylinders sized once on the worst case (:func:`~models.pump_truck.statics.sizing`) with
 ``STOP_MARGIN`` of stroke at each end, valves rated for ``W_MAX`` at the largest lever arm, counterbalance valves on
-both lines at 1.3 × the line's worst holding pressure (Sun Hydraulics), the free chamber at tank pressure at the
-start, joint references as jerk-limited moves (``A_MAX``, ``J_MAX``) mapped to cylinder lengths within
-``LENGTH_TOL``.
+both lines at 1.3 × the line's worst holding pressure (Sun Hydraulics; at least ``P_CRACK_MIN``), the free chamber
+at tank pressure at the start, joint references as jerk-limited moves (``A_MAX``, ``J_MAX``) mapped to cylinder
+lengths within ``LENGTH_TOL``, their feed-forward ``FF_LEAD`` ahead.
 """
 
 from __future__ import annotations
@@ -35,7 +35,8 @@ from flexlib.models.boom import (
     motion_profile,
     waypoint_moves,
 )
-from flexlib.models.boom.controller import OMEGA_C
+from flexlib.models.boom.axis import VALVE_HZ
+from flexlib.models.boom.controller import OMEGA_C, T_CMD
 from flexlib.models.boom.slew import D_MOTOR as SLEW_D
 from flexlib.models.boom.slew import Q_VALVE as SLEW_Q
 from flexlib.models.boom.slew import RATIO as SLEW_RATIO
@@ -54,6 +55,8 @@ STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
 W_MAX = 0.03  # joint speed at full valve command at the largest lever arm [rad/s] (valve sizing)
 A_MAX = 0.01  # joint acceleration of the reference moves [rad/s2]
 J_MAX = 0.01  # joint jerk of the reference moves [rad/s3]
+FF_LEAD = T_CMD + 2 * 0.7 / (2 * math.pi * VALVE_HZ)  # feed-forward lead: command filter + spool lag [s]
+P_CRACK_MIN = 70e5  # counterbalance setting of a line that holds no load over the sizing sweep [Pa]
 LENGTH_TOL = 1e-6  # length references within 1 µm of the kinematics [m]
 
 
@@ -141,7 +144,7 @@ def hydraulic_axis(record: PumpTruckParameters, n: int, row: Mapping[str, Any], 
     Q_nom = A_p * arm * W_MAX
     hold, free = ("A", "B") if row["F"] >= 0 else ("B", "A")
     p_hold = 1.3 * row[f"p_worst_{hold}"]  # Sun: 1.3 × the worst holding pressure of the line
-    p_free = 1.3 * row[f"p_worst_{free}"] if row[f"p_worst_{free}"] > 0 else p_hold
+    p_free = max(1.3 * row[f"p_worst_{free}"], P_CRACK_MIN)
     stroke, L0 = row["stroke"] + 2 * STOP_MARGIN, row["l_min"] - STOP_MARGIN
     cyl = design_cylinders(record)[n - 1]  # housing and rod masses where the hand statics puts them
     axis = HydraulicAxis(d_bore=bore, d_rod=rod, stroke=stroke, L0=L0, Q_nom=Q_nom, hold=hold, over_centre=True,
@@ -166,7 +169,7 @@ def joint_loop(record: PumpTruckParameters, n: int, cylinder: Mapping[str, Any],
     A_r = A_p - math.pi / 4 * cylinder["rod"] ** 2
     loop = JointController(A_p=A_p, Q_nom=cylinder["Q_nom"], L_start=drive.state(q).length, omega_c=OMEGA_C)
     knots = joint_to_length(motion_profile(q, moves), lambda x: drive.state(x).length, tol=LENGTH_TOL)
-    return loop, SmoothReference(*knots, ff_gain=(A_p / cylinder["Q_nom"], A_r / cylinder["Q_nom"]))
+    return loop, SmoothReference(*knots, ff_gain=(A_p / cylinder["Q_nom"], A_r / cylinder["Q_nom"]), ff_lead=FF_LEAD)
 
 
 def slewing_turret(record: PumpTruckParameters, q: float, moves: Sequence[tuple]

@@ -23,8 +23,9 @@ Hydraulics: a :class:`~flexlib.models.boom.PowerUnit` (pressure-compensated pump
 system pressure, tank) feeds one :class:`~flexlib.models.boom.HydraulicAxis` per joint: the cylinder with its
 housing and rod masses on its pins (weight and inertia, as in the hand statics that size it), a closed-centre
 proportional valve with pressure-compensated meter-in edges, **counterbalance valves on both lines** (3:1, each
-set at 1.3 × its line's worst holding pressure over the sizing sweep; a line that never holds the load gets the
-holding line's setting), hoses, and the shock-relief and make-up cartridges on both ports. The slewing ring is
+set at 1.3 × its line's worst holding pressure over the sizing sweep, at least ``P_CRACK_MIN`` = 70 bar: a line
+that never holds the load, joint 1's rod side, is not set at the holding line's 283 bar, which made the rod side's
+valve meter the lift and chatter), hoses, and the shock-relief and make-up cartridges on both ports. The slewing ring is
 driven by a :class:`~flexlib.models.boom.SlewDrive`.
 
 **Designed once, on the worst case.** Bores, rods and strokes (:func:`~models.pump_truck.statics.sizing`: filled
@@ -37,8 +38,11 @@ pin-to-pin length (crossover ``OMEGA_C`` in every pose; tared at the start to th
 reference and its feed-forward from a :class:`~flexlib.models.boom.SmoothReference`: the ``targets`` are waypoints
 of jerk-limited moves (``A_MAX``, ``J_MAX``; each joint at rest at each waypoint), mapped to the cylinder length
 through the record's kinematics (:func:`~flexlib.models.boom.joint_to_length`, 1 µm), so speed and flow are
-continuous. The slewing joint has an :class:`~flexlib.models.boom.AngleController`. A joint given in ``commands``
-is driven open loop by a ``TimeTable`` of valve commands (an operator's joystick).
+continuous. The feed-forward leads the reference by ``FF_LEAD`` = 0.171 s (the command filter ``T_CMD`` and the
+spool's lag ``2ζ/ω``), so the cylinder does not trail the reference and the loop does not reverse the spool at the
+end of a move (which opened the holding valve on its trapped pilot pressure and dropped the load a little). The
+slewing joint has an :class:`~flexlib.models.boom.AngleController`. A joint given in ``commands`` is driven open
+loop by a ``TimeTable`` of valve commands (an operator's joystick).
 
 Static-equilibrium start in any pose: the boom joints start at ``pose`` at rest and not accelerating; each axis's
 free chamber starts at tank pressure and its holding chamber's pressure is solved for (the hand statics' pressure

@@ -145,6 +145,22 @@ def test_limits_and_feed_forward(run):
     assert np.max(np.abs(res["ff"] - np.where(res["dy"] > 0, 2.0, 0.5) * res["dy"])) < 1e-12
 
 
+
+def test_feed_forward_lead():
+    """``ff_lead``: the feed-forward is the closed-form trapezoid's speed ``lead`` ahead (``k·v(t + lead)``, the gain of
+    the sign of that speed), while ``y`` and ``dy`` stay the reference's own; 1e-12 as above."""
+    lead = 0.171
+    ref = SmoothReference.from_moves(0.0, MOVES, ff_gain=(2.0, 0.5), ff_lead=lead)
+    res = equations_at(ref, np.arange(0.0, 22.0 + DT / 2, DT))
+    q, v = trapezoid_exact(res["time"], 0.0, MOVES)
+    _, v_ahead = trapezoid_exact(res["time"] + lead, 0.0, MOVES)
+    assert np.max(np.abs(res["y"] - q)) < 1e-12
+    assert np.max(np.abs(res["dy"] - v)) < 1e-12
+    assert np.max(np.abs(res["ff"] - np.where(v_ahead > 0, 2.0, 0.5) * v_ahead)) < 1e-12
+    assert np.max(np.abs(res["ff"] - np.where(v > 0, 2.0, 0.5) * v)) > 1e-3  # it does lead
+    with pytest.raises(ParameterError, match="SmoothReference: ff_lead must"):
+        SmoothReference.from_moves(0.0, MOVES, ff_gain=(2.0, 0.5), ff_lead=-0.1)
+
 # S-curve d = 1, v = 0.2, a = 0.1, j = 0.1 from t = 1 s, by hand: seven phases of constant jerk
 # (duration, acceleration at the start, jerk); q and v at the phase boundaries follow by integration
 S_PHASES = [(1.0, 0.0, 0.1), (1.0, 0.1, 0.0), (1.0, 0.1, -0.1), (2.0, 0.0, 0.0), (1.0, 0.0, -0.1),
