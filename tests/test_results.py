@@ -111,3 +111,34 @@ def test_display_units_in_plots_and_summary():
     assert ax.get_lines()[1].get_ydata()[-1] == pytest.approx(1.01325, rel=1e-12)
     table = res.summary("sensor.q", "tank.port.p").splitlines()
     assert "L/min" in table[1] and "6" in table[1].split()[2] and "bar" in table[2]
+
+
+def _read_one_by_one_equals_all(make_sim, t_end: float, **run) -> fl.Result:
+    """Every variable read by name from a fresh run (evaluated alone, from the recorded rows) equals the same run's
+    full ``values`` (every variable evaluated at once by the compiled ``out``) to 1e-12 relative."""
+    lazy = make_sim().run(t_end, **run)
+    one_by_one = {name: np.array(lazy[name]) for name in lazy.names}
+    assert lazy._values is None  # nothing evaluated the whole table
+    full = make_sim().run(t_end, **run)
+    for k, name in enumerate(full.names):
+        scale = max(float(np.max(np.abs(full.values[:, k]), initial=0.0)), 1e-300)
+        assert np.max(np.abs(one_by_one[name] - full.values[:, k]), initial=0.0) <= 1e-12 * scale, name
+    np.testing.assert_array_equal(lazy.values, full.values)  # and the table itself, read after the columns
+    return lazy
+
+
+def test_variables_are_evaluated_when_read():
+    """A run's result evaluates a variable when it is read (issue 29: the table of every variable at every row
+    costs more than the integration on a machine), the same values as the whole table."""
+    res = _read_one_by_one_equals_all(lambda: fl.Simulation(Oscillator(), use_cache=False), 2.0, dt_out=0.01)
+    assert res["mass.s"].shape == res.t.shape and res["spring.flange.f"][0] == pytest.approx(0.4)
+
+
+def test_variables_are_evaluated_when_read_across_state_switches():
+    """The same over a run whose model changes with its state selection (rows of several models)."""
+    from flexlib.models.reference.cartesian_pendulum import CartesianPendulum
+
+    res = _read_one_by_one_equals_all(
+        lambda: fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False),
+        3.0, rtol=1e-8, atol=1e-10)
+    assert res.stats["state_switches"] >= 1

@@ -39,7 +39,8 @@ class Result:
     names : list of str
         Variable names, in column order of ``values``.
     values : ndarray
-        ``(len(t), len(names))`` array.
+        ``(len(t), len(names))`` array. A run's result evaluates it when it is first read (and a single variable,
+        ``result[name]``, alone): ``source`` computes the columns from the recorded rows.
     units, docs, kinds : list of str
         Per-variable metadata.
     parameters : dict
@@ -54,6 +55,9 @@ class Result:
         Event times and what triggered them.
     index_report : str
         Index reduction report (which equations were differentiated, which variables are states).
+    source : object, optional
+        Where the values come from when ``values`` is None: ``source.columns(cols)`` (some variables, by column)
+        and ``source.all()`` (every one), each ``(len(t), ·)`` (:class:`flexlib.solve.assemble.RowColumns`).
     """
 
     model: str
@@ -70,8 +74,12 @@ class Result:
     events: list[tuple[float, str]] = field(default_factory=list)
     index_report: str = ""
     metadata: dict[str, str] = field(default_factory=dict)
+    source: Any = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
+        if self._values is None and self.source is None:
+            raise ValueError(f"Result of {self.model}: give values or a source of them")
+        self._columns: dict[int, np.ndarray] = {}  # variables read one by one from the source
         self._index = {n: k for k, n in enumerate(self.names)}
         self._arrays: dict[str, list[int]] = {}  # "frame.r" -> columns of r[0], r[1], ... (in column order)
         for k, n in enumerate(self.names):
@@ -116,12 +124,23 @@ class Result:
         if name in ("time", "t"):
             return self.t
         if name in self._index:
-            return self.values[:, self._index[name]]
+            return self._read([self._index[name]])[:, 0]
         # array variables: "frame.r" -> columns r[0], r[1], ...
         cols = self._arrays.get(name)
         if cols:
-            return self.values[:, cols]
+            return self._read(cols)
         raise self._unknown(name)
+
+    def _read(self, cols: list[int]) -> np.ndarray:
+        """Columns ``cols`` of :attr:`values` (``(len(t), len(cols))``), from the source alone if the values are not
+        evaluated yet (each column evaluated once)."""
+        if self._values is not None:
+            return self._values[:, cols]
+        todo = [c for c in dict.fromkeys(cols) if c not in self._columns]
+        if todo:
+            for c, col in zip(todo, self.source.columns(todo).T, strict=True):
+                self._columns[c] = col
+        return np.column_stack([self._columns[c] for c in cols]) if cols else np.zeros((len(self.t), 0))
 
     def _require_rows(self, what: str) -> None:
         if not len(self.t):
@@ -306,3 +325,20 @@ class Result:
     def __repr__(self) -> str:
         return (f"<Result {self.model}: {self.status}, t = {self.t[0] if len(self.t) else 0:g} … "
                 f"{self.t[-1] if len(self.t) else 0:g} s, {len(self.t)} points, {len(self.names)} variables>")
+
+
+def _values(self: Result) -> np.ndarray:
+    """Every variable at every time, ``(len(t), len(names))`` (evaluated from the source when first read)."""
+    if self._values is None:
+        self._values = np.asarray(self.source.all(), dtype=float)
+        self._columns = {}
+    return self._values
+
+
+def _set_values(self: Result, values: np.ndarray | None) -> None:
+    self._values = values
+
+
+# the dataclass field ``values`` (its constructor argument) read through a property: a run's values are evaluated
+# when first needed
+Result.values = property(_values, _set_values, doc=_values.__doc__)  # type: ignore[assignment,method-assign]

@@ -8,6 +8,7 @@ import time as _time
 import warnings
 from typing import Any
 
+import casadi as ca
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
@@ -16,30 +17,96 @@ from flexlib.results.result import Result
 from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
 from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["assemble_result"]
+__all__ = ["RowColumns", "assemble_result"]
+
+
+class RowColumns:
+    """The named variables of a run's rows, evaluated when they are read.
+
+    A run records its rows (``y``, ``y'``, relation values); every named variable (aliases, outputs, forces, frame
+    matrices: thousands in a machine) is a column of the model's ``out`` function of a row. Evaluating all of them
+    for every row costs more than the integration on a large model (the pump truck's expand-fold: 7 487 variables
+    at 11 212 rows, 670 MB), so a :class:`~flexlib.results.result.Result` asks for them when it is read:
+    :meth:`columns` evaluates the ``out`` entries of some variables only (an SX function of those outputs, the part
+    of ``out``'s graph they need, mapped over the rows), :meth:`all` every one (the run's compiled ``out``).
+
+    Parameters
+    ----------
+    rows : RowEvaluator
+        The run's function buffers.
+    parts : list of (CompiledModel, ndarray, ndarray, ndarray, ndarray, ndarray)
+        Per model of the run (a state switch changes it): the model, its rows' indices, ``T``, ``Y``, ``YP`` and
+        relation values, row-major (settled: :func:`~flexlib.solve.rows.settle_derivative_level`).
+    pvec : ndarray
+        Parameter vector of the run.
+    n_rows, n_cols : int
+        Rows and variables of the result.
+    """
+
+    def __init__(self, rows: RowEvaluator, parts: list[tuple[CompiledModel, np.ndarray, np.ndarray, np.ndarray,
+                                                               np.ndarray, np.ndarray]],
+                 pvec: np.ndarray, n_rows: int, n_cols: int) -> None:
+        self.rows, self.parts, self.pvec, self.n_rows, self.n_cols = rows, parts, pvec, n_rows, n_cols
+
+    def _P(self, rel: np.ndarray) -> np.ndarray:
+        P = np.empty((len(rel), len(self.pvec) + rel.shape[1]))
+        P[:, :len(self.pvec)] = self.pvec
+        P[:, len(self.pvec):] = rel
+        return P
+
+    def all(self) -> np.ndarray:
+        """Every variable at every row: ``(n_rows, n_cols)``."""
+        values = np.empty((self.n_rows, self.n_cols))
+        for model, idx, T, Y, YP, rel in self.parts:
+            values[idx] = self.rows.evaluate(model, "out", T, Y, YP, self._P(rel))
+        return values
+
+    def columns(self, cols: list[int]) -> np.ndarray:
+        """The variables ``cols`` (indices into the result's names) at every row: ``(n_rows, len(cols))``."""
+        key = ("out_columns", tuple(int(c) for c in cols))
+        values = np.empty((self.n_rows, len(cols)))
+        for model, idx, T, Y, YP, rel in self.parts:
+            fn = self.rows._entry(model, key, lambda model=model: _out_columns(self.rows, model, key[1]))
+            values[idx] = self.rows.evaluate_function(fn, model, key, T, Y, YP, self._P(rel))
+        return values
+
+
+def _out_columns(rows: RowEvaluator, model: CompiledModel, cols: tuple[int, ...]) -> ca.Function:
+    """``(t, y, yp, p) ->`` the entries ``cols`` of ``out``, dense: only the part of ``out``'s graph they need."""
+    args, out = rows._entry(model, ("out_sx",), lambda: _out_symbolic(model))
+    return ca.Function("flexlib_out_columns", args, [ca.densify(out[list(cols)])])
+
+
+def _out_symbolic(model: CompiledModel) -> tuple[list[ca.SX], ca.SX]:
+    fn = model.sx_function("out")
+    args = fn.sx_in()
+    return args, fn(*args)
 
 
 def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: RowEvaluator, t_init: float,
                     rtol: float, atol: float, build_info: dict[str, Any]) -> Result:
-    """The :class:`Result` of a run: every variable of every row (aliases and outputs rebuilt by the ``out``
-    function of the model of each row's segment), the derivative-level unknowns of the rows checked and settled
-    (:func:`~flexlib.solve.rows.settle_derivative_level`), the statistics, events and metadata.
+    """The :class:`Result` of a run: its rows, the derivative-level unknowns of the rows checked and settled
+    (:func:`~flexlib.solve.rows.settle_derivative_level`), every variable readable by name (aliases and outputs
+    rebuilt by the ``out`` function of the model of each row's segment when they are read: :class:`RowColumns`),
+    the statistics, events and metadata.
 
     ``m`` is the run's compiled model (its variables name the columns), ``pvec`` the parameter vector, ``t_init``
     the initialisation's wall time [s], ``build_info`` the build's timings.
     """
     names = [v.name for v in m.variables]
+    source = None
     if traj.t:
         T = np.array(traj.t)
-        values = np.zeros((len(T), len(names)))
-        repaired, settle_error = 0, ""
+        values = None
+        repaired, settle_error, parts = 0, "", []
         for model, idx, Ts, Y, YP, P in segments(traj, m, pvec):
             try:
                 Y, YP, n_fixed = settle_derivative_level(rows, model, Ts, Y, YP, P)
                 repaired += n_fixed
             except Exception as exc:  # never lose a run's rows to the check: keep them as recorded
                 settle_error = f"{type(exc).__name__}: {exc}"
-            values[idx] = rows.evaluate(model, "out", Ts, Y, YP, P)
+            parts.append((model, idx, Ts, Y, YP, np.array(P[:, len(pvec):])))
+        source = RowColumns(rows, parts, np.array(pvec, dtype=float), len(T), len(names))
     else:
         T, values = np.zeros(0), np.zeros((0, len(names)))
     stats = dict(traj.stats)
@@ -65,5 +132,5 @@ def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: 
         docs=[v.doc for v in m.variables], kinds=[v.kind for v in m.variables],
         parameters={n: (float(v), u) for n, v, u in zip(m.param_names, pvec, m.param_units, strict=True)},
         stats=stats, status=traj.status, message=traj.message, events=list(traj.events),
-        index_report=str(m.report), metadata=meta,
+        index_report=str(m.report), metadata=meta, source=source,
     )

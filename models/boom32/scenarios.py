@@ -15,6 +15,7 @@ the one before it is half done, and the solver settings ``RUN``):
 
 from __future__ import annotations
 
+from flexlib.models.pump_truck.plots import figures
 from flexlib.models.pump_truck.scenarios import OVERLAP, RUN, expand_targets, reverse_after
 from flexlib.registry import Scenario, register_model
 
@@ -59,5 +60,5 @@ def summary_signals(model: Boom32) -> list[str]:
 register_model(
     "boom-32", lambda scenario: Boom32(**scenario.options, **scenario.data),
     doc="32 m four-section Z-fold boom composed from the boom parts (issue 28's second machine)",
-    scenarios=list(SCENARIOS), summary_signals=summary_signals, options=OPTIONS, data=DATA_KEYS,
+    scenarios=list(SCENARIOS), summary_signals=summary_signals, options=OPTIONS, data=DATA_KEYS, plots=figures,
 )

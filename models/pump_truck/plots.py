@@ -28,7 +28,6 @@ import numpy as np
 
 __all__ = ["figures"]
 
-_JOINTS = range(1, 6)
 #: Time between the frames of the VTK series [s].
 VTK_DT = 1.0
 
@@ -46,12 +45,21 @@ def _has(result: Any, name: str) -> bool:
     return any(n == name or n.startswith(name + "[") for n in result.names)
 
 
+def _joints(result: Any) -> list[int]:
+    """The boom joints of the run (``joint1``, ``joint2``, … as far as the result has them: 5 on the 42 m boom, 4
+    on boom-32)."""
+    n = 0
+    while f"joint{n + 1}.phi" in result:
+        n += 1
+    return list(range(1, n + 1))
+
+
 def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     """Write the figures listed in the module docstring into ``directory``; returns their paths.
 
     Parameters
     ----------
-    model : PumpTruck
+    model : PumpTruck or Boom32
         The model of the run (its record gives the nominal section lengths).
     result : Result
         The run.
@@ -62,7 +70,7 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
     t = np.asarray(result.t, dtype=float)
     out = [_flows(result, t, directory), _pressures(result, t, directory), _hinge_forces(result, t, directory),
            _section_lengths(model, result, t, directory)]
-    flexible = [n for n in _JOINTS if _has(result, f"section{n}.body.q")]
+    flexible = [n for n in _joints(result) if _has(result, f"section{n}.body.q")]
     if flexible:
         out.append(_modal_coordinates(result, t, flexible, directory))
     out.append(_tip_path(result, t, directory))
@@ -75,7 +83,7 @@ def _flows(result: Any, t: np.ndarray, directory: Path) -> Path:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
-    for n in _JOINTS:
+    for n in _joints(result):
         q, unit = result.display(f"axis{n}.cylinder.cylinder.q_A")
         ax.plot(t, q, label=f"cylinder {n}")
     ax.set(xlabel="time [s]", ylabel=f"flow into port A [{unit}]", title="Cylinder port A flows")
@@ -88,15 +96,16 @@ def _pressures(result: Any, t: np.ndarray, directory: Path) -> Path:
     """``pressures.png``: both chamber pressures of each cylinder."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(5, 1, figsize=(9, 9), sharex=True)
-    for n, ax in zip(_JOINTS, axes, strict=True):
+    joints = _joints(result)
+    fig, axes = plt.subplots(len(joints), 1, figsize=(9, 1.8 * len(joints)), sharex=True, squeeze=False)
+    for n, ax in zip(joints, axes[:, 0], strict=True):
         for side in ("A", "B"):
             p, unit = result.display(f"axis{n}.cylinder.cylinder.p_{side}")
             ax.plot(t, p, label=f"p_{side}")
         ax.set_ylabel(f"cyl. {n} [{unit}]")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
-    axes[-1].set_xlabel("time [s]")
+    axes[-1, 0].set_xlabel("time [s]")
     fig.suptitle("Chamber pressures")
     return _save(fig, directory / "pressures.png")
 
@@ -106,7 +115,7 @@ def _hinge_forces(result: Any, t: np.ndarray, directory: Path) -> Path:
     import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
-    for n in _JOINTS:
+    for n in _joints(result):
         f = np.asarray(result[f"joint{n}.frame_b.f"], dtype=float).reshape(len(t), 3)
         ax.plot(t, np.linalg.norm(f, axis=1) / 1e3, label=f"joint {n}")
         ax2.plot(t, f[:, 0] / 1e3, label=f"joint {n} x")
@@ -124,10 +133,10 @@ def _section_lengths(model: Any, result: Any, t: np.ndarray, directory: Path) ->
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
-    record = model.record
-    for n in _JOINTS:
+    record, joints = model.record, _joints(result)
+    for n in joints:
         root = np.asarray(result[f"joint{n}.frame_b.r_0"], dtype=float).reshape(len(t), 3)
-        tip_name = f"joint{n + 1}.frame_a.r_0" if n < 5 else "section5.frame_tip.r_0"
+        tip_name = f"joint{n + 1}.frame_a.r_0" if n < joints[-1] else f"section{n}.frame_tip.r_0"
         if not _has(result, tip_name):
             continue
         tip = np.asarray(result[tip_name], dtype=float).reshape(len(t), 3)
@@ -160,14 +169,14 @@ def _tip_path(result: Any, t: np.ndarray, directory: Path) -> Path:
     import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
-    tip = np.asarray(result["section5.frame_tip.r_0"], dtype=float).reshape(len(t), 3)
+    tip = np.asarray(result[f"section{_joints(result)[-1]}.frame_tip.r_0"], dtype=float).reshape(len(t), 3)
     ax.plot(tip[:, 0], tip[:, 1])
     ax.plot(tip[0, 0], tip[0, 1], "o", label="start")
     ax.plot(tip[-1, 0], tip[-1, 1], "s", label="end")
     ax.set(xlabel="x [m]", ylabel="y [m]", title="Tip path", aspect="equal")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    for n in _JOINTS:
+    for n in _joints(result):
         ax2.plot(t, np.degrees(result[f"joint{n}.phi"]), label=f"q{n}")
     ax2.set(xlabel="time [s]", ylabel="joint angle [deg]", title="Joint angles")
     ax2.grid(True, alpha=0.3)
@@ -180,7 +189,7 @@ def write_boom_vtk(model: Any, result: Any, path: Path, dt: float = VTK_DT) -> P
     from flexlib.fe.vtk_series import write_model_vtk
 
     lines: dict[str, list[str]] = {}
-    for n in _JOINTS:
+    for n in _joints(result):
         if not _has(result, f"section{n}.body.q"):  # a rigid section: its pins
             lines[f"section{n}"] = [f"joint{n}.frame_b", f"section{n}.frame_tip"]
         lines[f"cylinder{n}"] = [f"axis{n}.frame_a", f"axis{n}.frame_b"]

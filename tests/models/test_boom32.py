@@ -132,3 +132,28 @@ def test_the_docs_example_runs_as_written(capsys):
     ns = run_blocks("docs/boom32.md")
     assert "[180, 180, 180, 100]" in capsys.readouterr().out
     assert ns["boom"].F_hold.shape == (4,) and ns["boom"].F_hold[0] > 0
+
+
+def test_figures_of_a_four_section_run(golden_runs, tmp_path):
+    """``flexlib run boom-32 --plots``: the pump truck's figures drawn for four sections (one pressure panel, flow,
+    hinge-force and section-length curve per joint; the tip is section 4's); the rigid sections' pin-to-pin lengths
+    stay at their nominal values (1e-9 m)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.image as mpimg
+
+    from flexlib.models.pump_truck.plots import figures
+
+    res = golden_runs["expand-fold"]
+    entry = get_model(MODEL)
+    model = entry.factory(entry.scenario("expand-fold"))
+    paths = figures(model, res, tmp_path)
+    assert [p.name for p in paths] == ["flows.png", "pressures.png", "hinge_forces.png", "section_lengths.png",
+                                       "tip_path.png", "boom.pvd"]
+    for p in paths[:-1]:
+        assert mpimg.imread(p).shape[0] > 200
+    assert entry.plots is figures
+    for n in range(1, 4):
+        length = np.linalg.norm(res[f"joint{n + 1}.frame_a.r_0"] - res[f"joint{n}.frame_b.r_0"], axis=1)
+        np.testing.assert_allclose(length, model.record.sections[n - 1].length, atol=1e-9)
