@@ -66,14 +66,14 @@ class RowColumns:
         key = ("out_columns", tuple(int(c) for c in cols))
         values = np.empty((self.n_rows, len(cols)))
         for model, idx, T, Y, YP, rel in self.parts:
-            fn = self.rows._entry(model, key, lambda model=model: _out_columns(self.rows, model, key[1]))
+            fn = self.rows.cached(model, key, lambda model=model: _out_columns(self.rows, model, key[1]))
             values[idx] = self.rows.evaluate_function(fn, model, key, T, Y, YP, self._P(rel))
         return values
 
 
 def _out_columns(rows: RowEvaluator, model: CompiledModel, cols: tuple[int, ...]) -> ca.Function:
     """``(t, y, yp, p) ->`` the entries ``cols`` of ``out``, dense: only the part of ``out``'s graph they need."""
-    args, out = rows._entry(model, ("out_sx",), lambda: _out_symbolic(model))
+    args, out = rows.cached(model, ("out_sx",), lambda: _out_symbolic(model))
     return ca.Function("flexlib_out_columns", args, [ca.densify(out[list(cols)])])
 
 

@@ -40,7 +40,8 @@ class RowEvaluator:
         """Forget every buffer (the model was rebuilt)."""
         self._cache.clear()
 
-    def _entry(self, model: CompiledModel, key: tuple, make: Any) -> Any:
+    def cached(self, model: CompiledModel, key: tuple, make: Any) -> Any:
+        """The object kept for ``model`` under ``key`` (a function, a buffer), made by ``make()`` the first time."""
         entry = self._cache.get((id(model), *key))
         if entry is None or entry[0] is not model:
             entry = self._cache[(id(model), *key)] = (model, make())
@@ -56,7 +57,7 @@ class RowEvaluator:
                 args = fn.sx_in()
                 return ca.Function(f"{fn.name()}_dense", args, [ca.densify(fn(*args))])
 
-            fn = self._entry(model, (name, "dense"), dense)
+            fn = self.cached(model, (name, "dense"), dense)
         return self.evaluate_function(fn, model, (name,), T, Y, YP, P)
 
     def evaluate_function(self, fn: ca.Function, model: CompiledModel, key: tuple, T: np.ndarray, Y: np.ndarray,
@@ -68,7 +69,7 @@ class RowEvaluator:
         T, Y, YP, P = (np.ascontiguousarray(a, dtype=float) for a in (T, Y, YP, P))
         full = n_rows // CHUNK * CHUNK
         if full:
-            buf, ev = self._entry(model, (*name, "map", CHUNK), lambda: fn.map(CHUNK).buffer())
+            buf, ev = self.cached(model, (*name, "map", CHUNK), lambda: fn.map(CHUNK).buffer())
             for a in range(0, full, CHUNK):
                 b = a + CHUNK
                 buf.set_arg(0, memoryview(T[a:b]))
@@ -78,7 +79,7 @@ class RowEvaluator:
                 buf.set_res(0, memoryview(values[a:b]))
                 ev()
         if full < n_rows:
-            buf, ev = self._entry(model, (*name, "row"), fn.buffer)
+            buf, ev = self.cached(model, (*name, "row"), fn.buffer)
             for i in range(full, n_rows):
                 buf.set_arg(0, memoryview(T[i:i + 1]))
                 buf.set_arg(1, memoryview(Y[i]))
@@ -183,7 +184,7 @@ def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.n
     state_nz = np.asarray(model.differential, dtype=bool)[col_of]
     n_nz = col_of.size
     full_key = ("settle", "jac_full")
-    full = rows._entry(model, full_key, lambda: _settle_jacobian(model))
+    full = rows.cached(model, full_key, lambda: _settle_jacobian(model))
     diff = np.asarray(model.differential, dtype=bool)
     todo = bad
     for _ in range(4):
