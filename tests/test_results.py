@@ -84,6 +84,9 @@ def test_plot_returns_axes():
     res = fl.Simulation(Oscillator(), use_cache=False).run(1.0, dt_out=0.1)
     ax = res.plot("mass.s", "mass.v")
     assert [line.get_label() for line in ax.get_lines()] == ["mass.s [m]", "mass.v [m/s]"]
+    assert ax.get_ylabel() == ""  # two units: the legend says them
+    assert res.plot("mass.s").get_ylabel() == "mass.s [m]"  # one variable: the axis says it (issue 29)
+    assert res.plot("mass.s", "spring.flange.s").get_ylabel() == "[m]"
 
 
 def test_display_units_in_plots_and_summary():
@@ -142,3 +145,18 @@ def test_variables_are_evaluated_when_read_across_state_switches():
         lambda: fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False),
         3.0, rtol=1e-8, atol=1e-10)
     assert res.stats["state_switches"] >= 1
+
+
+def test_result_file_has_the_users_file_mode(tmp_path):
+    """A saved result gets the mode any file the user writes gets (0666 less the umask: 0644 with umask 022), not
+    the 0600 of the temporary file it is written through (issue 29)."""
+    import os
+    import stat
+
+    res = fl.Simulation(Oscillator(), use_cache=False).run(0.1, dt_out=0.05)
+    old = os.umask(0o022)
+    try:
+        res.save(tmp_path / "r.h5")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "r.h5").stat().st_mode) == 0o644

@@ -138,12 +138,25 @@ def save_result(result: Result, path: str | os.PathLike) -> None:
     os.close(fd)
     try:
         _write(result, tmp)
+        os.chmod(tmp, _file_mode())  # mkstemp makes it 0600: a result file gets the mode of any file the user writes
         os.replace(tmp, path)
     except BaseException as err:
         Path(tmp).unlink(missing_ok=True)
         if isinstance(err, OSError):
             raise ResultFileError(f"cannot write the result to {path}: {_reason(err)}") from err
         raise
+
+
+def _file_mode() -> int:
+    """``0666`` less the process's umask (what ``open(path, "w")`` would give); read from ``/proc`` where it can be
+    (setting the umask to read it changes it for every thread for a moment)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            mask = next(int(line.split()[1], 8) for line in status if line.startswith("Umask:"))
+    except (OSError, StopIteration, ValueError, IndexError):
+        mask = os.umask(0)
+        os.umask(mask)
+    return 0o666 & ~mask
 
 
 def keep_result(result: Result, path: str | os.PathLike | None) -> None:

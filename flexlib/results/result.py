@@ -265,10 +265,14 @@ class Result:
             raise RunArgumentError(f"plot: title must be a str (or None: the model's name), got {title!r}")
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 4.5))
+        units = []
         for name in names:
             values, unit = (self[name], self.unit(name)) if si else self.display(name)
             ax.plot(self.t, values, label=f"{name} [{unit}]")
+            units.append(unit)
         ax.set_xlabel("time [s]")
+        if len(set(units)) == 1:  # one unit: the axis says it (a legend relabelled by the caller keeps it)
+            ax.set_ylabel(f"{names[0]} [{units[0]}]" if len(names) == 1 else f"[{units[0]}]")
         ax.set_title(title or (self.model if len(self.t) else f"{self.model} (no rows: run {self.status})"))
         ax.grid(True, alpha=0.3)
         if names:

@@ -130,7 +130,7 @@ class _Loop:
         finally:
             stats.update(integ.stats(clock() - wall0))
             stats["wall_integrate"] = clock() - wall0
-            self.bar.close()
+            self.bar.close(self.t)
         return traj
 
     def round(self) -> None:

@@ -30,6 +30,11 @@ __all__ = ["figures"]
 
 #: Time between the frames of the VTK series [s].
 VTK_DT = 1.0
+#: A section whose pin-to-pin length stays within this of its nominal length is drawn as constant (a rigid
+#: section's round-off, 1e-15 m, is not drawn as a signal) [m].
+RIGID_TOL = 1e-9
+#: Smallest span of the tip-path axes [m] (a boom holding its pose: a point, not a cloud of round-off).
+TIP_SPAN = 2.0
 
 
 def _save(fig: Any, path: Path) -> Path:
@@ -72,7 +77,7 @@ def figures(model: Any, result: Any, directory: Path) -> list[Path]:
            _section_lengths(model, result, t, directory)]
     flexible = [n for n in _joints(result) if _has(result, f"section{n}.body.q")]
     if flexible:
-        out.append(_modal_coordinates(result, t, flexible, directory))
+        out.append(_modal_coordinates(model, result, t, flexible, directory))
     out.append(_tip_path(result, t, directory))
     out.append(write_boom_vtk(model, result, directory / "boom.pvd"))
     return out
@@ -102,11 +107,11 @@ def _pressures(result: Any, t: np.ndarray, directory: Path) -> Path:
         for side in ("A", "B"):
             p, unit = result.display(f"axis{n}.cylinder.cylinder.p_{side}")
             ax.plot(t, p, label=f"p_{side}")
-        ax.set_ylabel(f"cyl. {n} [{unit}]")
+        ax.set_ylabel(f"cyl. {n} [{unit} abs.]")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, loc="upper right")
     axes[-1, 0].set_xlabel("time [s]")
-    fig.suptitle("Chamber pressures")
+    fig.suptitle("Chamber pressures (absolute)")
     return _save(fig, directory / "pressures.png")
 
 
@@ -114,17 +119,18 @@ def _hinge_forces(result: Any, t: np.ndarray, directory: Path) -> Path:
     """``hinge_forces.png``: each joint's force, magnitude and components in the joint frame."""
     import matplotlib.pyplot as plt
 
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
-    for n in _joints(result):
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
+    for k, n in enumerate(_joints(result)):
+        colour = f"C{k}"  # one colour per joint in both panels
         f = np.asarray(result[f"joint{n}.frame_b.f"], dtype=float).reshape(len(t), 3)
-        ax.plot(t, np.linalg.norm(f, axis=1) / 1e3, label=f"joint {n}")
-        ax2.plot(t, f[:, 0] / 1e3, label=f"joint {n} x")
-        ax2.plot(t, f[:, 1] / 1e3, "--", label=f"joint {n} y")
+        ax.plot(t, np.linalg.norm(f, axis=1) / 1e3, color=colour, label=f"joint {n}")
+        ax2.plot(t, f[:, 0] / 1e3, color=colour, label=f"joint {n} x")
+        ax2.plot(t, f[:, 1] / 1e3, "--", color=colour, label=f"joint {n} y")
     ax.set(ylabel="|force| [kN]", title="Hinge forces")
     ax2.set(xlabel="time [s]", ylabel="component in the joint frame [kN]")
     for a in (ax, ax2):
         a.grid(True, alpha=0.3)
-        a.legend(ncol=5, fontsize=7)
+        a.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the axes: hides no curve
     return _save(fig, directory / "hinge_forces.png")
 
 
@@ -134,33 +140,50 @@ def _section_lengths(model: Any, result: Any, t: np.ndarray, directory: Path) ->
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
     record, joints = model.record, _joints(result)
+    varying = False
     for n in joints:
         root = np.asarray(result[f"joint{n}.frame_b.r_0"], dtype=float).reshape(len(t), 3)
         tip_name = f"joint{n + 1}.frame_a.r_0" if n < joints[-1] else f"section{n}.frame_tip.r_0"
         if not _has(result, tip_name):
             continue
         tip = np.asarray(result[tip_name], dtype=float).reshape(len(t), 3)
-        length = np.linalg.norm(tip - root, axis=1)
-        ax.plot(t, (length - record.sections[n - 1].length) * 1e3, label=f"section {n}")
+        change = np.linalg.norm(tip - root, axis=1) - record.sections[n - 1].length
+        if np.max(np.abs(change), initial=0.0) < RIGID_TOL:  # round-off: drawn as what it is, a constant length
+            ax.plot(t, np.zeros_like(t), lw=0.8, label=f"section {n} (rigid: constant)")
+        else:
+            ax.plot(t, change * 1e3, label=f"section {n}")
+            varying = True
     ax.set(xlabel="time [s]", ylabel="pin-to-pin length − nominal [mm]", title="Section lengths")
+    if not varying:  # nothing but constant sections: a readable ±1 mm axis
+        ax.set_ylim(-1.0, 1.0)
     ax.grid(True, alpha=0.3)
     ax.legend(ncol=5, fontsize=8)
     return _save(fig, directory / "section_lengths.png")
 
 
-def _modal_coordinates(result: Any, t: np.ndarray, flexible: list[int], directory: Path) -> Path:
+def _modes(model: Any, n: int, count: int) -> list[int]:
+    """Section ``n``'s mode numbers (indices into its modal data, as ``model.modes`` chose them), or 0 … count−1."""
+    chosen = getattr(model, "modes", None)
+    if isinstance(chosen, dict) and len(chosen.get(n, ())) == count:
+        return [int(k) for k in chosen[n]]
+    return list(range(count))
+
+
+def _modal_coordinates(model: Any, result: Any, t: np.ndarray, flexible: list[int], directory: Path) -> Path:
     """``modal_coordinates.png``: the modal coordinates of the flexible sections ``flexible``."""
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(len(flexible), 1, figsize=(9, 2 + 1.6 * len(flexible)), sharex=True, squeeze=False)
     for n, ax in zip(flexible, axes[:, 0], strict=True):
         q = np.asarray(result[f"section{n}.body.q"], dtype=float).reshape(len(t), -1)
+        modes = _modes(model, n, q.shape[1])
         for j in range(q.shape[1]):
-            ax.plot(t, q[:, j], lw=0.8, label=f"q{j}")
-        ax.set_ylabel(f"section {n}")
+            ax.plot(t, q[:, j], lw=0.8, label=f"mode {modes[j]}")
+        ax.set_ylabel(f"section {n} [1]")
         ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=6, ncol=2, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axes[-1, 0].set_xlabel("time [s]")
-    fig.suptitle("Modal coordinates")
+    fig.suptitle("Modal coordinates [1] (the mode shapes in m per unit)")
     return _save(fig, directory / "modal_coordinates.png")
 
 
@@ -174,11 +197,17 @@ def _tip_path(result: Any, t: np.ndarray, directory: Path) -> Path:
     ax.plot(tip[0, 0], tip[0, 1], "o", label="start")
     ax.plot(tip[-1, 0], tip[-1, 1], "s", label="end")
     ax.set(xlabel="x [m]", ylabel="y [m]", title="Tip path", aspect="equal")
+    for lim, col in ((ax.set_xlim, tip[:, 0]), (ax.set_ylim, tip[:, 1])):  # a boom at rest: a point, plain ticks
+        mid, half = 0.5 * (col.max() + col.min()), 0.5 * max(col.max() - col.min(), 0.0)
+        if half < TIP_SPAN / 2:
+            lim(mid - TIP_SPAN / 2, mid + TIP_SPAN / 2)
+    ax.ticklabel_format(useOffset=False, style="plain")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     for n in _joints(result):
         ax2.plot(t, np.degrees(result[f"joint{n}.phi"]), label=f"q{n}")
     ax2.set(xlabel="time [s]", ylabel="joint angle [deg]", title="Joint angles")
+    ax2.ticklabel_format(axis="y", useOffset=False, style="plain")
     ax2.grid(True, alpha=0.3)
     ax2.legend(fontsize=8)
     return _save(fig, directory / "tip_path.png")

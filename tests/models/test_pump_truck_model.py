@@ -155,3 +155,45 @@ def test_emergency_stop_is_limited_by_the_port_cartridges(pump_truck_run):
     F = np.hypot(res["joint1.frame_b.f[0]"], res["joint1.frame_b.f[1]"])
     moving, after = (res.t > 1.0) & (res.t < 4.0), res.t > 4.0
     assert F[after].max() > F[moving].max()
+
+
+def test_figures_of_a_boom_at_rest_are_readable(pump_truck_run, tmp_path, monkeypatch):
+    """Issue 29's figure rules on the rigid ``hold`` run (the boom at rest): the section lengths are drawn as
+    constant (labelled "rigid: constant", a ±1 mm axis), not as their 1e-15 m round-off; the tip path, a point, has
+    an axis of at least ``TIP_SPAN`` with plain tick labels (no offset such as "1e−8+3.76e1"); the hinge forces keep
+    one colour per joint in both panels with the legends beside the axes; the pressures say absolute."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from flexlib.models.pump_truck import plots
+    from flexlib.registry import get_model
+
+    drawn = {}
+
+    def keep(fig, path):
+        fig.canvas.draw()  # tick labels and offsets are made when drawn
+        drawn[path.name] = fig
+        return path
+
+    monkeypatch.setattr(plots, "_save", keep)
+    entry = get_model("pump-truck")
+    model = entry.factory(entry.scenario("hold"))
+    res = pump_truck_run("hold")
+    plots.figures(model, res, tmp_path)
+    lengths = drawn["section_lengths.png"].axes[0]
+    assert [line.get_label() for line in lengths.get_lines()] == [f"section {n} (rigid: constant)"
+                                                                   for n in range(1, 6)]
+    assert lengths.get_ylim() == (-1.0, 1.0)
+    path_ax, angles_ax = drawn["tip_path.png"].axes
+    for axis, lim in ((path_ax.xaxis, path_ax.get_xlim()), (path_ax.yaxis, path_ax.get_ylim()),
+                      (angles_ax.yaxis, None)):
+        assert axis.get_major_formatter().get_offset() == ""
+        if lim is not None:
+            assert lim[1] - lim[0] >= plots.TIP_SPAN * (1 - 1e-12)
+    magnitude, components = drawn["hinge_forces.png"].axes
+    colours = [line.get_color() for line in magnitude.get_lines()]
+    assert len(set(colours)) == 5
+    assert [line.get_color() for line in components.get_lines()] == [c for c in colours for _ in range(2)]
+    for ax in (magnitude, components):
+        assert ax.get_legend().get_bbox_to_anchor().x0 >= ax.get_window_extent().x1 - 1  # beside, not over
+    assert "absolute" in drawn["pressures.png"]._suptitle.get_text()
