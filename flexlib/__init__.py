@@ -1,25 +1,11 @@
 """flexlib — acausal component models → one CasADi DAE → index reduction → SUNDIALS IDA."""
 
+import importlib as _importlib
 import os as _os
+from typing import Any as _Any
 
 _os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (see docs/engine.md)
 
-from flexlib.analysis import linearize, modal_analysis, modal_sweep
-from flexlib.compile.build_options import BuildOptions
-from flexlib.compile.pipeline import Build, build
-from flexlib.core.component import Component, Connector, Model
-from flexlib.core.equations import der, eq
-from flexlib.core.functions import abs_, assert_, if_else, max_, min_, no_event, sign
-from flexlib.core.variables import (
-    Flow,
-    Input,
-    Output,
-    Parameter,
-    Potential,
-    StateSelect,
-    Variable,
-    time,
-)
 from flexlib.errors import (
     BalanceError,
     CacheWarning,
@@ -45,11 +31,44 @@ from flexlib.errors import (
     StructuralSingularityError,
     StructureChangedError,
 )
-from flexlib.results.hdf5 import load_result
-from flexlib.results.result import Result
-from flexlib.solve.options import Experiment, RunOptions
-from flexlib.solve.simulation import Simulation
-from flexlib.solve.solvers import IDA, CasadiIDAS
+
+#: The engine's public names and their modules, imported when first used (PEP 562): ``import flexlib`` and
+#: ``flexlib --version`` do not load CasADi, SUNDIALS and SciPy.
+_LAZY = {
+    "linearize": "flexlib.analysis",
+    "modal_analysis": "flexlib.analysis",
+    "modal_sweep": "flexlib.analysis",
+    "BuildOptions": "flexlib.compile.build_options",
+    "Build": "flexlib.compile.pipeline",
+    "build": "flexlib.compile.pipeline",
+    "Component": "flexlib.core.component",
+    "Connector": "flexlib.core.component",
+    "Model": "flexlib.core.component",
+    "der": "flexlib.core.equations",
+    "eq": "flexlib.core.equations",
+    "abs_": "flexlib.core.functions",
+    "assert_": "flexlib.core.functions",
+    "if_else": "flexlib.core.functions",
+    "max_": "flexlib.core.functions",
+    "min_": "flexlib.core.functions",
+    "no_event": "flexlib.core.functions",
+    "sign": "flexlib.core.functions",
+    "Flow": "flexlib.core.variables",
+    "Input": "flexlib.core.variables",
+    "Output": "flexlib.core.variables",
+    "Parameter": "flexlib.core.variables",
+    "Potential": "flexlib.core.variables",
+    "StateSelect": "flexlib.core.variables",
+    "Variable": "flexlib.core.variables",
+    "time": "flexlib.core.variables",
+    "load_result": "flexlib.results.hdf5",
+    "Result": "flexlib.results.result",
+    "Experiment": "flexlib.solve.options",
+    "RunOptions": "flexlib.solve.options",
+    "Simulation": "flexlib.solve.simulation",
+    "IDA": "flexlib.solve.solvers",
+    "CasadiIDAS": "flexlib.solve.solvers",
+}
 
 __version__ = "0.1.0"
 
@@ -112,3 +131,16 @@ __all__ = [
     "sign",
     "time",
 ]
+
+
+def __getattr__(name: str) -> _Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'flexlib' has no attribute {name!r}")
+    value = getattr(_importlib.import_module(module), name)
+    globals()[name] = value  # once imported, a plain attribute
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

@@ -26,7 +26,9 @@ from typing import Any
 
 import click
 import numpy as np
+from rich import box
 from rich.table import Table
+from rich.text import Text
 
 from flexlib.cli_results import compare_cmd, show_cmd
 from flexlib.cli_support import fmt, friendly, new_console, once_option, one_line, say
@@ -390,11 +392,7 @@ def _print_summary(done: Any, out: str | None) -> None:
         return
     if not signals or not len(res.t):
         return
-    peaks = Table(title="summary signals")
-    for col, justify in (("signal", "left"), ("unit", "left"), ("min", "right"), ("max", "right"),
-                         ("peak |x|", "right"), ("at t [s]", "right")):
-        peaks.add_column(col, justify=justify)
-    missing = []
+    missing, groups = [], {}
     for name in signals:
         try:
             values, unit = res.display(name)
@@ -404,7 +402,21 @@ def _print_summary(done: Any, out: str | None) -> None:
         elems = [name] if values.ndim == 1 else [n for n in res.names if n.startswith(name + "[")]
         for col, elem in zip(values.reshape(len(res.t), -1).T, elems, strict=True):  # an array: a row per element
             k = int(np.argmax(np.abs(col)))
-            peaks.add_row(elem, unit, fmt(col.min()), fmt(col.max()), fmt(abs(col[k])), fmt(res.t[k]))
+            component, _, leaf = elem.rpartition(".")
+            short = [f"{x:.4g}" for x in (col.min(), col.max(), res.t[k])]  # 80 columns
+            groups.setdefault(component, []).append((leaf, unit, *short))
+    # grouped by component (its name once, then its variables), no column rules, four significant digits: the
+    # table fits 80 columns; a name longer than the screen allows wraps, it is not cut short
+    names = [len(c) for c in groups] + [len(r[0]) + 2 for rows in groups.values() for r in rows]
+    peaks = Table(title="summary signals", box=box.SIMPLE_HEAD)
+    peaks.add_column("signal", overflow="fold", min_width=min(max(names, default=6), 32))
+    for col, justify in (("unit", "left"), ("min", "right"), ("max", "right"), ("|x| peaks at t [s]", "right")):
+        peaks.add_column(col, justify=justify, no_wrap=True)  # (the peak |x| is the larger of |min| and |max|)
+    for component, rows in groups.items():
+        if component:
+            peaks.add_row(Text(component, style="bold"), "", "", "", "")
+        for leaf, *cells in rows:
+            peaks.add_row(("  " if component else "") + leaf, *cells)
     console.print(peaks)
     for text in missing:
         say("Warning", f"{where}: {text}; left out of the table")

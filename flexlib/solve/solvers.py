@@ -11,15 +11,16 @@ from __future__ import annotations
 import dataclasses
 import numbers
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from flexlib.compile.environment import env_default
 from flexlib.errors import RunArgumentError
-from flexlib.solve.backends.base import Integrator
-from flexlib.solve.loop import run_loop
-from flexlib.solve.trajectory import Trajectory
+
+if TYPE_CHECKING:  # the solver records and their names stay light (flexlib's command line imports them)
+    from flexlib.solve.backends.base import Integrator
+    from flexlib.solve.trajectory import Trajectory
 
 __all__ = ["ALIASES", "IDA", "SOLVERS", "CasadiIDAS", "Solver", "as_solver", "integrate"]
 
@@ -160,5 +161,7 @@ def integrate(solver: str | Solver, model: Any, init: Any, p: np.ndarray, y0: np
     """
     integ = as_solver(solver).integrator(rtol=rtol, atol=atol, max_step=max_step, max_order=max_order,
                                          max_steps=max_steps)
+    from flexlib.solve.loop import run_loop
+
     return run_loop(integ, model, init, p, y0, yp0, t0, t_end, t_out, max_steps=max_steps, progress=progress,
                     monitor=monitor)
