@@ -160,3 +160,32 @@ def test_result_file_has_the_users_file_mode(tmp_path):
     finally:
         os.umask(old)
     assert stat.S_IMODE((tmp_path / "r.h5").stat().st_mode) == 0o644
+
+
+def test_to_dataframe_by_name_with_units():
+    """``Result.to_dataframe`` (issue 29, for notebooks): the chosen variables (an array variable by element) as
+    columns indexed by time, the same numbers as indexing, units in ``attrs``; display units on request; a wrong
+    name is the indexing error."""
+    from flexlib.components.mechanics.multibody import Body, Revolute, World
+
+    class Swing(fl.Model):
+        def __init__(self):
+            super().__init__()
+            self.world, self.hinge = World(), Revolute(n=[0, 0, 1], init={"phi": -1.0, "w": 0.0})
+            self.bob = Body(m=1.0, r_CM=[0.5, 0.0, 0.0])
+            self.connect(self.world.frame_b, self.hinge.frame_a)
+            self.connect(self.hinge.frame_b, self.bob.frame_a)
+
+    res = fl.Simulation(Swing(), use_cache=False).run(0.5, dt_out=0.1)
+    frame = res.to_dataframe("hinge.phi", "hinge.w", "bob.frame_a.r_0")
+    assert list(frame.columns) == ["hinge.phi", "hinge.w", "bob.frame_a.r_0[0]", "bob.frame_a.r_0[1]",
+                                   "bob.frame_a.r_0[2]"]
+    np.testing.assert_array_equal(frame.index.to_numpy(), res.t)
+    np.testing.assert_array_equal(frame["hinge.w"].to_numpy(), res["hinge.w"])
+    assert frame.attrs["units"]["hinge.w"] == "rad/s" and frame.index.name == "time [s]"
+    shown = res.to_dataframe("hinge.w", display=True)
+    np.testing.assert_allclose(shown["hinge.w"].to_numpy(), res["hinge.w"] * 60 / (2 * np.pi))
+    assert shown.attrs["units"]["hinge.w"] == "rpm"
+    assert len(res.to_dataframe().columns) == len(res.names)
+    with pytest.raises(KeyError, match="close matches"):
+        res.to_dataframe("hinge.W")

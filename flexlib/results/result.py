@@ -279,6 +279,40 @@ class Result:
             ax.legend()
         return ax
 
+    def to_dataframe(self, *names: str, display: bool = False) -> Any:
+        """The variables ``names`` (default: every one) as a pandas DataFrame (pandas is optional: ``pip install
+        pandas``): one column per variable (an array variable: one per element), indexed by time [s] (an event's
+        left and right rows share its time); SI values, or with ``display=True`` in display units (bar, L/min,
+        rpm). ``frame.attrs["units"]`` maps each column to its unit.
+
+        Raises
+        ------
+        ResultKeyError
+            A name that is not in the result (as indexing).
+        ImportError
+            pandas is not installed (says how to install it).
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError("Result.to_dataframe needs pandas: pip install pandas") from None
+        self._check_names("to_dataframe", names)
+        columns: list[str] = []
+        for name in names or tuple(self.names):
+            if name in self._index:
+                columns.append(name)
+            elif name in self._arrays:
+                columns += [self.names[k] for k in self._arrays[name]]
+            else:
+                raise self._unknown(name)
+        data, units = {}, {}
+        for name in columns:
+            values, unit = self.display(name) if display else (self[name], self.unit(name))
+            data[name], units[name] = np.asarray(values, dtype=float), unit
+        frame = pd.DataFrame(data, index=pd.Index(np.asarray(self.t, dtype=float), name="time [s]"))
+        frame.attrs["units"] = units
+        return frame
+
     def summary(self, *names: str) -> str:
         """Table of final, minimum and maximum values in display units (flows in L/min, pressures in bar).
 
