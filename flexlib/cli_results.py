@@ -30,15 +30,23 @@ __all__ = ["compare_cmd", "show_cmd"]
 @click.option("--top", type=click.IntRange(min=1), default=15, show_default=True, help="Rows shown.")
 @once_option("--plot", "plot_file", type=click.Path(dir_okay=False),
               help="Write an overlay plot of the signals, format by the extension (.png, .pdf, .svg, ...; default "
-                   "signals: the 4 that differ most).")
-@once_option("--fail-above", type=click.FloatRange(min=0.0), metavar="REL",
-              help="Exit with code 1 if the largest relative difference exceeds REL, or if the comparison does not "
-                   "cover both runs (NaN or inf in one, different time spans, variables in one file only, "
-                   "different units).")
+                   "signals: the 4 farthest out of their tube).")
+@once_option("--fail-above", type=click.FloatRange(min=0.0), metavar="X",
+              help="Exit with code 1 if a signal leaves its tolerance tube around A by more than X times its "
+                   "tolerance (1: any signal outside the tube), or if the comparison does not cover both runs (NaN "
+                   "or inf in one, different time spans, variables in one file only, different units or models, 0 "
+                   "signals compared).")
+@once_option("--rtol", type=click.FloatRange(min=0.0, min_open=True), default=None, metavar="R",
+             help="Tube width relative to each signal's range in A (default 1e-3); the absolute floor is 1e-6 of "
+                  "the largest magnitude of the signal's unit.")
+@click.option("--json", "as_json", is_flag=True, help="Print the comparison as JSON (for CI) instead of tables.")
 @friendly
 def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int, plot_file: str | None,
-                fail_above: float | None) -> None:
-    """Overlay two result files and print their largest differences, and what the comparison does not cover."""
+                fail_above: float | None, rtol: float | None, as_json: bool) -> None:
+    """Compare two result files in a tolerance tube around A: the signals that leave it most, ranked by deviation
+    over tolerance (signals within their noise floor in both are not ranked), and what the comparison does not
+    cover."""
+    from flexlib.results.compare import RTOL
     from flexlib.results.hdf5 import load_result
 
     signals = [s.strip() for opt in signal_opts for s in opt.split(",") if s.strip()]
@@ -51,30 +59,45 @@ def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int
         plot_path = _check_plot_file(plot_file)  # before the comparison
     a, b = load_result(file_a), load_result(file_b)
     try:
-        cmp = compare(a, b, signals or None, labels=(f"A ({file_a})", f"B ({file_b})"))
+        cmp = compare(a, b, signals or None, labels=(f"A ({file_a})", f"B ({file_b})"),
+                      rtol=RTOL if rtol is None else rtol)
     except ResultKeyError as err:  # only --signals names variables
         raise click.ClickException(f"--signals: {one_line(err)}") from None
     notes = list(cmp.notes)
     if _same_file(file_a, file_b):
         notes.insert(0, f"A and B are the same file ({file_a}): no difference is possible")
+    ranked = cmp.ranked
+    failure = _failure(cmp, fail_above)
+    if as_json:
+        click.echo(json.dumps({"a": file_a, "b": file_b, "model_a": a.model, "model_b": b.model,
+                               "span": list(cmp.span), "compared": len(cmp.rows), "ranked": len(ranked),
+                               "only_a": len(cmp.only_a), "only_b": len(cmp.only_b),
+                               "rows": [_json_row(r) for r in ranked[:top]], "problems": cmp.problems, "notes": notes,
+                               "fail_above": fail_above, "failed": failure}, indent=1, allow_nan=False))
+        if failure:
+            raise SystemExit(1)
+        return
     console = new_console()
     console.print(f"A = {file_a} ({a.model}, {a.status}), B = {file_b} ({b.model}, {b.status}): "
-                  f"{len(cmp.rows)} signals compared over {cmp.span[0]:g} … {cmp.span[1]:g} s, "
-                  f"{len(cmp.only_a)} only in A, {len(cmp.only_b)} only in B")
-    if cmp.rows:
-        table = Table(title="largest differences (SI units)")
-        for col, justify in (("signal", "left"), ("unit", "left"), ("max |A−B|", "right"), ("relative", "right"),
-                             ("at t [s]", "right"), ("A", "right"), ("B", "right")):
+                  f"{len(cmp.rows)} signals compared over {cmp.span[0]:g} … {cmp.span[1]:g} s ({len(ranked)} ranked, "
+                  f"{len(cmp.rows) - len(ranked)} within their noise floor), {len(cmp.only_a)} only in A, "
+                  f"{len(cmp.only_b)} only in B")
+    if ranked:
+        table = Table(title="signals farthest out of their tube around A (SI units)")
+        for col, justify in (("signal", "left"), ("unit", "left"), ("× tol", "right"), ("max |A−B|", "right"),
+                             ("tol", "right"), ("at t [s]", "right"), ("A", "right"), ("B", "right")):
             table.add_column(col, justify=justify)
-        for r in cmp.rows[:top]:
-            table.add_row(r["name"], r["unit"], fmt(r["abs"]), f"{r['rel']:.3g}", fmt(r["t"]), fmt(r["a"]),
-                          fmt(r["b"]))
+        for r in ranked[:top]:
+            name = r["name"] + (f" (+{len(r['same'])} same)" if r["same"] else "")  # aliases: one row
+            table.add_row(name, r["unit"], f"{r['ratio']:.3g}", fmt(r["abs"]), f"{r['tol']:.3g}", fmt(r["t"]),
+                          fmt(r["a"]), fmt(r["b"]))
         console.print(table)
     if plot_file is not None:
-        names = [r["name"] for r in cmp.rows][: 12 if signals else 4]
+        names = [r["name"] for r in cmp.rows][:12] if signals else [r["name"] for r in ranked][:4]
         if names:
             _plot_overlay(a, b, names, plot_path, file_a, file_b)
-            more = f" (the {len(names)} that differ most of {len(cmp.rows)})" if len(cmp.rows) > len(names) else ""
+            more = (f" (the {len(names)} farthest out of their tube of {len(cmp.rows)})"
+                    if len(cmp.rows) > len(names) else "")
             console.print(f"plot written to {plot_file}{more}")
         else:
             notes.append(f"no plot written to {plot_file}: no signal compared")
@@ -84,13 +107,28 @@ def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int
         for problem in cmp.problems:
             say("Warning", problem)
         return
+    if failure:
+        raise click.ClickException(failure)
+
+
+def _failure(cmp: Any, fail_above: float | None) -> str:
+    """Why ``--fail-above`` fails the comparison ("" if it passes or is not given)."""
+    if fail_above is None:
+        return ""
     if cmp.problems:
-        raise click.ClickException(f"--fail-above {fail_above:g}: the comparison does not cover both runs: "
-                                   + "; ".join(cmp.problems))
+        return f"--fail-above {fail_above:g}: the comparison does not cover both runs: " + "; ".join(cmp.problems)
     worst = cmp.worst
-    if worst is not None and worst["rel"] > fail_above:
-        raise click.ClickException(f"the largest relative difference {worst['rel']:.3g} ({worst['name']} at "
-                                   f"t = {worst['t']:g} s) exceeds --fail-above {fail_above:g}")
+    if worst is not None and worst["ratio"] > fail_above:
+        return (f"{worst['name']} leaves its tube by {worst['ratio']:.3g} × its tolerance {worst['tol']:.3g} "
+                f"{worst['unit']} (max |A−B| = {worst['abs']:.4g} at t = {worst['t']:g} s), which exceeds "
+                f"--fail-above {fail_above:g}")
+    return ""
+
+
+def _json_row(r: dict[str, Any]) -> dict[str, Any]:
+    """A row of the comparison for ``--json`` (an infinite deviation as the string "inf")."""
+    keys = ("name", "unit", "ratio", "tol", "abs", "rel", "t", "a", "b", "mismatch", "same")
+    return {k: (str(r[k]) if isinstance(r[k], float) and not math.isfinite(r[k]) else r[k]) for k in keys}
 
 
 def _same_file(a: str, b: str) -> bool:

@@ -118,13 +118,26 @@ def test_compare_reports_the_largest_differences(chain_file, tmp_path):
     assert len(rows) == len(a.names)
     # same output grid, no events: the differences are those of the stored columns (exactly)
     np.testing.assert_array_equal(a.t, b.t)
+    # the tube (flexlib.results.compare): tol = 1e-6 · the unit's largest |x| in both + 1e-3 · the range of A's x;
+    # ranked by max |a − b| / tol (no events: no time shift); signals 0 in both are within the noise floor
+    unit_scale = {}
+    for name in a.names:
+        u = a.unit(name)
+        unit_scale[u] = max(unit_scale.get(u, 0.0), np.abs(a[name]).max(), np.abs(b[name]).max())
     for r in rows[:5] + rows[-3:]:
         d = np.abs(a[r["name"]] - b[r["name"]])
         scale = max(np.abs(a[r["name"]]).max(), np.abs(b[r["name"]]).max())
         assert r["abs"] == d.max() and r["rel"] == (d.max() / scale if scale else 0.0)
         assert r["t"] == a.t[np.argmax(d)]
-    assert [r["rel"] for r in rows] == sorted((r["rel"] for r in rows), reverse=True)
-    assert rows[0]["rel"] > 1e-3  # a 20 % heavier first mass changes the motion
+        floor = 1e-6 * unit_scale[a.unit(r["name"])] or np.finfo(float).tiny
+        assert r["tol"] == pytest.approx(floor + 1e-3 * np.ptp(a[r["name"]]), rel=1e-12)
+        assert r["ratio"] == pytest.approx(d.max() / r["tol"], rel=1e-12)
+        assert r["noise"] == (scale <= floor)
+    ranked = [r for r in rows if not r["noise"]]
+    assert [r["ratio"] for r in ranked] == sorted((r["ratio"] for r in ranked), reverse=True)
+    assert all(r["noise"] for r in rows[len(ranked):])
+    assert "wall.flange.s" in [r["name"] for r in rows[len(ranked):]]  # 0 in both: not ranked
+    assert rows[0]["ratio"] > 1.0 and rows[0]["rel"] > 1e-3  # a 20 % heavier first mass changes the motion
     png = tmp_path / "overlay.png"
     res = invoke("compare", str(out), str(other), "--top", "3", "--plot", str(png))
     assert res.exit_code == 0, res.output
@@ -132,6 +145,13 @@ def test_compare_reports_the_largest_differences(chain_file, tmp_path):
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     res = invoke("compare", str(out), str(other), "--fail-above", "1e-3")
     assert res.exit_code == 1 and rows[0]["name"] in res.output and "exceeds --fail-above" in res.output
+    # --json for CI: the ranked rows with their deviation over tolerance, the same exit code
+    res = CliRunner().invoke(cli, ["compare", str(out), str(other), "--json", "--top", "3", "--fail-above", "1"])
+    report = json.loads(res.output)
+    assert res.exit_code == 1 and report["failed"] and report["fail_above"] == 1.0
+    assert [r["name"] for r in report["rows"]] == [r["name"] for r in rows if not r["noise"] and
+                                                   r["alias_of"] is None][:3]
+    assert report["rows"][0]["ratio"] == pytest.approx(rows[0]["ratio"]) and report["problems"] == []
     # a file compared with itself: no difference, --fail-above 0 passes
     res = invoke("compare", str(out), str(out), "--fail-above", "0", "--signals", "mass0.s,mass2.v")
     assert res.exit_code == 0, res.output

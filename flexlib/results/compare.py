@@ -1,5 +1,20 @@
-"""Compare two results: the largest differences of their common signals on a common time grid, and everything
-that makes the comparison incomplete (``flexlib compare``, docs/cli.md).
+"""Compare two results: their common signals in a tolerance tube around the reference (A), ranked by how far they
+leave it, and everything that makes the comparison incomplete (``flexlib compare``, docs/cli.md).
+
+The tube follows the regression testing of Modelica libraries (the reference-result comparison of the Modelica
+Standard Library: a tolerance relative to each signal's range plus an absolute floor, time shifts at events
+allowed): signal ``x`` of B is compared with A's ``x`` against ``tol = atol + rtol·base``, ``base`` the larger of
+the range and the magnitude of the minimum of A's ``x`` (csv-compare's tube height: a pressure holding at 250 bar
+that varies by 0.01 bar is measured against its 250 bar, not its 0.01 bar); its *deviation* at a time is the
+smallest ``|B(t + s) − A(t)|`` over shifts ``|s| ≤ shift`` (0 except within a grid interval of an event of either
+run), and the ranking is by ``max_t deviation/tol``. ``atol`` is the noise floor of the signal's unit: the larger of
+``ATOL_SCALE`` times the largest magnitude of that unit's signals in the two results and ``NOISE_ATOL`` times the
+runs' absolute solver tolerance (what the integration leaves undetermined). A signal whose two traces both lie
+within it — a 1e-21 round-off of a quantity that is 0 in both (a reaction that does not exist, a closed valve's
+opening), a creep at the solver's tolerance — is not ranked. ``rtol`` is ``RTOL``. Signals with the same traces in
+both results (aliases) are ranked once, under a component's own variable rather than a connector's (``p_A``, not
+``port_A.p``). The goldens (``models/pump_truck/goldens.py``) use :func:`tube` with their own tolerances per signal
+and time shift.
 
 A comparison only means something when it covers both runs. :func:`compare` therefore reports, beside the
 differences, the *problems* that a regression check must not pass silently — signals that are NaN or inf in one
@@ -21,10 +36,60 @@ import numpy as np
 
 from flexlib.errors import EmptyResultError, ResultKeyError, RunArgumentError
 
-__all__ = ["Comparison", "compare", "compare_results", "select"]
+__all__ = ["ATOL_SCALE", "NOISE_ATOL", "RTOL", "Comparison", "compare", "compare_results", "select", "tube"]
 
 #: Names listed in a message before "...".
 _SHOWN = 5
+#: Tube height relative to the reference signal's base: the larger of its range and the magnitude of its minimum.
+RTOL = 1e-3
+#: Absolute floor of the tube per unit, relative to the largest magnitude of that unit's signals in both results.
+ATOL_SCALE = 1e-6
+#: ... and at least this many times the runs' absolute solver tolerance (``stats["atol"]``, SI): local errors of
+#: ``atol`` add up over a run to a global error some ten to a hundred times larger.
+NOISE_ATOL = 100.0
+#: Shifts tried per point where a time shift is allowed (evenly from −shift to +shift).
+_SHIFTS = 9
+
+
+def tube(grid: np.ndarray, reference: np.ndarray, sample: Any, tol: np.ndarray | float,
+         shift: np.ndarray | float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Deviation of a signal from a reference and that over its tolerance, per point of ``grid`` [s].
+
+    The deviation at ``t`` is the smallest ``|sample(t + s) − reference(t)|`` over shifts ``|s| ≤ shift(t)``
+    (``_SHIFTS`` of them, evenly spaced; only ``sample(t)`` where the shift is 0): a run whose event or correction
+    burst comes a little earlier or later is inside the tube. NaN in ``sample`` where the reference is finite gives
+    an infinite deviation.
+
+    Parameters
+    ----------
+    grid : ndarray
+        Times [s].
+    reference : ndarray
+        The reference signal at ``grid``.
+    sample : callable
+        ``sample(times) -> values`` of the compared signal.
+    tol : ndarray or float
+        Tolerance at each point (> 0).
+    shift : ndarray or float
+        Largest time shift at each point [s].
+
+    Returns
+    -------
+    deviation, ratio : ndarray
+        Per point: the deviation and the deviation over ``tol``.
+    """
+    grid, reference = np.asarray(grid, dtype=float), np.asarray(reference, dtype=float)
+    shift = np.broadcast_to(np.asarray(shift, dtype=float), grid.shape)
+    dev = np.abs(np.asarray(sample(grid), dtype=float) - reference)
+    moved = np.flatnonzero(shift > 0)
+    if moved.size:
+        for f in np.linspace(-1.0, 1.0, _SHIFTS):
+            if f == 0.0:
+                continue
+            dev[moved] = np.fmin(dev[moved], np.abs(np.asarray(sample(grid[moved] + f * shift[moved]), dtype=float)
+                                                    - reference[moved]))
+    dev = np.where(np.isnan(dev) & np.isfinite(reference), np.inf, dev)
+    return dev, dev / np.asarray(tol, dtype=float)
 
 
 @dataclass
@@ -34,12 +99,17 @@ class Comparison:
     Attributes
     ----------
     rows : list of dict
-        One per compared signal, largest relative difference first: ``name``, ``unit``, ``abs`` (max ``|a − b|``,
-        SI), ``rel`` (that over the larger of ``max |a|`` and ``max |b|``; 0 if both are 0), ``t`` [s] where it
-        occurs, ``a`` and ``b`` there; ``nonfinite_a`` and ``nonfinite_b`` (compared points where that result is
-        NaN or inf), ``mismatch`` (points where only one is, or they differ), ``mismatch_a`` / ``mismatch_b``
+        One per compared signal, ranked: the signals that leave their tube most first (``ratio``), then those
+        within their noise floor (``noise``). Keys: ``name``, ``unit``, ``ratio`` (the largest deviation from A over
+        the tolerance, :func:`tube`), ``tol`` (the tolerance, SI), ``noise`` (True: both traces lie within the
+        tube's absolute floor ``atol``, round-off of a quantity that is 0 in both: not ranked), ``same`` (the names
+        of the later rows whose traces in both results are the same as this one's: aliases) and ``alias_of`` (the
+        row that names this one in its ``same``, or None), ``abs`` (max
+        ``|a − b|``, SI), ``rel`` (that over the larger of ``max |a|`` and ``max |b|``; 0 if both are 0), ``t`` [s]
+        where it occurs, ``a`` and ``b`` there; ``nonfinite_a`` and ``nonfinite_b`` (compared points where that result
+        is NaN or inf), ``mismatch`` (points where only one is, or they differ), ``mismatch_a`` / ``mismatch_b``
         (of those, where A / B is NaN or inf) and ``from_a`` / ``from_b`` (the first such time [s], or None).
-        A signal with a mismatch has ``abs = rel = inf``, at its first mismatching point.
+        A signal with a mismatch has ``abs = rel = ratio = inf``, at its first mismatching point.
     span : (float, float)
         The compared time span [s] (common to both results).
     span_a, span_b : (float, float)
@@ -64,9 +134,16 @@ class Comparison:
     notes: list[str] = field(default_factory=list)
 
     @property
+    def ranked(self) -> list[dict[str, Any]]:
+        """The rows of signals outside their noise floor, the farthest out of their tube first, each trace once
+        (a row's ``same`` names the signals with the same traces in both results: aliases)."""
+        return [r for r in self.rows if not r["noise"] and r["alias_of"] is None]
+
+    @property
     def worst(self) -> dict[str, Any] | None:
-        """The row with the largest relative difference (None if no signal was compared)."""
-        return self.rows[0] if self.rows else None
+        """The row that leaves its tube most (None if no signal outside its noise floor was compared)."""
+        ranked = self.ranked
+        return ranked[0] if ranked else None
 
 
 def _n(count: int, noun: str) -> str:
@@ -222,8 +299,9 @@ def _interp(grid: np.ndarray, t: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 
 def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
-            labels: tuple[str, str] = ("A", "B")) -> Comparison:
-    """Largest differences between two results on a common time grid, with what the comparison does not cover.
+            labels: tuple[str, str] = ("A", "B"), rtol: float = RTOL) -> Comparison:
+    """B's signals in a tolerance tube around A's, ranked by how far they leave it, with what the comparison does
+    not cover (module docstring).
 
     Both results are interpolated linearly (right values at events) on the union of their time points inside
     the common time span.
@@ -237,6 +315,8 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
         default: every variable in both.
     labels : (str, str)
         How messages name the results (``"A (run.h5)"``).
+    rtol : float
+        Tube height relative to each signal's base in A (default :data:`RTOL`; module docstring).
 
     Returns
     -------
@@ -259,6 +339,9 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
         raise RunArgumentError(f"compare: labels must be two str, how messages name the results (for example "
                                f"('A (run1.h5)', 'B (run2.h5)')), got {labels!r}")
     labels = (pair[0], pair[1])
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float)) or not 0.0 < float(rtol) < np.inf:
+        raise RunArgumentError(f"compare: rtol must be a number > 0 (the tube's width relative to each signal's "
+                               f"range, such as {RTOL:g}), got {rtol!r}")
     _check_result(a, f"a ({labels[0]})", "compare")
     _check_result(b, f"b ({labels[1]})", "compare")
     if signals is not None:
@@ -288,16 +371,83 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
                             "compared: " + _listed([f"{n} ({ua or '1'} / {ub or '1'})" for n, ua, ub in units]))
         skip = {n for n, _, _ in units}
         names = [n for n in names if n not in skip]
+    if not names and not out.problems:
+        out.problems.append("0 signals compared")
     ta, va = _right_values(a)
     tb, vb = _right_values(b)
     grid = np.union1d(ta, tb)
     grid = grid[(grid >= t0) & (grid <= t1)]
-    for n in names:
-        out.rows.append(_row(n, a.units[ia[n]], grid, _interp(grid, ta, va[:, ia[n]]),
-                             _interp(grid, tb, vb[:, ib[n]])))
-    out.rows.sort(key=lambda r: (-r["rel"], -r["abs"]))
-    _check_nonfinite(out, labels, len(grid))
+    shift = _event_shifts(grid, a.t, b.t)
+    pairs = {n: (_interp(grid, ta, va[:, ia[n]]), vb[:, ib[n]]) for n in names}
+    solver = max((float(r.stats.get("atol", 0.0) or 0.0) for r in (a, b)), default=0.0)
+    atol = _unit_floors({n: (a.units[ia[n]], xa, xb) for n, (xa, xb) in pairs.items()}, NOISE_ATOL * solver)
+    for n, (xa, xb_rows) in pairs.items():
+        xb = _interp(grid, tb, xb_rows)
+        row = _row(n, a.units[ia[n]], grid, xa, xb)
+        floor = atol[a.units[ia[n]]]
+        finite_a = xa[np.isfinite(xa)]
+        base = max(float(np.ptp(finite_a)), abs(float(finite_a.min()))) if finite_a.size else 0.0
+        tol = floor + float(rtol) * base
+        if row["mismatch"]:
+            ratio = np.inf
+        else:
+            _, r = tube(grid, xa, lambda times, x=xb_rows: _interp(np.clip(times, t0, t1), tb, x), tol, shift)
+            r = r[np.isfinite(xa)]
+            ratio = float(np.max(r)) if r.size else 0.0
+        magnitude = max(np.max(np.abs(x[np.isfinite(x)]), initial=0.0) for x in (xa, xb))
+        out.rows.append({**row, "tol": tol, "ratio": ratio, "noise": bool(not row["mismatch"] and magnitude <= floor)})
+    connector = {n: a.kinds[ia[n]] in ("potential", "flow") for n in names}  # aliases: the variable names them
+    out.rows.sort(key=lambda r: (r["noise"], -r["ratio"], -r["rel"], -r["abs"], connector[r["name"]]))
+    _group_aliases(out.rows, {n: x[0] for n, x in pairs.items()}, {n: vb[:, ib[n]] for n in names})
+    quiet = sum(r["noise"] for r in out.rows)
+    if quiet:
+        out.notes.append(f"{_n(quiet, 'signal')} within the noise floor in both results (|x| below the tube's "
+                         "absolute floor throughout: round-off of a quantity that is 0 in both), not ranked")
+    _check_nonfinite(out, labels, len(grid), ia)
     return out
+
+
+def _group_aliases(rows: list[dict[str, Any]], a_traces: Mapping[str, np.ndarray],
+                   b_traces: Mapping[str, np.ndarray]) -> None:
+    """Mark rows whose traces are the same in both results (aliases): the first (in rank order) lists the others in
+    ``same``, each of them names it in ``alias_of``."""
+    first: dict[bytes, dict[str, Any]] = {}
+    for row in rows:
+        key = (np.asarray(a_traces[row["name"]], dtype=float).tobytes()
+               + np.asarray(b_traces[row["name"]], dtype=float).tobytes() + row["unit"].encode())
+        row["same"], row["alias_of"] = [], None
+        if key in first:
+            first[key]["same"].append(row["name"])
+            row["alias_of"] = first[key]["name"]
+        else:
+            first[key] = row
+
+
+def _unit_floors(signals: Mapping[str, tuple[str, np.ndarray, np.ndarray]], least: float) -> dict[str, float]:
+    """The tube's absolute floor per unit: :data:`ATOL_SCALE` times the largest finite magnitude of that unit's
+    signals in both results, at least ``least`` (the smallest positive float if both are 0)."""
+    scale: dict[str, float] = {}
+    for unit, xa, xb in signals.values():
+        for x in (xa, xb):
+            finite = np.abs(x[np.isfinite(x)])
+            scale[unit] = max(scale.get(unit, 0.0), float(finite.max(initial=0.0)))
+    return {u: max(ATOL_SCALE * s, least, np.finfo(float).tiny) for u, s in scale.items()}
+
+
+def _event_shifts(grid: np.ndarray, *times: np.ndarray) -> np.ndarray:
+    """Per grid point, the time shift the tube allows: one grid interval at the points next to an event of either
+    run (a time recorded twice, left and right value), 0 elsewhere."""
+    shift = np.zeros(len(grid))
+    if len(grid) < 2:
+        return shift
+    step = np.diff(grid)
+    for t in times:
+        for te in np.asarray(t)[:-1][np.diff(t) == 0]:
+            k = int(np.searchsorted(grid, te))
+            for i in (k - 1, k, k + 1):
+                if 0 <= i < len(grid):
+                    shift[i] = max(shift[i], step[min(i, len(step) - 1)], step[max(i - 1, 0)])
+    return shift
 
 
 def _row(name: str, unit: str, grid: np.ndarray, xa: np.ndarray, xb: np.ndarray) -> dict[str, Any]:
@@ -335,7 +485,7 @@ def _check_names(out: Comparison, a: Any, b: Any, selected: bool, labels: tuple[
         out.problems.append(f"not every variable is in both results: {'; '.join(parts)} (not compared; "
                             "--signals compares a chosen set)")
     if a.model != b.model:
-        out.notes.append(f"different model classes: {models}")
+        out.problems.append(f"different model classes: {models}")
 
 
 def _check_span(out: Comparison, a: Any, b: Any, labels: tuple[str, str]) -> None:
@@ -354,10 +504,10 @@ def _check_span(out: Comparison, a: Any, b: Any, labels: tuple[str, str]) -> Non
         out.notes.append(f"both runs are {a.status}: {why}")
 
 
-def _check_nonfinite(out: Comparison, labels: tuple[str, str], n_points: int) -> None:
+def _check_nonfinite(out: Comparison, labels: tuple[str, str], n_points: int, order: Mapping[str, int]) -> None:
     for side, other, x in ((labels[1], labels[0], "b"), (labels[0], labels[1], "a")):
-        count, start = f"mismatch_{x}", f"from_{x}"
-        bad = sorted((r for r in out.rows if r[count]), key=lambda r: (r[start], -r[count]))
+        count, start = f"mismatch_{x}", f"from_{x}"  # named in the model's order
+        bad = sorted((r for r in out.rows if r[count]), key=lambda r: (r[start], -r[count], order[r["name"]]))
         if bad:
             most = max(r[count] for r in bad)
             out.problems.append(
@@ -370,7 +520,7 @@ def _check_nonfinite(out: Comparison, labels: tuple[str, str], n_points: int) ->
 
 
 def compare_results(a: Any, b: Any, signals: list[str] | str | None = None) -> list[dict[str, Any]]:
-    """The rows of :func:`compare` (largest relative difference first); see :class:`Comparison` for the keys.
+    """The rows of :func:`compare` (ranked: farthest out of the tube first); see :class:`Comparison` for the keys.
 
     Use :func:`compare` to also get what the comparison does not cover (NaN, different time spans, variables in
     one result only).

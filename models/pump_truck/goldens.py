@@ -57,12 +57,14 @@ import subprocess
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 import flexlib as fl
 from flexlib.errors import ResultFileError
 from flexlib.registry import get_model, run_scenario
+from flexlib.results.compare import tube
 
 __all__ = ["GOLDENS", "GOLDEN_DIR", "Mismatch", "compare", "golden_path", "golden_signals", "make_golden",
            "report"]
@@ -225,21 +227,34 @@ class Mismatch:
                 f"{abs(d) / self.tolerance:.1f}× it)")
 
 
+def _sampler(result: fl.Result, name: str) -> Any:
+    """``times -> values`` of golden signal ``name`` in ``result`` (right values at events; times clipped to the
+    result's span; a hinge-force magnitude from its components), or None if ``result`` lacks it."""
+    def clip(t: np.ndarray) -> np.ndarray:
+        return np.clip(t, result.t[0], result.t[-1])
+
+    if name.endswith(".F_hinge"):
+        fx, fy = (f"{name[:-len('.F_hinge')]}.frame_b.f[{i}]" for i in (0, 1))
+        if fx in result.names and fy in result.names:
+            return lambda t: np.hypot(result.value(fx, clip(t)), result.value(fy, clip(t)))
+        return None
+    return (lambda t: np.asarray(result.value(name, clip(t)), dtype=float)) if name in result.names else None
+
+
+def _shift(grid: np.ndarray) -> float:
+    """The time shift a golden sample may be matched within: ``TIME_SHIFT`` of the grid interval [s]."""
+    return TIME_SHIFT * float(np.median(np.diff(grid))) if grid.size > 1 else 0.0
+
+
 def _deviations(result: fl.Result, grid: np.ndarray, names: list[str], values: np.ndarray) -> dict[str, np.ndarray]:
     """Per golden signal and sample: the smallest ``|result - golden|`` over the result sampled at the golden's time and
-    at shifts up to ``±TIME_SHIFT`` of the grid interval (NaN where ``result`` has no such signal)."""
-    dt = float(np.median(np.diff(grid))) if grid.size > 1 else 0.0
-    shifted = []
-    for shift in np.linspace(-TIME_SHIFT * dt, TIME_SHIFT * dt, 9):
-        times = np.clip(grid + shift, result.t[0], result.t[-1])
-        got, vals, _ = _sampled(result, times)
-        shifted.append(dict(zip(got, vals.T, strict=True)))
+    at shifts up to ``±TIME_SHIFT`` of the grid interval (:func:`flexlib.results.compare.tube`, the comparison of
+    ``flexlib compare``; NaN where ``result`` has no such signal)."""
     out = {}
     for k, name in enumerate(names):
-        if name not in shifted[0]:
-            out[name] = np.full(len(grid), np.nan)
-            continue
-        out[name] = np.min([np.abs(s[name] - values[:, k]) for s in shifted], axis=0)
+        sample = _sampler(result, name)
+        out[name] = (np.full(len(grid), np.nan) if sample is None
+                     else tube(grid, values[:, k], sample, 1.0, _shift(grid))[0])
     return out
 
 
@@ -265,9 +280,7 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
     signals = [k for k, n in enumerate(golden.names) if not n.startswith("spread(")]
     names = [golden.names[k] for k in signals]
     values = golden.values[:, signals]
-    dev = _deviations(result, grid, names, values)
-    got, new_values, _ = _sampled(result, grid)
-    new = dict(zip(got, new_values.T, strict=True))
+    new: dict[str, np.ndarray] = {}
     out: list[Mismatch] = []
     for k, name in enumerate(names):
         g = values[:, k]
@@ -276,12 +289,14 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
         spread_name = SPREAD.format(name)
         spread = golden[spread_name] if spread_name in golden.names else np.zeros_like(g)
         unit = golden.units[golden.names.index(name)]
-        if name not in new:
+        sample = _sampler(result, name)
+        if sample is None:
             out.append(Mismatch(name, float(grid[0]), float(g[0]), float("nan"), tol, unit))
             continue
-        excess = dev[name] - (tol + spread)
-        i = int(np.argmax(excess))
-        if excess[i] > 0 or not np.all(np.isfinite(new[name])):
+        new[name] = sample(grid)
+        _, ratio = tube(grid, g, sample, tol + spread, _shift(grid))  # the tube of flexlib compare
+        i = int(np.argmax(ratio))
+        if ratio[i] > 1 or not np.all(np.isfinite(new[name])):
             out.append(Mismatch(name, float(grid[i]), float(g[i]), float(new[name][i]), tol + float(spread[i]), unit,
                                 float(spread[i])))
     if out and plot_dir is not None:

@@ -109,3 +109,24 @@ def test_the_measured_spread_widens_only_its_own_sample(hold_run):
     assert [(m.name, m.t) for m in bad] == [(name, golden.t[41])]
     golden.values[41, ks] = 0.5 * tol
     assert "round-off spread" in compare(hold_run, golden)[0].line()
+
+
+def test_compare_ranks_the_changed_cylinder_first(hold_run):
+    """Issue 29: ``flexlib compare`` of ``hold`` against ``hold`` with cylinder 2's bore 2 % larger (the issue's
+    0.400 → 0.408 m) ranks what changed, not round-off: the ten signals farthest out of their tube are cylinder 2's
+    (its chamber masses and volumes, +5.8 %, then its cap-side pressure p_A, −3.9 %, ranked once with its aliases);
+    the valve openings and frame-matrix entries that are 0 in both (1e-21 … 1e-28, once at the top) lie within
+    their noise floor and are not ranked."""
+    from flexlib.results.compare import compare
+
+    _, cylinders = _design()
+    bigger = _mutated("hold", {"axis2.cylinder.cylinder.d_bore": 1.02 * cylinders[1]["bore"]})
+    cmp = compare(hold_run, bigger)
+    top = cmp.ranked[:10]
+    assert all(r["name"].startswith("axis2.") for r in top), [r["name"] for r in top]
+    p_a = next(r for r in top if r["name"] == "axis2.cylinder.cylinder.p_A")
+    assert "axis2.cylinder.port_A.p" in p_a["same"] and p_a["ratio"] > 10
+    assert p_a["a"] > p_a["b"] and (p_a["a"] - p_a["b"]) / p_a["a"] == pytest.approx(0.0387, abs=0.002)
+    noise = {r["name"] for r in cmp.rows if r["noise"]}
+    assert len(noise) > 1000 and not noise & {r["name"] for r in cmp.ranked}
+    assert {"axis1.cbv_hold.h_relief", "axis4.cylinder.frame_b.T[1,2]"} <= noise
