@@ -94,8 +94,8 @@ def test_background_c_is_adopted_during_the_run(tmp_path, monkeypatch):
     m = sim.compiled
     if m.library_pending is None:
         pytest.skip("gcc finished before the run started")
-    real = m.c_ready
-    seen = {"n": 0}
+    real, adopt = m.c_ready, m._adopt_pending
+    seen = {"n": 0, "allowed": False}
 
     def ready_after_a_while() -> bool:  # let a few blocks run on the VM, then wait for gcc
         seen["n"] += 1
@@ -104,9 +104,15 @@ def test_background_c_is_adopted_during_the_run(tmp_path, monkeypatch):
         deadline = time.monotonic() + 600.0
         while not real() and time.monotonic() < deadline:
             time.sleep(0.1)
-        return real()
+        seen["allowed"] = real()
+        return seen["allowed"]
+
+    def adopt_when_allowed() -> None:  # gcc finishing during the run's start would otherwise be adopted there
+        if seen["allowed"]:
+            adopt()
 
     monkeypatch.setattr(m, "c_ready", ready_after_a_while)
+    monkeypatch.setattr(m, "_adopt_pending", adopt_when_allowed)
     mixed = sim.run(10.0, dt_out=0.1, progress=False)
     assert 0.0 < mixed.stats["compiled_at"] < 10.0
     assert m.library is not None
