@@ -6,7 +6,7 @@
     flexlib run n-mass-chain --scenario short --out chain.h5 --param mass0.m=2
     flexlib run --from chain.h5 --rtol 1e-8        # repeat a run from its file (options on top)
     flexlib show chain.h5 --signals 'mass*.s'      # run settings stored in a result file, some variables
-    flexlib compare a.h5 b.h5 --plot diff.png      # largest differences, and what the comparison does not cover
+    flexlib compare a.h5 b.h5 --plot diff.png      # signals out of their tube around A, and what is not covered
 
 Models and scenarios come from :mod:`flexlib.registry`; ``--models MODULE`` (or ``$FLEXLIB_MODELS``) imports a
 user's module that registers more. Every error is one line naming the culprit (model, scenario, parameter,

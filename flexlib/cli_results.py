@@ -53,8 +53,8 @@ def compare_cmd(file_a: str, file_b: str, signal_opts: tuple[str, ...], top: int
     if signal_opts and not signals:
         raise click.ClickException(f"--signals {signal_opts[0]!r}: no variable name given")
     if fail_above is not None and math.isnan(fail_above):
-        raise click.ClickException("--fail-above nan: the threshold must be a number >= 0 (a relative difference "
-                                   "such as 1e-3); no difference is ever above NaN")
+        raise click.ClickException("--fail-above nan: the threshold must be a number >= 0 (a multiple of each "
+                                   "signal's tolerance, such as 1); no deviation is ever above NaN")
     if plot_file is not None:
         plot_path = _check_plot_file(plot_file)  # before the comparison
     a, b = load_result(file_a), load_result(file_b)
