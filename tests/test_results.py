@@ -189,3 +189,16 @@ def test_to_dataframe_by_name_with_units():
     assert len(res.to_dataframe().columns) == len(res.names)
     with pytest.raises(KeyError, match="close matches"):
         res.to_dataframe("hinge.W")
+
+
+def test_a_run_result_pickles_with_its_values():
+    """A run's result (variables evaluated when read) pickles and deep-copies as a whole result: the values are
+    evaluated into it, the run's functions are not carried (a process pool or a study gets a plain result)."""
+    import copy
+    import pickle
+
+    res = fl.Simulation(Oscillator(), use_cache=False).run(0.5, dt_out=0.1)
+    back = pickle.loads(pickle.dumps(res))
+    assert back.source is None and back.names == res.names
+    np.testing.assert_array_equal(back.values, res.values)
+    np.testing.assert_array_equal(copy.deepcopy(res)["mass.s"], res["mass.s"])

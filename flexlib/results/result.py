@@ -87,6 +87,14 @@ class Result:
             if bracket:
                 self._arrays.setdefault(base, []).append(k)
 
+    def __getstate__(self) -> dict[str, Any]:
+        """A pickled (or deep-copied) result stands alone: its values evaluated, without the run's functions."""
+        state = self.__dict__.copy()
+        if state.get("_values") is None and self.source is not None:
+            state["_values"] = self.values
+        state["source"], state["_columns"] = None, {}
+        return state
+
     @property
     def success(self) -> bool:
         """True if the run reached its end time."""
