@@ -26,6 +26,7 @@ units, runs with different status — and *notes* that are worth a line but do n
 from __future__ import annotations
 
 import fnmatch
+import hashlib
 import os
 import re
 from collections.abc import Iterable, Mapping
@@ -373,13 +374,22 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
         names = [n for n in names if n not in skip]
     if not names and not out.problems:
         out.problems.append("0 signals compared")
-    ta, va = _right_values(a)
-    tb, vb = _right_values(b)
+    n_points = _rank(out, a, b, names, (ia, ib), float(rtol))
+    _check_nonfinite(out, labels, n_points, ia)
+    return out
+
+
+def _rank(out: Comparison, a: Any, b: Any, names: list[str], columns: tuple[dict[str, int], dict[str, int]],
+          rtol: float) -> int:
+    """The rows of ``names`` (``columns``: their column in A and in B): each signal of B in its tube around A's
+    (module docstring), ranked; returns the number of compared time points."""
+    ia, ib = columns
+    (t0, t1), (ta, va), (tb, vb) = out.span, _right_values(a), _right_values(b)
     grid = np.union1d(ta, tb)
     grid = grid[(grid >= t0) & (grid <= t1)]
     shift = _event_shifts(grid, a.t, b.t)
     pairs = {n: (_interp(grid, ta, va[:, ia[n]]), vb[:, ib[n]]) for n in names}
-    solver = max((float(r.stats.get("atol", 0.0) or 0.0) for r in (a, b)), default=0.0)
+    solver = max(float(r.stats.get("atol", 0.0) or 0.0) for r in (a, b))
     atol = _unit_floors({n: (a.units[ia[n]], xa, xb) for n, (xa, xb) in pairs.items()}, NOISE_ATOL * solver)
     for n, (xa, xb_rows) in pairs.items():
         xb = _interp(grid, tb, xb_rows)
@@ -387,7 +397,7 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
         floor = atol[a.units[ia[n]]]
         finite_a = xa[np.isfinite(xa)]
         base = max(float(np.ptp(finite_a)), abs(float(finite_a.min()))) if finite_a.size else 0.0
-        tol = floor + float(rtol) * base
+        tol = floor + rtol * base
         if row["mismatch"]:
             ratio = np.inf
         else:
@@ -398,13 +408,12 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
         out.rows.append({**row, "tol": tol, "ratio": ratio, "noise": bool(not row["mismatch"] and magnitude <= floor)})
     connector = {n: a.kinds[ia[n]] in ("potential", "flow") for n in names}  # aliases: the variable names them
     out.rows.sort(key=lambda r: (r["noise"], -r["ratio"], -r["rel"], -r["abs"], connector[r["name"]]))
-    _group_aliases(out.rows, {n: x[0] for n, x in pairs.items()}, {n: vb[:, ib[n]] for n in names})
+    _group_aliases(out.rows, {n: x[0] for n, x in pairs.items()}, {n: x[1] for n, x in pairs.items()})
     quiet = sum(r["noise"] for r in out.rows)
     if quiet:
         out.notes.append(f"{_n(quiet, 'signal')} within the noise floor in both results (|x| below the tube's "
                          "absolute floor throughout: round-off of a quantity that is 0 in both), not ranked")
-    _check_nonfinite(out, labels, len(grid), ia)
-    return out
+    return len(grid)
 
 
 def _group_aliases(rows: list[dict[str, Any]], a_traces: Mapping[str, np.ndarray],
@@ -413,8 +422,10 @@ def _group_aliases(rows: list[dict[str, Any]], a_traces: Mapping[str, np.ndarray
     ``same``, each of them names it in ``alias_of``."""
     first: dict[bytes, dict[str, Any]] = {}
     for row in rows:
-        key = (np.asarray(a_traces[row["name"]], dtype=float).tobytes()
-               + np.asarray(b_traces[row["name"]], dtype=float).tobytes() + row["unit"].encode())
+        h = hashlib.blake2b(row["unit"].encode(), digest_size=32)  # a digest, not the traces, keys the table
+        h.update(np.ascontiguousarray(a_traces[row["name"]], dtype=float))
+        h.update(np.ascontiguousarray(b_traces[row["name"]], dtype=float))
+        key = h.digest()
         row["same"], row["alias_of"] = [], None
         if key in first:
             first[key]["same"].append(row["name"])

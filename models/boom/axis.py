@@ -31,6 +31,7 @@ P_TANK = HLP46.p_ref  # tank pressure [Pa] (atmospheric)
 V_HOSE = 1.0e-3  # hose volume between directional and counterbalance valve [m3]
 VALVE_DP = 35e5  # nominal pressure drop per edge, and the compensators' setting [Pa]
 VALVE_HZ = 20.0  # spool bandwidth [Hz]
+VALVE_ZETA = 0.7  # spool damping ratio [1]
 CYL_FC = 0.01  # seal friction / force of the system pressure on the piston [1] (3.5 bar at 350 bar)
 CYL_VREG = 0.005  # regularisation velocity of the seal friction [m/s]
 D_CYL = 5e4  # viscous friction of the cylinder [N.s/m]
@@ -167,7 +168,7 @@ class HydraulicAxis(fl.Model):
         self.cylinder.cylinder.set_start("p_A", positive(PART, "p_A_start", p_A_start, "Pa"), fixed=False)
         self.cylinder.cylinder.set_start("p_B", positive(PART, "p_B_start", p_B_start, "Pa"), fixed=False)
         dp_nom, omega = positive(PART, "dp_nom", dp_nom, "Pa"), 2 * math.pi * positive(PART, "f_spool", f_spool, "Hz")
-        self.valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=dp_nom, omega=omega, zeta=0.7,
+        self.valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=dp_nom, omega=omega, zeta=VALVE_ZETA,
                                         A_leak=VALVE_LEAK, compensated=True, dp_comp=dp_nom)
         cbv = {"pilot_ratio": positive(PART, "pilot_ratio", pilot_ratio, "1"), "Q_nom": 2 * Q_nom, "dp_nom": dp_nom,
                "V_hose": positive(PART, "V_hose", V_hose, "m3")}

@@ -374,9 +374,10 @@ class SmoothReference(fl.Model):
                fl.eq(self.dy, c1 + s * (2 * c2 + 3 * s * c3))]
         if self.ff_gain is not None:
             k_pos, k_neg = self.ff_gain
+            speed: Any = self.dy  # without a lead, the speed itself
             if self.ff_lead > 0:
                 s, (_, c1, c2, c3) = self._segment(fl.time + self.ff_lead)
-            speed = c1 + s * (2 * c2 + 3 * s * c3)
+                speed = c1 + s * (2 * c2 + 3 * s * c3)
             out.append(fl.eq(self.ff, fl.no_event(speed > 0, k_pos, k_neg) * speed))
         return out
 

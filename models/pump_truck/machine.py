@@ -35,7 +35,7 @@ from flexlib.models.boom import (
     motion_profile,
     waypoint_moves,
 )
-from flexlib.models.boom.axis import VALVE_HZ
+from flexlib.models.boom.axis import VALVE_HZ, VALVE_ZETA
 from flexlib.models.boom.controller import OMEGA_C, T_CMD
 from flexlib.models.boom.slew import D_MOTOR as SLEW_D
 from flexlib.models.boom.slew import Q_VALVE as SLEW_Q
@@ -55,7 +55,7 @@ STOP_MARGIN = 0.03  # cylinder stroke beyond the record's range at each end [m]
 W_MAX = 0.03  # joint speed at full valve command at the largest lever arm [rad/s] (valve sizing)
 A_MAX = 0.01  # joint acceleration of the reference moves [rad/s2]
 J_MAX = 0.01  # joint jerk of the reference moves [rad/s3]
-FF_LEAD = T_CMD + 2 * 0.7 / (2 * math.pi * VALVE_HZ)  # feed-forward lead: command filter + spool lag [s]
+FF_LEAD = T_CMD + 2 * VALVE_ZETA / (2 * math.pi * VALVE_HZ)  # feed-forward lead: command filter + spool lag [s]
 P_CRACK_MIN = 70e5  # counterbalance setting of a line that holds no load over the sizing sweep [Pa]
 LENGTH_TOL = 1e-6  # length references within 1 µm of the kinematics [m]
 
