@@ -183,18 +183,27 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
               help="Write the model's figures (PNG) of the run into this directory.")
 @click.option("--force", is_flag=True,
               help="Let --out replace a file that is not a flexlib result, or write a name without .h5.")
+@click.option("--outputs", "outputs", multiple=True, metavar="PATTERN[,PATTERN...]",
+              help="Also store these variables as columns in --out (names, array names, patterns with * and ?; "
+                   "'all': every variable). Without it the file stores the run's rows and derives every variable "
+                   "when read.")
 @friendly
 def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tuple[str, ...], t_end: float | None,
             rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, from_file: str | None,
             model_options: tuple[str, ...], flexible: bool | None, no_progress: bool,
-            plots_dir: str | None, force: bool) -> None:
+            plots_dir: str | None, force: bool, outputs: tuple[str, ...]) -> None:
     """Run MODEL in a scenario, then print a summary (times, steps, peaks of the model's signals)."""
     from flexlib import registry
     from flexlib.scenario import Scenario
 
     overrides = _parse_params(params)
-    given = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("dt_out", dt_out), ("solver", solver))
-             if v is not None}
+    given: dict[str, Any] = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("dt_out", dt_out),
+                                               ("solver", solver)) if v is not None}
+    stored = [p.strip() for opt in outputs for p in opt.split(",") if p.strip()]
+    if outputs and not stored:
+        raise click.ClickException(f"--outputs {outputs[0]!r}: no variable name or pattern given")
+    if stored:
+        given["outputs"] = "all" if stored == ["all"] else stored
     scen: str | Scenario | None = scenario
     if scenario is not None and (scenario.endswith(".json") or os.path.isfile(scenario)):
         scen = Scenario.from_file(scenario)
@@ -236,14 +245,14 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
     except SolverError as err:
         where = ""
         if out and err.result is not None:
-            written, problem = _save(err.result, out)
+            written, problem = _save(err.result, out, given.get("outputs"))
             where = f"; {problem}" if problem else f"; the result up to the failure is in {written}"
         raise click.ClickException(f"{model}: the run failed: {one_line(err)}{where}") from None
     except (FlexlibError, ValueError, LookupError) as err:
         if from_file is None:
             raise
         raise click.ClickException(f"{one_line(err)} (repeating the run recorded in {from_file})") from None
-    written, problem = _save(done.result, out) if out else (None, None)
+    written, problem = _save(done.result, out, given.get("outputs")) if out else (None, None)
     _print_summary(done, written)
     if plots_dir is not None:
         _write_plots(done, plots_dir)
@@ -315,7 +324,7 @@ def _check_plots_dir(entry: Any, directory: str) -> None:
         raise click.ClickException(f"--plots {directory}: the directory is not writable")
 
 
-def _save(result: Any, out: str) -> tuple[str | None, str | None]:
+def _save(result: Any, out: str, outputs: Any = None) -> tuple[str | None, str | None]:
     """Write ``result`` to ``out``; if that fails (directory removed during the run, disk full), to a new file in
     the working directory or else the temporary directory, so that a finished run is never lost.
 
@@ -324,8 +333,11 @@ def _save(result: Any, out: str) -> tuple[str | None, str | None]:
     (str or None, str or None)
         The file written (None if none could be) and, if it is not ``out``, what went wrong.
     """
+    from flexlib.results.hdf5 import keep_outputs
+
+    outputs = keep_outputs(result, outputs, out)
     try:
-        result.save(out)
+        result.save(out, outputs=outputs)
         return out, None
     except Exception as err:  # any failure to write: keep the result elsewhere
         reason = one_line(err)
@@ -339,7 +351,7 @@ def _save(result: Any, out: str) -> tuple[str | None, str | None]:
             continue
         os.close(fd)
         try:
-            result.save(name)
+            result.save(name, outputs=outputs)
         except Exception:
             Path(name).unlink(missing_ok=True)
             continue

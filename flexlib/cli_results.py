@@ -264,7 +264,7 @@ def _signal_table(res: Any, names: list[str]) -> Table:
     index = {n: k for k, n in enumerate(res.names)}
     for name in names:
         k = index[name]
-        x = res.values[:, k]
+        x = res[name]
         finite = x[np.isfinite(x)]
         lo, hi = (fmt(finite.min()), fmt(finite.max())) if finite.size else ("-", "-")
         final = fmt(x[-1]) if len(x) else "-"
@@ -273,14 +273,21 @@ def _signal_table(res: Any, names: list[str]) -> Table:
 
 
 def _nonfinite(res: Any) -> str:
-    """Which variables of a result hold NaN or inf, from when ("" if none)."""
-    if not res.values.size:
-        return ""
-    finite = np.isfinite(res.values)
-    cols = np.flatnonzero(~finite.all(axis=0))
-    if not cols.size:
-        return ""
-    first = int(np.argmax(~finite.all(axis=1)))
-    names = [res.names[k] for k in cols]
+    """Which variables of a result hold NaN or inf, from when ("" if none). A result file that derives its variables
+    when read is checked on what it stores (the unknowns, stored outputs: a derived variable is NaN when they are)."""
+    stored = getattr(res.source, "nonfinite", None)
+    if stored is not None:
+        names, first = stored(res.names)
+        if not names:
+            return ""
+    else:
+        if not res.values.size:
+            return ""
+        finite = np.isfinite(res.values)
+        cols = np.flatnonzero(~finite.all(axis=0))
+        if not cols.size:
+            return ""
+        first = int(np.argmax(~finite.all(axis=1)))
+        names = [res.names[k] for k in cols]
     shown = ", ".join(names[:5]) + (f", ... ({len(names) - 5} more)" if len(names) > 5 else "")
     return f"{len(names)} variables are NaN or inf, from t = {res.t[first]:g} s: {shown}"

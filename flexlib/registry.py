@@ -468,11 +468,11 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     except SolverError as err:
         if err.result is not None:
             err.result.metadata["run"] = recorded
-            _save_kept(err.result, out, "the partial result")
+            _save_kept(err.result, out, "the partial result", opts.get("outputs"))
         raise
     c2 = _time.process_time()
     result.metadata["run"] = recorded
-    _save_kept(result, out, "the result")
+    _save_kept(result, out, "the result", opts.get("outputs"))
     return ScenarioRun(result, instance, entry, scen, c1 - c0, c2 - c1)
 
 
@@ -567,14 +567,16 @@ def _check_run_values(entry: ModelEntry, scen: Scenario, instance: Any, given: M
                                f"{field_})") from None
 
 
-def _save_kept(result: Any, out: Path | None, what: str) -> None:
+def _save_kept(result: Any, out: Path | None, what: str, outputs: Any = None) -> None:
     """Write ``result`` to ``out`` (if given) without ever losing it: a failed write (directory removed during
     the run, disk full) is a :class:`ResultSaveWarning` naming the file and the reason, and the result is kept
     (returned, or on ``err.result``), as ``Simulation.run(result_file=...)`` does."""
     if out is None:
         return
+    from flexlib.results.hdf5 import keep_outputs
+
     try:
-        result.save(out)
+        result.save(out, outputs=keep_outputs(result, outputs, out))
     except Exception as err:  # any failure to write must not hide the finished run
         reason = str(err) if isinstance(err, ResultFileError) else f"{out}: {type(err).__name__}: {err}"
         warnings.warn(ResultSaveWarning(f"{what} was not saved: {reason}; it is kept in memory (returned, or "

@@ -26,7 +26,7 @@ __all__ = ["BOOL_WORDS", "NONE_WORDS", "RUN_OPTIONS", "ModelOption", "Scenario",
 
 #: Keyword arguments of :meth:`flexlib.Simulation.run` a scenario may set in ``run``.
 RUN_OPTIONS = ("t_start", "dt_out", "rtol", "atol", "max_step", "max_steps", "max_order", "solver",
-               "steady_state", "dynamic_states")
+               "steady_state", "dynamic_states", "outputs")
 
 def frozen_mapping(mapping: Mapping[str, Any] | None, what: str) -> Mapping[str, Any]:
     """A read-only copy of ``mapping`` (``None``: empty) with str keys; :class:`RunArgumentError` naming ``what``

@@ -202,3 +202,119 @@ def test_a_run_result_pickles_with_its_values():
     assert back.source is None and back.names == res.names
     np.testing.assert_array_equal(back.values, res.values)
     np.testing.assert_array_equal(copy.deepcopy(res)["mass.s"], res["mass.s"])
+
+
+# -- result files: the run's rows stored, every other variable derived when read (format 2) --------------------------
+def _file_equals_memory(res: fl.Result, path, **save) -> fl.Result:
+    """``res`` saved and loaded back: every variable read by name equals the run's in memory to 1e-12 relative
+    (issue 29's check), and the whole table read at once too."""
+    res.save(path, **save)
+    back = fl.load_result(path)
+    assert back.names == res.names and back.units == res.units and back.kinds == res.kinds
+    np.testing.assert_array_equal(back.t, res.t)
+    for k, name in enumerate(res.names):
+        x = res.values[:, k]
+        scale = max(float(np.max(np.abs(x), initial=0.0)), 1e-300)
+        assert np.max(np.abs(back[name] - x), initial=0.0) <= 1e-12 * scale, name
+    np.testing.assert_allclose(back.values, res.values, rtol=1e-12, atol=0.0)
+    return back
+
+
+def test_a_file_stores_the_rows_and_derives_every_variable(tmp_path):
+    """A result file stores the run's rows (unknowns, relation values, the output function), not every variable;
+    read back, every variable equals the run's (1e-12 relative). ``outputs="all"`` stores every variable as a
+    column (the format-1 content) and reads back the same; the default file is the smaller."""
+    import h5py
+
+    res = fl.Simulation(Oscillator(), use_cache=False).run(2.0, dt_out=0.01)
+    _file_equals_memory(res, tmp_path / "rows.h5")
+    _file_equals_memory(res, tmp_path / "all.h5", outputs="all")
+    with h5py.File(tmp_path / "rows.h5") as f:
+        assert f["variables/values"].shape == (len(res.t), 0) and "rows/0/out" in f
+        assert f["rows/0/y"].shape[1] <= res.stats["n_unknowns"] < len(res.names)
+    with h5py.File(tmp_path / "all.h5") as f:
+        assert f["variables/values"].shape == (len(res.t), len(res.names)) and "rows" not in f
+
+
+def test_a_file_derives_across_state_switches(tmp_path):
+    """Rows of several models (the state selection switched): each part derives with its own output function."""
+    from flexlib.models.reference.cartesian_pendulum import CartesianPendulum
+
+    res = fl.Simulation(CartesianPendulum(init={"x": 0.0, "u": 8.0}, guess={"y": -1.0}), use_cache=False).run(
+        3.0, rtol=1e-8, atol=1e-10)
+    assert res.stats["state_switches"] >= 1
+    back = _file_equals_memory(res, tmp_path / "switch.h5")
+    assert len(back.source.parts) >= 2
+    _file_equals_memory(back, tmp_path / "again.h5")  # a loaded result saves its rows again
+
+
+def test_outputs_are_stored_as_columns(tmp_path):
+    """``outputs=`` stores the named variables (patterns, array names) as columns besides the rows; a pattern that
+    matches nothing is named in a warning and the file is written without it (nothing lost)."""
+    import h5py
+
+    sim = fl.Simulation(Oscillator(), use_cache=False)
+    res = sim.run(1.0, dt_out=0.1, result_file=tmp_path / "r.h5", outputs=["spring.*", "mass.s"])
+    with h5py.File(tmp_path / "r.h5") as f:
+        stored = [res.names[k] for k in f["variables/stored"][()]]
+    assert "mass.s" in stored and stored and all(n == "mass.s" or n.startswith("spring.") for n in stored)
+    back = fl.load_result(tmp_path / "r.h5")
+    np.testing.assert_array_equal(back["spring.flange.f"], res["spring.flange.f"])
+    with pytest.warns(fl.ResultSaveWarning, match=r"outputs 'nosuch\.\*' is not stored"):
+        sim.run(1.0, dt_out=0.1, result_file=tmp_path / "w.h5", outputs=["nosuch.*", "mass.v"])
+    np.testing.assert_array_equal(fl.load_result(tmp_path / "w.h5")["mass.v"], res["mass.v"])
+    with pytest.raises(fl.RunArgumentError, match=r"outputs = 3 is invalid"):
+        sim.run(1.0, outputs=3)
+
+
+def test_a_derived_variable_needs_the_stored_function(tmp_path):
+    """A file whose output function cannot be read (another CasADi wrote it; here: damaged) still gives its
+    unknowns and constants; a derived variable is a ResultFileError saying why and what to do."""
+    import h5py
+
+    res = fl.Simulation(Oscillator(), use_cache=False).run(1.0, dt_out=0.1)
+    res.save(tmp_path / "r.h5")
+    with h5py.File(tmp_path / "r.h5", "a") as f:
+        del f["rows/0/out"]
+        f["rows/0/out"] = np.frombuffer(b"not a function", dtype=np.uint8)
+        source = f["rows/0/source"][()]
+    back = fl.load_result(tmp_path / "r.h5")
+    unknown = next(n for n, s in zip(res.names, source, strict=True) if s >= 0)
+    derived = next(n for n, s in zip(res.names, source, strict=True) if s == -1)
+    np.testing.assert_array_equal(back[unknown], res[unknown])
+    with pytest.raises(fl.ResultFileError, match=r"r\.h5.*output function.*cannot be read.*outputs="):
+        back[derived]
+
+
+@pytest.mark.parametrize(("change", "problem"), [
+    (lambda f: f["rows/0/rows"].__setitem__(0, 5), r"increasing row indices|holds row"),
+    (lambda f: f.__delitem__("rows/0/y_columns"), r"missing /rows/0/y_columns"),
+    (lambda f: f.__delitem__("rows"), r"no /rows to derive"),
+    (lambda f: f["rows/0/source"].__setitem__(0, 10**6), r"source must hold unknown indices"),
+])
+def test_a_damaged_rows_group_is_named(tmp_path, change, problem):
+    import h5py
+
+    res = fl.Simulation(Oscillator(), use_cache=False).run(1.0, dt_out=0.1)
+    res.save(tmp_path / "r.h5")
+    with h5py.File(tmp_path / "r.h5", "a") as f:
+        change(f)
+    with pytest.raises(fl.ResultFileError, match=r"r\.h5: .*" + f"(?:{problem})"):
+        fl.load_result(tmp_path / "r.h5")
+
+
+def test_compare_reads_files_block_by_block(tmp_path):
+    """``compare`` of two result files (variables derived as read, a block at a time) ranks as the comparison of
+    the runs in memory, and keeps no column of either file."""
+    from flexlib.results.compare import compare
+
+    sim = fl.Simulation(Oscillator(), use_cache=False)
+    a, b = sim.run(2.0, dt_out=0.01), sim.run(2.0, dt_out=0.01, params={"mass.m": 1.02})
+    a.save(tmp_path / "a.h5")
+    b.save(tmp_path / "b.h5")
+    fa, fb = fl.load_result(tmp_path / "a.h5"), fl.load_result(tmp_path / "b.h5")
+    on_files, in_memory = compare(fa, fb), compare(a, b)
+    assert [r["name"] for r in on_files.rows] == [r["name"] for r in in_memory.rows]
+    for r, s in zip(on_files.rows, in_memory.rows, strict=True):
+        assert r["ratio"] == pytest.approx(s["ratio"], rel=1e-9) and r["same"] == s["same"]
+    assert fa._values is None and not fa._columns

@@ -26,7 +26,6 @@ units, runs with different status — and *notes* that are worth a line but do n
 from __future__ import annotations
 
 import fnmatch
-import hashlib
 import os
 import re
 from collections.abc import Iterable, Mapping
@@ -53,7 +52,7 @@ _SHIFTS = 9
 
 
 def tube(grid: np.ndarray, reference: np.ndarray, sample: Any, tol: np.ndarray | float,
-         shift: np.ndarray | float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+         shift: np.ndarray | float = 0.0, at_grid: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Deviation of a signal from a reference and that over its tolerance, per point of ``grid`` [s].
 
     The deviation at ``t`` is the smallest ``|sample(t + s) − reference(t)|`` over shifts ``|s| ≤ shift(t)``
@@ -73,6 +72,8 @@ def tube(grid: np.ndarray, reference: np.ndarray, sample: Any, tol: np.ndarray |
         Tolerance at each point (> 0).
     shift : ndarray or float
         Largest time shift at each point [s].
+    at_grid : ndarray, optional
+        ``sample(grid)``, if the caller has it.
 
     Returns
     -------
@@ -81,7 +82,7 @@ def tube(grid: np.ndarray, reference: np.ndarray, sample: Any, tol: np.ndarray |
     """
     grid, reference = np.asarray(grid, dtype=float), np.asarray(reference, dtype=float)
     shift = np.broadcast_to(np.asarray(shift, dtype=float), grid.shape)
-    dev = np.abs(np.asarray(sample(grid), dtype=float) - reference)
+    dev = np.abs(np.asarray(sample(grid) if at_grid is None else at_grid, dtype=float) - reference)
     moved = np.flatnonzero(shift > 0)
     if moved.size:
         for f in np.linspace(-1.0, 1.0, _SHIFTS):
@@ -271,12 +272,11 @@ def _select(a: Any, b: Any, signals: list[str], labels: tuple[str, str]) -> tupl
     return list(dict.fromkeys(names)), problems  # each once, in the order asked
 
 
-def _right_values(res: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Time points and rows with the right value kept at events (as :meth:`Result.value`)."""
-    t = res.t
+def _right_rows(t: np.ndarray) -> np.ndarray:
+    """Mask of the rows kept for interpolation: the right value at events (as :meth:`Result.value`)."""
     keep = np.ones(len(t), dtype=bool)
     keep[:-1] = t[1:] != t[:-1]
-    return t[keep], res.values[keep]
+    return keep
 
 
 def _interp(grid: np.ndarray, t: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -379,36 +379,67 @@ def compare(a: Any, b: Any, signals: list[str] | str | None = None, *,
     return out
 
 
+#: Signals read at a time from each result (memory: this many columns × time points × 8 bytes per result).
+_BLOCK = 256
+
+
 def _rank(out: Comparison, a: Any, b: Any, names: list[str], columns: tuple[dict[str, int], dict[str, int]],
           rtol: float) -> int:
     """The rows of ``names`` (``columns``: their column in A and in B): each signal of B in its tube around A's
-    (module docstring), ranked; returns the number of compared time points."""
+    (module docstring), ranked; returns the number of compared time points.
+
+    The signals are read :data:`_BLOCK` at a time (a result file's variables are derived when read): one pass keeps,
+    per signal, what its row needs — the largest deviation, the base of its tolerance, its magnitude and a digest of
+    its traces — and the tolerances follow from the floors per unit once every signal is seen."""
     ia, ib = columns
-    (t0, t1), (ta, va), (tb, vb) = out.span, _right_values(a), _right_values(b)
+    keep_a, keep_b = _right_rows(a.t), _right_rows(b.t)
+    (t0, t1), ta, tb = out.span, a.t[keep_a], b.t[keep_b]
     grid = np.union1d(ta, tb)
     grid = grid[(grid >= t0) & (grid <= t1)]
     shift = _event_shifts(grid, a.t, b.t)
-    pairs = {n: (_interp(grid, ta, va[:, ia[n]]), vb[:, ib[n]]) for n in names}
+    on_a, on_b = _on_grid(grid, ta), _on_grid(grid, tb)
+    scale: dict[str, float] = {}
+    seen: list[tuple[dict[str, Any], float, float, float]] = []  # row, largest deviation, base, magnitude
+    groups: dict[tuple, list[str]] = {}  # the same values in A and in B (aliases by structure): read once
+    sig_a, sig_b = _signatures(a), _signatures(b)
+    for n in names:
+        groups.setdefault((a.units[ia[n]], sig_a[ia[n]], sig_b[ib[n]]), []).append(n)
+    first = [members[0] for members in groups.values()]
+    others = {members[0]: members[1:] for members in groups.values()}
+    for start in range(0, len(first), _BLOCK):
+        block = first[start:start + _BLOCK]
+        va = np.asfortranarray(a._read([ia[n] for n in block], keep=False))
+        vb = np.asfortranarray(b._read([ib[n] for n in block], keep=False))
+        for j, n in enumerate(block):
+            unit = a.units[ia[n]]
+            xa_rows, xb_rows = va[:, j][keep_a], vb[:, j][keep_b]
+            xa = xa_rows[on_a] if on_a is not None else _interp(grid, ta, xa_rows)
+            xb = xb_rows[on_b] if on_b is not None else _interp(grid, tb, xb_rows)
+            row = _row(n, unit, grid, xa, xb)
+            finite_a = xa[np.isfinite(xa)]
+            base = max(float(np.ptp(finite_a)), abs(float(finite_a.min()))) if finite_a.size else 0.0
+            dev = 0.0
+            if not row["mismatch"]:
+                d, _ = tube(grid, xa, lambda times, x=xb_rows: _interp(np.clip(times, t0, t1), tb, x), 1.0, shift,
+                            at_grid=xb)
+                d = d[np.isfinite(xa)]
+                dev = float(np.max(d)) if d.size else 0.0
+            magnitude = max(np.max(np.abs(x[np.isfinite(x)]), initial=0.0) for x in (xa, xb))
+            scale[unit] = max(scale.get(unit, 0.0), float(np.max(np.abs(xb_rows[np.isfinite(xb_rows)]),
+                                                                  initial=0.0)), float(magnitude))
+            row["digest"] = _digest(unit, xa, xb_rows)
+            seen.append((row, dev, base, magnitude))
+            seen += [({**row, "name": alias}, dev, base, magnitude) for alias in others[n]]
     solver = max(float(r.stats.get("atol", 0.0) or 0.0) for r in (a, b))
-    atol = _unit_floors({n: (a.units[ia[n]], xa, xb) for n, (xa, xb) in pairs.items()}, NOISE_ATOL * solver)
-    for n, (xa, xb_rows) in pairs.items():
-        xb = _interp(grid, tb, xb_rows)
-        row = _row(n, a.units[ia[n]], grid, xa, xb)
-        floor = atol[a.units[ia[n]]]
-        finite_a = xa[np.isfinite(xa)]
-        base = max(float(np.ptp(finite_a)), abs(float(finite_a.min()))) if finite_a.size else 0.0
+    floors = _unit_floors(scale, NOISE_ATOL * solver)
+    for row, dev, base, magnitude in seen:
+        floor = floors[row["unit"]]
         tol = floor + rtol * base
-        if row["mismatch"]:
-            ratio = np.inf
-        else:
-            _, r = tube(grid, xa, lambda times, x=xb_rows: _interp(np.clip(times, t0, t1), tb, x), tol, shift)
-            r = r[np.isfinite(xa)]
-            ratio = float(np.max(r)) if r.size else 0.0
-        magnitude = max(np.max(np.abs(x[np.isfinite(x)]), initial=0.0) for x in (xa, xb))
+        ratio = np.inf if row["mismatch"] else dev / tol
         out.rows.append({**row, "tol": tol, "ratio": ratio, "noise": bool(not row["mismatch"] and magnitude <= floor)})
     connector = {n: a.kinds[ia[n]] in ("potential", "flow") for n in names}  # aliases: the variable names them
     out.rows.sort(key=lambda r: (r["noise"], -r["ratio"], -r["rel"], -r["abs"], connector[r["name"]]))
-    _group_aliases(out.rows, {n: x[0] for n, x in pairs.items()}, {n: x[1] for n, x in pairs.items()})
+    _group_aliases(out.rows)
     quiet = sum(r["noise"] for r in out.rows)
     if quiet:
         out.notes.append(f"{_n(quiet, 'signal')} within the noise floor in both results (|x| below the tube's "
@@ -416,16 +447,42 @@ def _rank(out: Comparison, a: Any, b: Any, names: list[str], columns: tuple[dict
     return len(grid)
 
 
-def _group_aliases(rows: list[dict[str, Any]], a_traces: Mapping[str, np.ndarray],
-                   b_traces: Mapping[str, np.ndarray]) -> None:
-    """Mark rows whose traces are the same in both results (aliases): the first (in rank order) lists the others in
-    ``same``, each of them names it in ``alias_of``."""
+def _on_grid(grid: np.ndarray, t: np.ndarray) -> np.ndarray | None:
+    """The rows of a result's (right-value) times ``t`` that are the grid, if the grid is a run of them (the same
+    output grid in both results): its values need no interpolation; None otherwise."""
+    inside = np.flatnonzero((t >= grid[0]) & (t <= grid[-1])) if len(grid) else np.zeros(0, dtype=int)
+    return inside if len(inside) == len(grid) and np.array_equal(t[inside], grid) else None
+
+
+def _signatures(res: Any) -> list[Any]:
+    """Per column of ``res``, a key shared by columns with the same values (its source's structure: aliases of one
+    unknown or one expression), else the column itself."""
+    keys = getattr(res.source, "signatures", None) if res._values is None else None
+    return keys() if keys is not None else list(range(len(res.names)))
+
+
+#: Random projections of a trace (by length) that key the alias table: equal traces give equal projections.
+_PROJECTIONS: dict[int, np.ndarray] = {}
+
+
+def _digest(unit: str, xa: np.ndarray, xb: np.ndarray) -> bytes:
+    """A key of the traces ``xa`` (A on the grid) and ``xb`` (B's rows): four random projections of each (far cheaper
+    than hashing every byte, and as telling for traces of a simulation), with the unit and the lengths."""
+    parts = [unit.encode(), np.array([len(xa), len(xb)]).tobytes()]
+    for x in (xa, xb):
+        if len(x) not in _PROJECTIONS:
+            _PROJECTIONS[len(x)] = np.random.default_rng(len(x)).standard_normal((4, len(x)))
+        parts.append((_PROJECTIONS[len(x)] @ np.where(np.isnan(x), 0.0, x)).tobytes())
+        parts.append(np.flatnonzero(~np.isfinite(x)).tobytes())
+    return b"".join(parts)
+
+
+def _group_aliases(rows: list[dict[str, Any]]) -> None:
+    """Mark rows whose traces are the same in both results (aliases: the same ``digest``, removed from the row): the
+    first (in rank order) lists the others in ``same``, each of them names it in ``alias_of``."""
     first: dict[bytes, dict[str, Any]] = {}
     for row in rows:
-        h = hashlib.blake2b(row["unit"].encode(), digest_size=32)  # a digest, not the traces, keys the table
-        h.update(np.ascontiguousarray(a_traces[row["name"]], dtype=float))
-        h.update(np.ascontiguousarray(b_traces[row["name"]], dtype=float))
-        key = h.digest()
+        key = row.pop("digest")
         row["same"], row["alias_of"] = [], None
         if key in first:
             first[key]["same"].append(row["name"])
@@ -434,14 +491,9 @@ def _group_aliases(rows: list[dict[str, Any]], a_traces: Mapping[str, np.ndarray
             first[key] = row
 
 
-def _unit_floors(signals: Mapping[str, tuple[str, np.ndarray, np.ndarray]], least: float) -> dict[str, float]:
+def _unit_floors(scale: Mapping[str, float], least: float) -> dict[str, float]:
     """The tube's absolute floor per unit: :data:`ATOL_SCALE` times the largest finite magnitude of that unit's
-    signals in both results, at least ``least`` (the smallest positive float if both are 0)."""
-    scale: dict[str, float] = {}
-    for unit, xa, xb in signals.values():
-        for x in (xa, xb):
-            finite = np.abs(x[np.isfinite(x)])
-            scale[unit] = max(scale.get(unit, 0.0), float(finite.max(initial=0.0)))
+    signals in both results (``scale``), at least ``least`` (the smallest positive float if both are 0)."""
     return {u: max(ATOL_SCALE * s, least, np.finfo(float).tiny) for u, s in scale.items()}
 
 

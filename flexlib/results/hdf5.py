@@ -17,20 +17,25 @@ import re
 import socket
 import tempfile
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import h5py
 import numpy as np
 
-from flexlib.errors import ResultFileError, ResultSaveWarning, RunArgumentError, SimulationInterrupted
+from flexlib.errors import ResultFileError, ResultKeyError, ResultSaveWarning, RunArgumentError, SimulationInterrupted
 from flexlib.results.result import Result
+from flexlib.results.stored import FileColumns, FilePart, StoredPart, output_map, pack_function, unique_columns
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "keep_result", "load_result", "not_a_result", "remove_orphans", "save_result"]
 
 FORMAT = "flexlib-result"
-#: Version of the layout written; files with a higher version are refused on reading.
-FORMAT_VERSION = 1
+#: Version of the layout written; files with a higher version are refused on reading. 1: every variable stored; 2:
+#: the run's rows stored, the other variables derived when read (:mod:`flexlib.results.stored`).
+FORMAT_VERSION = 2
+#: Rows per chunk of a stored column (a column is read alone; a chunk per column up to this many rows).
+_CHUNK_ROWS = 1 << 17
 _STR = h5py.string_dtype("utf-8")
 
 #: Datasets every result file has (``docs/results.md``).
@@ -107,8 +112,13 @@ def remove_orphans(path: str | os.PathLike) -> list[Path]:
     return removed
 
 
-def save_result(result: Result, path: str | os.PathLike) -> None:
+def save_result(result: Result, path: str | os.PathLike, outputs: str | Sequence[str] | None = None) -> None:
     """Write ``result`` to ``path``: a temporary file in the same directory, then an atomic rename.
+
+    The file stores the run's rows (unknowns, relation values, the model's output function) and derives every other
+    variable when it is read (:mod:`flexlib.results.stored`); ``outputs`` names variables to store as columns as
+    well (names, array names or patterns with ``*`` and ``?``, for readers without flexlib), ``"all"`` stores every
+    variable (a larger file). A result without rows of a run (built from values) stores every variable.
 
     Raises
     ------
@@ -137,7 +147,7 @@ def save_result(result: Result, path: str | os.PathLike) -> None:
         raise ResultFileError(f"cannot write the result to {path}: {_reason(err)}") from None
     os.close(fd)
     try:
-        _write(result, tmp)
+        _write(result, tmp, outputs)
         os.chmod(tmp, _file_mode())  # mkstemp makes it 0600: a result file gets the mode of any file the user writes
         os.replace(tmp, path)
     except BaseException as err:
@@ -159,15 +169,17 @@ def _file_mode() -> int:
     return 0o666 & ~mask
 
 
-def keep_result(result: Result, path: str | os.PathLike | None) -> None:
+def keep_result(result: Result, path: str | os.PathLike | None,
+                outputs: str | Sequence[str] | None = None) -> None:
     """Write a run's ``result`` to ``path`` (if given) without ever losing it: a failed write is a
     :class:`~flexlib.errors.ResultSaveWarning` naming the path and the reason (the warning points at the caller of
     the caller, the user's ``run``); Ctrl-C during the write leaves no file (the write is atomic) and raises
-    :class:`~flexlib.errors.SimulationInterrupted` carrying the result."""
+    :class:`~flexlib.errors.SimulationInterrupted` carrying the result. ``outputs`` as :func:`save_result`."""
     if path is None:
         return
+    outputs = keep_outputs(result, outputs, path)
     try:
-        save_result(result, path)
+        save_result(result, path, outputs)
     except KeyboardInterrupt:
         raise SimulationInterrupted(f"interrupted while writing the result file {path} (not written; the "
                                     f"result is in err.result)", result) from None
@@ -177,7 +189,60 @@ def keep_result(result: Result, path: str | os.PathLike | None) -> None:
                                         "(returned, or err.result of the solver error)"), stacklevel=3)
 
 
-def _write(result: Result, tmp: str) -> None:
+def stored_outputs(result: Result, outputs: str | Sequence[str] | None) -> list[int]:
+    """The columns of ``result`` that ``outputs`` asks to store (:func:`save_result`), in column order.
+
+    Raises
+    ------
+    RunArgumentError
+        ``outputs`` is neither None, ``"all"``, a name nor a list of names and patterns.
+    ResultKeyError
+        A name or pattern that matches no variable (names it, with close matches).
+    """
+    if outputs is None:
+        return []
+    if isinstance(outputs, str) and outputs == "all":
+        return list(range(len(result.names)))
+    wanted = [outputs] if isinstance(outputs, str) else outputs
+    if not isinstance(wanted, (list, tuple)) or not all(isinstance(w, str) and w for w in wanted):
+        raise RunArgumentError(f"outputs must be None (store the run's rows, derive the rest when read), 'all' "
+                               f"(store every variable) or a list of variable names and patterns such as "
+                               f"['cylinder*.p_A', 'joint*.frame_b.f'], got {outputs!r}")
+    from flexlib.results.compare import select
+
+    index = {n: k for k, n in enumerate(result.names)}
+    return sorted({index[n] for n in select(result, list(wanted), f"the result of {result.model} (outputs=)")})
+
+
+def _stored_parts(result: Result) -> list[StoredPart] | None:
+    """The result's rows as the file stores them, or None when it has none to store (built from values)."""
+    make = getattr(result.source, "stored_parts", None)
+    return make() if make is not None and len(result.t) else None
+
+
+def keep_outputs(result: Result, outputs: str | Sequence[str] | None, path: Any) -> str | list[str] | None:
+    """``outputs`` without the names and patterns that match no variable of ``result``, each named in a
+    :class:`~flexlib.errors.ResultSaveWarning` (a run's file is written all the same: every variable stays readable,
+    derived from the rows)."""
+    if outputs is None or isinstance(outputs, str):
+        return outputs if outputs in (None, "all") else keep_outputs(result, [outputs], path)
+    kept = []
+    for pattern in outputs:
+        try:
+            stored_outputs(result, [pattern])
+        except ResultKeyError as err:
+            warnings.warn(ResultSaveWarning(f"{path}: outputs {pattern!r} is not stored as a column ({err}); the "
+                                            "file is written without it"), stacklevel=4)
+        else:
+            kept.append(pattern)
+    return kept or None
+
+
+def _write(result: Result, tmp: str, outputs: str | Sequence[str] | None) -> None:
+    parts = _stored_parts(result)
+    stored = stored_outputs(result, outputs) if parts is not None else list(range(len(result.names)))
+    if len(stored) == len(result.names):  # every variable a column: nothing to derive
+        parts = None
     with h5py.File(tmp, "w") as f:
         f.attrs["format"] = FORMAT
         f.attrs["format_version"] = FORMAT_VERSION
@@ -190,8 +255,12 @@ def _write(result: Result, tmp: str) -> None:
         ds = f.create_dataset("time", data=np.asarray(result.t, dtype=float).reshape(-1))
         ds.attrs["unit"] = "s"
         g = f.create_group("variables")
-        values = np.asarray(result.values, dtype=float).reshape(len(result.t), len(result.names))
-        g.create_dataset("values", data=values, compression="gzip" if values.size > 1e5 else None)
+        if len(stored) == len(result.names):
+            values = np.asarray(result.values, dtype=float).reshape(len(result.t), len(result.names))
+        else:
+            values = result._read(stored)
+        _columns(g, "values", values)
+        g.create_dataset("stored", data=np.asarray(stored, dtype=np.int64))
         g.create_dataset("names", data=np.array(result.names, dtype=object), dtype=_STR)
         g.create_dataset("units", data=np.array(result.units, dtype=object), dtype=_STR)
         g.create_dataset("docs", data=np.array(result.docs, dtype=object), dtype=_STR)
@@ -206,6 +275,37 @@ def _write(result: Result, tmp: str) -> None:
         eg.create_dataset("time", data=np.array([e[0] for e in result.events], dtype=float))
         eg.create_dataset("text", data=np.array([e[1] for e in result.events], dtype=object), dtype=_STR)
         f.attrs["solver_stats"] = json.dumps(result.stats, default=float)
+        for k, part in enumerate(parts or []):
+            _write_part(f.create_group(f"rows/{k}"), part, len(result.names))
+
+
+def _columns(group: h5py.Group, name: str, data: np.ndarray) -> None:
+    """A 2-D dataset stored column by column (one chunk per column, compressed): one column reads alone."""
+    rows, cols = data.shape
+    if rows and cols:
+        group.create_dataset(name, data=data, chunks=(min(rows, _CHUNK_ROWS), 1), compression="gzip",
+                             compression_opts=1, shuffle=True)
+    else:
+        group.create_dataset(name, data=data)
+
+
+def _write_part(g: h5py.Group, part: StoredPart, n_names: int) -> None:
+    """One model's rows (:mod:`flexlib.results.stored`)."""
+    omap = output_map(part.out)
+    if len(omap.source) != n_names:
+        raise ResultFileError(f"the output function of the rows gives {len(omap.source)} values for {n_names} "
+                              "variables")
+    keep, index = unique_columns(part.Y)
+    g.create_dataset("rows", data=np.asarray(part.rows, dtype=np.int64))
+    _columns(g, "y", np.ascontiguousarray(part.Y[:, keep]))
+    g.create_dataset("y_columns", data=index)
+    _columns(g, "yp", np.ascontiguousarray(part.YP[:, omap.yp_used]))
+    g.create_dataset("yp_used", data=omap.yp_used)
+    _columns(g, "rel", np.ascontiguousarray(part.rel, dtype=float).reshape(len(part.rows), -1))
+    g.create_dataset("p", data=np.asarray(part.pvec, dtype=float))
+    g.create_dataset("source", data=omap.source)
+    g.create_dataset("constant", data=omap.constant)
+    g.create_dataset("out", data=pack_function(part.out))
 
 
 class _NotText(ValueError):
@@ -313,12 +413,17 @@ def load_result(path: str | os.PathLike) -> Result:
     except OSError as err:
         raise ResultFileError(f"cannot read the result file {path}: {_what_is(path)}: {err}") from None
     try:
-        with f:
-            return _read(f, path)
-    except ResultFileError:
+        result = _read(f, path)
+    except BaseException as err:
+        f.close()
+        if isinstance(err, (OSError, KeyError, ValueError, TypeError, IndexError)) \
+                and not isinstance(err, ResultFileError):
+            raise ResultFileError(f"cannot read the result file {path}: damaged ({type(err).__name__}: "
+                                  f"{err})") from None
         raise
-    except (OSError, KeyError, ValueError, TypeError, IndexError) as err:
-        raise ResultFileError(f"cannot read the result file {path}: damaged ({type(err).__name__}: {err})") from None
+    if result.source is None:
+        f.close()
+    return result
 
 
 def _read(f: h5py.File, path: Path) -> Result:
@@ -337,7 +442,8 @@ def _read(f: h5py.File, path: Path) -> Result:
     if int(version) > FORMAT_VERSION or int(version) < 1:
         raise bad(f"format_version {int(version)} is not supported: this flexlib reads format_version "
                   f"1 ... {FORMAT_VERSION} (a newer flexlib wrote this file; upgrade flexlib to read it)")
-    missing = ["/" + name for name in _REQUIRED if name not in f or not isinstance(f[name], h5py.Dataset)]
+    required = _REQUIRED + (("variables/stored",) if int(version) >= 2 else ())
+    missing = ["/" + name for name in required if name not in f or not isinstance(f[name], h5py.Dataset)]
     missing += [f"attribute {a!r}" for a in _ATTRS if a not in f.attrs]
     if missing:
         raise bad(f"incomplete flexlib result, missing {', '.join(missing)}")
@@ -347,7 +453,6 @@ def _read(f: h5py.File, path: Path) -> Result:
         names = _strings(g["names"])
     except _NotText as err:
         raise bad(str(err)) from None
-    values = np.asarray(g["values"][()], dtype=float)
     if t.ndim != 1:
         raise bad(f"/time has shape {t.shape}, expected one dimension")
     if not np.all(np.isfinite(t)):
@@ -360,9 +465,16 @@ def _read(f: h5py.File, path: Path) -> Result:
     if dup is not None:
         raise bad(f"/variables/names holds {dup!r} twice; each variable is named once (a column could not be "
                   "told from the other)")
-    if values.shape != (len(t), len(names)):
-        raise bad(f"/variables/values has shape {values.shape}, expected {(len(t), len(names))} "
-                  "(time points × variable names)")
+    values, source = None, None
+    if int(version) == 1:
+        values = np.asarray(g["values"][()], dtype=float)
+        if values.shape != (len(t), len(names)):
+            raise bad(f"/variables/values has shape {values.shape}, expected {(len(t), len(names))} "
+                      "(time points × variable names)")
+    else:
+        source = _file_columns(f, path, len(t), names, bad)
+        if source is None:
+            values = np.asarray(g["values"][()], dtype=float)
     try:
         meta_lists = {k: _strings(g[k]) for k in ("units", "docs", "kinds")}
         pnames, punits, ev_text = _strings(pg["names"]), _strings(pg["units"]), _strings(eg["text"])
@@ -397,5 +509,57 @@ def _read(f: h5py.File, path: Path) -> Result:
         parameters={n: (float(v), u) for n, v, u in zip(pnames, pvalues, punits, strict=True)},
         stats=stats, status=status, message=str(f.attrs["message"]),
         events=list(zip(ev_t.tolist(), ev_text, strict=True)), index_report=str(f.attrs["index_report"]),
-        metadata=meta,
+        metadata=meta, source=source,
     )
+
+
+def _file_columns(f: h5py.File, path: Path, n_rows: int, names: list[str], bad: Any) -> FileColumns | None:
+    """The source of a format-2 file's variables (checked), or None when it stores every variable."""
+    stored = np.asarray(f["variables/stored"][()])
+    shape = f["variables/values"].shape
+    if stored.ndim != 1 or (stored.size and stored.dtype.kind not in "iu"):
+        raise bad(f"/variables/stored must be a list of column indices, got {stored.dtype} {stored.shape}")
+    if stored.size and (stored.min() < 0 or stored.max() >= len(names) or np.any(np.diff(stored) <= 0)):
+        raise bad(f"/variables/stored must hold increasing column indices 0 … {len(names) - 1}")
+    if shape != (n_rows, len(stored)):
+        raise bad(f"/variables/values has shape {shape}, expected {(n_rows, len(stored))} (time points × stored "
+                  "variables)")
+    if len(stored) == len(names):
+        return None
+    rows = f.get("rows")
+    if rows is None or not isinstance(rows, h5py.Group) or not len(rows):
+        raise bad(f"incomplete flexlib result: it stores {len(stored)} of {len(names)} variables and no /rows to "
+                  "derive the others from")
+    casadi_version = str(f.attrs.get("meta_casadi", ""))
+    parts, covered = [], np.zeros(n_rows, dtype=int)
+    for key in sorted(rows, key=lambda k: int(k) if k.isdigit() else -1):
+        g = rows[key]
+        need = ("rows", "y", "y_columns", "yp", "yp_used", "rel", "p", "source", "constant", "out")
+        missing = [f"/rows/{key}/{n}" for n in need if n not in g or not isinstance(g[n], h5py.Dataset)]
+        if missing:
+            raise bad(f"incomplete flexlib result, missing {', '.join(missing)}")
+        idx = np.asarray(g["rows"][()], dtype=np.int64)
+        if idx.ndim != 1 or (idx.size and (idx.min() < 0 or idx.max() >= n_rows or np.any(np.diff(idx) <= 0))):
+            raise bad(f"/rows/{key}/rows must hold increasing row indices 0 … {n_rows - 1}")
+        covered[idx] += 1
+        source, constant = np.asarray(g["source"][()], dtype=np.int64), np.asarray(g["constant"][()], dtype=float)
+        y_columns, yp_used = np.asarray(g["y_columns"][()], dtype=np.int64), np.asarray(g["yp_used"][()], np.int64)
+        n = len(y_columns)
+        if len(source) != len(names) or len(constant) != len(names):
+            raise bad(f"/rows/{key}/source and constant must have one entry per variable ({len(names)})")
+        if source.size and (source.min() < -2 or source.max() >= n):
+            raise bad(f"/rows/{key}/source must hold unknown indices 0 … {n - 1}, -1 (derived) or -2 (constant)")
+        if g["y"].shape[0] != len(idx) or (n and (y_columns.min() < 0 or y_columns.max() >= g["y"].shape[1])):
+            raise bad(f"/rows/{key}/y has shape {g['y'].shape}, inconsistent with its {len(idx)} rows and "
+                      f"/rows/{key}/y_columns")
+        if g["yp"].shape != (len(idx), len(yp_used)) or (yp_used.size and (yp_used.min() < 0 or yp_used.max() >= n)):
+            raise bad(f"/rows/{key}/yp has shape {g['yp'].shape}, expected {(len(idx), len(yp_used))}")
+        if g["rel"].shape[0] != len(idx):
+            raise bad(f"/rows/{key}/rel has {g['rel'].shape[0]} rows, expected {len(idx)}")
+        parts.append(FilePart(g, idx, np.ascontiguousarray(f["time"][()][idx], dtype=float), n, source, constant,
+                               y_columns, yp_used, np.asarray(g["p"][()], dtype=float),
+                               f"cannot read the result file {path}", casadi_version))
+    if np.any(covered != 1):
+        k = int(np.argmax(covered != 1))
+        raise bad(f"/rows holds row {k} {covered[k]} times; each time point is in exactly one part")
+    return FileColumns(f, str(path), n_rows, len(names), stored, parts)

@@ -79,6 +79,8 @@ class Result:
     def __post_init__(self) -> None:
         if self._values is None and self.source is None:
             raise ValueError(f"Result of {self.model}: give values or a source of them")
+        if self._values is not None:  # values given (dataclasses.replace(result, values=...)): they define the result
+            self.source = None
         self._columns: dict[int, np.ndarray] = {}  # variables read one by one from the source
         self._index = {n: k for k, n in enumerate(self.names)}
         self._arrays: dict[str, list[int]] = {}  # "frame.r" -> columns of r[0], r[1], ... (in column order)
@@ -139,11 +141,16 @@ class Result:
             return self._read(cols)
         raise self._unknown(name)
 
-    def _read(self, cols: list[int]) -> np.ndarray:
+    def _read(self, cols: list[int], keep: bool = True) -> np.ndarray:
         """Columns ``cols`` of :attr:`values` (``(len(t), len(cols))``), from the source alone if the values are not
-        evaluated yet (each column evaluated once)."""
+        evaluated yet (each column evaluated once, and kept unless ``keep`` is False: a pass over every variable,
+        as ``compare`` makes, holds a block at a time)."""
         if self._values is not None:
             return self._values[:, cols]
+        if not keep:
+            known = [c for c in cols if c in self._columns]
+            if not known:
+                return self.source.columns(list(cols))
         todo = [c for c in dict.fromkeys(cols) if c not in self._columns]
         if todo:
             for c, col in zip(todo, self.source.columns(todo).T, strict=True):
@@ -356,8 +363,11 @@ class Result:
             return f"{name:<36} {unit:>7} {'-':>12} {'-':>12} {'-':>12}"
         return f"{name:<36} {unit:>7} {values[-1]:>12.5g} {values.min():>12.5g} {values.max():>12.5g}"
 
-    def save(self, path: str | os.PathLike) -> None:
+    def save(self, path: str | os.PathLike, outputs: str | list[str] | None = None) -> None:
         """Write the result to an HDF5 file (atomically; layout in docs/results.md).
+
+        The file stores the run's rows and derives every other variable when read; ``outputs`` names variables
+        (names, array names, patterns with ``*`` and ``?``) to store as columns as well, ``"all"`` every one.
 
         Raises
         ------
@@ -366,7 +376,7 @@ class Result:
         """
         from flexlib.results.hdf5 import save_result
 
-        save_result(self, path)
+        save_result(self, path, outputs)
 
     def __repr__(self) -> str:
         return (f"<Result {self.model}: {self.status}, t = {self.t[0] if len(self.t) else 0:g} … "

@@ -14,6 +14,7 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import ResultCheckWarning
 from flexlib.results.result import Result
+from flexlib.results.stored import StoredPart, signatures
 from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
 from flexlib.solve.trajectory import Trajectory
 
@@ -47,6 +48,7 @@ class RowColumns:
                                                                np.ndarray, np.ndarray]],
                  pvec: np.ndarray, n_rows: int, n_cols: int) -> None:
         self.rows, self.parts, self.pvec, self.n_rows, self.n_cols = rows, parts, pvec, n_rows, n_cols
+        self._signatures: list[tuple] | None = None
 
     def _P(self, rel: np.ndarray) -> np.ndarray:
         P = np.empty((len(rel), len(self.pvec) + rel.shape[1]))
@@ -60,6 +62,20 @@ class RowColumns:
         for model, idx, T, Y, YP, rel in self.parts:
             values[idx] = self.rows.evaluate(model, "out", T, Y, YP, self._P(rel))
         return values
+
+    def stored_parts(self) -> list[StoredPart]:
+        """The rows as a result file stores them (:mod:`flexlib.results.stored`)."""
+        return [StoredPart(model.sx_function("out"), idx, T, Y, YP, rel, self.pvec)
+                for model, idx, T, Y, YP, rel in self.parts]
+
+    def signatures(self) -> list[tuple]:
+        """Per variable, a key that is the same for variables with the same values (aliases): what it is in the
+        output function of each part (:func:`flexlib.results.stored.signatures`)."""
+        if self._signatures is None:
+            per_part = [self.rows.cached(model, ("signatures",), lambda model=model: signatures(
+                model.sx_function("out"))) for model, *_ in self.parts]
+            self._signatures = [tuple(sig[i] for sig in per_part) for i in range(self.n_cols)]
+        return self._signatures
 
     def columns(self, cols: list[int]) -> np.ndarray:
         """The variables ``cols`` (indices into the result's names) at every row: ``(n_rows, len(cols))``."""

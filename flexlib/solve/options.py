@@ -132,6 +132,9 @@ class RunOptions:
         (:class:`flexlib.IDA`, :class:`flexlib.CasadiIDAS`).
     max_order : int or None
         Highest BDF order (1–5).
+    outputs : str, list of str or None
+        Variables the result file stores as columns besides the run's rows (names, array names, patterns with ``*``
+        and ``?``); ``"all"``: every variable; None: the rows only, every variable derived when read.
     """
 
     t_end: float | None = None
@@ -149,6 +152,7 @@ class RunOptions:
     solver: Any = "ida"
     dynamic_states: bool = True
     max_order: int | None = None
+    outputs: Any = None
 
     def merged(self, given: Mapping[str, Any]) -> dict[str, Any]:
         """The record's fields with the arguments in ``given`` (those differing from ``run``'s defaults) on top."""

@@ -75,6 +75,8 @@ class RunOptions:
         One of :data:`SOLVERS`, or a solver object (:mod:`flexlib.solve.solvers`).
     result_file : Path or None
         Where the result will be written.
+    outputs : str, tuple of str or None
+        What the result file stores besides the run's rows (``"all"``, names and patterns, or None).
     """
 
     t_start: float
@@ -91,6 +93,7 @@ class RunOptions:
     progress: bool | None
     solver: Any
     result_file: Path | None
+    outputs: str | tuple[str, ...] | None = None
 
 
 def _bad(name: str, value: Any, allowed: str, hint: str = "", caller: str = "run") -> RunArgumentError:
@@ -286,7 +289,7 @@ def _output_grid(t0: float, t1: float, dt_out: Any, output_times: Any) -> np.nda
 def check_run_arguments(experiment: Any, source: str, *, t_start: Any, t_end: Any, dt_out: Any, output_times: Any,
                         rtol: Any, atol: Any, max_step: Any, max_steps: Any, params: Any, steady_state: Any,
                         dynamic_states: Any, progress: Any, solver: Any, result_file: Any,
-                        max_order: Any = None) -> RunOptions:
+                        max_order: Any = None, outputs: Any = None) -> RunOptions:
     """Check every argument of a run and build the output grid.
 
     Parameters
@@ -297,7 +300,7 @@ def check_run_arguments(experiment: Any, source: str, *, t_start: Any, t_end: An
     source : str
         Where ``experiment`` comes from (``"Model.experiment"``), named when one of its values is invalid.
     t_start, t_end, dt_out, output_times, rtol, atol, max_step, max_steps, params, steady_state, \
-dynamic_states, progress, solver, result_file, max_order
+dynamic_states, progress, solver, result_file, max_order, outputs
         As given to :meth:`Simulation.run` (``max_order`` None: the experiment's, if it has one).
 
     Returns
@@ -323,7 +326,7 @@ dynamic_states, progress, solver, result_file, max_order
             rtol=experiment.rtol if rtol is None else rtol, atol=experiment.atol if atol is None else atol,
             max_step=max_step, max_steps=max_steps, params=params, steady_state=steady_state,
             dynamic_states=dynamic_states, progress=progress, solver=solver, result_file=result_file,
-            max_order=getattr(experiment, "max_order", None) if max_order is None else max_order)
+            max_order=getattr(experiment, "max_order", None) if max_order is None else max_order, outputs=outputs)
     except RunArgumentError as err:
         argument = getattr(err, "argument", None)
         message = str(err)
@@ -341,7 +344,7 @@ dynamic_states, progress, solver, result_file, max_order
 
 def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: Any, atol: Any, max_step: Any,
            max_steps: Any, params: Any, steady_state: Any, dynamic_states: Any, progress: Any, solver: Any,
-           result_file: Any, max_order: Any = None) -> RunOptions:
+           result_file: Any, max_order: Any = None, outputs: Any = None) -> RunOptions:
     t0 = _real("t_start", t_start, "must be a finite time [s]")
     t1 = _real("t_end", t_end, "must be a finite time [s]")
     if not math.isfinite(t0):
@@ -399,4 +402,18 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
     return RunOptions(t_start=t0, t_end=t1, grid=grid, rtol=r, atol=a, max_step=h, max_steps=n_steps,
                       max_order=5 if max_order is None else int(max_order),
                       params=params, steady_state=bool(steady), dynamic_states=bool(dynamic), progress=bar,
-                      solver=solver, result_file=path)
+                      solver=solver, result_file=path, outputs=check_outputs(outputs))
+
+
+def check_outputs(outputs: Any, caller: str = "run") -> str | tuple[str, ...] | None:
+    """``outputs`` of a run checked: None, ``"all"``, or variable names and patterns (a str or a list of them).
+    Whether each matches a variable is known once the model is built; one that matches none is named when the file
+    is written (the file is written without it, nothing lost)."""
+    if outputs is None or (isinstance(outputs, str) and outputs == "all"):
+        return outputs
+    names = [outputs] if isinstance(outputs, str) else outputs
+    if isinstance(names, (list, tuple)) and names and all(isinstance(n, str) and n.strip() for n in names):
+        return tuple(n.strip() for n in names)
+    raise _bad("outputs", outputs, "must be None (store the run's rows; every variable is derived when read), 'all' "
+               "(store every variable) or variable names and patterns such as ['axis*.cylinder.p_A', "
+               "'joint*.frame_b.f']", caller=caller)

@@ -203,7 +203,7 @@ class Simulation:
         max_step: float = 0.0, max_steps: int = 5_000_000, params: dict[str, Any] | None = None,
         steady_state: bool = False, progress: bool | None = None, result_file: str | os.PathLike | None = None,
         solver: Any = "ida", dynamic_states: bool = True, max_order: int | None = None,
-        options: RunOptions | None = None,
+        outputs: str | list[str] | None = None, options: RunOptions | None = None,
     ) -> Result:
         """Initialise and integrate. An argument left out (None) takes the model's ``experiment``.
 
@@ -237,6 +237,10 @@ class Simulation:
             Re-select the states when the selected dummy-derivative blocks become ill-conditioned.
         max_order : int, optional
             Highest BDF order, 1–5 (default: ``experiment.max_order``, else 5; ``docs/engine.md``, "BDF order").
+        outputs : str or list of str, optional
+            What ``result_file`` stores besides the run's rows (from which every variable is derived when read):
+            variable names and patterns (``["axis*.cylinder.p_A"]``) stored as columns too, or ``"all"`` (every
+            variable: a larger file). ``docs/results.md``.
         options : RunOptions, optional
             All of the above as one record; an argument given next to it replaces its field.
 
@@ -256,7 +260,7 @@ class Simulation:
         given = dict(t_end=t_end, t_start=t_start, dt_out=dt_out, output_times=output_times, rtol=rtol, atol=atol,
                      max_step=max_step, max_steps=max_steps, params=params, steady_state=steady_state,
                      progress=progress, result_file=result_file, solver=solver, dynamic_states=dynamic_states,
-                     max_order=max_order)
+                     max_order=max_order, outputs=outputs)
         if options is not None:
             if not isinstance(options, RunOptions):
                 raise RunArgumentError(f"run(): options = {options!r:.80} is invalid: must be a flexlib.RunOptions")
@@ -267,7 +271,7 @@ class Simulation:
             traj, pvec, t_init = self._initialize_and_integrate(opts, stop, starts, pvec, p)
             stop.stopping = True
             result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-            keep_result(result, opts.result_file)
+            keep_result(result, opts.result_file, opts.outputs)
         try:
             self._check_trajectory(traj, pvec, opts.rtol, opts.atol, opts.params)
         except StructureChangedError as err:
@@ -297,14 +301,14 @@ class Simulation:
                 traj.message = traj.message.replace("by the user", f"by {stop.by}")
                 err.args = (traj.message,)
             err.result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-            keep_result(err.result, opts.result_file)
+            keep_result(err.result, opts.result_file, opts.outputs)
             raise
         except KeyboardInterrupt:  # Ctrl-C or SIGTERM outside the backend's step loop (initialisation)
             stop.stopping = True
             where = "during initialisation" if not t_init else "before the first step"
             traj = Trajectory(status="interrupted", message=f"interrupted by {stop.by} {where} at t = {t0:.10g} s")
             result = self._result(traj, pvec, t_init, opts.rtol, opts.atol)
-            keep_result(result, opts.result_file)
+            keep_result(result, opts.result_file, opts.outputs)
             raise SimulationInterrupted(traj.message, result) from None
 
     def _integrate(self, opts: Any, m: CompiledModel, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray) -> Trajectory:

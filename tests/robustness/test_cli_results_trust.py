@@ -173,7 +173,7 @@ def test_cli_failed_run_whose_save_fails_names_the_fallback(tmp_path, monkeypatc
 def test_cli_says_when_no_file_at_all_could_be_written(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
 
-    def no_space(result, tmp):
+    def no_space(result, tmp, *args):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     monkeypatch.setattr(hdf5, "_write", no_space)

@@ -132,7 +132,7 @@ def test_load_with_an_attribute_missing(saved, tmp_path):
 
 @pytest.mark.parametrize(("attr", "value", "message"), [
     ("format_version", 99, r"copy\.h5: format_version 99 is not supported: this flexlib reads "
-                           r"format_version 1 \.\.\. 1.*upgrade flexlib"),
+                           r"format_version 1 \.\.\. 2.*upgrade flexlib"),
     ("format_version", "one", r"format_version is missing or not an integer \('one'\)"),
     ("solver_stats", "{steps: 3", r"'solver_stats' is not JSON"),
     ("status", "maybe", r"status 'maybe' is not one of success, failed, interrupted"),
@@ -191,8 +191,8 @@ def test_disk_full_during_save_leaves_the_old_file_and_no_temporary(osc, saved, 
     before = path.read_bytes()
     real_write = hdf5._write
 
-    def full(result, tmp):
-        real_write(result, tmp)
+    def full(result, tmp, *args):
+        real_write(result, tmp, *args)
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     monkeypatch.setattr(hdf5, "_write", full)
@@ -261,7 +261,7 @@ def test_solver_error_is_kept_when_its_save_fails(tmp_path, monkeypatch):
     """A run that fails (x' = x² blows up at t = 1) and cannot save: the SolverError with its result is raised
     unchanged, the save failure is a warning."""
 
-    def no_space(result, tmp):
+    def no_space(result, tmp, *args):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     monkeypatch.setattr(hdf5, "_write", no_space)

@@ -216,10 +216,10 @@ def test_sigterm_while_writing_is_delivered_after_the_file_is_complete(sim, monk
     returns, and the signal then reaches the handler that was there before the run."""
     real = hdf5._write
 
-    def write(result, tmp):
+    def write(result, tmp, *args):
         signal.raise_signal(signal.SIGTERM)
         assert recorder == []  # not yet
-        real(result, tmp)
+        real(result, tmp, *args)
 
     monkeypatch.setattr(hdf5, "_write", write)
     res = sim.run(1.0, dt_out=0.1, result_file=tmp_path / "run.h5")
@@ -233,8 +233,8 @@ def test_ctrl_c_during_a_save_leaves_no_partial_file(sim, saved_file, monkeypatc
     before = saved_file.read_bytes()
     real = hdf5._write
 
-    def write(result, tmp):
-        real(result, tmp)
+    def write(result, tmp, *args):
+        real(result, tmp, *args)
         signal.raise_signal(signal.SIGINT)
 
     monkeypatch.setattr(hdf5, "_write", write)
@@ -245,7 +245,7 @@ def test_ctrl_c_during_a_save_leaves_no_partial_file(sim, saved_file, monkeypatc
 
 
 def test_ctrl_c_during_the_save_of_a_run_keeps_the_result(sim, monkeypatch, tmp_path, ctrl_c):
-    def write(result, tmp):
+    def write(result, tmp, *args):
         signal.raise_signal(signal.SIGINT)
 
     monkeypatch.setattr(hdf5, "_write", write)

@@ -1,0 +1,83 @@
+"""Result files at machine scale (issue 29): size, CLI run wall (cached build), `show` and `compare` wall and memory.
+
+The pump truck's expand-fold, rigid and flexible, through the command line as a user runs it: ``flexlib run
+pump-truck -s expand-fold [--flexible] -o FILE`` (each run twice on a private build cache: the second, with the
+build cached, is timed), then ``flexlib show`` of the rigid file and ``flexlib compare rigid.h5 flexible.h5``, each a
+separate process timed by its wall clock, its peak memory the process's maximum resident set (``wait4``). The
+targets are absolute (issue 29: file ≤ 40 MB, run ≤ 8 s rigid / ≤ 20 s flexible, show ≤ 1 s, compare ≤ 5 s and
+≤ 500 MB) on this 2-core machine; the run's real-time factor is the scenario's span over the wall.
+
+Run: ``python benchmarks/result_files.py [--keep DIR]`` (repository root; about 3 minutes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+
+def timed(args: list[str], env: dict[str, str]) -> tuple[float, float, str]:
+    """Wall time [s] and peak resident memory [MB] of one process, and its output."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(args, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    out = proc.stdout.read() if proc.stdout else ""
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t0
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode:
+        raise SystemExit(f"{' '.join(args)} failed ({proc.returncode}):\n{out}")
+    return wall, usage.ru_maxrss / 1024.0, out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--keep", help="directory for the result files (default: a temporary one)")
+    args = parser.parse_args()
+    work = Path(args.keep or tempfile.mkdtemp(prefix="flexlib-result-files-"))
+    work.mkdir(parents=True, exist_ok=True)
+    env = {**os.environ, "FLEXLIB_CACHE_DIR": str(work / "cache"), "OMP_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+    flexlib = [sys.executable, "-m", "flexlib"]
+    from flexlib.registry import get_model
+
+    span = get_model("pump-truck").scenario("expand-fold").t_end
+    figures, rows = [], []
+    files = {}
+    for kind, extra, target in (("rigid", [], 8.0), ("flexible", ["--flexible"], 20.0)):
+        path = work / f"{kind}.h5"
+        command = [*flexlib, "run", "pump-truck", "-s", "expand-fold", *extra, "-o", str(path), "--no-progress"]
+        timed(command, env)  # builds and caches
+        wall, rss, _ = timed(command, env)
+        size = path.stat().st_size / 1e6
+        files[kind] = path
+        print(f"{kind:9s} run (cached build): wall {wall:6.2f} s = {span / wall:6.1f}x real time, peak {rss:6.0f} MB; "
+              f"file {size:6.1f} MB")
+        rows.append([kind, round(wall, 2), round(span / wall, 1), round(rss), round(size, 1)])
+        figures += [(f"{kind} expand-fold result file", round(size, 1), "MB"),
+                    (f"{kind} expand-fold CLI run, cached build (target {target:g} s)", round(wall, 2), "s")]
+    wall, rss, _ = timed([*flexlib, "show", str(files["rigid"])], env)
+    print(f"flexlib show rigid.h5: wall {wall:.2f} s, peak {rss:.0f} MB")
+    figures.append(("flexlib show (target 1 s)", round(wall, 2), "s"))
+    wall, rss, out = timed([*flexlib, "compare", str(files["rigid"]), str(files["flexible"])], env)
+    print(f"flexlib compare rigid.h5 flexible.h5: wall {wall:.2f} s, peak {rss:.0f} MB")
+    print("\n".join(out.splitlines()[:12]))
+    figures += [("flexlib compare rigid flexible (target 5 s)", round(wall, 2), "s"),
+                ("compare peak memory (target 500 MB)", round(rss), "MB")]
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import report
+
+    table = report.table("expand-fold through the CLI, cached build", ["run", "wall [s]", "real-time factor",
+                                                                     "peak [MB]", "file [MB]"], rows)
+    notes = ["wall clock of separate processes on a shared 2-core machine; the run's build from a private cache "
+             "filled by a first run"]
+    report.write_results(__file__, figures, [table], notes=notes)
+
+
+if __name__ == "__main__":
+    main()

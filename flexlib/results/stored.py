@@ -1,0 +1,337 @@
+"""What a result file stores of a run, and every other variable derived from it when read (format 2,
+``docs/results.md``).
+
+A run's named variables (thousands in a machine: aliases, connector variables, frame matrices, forces) are all
+outputs of the model's ``out(t, y, y', p)`` function of its recorded rows. The file therefore stores, per model of
+the run (a state switch changes it): the rows' unknowns ``y`` (each distinct column once), the entries of ``y'``
+that ``out`` reads, the relation values (they are parameters of ``out``), and ``out`` itself as a serialised CasADi
+SX function (about 1 MB for the pump truck, 0.1 MB compressed) — plus the variables the user asks to store
+(``outputs=``). Reading a variable then costs: a stored column, a column of ``y`` (an unknown or its alias), a
+constant, or an evaluation of the part of ``out``'s graph it needs over the rows (a derived variable). Every value is
+the same as the run's in memory (the same rows, the same expression graph): tested to 1e-12 relative.
+
+A file opened where the CasADi that wrote ``out`` cannot read it still gives its stored variables (unknowns,
+aliases, constants, ``outputs``); a derived one is then a :class:`~flexlib.errors.ResultFileError` saying which
+CasADi wrote the file and how to get the variable (``outputs=`` or ``outputs="all"`` on the run).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import zlib
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from flexlib.errors import ResultFileError
+
+if TYPE_CHECKING:
+    import casadi as ca
+
+__all__ = ["CONSTANT", "DERIVED", "FileColumns", "FilePart", "OutputMap", "StoredPart", "output_map", "pack_function",
+           "signatures",
+           "unique_columns", "unpack_function"]
+
+#: ``OutputMap.source`` codes: a variable is an unknown's column (``>= 0``), derived from the rows, or a constant.
+DERIVED, CONSTANT = -1, -2
+
+
+@dataclass
+class OutputMap:
+    """How each output of ``out(t, y, y', p)`` is got from a row.
+
+    Attributes
+    ----------
+    source : ndarray of int
+        Per output: the index of the unknown ``y[j]`` it is (an alias of), :data:`DERIVED` or :data:`CONSTANT`.
+    constant : ndarray
+        Per output: its value if it is a constant, else NaN.
+    yp_used : ndarray of int
+        The entries of ``y'`` that ``out`` reads (the others are not stored).
+    """
+
+    source: np.ndarray
+    constant: np.ndarray
+    yp_used: np.ndarray
+
+
+def output_map(fn: ca.Function) -> OutputMap:
+    """Classify the outputs of the SX function ``fn(t, y, yp, p)`` (:class:`OutputMap`)."""
+    import casadi as ca
+
+    t, y, yp, p = fn.sx_in()
+    out = fn(t, y, yp, p)
+    n = out.numel()
+    source = np.full(n, DERIVED, dtype=np.int64)
+    constant = np.full(n, np.nan)
+    by_y = ca.jacobian_sparsity(out, y).get_triplet()  # (rows, cols) of the structural dependencies on y
+    single: dict[int, int] = {}
+    for i, j in zip(*by_y, strict=True):
+        single[i] = -1 if i in single else j
+    for i in range(n):
+        e = out[i]
+        if e.is_constant():
+            source[i], constant[i] = CONSTANT, float(e)
+        elif e.is_symbolic() and single.get(i, -1) >= 0:
+            source[i] = single[i]
+    yp_used = np.unique(np.asarray(ca.jacobian_sparsity(out, yp).get_triplet()[1], dtype=np.int64))
+    return OutputMap(source, constant, yp_used)
+
+
+def signatures(fn: ca.Function) -> list[tuple]:
+    """Per output of ``fn(t, y, yp, p)``: ``("y", j)`` (the unknown ``y[j]``), ``("c", value)`` or ``("x", node)``
+    (its expression node): outputs with the same signature are the same function of the row."""
+    omap = output_map(fn)
+    out = fn(*fn.sx_in())
+    return [("y", int(src)) if src >= 0 else ("c", float(omap.constant[i])) if src == CONSTANT
+            else ("x", out[i].element_hash()) for i, src in enumerate(omap.source)]
+
+
+def pack_function(fn: ca.Function) -> np.ndarray:
+    """A CasADi function as compressed bytes (``uint8``), for a dataset."""
+    return np.frombuffer(zlib.compress(fn.serialize().encode("utf-8"), 6), dtype=np.uint8)
+
+
+def unpack_function(data: np.ndarray, where: str, casadi_version: str) -> ca.Function:
+    """The function :func:`pack_function` stored; :class:`ResultFileError` naming ``where`` if it cannot be read."""
+    import casadi as ca
+
+    try:
+        return ca.Function.deserialize(zlib.decompress(np.asarray(data, dtype=np.uint8).tobytes()).decode("utf-8"))
+    except Exception as err:  # zlib, UnicodeDecodeError, CasADi's RuntimeError: all say "cannot be read"
+        raise ResultFileError(
+            f"{where}: the model's output function stored in the file cannot be read by this CasADi "
+            f"{ca.__version__} (written by CasADi {casadi_version or 'unknown'}: {type(err).__name__}: "
+            f"{str(err).strip().splitlines()[-1] if str(err).strip() else ''}); the unknowns and the stored outputs "
+            "are readable, a derived variable is not: install that CasADi, or repeat the run with outputs= naming "
+            "the variable (or outputs='all')") from None
+
+
+def unique_columns(Y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct columns of ``Y`` (first occurrence) and, per column of ``Y``, its index among them."""
+    first: dict[bytes, int] = {}
+    keep, index = [], np.empty(Y.shape[1], dtype=np.int64)
+    for j in range(Y.shape[1]):
+        key = hashlib.blake2b(np.ascontiguousarray(Y[:, j]).tobytes(), digest_size=16).digest()
+        if key not in first:
+            first[key] = len(keep)
+            keep.append(j)
+        index[j] = first[key]
+    return np.asarray(keep, dtype=np.int64), index
+
+
+@dataclass
+class StoredPart:
+    """The rows of one model of a run, as a file holds them: ``out`` (serialised or as a function), the rows'
+    indices into the result's time points, their unknowns ``Y`` and ``YP`` (row-major, ``(rows, n)``), relation
+    values ``rel`` and the parameter vector ``pvec``."""
+
+    out: ca.Function
+    rows: np.ndarray
+    T: np.ndarray
+    Y: np.ndarray
+    YP: np.ndarray
+    rel: np.ndarray
+    pvec: np.ndarray
+
+
+@dataclass
+class FilePart:
+    """One model's rows in an open file, read column by column when needed."""
+
+    group: Any
+    rows: np.ndarray
+    T: np.ndarray
+    n: int
+    source: np.ndarray
+    constant: np.ndarray
+    y_columns: np.ndarray
+    yp_used: np.ndarray
+    pvec: np.ndarray
+    where: str
+    casadi_version: str
+    _stored: np.ndarray | None = None  # every stored column of y, once more than a few were asked for
+    _columns: dict[int, np.ndarray] = field(default_factory=dict)  # stored columns of y read one by one
+    _yp_rel: tuple[np.ndarray, np.ndarray] | None = None
+    _fn: ca.Function | None = None
+    _bound: tuple[list[ca.SX], ca.SX] | None = None
+
+    def function(self) -> ca.Function:
+        """The part's output function ``out(t, y, yp, p)``, as stored."""
+        if self._fn is None:
+            self._fn = unpack_function(self.group["out"][()], self.where, self.casadi_version)
+        return self._fn
+
+    def bound(self) -> tuple[list[ca.SX], ca.SX]:
+        """``([t, y, yp_used, rel], out)``: the output function's graph with the parameter vector put in (constant
+        parts folded) and only the derivatives it reads as inputs."""
+        if self._bound is None:
+            import casadi as ca
+
+            fn = self.function()
+            t, y = ca.SX.sym("t"), ca.SX.sym("y", self.n)
+            n_rel = fn.size1_in(3) - len(self.pvec)  # inputs of at least one entry (an unused one if none)
+            ypu, rel = ca.SX.sym("yp", max(len(self.yp_used), 1)), ca.SX.sym("rel", max(n_rel, 1))
+            yp = ca.SX.zeros(self.n)
+            for k, j in enumerate(self.yp_used):
+                yp[int(j)] = ypu[k]
+            self._bound = ([t, y, ypu, rel], fn(t, y, yp, ca.vertcat(ca.DM(self.pvec),
+                                                                          rel[:n_rel] if n_rel else ca.SX(0, 1))))
+        return self._bound
+
+    def stored_y(self, columns: np.ndarray) -> np.ndarray:
+        """Stored columns ``columns`` of ``y`` at the part's rows, ``(rows, len(columns))`` row-major: read one by one
+        when they are few, else the whole dataset once (kept)."""
+        ds = self.group["y"]
+        todo = [int(c) for c in dict.fromkeys(columns.tolist()) if int(c) not in self._columns]
+        if self._stored is None and len(todo) > 32:
+            self._stored = np.asarray(ds[()], dtype=float)
+            self._columns.clear()
+        if self._stored is not None:
+            return np.ascontiguousarray(self._stored[:, columns])
+        for c in todo:
+            self._columns[c] = np.asarray(ds[:, c], dtype=float)
+        out = np.empty((len(self.rows), len(columns)))
+        for k, c in enumerate(columns):
+            out[:, k] = self._columns[int(c)]
+        return out
+
+    def yp_rel(self) -> tuple[np.ndarray, np.ndarray]:
+        """The stored derivatives and the relation values, row-major."""
+        if self._yp_rel is None:
+            m = len(self.rows)
+            yp = np.asarray(self.group["yp"][()], dtype=float).reshape(m, -1)
+            rel = np.asarray(self.group["rel"][()], dtype=float).reshape(m, -1)
+            self._yp_rel = tuple(np.ascontiguousarray(x if x.shape[1] else np.zeros((m, 1))) for x in (yp, rel))
+        return self._yp_rel
+
+
+class FileColumns:
+    """A loaded result's variables, read from its (open) file when asked for: stored columns, unknowns, constants,
+    or derived over the rows by the stored ``out`` (module docstring). The source of a result from
+    :func:`~flexlib.results.hdf5.load_result` (``Result.source``)."""
+
+    def __init__(self, file: Any, path: str, n_rows: int, n_cols: int, stored: np.ndarray,
+                 parts: list[FilePart]) -> None:
+        self.file, self.path, self.n_rows, self.n_cols, self.parts = file, path, n_rows, n_cols, parts
+        self.stored = {int(c): k for k, c in enumerate(stored)}
+        self._rows: Any = None
+        self._signatures: list[tuple] | None = None
+
+    def all(self) -> np.ndarray:
+        """Every variable at every row: ``(n_rows, n_cols)``."""
+        return self.columns(list(range(self.n_cols)))
+
+    def columns(self, cols: list[int]) -> np.ndarray:
+        """The variables ``cols`` (indices into the result's names) at every row: ``(n_rows, len(cols))``."""
+        cols = [int(c) for c in cols]
+        values = np.empty((self.n_rows, len(cols)), order="F")
+        on_file = [pos for pos, c in enumerate(cols) if c in self.stored]
+        if len(on_file) > 64:  # many: one read of the dataset
+            block = self.file["variables/values"][()]
+            for pos in on_file:
+                values[:, pos] = block[:, self.stored[cols[pos]]]
+        else:
+            for pos in on_file:
+                values[:, pos] = self.file["variables/values"][:, self.stored[cols[pos]]]
+        rest = np.asarray([pos for pos, c in enumerate(cols) if c not in self.stored], dtype=np.int64)
+        if not rest.size:
+            return values
+        wanted = np.asarray(cols, dtype=np.int64)[rest]
+        for part in self.parts:
+            src = part.source[wanted]
+            alias, const, derived = rest[src >= 0], rest[src == CONSTANT], rest[src == DERIVED]
+            whole = len(part.rows) == self.n_rows  # one part: every row, in order (checked on reading)
+
+            def at(positions: np.ndarray, part: FilePart = part, whole: bool = whole) -> Any:
+                return (slice(None), positions) if whole else np.ix_(part.rows, positions)
+
+            if const.size:
+                values[at(const)] = part.constant[wanted[src == CONSTANT]]
+            if alias.size:
+                values[at(alias)] = part.stored_y(part.y_columns[src[src >= 0]])
+            outputs = tuple(int(c) for c in wanted[src == DERIVED])
+            if outputs:
+                fn, deps = self._function(part, outputs)
+                YP, REL = part.yp_rel()
+                values[at(derived)] = self._rows.evaluate_function(fn, part, ("read", outputs), part.T,
+                                                                   part.stored_y(part.y_columns[deps]), YP, REL)
+        return values
+
+    def _function(self, part: FilePart, outputs: tuple[int, ...]) -> tuple[Any, np.ndarray]:
+        """``(t, y, yp, p) ->`` the outputs ``outputs`` of the part's ``out`` (dense), and the unknowns they read."""
+        import casadi as ca
+
+        if self._rows is None:
+            from flexlib.solve.rows import RowEvaluator
+
+            self._rows = RowEvaluator()
+        (t, y, ypu, rel), out = part.bound()
+        expr = out[list(outputs)]
+        deps = np.unique(np.asarray(ca.jacobian_sparsity(expr, y).get_triplet()[1], dtype=np.int64))
+        if not deps.size:  # an input of at least one entry
+            deps = np.zeros(1, dtype=np.int64)
+        ys = ca.vertcat(*[y[int(j)] for j in deps])
+        return ca.Function("flexlib_read_columns", [t, ys, ypu, rel], [ca.densify(expr)]), deps
+
+    def signatures(self) -> list[tuple]:
+        """Per variable, what it is in each part: ``("y", column)``, ``("c", value)``, ``("x", node)`` (a derived
+        variable: its expression node in ``out``) or ``("s", column)`` (stored): variables with the same signature
+        have the same values (aliases), without reading them."""
+        if self._signatures is None:
+            per_part = []
+            for part in self.parts:
+                nodes = None
+                sig = []
+                for i, src in enumerate(part.source):
+                    if src >= 0:
+                        sig.append(("y", int(part.y_columns[src])))
+                    elif src == CONSTANT:
+                        sig.append(("c", float(part.constant[i])))
+                    else:
+                        if nodes is None:
+                            nodes = part.bound()[1]
+                        sig.append(("x", nodes[i].element_hash()))
+                per_part.append(sig)
+            self._signatures = [("s", i) if i in self.stored else tuple(sig[i] for sig in per_part)
+                                for i in range(self.n_cols)]
+        return self._signatures
+
+    def stored_parts(self) -> list[StoredPart]:
+        """The rows as :class:`StoredPart` (to save the result again)."""
+        parts = []
+        for part in self.parts:
+            YPU, REL = part.yp_rel()
+            YP = np.zeros((len(part.rows), part.n))
+            YP[:, part.yp_used] = YPU
+            parts.append(StoredPart(part.function(), part.rows, part.T, part.stored_y(part.y_columns), YP,
+                                    REL.copy(), part.pvec))
+        return parts
+
+    def nonfinite(self, names: list[str]) -> tuple[list[str], int | None]:
+        """The variables whose stored values (unknowns, stored outputs) hold NaN or inf, and the first such row
+        (reads the stored datasets, evaluates nothing)."""
+        bad: dict[str, None] = {}
+        first: int | None = None
+        for part in self.parts:
+            Y = np.asarray(part.group["y"][()], dtype=float)
+            finite = np.isfinite(Y)
+            if finite.all():
+                continue
+            cols = set(np.flatnonzero(~finite.all(axis=0)).tolist())
+            row = int(part.rows[int(np.argmax(~finite.all(axis=1)))])
+            first = row if first is None else min(first, row)
+            for i, src in enumerate(part.source):
+                if src >= 0 and int(part.y_columns[src]) in cols:
+                    bad[names[i]] = None
+        if "variables/values" in self.file and self.stored:
+            V = np.asarray(self.file["variables/values"][()], dtype=float)
+            finite = np.isfinite(V)
+            if not finite.all():
+                row = int(np.argmax(~finite.all(axis=1)))
+                first = row if first is None else min(first, row)
+                for c, k in self.stored.items():
+                    if not finite[:, k].all():
+                        bad[names[c]] = None
+        return list(bad), first
