@@ -405,6 +405,7 @@ def _print_summary(done: Any, out: str | None) -> None:
     if not signals or not len(res.t):
         return
     missing, groups = [], {}
+    res.prefetch(*signals)  # one pass over the rows for all of them
     for name in signals:
         try:
             values, unit = res.display(name)

@@ -141,6 +141,14 @@ class Result:
             return self._read(cols)
         raise self._unknown(name)
 
+    def prefetch(self, *names: str) -> None:
+        """Evaluate the variables ``names`` (names or array names; unknown ones are skipped) together, in one pass
+        over the rows, and keep them: reading them afterwards costs nothing (a summary, a plot of many signals)."""
+        cols = [k for name in names if isinstance(name, str)
+                for k in ([self._index[name]] if name in self._index else self._arrays.get(name, []))]
+        if cols and self._values is None:
+            self._read(cols)
+
     def _read(self, cols: list[int], keep: bool = True) -> np.ndarray:
         """Columns ``cols`` of :attr:`values` (``(len(t), len(cols))``), from the source alone if the values are not
         evaluated yet (each column evaluated once, and kept unless ``keep`` is False: a pass over every variable,

@@ -104,8 +104,9 @@ def segments(traj: Any, default: CompiledModel,
     for k in np.unique(seg):
         rows = np.flatnonzero(seg == k)
         model = traj.models[k] if traj.models else default
-        Y = np.array([traj.y[i] for i in rows], dtype=float).reshape(len(rows), model.n)
-        YP = np.array([traj.yp[i] for i in rows], dtype=float).reshape(len(rows), model.n)
+        whole = len(rows) == len(T)  # one model for the whole run: every row, in order
+        Y = np.vstack(traj.y if whole else [traj.y[i] for i in rows], dtype=float).reshape(len(rows), model.n)
+        YP = np.vstack(traj.yp if whole else [traj.yp[i] for i in rows], dtype=float).reshape(len(rows), model.n)
         P = np.empty((len(rows), len(pvec) + rel.shape[1]))
         P[:, :len(pvec)] = pvec
         P[:, len(pvec):] = rel[rows]

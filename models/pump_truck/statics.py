@@ -120,17 +120,19 @@ def cylinder_masses(record: PumpTruckParameters, bore: float, rod: float, stroke
             "m_rod": m_rod, "L_rod": reach}
 
 
-def _masses(record: PumpTruckParameters, q: np.ndarray, cylinders) -> tuple[list, list]:
+def _masses(record: PumpTruckParameters, q: np.ndarray, cylinders, states=None) -> tuple[list, list]:
     """Joint positions and the lumped masses ``(m, x, rigid_to, own)``: ``x`` [m] in the turret frame, rigid with
     joints ``0 … rigid_to − 1``; ``own = (k, dx/dq_k)`` for a cylinder point that moves with its own joint ``k``
-    through the drive's kinematics (``None`` for a point rigid on a section)."""
+    through the drive's kinematics (``None`` for a point rigid on a section). ``states``: the drives' states at
+    ``q`` if the caller has them (``record.drive(k + 1).state(q[k])``)."""
     J, theta, masses = [np.zeros(2)], [0.0], []
     for k, sec in enumerate(record.sections):
         th = theta[-1] + q[k]
         mp = mass_properties(record, k)
         masses.append((mp["m"], J[-1] + rot(th) @ mp["com"][:2], k + 1, None))
+        st = states[k] if states is not None else record.drive(k + 1).state(float(q[k]))
         if cylinders is not None:
-            cyl, st = cylinders[k], record.drive(k + 1).state(float(q[k]))
+            cyl = cylinders[k]
             R = rot(theta[-1])
             H = np.array(record.drive(k + 1).H)
             e = (st.T - H) / st.length
@@ -140,7 +142,7 @@ def _masses(record: PumpTruckParameters, q: np.ndarray, cylinders) -> tuple[list
             masses.append((cyl["m_rod"], J[-1] + R @ (st.T - cyl["L_rod"] * e), k,
                            (k, R @ (st.T_rate - cyl["L_rod"] * de))))
         if k > 0:  # the lever (P → T) and link (T → C) of a lever-and-link drive, slender bars moving with joint k
-            st, R = record.drive(k + 1).state(float(q[k])), rot(theta[-1])
+            R = rot(theta[-1])
             P = np.array(record.drive(k + 1).P)
             C_rate = np.array([-st.C[1], st.C[0]])  # the bracket turns with section k about the joint: ẑ × C
             m_lever, m_link = linkage_masses(record, k + 1)
@@ -164,17 +166,17 @@ def point_masses(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> 
     return np.array(J), np.array([m[0] for m in masses]), np.array([m[1] for m in masses])
 
 
-def joint_torques(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> np.ndarray:
+def joint_torques(record: PumpTruckParameters, q: np.ndarray, cylinders=None, states=None) -> np.ndarray:
     """Gravity torque about each joint, ``tau_k = ∂V/∂q_k`` with ``V = g Σ m_i y_i`` [N.m].
 
     A point rigid with joint ``k`` contributes ``g m_i (x_i − x_k)``; a cylinder point of drive ``k`` contributes
     ``g m_i ∂y_i/∂q_k`` from the drive's kinematics (:attr:`LinkageState.T_rate`). ``cylinders``: as
-    :func:`point_masses`; ``False`` leaves the cylinders out. Positive: gravity tends to decrease ``q_k`` (fold the
-    boom down); the drive must supply ``+tau_k``.
+    :func:`point_masses`; ``False`` leaves the cylinders out; ``states`` as :func:`_masses`. Positive: gravity tends
+    to decrease ``q_k`` (fold the boom down); the drive must supply ``+tau_k``.
     """
     q = np.asarray(q, dtype=float)
     cyl = None if cylinders is False else (design_cylinders(record) if cylinders is None else cylinders)
-    J, masses = _masses(record, q, cyl)
+    J, masses = _masses(record, q, cyl, states)
     tau = np.zeros(len(record.sections))
     for m, x, rigid_to, own in masses:
         for k in range(rigid_to):
@@ -184,10 +186,14 @@ def joint_torques(record: PumpTruckParameters, q: np.ndarray, cylinders=None) ->
     return record.g * tau
 
 
-def cylinder_forces(record: PumpTruckParameters, q: np.ndarray, cylinders=None) -> tuple[np.ndarray, np.ndarray]:
-    """Holding force of each cylinder ``F = tau / (dl/dq)`` [N] (positive pushes) and the lever arms [m/rad]."""
-    tau = joint_torques(record, q, cylinders)
-    arm = np.array([record.drive(k + 1).state(float(q[k])).lever_arm for k in range(len(record.sections))])
+def cylinder_forces(record: PumpTruckParameters, q: np.ndarray, cylinders=None,
+                    states=None) -> tuple[np.ndarray, np.ndarray]:
+    """Holding force of each cylinder ``F = tau / (dl/dq)`` [N] (positive pushes) and the lever arms [m/rad];
+    ``states`` as :func:`_masses`."""
+    if states is None:
+        states = [record.drive(k + 1).state(float(q[k])) for k in range(len(record.sections))]
+    tau = joint_torques(record, q, cylinders, states)
+    arm = np.array([st.lever_arm for st in states])
     return tau / arm, arm
 
 
@@ -259,15 +265,17 @@ def sizing(record: PumpTruckParameters, n_sweep: int = 91) -> list[dict]:
     states = [[design.drive(k + 1).state(float(qk)) for qk in sweeps[k]] for k in range(n)]
     strokes = [max(s.length for s in st) - min(s.length for s in st) for st in states]
     chosen = [(CYLINDER_BORES[0], CYLINDER_RODS[0], True)] * n
+    extended = [design.drive(k + 1).state(0.0) for k in range(n)]
     for _ in range(20):
         cyls = tuple(cylinder_masses(design, b, r, s) for (b, r, _), s in zip(chosen, strokes, strict=True))
         forces = []
         for k in range(n):
             fk = []
-            for qk in sweeps[k]:
+            for qk, stk in zip(sweeps[k], states[k], strict=True):
                 q = np.zeros(n)
                 q[k] = qk
-                fk.append(float(cylinder_forces(design, q, cyls)[0][k]))
+                pose = [*extended[:k], stk, *extended[k + 1:]]
+                fk.append(float(cylinder_forces(design, q, cyls, pose)[0][k]))
             forces.append(fk)
         new = [_choose(f, p_max) for f in forces]
         if new == chosen:
