@@ -515,6 +515,20 @@ def _read(f: h5py.File, path: Path) -> Result:
     ev_t = np.asarray(eg["time"][()], dtype=float)
     if len(ev_t) != len(ev_text):
         raise bad(f"/events has {len(ev_t)} times and {len(ev_text)} texts")
+    status, stats = _status_and_stats(f, bad)
+    meta = {k[5:]: str(v) for k, v in f.attrs.items() if k.startswith("meta_")}
+    return Result(
+        model=str(f.attrs["model"]), t=t, names=names, values=values, units=meta_lists["units"],
+        docs=meta_lists["docs"], kinds=meta_lists["kinds"],
+        parameters={n: (float(v), u) for n, v, u in zip(pnames, pvalues, punits, strict=True)},
+        stats=stats, status=status, message=str(f.attrs["message"]),
+        events=list(zip(ev_t.tolist(), ev_text, strict=True)), index_report=str(f.attrs["index_report"]),
+        metadata=meta, source=source,
+    )
+
+
+def _status_and_stats(f: h5py.File, bad: Any) -> tuple[str, dict[str, Any]]:
+    """The run's status and solver statistics of a file, checked."""
     status = str(f.attrs["status"])
     if status not in _STATUSES:
         raise bad(f"status {status!r} is not one of {', '.join(_STATUSES)}")
@@ -525,15 +539,7 @@ def _read(f: h5py.File, path: Path) -> Result:
     if not isinstance(stats, dict):
         raise bad(f"the attribute 'solver_stats' must be a JSON object (statistics by name), got "
                   f"{type(stats).__name__} {stats!r:.60}")
-    meta = {k[5:]: str(v) for k, v in f.attrs.items() if k.startswith("meta_")}
-    return Result(
-        model=str(f.attrs["model"]), t=t, names=names, values=values, units=meta_lists["units"],
-        docs=meta_lists["docs"], kinds=meta_lists["kinds"],
-        parameters={n: (float(v), u) for n, v, u in zip(pnames, pvalues, punits, strict=True)},
-        stats=stats, status=status, message=str(f.attrs["message"]),
-        events=list(zip(ev_t.tolist(), ev_text, strict=True)), index_report=str(f.attrs["index_report"]),
-        metadata=meta, source=source,
-    )
+    return status, stats
 
 
 def _file_columns(f: h5py.File, path: Path, n_rows: int, names: list[str], bad: Any) -> FileColumns | None:

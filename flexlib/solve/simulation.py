@@ -238,9 +238,8 @@ class Simulation:
         max_order : int, optional
             Highest BDF order, 1–5 (default: ``experiment.max_order``, else 5; ``docs/engine.md``, "BDF order").
         outputs : str or list of str, optional
-            What ``result_file`` stores besides the run's rows (from which every variable is derived when read):
-            variable names and patterns (``["axis*.cylinder.p_A"]``) stored as columns too, or ``"all"`` (every
-            variable: a larger file). ``docs/results.md``.
+            Variables (names, patterns) ``result_file`` stores as columns besides the run's rows, ``"all"``: every
+            one (``docs/results.md``).
         options : RunOptions, optional
             All of the above as one record; an argument given next to it replaces its field.
 
