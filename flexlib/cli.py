@@ -412,8 +412,9 @@ def _print_summary(done: Any, out: str | None) -> None:
         except ResultKeyError as err:
             missing.append(one_line(err))
             continue
-        elems = [name] if values.ndim == 1 else [n for n in res.names if n.startswith(name + "[")]
-        for col, elem in zip(values.reshape(len(res.t), -1).T, elems, strict=True):  # an array: a row per element
+        elems = res.elements(name)  # an array: a row per element (a matrix's in column order, as its names)
+        columns = [values] if values.ndim == 1 else [res.display(elem)[0] for elem in elems]
+        for col, elem in zip(columns, elems, strict=True):
             k = int(np.argmax(np.abs(col)))
             component, _, leaf = elem.rpartition(".")
             short = [f"{x:.4g}" for x in (col.min(), col.max(), res.t[k])]  # 80 columns

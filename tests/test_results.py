@@ -318,3 +318,46 @@ def test_compare_reads_files_block_by_block(tmp_path):
     for r, s in zip(on_files.rows, in_memory.rows, strict=True):
         assert r["ratio"] == pytest.approx(s["ratio"], rel=1e-9) and r["same"] == s["same"]
     assert fa._values is None and not fa._columns
+
+
+# -- arrays in their shape, and the side of an event (issue 30, item 4) ----------------------------------------------
+def test_value_before_and_after_an_event():
+    """At an event time a result holds several rows (t = 1 s: the torque before, -1 → +1 after, BangBang's time
+    event): ``value(t)`` and ``row(t)`` give the value after it, ``side="left"`` the value before it; between rows
+    both interpolate the same; any other side is refused, naming it."""
+    from flexlib.models.reference.events import BangBang
+
+    res = fl.Simulation(BangBang(init={"w": 0.0}), use_cache=False).run(4.0, dt_out=0.5, rtol=1e-8, atol=1e-10)
+    at = np.flatnonzero(res.t == 1.0)
+    assert len(at) >= 2
+    before, after = res["tau"][at[0]], res["tau"][at[-1]]
+    assert before != after
+    assert res.value("tau", 1.0) == after and res.value("tau", 1.0, side="left") == before
+    k = res.names.index("tau")
+    assert res.row(1.0)[k] == after and res.row(1.0, side="left")[k] == before
+    assert res.value("w", 0.7, side="left") == pytest.approx(res.value("w", 0.7), abs=0.0)
+    with pytest.raises(fl.RunArgumentError, match=r"side must be 'right'.*got 'middle'"):
+        res.value("tau", 1.0, side="middle")
+
+
+def test_a_matrix_variable_comes_in_its_shape(tmp_path):
+    """``result["frame.T"]`` is ``(len(t), 3, 3)``, element ``[i, j]`` the variable named ``T[i,j]`` (stored in column
+    order: reshaping the flat columns in C order would transpose it); ``value``, ``final`` and a file read back keep
+    the shape; a vector stays ``(len(t), 3)``."""
+    from flexlib.models.reference.rigid_pendulum import RigidPendulum
+
+    res = fl.Simulation(RigidPendulum(), use_cache=False).run(0.5, dt_out=0.1)
+    name = next(n.rpartition("[")[0] for n in res.names if n.endswith(".T[1,0]"))
+    T = res[name]
+    assert T.shape == (len(res.t), 3, 3)
+    for i in range(3):
+        for j in range(3):
+            np.testing.assert_array_equal(T[:, i, j], res[f"{name}[{i},{j}]"])
+    assert res.elements(name)[:2] == [f"{name}[0,0]", f"{name}[1,0]"]
+    np.testing.assert_allclose(np.einsum("kij,kil->kjl", T, T), np.broadcast_to(np.eye(3), T.shape), atol=1e-9)
+    assert res.value(name, 0.25).shape == (3, 3) and res.value(name, [0.1, 0.2]).shape == (2, 3, 3)
+    np.testing.assert_array_equal(res.final(name), T[-1])
+    res.save(tmp_path / "r.h5")
+    np.testing.assert_array_equal(fl.load_result(tmp_path / "r.h5")[name], T)
+    vector = next(n.rpartition("[")[0] for n in res.names if n.endswith(".r_0[2]"))
+    assert res[vector].shape == (len(res.t), 3)

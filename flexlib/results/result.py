@@ -88,6 +88,8 @@ class Result:
             base, bracket, _ = n.partition("[")
             if bracket:
                 self._arrays.setdefault(base, []).append(k)
+        self._matrices = {base: m for base, cols in self._arrays.items()
+                          if (m := _matrix_layout(base, [self.names[k] for k in cols])) is not None}
 
     def __getstate__(self) -> dict[str, Any]:
         """A pickled (or deep-copied) result stands alone: its values evaluated, without the run's functions."""
@@ -135,10 +137,16 @@ class Result:
             return self.t
         if name in self._index:
             return self._read([self._index[name]])[:, 0]
-        # array variables: "frame.r" -> columns r[0], r[1], ...
+        # array variables: "frame.r" -> columns r[0], r[1], ... as (len(t), 3); "frame.T" -> T[i,j] as (len(t), 3, 3)
         cols = self._arrays.get(name)
         if cols:
-            return self._read(cols)
+            data = self._read(cols)
+            if name not in self._matrices:
+                return data
+            shape, rows, columns = self._matrices[name]
+            out = np.empty((len(data), *shape))
+            out[:, rows, columns] = data
+            return out
         raise self._unknown(name)
 
     def prefetch(self, *names: str) -> None:
@@ -206,9 +214,13 @@ class Result:
                                    f"covers {t0:g} … {t1:g} s{why}")
         return tt
 
-    def value(self, name: str, t: float | np.ndarray) -> float | np.ndarray:
-        """Linear interpolation of variable ``name`` at time(s) ``t`` [s] (right value at events); for an array
-        variable (``"frame.r"``) each element, along the last axis (``(3,)`` at one time, ``(len(t), 3)``).
+    def value(self, name: str, t: float | np.ndarray, side: str = "right") -> float | np.ndarray:
+        """Linear interpolation of variable ``name`` at time(s) ``t`` [s]; for an array variable its elements in their
+        shape (``"frame.r"``: ``(3,)`` at one time, ``(len(t), 3)``; ``"frame.T"``: ``(3, 3)``, ``(len(t), 3, 3)``).
+
+        At an event time the result holds several rows (the values before and after the event, and any in between
+        when events coincide): ``side="right"`` (default) gives the last, the value after the event, ``"left"`` the
+        first, the value before it; between rows both interpolate the same.
 
         Raises
         ------
@@ -218,27 +230,29 @@ class Result:
             The result has no rows.
         RunArgumentError
             ``t`` is not a number (or array of numbers), not finite, or outside the result's time span (a run that
-            failed half-way has no values after its failure).
+            failed half-way has no values after its failure); ``side`` is not ``"left"`` or ``"right"``.
         """
         x = self[name]
         self._require_rows(f"value({name!r}, t)")
         self._check_times(f"value({name!r}, t)", t)
-        keep = self._right_rows()
+        keep = self._side_rows(f"value({name!r}, t)", side)
         if x.ndim == 1:
             return np.interp(t, self.t[keep], x[keep])
-        return np.stack([np.interp(t, self.t[keep], col) for col in x[keep].T], axis=-1)
+        flat = x[keep].reshape(int(keep.sum()), -1)
+        out = np.stack([np.interp(t, self.t[keep], col) for col in flat.T], axis=-1)
+        return out.reshape(np.shape(t) + x.shape[1:])
 
-    def row(self, t: float) -> np.ndarray:
-        """Every variable (columns of :attr:`values`) interpolated linearly at one time ``t`` [s] (right value at
-        events); :class:`RunArgumentError` for a ``t`` outside the result's span, as :meth:`value`, or for several
-        times."""
+    def row(self, t: float, side: str = "right") -> np.ndarray:
+        """Every variable (columns of :attr:`values`) interpolated linearly at one time ``t`` [s] (at an event the
+        value after it, or before it with ``side="left"``, as :meth:`value`); :class:`RunArgumentError` for a ``t``
+        outside the result's span, as :meth:`value`, or for several times."""
         self._require_rows(f"row({t!r})")
         self._check_times(f"row({t!r})", t)
         if np.ndim(t):
             raise RunArgumentError(f"row(t): t must be one time [s] (a number), got {t!r}; for several times "
                                    "call row once per time, or value(name, times) per variable")
         t = float(t)
-        keep = self._right_rows()
+        keep = self._side_rows(f"row({t!r})", side)
         tk, vals = self.t[keep], self.values[keep]
         if len(tk) == 1:
             return vals[0].astype(float)
@@ -248,9 +262,20 @@ class Result:
 
     def _right_rows(self) -> np.ndarray:
         """Mask of the rows to interpolate: at an event time the result holds the left and right values; the
-        right one is kept."""
+        right one (the last row at that time) is kept."""
         keep = np.ones(len(self.t), dtype=bool)
         keep[:-1] = self.t[1:] != self.t[:-1]
+        return keep
+
+    def _side_rows(self, what: str, side: Any) -> np.ndarray:
+        """The rows kept at event times: the last (``side="right"``) or the first (``"left"``) at each time."""
+        if side == "right":
+            return self._right_rows()
+        if side != "left":
+            raise RunArgumentError(f"{what}: side must be 'right' (the value after an event) or 'left' (before "
+                                   f"it), got {side!r}")
+        keep = np.ones(len(self.t), dtype=bool)
+        keep[1:] = self.t[1:] != self.t[:-1]
         return keep
 
     def final(self, name: str) -> float | np.ndarray:
@@ -259,6 +284,15 @@ class Result:
         x = self[name]
         self._require_rows(f"final({name!r})")
         return float(x[-1]) if x.ndim == 1 else np.array(x[-1], dtype=float)
+
+    def elements(self, name: str) -> list[str]:
+        """The element names of an array variable, in column order (``"frame.T"`` → ``T[0,0]``, ``T[1,0]``, …:
+        column-major, 0-based), or ``[name]`` for a scalar variable."""
+        if isinstance(name, str) and name in self._index:
+            return [name]
+        if isinstance(name, str) and name in self._arrays:
+            return [self.names[k] for k in self._arrays[name]]
+        raise self._unknown(name)
 
     def display(self, name: str) -> tuple[np.ndarray, str]:
         """Values of ``name`` in its display unit (:data:`DISPLAY_UNITS`: L/min, bar, rpm) and that unit."""
@@ -291,7 +325,7 @@ class Result:
         units = []
         for name in names:
             values, unit = (self[name], self.unit(name)) if si else self.display(name)
-            ax.plot(self.t, values, label=f"{name} [{unit}]")
+            ax.plot(self.t, values.reshape(len(self.t), -1), label=f"{name} [{unit}]")
             units.append(unit)
         ax.set_xlabel("time [s]")
         if len(set(units)) == 1:  # one unit: the axis says it (a legend relabelled by the caller keeps it)
@@ -406,3 +440,21 @@ def _set_values(self: Result, values: np.ndarray | None) -> None:
 # the dataclass field ``values`` (its constructor argument) read through a property: a run's values are evaluated
 # when first needed
 Result.values = property(_values, _set_values, doc=_values.__doc__)  # type: ignore[assignment,method-assign]
+
+
+def _matrix_layout(base: str, elements: list[str]) -> tuple[tuple[int, int], np.ndarray, np.ndarray] | None:
+    """``(shape, rows, columns)`` of a matrix variable from its element names ``base[i,j]`` (in column order), or None
+    if they are not the complete elements of one matrix (a vector ``base[i]``, or indices that are not integers)."""
+    index = []
+    for name in elements:
+        inside = name[len(base) + 1:-1].split(",") if name.endswith("]") else []
+        if len(inside) != 2 or not all(i.strip().isdigit() for i in inside):
+            return None
+        index.append((int(inside[0]), int(inside[1])))
+    rows, columns = (np.array(x, dtype=np.int64) for x in zip(*index, strict=True)) if index else (None, None)
+    if rows is None:
+        return None
+    shape = (int(rows.max()) + 1, int(columns.max()) + 1)
+    if len(set(index)) != len(index) or len(index) != shape[0] * shape[1]:
+        return None
+    return shape, rows, columns
