@@ -158,3 +158,63 @@ def test_blocks_of_c_steps_are_bounded_in_wall_time(osc, monkeypatch):
     assert n_free < free.stats["steps"] / 10
     assert calls["n"] >= bounded.stats["steps"] == free.stats["steps"]
     np.testing.assert_array_equal(bounded.values, free.values)
+
+
+def test_a_compile_an_earlier_process_left_is_adopted(tmp_path, monkeypatch):
+    """A background gcc outlives the process that started it; a process that ends first (a short CLI run) leaves the
+    library unadopted in gcc's private directory. The next process of the same build takes that library (hashed,
+    recorded in the cache) instead of compiling the same C again, and joins a compile still under way; a finished
+    library of other C is not taken. Chain of 100 masses (301 unknowns: C in the background)."""
+    from flexlib.compile import gcc, pipeline
+    from flexlib.models.n_mass_chain import NMassChain
+
+    monkeypatch.setenv("FLEXLIB_CACHE_DIR", str(tmp_path))
+    first = fl.Simulation(NMassChain(100)).compiled
+    if first.library is not None:
+        pytest.skip("gcc finished before the build was stored")
+    pending = Path(first.library_pending)
+    deadline = time.monotonic() + 600.0
+    while not pending.exists() and time.monotonic() < deadline:  # the earlier process's gcc finishes ...
+        time.sleep(0.1)
+    assert pending.exists()
+    pipeline._COMPILING.clear()  # ... and that process is gone: this one knows of no compile
+    dirs = set((tmp_path / "lib").glob(".flexlib-gcc-*.tmp"))
+    second = fl.Simulation(NMassChain(100)).compiled
+    assert second is not first  # read from the cache entry, stored before gcc finished
+    assert set((tmp_path / "lib").glob(".flexlib-gcc-*.tmp")) == dirs  # no second gcc
+    assert second.library_pending == str(pending) and second.wait_for_library(0.0)
+    assert Path(second.library).parent == tmp_path / "lib" and second.library_problem() is None
+    texts = (second.serialized["res"], second.serialized["jac"])
+    assert gcc.earlier_compile(tmp_path / "lib", texts) is None  # adopted: nothing left to take
+    assert gcc.earlier_compile(tmp_path / "lib", (texts[0] + " ", texts[1])) is None  # other C: never
+
+
+def test_a_compile_under_way_is_joined_and_a_stale_or_failed_one_is_not(tmp_path):
+    """:func:`flexlib.compile.gcc.earlier_compile` on gcc's private directories as :func:`generate_c` makes them (mode
+    0700, ``flexlib_<digest>.c``): one still compiling (no library yet) is joined while younger than ``JOIN_AGE``;
+    an older one (a killed gcc), one whose gcc failed (a log and no output) or one another user could write is not."""
+    import os
+
+    from flexlib.compile import gcc
+
+    texts = ("res-text", "jac-text")
+    digest = gcc._source_digest(texts)
+
+    def work(name: str, mode: int = 0o700) -> Path:
+        d = tmp_path / f".flexlib-gcc-{name}.tmp"
+        d.mkdir()
+        (d / f"flexlib_{digest}.c").write_text("/* C */")
+        d.chmod(mode)
+        return d
+
+    running = work("running")
+    assert gcc.earlier_compile(tmp_path, texts) == str(running / "flexlib.so")
+    old = time.time() - gcc.JOIN_AGE - 10
+    os.utime(running, (old, old))
+    assert gcc.earlier_compile(tmp_path, texts) is None
+    failed = work("failed")
+    (failed / "gcc.log").write_text("error: ...")
+    assert gcc.earlier_compile(tmp_path, texts) is None
+    shared = work("shared", 0o777)
+    (shared / "flexlib.so").write_bytes(b"\x7fELF")
+    assert gcc.earlier_compile(tmp_path, texts) is None

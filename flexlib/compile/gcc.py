@@ -26,6 +26,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import time
 from pathlib import Path
 from typing import Any
 
@@ -34,7 +35,47 @@ import casadi as ca
 from flexlib.compile.integrity import sha256_file
 from flexlib.errors import FlexlibError
 
-__all__ = ["GCC_O1_MAX_LINES", "GCC_O2_MAX_LINES", "gcc_level", "generate_c"]
+__all__ = ["GCC_O1_MAX_LINES", "GCC_O2_MAX_LINES", "JOIN_AGE", "earlier_compile", "gcc_level", "generate_c"]
+
+#: A background compile of the same source younger than this [s] that has not finished is joined, not repeated.
+JOIN_AGE = 900.0
+
+
+def _source_digest(texts: tuple[str, str]) -> str:
+    """The digest that names the C source of ``res`` and ``jac`` (serialized) (``flexlib_<digest>.c``)."""
+    return hashlib.sha256((texts[0] + texts[1]).encode()).hexdigest()[:16]
+
+
+def earlier_compile(build_dir: str | os.PathLike, texts: tuple[str, str]) -> str | None:
+    """The library path of a background compile of the same ``res`` and ``jac`` that an earlier process started in
+    ``build_dir`` and that finished, or is still running and younger than :data:`JOIN_AGE` — None if there is none.
+
+    A background gcc outlives the process that started it; a process that ends first (a short CLI run) leaves the
+    finished library in its private directory without adopting it. The next process of the same build adopts that
+    one (``CompiledModel._adopt_pending`` hashes it and records the manifest) instead of compiling the same source
+    again. Only directories of this user, mode 0700, as :func:`generate_c` makes them, are considered.
+    """
+    name = f"flexlib_{_source_digest(texts)}.c"
+    build = Path(build_dir)
+    running = None
+    try:
+        candidates = sorted(build.glob(".flexlib-gcc-*.tmp"))
+    except OSError:
+        return None
+    for work in candidates:
+        try:
+            st = work.stat()
+            if st.st_uid != os.getuid() or (st.st_mode & 0o777) != 0o700 or not (work / name).is_file():
+                continue
+            if (work / "flexlib.so").is_file():
+                return str(work / "flexlib.so")
+            log = work / "gcc.log"
+            failed = log.is_file() and log.stat().st_size > 0 and not (work / "flexlib.so.part").exists()
+            if not failed and time.time() - st.st_mtime < JOIN_AGE:
+                running = str(work / "flexlib.so")
+        except OSError:
+            continue
+    return running
 
 
 def gcc_level(lines: int, background: bool = False) -> str:
@@ -80,7 +121,7 @@ def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike 
     build = Path(build_dir) if build_dir else Path(tempfile.mkdtemp(prefix="flexlib_"))
     build.mkdir(parents=True, exist_ok=True)
     texts = serialized if serialized is not None else (res.serialize(), jac.serialize())
-    digest = hashlib.sha256((texts[0] + texts[1]).encode()).hexdigest()[:16]
+    digest = _source_digest(texts)
     cg = ca.CodeGenerator(f"flexlib_{digest}.c")
     cg.add(res)
     cg.add(jac)

@@ -29,7 +29,7 @@ from flexlib.compile.codegen import CompiledModel, compile_dae
 from flexlib.compile.constants import assumptions_hold, eliminate_constants
 from flexlib.compile.flat_checks import check_balance
 from flexlib.compile.flatten import FlatSystem, flatten
-from flexlib.compile.gcc import generate_c
+from flexlib.compile.gcc import earlier_compile, generate_c
 from flexlib.compile.index_reduction import DAE, Structure, reduce_index
 from flexlib.compile.passes import key_options
 from flexlib.compile.scaling import key_nominals
@@ -200,8 +200,11 @@ def _load_entry(entry: Path, root: Component, directory: Path) -> tuple[Compiled
         pending = _COMPILING.get(str(entry))
         if pending is None:
             texts = (model.serialized["res"], model.serialized["jac"]) if model.serialized else None
-            pending = generate_c(model.sx_function("res"), model.sx_function("jac"), directory / "lib",
-                                 background=True, serialized=texts)
+            if texts is not None:  # an earlier process's compile of the same C, finished or under way
+                pending = earlier_compile(directory / "lib", texts)
+            if pending is None:
+                pending = generate_c(model.sx_function("res"), model.sx_function("jac"), directory / "lib",
+                                     background=True, serialized=texts)
             _COMPILING[str(entry)] = pending
         model.library_pending = pending  # share this process's compile: no second gcc of the same C
         model.on_library = _updater(entry)

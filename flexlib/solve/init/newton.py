@@ -10,7 +10,6 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
-import scipy.optimize as so
 import scipy.sparse as sps
 import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 
@@ -140,6 +139,8 @@ def _least_squares(fun: Callable[[np.ndarray], np.ndarray], jac: Callable[[np.nd
         return rx if np.all(np.isfinite(rx)) else np.full_like(rx, 1e150)
 
     try:
+        import scipy.optimize as so  # here: importing it costs 0.35 s, and most starts never get this far
+
         sol = so.least_squares(fun_finite, w, jac=jac if big else (lambda x: jac(x).toarray()),
                                method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=500,
                                tr_solver="lsmr" if big else "exact")
