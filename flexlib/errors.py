@@ -16,6 +16,7 @@ __all__ = [
     "FlexlibError",
     "InitializationError",
     "LinearizationError",
+    "ModalDataWarning",
     "ModalFileError",
     "ModelError",
     "ModelTypeError",
@@ -160,6 +161,11 @@ class ResultCheckWarning(UserWarning):
 class AnalysisWarning(UserWarning):
     """A linear-analysis result that rests on a numerical choice flexlib cannot confirm at this operating point
     (``lock="rigid"`` / ``mobility`` on loops closed through flexible bodies); the message says what to check."""
+
+
+class ModalDataWarning(UserWarning):
+    """A flexible body's output that its modal data cannot give as asked: recovered by default, it falls back to
+    plain modal superposition where the data hold no static responses for it; the message names the body and why."""
 
 
 class ModelWarning(UserWarning):

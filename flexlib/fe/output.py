@@ -16,7 +16,14 @@ module recovers, at any node ``p`` with undeformed position ``s_p`` and mode sha
   (:meth:`ModalData.residual_fields`) and their amplitudes ``l_c(t)`` in the run
   (:meth:`FlexibleBody.load_amplitudes`); pass ``loads=``. Loads applied at a point excite many modes a little
   each, and quantities near the load (the slope at a driven pin, the stress at a joint) converge slowly with
-  the number of modes in plain modal superposition; the residual term restores their static part exactly;
+  the number of modes in plain modal superposition; the residual term restores their static part exactly.
+
+Every output function takes either the data and the time series (``node_displacements(data, q, nodes)``) or the
+body and a result of its run (``node_displacements(model.arm, result, nodes)``). Given the body and its result, the
+output is **recovered by default** whenever the modal data carry the static load responses it needs (made with
+``modal_data_from_fe(..., static_loads=True)``, the default) — ``loads=False`` gives plain superposition, and
+where the data cannot recover (no responses for that field, or a frame at a node without load cases) the output is
+plain superposition with a :class:`~flexlib.errors.ModalDataWarning` saying why;
 
 and gives the VTK series for ParaView (:mod:`.vtk_series`) and the matplotlib stills and animations
 (:mod:`.drawing`) their fields.
@@ -193,9 +200,45 @@ def _residual(func: str, data: ModalData, kind: str, loads: Any, nt: int,
     return fields[key], a
 
 
+def _is_body(data: Any) -> bool:
+    """A FlexibleBody (its run's result gives ``q`` and the load amplitudes), not modal data."""
+    return not isinstance(data, ModalData) and callable(getattr(data, "motion", None)) \
+        and callable(getattr(data, "load_amplitudes", None))
+
+
+def _from_body(func: str, body: Any, result: Any, loads: Any, kind: str) -> tuple[ModalData, np.ndarray, Any, Any]:
+    """``(data, q, loads, motion)`` of a body's run: the load amplitudes for mode-acceleration recovery unless
+    ``loads`` is False, or the data cannot recover ``kind`` (then plain superposition, with a warning naming why)."""
+    import warnings
+
+    from flexlib.errors import ModalDataWarning
+
+    _t, q, r_0, T = body.motion(result)
+    data = body.modal_data
+    if loads is False:
+        return data, q, None, (r_0, T)
+    if loads is not None:
+        return data, q, loads, (r_0, T)
+    if data.load_cases is None:
+        return data, q, None, (r_0, T)  # the data were made without static responses: plain superposition
+    try:
+        if kind not in (None, "positions") and _RESIDUAL[kind] not in data.residual_fields():
+            raise ModalFileError(f"{data_label(data)} has no static load responses for {_RESIDUAL[kind]}")
+        amplitudes = body.load_amplitudes(result)
+    except ModalFileError as err:
+        warnings.warn(ModalDataWarning(f"{func}({body.path}): plain modal superposition, not recovered: {err}"),
+                      stacklevel=4)
+        return data, q, None, (r_0, T)
+    return data, q, amplitudes, (r_0, T)
+
+
 def _superpose(func: str, data: Any, q: Any, nodes: Sequence[int] | np.ndarray | None, kind: str,
                loads: Any = None) -> np.ndarray:
     """``sum_j q_j X_j`` (+ ``sum_c l_c R_c``) at the nodes for the fields ``X`` of one kind (arguments checked)."""
+    if _is_body(data):
+        data, q, loads, _ = _from_body(func, data, q, loads, kind)
+    elif loads is False:
+        loads = None
     data = _check_data(data, func)
     modes = _stress_modes(data, func) if kind == "stress" else getattr(data, f"{kind}_modes")
     q2, single = _modal_coordinates(data, q, func)
@@ -222,15 +265,16 @@ def node_displacements(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarra
 
     Parameters
     ----------
-    data : ModalData
-        The body's modal data.
-    q : array_like (nt, M) or (M,)
-        Modal coordinates over time (or at one instant) [1].
+    data : ModalData or FlexibleBody
+        The body's modal data, or the body itself (then ``q`` is a result of its run).
+    q : array_like (nt, M) or (M,), or Result
+        Modal coordinates over time (or at one instant) [1], or the result of the body's run.
     nodes : sequence of int, optional
         Node ids (as in ``data.node_ids``); default all nodes in file order.
-    loads : array_like (nt, C) or (C,), optional
+    loads : array_like (nt, C) or (C,), or False, optional
         Amplitudes of the data's unit load cases (:meth:`FlexibleBody.load_amplitudes`): adds the left-out
-        modes' static response (mode-acceleration method, module docstring).
+        modes' static response (mode-acceleration method, module docstring). Given a body and its result, the
+        amplitudes of the run by default (``False``: plain superposition).
 
     Returns
     -------
@@ -274,24 +318,30 @@ def node_rotations(data: ModalData, q: Any, nodes: Sequence[int] | np.ndarray | 
     return _superpose("node_rotations", data, q, nodes, "rotational", loads)
 
 
-def deformed_positions(data: ModalData, q: Any, r_0: Any, T: Any, nodes: Sequence[int] | np.ndarray | None = None,
-                       *, scale: float = 1.0) -> np.ndarray:
-    """World positions ``r_p = r_0 + T^T (s_p + scale * Phi_p q)`` of nodes of the deformed body.
+def deformed_positions(data: Any, q: Any, r_0: Any = None, T: Any = None,
+                       nodes: Sequence[int] | np.ndarray | None = None, *, scale: float = 1.0,
+                       loads: Any = None) -> np.ndarray:
+    """World positions ``r_p = r_0 + T^T (s_p + scale * u_p)`` of nodes of the deformed body, ``u_p = Phi_p q``
+    (``+ sum_c R_cp l_c`` recovered).
 
     Parameters
     ----------
-    data : ModalData
-        The body's modal data (undeformed coordinates ``s_p`` in the body frame).
-    q : array_like (nt, M) or (M,)
-        Modal coordinates [1].
+    data : ModalData or FlexibleBody
+        The body's modal data (undeformed coordinates ``s_p`` in the body frame), or the body itself (then ``q``
+        is a result of its run, which gives ``r_0`` and ``T``).
+    q : array_like (nt, M) or (M,), or Result
+        Modal coordinates [1], or the result of the body's run.
     r_0 : array_like (nt, 3) or (3,)
-        Origin of the floating frame, world axes [m] (one value: the same at every instant).
+        Origin of the floating frame, world axes [m] (one value: the same at every instant); not with a body.
     T : array_like (nt, 3, 3) or (3, 3)
-        Orientation of the floating frame, world to body (``v_body = T @ v_world``); orthogonal (1e-6).
+        Orientation of the floating frame, world to body (``v_body = T @ v_world``); orthogonal (1e-6); not with
+        a body.
     nodes : sequence of int, optional
         Node ids; default all nodes.
     scale : float
         Magnification of the elastic displacement for drawing (1: true positions).
+    loads : array_like (nt, C) or (C,), or False, optional
+        As :func:`node_displacements`: with a body and its result, recovered by default.
 
     Returns
     -------
@@ -305,13 +355,22 @@ def deformed_positions(data: ModalData, q: Any, r_0: Any, T: Any, nodes: Sequenc
         not orthogonal, non-finite values, an unknown node id.
     """
     func = "deformed_positions"
+    if _is_body(data):
+        if r_0 is not None or T is not None:
+            raise RunArgumentError(f"{func}: with a body and its result, r_0 and T come from the result; give "
+                                   "nodes=, scale= and loads= by keyword")
+        data, q, loads, (r_0, T) = _from_body(func, data, q, loads, "translational")
+    elif r_0 is None or T is None:
+        raise RunArgumentError(f"{func}: give the floating frame's motion r_0 and T with modal data and q (or the "
+                               "body and its result: deformed_positions(model.arm, result))")
+    u = _superpose(func, data, q, nodes, "translational", None if loads is False else loads)
     data = _check_data(data, func)
     q2, single = _modal_coordinates(data, q, func)
     idx = _node_indices(data, nodes, func)
     nt = q2.shape[0]
     r, R = _frame_motion(r_0, T, nt, func)
     scale = check_scale(func, scale)
-    body = data.coordinates[idx][None, :, :] + scale * np.einsum("tm,mnk->tnk", q2, data.translational_modes[:, idx])
+    body = data.coordinates[idx][None, :, :] + scale * (u[None] if single else u)
     out = r[:, None, :] + np.einsum("tji,tnj->tni", R, body)
     _overflow(func, out)
     return out[0] if single else out
@@ -373,6 +432,10 @@ def section_forces(data: ModalData, q: Any, *, loads: Any = None) -> np.ndarray:
         ``q`` or ``loads`` of the wrong shape.
     """
     func = "section_forces"
+    if _is_body(data):
+        data, q, loads, _ = _from_body(func, data, q, loads, "section_forces")
+    elif loads is False:
+        loads = None
     data = _check_data(data, func)
     if data.section_forces is None:
         raise ModalFileError(f"{func}: {data_label(data)} has no section forces (dataset '/modes/section_forces'): "

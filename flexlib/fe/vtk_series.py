@@ -291,7 +291,8 @@ def write_model_vtk(path: str | os.PathLike[str], model: Any, result: Any, *,
     -------
     Path
         The collection file. Point data: ``part`` (0, 1, … in the order: flexible bodies by path, then
-        ``lines``), ``displacement_magnitude`` [m] (elastic, zero on rigid parts).
+        ``lines``), ``displacement_magnitude`` [m] (elastic, zero on rigid parts). The bodies' deformation is
+        recovered by the mode-acceleration method where their modal data allow (:mod:`flexlib.fe.output`).
 
     Raises
     ------
@@ -362,11 +363,11 @@ def _body_parts(model: Any, result: Any, rows: np.ndarray, scale: float, func: s
 
     parts: list[_Part] = []
     bodies = sorted((c for c in model.walk() if isinstance(c, FlexibleBody)), key=lambda c: c.path)
-    for body in bodies:
-        _t, q, r_0, T = (np.asarray(a)[rows] for a in body.motion(result))
+    for body in bodies:  # the deformation recovered by default (mode acceleration, flexlib.fe.output)
         data = body.modal_data
-        pts = deformed_positions(data, q, r_0, T, scale=scale)
-        u = np.linalg.norm(node_displacements(data, q), axis=-1) if data.n_modes else np.zeros(pts.shape[:2])
+        pts = deformed_positions(body, result, scale=scale)[rows]
+        u = np.linalg.norm(node_displacements(body, result), axis=-1)[rows] if data.n_modes \
+            else np.zeros(pts.shape[:2])
         parts.append((pts, u, _cells(data, None, None, func)))
     return parts
 

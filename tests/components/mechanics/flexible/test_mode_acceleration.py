@@ -22,6 +22,7 @@ from flexlib.fe import (
     Section,
     beam_mesh,
     beam_stress_modes,
+    deformed_positions,
     elastic_static_responses,
     modal_data_from_fe,
     nodal_stress,
@@ -185,3 +186,40 @@ def test_participation_from_load_cases_equals_the_fe_loads_route():
     assert got.kept == ref.kept
     with pytest.raises(ValueError, match="one per load case"):
         participation_from_load_cases(data, np.zeros(3))
+
+
+def test_a_body_and_its_result_are_recovered_by_default():
+    """Issue 30: the output functions given the body and its run's result (``node_displacements(model.beam, res)``)
+    recover by default — the cantilever above with one mode kept: the tip deflection is beam theory's
+    PL³/3EI + ρAgL⁴/8EI within 1e-6 without any load amplitudes assembled by hand, and so is the tip's world position
+    (``deformed_positions(model.beam, res)``); ``loads=False`` gives plain superposition (off by > 1 %), as does
+    modal data made without static responses (nothing to recover, no warning); a body loaded at a node the data
+    have no load cases for gives plain superposition with a ModalDataWarning naming the body and the node."""
+    import warnings
+
+    b, h, L, P, Ey, rho, g = 0.02, 0.04, 1.0, 500.0, 2.1e11, 7850.0, 9.81
+    fe = beam_mesh((0, 0, 0), (L, 0, 0), 16, rectangle(b, h), E=Ey, rho=rho)
+    data = modal_data_from_fe(fe, [16], 8, reference_node=0)
+    model = TipLoaded(data, P, g=g, modes=_bending_y(data, 1), frames=[0, 16])
+    res = fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
+    Iz, A = b * h**3 / 12, b * h
+    tip_exact = -(P * L**3 / (3 * Ey * Iz) + rho * A * g * L**4 / (8 * Ey * Iz))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # recovered without a word
+        recovered = node_displacements(model.beam, res, [16])[:, 0, 1]
+        position = deformed_positions(model.beam, res, nodes=[16])[:, 0, 1]
+    np.testing.assert_allclose(recovered, tip_exact, rtol=1e-6)
+    np.testing.assert_allclose(position, tip_exact, rtol=1e-6)  # the beam's frame sits at the world origin
+    plain = node_displacements(model.beam, res, [16], loads=False)[:, 0, 1]
+    assert abs(plain[0] / tip_exact - 1) > 0.01
+    mid = TipLoaded(data, P, g=g, modes=_bending_y(data, 1), frames=[0, 8])  # loaded at node 8: no load cases
+    res_mid = fl.Simulation(mid, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
+    with pytest.warns(fl.ModalDataWarning, match=r"node_displacements\(beam\): plain modal superposition.*node 8"):
+        np.testing.assert_array_equal(node_displacements(mid.beam, res_mid, [16]),
+                                      node_displacements(mid.beam, res_mid, [16], loads=False))
+    bare = modal_data_from_fe(fe, [16], 8, reference_node=0, static_loads=False)
+    plain_model = TipLoaded(bare, P, g=g, modes=_bending_y(bare, 1), frames=[0, 16])
+    res2 = fl.Simulation(plain_model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        np.testing.assert_allclose(node_displacements(plain_model.beam, res2, [16])[:, 0, 1], plain, rtol=1e-9)
