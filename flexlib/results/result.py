@@ -325,7 +325,8 @@ class Result:
         units = []
         for name in names:
             values, unit = (self[name], self.unit(name)) if si else self.display(name)
-            ax.plot(self.t, values.reshape(len(self.t), -1), label=f"{name} [{unit}]")
+            flat = values.reshape(len(values), int(np.prod(values.shape[1:], dtype=int)))  # a matrix: its elements
+            ax.plot(self.t, values if values.ndim < 3 else flat, label=f"{name} [{unit}]")
             units.append(unit)
         ax.set_xlabel("time [s]")
         if len(set(units)) == 1:  # one unit: the axis says it (a legend relabelled by the caller keeps it)
