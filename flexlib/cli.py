@@ -333,9 +333,15 @@ def _save(result: Any, out: str, outputs: Any = None) -> tuple[str | None, str |
     (str or None, str or None)
         The file written (None if none could be) and, if it is not ``out``, what went wrong.
     """
+    import warnings
+
     from flexlib.results.hdf5 import keep_outputs
 
-    outputs = keep_outputs(result, outputs, out)
+    with warnings.catch_warnings(record=True) as caught:  # a pattern that matches nothing: a Warning line
+        warnings.simplefilter("always")
+        outputs = keep_outputs(result, outputs, out)
+    for w in caught:
+        say("Warning", str(w.message))
     try:
         result.save(out, outputs=outputs)
         return out, None

@@ -306,3 +306,29 @@ def test_run_summary_is_readable_at_80_columns():
     assert sum(line.strip() == "axis2.cylinder.cylinder" for line in table) == 1
     p_a = next(line.split() for line in table if line.strip().startswith("p_A"))
     assert p_a[1] == "bar" and all(len(x.replace("-", "").replace(".", "")) <= 4 for x in p_a[2:4])
+
+
+def test_run_outputs_are_stored_as_columns_and_repeated_with_the_run(tmp_path):
+    """``flexlib run --outputs`` stores the named variables as columns besides the run's rows (issue 29): the file's
+    ``/variables/stored`` lists exactly the matches, every variable still reads back; the choice is recorded with the
+    run, so ``--from`` stores the same; a pattern that matches nothing is a warning and the file is written; an empty
+    ``--outputs`` is refused."""
+    import h5py
+
+    out = tmp_path / "chain.h5"
+    res = invoke("run", "n-mass-chain", "-s", "short", "--t-end", "0.2", "--no-progress", "-o", str(out),
+                 "--outputs", "mass0.*,spring1.f")
+    assert res.exit_code == 0, res.output
+    back = fl.load_result(out)
+    with h5py.File(out) as f:
+        stored = sorted(back.names[k] for k in f["variables/stored"][()])
+    assert stored == sorted(n for n in back.names if n.startswith("mass0.") or n == "spring1.f")
+    again = tmp_path / "again.h5"
+    assert invoke("run", "--from", str(out), "-o", str(again), "--no-progress").exit_code == 0
+    with h5py.File(again) as f:
+        assert sorted(back.names[k] for k in f["variables/stored"][()]) == stored
+    warned = invoke("run", "n-mass-chain", "-s", "short", "--t-end", "0.2", "--no-progress", "-o",
+                    str(tmp_path / "w.h5"), "--outputs", "nosuch.*")
+    assert warned.exit_code == 0 and "nosuch" in warned.output and (tmp_path / "w.h5").exists()
+    empty = CliRunner().invoke(cli, ["run", "n-mass-chain", "-s", "short", "--outputs", " , "], env=ENV)
+    assert empty.exit_code != 0 and "--outputs" in empty.output and "no variable name or pattern" in empty.output
