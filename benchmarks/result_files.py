@@ -29,12 +29,12 @@ _WAIT_FOR_C = """
 import sys
 from dataclasses import replace
 import flexlib as fl
-from flexlib.registry import get_model, _build_instance
+from flexlib.registry import get_model
 entry = get_model("pump-truck")
 scenario = entry.scenario("expand-fold")
 if "--flexible" in sys.argv:
     scenario = replace(scenario, options={**scenario.options, "flexible": True})
-fl.Simulation(_build_instance(entry, scenario)).compiled.wait_for_library(900)
+fl.Simulation(entry.factory(scenario)).compiled.wait_for_library(900)
 """
 
 
@@ -92,8 +92,7 @@ def main() -> None:
     size_all = everything.stat().st_size / 1e6
     print(f"rigid, every variable stored (outputs='all'): {size_all:.1f} MB")
     figures.append(("rigid expand-fold, every variable stored", round(size_all, 1), "MB"))
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    import report
+    import report  # sibling module: benchmarks/ is on sys.path when this file runs as a script
 
     table = report.table("expand-fold through the CLI, cached build", ["run", "wall [s]", "real-time factor",
                                                                      "peak [MB]", "file [MB]"], rows)

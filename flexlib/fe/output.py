@@ -50,8 +50,8 @@ from flexlib.errors import ModalFileError, RunArgumentError
 
 from .modal_data import ModalData
 
-__all__ = ["FIELDS", "check_scale", "data_label", "deformed_positions", "energies", "field_values", "motion_series",
-           "nodal_stress", "node_displacements", "node_rotations", "section_forces", "von_mises"]
+__all__ = ["FIELDS", "body_series", "check_scale", "data_label", "deformed_positions", "energies", "field_values",
+           "motion_series", "nodal_stress", "node_displacements", "node_rotations", "section_forces", "von_mises"]
 
 #: Nodal fields that can be drawn or written (:func:`field_values`).
 FIELDS = ("displacement", "rotation", "von_mises", "stress")
@@ -206,39 +206,43 @@ def _is_body(data: Any) -> bool:
         and callable(getattr(data, "load_amplitudes", None))
 
 
-def _from_body(func: str, body: Any, result: Any, loads: Any, kind: str) -> tuple[ModalData, np.ndarray, Any, Any]:
-    """``(data, q, loads, motion)`` of a body's run: the load amplitudes for mode-acceleration recovery unless
-    ``loads`` is False, or the data cannot recover ``kind`` (then plain superposition, with a warning naming why)."""
+def body_series(func: str, body: Any, result: Any, loads: Any, kind: str = "translational"
+                ) -> tuple[ModalData, np.ndarray, Any, np.ndarray, np.ndarray]:
+    """``(data, q, loads, r_0, T)`` of a body's run (:meth:`FlexibleBody.motion`), ``loads`` the amplitudes for
+    mode-acceleration recovery of ``kind`` (a key of ``_RESIDUAL``): as given, None for ``False`` (plain
+    superposition) or, for None, the run's own when the data carry the static responses of ``kind`` — None when they
+    were made without any, and None with a :class:`~flexlib.errors.ModalDataWarning` naming the body and why when
+    they cannot give these (no responses for ``kind``, a loaded frame at a node without load cases)."""
     import warnings
 
     from flexlib.errors import ModalDataWarning
 
     _t, q, r_0, T = body.motion(result)
     data = body.modal_data
-    if loads is False:
-        return data, q, None, (r_0, T)
-    if loads is not None:
-        return data, q, loads, (r_0, T)
-    if data.load_cases is None:
-        return data, q, None, (r_0, T)  # the data were made without static responses: plain superposition
+    if loads is not None or data.load_cases is None:
+        return data, q, (None if loads is False else loads), r_0, T
     try:
-        if kind not in (None, "positions") and _RESIDUAL[kind] not in data.residual_fields():
+        if _RESIDUAL[kind] not in data.residual_fields():
             raise ModalFileError(f"{data_label(data)} has no static load responses for {_RESIDUAL[kind]}")
-        amplitudes = body.load_amplitudes(result)
+        loads = body.load_amplitudes(result)
     except ModalFileError as err:
         warnings.warn(ModalDataWarning(f"{func}({body.path}): plain modal superposition, not recovered: {err}"),
                       stacklevel=4)
-        return data, q, None, (r_0, T)
-    return data, q, amplitudes, (r_0, T)
+    return data, q, loads, r_0, T
+
+
+def _inputs(func: str, data: Any, q: Any, loads: Any, kind: str) -> tuple[Any, Any, Any]:
+    """``(data, q, loads)`` of an output function given modal data and ``q``, or a body and its result
+    (:func:`body_series`); ``loads=False`` is plain superposition."""
+    if _is_body(data):
+        data, q, loads, _r_0, _T = body_series(func, data, q, loads, kind)
+    return data, q, None if loads is False else loads
 
 
 def _superpose(func: str, data: Any, q: Any, nodes: Sequence[int] | np.ndarray | None, kind: str,
                loads: Any = None) -> np.ndarray:
     """``sum_j q_j X_j`` (+ ``sum_c l_c R_c``) at the nodes for the fields ``X`` of one kind (arguments checked)."""
-    if _is_body(data):
-        data, q, loads, _ = _from_body(func, data, q, loads, kind)
-    elif loads is False:
-        loads = None
+    data, q, loads = _inputs(func, data, q, loads, kind)
     data = _check_data(data, func)
     modes = _stress_modes(data, func) if kind == "stress" else getattr(data, f"{kind}_modes")
     q2, single = _modal_coordinates(data, q, func)
@@ -359,11 +363,11 @@ def deformed_positions(data: Any, q: Any, r_0: Any = None, T: Any = None,
         if r_0 is not None or T is not None:
             raise RunArgumentError(f"{func}: with a body and its result, r_0 and T come from the result; give "
                                    "nodes=, scale= and loads= by keyword")
-        data, q, loads, (r_0, T) = _from_body(func, data, q, loads, "translational")
+        data, q, loads, r_0, T = body_series(func, data, q, loads)
     elif r_0 is None or T is None:
         raise RunArgumentError(f"{func}: give the floating frame's motion r_0 and T with modal data and q (or the "
                                "body and its result: deformed_positions(model.arm, result))")
-    u = _superpose(func, data, q, nodes, "translational", None if loads is False else loads)
+    u = _superpose(func, data, q, nodes, "translational", loads)
     data = _check_data(data, func)
     q2, single = _modal_coordinates(data, q, func)
     idx = _node_indices(data, nodes, func)
@@ -432,10 +436,7 @@ def section_forces(data: ModalData, q: Any, *, loads: Any = None) -> np.ndarray:
         ``q`` or ``loads`` of the wrong shape.
     """
     func = "section_forces"
-    if _is_body(data):
-        data, q, loads, _ = _from_body(func, data, q, loads, "section_forces")
-    elif loads is False:
-        loads = None
+    data, q, loads = _inputs(func, data, q, loads, "section_forces")
     data = _check_data(data, func)
     if data.section_forces is None:
         raise ModalFileError(f"{func}: {data_label(data)} has no section forces (dataset '/modes/section_forces'): "

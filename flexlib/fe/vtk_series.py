@@ -30,6 +30,7 @@ from flexlib.errors import ResultFileError, RunArgumentError
 from .modal_data import ModalData
 from .output import (
     FIELDS,
+    body_series,
     check_scale,
     data_label,
     deformed_positions,
@@ -364,9 +365,10 @@ def _body_parts(model: Any, result: Any, rows: np.ndarray, scale: float, func: s
     parts: list[_Part] = []
     bodies = sorted((c for c in model.walk() if isinstance(c, FlexibleBody)), key=lambda c: c.path)
     for body in bodies:  # the deformation recovered by default (mode acceleration, flexlib.fe.output)
-        data = body.modal_data
-        pts = deformed_positions(body, result, scale=scale)[rows]
-        u = np.linalg.norm(node_displacements(body, result), axis=-1)[rows] if data.n_modes \
+        data, q, loads, r_0, T = body_series(func, body, result, None)
+        loads = None if loads is None else loads[rows]
+        pts = deformed_positions(data, q[rows], r_0[rows], T[rows], scale=scale, loads=loads)
+        u = np.linalg.norm(node_displacements(data, q[rows], loads=loads), axis=-1) if data.n_modes \
             else np.zeros(pts.shape[:2])
         parts.append((pts, u, _cells(data, None, None, func)))
     return parts

@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import EmptyResultError, ResultKeyError, RunArgumentError
+from flexlib.results.result import event_rows
 
 __all__ = ["ATOL_SCALE", "NOISE_ATOL", "RTOL", "Comparison", "compare", "compare_results", "select", "tube"]
 
@@ -272,13 +273,6 @@ def _select(a: Any, b: Any, signals: list[str], labels: tuple[str, str]) -> tupl
     return list(dict.fromkeys(names)), problems  # each once, in the order asked
 
 
-def _right_rows(t: np.ndarray) -> np.ndarray:
-    """Mask of the rows kept for interpolation: the right value at events (as :meth:`Result.value`)."""
-    keep = np.ones(len(t), dtype=bool)
-    keep[:-1] = t[1:] != t[:-1]
-    return keep
-
-
 def _interp(grid: np.ndarray, t: np.ndarray, x: np.ndarray) -> np.ndarray:
     """Linear interpolation that keeps NaN and inf: a grid point on a non-finite sample, or inside an interval
     that touches one, takes that sample's value (np.interp would give NaN for an inf, or a number)."""
@@ -392,7 +386,7 @@ def _rank(out: Comparison, a: Any, b: Any, names: list[str], columns: tuple[dict
     per signal, what its row needs — the largest deviation, the base of its tolerance, its magnitude and a digest of
     its traces — and the tolerances follow from the floors per unit once every signal is seen."""
     ia, ib = columns
-    keep_a, keep_b = _right_rows(a.t), _right_rows(b.t)
+    keep_a, keep_b = event_rows(a.t), event_rows(b.t)  # the right value at events, as Result.value
     (t0, t1), ta, tb = out.span, a.t[keep_a], b.t[keep_b]
     grid = np.union1d(ta, tb)
     grid = grid[(grid >= t0) & (grid <= t1)]

@@ -28,7 +28,15 @@ import numpy as np
 
 from flexlib.errors import ResultFileError, ResultKeyError, ResultSaveWarning, RunArgumentError, SimulationInterrupted
 from flexlib.results.result import Result
-from flexlib.results.stored import FileColumns, FilePart, StoredPart, output_map, pack_function, unique_columns
+from flexlib.results.stored import (
+    FileColumns,
+    FilePart,
+    StoredPart,
+    output_graph,
+    output_map,
+    pack_function,
+    unique_columns,
+)
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "keep_result", "load_result", "not_a_result", "remove_orphans", "save_result"]
 
@@ -314,7 +322,7 @@ def _columns(group: h5py.Group, name: str, data: np.ndarray) -> None:
 
 def _write_part(g: h5py.Group, part: StoredPart, n_names: int) -> None:
     """One model's rows (:mod:`flexlib.results.stored`)."""
-    omap = output_map(part.out)
+    omap = part.omap if part.omap is not None else output_map(output_graph(part.out))
     if len(omap.source) != n_names:
         raise ResultFileError(f"the output function of the rows gives {len(omap.source)} values for {n_names} "
                               "variables")
@@ -560,7 +568,7 @@ def _file_columns(f: h5py.File, path: Path, n_rows: int, names: list[str], bad: 
         raise bad(f"incomplete flexlib result: it stores {len(stored)} of {len(names)} variables and no /rows to "
                   "derive the others from")
     casadi_version = str(f.attrs.get("meta_casadi", ""))
-    parts, covered = [], np.zeros(n_rows, dtype=int)
+    parts, covered, times = [], np.zeros(n_rows, dtype=int), np.asarray(f["time"][()], dtype=float)
     for key in sorted(rows, key=lambda k: int(k) if k.isdigit() else -1):
         g = rows[key]
         need = ("rows", "y", "y_columns", "yp", "yp_used", "rel", "p", "source", "constant", "out")
@@ -585,7 +593,7 @@ def _file_columns(f: h5py.File, path: Path, n_rows: int, names: list[str], bad: 
             raise bad(f"/rows/{key}/yp has shape {g['yp'].shape}, expected {(len(idx), len(yp_used))}")
         if g["rel"].shape[0] != len(idx):
             raise bad(f"/rows/{key}/rel has {g['rel'].shape[0]} rows, expected {len(idx)}")
-        parts.append(FilePart(g, idx, np.ascontiguousarray(f["time"][()][idx], dtype=float), n, source, constant,
+        parts.append(FilePart(g, idx, np.ascontiguousarray(times[idx]), n, source, constant,
                                y_columns, yp_used, np.asarray(g["p"][()], dtype=float),
                                f"cannot read the result file {path}", casadi_version))
     if np.any(covered != 1):

@@ -11,7 +11,7 @@ import numpy as np
 
 from flexlib.errors import EmptyResultError, ResultKeyError, RunArgumentError
 
-__all__ = ["DISPLAY_UNITS", "Result"]
+__all__ = ["DISPLAY_UNITS", "Result", "event_rows"]
 
 #: Units shown in plots and summaries instead of SI, as engineers read them: ``{SI unit: (unit, factor)}``
 #: (value shown = SI value × factor). Results themselves stay in SI.
@@ -260,23 +260,12 @@ class Result:
         w = float(np.clip((t - tk[k - 1]) / (tk[k] - tk[k - 1]), 0.0, 1.0))
         return (1.0 - w) * vals[k - 1] + w * vals[k]
 
-    def _right_rows(self) -> np.ndarray:
-        """Mask of the rows to interpolate: at an event time the result holds the left and right values; the
-        right one (the last row at that time) is kept."""
-        keep = np.ones(len(self.t), dtype=bool)
-        keep[:-1] = self.t[1:] != self.t[:-1]
-        return keep
-
     def _side_rows(self, what: str, side: Any) -> np.ndarray:
-        """The rows kept at event times: the last (``side="right"``) or the first (``"left"``) at each time."""
-        if side == "right":
-            return self._right_rows()
-        if side != "left":
+        """:func:`event_rows` of this result, ``side`` checked."""
+        if side not in ("right", "left"):
             raise RunArgumentError(f"{what}: side must be 'right' (the value after an event) or 'left' (before "
                                    f"it), got {side!r}")
-        keep = np.ones(len(self.t), dtype=bool)
-        keep[1:] = self.t[1:] != self.t[:-1]
-        return keep
+        return event_rows(self.t, side)
 
     def final(self, name: str) -> float | np.ndarray:
         """Value of ``name`` at the end of the run (an array variable: its elements); :class:`EmptyResultError` if
@@ -325,8 +314,9 @@ class Result:
         units = []
         for name in names:
             values, unit = (self[name], self.unit(name)) if si else self.display(name)
-            flat = values.reshape(len(values), int(np.prod(values.shape[1:], dtype=int)))  # a matrix: its elements
-            ax.plot(self.t, values if values.ndim < 3 else flat, label=f"{name} [{unit}]")
+            if values.ndim > 2:  # a matrix: its elements
+                values = values.reshape(len(values), int(np.prod(values.shape[1:])))
+            ax.plot(self.t, values, label=f"{name} [{unit}]")
             units.append(unit)
         ax.set_xlabel("time [s]")
         if len(set(units)) == 1:  # one unit: the axis says it (a legend relabelled by the caller keeps it)
@@ -443,6 +433,17 @@ def _set_values(self: Result, values: np.ndarray | None) -> None:
 Result.values = property(_values, _set_values, doc=_values.__doc__)  # type: ignore[assignment,method-assign]
 
 
+def event_rows(t: np.ndarray, side: str = "right") -> np.ndarray:
+    """Mask of the rows to interpolate: at an event time a result holds several rows (the values before and after
+    it); the last at each time is kept (``side="right"``), or the first (``"left"``)."""
+    keep = np.ones(len(t), dtype=bool)
+    if side == "right":
+        keep[:-1] = t[1:] != t[:-1]
+    else:
+        keep[1:] = t[1:] != t[:-1]
+    return keep
+
+
 def _matrix_layout(base: str, elements: list[str]) -> tuple[tuple[int, int], np.ndarray, np.ndarray] | None:
     """``(shape, rows, columns)`` of a matrix variable from its element names ``base[i,j]`` (in column order), or None
     if they are not the complete elements of one matrix (a vector ``base[i]``, or indices that are not integers)."""
@@ -452,9 +453,9 @@ def _matrix_layout(base: str, elements: list[str]) -> tuple[tuple[int, int], np.
         if len(inside) != 2 or not all(i.strip().isdigit() for i in inside):
             return None
         index.append((int(inside[0]), int(inside[1])))
-    rows, columns = (np.array(x, dtype=np.int64) for x in zip(*index, strict=True)) if index else (None, None)
-    if rows is None:
+    if not index:
         return None
+    rows, columns = (np.array(x, dtype=np.int64) for x in zip(*index, strict=True))
     shape = (int(rows.max()) + 1, int(columns.max()) + 1)
     if len(set(index)) != len(index) or len(index) != shape[0] * shape[1]:
         return None

@@ -29,9 +29,8 @@ from flexlib.errors import ResultFileError
 if TYPE_CHECKING:
     import casadi as ca
 
-__all__ = ["CONSTANT", "DERIVED", "FileColumns", "FilePart", "OutputMap", "StoredPart", "output_map", "pack_function",
-           "signatures",
-           "unique_columns", "unpack_function"]
+__all__ = ["CONSTANT", "DERIVED", "FileColumns", "FilePart", "OutputMap", "StoredPart", "output_graph", "output_map",
+           "pack_function", "signatures", "unique_columns", "unpack_function"]
 
 #: ``OutputMap.source`` codes: a variable is an unknown's column (``>= 0``), derived from the rows, or a constant.
 DERIVED, CONSTANT = -1, -2
@@ -56,12 +55,17 @@ class OutputMap:
     yp_used: np.ndarray
 
 
-def output_map(fn: ca.Function) -> OutputMap:
-    """Classify the outputs of the SX function ``fn(t, y, yp, p)`` (:class:`OutputMap`)."""
+def output_graph(fn: ca.Function) -> tuple[list[ca.SX], ca.SX]:
+    """``([t, y, yp, p], out)``: the SX function ``fn(t, y, yp, p)`` evaluated on its own symbols (its graph)."""
+    args = fn.sx_in()
+    return args, fn(*args)
+
+
+def output_map(graph: tuple[list[ca.SX], ca.SX]) -> OutputMap:
+    """Classify the outputs of the graph of ``out(t, y, yp, p)`` (:func:`output_graph`) (:class:`OutputMap`)."""
     import casadi as ca
 
-    t, y, yp, p = fn.sx_in()
-    out = fn(t, y, yp, p)
+    (_t, y, yp, _p), out = graph
     n = out.numel()
     source = np.full(n, DERIVED, dtype=np.int64)
     constant = np.full(n, np.nan)
@@ -79,13 +83,15 @@ def output_map(fn: ca.Function) -> OutputMap:
     return OutputMap(source, constant, yp_used)
 
 
-def signatures(fn: ca.Function) -> list[tuple]:
-    """Per output of ``fn(t, y, yp, p)``: ``("y", j)`` (the unknown ``y[j]``), ``("c", value)`` or ``("x", node)``
-    (its expression node): outputs with the same signature are the same function of the row."""
-    omap = output_map(fn)
-    out = fn(*fn.sx_in())
-    return [("y", int(src)) if src >= 0 else ("c", float(omap.constant[i])) if src == CONSTANT
-            else ("x", out[i].element_hash()) for i, src in enumerate(omap.source)]
+def signatures(source: np.ndarray, constant: np.ndarray, out: Any, y_columns: np.ndarray | None = None) -> list[tuple]:
+    """Per output (:class:`OutputMap` ``source`` and ``constant``): ``("y", j)`` (the unknown ``y[j]``, or its stored
+    column ``y_columns[j]``), ``("c", value)`` or ``("x", node)`` (its node in the graph ``out``, evaluated only if
+    some output is derived: a callable giving it): outputs with the same signature are the same function of the
+    row."""
+    graph = out() if (source == DERIVED).any() else None
+    return [("y", int(src if y_columns is None else y_columns[src])) if src >= 0
+            else ("c", float(constant[i])) if src == CONSTANT else ("x", graph[i].element_hash())
+            for i, src in enumerate(source)]
 
 
 def pack_function(fn: ca.Function) -> np.ndarray:
@@ -134,6 +140,7 @@ class StoredPart:
     YP: np.ndarray
     rel: np.ndarray
     pvec: np.ndarray
+    omap: OutputMap | None = None  # of ``out``, if the caller has it
 
 
 @dataclass
@@ -280,20 +287,8 @@ class FileColumns:
         variable: its expression node in ``out``) or ``("s", column)`` (stored): variables with the same signature
         have the same values (aliases), without reading them."""
         if self._signatures is None:
-            per_part = []
-            for part in self.parts:
-                nodes = None
-                sig = []
-                for i, src in enumerate(part.source):
-                    if src >= 0:
-                        sig.append(("y", int(part.y_columns[src])))
-                    elif src == CONSTANT:
-                        sig.append(("c", float(part.constant[i])))
-                    else:
-                        if nodes is None:
-                            nodes = part.bound()[1]
-                        sig.append(("x", nodes[i].element_hash()))
-                per_part.append(sig)
+            per_part = [signatures(part.source, part.constant, lambda part=part: part.bound()[1], part.y_columns)
+                        for part in self.parts]
             self._signatures = [("s", i) if i in self.stored else tuple(sig[i] for sig in per_part)
                                 for i in range(self.n_cols)]
         return self._signatures

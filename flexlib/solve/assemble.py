@@ -14,7 +14,7 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import ResultCheckWarning
 from flexlib.results.result import Result
-from flexlib.results.stored import StoredPart, signatures
+from flexlib.results.stored import OutputMap, StoredPart, output_graph, output_map, signatures
 from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
 from flexlib.solve.trajectory import Trajectory
 
@@ -63,17 +63,25 @@ class RowColumns:
             values[idx] = self.rows.evaluate(model, "out", T, Y, YP, self._P(rel))
         return values
 
+    def _graph(self, model: CompiledModel) -> tuple[list[ca.SX], ca.SX]:
+        """The graph of ``model``'s ``out`` (:func:`~flexlib.results.stored.output_graph`), made once per model."""
+        return self.rows.cached(model, ("out_sx",), lambda: output_graph(model.sx_function("out")))
+
+    def _map(self, model: CompiledModel) -> OutputMap:
+        """How ``model``'s outputs are got from a row (:func:`~flexlib.results.stored.output_map`), once per model."""
+        return self.rows.cached(model, ("out_map",), lambda: output_map(self._graph(model)))
+
     def stored_parts(self) -> list[StoredPart]:
         """The rows as a result file stores them (:mod:`flexlib.results.stored`)."""
-        return [StoredPart(model.sx_function("out"), idx, T, Y, YP, rel, self.pvec)
+        return [StoredPart(model.sx_function("out"), idx, T, Y, YP, rel, self.pvec, self._map(model))
                 for model, idx, T, Y, YP, rel in self.parts]
 
     def signatures(self) -> list[tuple]:
         """Per variable, a key that is the same for variables with the same values (aliases): what it is in the
         output function of each part (:func:`flexlib.results.stored.signatures`)."""
         if self._signatures is None:
-            per_part = [self.rows.cached(model, ("signatures",), lambda model=model: signatures(
-                model.sx_function("out"))) for model, *_ in self.parts]
+            per_part = [signatures(self._map(model).source, self._map(model).constant,
+                                   lambda model=model: self._graph(model)[1]) for model, *_ in self.parts]
             self._signatures = [tuple(sig[i] for sig in per_part) for i in range(self.n_cols)]
         return self._signatures
 
@@ -82,21 +90,15 @@ class RowColumns:
         key = ("out_columns", tuple(int(c) for c in cols))
         values = np.empty((self.n_rows, len(cols)))
         for model, idx, T, Y, YP, rel in self.parts:
-            fn = self.rows.cached(model, key, lambda model=model: _out_columns(self.rows, model, key[1]))
+            fn = self.rows.cached(model, key, lambda model=model: self._out_columns(model, key[1]))
             values[idx] = self.rows.evaluate_function(fn, model, key, T, Y, YP, self._P(rel))
         return values
 
-
-def _out_columns(rows: RowEvaluator, model: CompiledModel, cols: tuple[int, ...]) -> ca.Function:
-    """``(t, y, yp, p) ->`` the entries ``cols`` of ``out``, dense: only the part of ``out``'s graph they need."""
-    args, out = rows.cached(model, ("out_sx",), lambda: _out_symbolic(model))
-    return ca.Function("flexlib_out_columns", args, [ca.densify(out[list(cols)])])
-
-
-def _out_symbolic(model: CompiledModel) -> tuple[list[ca.SX], ca.SX]:
-    fn = model.sx_function("out")
-    args = fn.sx_in()
-    return args, fn(*args)
+    def _out_columns(self, model: CompiledModel, cols: tuple[int, ...]) -> ca.Function:
+        """``(t, y, yp, p) ->`` the entries ``cols`` of ``out``, dense: only the part of ``out``'s graph they
+        need."""
+        args, out = self._graph(model)
+        return ca.Function("flexlib_out_columns", args, [ca.densify(out[list(cols)])])
 
 
 def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: RowEvaluator, t_init: float,
