@@ -28,15 +28,7 @@ import numpy as np
 
 from flexlib.errors import ResultFileError, ResultKeyError, ResultSaveWarning, RunArgumentError, SimulationInterrupted
 from flexlib.results.result import Result
-from flexlib.results.stored import (
-    FileColumns,
-    FilePart,
-    StoredPart,
-    output_graph,
-    output_map,
-    pack_function,
-    unique_columns,
-)
+from flexlib.results.stored import FileColumns, FilePart, StoredPart, pack_function, unique_columns
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "keep_result", "load_result", "not_a_result", "remove_orphans", "save_result"]
 
@@ -322,7 +314,7 @@ def _columns(group: h5py.Group, name: str, data: np.ndarray) -> None:
 
 def _write_part(g: h5py.Group, part: StoredPart, n_names: int) -> None:
     """One model's rows (:mod:`flexlib.results.stored`)."""
-    omap = part.omap if part.omap is not None else output_map(output_graph(part.out))
+    omap = part.output_map()
     if len(omap.source) != n_names:
         raise ResultFileError(f"the output function of the rows gives {len(omap.source)} values for {n_names} "
                               "variables")

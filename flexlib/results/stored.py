@@ -142,6 +142,10 @@ class StoredPart:
     pvec: np.ndarray
     omap: OutputMap | None = None  # of ``out``, if the caller has it
 
+    def output_map(self) -> OutputMap:
+        """How each output of ``out`` is got from a row: :attr:`omap`, else classified now."""
+        return self.omap if self.omap is not None else output_map(output_graph(self.out))
+
 
 @dataclass
 class FilePart:
@@ -300,8 +304,10 @@ class FileColumns:
             YPU, REL = part.yp_rel()
             YP = np.zeros((len(part.rows), part.n))
             YP[:, part.yp_used] = YPU
-            parts.append(StoredPart(part.function(), part.rows, part.T, part.stored_y(part.y_columns), YP,
-                                    REL.copy(), part.pvec))
+            rel = REL[:, :part.group["rel"].shape[1]].copy()  # (without the padding of a run without relations)
+            omap = OutputMap(part.source, part.constant, part.yp_used)
+            parts.append(StoredPart(part.function(), part.rows, part.T, part.stored_y(part.y_columns), YP, rel,
+                                    part.pvec, omap))
         return parts
 
     def nonfinite(self, names: list[str]) -> tuple[list[str], int | None]:
