@@ -48,6 +48,7 @@ from flexlib.fe import (
     modal_participation,
     node_displacements,
     node_rotations,
+    planar_modes,
     section_forces,
 )
 from flexlib.registry import ModelOption, Scenario, register_model
@@ -96,8 +97,8 @@ def _modal_data(what: str, data: Any) -> ModalData:
 
 
 def bending_modes(data: ModalData) -> list[int]:
-    """Indices of the in-plane (x–y) bending modes, lowest frequency first (no z translation, no x or y rotation,
-    more transverse than axial).
+    """Indices of the in-plane (x–y) bending modes, lowest frequency first: the modes in the beam's plane
+    (:func:`flexlib.fe.planar_modes`) that move it more transversely than axially.
 
     Raises
     ------
@@ -105,13 +106,8 @@ def bending_modes(data: ModalData) -> list[int]:
         ``data`` is not a ModalData.
     """
     data = _modal_data("bending_modes", data)
-    out = []
-    for k in np.argsort(data.frequencies, kind="stable"):
-        t, r = data.translational_modes[k], data.rotational_modes[k]
-        planar = np.abs(t[:, 2]).max() + np.abs(r[:, :2]).max() <= 1e-9 * (np.abs(t).max() + np.abs(r).max())
-        if planar and np.abs(t[:, 1]).max() > np.abs(t[:, 0]).max():
-            out.append(int(k))
-    return out
+    T = data.translational_modes
+    return [k for k in planar_modes(data, "xy") if np.abs(T[k, :, 1]).max() > np.abs(T[k, :, 0]).max()]
 
 
 class PinnedFreeBeam(fl.Model):

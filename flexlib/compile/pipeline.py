@@ -268,6 +268,9 @@ def build(root: Component, *, codegen: bool | str = "auto", use_cache: bool = Tr
         BuildOptions; an environment variable behind an option left None holds a value it does not accept.
     """
     check_model(root, "build()")
+    for node in root.walk():
+        if isinstance(node, Component):
+            node.advise()
     options = BuildOptions.from_arguments(codegen, use_cache, assume_zero_geometry, options, "build()").resolved()
     timings: dict[str, Any] = {"cached": False}
     t0 = _time.perf_counter()

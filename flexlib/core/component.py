@@ -465,6 +465,13 @@ class Component(Node):
         """
         return ()
 
+    def advise(self) -> None:
+        """Hook called once per build of a model containing this component (also when the compiled model comes from
+        the disk cache), after its connections are final: warn (never raise) about a structure that is valid but
+        likely not what is meant — a flexible body whose modal basis is clamped at a node that sits on a free
+        hinge. Name the component, what was found and the better choice. Default: nothing.
+        """
+
     def on_structure(self) -> None:
         """Called when the model structure is known, before equations are collected.
 

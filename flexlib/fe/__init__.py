@@ -31,7 +31,7 @@ _MODULES: dict[str, tuple[str, ...]] = {
     "sections": ("box", "circle", "i_section", "rectangle", "Section", "tube"),
     "selection": ("default_damping_ratio", "modal_damping_matrix", "modal_participation",
                   "nodal_generalized_forces", "participation_from_load_cases", "ParticipationRow",
-                  "ParticipationTable", "select_modes"),
+                  "ParticipationTable", "planar_modes", "select_modes"),
     "vtk_series": ("write_model_vtk", "write_vtk_series"),
 }
 _WHERE = {name: module for module, names in _MODULES.items() for name in names}

@@ -37,8 +37,12 @@ __all__ = [
     "modal_participation",
     "nodal_generalized_forces",
     "participation_from_load_cases",
+    "planar_modes",
     "select_modes",
 ]
+
+#: A plane by name: the axis normal to it (0 x, 1 y, 2 z)
+_NORMALS = {"xy": 2, "yx": 2, "yz": 0, "zy": 0, "xz": 1, "zx": 1}
 
 
 @dataclass(frozen=True)
@@ -271,8 +275,54 @@ def participation_from_load_cases(data: ModalData, amplitudes: np.ndarray, *,
     return _table(data.static_modal_loads.T @ A.T, data.generalized_stiffness, data.frequencies, threshold, func)
 
 
+def _normal(func: str, plane: Any) -> int:
+    """The axis normal to ``plane`` ("xy", "yz" or "xz", either order)."""
+    if not isinstance(plane, str) or plane.lower() not in _NORMALS:
+        raise RunArgumentError(f"{func}: plane must be one of 'xy', 'yz', 'xz' (the body axes a mode moves in), got "
+                               f"{plane!r}")
+    return _NORMALS[plane.lower()]
+
+
+def planar_modes(data: ModalData, plane: str = "xy", *, tol: float = 1e-6) -> list[int]:
+    """Indices of the modes that move the body in one of its coordinate planes, by ascending frequency.
+
+    A mode is planar in ``"xy"`` when its translations along ``z`` and its rotations about ``x`` and ``y`` carry at
+    most ``tol`` of its squared amplitude, rotations weighted by the body's size ``L`` (the largest distance of a
+    node from the body frame's origin), ``(Σ u_z² + L² Σ (θ_x² + θ_y²)) ≤ tol (Σ |u|² + L² Σ |θ|²)``. Loads that lie in
+    the plane (a planar mechanism's joint forces, gravity in the plane) do not excite the others, and the others
+    would make the rows a planar loop drops in 3D independent again (see ``docs/engine.md``).
+
+    Parameters
+    ----------
+    data : ModalData
+        Modal data to select from.
+    plane : {"xy", "yz", "xz"}
+        The plane in body axes.
+    tol : float
+        Largest out-of-plane share of a mode's squared amplitude [1], in ``[0, 1)``.
+
+    Raises
+    ------
+    RunArgumentError
+        ``data`` not a ModalData, an unknown plane, ``tol`` outside ``[0, 1)``.
+    """
+    func = "planar_modes"
+    data = _modal_data(func, data)
+    normal = _normal(func, plane)
+    if not _real(tol) or not 0.0 <= float(tol) < 1.0:
+        raise RunArgumentError(f"{func}: tol must be a fraction in [0, 1), got {tol!r}")
+    T = np.asarray(data.translational_modes, dtype=float)
+    R = np.asarray(data.rotational_modes, dtype=float)
+    size = float(np.max(np.linalg.norm(np.asarray(data.coordinates, dtype=float), axis=1), initial=0.0))
+    in_plane_rot = [a for a in range(3) if a != normal]
+    out = np.sum(T[:, :, normal] ** 2, axis=1) + size**2 * np.sum(R[:, :, in_plane_rot] ** 2, axis=(1, 2))
+    total = np.sum(T**2, axis=(1, 2)) + size**2 * np.sum(R**2, axis=(1, 2))
+    keep = np.flatnonzero(out <= float(tol) * np.maximum(total, 1e-300))
+    return [int(k) for k in keep[np.argsort(data.frequencies[keep], kind="stable")]]
+
+
 def select_modes(data: ModalData, *, count: int | None = None, max_frequency: float | None = None,
-                 participation: ParticipationTable | None = None) -> ModalData:
+                 participation: ParticipationTable | None = None, plane: str | None = None) -> ModalData:
     """Keep the modes that satisfy every given criterion (in ascending frequency order).
 
     Parameters
@@ -285,12 +335,16 @@ def select_modes(data: ModalData, *, count: int | None = None, max_frequency: fl
         Only modes with frequency at or below this cut-off [Hz].
     participation : ParticipationTable, optional
         Only the modes it keeps (MPF at or above its threshold).
+    plane : {"xy", "yz", "xz"}, optional
+        Only the modes that move the body in this plane of its axes (:func:`planar_modes`): with ``count``, the
+        lowest ``count`` planar modes.
 
     Raises
     ------
     RunArgumentError
         ``data`` not a ModalData, ``count`` not an int >= 0, ``max_frequency`` not a number >= 0,
-        ``participation`` not a ParticipationTable or of another number of modes (a ``ValueError``).
+        ``participation`` not a ParticipationTable or of another number of modes, an unknown ``plane``
+        (a ``ValueError``).
     """
     data = _modal_data("select_modes", data)
     if count is not None and (isinstance(count, bool | np.bool_) or not isinstance(count, int | np.integer)
@@ -304,6 +358,9 @@ def select_modes(data: ModalData, *, count: int | None = None, max_frequency: fl
     keep = [int(i) for i in order]
     if max_frequency is not None:
         keep = [i for i in keep if data.frequencies[i] <= max_frequency]
+    if plane is not None:
+        planar = set(planar_modes(data, plane))
+        keep = [i for i in keep if i in planar]
     if participation is not None:
         if not isinstance(participation, ParticipationTable):
             raise RunArgumentError(f"select_modes: argument 'participation' must be a ParticipationTable (of "

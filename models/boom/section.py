@@ -90,8 +90,8 @@ class BoomSection(fl.Model):
         Craig–Bampton modal data of the section (nodes along ``x`` from the root pin, reference at the root):
         makes the section flexible. :func:`models.pump_truck.flexible.section_modal_data` gives the truck's.
     modes : int or sequence of int, optional
-        Flexible only: the lowest ``modes`` in-plane modes (:func:`models.pump_truck.flexible.in_plane_modes`,
-        default 8) or mode indices into ``modal_data``.
+        Flexible only: the lowest ``modes`` modes in the section's plane (:func:`flexlib.fe.planar_modes`,
+        ``"xy"``; default 8) or mode indices into ``modal_data``.
 
     Connectors
     ----------
@@ -175,7 +175,8 @@ class BoomSection(fl.Model):
     def _flexible(self, part: str, data: ModalData, modes: Any, m: float | None, r_CM: Any) -> None:
         """The FlexibleBody variant (class docstring)."""
         from flexlib.components.mechanics.flexible import FlexibleBody
-        from flexlib.models.pump_truck.flexible import in_plane_modes, station_node
+        from flexlib.fe import planar_modes
+        from flexlib.models.pump_truck.flexible import station_node
 
         if not isinstance(data, ModalData):
             raise ParameterError(f"{part}: modal_data must be a ModalData, got {type(data).__name__}")
@@ -185,7 +186,7 @@ class BoomSection(fl.Model):
             raise ParameterError(f"{part}: r_CM = {r_CM!r} m differs from the modal data's centre of mass "
                                  f"{data.center_of_mass.tolist()}")
         modes = 8 if modes is None else modes
-        kept = in_plane_modes(data)[:modes] if isinstance(modes, int) else [int(k) for k in modes]
+        kept = planar_modes(data, "xy")[:modes] if isinstance(modes, int) else [int(k) for k in modes]
         x, ids = data.coordinates[:, 0], data.node_ids
         if abs(float(x.max()) - self.length) > 1e-9 * self.length or abs(float(x.min())) > 1e-9 * self.length:
             raise ParameterError(f"{part}: length = {self.length} m, but the modal data's nodes span "

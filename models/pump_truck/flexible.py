@@ -43,7 +43,7 @@ from flexlib.fe.geometric import inertial_load_amplitudes
 
 from .parameters import PumpTruckParameters
 
-__all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "in_plane_modes", "mpf_modes",
+__all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "mpf_modes",
            "rigid_section_loads", "section_fe", "section_modal_data", "unfolding_poses"]
 
 #: Default number of beam elements per section.
@@ -72,22 +72,6 @@ def attachment_points(record: PumpTruckParameters, j: int) -> dict[str, tuple[fl
         points["lever_pivot"] = (L + float(nxt.P[0]), float(nxt.P[1]))
         points["housing"] = (L + float(nxt.H[0]), float(nxt.H[1]))
     return points
-
-
-def in_plane_modes(data: ModalData, tol: float = 1e-6) -> list[int]:
-    """Indices of the modes that move the section in its plane (body ``x``–``y``), by frequency.
-
-    A mode is in-plane if its out-of-plane translations ``uz`` carry at most ``tol`` of its squared translational
-    amplitudes. The boom's loads (gravity, cylinders, joint reactions) lie in that plane; a section's lateral and
-    torsional modes are not excited by them, and its lever-and-link loops are planar (their revolute joints
-    over-constrain the loop in 3D, and the engine drops the redundant rows for the loop as built: lateral modes
-    would make those rows independent again).
-    """
-    T = np.asarray(data.translational_modes, dtype=float)
-    out = np.sum(T[:, :, 2] ** 2, axis=1)
-    total = np.sum(T ** 2, axis=(1, 2))
-    keep = np.flatnonzero(out <= tol * np.maximum(total, 1e-300))
-    return [int(k) for k in keep[np.argsort(data.frequencies[keep])]]
 
 
 def station_node(x: np.ndarray, node_ids: np.ndarray, position: float, length: float) -> int:
@@ -299,7 +283,9 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     the rigid machine ``model`` at rest there, filled as the record says) give each mode's
     static amplitude ``q_i = φ_iᵀ F / k_i``; a mode is kept if at some pose it reaches ``threshold`` of the largest
     (:func:`~flexlib.fe.participation_from_load_cases`) and moves the section in its
-    plane (:func:`in_plane_modes`); of those, the ``max_modes`` with the largest shares, in frequency order.
+    plane (:func:`flexlib.fe.planar_modes`, ``"xy"``: the boom's loads lie in that plane, and its lever-and-link
+    loops are planar, their redundant rows dropped for the loop as built); of those, the ``max_modes`` with the
+    largest shares, in frequency order.
 
     Parameters
     ----------
@@ -324,7 +310,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
         Section number (1–N) to mode indices into :func:`section_modal_data`.
     """
     import flexlib as fl
-    from flexlib.fe import participation_from_load_cases
+    from flexlib.fe import participation_from_load_cases, planar_modes
 
     if model is None:
         from .model import PumpTruck
@@ -360,7 +346,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     chosen: dict[int, list[int]] = {}
     for j, data in datas.items():
         table = participation_from_load_cases(data, np.vstack(rows[j]), threshold=threshold)
-        candidates = [k for k in in_plane_modes(data) if k in set(table.kept)]
+        candidates = [k for k in planar_modes(data, "xy") if k in set(table.kept)]
         best = sorted(candidates, key=lambda k: -table.shares[k])[: int(max_modes)]
         chosen[j] = sorted(best, key=lambda k: data.frequencies[k])
     if cache:

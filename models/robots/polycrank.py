@@ -170,7 +170,7 @@ def rod_modal_data(par: PolycrankParameters, length: float) -> Any:
     section = circle(par.d_rod)
     rho = par.m_link / (section.A * length)
     fe = beam_mesh((0.0, 0.0, 0.0), (length, 0.0, 0.0), par.rod_elements, section, E=par.E_rod, rho=rho)
-    return modal_data_from_fe(fe, [0, par.rod_elements], par.rod_modes, reference_node=0,
+    return modal_data_from_fe(fe, [0, par.rod_elements], par.rod_modes, reference_node=0, attachment="pinned",
                               title=f"POLYCRANK pull rod {length:.6f} m, d {par.d_rod} m",
                               stress_fibre=(par.d_rod / 2, 0.0), geometric_stiffening=True)
 

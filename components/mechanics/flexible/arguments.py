@@ -14,7 +14,7 @@ import numpy as np
 from flexlib.errors import ModelError, ParameterError, RunArgumentError
 from flexlib.fe.modal_data import ModalData
 from flexlib.fe.modal_schema import LOAD_CASE_NAMES
-from flexlib.fe.selection import select_modes
+from flexlib.fe.selection import ParticipationTable, planar_modes, select_modes
 
 __all__ = ["check_stiffening_data", "check_zeta", "choose_modes", "damping_ratios", "deferred_arguments", "flag",
            "frame_names", "frame_nodes", "is_int", "is_real", "modal_nominals", "modal_source", "modal_start"]
@@ -220,9 +220,28 @@ def modal_start(kind: str, name: str, value: Any, m: int) -> np.ndarray:
     return out
 
 
-def choose_modes(data: ModalData, modes: Any, max_frequency: Any, source: str) -> ModalData:
-    """The kept modes: ``modes`` (None, an int count or a list of indices) and ``max_frequency`` (module rules)."""
+def choose_modes(data: ModalData, modes: Any, max_frequency: Any, source: str, plane: Any = None) -> ModalData:
+    """The kept modes: ``modes`` (None, an int count, a list of indices or a participation table), ``plane`` and
+    ``max_frequency`` (module rules)."""
     n = data.n_modes
+    if plane is not None:
+        try:
+            planar = planar_modes(data, plane)
+        except RunArgumentError as err:
+            raise ModelError(f"FlexibleBody: {str(err).removeprefix('planar_modes: ')}") from None
+        if is_int(modes) and not isinstance(modes, bool | np.bool_) and int(modes) > len(planar):
+            raise ModelError(f"FlexibleBody: modes={int(modes)} asks for the {int(modes)} lowest modes in the "
+                             f"{plane!r} plane, but the {source} has only {len(planar)} ({planar})")
+        if modes is None or (is_int(modes) and not isinstance(modes, bool | np.bool_) and int(modes) >= 0):
+            count = len(planar) if modes is None else int(modes)
+            return choose_modes(data, planar[:count], max_frequency, source)
+        raise ModelError(f"FlexibleBody: plane={plane!r} selects among the lowest modes: give modes as a count "
+                         f"(e.g. modes=4, plane={plane!r}) or None, got modes={modes!r}")
+    if isinstance(modes, ParticipationTable):
+        if len(modes.rows) != n:
+            raise ModelError(f"FlexibleBody: the participation table has {len(modes.rows)} modes, the {source} {n}: "
+                             "make it from this body's modal data (FlexibleBody.participation)")
+        modes = modes.kept
     accepted = ("an int count of the lowest modes (e.g. modes=4) or a list of mode indices into the file's "
                 f"modes 0..{n - 1} (e.g. modes=[0, 2])")
     if max_frequency is not None:

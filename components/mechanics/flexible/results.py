@@ -14,7 +14,8 @@ from flexlib.fe.arguments import COMPONENTS
 from ..multibody.world import World
 from .arguments import frame_names
 
-__all__ = ["cayley_rotation", "check_result", "frame_load_amplitudes", "result_gravity"]
+__all__ = ["cayley_rotation", "check_result", "clamped_on_free_hinge", "frame_load_amplitudes", "participation",
+           "result_gravity"]
 
 
 def check_result(body: Any, result: Any, func: str, source: str) -> int:
@@ -128,3 +129,59 @@ def result_gravity(body: Any, result: Any) -> np.ndarray:
 
     g, n = float(value("g", None)), value("n", 3)
     return g * n / np.linalg.norm(n)
+
+
+def participation(body: Any, all_modes: Any, amplitudes: np.ndarray, t: np.ndarray, threshold: float,
+                  at: float | None) -> Any:
+    """The MPF table of the file's modes ``all_modes`` from the body's load-case ``amplitudes`` (nt, C) at times
+    ``t``: at the run's most critical instant (``at=None``: the row whose loads give the largest static modal
+    response ``Σ (φ_iᵀF/k_i)²`` over all the file's modes) or at the row nearest ``at`` [s] (seed 001 takes the
+    instant of the largest loads of its rigid-body run)."""
+    from flexlib.fe.selection import participation_from_load_cases
+
+    where = f"{body.where}.participation"
+    if all_modes.load_cases is None or all_modes.static_modal_loads is None:
+        raise ModalFileError(f"{where}: the modal data hold no static load responses (make them with "
+                             "modal_data_from_fe(..., static_loads=True)): the body's loads cannot be projected")
+    if at is None:
+        k = np.diag(np.asarray(all_modes.generalized_stiffness, dtype=float))
+        static = (amplitudes @ all_modes.static_modal_loads) / np.where(k > 0, k, np.inf)
+        row = int(np.argmax(np.sum(static**2, axis=1)))
+    else:
+        if isinstance(at, bool) or not isinstance(at, int | float | np.integer | np.floating) or not np.isfinite(at):
+            raise RunArgumentError(f"{where}: at must be a time [s] of the run or None (its most critical instant), "
+                                   f"got {at!r}")
+        if not t[0] <= float(at) <= t[-1]:
+            raise RunArgumentError(f"{where}: at = {at!r} s lies outside the run ({t[0]:g} … {t[-1]:g} s)")
+        row = int(np.argmin(np.abs(t - float(at))))
+    return participation_from_load_cases(all_modes, amplitudes[row], threshold=threshold)
+
+
+def clamped_on_free_hinge(body: Any) -> Any:
+    """The revolute joint a body's clamped-basis reference node sits on, if the joint is free about its axis, else None.
+
+    The modal data's basis is clamped (``modal_data_from_fe(..., attachment="clamped")``, the default) at its
+    reference node when the node's frame is connected directly to a ``Revolute``'s frame, and the revolute takes no
+    moment about its axis from a position: no drive flange, or a flange that only torque sources, dampers and
+    sensors act on (the seed-001 beam's bang-bang torque). There the body's own deformation has a slope at the pin
+    that cantilever modes lack; hinged-beam modes (``attachment="pinned"``) have it.
+    """
+    from ..multibody.revolute import Revolute
+    from ..rotational.damper import Damper
+    from ..rotational.interfaces import PartialAbsoluteSensor, PartialRelativeSensor
+    from ..rotational.torque import Torque
+    from ..rotational.torque_sensor import TorqueSensor
+
+    provenance = body.modal_data.provenance
+    node = provenance.get("reference_node")
+    if provenance.get("attachment") != "clamped" or node is None or int(node) not in body.frame_nodes:
+        return None
+    passive = (Torque, Damper, PartialAbsoluteSensor, PartialRelativeSensor, TorqueSensor)
+    for conn in body.frame_at(int(node)).connection_set():
+        joint = conn._parent
+        if not isinstance(joint, Revolute):
+            continue
+        axis = getattr(joint, "axis", None) if joint.use_axis_flange else None
+        if axis is None or all(isinstance(c._parent, passive) for c in axis.connection_set()):
+            return joint
+    return None

@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
+from flexlib import ModalDataWarning
 from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.flexible.body import _cayley
 from flexlib.components.mechanics.multibody import Body, Revolute, World, WorldForce
@@ -158,7 +159,9 @@ def test_frames_stay_orthogonal_and_follow_the_frame_rule(cantilever_data):
             self.connect(self.rev.frame_b, self.beam.frame_a)
 
     h = 1e-4
-    res = fl.Simulation(HingedBeam(), use_cache=False).run(0.6, dt_out=h, rtol=1e-10, atol=1e-12, **QUIET)
+    with pytest.warns(ModalDataWarning, match="clamped basis at its reference node 0, which sits on the free revolute"):
+        sim = fl.Simulation(HingedBeam(), use_cache=False)  # the cantilever basis on purpose: large tip rotations
+    res = sim.run(0.6, dt_out=h, rtol=1e-10, atol=1e-12, **QUIET)
     T = res["beam.frame_b.T"].reshape(-1, 3, 3, order="F")
     w = res["beam.frame_b.w"]
     assert np.abs(np.einsum("kij,klj->kil", T, T) - np.eye(3)).max() < 1e-12
