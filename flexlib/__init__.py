@@ -16,6 +16,7 @@ from flexlib.errors import (
     LinearizationError,
     ModalDataWarning,
     ModalFileError,
+    ModalValidityWarning,
     ModelError,
     ModelTypeError,
     ModelWarning,
@@ -92,6 +93,7 @@ __all__ = [
     "LinearizationError",
     "ModalDataWarning",
     "ModalFileError",
+    "ModalValidityWarning",
     "Model",
     "ModelError",
     "ModelTypeError",
@@ -135,7 +137,13 @@ __all__ = [
 ]
 
 
+#: Subpackages reachable as attributes without an import of their own (``fl.analysis.mobility(sim)``, as documented)
+_SUBPACKAGES = ("analysis", "fe")
+
+
 def __getattr__(name: str) -> _Any:
+    if name in _SUBPACKAGES:
+        return _importlib.import_module(f"{__name__}.{name}")  # the import system also sets the attribute
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'flexlib' has no attribute {name!r}")
@@ -145,4 +153,4 @@ def __getattr__(name: str) -> _Any:
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_LAZY) | set(_SUBPACKAGES))

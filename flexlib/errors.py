@@ -18,6 +18,7 @@ __all__ = [
     "LinearizationError",
     "ModalDataWarning",
     "ModalFileError",
+    "ModalValidityWarning",
     "ModelError",
     "ModelTypeError",
     "ModelWarning",
@@ -166,6 +167,12 @@ class AnalysisWarning(UserWarning):
 class ModalDataWarning(UserWarning):
     """A flexible body's output that its modal data cannot give as asked: recovered by default, it falls back to
     plain modal superposition where the data hold no static responses for it; the message names the body and why."""
+
+
+class ModalValidityWarning(UserWarning):
+    """A run in which a modal body left the range its model holds for: an elastic deflection or rotation past the
+    small-deformation limit, or left-out modes carrying a large share of the recovered deformation; the message names
+    the body, the node, the time and the limit (``FlexibleBody(validity=...)``)."""
 
 
 class ModelWarning(UserWarning):

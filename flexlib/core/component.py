@@ -472,6 +472,12 @@ class Component(Node):
         hinge. Name the component, what was found and the better choice. Default: nothing.
         """
 
+    def check_run(self, result: Any) -> dict[str, Any] | None:
+        """Hook called after each run of a model containing this component, with its result: warn (never raise)
+        when the run left the range the component's equations hold for (a modal body's small deformation), and
+        return a summary of plain numbers for ``result.stats["validity"][path]``, or None. Default: nothing."""
+        return None
+
     def on_structure(self) -> None:
         """Called when the model structure is known, before equations are collected.
 

@@ -166,7 +166,7 @@ def plot_frame(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, index: 
                path: str | os.PathLike[str] | None = None,
                color: Literal["displacement", "von_mises"] = "displacement", scale: float = 1.0,
                cmap: str = "jet", figsize: tuple[float, float] = (6.4, 5.2), dpi: int = 100,
-               title: str | None = None) -> Any:
+               title: str | None = None, loads: Any = None) -> Any:
     """Draw the deformed body at one instant (matplotlib, Agg), coloured by a nodal field with a colour bar.
 
     Parameters
@@ -197,6 +197,10 @@ def plot_frame(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, index: 
         Resolution of a written raster image [dots per inch].
     title : str, optional
         Title before the time (default the data's title).
+    loads : array_like (nt, C), optional
+        Amplitudes of the data's unit load cases (``body.load_amplitudes(result)``): the deformation recovered by
+        the mode-acceleration method, as :func:`~flexlib.fe.node_displacements`; default plain modal superposition
+        (``q`` alone carries no loads; :func:`~flexlib.fe.write_model_vtk` recovers a model's bodies by default).
 
     Returns
     -------
@@ -213,7 +217,7 @@ def plot_frame(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, index: 
         The image cannot be written (names the path).
     """
     func = "plot_frame"
-    s = motion_series(func, data, times, q, r_0, T, scale)
+    s = motion_series(func, data, times, q, r_0, T, scale, loads)
     nt = s["t"].shape[0]
     _figure_options(func, cmap, figsize, dpi)
     if isinstance(index, bool | np.bool_) or not isinstance(index, int | np.integer) or not -nt <= index < nt:
@@ -232,7 +236,8 @@ def plot_frame(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, index: 
 def animate(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, path: str | os.PathLike[str] | None = None,
             color: Literal["displacement", "von_mises"] = "displacement", scale: float = 1.0,
             frames: int | Sequence[int] | None = None, fps: float = 20.0, cmap: str = "jet",
-            figsize: tuple[float, float] = (6.4, 5.2), dpi: int = 80, title: str | None = None) -> Any:
+            figsize: tuple[float, float] = (6.4, 5.2), dpi: int = 80, title: str | None = None,
+            loads: Any = None) -> Any:
     """Animate the deformed body over time (matplotlib, Agg): a colour-contour ("nephogram") animation of the
     elastic displacement or the von Mises stress, with a fixed colour scale and fixed axes.
 
@@ -268,6 +273,10 @@ def animate(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, path: str 
         Resolution [dots per inch].
     title : str, optional
         Title before the time (default the data's title).
+    loads : array_like (nt, C), optional
+        Amplitudes of the data's unit load cases (``body.load_amplitudes(result)``): the deformation recovered by
+        the mode-acceleration method, as :func:`~flexlib.fe.node_displacements`; default plain modal superposition
+        (``q`` alone carries no loads; :func:`~flexlib.fe.write_model_vtk` recovers a model's bodies by default).
 
     Returns
     -------
@@ -286,7 +295,7 @@ def animate(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, path: str 
     from matplotlib import animation
 
     func = "animate"
-    s = motion_series(func, data, times, q, r_0, T, scale)
+    s = motion_series(func, data, times, q, r_0, T, scale, loads)
     idx = _frame_indices(s["t"].shape[0], frames, func)
     values = _colour_values(s, color, func)
     _figure_options(func, cmap, figsize, dpi)

@@ -479,10 +479,12 @@ def von_mises(stress: Any) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------- drawing data
-def motion_series(func: str, data: Any, times: Any, q: Any, r_0: Any, T: Any, scale: float = 1.0) -> dict[str, Any]:
-    """Checked time series and the world positions and elastic displacement (world axes) of every node."""
+def motion_series(func: str, data: Any, times: Any, q: Any, r_0: Any, T: Any, scale: float = 1.0,
+                  loads: Any = None) -> dict[str, Any]:
+    """Checked time series and the world positions and elastic displacement (world axes) of every node; with the
+    load-case amplitudes ``loads`` (nt, C) recovered by the mode-acceleration method (as :func:`node_displacements`)."""
     data = _check_data(data, func)
-    q2, _ = _modal_coordinates(data, q, func)
+    q2, single = _modal_coordinates(data, q, func)
     nt = q2.shape[0]
     if nt == 0:
         raise RunArgumentError(f"{func}: argument 'q' has no samples (shape {q2.shape})")
@@ -490,9 +492,12 @@ def motion_series(func: str, data: Any, times: Any, q: Any, r_0: Any, T: Any, sc
     r, R = _frame_motion(r_0, T, nt, func)
     scale = check_scale(func, scale)
     u_body = np.einsum("tm,mnk->tnk", q2, data.translational_modes)
+    if loads is not None:
+        Res, amp = _residual(func, data, "translational", loads, nt, single)
+        u_body = u_body + np.einsum("tc,cnk->tnk", amp, Res)
     u_world = np.einsum("tji,tnj->tni", R, u_body)
     points = r[:, None, :] + np.einsum("tji,tnj->tni", R, data.coordinates[None]) + scale * u_world
-    return {"data": data, "q": q2, "t": t, "R": R, "points": points, "u": u_world}
+    return {"data": data, "q": q2, "t": t, "R": R, "points": points, "u": u_world, "loads": loads, "single": single}
 
 
 def field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
@@ -500,10 +505,19 @@ def field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
     data: ModalData = s["data"]
     if field == "displacement":
         return s["u"]
+    loads, nt = s.get("loads"), s["q"].shape[0]
+
+    def recovered(kind: str, modes: np.ndarray) -> np.ndarray:
+        out = np.einsum("tm,mnk->tnk", s["q"], modes)
+        if loads is not None:
+            Res, amp = _residual(func, data, kind, loads, nt, s["single"])
+            out = out + np.einsum("tc,cnk->tnk", amp, Res)
+        return out
+
     if field == "rotation":
-        return np.einsum("tji,tnj->tni", s["R"], np.einsum("tm,mnk->tnk", s["q"], data.rotational_modes))
+        return np.einsum("tji,tnj->tni", s["R"], recovered("rotational", data.rotational_modes))
     if field in ("von_mises", "stress"):
-        sigma = np.einsum("tm,mnk->tnk", s["q"], _stress_modes(data, func))
+        sigma = recovered("stress", _stress_modes(data, func))
         return von_mises(sigma) if field == "von_mises" else sigma
     raise RunArgumentError(f"{func}: unknown field {field!r}; choose from {list(FIELDS)}")
 

@@ -96,7 +96,7 @@ def _collection_kind(path: Path, func: str = "write_vtk_series") -> str:
 
 def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *,
                      fields: Sequence[str] | None = None, scale: float = 1.0, element_type: str | None = None,
-                     face_type: str | None = None) -> Path:
+                     face_type: str | None = None, loads: Any = None) -> Path:
     """Write the deformed body over time as VTK unstructured grids (one ``.vtu`` per instant, meshio) and a
     ParaView collection file giving each file's time.
 
@@ -130,6 +130,10 @@ def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, 
     element_type, face_type : str, optional
         meshio cell types of ``elements`` / ``faces`` where the node count is ambiguous (default by count:
         elements 2 ``line``, 3 ``line3``, 4 ``tetra``, 8 ``hexahedron``; faces 3 ``triangle``, 4 ``quad``).
+    loads : array_like (nt, C), optional
+        Amplitudes of the data's unit load cases (``body.load_amplitudes(result)``): the deformation recovered by
+        the mode-acceleration method, as :func:`~flexlib.fe.node_displacements`; default plain modal superposition
+        (``q`` alone carries no loads; :func:`~flexlib.fe.write_model_vtk` recovers a model's bodies by default).
 
     Returns
     -------
@@ -150,7 +154,7 @@ def write_vtk_series(path: str | os.PathLike[str], data: ModalData, times: Any, 
     func = "write_vtk_series"
     path = output_path(func, path)
     _collection_kind(path)  # checks the suffix before any work
-    s = motion_series(func, data, times, q, r_0, T, scale)
+    s = motion_series(func, data, times, q, r_0, T, scale, loads)
     data = s["data"]
     fields = _field_names(fields, data, func)
     _cells(data, element_type, face_type, func)  # the cell types before any work

@@ -111,6 +111,7 @@ class Simulation:
         self.init_cached = False
         self._rows = RowEvaluator()
         self._state_monitor: Any = None
+        self._run_checkers: list[Component] | None = None  # the components with a check_run (found at the first run)
 
     def with_model(self, model: Component) -> Simulation:
         """A Simulation of another instance of the same model, sharing this one's build.
@@ -146,6 +147,7 @@ class Simulation:
         other.init_cached = False
         other._rows = RowEvaluator()
         other._state_monitor = None
+        other._run_checkers = None
         return other
 
     @property
@@ -276,7 +278,23 @@ class Simulation:
         except StructureChangedError as err:
             err.result = result  # type: ignore[attr-defined]
             raise
+        self._check_run(result)
         return result
+
+    def _check_run(self, result: Result) -> None:
+        """The components' checks of a run (:meth:`Component.check_run`, e.g. a modal body's validity monitors):
+        their warnings, and their summaries in ``result.stats["validity"]``."""
+        if self._run_checkers is None:
+            base = Component.check_run
+            self._run_checkers = [node for node in self.model.walk() if isinstance(node, Component)
+                                  and getattr(type(node), "check_run", base) is not base]
+        summaries = {}
+        for node in self._run_checkers:
+            summary = node.check_run(result)
+            if summary is not None:
+                summaries[node.path] = summary
+        if summaries:
+            result.stats["validity"] = summaries
 
     def _initialize_and_integrate(self, opts: Any, stop: Any, starts: dict, pvec: np.ndarray,
                                   p: np.ndarray) -> tuple[Trajectory, np.ndarray, float]:

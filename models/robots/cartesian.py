@@ -154,7 +154,7 @@ def arm_modal_data(par: CartesianParameters) -> Any:
     reference frame at the first node (cached per parameter record)."""
     b, h, t = par.section
     fe = beam_mesh((0.0, 0.0, 0.0), (par.L_arm, 0.0, 0.0), par.n_elements, box(b, h, t), E=par.E, rho=par.rho)
-    return modal_data_from_fe(fe, [0, par.n_elements], par.n_modes, reference_node=0,
+    return modal_data_from_fe(fe, [0, par.n_elements], par.n_modes, reference_node=0, attachment="pinned",
                               title=f"Cartesian robot arm {par.L_arm} m box {b}x{h}x{t} m")
 
 

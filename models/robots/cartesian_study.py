@@ -23,7 +23,7 @@ from flexlib.fe import node_displacements
 
 from .cartesian import CartesianRobot
 
-__all__ = ["CASES", "arm_deflection", "plot_study", "run_cases", "tip_rotation"]
+__all__ = ["CASES", "arm_deflection", "drive_force", "plot_study", "run_cases", "tip_rotation"]
 
 #: The study's cases: (name, drive, keyword arguments of CartesianRobot, simulated time [s]).
 CASES: tuple[tuple[str, str, dict[str, Any], float], ...] = (
@@ -70,9 +70,10 @@ def run_cases() -> dict[str, dict[bool, tuple[CartesianRobot, fl.Result]]]:
     return out
 
 
-def _drive_force(model: CartesianRobot, res: fl.Result, k: int) -> np.ndarray:
-    """Force drive ``k`` exerts on its slider [N]."""
-    return -np.asarray(res[f"guide{k}.axis.f"], dtype=float)
+def drive_force(model: CartesianRobot, res: fl.Result, k: int) -> np.ndarray:
+    """Force drive ``k`` exerts on its slider along the guide's axis [N] (positive up: the holding forces are
+    positive): the guide's axis flange force (``Prismatic``: ``axis.f`` drives ``frame_b`` along ``n``)."""
+    return np.asarray(res[f"guide{k}.axis.f"], dtype=float)
 
 
 def plot_study(runs: dict[str, dict[bool, tuple[CartesianRobot, fl.Result]]], out: str | Path) -> list[Path]:
@@ -92,7 +93,7 @@ def plot_study(runs: dict[str, dict[bool, tuple[CartesianRobot, fl.Result]]], ou
             label = "flexible" if flexible else "rigid"
             figs["rot"][1][row].plot(res.t, 1e3 * tip_rotation(res), label=label)
             for k in (1, 2, 3):
-                figs["force"][1][row].plot(res.t, _drive_force(model, res, k), "-" if flexible else "--",
+                figs["force"][1][row].plot(res.t, drive_force(model, res, k), "-" if flexible else "--",
                                            label=f"drive {k}, {label}")
             if flexible:
                 figs["defl"][1][row].plot(res.t, 1e3 * arm_deflection(model, res))
@@ -120,7 +121,7 @@ def main() -> None:
           f"{'peak drive force rigid / flexible [N]':>38}")
     for case, variants in runs.items():
         (mr, rr), (mf, rf) = variants[False], variants[True]
-        peak = [max(np.abs(_drive_force(m, r, k)).max() for k in (1, 2, 3)) for m, r in ((mr, rr), (mf, rf))]
+        peak = [max(np.abs(drive_force(m, r, k)).max() for k in (1, 2, 3)) for m, r in ((mr, rr), (mf, rf))]
         print(f"{case:<10} {tip_rotation(rr).max():25.2e} {1e3 * tip_rotation(rf).max():16.3f} "
               f"{1e3 * arm_deflection(mf, rf).max():20.3f} {peak[0]:18.1f} / {peak[1]:.1f}")
     for p in plot_study(runs, args.out):

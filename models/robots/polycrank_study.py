@@ -134,9 +134,20 @@ def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     paths = []
+    # the variants overlap where friction and preload change nothing (rigid, flexible, preload before the pulse):
+    # a style per variant keeps each one visible
+    styles = {"rigid": dict(color="k", lw=2.6, ls="-"), "flexible": dict(color="C0", lw=1.8, ls="--"),
+              "friction": dict(color="C1", lw=1.4, ls="-"), "preload": dict(color="C2", lw=1.8, ls=":"),
+              "friction+preload": dict(color="C3", lw=1.2, ls="-.")}
+
+    def style(name: str) -> dict[str, Any]:
+        return styles.get(name, {})
 
     def save(fig: Any, name: str, legend_ax: Any) -> None:
-        legend_ax.legend()
+        # one legend outside the axes, above the figure: it hides no curve
+        handles, labels = legend_ax.get_legend_handles_labels()
+        fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 5), bbox_to_anchor=(0.5, 1.0),
+                   frameon=False)
         paths.append(out / name)
         fig.savefig(paths[-1], dpi=120, bbox_inches="tight")
         plt.close(fig)
@@ -144,29 +155,30 @@ def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | 
     fig, ax = plt.subplots(figsize=(7.5, 4))
     for name, (model, res) in runs.items():
         E = mechanical_energy(model, res)
-        ax.plot(res.t, 1e3 * (E - E[0]), label=name)
+        ax.plot(res.t, 1e3 * (E - E[0]), label=name, **style(name))
     ax.set(xlabel="t [s]", ylabel="E − E(0) [mJ]", title="Torque pulse, then free swing")
     save(fig, "energy.png", ax)
     fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
     for name, (_model, res) in runs.items():
         for ax, joint in zip(axes[:2], ("d2c3", "j5"), strict=True):
-            ax.plot(res.t, np.linalg.norm(res[f"{joint}.frame_a.f"], axis=1), label=name)
+            ax.plot(res.t, np.linalg.norm(res[f"{joint}.frame_a.f"], axis=1), label=name, **style(name))
         if "j4.tau_f" in res:
-            axes[2].plot(res.t, res["j4.tau_f"], label=name)
-    axes[0].set(ylabel="grip disc bearing d2c3 [N]", yscale="log")
-    axes[1].set(ylabel="shield 5 bearing j5 [N]", yscale="log")
-    axes[2].set(xlabel="t [s]", ylabel="friction torque, shield 4 bearing [N.m]")
+            axes[2].plot(res.t, res["j4.tau_f"], label=name, **style(name))
+    axes[0].set(ylabel="|F| d2c3 [N]", yscale="log", title="grip disc bearing d2c3")
+    axes[1].set(ylabel="|F| j5 [N]", yscale="log", title="shield 5 bearing j5")
+    axes[2].set(xlabel="t [s]", ylabel="τ_f [N.m]", title="friction torque in shield 4's bearing j4")
+    fig.tight_layout()
     save(fig, "reactions.png", axes[0])
     fig, ax = plt.subplots(figsize=(7, 4))
     for name, (model, res) in runs.items():
         if model.flexible:
-            ax.plot(res.t, 1e-6 * np.max(list(rod_stress(model, res).values()), axis=0), label=name)
+            ax.plot(res.t, 1e-6 * np.max(list(rod_stress(model, res).values()), axis=0), label=name, **style(name))
     ax.set(xlabel="t [s]", ylabel="largest von Mises stress in the pull rods [MPa]")
     save(fig, "stress.png", ax)
     fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
     for name, (_model, res) in runs.items():
         for ax, var in zip(axes, ("phi", "w", "a"), strict=True):
-            ax.plot(res.t, res[f"j4.{var}"], label=name)
+            ax.plot(res.t, res[f"j4.{var}"], label=name, **style(name))
     for ax, label in zip(axes, ("shield 4 angle [rad]", "speed [rad/s]", "acceleration [rad/s2]"), strict=True):
         ax.set(ylabel=label)
     axes[-1].set(xlabel="t [s]")

@@ -30,7 +30,6 @@ from flexlib.fe import (
 )
 from tests.robustness.helpers import edited_h5
 
-
 # these check how bad files and wrong results are named; the hinged bench keeps the file tests' clamped basis, which
 # the build advises against (tests/components/mechanics/flexible/test_mode_selection.py checks the advice)
 pytestmark = pytest.mark.filterwarnings("ignore:.*clamped basis.*free revolute:flexlib.errors.ModalDataWarning")

@@ -57,7 +57,6 @@ References
 from __future__ import annotations
 
 import os
-import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -65,7 +64,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib import Component, Parameter, Variable, der, eq
-from flexlib.errors import ModalDataWarning, ModelError, ParameterError
+from flexlib.errors import ModelError, ParameterError
 from flexlib.fe.geometric import inertial_load_amplitudes
 from flexlib.fe.modal_data import ModalData
 from flexlib.fe.selection import ParticipationTable, default_damping_ratio
@@ -90,13 +89,14 @@ from .arguments import (
     modal_start,
 )
 from .results import (
+    advise_basis,
     cayley_rotation,
     check_result,
-    clamped_on_free_hinge,
     frame_load_amplitudes,
     participation,
     result_gravity,
 )
+from .validity import check_limits, validity
 
 __all__ = ["FlexibleBody"]
 
@@ -156,6 +156,11 @@ class FlexibleBody(Component):
     orientation_fixed, w_fixed : bool
         A free body (nothing orients it): its start orientation ``Q_start`` / angular velocity ``w_start`` are
         initial conditions (as :class:`~..multibody.body.Body`).
+    validity : mapping or False, optional
+        Limits of the validity monitors checked after every run (:mod:`.validity`): ``deflection`` [1, fraction of
+        the characteristic length, default 0.1], ``rotation`` [rad, 0.2], ``residual`` [1, share of the left-out
+        modes in the recovered displacement, 0.2]; a run past one warns (``ModalValidityWarning``) and every run
+        has the summary in ``result.stats["validity"][path]``. ``False``: no monitors.
 
     Tunable parameters: ``zeta`` (M,) [1] modal damping ratios; ``Q_start`` (4,) [1] start orientation of
     ``frame_a`` of a free body; ``w_start`` (3,) [rad/s] start angular velocity of the reference frame.
@@ -198,12 +203,13 @@ class FlexibleBody(Component):
                  plane: str | None = None, frames: Sequence[int] | None = None,
                  damping: Mapping[int, float] | None = None, geometric_stiffening: bool = False,
                  q_fixed: bool | None = None, orientation_fixed: bool = False, w_fixed: bool = False,
-                 **kwargs: Any) -> None:
+                 validity: Mapping[str, float] | bool | None = None, **kwargs: Any) -> None:
         all_modes, source = modal_source(modal_data)
         data = choose_modes(all_modes, modes, max_frequency, source, plane)
         deferred = deferred_arguments(kwargs)
         super().__init__(**kwargs)
         self._data, self._all_modes = data, all_modes
+        self._validity = check_limits(validity)
         self._source = source  # how messages name the data: "modal file 'arm.h5'" or "modal data 'arm'"
         self.orientation_fixed = flag("orientation_fixed", orientation_fixed)
         self.w_fixed = flag("w_fixed", w_fixed)
@@ -394,17 +400,13 @@ class FlexibleBody(Component):
         return participation(self, self._all_modes, self.load_amplitudes(result), np.asarray(result.t, dtype=float),
                              threshold, at)
 
+    def check_run(self, result: Any) -> dict[str, Any] | None:
+        """The validity monitors over a run (:mod:`.validity`): warnings past the limits, and the summary."""
+        return None if self._validity is None else validity(self, result, self._validity)
+
     def advise(self) -> None:
-        """Warn when the modal basis is clamped at the reference node and that node's frame sits on a free revolute
-        (:func:`~.results.clamped_on_free_hinge`): the pinned basis fits a hinge."""
-        joint = clamped_on_free_hinge(self)
-        if joint is not None:
-            warnings.warn(ModalDataWarning(
-                f"{self.where}: the {self._source} has a clamped basis at its reference node "
-                f"{self._data.provenance.get('reference_node')}, which sits on the free revolute {joint.where} (no "
-                "moment about its axis): cantilever modes fit a hinged body poorly (the seed-001 beam's deflection "
-                "error 12 % instead of 1.5 % with 4 modes); make the data with modal_data_from_fe(..., "
-                "attachment='pinned')"), stacklevel=2)
+        """A clamped basis at a reference node on a free revolute warns (:func:`~.results.advise_basis`)."""
+        advise_basis(self, self._source)
 
     def structure_key(self) -> Any:
         """The modal data's content hash: a changed file rebuilds the compiled model, a moved one does not."""

@@ -4,18 +4,25 @@ exact rotation of a frame from its node's elastic rotation vector (SI units)."""
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 import numpy as np
 
-from flexlib.errors import EmptyResultError, ModalFileError, ModelError, RunArgumentError
+from flexlib.errors import EmptyResultError, ModalDataWarning, ModalFileError, ModelError, RunArgumentError
 from flexlib.fe.arguments import COMPONENTS
 
 from ..multibody.world import World
 from .arguments import frame_names
 
-__all__ = ["cayley_rotation", "check_result", "clamped_on_free_hinge", "frame_load_amplitudes", "participation",
-           "result_gravity"]
+__all__ = [
+        "advise_basis",
+        "cayley_rotation",
+        "check_result",
+        "frame_load_amplitudes",
+        "participation",
+        "result_gravity",
+]
 
 
 def check_result(body: Any, result: Any, func: str, source: str) -> int:
@@ -157,13 +164,15 @@ def participation(body: Any, all_modes: Any, amplitudes: np.ndarray, t: np.ndarr
     return participation_from_load_cases(all_modes, amplitudes[row], threshold=threshold)
 
 
-def clamped_on_free_hinge(body: Any) -> Any:
-    """The revolute joint a body's clamped-basis reference node sits on, if the joint is free about its axis, else None.
+def advise_basis(body: Any, source: str) -> None:
+    """Warn (:class:`~flexlib.errors.ModalDataWarning`, naming the body, the joint and the pinned attachment) when the
+    body's clamped-basis reference node sits on a revolute joint that is free about its axis.
 
     The modal data's basis is clamped (``modal_data_from_fe(..., attachment="clamped")``, the default) at its
-    reference node when the node's frame is connected directly to a ``Revolute``'s frame, and the revolute takes no
-    moment about its axis from a position: no drive flange, or a flange that only torque sources, dampers and
-    sensors act on (the seed-001 beam's bang-bang torque). There the body's own deformation has a slope at the pin
+    reference node when the node's frame is connected to a ``Revolute``'s frame and to nothing else (a hub body or
+    another link on the same frame can take a moment), and the revolute takes no moment about its axis from a
+    position: no drive flange, or a flange that only torque sources, dampers and sensors act on (the seed-001 beam's
+    bang-bang torque). There the body's own deformation has a slope at the pin
     that cantilever modes lack; hinged-beam modes (``attachment="pinned"``) have it.
     """
     from ..multibody.revolute import Revolute
@@ -175,13 +184,18 @@ def clamped_on_free_hinge(body: Any) -> Any:
     provenance = body.modal_data.provenance
     node = provenance.get("reference_node")
     if provenance.get("attachment") != "clamped" or node is None or int(node) not in body.frame_nodes:
-        return None
+        return
     passive = (Torque, Damper, PartialAbsoluteSensor, PartialRelativeSensor, TorqueSensor)
-    for conn in body.frame_at(int(node)).connection_set():
+    members = body.frame_at(int(node)).connection_set()
+    if len(members) != 1 or not isinstance(members[0]._parent, Revolute):
+        return  # another part on the same frame (a hub, a link, a bushing) can take the moment
+    for conn in members:
         joint = conn._parent
-        if not isinstance(joint, Revolute):
-            continue
         axis = getattr(joint, "axis", None) if joint.use_axis_flange else None
         if axis is None or all(isinstance(c._parent, passive) for c in axis.connection_set()):
-            return joint
-    return None
+            warnings.warn(ModalDataWarning(
+                f"{body.where}: the {source} has a clamped basis at its reference node {node}, which sits on the "
+                f"free revolute {joint.where} (no moment about its axis): cantilever modes fit a hinged body poorly "
+                "(the seed-001 beam's deflection error 12 % instead of 1.5 % with 4 modes); make the data with "
+                "modal_data_from_fe(..., attachment='pinned')"), stacklevel=4)
+            return

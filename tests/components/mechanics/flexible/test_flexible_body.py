@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib import ModalDataWarning
+from flexlib import ModalDataWarning, ModalValidityWarning
 from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.flexible.body import _cayley
 from flexlib.components.mechanics.multibody import Body, Revolute, World, WorldForce
@@ -60,8 +60,11 @@ def test_cantilever_under_gravity_and_tip_load(cantilever_data):
     four lowest modes only (0.5 %); a tip load P: PL³/3EI within 1e-6 (the tip's static mode is in the basis)."""
     sag = RHO * A * G * L**4 / (8 * E * I_AREA)
     for modes, tol in ((None, 1e-6), (4, 5e-3)):
-        res = fl.Simulation(Cantilever(cantilever_data, modes=modes), use_cache=False).run(
-            1e-3, steady_state=True, **QUIET)
+        # the sag is 17 % of the length (0.22 rad at the tip): linear statics against linear beam theory, and the
+        # validity monitor says it lies past the small-deformation range
+        with pytest.warns(ModalValidityWarning, match=r"^beam: elastic (displacement .* is 16.6 % of|rotation 0.22)"):
+            res = fl.Simulation(Cantilever(cantilever_data, modes=modes), use_cache=False).run(
+                1e-3, steady_state=True, **QUIET)
         assert res["beam.frame_b.r_0"][0, 1] == pytest.approx(-sag, rel=tol)
     P = 0.05
     res = fl.Simulation(Cantilever(cantilever_data, g=0.0, tip_force=[0.0, 0.0, -P]), use_cache=False).run(
@@ -219,8 +222,11 @@ def test_spinning_beam_needs_geometric_stiffening(spinning_data):
     w0 = [1.8751040687**2 * np.sqrt(2.1e11 * Ii / (rho * A_ * 2.0**4)) for Ii in (Iy, Iz)]
     periods = {}
     for stiffening in (True, False):
-        res = fl.Simulation(Spinning(stiffening), use_cache=False).run(1.0, dt_out=2e-4, rtol=1e-9, atol=1e-12,
-                                                                         **QUIET)
+        # the centrifugal stretch is a static response the four bending modes leave out (the monitor says so; it is
+        # µm, and the bending frequencies do not depend on it)
+        with pytest.warns(ModalValidityWarning, match=r"^beam: the left-out modes' static response carries"):
+            res = fl.Simulation(Spinning(stiffening), use_cache=False).run(1.0, dt_out=2e-4, rtol=1e-9,
+                                                                             atol=1e-12, **QUIET)
         u = res["beam.q"] @ Phi.T
         periods[stiffening] = (_period(res.t, u[:, 2]), _period(res.t, u[:, 1]))
     flap, lag = (2 * np.pi / p for p in periods[True])
@@ -252,6 +258,8 @@ def test_cache_keys_on_modal_content_not_path(tmp_path, cantilever_data, monkeyp
     assert not fl.Simulation(BeamModel(a)).build_info["cached"]
 
 
+# energy conservation holds in any basis: the arm keeps the clamped one the build advises against
+@pytest.mark.filterwarnings("ignore:.*clamped basis.*free revolute:flexlib.errors.ModalDataWarning")
 def test_geometric_stiffening_keeps_energy(spinning_data):
     """A cantilever on a free pin (no torque, no damping), spinning at 3 rad/s with its lag modes excited: the
     stiffened body's energy — kinetic energy of the FE mass points, minus the foreshortening term
@@ -454,6 +462,9 @@ def test_kane_spin_up_beam():
         assert np.interp(tq, res.t, v) == pytest.approx(quasi_static, rel=0.03)
     assert abs(v[-1]) < 0.01
     with pytest.raises(fl.SolverError):  # diverges: IDA gives up, or
-        linear = fl.Simulation(SpinUp(False), use_cache=False).run(20.0, dt_out=0.05, rtol=1e-7, atol=1e-9, **QUIET)
+        # ... the run ends and the validity monitor says the deformation left the small-deformation range
+        with pytest.warns(ModalValidityWarning, match=r"^beam: elastic (displacement|rotation)"):
+            linear = fl.Simulation(SpinUp(False), use_cache=False).run(20.0, dt_out=0.05, rtol=1e-7, atol=1e-9,
+                                                                       **QUIET)
         if np.abs(tip_deflection(linear)).max() > L:  # ... the deflection exceeds the beam's length
             raise fl.SolverError("diverged")

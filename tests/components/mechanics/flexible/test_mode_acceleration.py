@@ -223,3 +223,32 @@ def test_a_body_and_its_result_are_recovered_by_default():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         np.testing.assert_allclose(node_displacements(plain_model.beam, res2, [16])[:, 0, 1], plain, rtol=1e-9)
+
+
+def test_vtk_series_and_drawings_recover_with_the_loads(tmp_path):
+    """``write_vtk_series``/``plot_frame``/``animate`` from data and ``q`` take ``loads=`` (the body's load-case
+    amplitudes): the written points are the recovered world positions (``deformed_positions(body, result)``, tip at
+    beam theory's deflection within 1e-6), the displacement field its recovered value; without ``loads`` plain."""
+    import meshio
+
+    from flexlib.fe import plot_frame, write_vtk_series
+
+    b, h, L, P, Ey, rho = 0.02, 0.04, 1.0, 500.0, 2.1e11, 7850.0
+    fe = beam_mesh((0, 0, 0), (L, 0, 0), 16, rectangle(b, h), E=Ey, rho=rho)
+    data = modal_data_from_fe(fe, [16], 8, reference_node=0)
+    model = TipLoaded(data, P, modes=_bending_y(data, 1), frames=[0, 16])
+    res = fl.Simulation(model, use_cache=False).run(0.01, dt_out=0.005, steady_state=True, **QUIET)
+    t, q, r0, T = model.beam.motion(res)
+    loads = model.beam.load_amplitudes(res)
+    sel = model.beam.modal_data
+    pvd = write_vtk_series(tmp_path / "beam.pvd", sel, t, q, r0, T, loads=loads)
+    first = meshio.read(sorted(pvd.parent.glob("beam*.d/*.vtu"))[0])
+    expected = deformed_positions(model.beam, res)[0]
+    np.testing.assert_allclose(first.points, expected, atol=1e-12)
+    tip_exact = -P * L**3 / (3 * Ey * b * h**3 / 12)
+    assert first.point_data["displacement"][-1, 1] == pytest.approx(tip_exact, rel=1e-6)
+    plain = write_vtk_series(tmp_path / "plain.pvd", sel, t, q, r0, T)
+    plain_first = meshio.read(sorted(plain.parent.glob("plain*.d/*.vtu"))[0])
+    assert abs(plain_first.point_data["displacement"][-1, 1] / tip_exact - 1) > 0.01
+    fig = plot_frame(sel, t, q, r0, T, loads=loads)
+    assert fig.axes
