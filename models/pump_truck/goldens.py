@@ -258,8 +258,13 @@ def _deviations(result: fl.Result, grid: np.ndarray, names: list[str], values: n
     return out
 
 
-def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | None = None) -> list[Mismatch]:
+def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | None = None,
+            t_end: float | None = None) -> list[Mismatch]:
     """Signals of ``result`` outside the golden's tolerances (empty: the result matches).
+
+    ``t_end`` [s]: compare the golden's samples up to this time only (a run stopped on purpose before the scenario's
+    end, e.g. a check of its first motions), each signal against its tolerance over the whole golden; default the
+    golden's end.
 
     ``result`` is sampled on the golden's grid (right values at events) and at shifts up to ``±TIME_SHIFT`` of the
     grid interval; each golden sample is compared with the closest of these values, against the tolerance of its kind
@@ -274,20 +279,25 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
                                   f"'python -m flexlib.models.pump_truck.goldens --regenerate'")
         golden = fl.load_result(path)
     grid = golden.t
-    if result.t[-1] < grid[-1] - 1e-9 or result.t[0] > grid[0] + 1e-9:
+    if t_end is not None and not grid[0] < float(t_end) <= grid[-1]:
+        raise ValueError(f"t_end = {t_end!r} s must lie in the golden's span ({grid[0]:g}, {grid[-1]:g}] s")
+    end = grid[-1] if t_end is None else float(t_end)
+    if result.t[-1] < end - 1e-9 or result.t[0] > grid[0] + 1e-9:
         raise ValueError(f"the result spans {result.t[0]:g} … {result.t[-1]:g} s, the golden "
-                         f"{grid[0]:g} … {grid[-1]:g} s: run the golden's scenario to its end")
+                         f"{grid[0]:g} … {end:g} s: run the golden's scenario to its end")
+    window = grid <= end + 1e-9
+    grid = grid[window]
     signals = [k for k, n in enumerate(golden.names) if not n.startswith("spread(")]
     names = [golden.names[k] for k in signals]
     values = golden.values[:, signals]
     new: dict[str, np.ndarray] = {}
     out: list[Mismatch] = []
     for k, name in enumerate(names):
-        g = values[:, k]
         atol, rtol = TOLERANCES[_kind(name)]
-        tol = atol + rtol * float(np.ptp(g))
+        tol = atol + rtol * float(np.ptp(values[:, k]))  # the signal's tolerance over the whole golden
+        g = values[window, k]
         spread_name = SPREAD.format(name)
-        spread = golden[spread_name] if spread_name in golden.names else np.zeros_like(g)
+        spread = golden[spread_name][window] if spread_name in golden.names else np.zeros_like(g)
         unit = golden.units[golden.names.index(name)]
         sample = _sampler(result, name)
         if sample is None:
@@ -300,11 +310,12 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
             out.append(Mismatch(name, float(grid[i]), float(g[i]), float(new[name][i]), tol + float(spread[i]), unit,
                                 float(spread[i])))
     if out and plot_dir is not None:
-        _plot(golden, new, out, Path(plot_dir))
+        _plot(golden, grid, new, out, Path(plot_dir))
     return out
 
 
-def _plot(golden: fl.Result, new: dict[str, np.ndarray], bad: list[Mismatch], directory: Path) -> Path:
+def _plot(golden: fl.Result, grid: np.ndarray, new: dict[str, np.ndarray], bad: list[Mismatch],
+          directory: Path) -> Path:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -315,7 +326,7 @@ def _plot(golden: fl.Result, new: dict[str, np.ndarray], bad: list[Mismatch], di
     for ax, m in zip(axes[:, 0], shown, strict=True):
         ax.plot(golden.t, golden[m.name], "k-", lw=1.5, label="golden")
         if m.name in new:
-            ax.plot(golden.t, new[m.name], "r--", lw=1.2, label="now")
+            ax.plot(grid, new[m.name], "r--", lw=1.2, label="now")
         ax.axvline(m.t, color="0.6", lw=0.8)
         ax.set_ylabel(f"{m.name}\n[{m.unit}]", fontsize=8)
         ax.legend(fontsize=7, loc="best")
