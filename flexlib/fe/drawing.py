@@ -198,9 +198,8 @@ def plot_frame(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, index: 
     title : str, optional
         Title before the time (default the data's title).
     loads : array_like (nt, C), optional
-        Amplitudes of the data's unit load cases (``body.load_amplitudes(result)``): the deformation recovered by
-        the mode-acceleration method, as :func:`~flexlib.fe.node_displacements`; default plain modal superposition
-        (``q`` alone carries no loads; :func:`~flexlib.fe.write_model_vtk` recovers a model's bodies by default).
+        Load-case amplitudes (``body.load_amplitudes(result)``): recovered as :func:`~flexlib.fe.node_displacements`;
+        default plain modal superposition.
 
     Returns
     -------
@@ -261,22 +260,16 @@ def animate(data: ModalData, times: Any, q: Any, r_0: Any, T: Any, *, path: str 
     scale : float
         Magnification of the elastic displacement in the drawing.
     frames : int or sequence of int, optional
-        Number of frames evenly spread over the samples, or the sample indices; default every sample, at most
-        200.
+        Number of frames spread evenly over the samples, or sample indices; default every sample, at most 200.
     fps : float
         Frames per second of the written file [1/s].
-    cmap : str
-        matplotlib colour map.
-    figsize : (float, float)
-        Figure size [inch].
-    dpi : int
-        Resolution [dots per inch].
+    cmap, figsize, dpi : str, (float, float), int
+        matplotlib colour map, figure size [inch], resolution [dots per inch].
     title : str, optional
         Title before the time (default the data's title).
     loads : array_like (nt, C), optional
-        Amplitudes of the data's unit load cases (``body.load_amplitudes(result)``): the deformation recovered by
-        the mode-acceleration method, as :func:`~flexlib.fe.node_displacements`; default plain modal superposition
-        (``q`` alone carries no loads; :func:`~flexlib.fe.write_model_vtk` recovers a model's bodies by default).
+        Load-case amplitudes (``body.load_amplitudes(result)``): recovered as :func:`~flexlib.fe.node_displacements`;
+        default plain modal superposition.
 
     Returns
     -------

@@ -278,12 +278,11 @@ class Simulation:
         except StructureChangedError as err:
             err.result = result  # type: ignore[attr-defined]
             raise
-        self._check_run(result)
-        return result
+        return self._check_run(result)
 
-    def _check_run(self, result: Result) -> None:
-        """The components' checks of a run (:meth:`Component.check_run`, e.g. a modal body's validity monitors):
-        their warnings, and their summaries in ``result.stats["validity"]``."""
+    def _check_run(self, result: Result) -> Result:
+        """``result`` after the components' checks of the run (:meth:`Component.check_run`, e.g. a modal body's
+        validity monitors): their warnings, and their summaries in ``result.stats["validity"]``."""
         if self._run_checkers is None:
             base = Component.check_run
             self._run_checkers = [node for node in self.model.walk() if isinstance(node, Component)
@@ -295,6 +294,7 @@ class Simulation:
                 summaries[node.path] = summary
         if summaries:
             result.stats["validity"] = summaries
+        return result
 
     def _initialize_and_integrate(self, opts: Any, stop: Any, starts: dict, pvec: np.ndarray,
                                   p: np.ndarray) -> tuple[Trajectory, np.ndarray, float]:

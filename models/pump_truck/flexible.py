@@ -283,9 +283,8 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     the rigid machine ``model`` at rest there, filled as the record says) give each mode's
     static amplitude ``q_i = φ_iᵀ F / k_i``; a mode is kept if at some pose it reaches ``threshold`` of the largest
     (:func:`~flexlib.fe.participation_from_load_cases`) and moves the section in its
-    plane (:func:`flexlib.fe.planar_modes`, ``"xy"``: the boom's loads lie in that plane, and its lever-and-link
-    loops are planar, their redundant rows dropped for the loop as built); of those, the ``max_modes`` with the
-    largest shares, in frequency order.
+    plane (:func:`flexlib.fe.planar_modes`, ``"xy"``: the boom's loads and loops are planar); of those, the
+    ``max_modes`` with the largest shares, in frequency order.
 
     Parameters
     ----------

@@ -43,8 +43,9 @@ def tip_rotation(result: fl.Result) -> np.ndarray:
 
 
 def arm_deflection(model: CartesianRobot, result: fl.Result) -> np.ndarray:
-    """Largest elastic displacement of an arm's far pin relative to its root frame over the six arms [m], (nt,);
-    zero for rigid arms."""
+    """Largest elastic displacement of an arm's far pin relative to its reference frame over the six arms [m],
+    (nt,); zero for rigid arms. The frame is pinned at the root pin and turns with the arm's mean rotation (the
+    basis of a body on hinges), so this is the pin's bending displacement, not the root slope's lever."""
     out = np.zeros(len(result.t))
     if not model.flexible:
         return out

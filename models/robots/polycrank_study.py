@@ -47,8 +47,10 @@ __all__ = [
 #: Hanging start pose [rad]: shield 4 along −y; outer, c3 and c4 discs 20°, 10° and 40° from it.
 SWING_POSE = (-math.pi / 2, -math.pi / 2 + math.radians(20), -math.pi / 2 + math.radians(10),
               -math.pi / 2 + math.radians(40))
-#: Torque pulse on shield 4's drive [N.m], its start and its width [s].
-PULSE, PULSE_START, PULSE_WIDTH = 5.0, 0.05, 0.05
+#: Torque pulse on shield 4's drive [N.m], its start and its width [s]: 12 N.m breaks the preloaded bearings loose
+#: (with 5 N.m the friction of the preload's bearing loads holds the fragment: it never moves, peak 0.009 rad/s),
+#: and keeps the free swing (0.12 rad) short of the channels' change points (10° away at the start)
+PULSE, PULSE_START, PULSE_WIDTH = 12.0, 0.05, 0.05
 #: Pull-rod preload of the preloaded variants [N] (assumed: 35 % of the rod's Euler load 1.46 kN, 18 MPa).
 PRELOAD = 500.0
 #: The nine bearings (friction switched by their coefficients).
