@@ -135,15 +135,15 @@ def test_friction_and_preload_take_the_pulse_energy_out_faster_and_load_the_bear
 
 def test_the_flexible_fragment_swings_through_a_change_point_as_the_rigid_one(built):
     """Started with the c3 channel 2° from its change point (its links in line with the pins, relative angle 0°,
-    where a rigid link's kept loop rows lose rank and a flexible rod simply carries no torque), the pulse swings
+    where a rigid link's kept loop rows lose rank and a flexible rod simply carries no torque), a 5 N·m pulse swings
     shield 4 by ±4° through it. The flexible fragment runs through, and shield 4's swing agrees with the rigid
     fragment's to 1e-4 rad (the rods' compliance is the difference)."""
     near = (SWING_POSE[0], SWING_POSE[1], SWING_POSE[0] + math.radians(2), SWING_POSE[3])
-    model = pulse_model(True, angles=near)
+    model = pulse_model(True, angles=near, pulse=5.0)  # N.m: a swing of ±4°
     flex = fl.Simulation(model, codegen=False).run(0.6, dt_out=0.005, steady_state=True,
                                                     params={**no_friction(), **preload_params(model, 0.0)},
                                                     progress=False)
-    rigid = fl.Simulation(pulse_model(False, angles=near)).run(0.6, dt_out=0.005, params=no_friction(),
+    rigid = fl.Simulation(pulse_model(False, angles=near, pulse=5.0)).run(0.6, dt_out=0.005, params=no_friction(),
                                                                progress=False)
     assert flex.success and rigid.success
     relative = near[2] - flex["j4.phi"]  # the c3 disc (trimmed, it hardly turns) relative to shield 4
