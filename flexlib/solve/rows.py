@@ -178,7 +178,9 @@ def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.n
                 P: np.ndarray, bad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Copies of ``Y, YP`` with the rows ``bad`` solved again from ``F = 0``, states held (at most four Newton
     iterations on the unknowns: ``y'`` of the states, ``y`` of the algebraic unknowns; the matrix has the
-    Jacobian's pattern, a state's column from ``∂F/∂y'``, an algebraic unknown's from ``∂F/∂y``)."""
+    Jacobian's pattern, a state's column from ``∂F/∂y'``, an algebraic unknown's from ``∂F/∂y``). A large model's
+    rows keep their first matrix's sparse LU for the later iterations (chord steps: the rows are consistent but for
+    their derivative-level unknowns, in which the residual is nearly linear)."""
     Y, YP = np.array(Y, dtype=float, copy=True), np.array(YP, dtype=float, copy=True)
     colind = np.asarray(model.jac_colind)
     col_of = np.repeat(np.arange(model.n), np.diff(colind))
@@ -188,13 +190,17 @@ def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.n
     full = rows.cached(model, full_key, lambda: _settle_jacobian(model))
     diff = np.asarray(model.differential, dtype=bool)
     todo = bad
+    factors: dict[int, Any] = {}  # a large model's row: the LU of its first iteration's matrix, reused (chord steps)
     for _ in range(4):
         if todo.size == 0:
             break
         r_all = rows.evaluate(model, "res", T[todo], Y[todo], YP[todo], P[todo])
-        JV = rows.evaluate_function(full, model, full_key, T[todo], Y[todo], YP[todo], P[todo])
-        data = np.where(state_nz, JV[:, n_nz:] - JV[:, :n_nz], JV[:, :n_nz])
-        steps = _newton_steps(model, data, r_all)
+        if model.n > DENSE_SETTLE and factors:
+            steps = _chord_steps(factors, todo, r_all)
+        else:
+            JV = rows.evaluate_function(full, model, full_key, T[todo], Y[todo], YP[todo], P[todo])
+            data = np.where(state_nz, JV[:, n_nz:] - JV[:, :n_nz], JV[:, :n_nz])
+            steps = _newton_steps(model, data, r_all, factors, todo)
         ok = np.isfinite(steps).all(axis=1)
         rows_ok, steps = todo[ok], steps[ok]
         YP[np.ix_(rows_ok, diff)] -= steps[:, diff]
@@ -205,8 +211,20 @@ def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.n
     return Y, YP
 
 
-def _newton_steps(model: CompiledModel, data: np.ndarray, r_all: np.ndarray) -> np.ndarray:
-    """Newton steps of the rows (matrices of the Jacobian's pattern with the nonzeros ``data``; NaN where singular)."""
+def _chord_steps(factors: dict[int, Any], todo: np.ndarray, r_all: np.ndarray) -> np.ndarray:
+    """Steps of the rows ``todo`` with their kept LU factors (NaN for a row without one)."""
+    steps = np.full(r_all.shape, np.nan)
+    for k, row in enumerate(todo):
+        lu = factors.get(int(row))
+        if lu is not None:
+            steps[k] = lu.solve(r_all[k])
+    return steps
+
+
+def _newton_steps(model: CompiledModel, data: np.ndarray, r_all: np.ndarray,
+                  factors: dict[int, Any] | None = None, todo: np.ndarray | None = None) -> np.ndarray:
+    """Newton steps of the rows (matrices of the Jacobian's pattern with the nonzeros ``data``; NaN where singular);
+    a large model's sparse LU factors kept in ``factors`` under the row numbers ``todo``."""
     colind = np.asarray(model.jac_colind)
     row_of = np.asarray(model.jac_row)
     col_of = np.repeat(np.arange(model.n), np.diff(colind))
@@ -220,7 +238,11 @@ def _newton_steps(model: CompiledModel, data: np.ndarray, r_all: np.ndarray) -> 
             steps[:] = np.nan
     for k in np.flatnonzero(~np.isfinite(steps).all(axis=1)):
         try:
-            steps[k] = spla.spsolve(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)), r_all[k])
-        except RuntimeError:
+            lu = spla.splu(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)))
+            steps[k] = lu.solve(r_all[k])
+        except RuntimeError:  # exactly singular
             steps[k] = np.nan
+            continue
+        if factors is not None and todo is not None:
+            factors[int(todo[k])] = lu
     return steps

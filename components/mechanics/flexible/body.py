@@ -94,6 +94,7 @@ from .results import (
     check_result,
     frame_load_amplitudes,
     participation,
+    prefetch_body,
     result_gravity,
 )
 from .validity import check_limits, validity
@@ -380,6 +381,7 @@ class FlexibleBody(Component):
         if d.load_cases is None:
             d.residual_fields()  # raises the explanatory error
         check_result(self, result, "load_amplitudes", self._source)
+        prefetch_body(self, result)
         t, _q, _r0, T = self.motion(result)
         nt = t.size
         g = result_gravity(self, result)

@@ -38,6 +38,8 @@ import numpy as np
 
 from flexlib.errors import ModalFileError, ModalValidityWarning, ModelError
 
+from .results import prefetch_body
+
 __all__ = ["DEFAULT_LIMITS", "characteristic_length", "check_limits", "validity"]
 
 #: Default limits: deflection [1, fraction of the characteristic length], rotation [rad], residual share [1]
@@ -86,6 +88,7 @@ def validity(body: Any, result: Any, limits: dict[str, float]) -> dict[str, Any]
     data = body.modal_data
     if not data.n_modes or not np.size(result.t):
         return None
+    prefetch_body(body, result)
     t, q, _r0, _T = body.motion(result)
     u = np.einsum("tm,mnk->tnk", q, data.translational_modes)
     theta = np.einsum("tm,mnk->tnk", q, data.rotational_modes)
