@@ -491,13 +491,13 @@ def motion_series(func: str, data: Any, times: Any, q: Any, r_0: Any, T: Any, sc
     t = _times(times, nt, func)
     r, R = _frame_motion(r_0, T, nt, func)
     scale = check_scale(func, scale)
-    u_body = np.einsum("tm,mnk->tnk", q2, data.translational_modes)
-    if loads is not None:
-        Res, amp = _residual(func, data, "translational", loads, nt, single)
-        u_body = u_body + np.einsum("tc,cnk->tnk", amp, Res)
+    if loads is not None:  # one row per sample, as q2
+        loads = _array(func, "loads", loads)
+        loads = loads[None, :] if single and loads.ndim == 1 else loads
+    u_body = _superpose(func, data, q2, None, "translational", loads)
     u_world = np.einsum("tji,tnj->tni", R, u_body)
     points = r[:, None, :] + np.einsum("tji,tnj->tni", R, data.coordinates[None]) + scale * u_world
-    return {"data": data, "q": q2, "t": t, "R": R, "points": points, "u": u_world, "loads": loads, "single": single}
+    return {"data": data, "q": q2, "t": t, "R": R, "points": points, "u": u_world, "loads": loads}
 
 
 def field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
@@ -505,19 +505,10 @@ def field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
     data: ModalData = s["data"]
     if field == "displacement":
         return s["u"]
-    loads, nt = s.get("loads"), s["q"].shape[0]
-
-    def recovered(kind: str, modes: np.ndarray) -> np.ndarray:
-        out = np.einsum("tm,mnk->tnk", s["q"], modes)
-        if loads is not None:
-            Res, amp = _residual(func, data, kind, loads, nt, s["single"])
-            out = out + np.einsum("tc,cnk->tnk", amp, Res)
-        return out
-
     if field == "rotation":
-        return np.einsum("tji,tnj->tni", s["R"], recovered("rotational", data.rotational_modes))
+        return np.einsum("tji,tnj->tni", s["R"], _superpose(func, data, s["q"], None, "rotational", s["loads"]))
     if field in ("von_mises", "stress"):
-        sigma = recovered("stress", _stress_modes(data, func))
+        sigma = _superpose(func, data, s["q"], None, "stress", s["loads"])
         return von_mises(sigma) if field == "von_mises" else sigma
     raise RunArgumentError(f"{func}: unknown field {field!r}; choose from {list(FIELDS)}")
 

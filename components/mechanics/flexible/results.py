@@ -15,14 +15,8 @@ from flexlib.fe.arguments import COMPONENTS
 from ..multibody.world import World
 from .arguments import frame_names
 
-__all__ = [
-        "advise_basis",
-        "cayley_rotation",
-        "check_result",
-        "frame_load_amplitudes",
-        "participation",
-        "result_gravity",
-]
+__all__ = ["advise_basis", "cayley_rotation", "check_result", "frame_load_amplitudes", "participation",
+           "prefetch_body", "result_gravity"]
 
 
 def check_result(body: Any, result: Any, func: str, source: str) -> int:
@@ -172,8 +166,8 @@ def advise_basis(body: Any, source: str) -> None:
     reference node when the node's frame is connected to a ``Revolute``'s frame and to nothing else (a hub body or
     another link on the same frame can take a moment), and the revolute takes no moment about its axis from a
     position: no drive flange, or a flange that only torque sources, dampers and sensors act on (the seed-001 beam's
-    bang-bang torque). There the body's own deformation has a slope at the pin
-    that cantilever modes lack; hinged-beam modes (``attachment="pinned"``) have it.
+    bang-bang torque). There the body's own deformation has a slope at the pin that cantilever modes lack;
+    hinged-beam modes (``attachment="pinned"``) have it.
     """
     from ..multibody.revolute import Revolute
     from ..rotational.damper import Damper
@@ -189,16 +183,14 @@ def advise_basis(body: Any, source: str) -> None:
     members = body.frame_at(int(node)).connection_set()
     if len(members) != 1 or not isinstance(members[0]._parent, Revolute):
         return  # another part on the same frame (a hub, a link, a bushing) can take the moment
-    for conn in members:
-        joint = conn._parent
-        axis = getattr(joint, "axis", None) if joint.use_axis_flange else None
-        if axis is None or all(isinstance(c._parent, passive) for c in axis.connection_set()):
-            warnings.warn(ModalDataWarning(
-                f"{body.where}: the {source} has a clamped basis at its reference node {node}, which sits on the "
-                f"free revolute {joint.where} (no moment about its axis): cantilever modes fit a hinged body poorly "
-                "(the seed-001 beam's deflection error 12 % instead of 1.5 % with 4 modes); make the data with "
-                "modal_data_from_fe(..., attachment='pinned')"), stacklevel=4)
-            return
+    joint = members[0]._parent
+    axis = joint.axis if joint.use_axis_flange else None
+    if axis is None or all(isinstance(c._parent, passive) for c in axis.connection_set()):
+        warnings.warn(ModalDataWarning(
+            f"{body.where}: the {source} has a clamped basis at its reference node {node}, which sits on the "
+            f"free revolute {joint.where} (no moment about its axis): cantilever modes fit a hinged body poorly "
+            "(the seed-001 beam's deflection error 12 % instead of 1.5 % with 4 modes); make the data with "
+            "modal_data_from_fe(..., attachment='pinned')"), stacklevel=4)
 
 
 def prefetch_body(body: Any, result: Any) -> None:

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import ModalFileError, ModalValidityWarning, ModelError
+from flexlib.fe.output import node_displacements, node_rotations
 
 from .results import prefetch_body
 
@@ -90,21 +91,17 @@ def validity(body: Any, result: Any, limits: dict[str, float]) -> dict[str, Any]
         return None
     prefetch_body(body, result)
     t, q, _r0, _T = body.motion(result)
-    u = np.einsum("tm,mnk->tnk", q, data.translational_modes)
-    theta = np.einsum("tm,mnk->tnk", q, data.rotational_modes)
-    residual = np.zeros_like(u)
     loads = None
     if data.load_cases is not None:
         try:
             loads = body.load_amplitudes(result)
         except ModalFileError:  # a loaded frame at a node without load cases: plain superposition, no residual check
             loads = None
-    if loads is not None:
-        fields = data.residual_fields()
-        residual = np.einsum("tc,cnk->tnk", loads, fields["translations"])
-        u = u + residual
-        if "rotations" in fields:
-            theta = theta + np.einsum("tc,cnk->tnk", loads, fields["rotations"])
+    plain = node_displacements(data, q)
+    u = plain if loads is None else node_displacements(data, q, loads=loads)
+    residual = u - plain
+    rotation_loads = loads if loads is not None and "rotations" in data.residual_fields() else None
+    theta = node_rotations(data, q, loads=rotation_loads)
     L = characteristic_length(data)
     du, row_u, node_u = _peak(u)
     dth, row_th, node_th = _peak(theta)
