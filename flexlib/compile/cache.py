@@ -39,7 +39,7 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.integrity import deserialize_function, file_problem
 from flexlib.errors import CacheWarning
 
-__all__ = ["CacheEntryError", "cache_dir", "load", "store",
+__all__ = ["CacheEntryError", "cache_dir", "load", "load_arrays", "store",
            "usable_cache_dir"]
 
 #: version of the on-disk format (part of every entry's metadata)
@@ -305,19 +305,33 @@ def load_init(path: Path) -> dict[str, np.ndarray] | None:
     CacheEntryError
         The file exists but is damaged or untrusted.
     """
+    data = load_arrays(path, {"y": float, "yp": float, "p": float, "residual": float}, "initial values")
+    return data
+
+
+def load_arrays(path: Path, kinds: dict[str, type], what: str) -> dict[str, np.ndarray] | None:
+    """The arrays ``kinds`` (name: dtype) of the ``.npz`` file ``path`` kept beside an entry (``what`` it holds, for
+    messages), or None if there is none.
+
+    Raises
+    ------
+    CacheEntryError
+        The file exists but is damaged or untrusted.
+    """
     if not path.exists() and not path.is_symlink():
         return None
     raw = _read_checked(path, limit=1 << 30)
     try:
         with np.load(io.BytesIO(raw), allow_pickle=False) as data:
-            out = {k: np.array(data[k], dtype=float) for k in ("y", "yp", "p", "residual")}
+            out = {k: np.array(data[k], dtype=dtype) for k, dtype in kinds.items()}
     except Exception as exc:
-        raise CacheEntryError(path, f"unreadable initial values ({type(exc).__name__}: {exc})") from None
+        raise CacheEntryError(path, f"unreadable {what} ({type(exc).__name__}: {exc})") from None
     return out
 
 
 def store_init(path: Path, **arrays: np.ndarray) -> None:
-    """Write initial values atomically (a temporary file renamed into place)."""
+    """Write arrays (initial values, row definitions) atomically beside an entry (a temporary file renamed into
+    place)."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as fh:

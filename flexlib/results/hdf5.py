@@ -318,10 +318,16 @@ def _write_part(g: h5py.Group, part: StoredPart, n_names: int) -> None:
     if len(omap.source) != n_names:
         raise ResultFileError(f"the output function of the rows gives {len(omap.source)} values for {n_names} "
                               "variables")
-    keep, index = unique_columns(part.Y)
+    kept = np.arange(part.Y.shape[1]) if part.defs is None else part.defs.kept
+    keep, index = unique_columns(part.Y[:, kept])
+    columns = np.full(part.Y.shape[1], -1, dtype=np.int64)  # -1: given by its row (the definitions), not stored
+    columns[kept] = index
     g.create_dataset("rows", data=np.asarray(part.rows, dtype=np.int64))
-    _columns(g, "y", np.ascontiguousarray(part.Y[:, keep]))
-    g.create_dataset("y_columns", data=index)
+    _columns(g, "y", np.ascontiguousarray(part.Y[:, kept[keep]]))
+    g.create_dataset("y_columns", data=columns)
+    if part.defs is not None:
+        g.create_dataset("given", data=np.asarray(part.defs.given, dtype=np.int64))
+        g.create_dataset("defs", data=pack_function(part.defs.fn))
     _columns(g, "yp", np.ascontiguousarray(part.YP[:, omap.yp_used]))
     g.create_dataset("yp_used", data=omap.yp_used)
     _columns(g, "rel", np.ascontiguousarray(part.rel, dtype=float).reshape(len(part.rows), -1))
@@ -578,16 +584,21 @@ def _file_columns(f: h5py.File, path: Path, n_rows: int, names: list[str], bad: 
             raise bad(f"/rows/{key}/source and constant must have one entry per variable ({len(names)})")
         if source.size and (source.min() < -2 or source.max() >= n):
             raise bad(f"/rows/{key}/source must hold unknown indices 0 … {n - 1}, -1 (derived) or -2 (constant)")
-        if g["y"].shape[0] != len(idx) or (n and (y_columns.min() < 0 or y_columns.max() >= g["y"].shape[1])):
+        given = np.asarray(g["given"][()], dtype=np.int64) if "given" in g else np.zeros(0, dtype=np.int64)
+        if given.ndim != 1 or (given.size and (given.min() < 0 or given.max() >= n or "defs" not in g)):
+            raise bad(f"/rows/{key}/given must list unknowns 0 … {n - 1}, with /rows/{key}/defs")
+        unstored = np.flatnonzero(y_columns < 0)
+        if g["y"].shape[0] != len(idx) or (n and (y_columns.min() < -1 or y_columns.max() >= g["y"].shape[1])) or \
+                not np.array_equal(unstored, np.sort(given)):
             raise bad(f"/rows/{key}/y has shape {g['y'].shape}, inconsistent with its {len(idx)} rows and "
-                      f"/rows/{key}/y_columns")
+                      f"/rows/{key}/y_columns (-1 exactly for the unknowns in /rows/{key}/given)")
         if g["yp"].shape != (len(idx), len(yp_used)) or (yp_used.size and (yp_used.min() < 0 or yp_used.max() >= n)):
             raise bad(f"/rows/{key}/yp has shape {g['yp'].shape}, expected {(len(idx), len(yp_used))}")
         if g["rel"].shape[0] != len(idx):
             raise bad(f"/rows/{key}/rel has {g['rel'].shape[0]} rows, expected {len(idx)}")
         parts.append(FilePart(g, idx, np.ascontiguousarray(times[idx]), n, source, constant,
                                y_columns, yp_used, np.asarray(g["p"][()], dtype=float),
-                               f"cannot read the result file {path}", casadi_version))
+                               f"cannot read the result file {path}", casadi_version, given))
     if np.any(covered != 1):
         k = int(np.argmax(covered != 1))
         raise bad(f"/rows holds row {k} {covered[k]} times; each time point is in exactly one part")

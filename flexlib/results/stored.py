@@ -6,9 +6,15 @@ outputs of the model's ``out(t, y, y', p)`` function of its recorded rows. The f
 the run (a state switch changes it): the rows' unknowns ``y`` (each distinct column once), the entries of ``y'``
 that ``out`` reads, the relation values (they are parameters of ``out``), and ``out`` itself as a serialised CasADi
 SX function (about 1 MB for the pump truck, 0.1 MB compressed) — plus the variables the user asks to store
-(``outputs=``). Reading a variable then costs: a stored column, a column of ``y`` (an unknown or its alias), a
-constant, or an evaluation of the part of ``out``'s graph it needs over the rows (a derived variable). Every value is
-the same as the run's in memory (the same rows, the same expression graph): tested to 1e-12 relative.
+(``outputs=``). Of the unknowns only those that no row gives explicitly are stored: an algebraic unknown that a
+residual row without derivatives defines (``c·v + f(t, y, p) = 0``, ``c`` a nonzero constant: cut forces, frame
+velocities and accelerations of a tree; :func:`row_definitions`) is set by that definition in the run's recorded
+rows after they are settled (:func:`flexlib.solve.assemble.assemble_result`: a change of the order of IDA's Newton
+tolerance, its own row's residual then zero) and is derived when read by the definitions, stored as a function like
+``out`` (479 of the rigid pump truck's 858 unknowns are stored). Reading a variable then costs: a stored column, a
+column of ``y`` (an unknown or its alias), a constant, or an evaluation of the part of ``out``'s graph it needs over
+the rows (a derived variable). Every value is the same as the run's in memory (the same rows, the same expression
+graph, the same parameter folding): tested to 1e-12 relative.
 
 A file opened where the CasADi that wrote ``out`` cannot read it still gives its stored variables (unknowns,
 aliases, constants, ``outputs``); a derived one is then a :class:`~flexlib.errors.ResultFileError` saying which
@@ -29,8 +35,9 @@ from flexlib.errors import ResultFileError
 if TYPE_CHECKING:
     import casadi as ca
 
-__all__ = ["CONSTANT", "DERIVED", "FileColumns", "FilePart", "OutputMap", "StoredPart", "output_graph", "output_map",
-           "pack_function", "signatures", "unique_columns", "unpack_function"]
+__all__ = ["CONSTANT", "DERIVED", "FileColumns", "FilePart", "OutputMap", "RowDefinitions", "StoredPart",
+           "output_graph", "output_map", "pack_function", "row_definitions", "signatures", "unique_columns",
+           "unpack_function"]
 
 #: ``OutputMap.source`` codes: a variable is an unknown's column (``>= 0``), derived from the rows, or a constant.
 DERIVED, CONSTANT = -1, -2
@@ -83,13 +90,85 @@ def output_map(graph: tuple[list[ca.SX], ca.SX]) -> OutputMap:
     return OutputMap(source, constant, yp_used)
 
 
+@dataclass
+class RowDefinitions:
+    """The unknowns of a model that residual rows give explicitly, for storing rows (module docstring).
+
+    Attributes
+    ----------
+    kept : ndarray of int
+        The unknowns that are stored.
+    given : ndarray of int
+        The unknowns given by their rows' definitions.
+    fn : casadi.Function or None
+        ``(t, y, yp, p) -> y[given]`` (dense; ``yp`` unused), the definitions resolved in the kept unknowns; None if
+        no unknown is given.
+    """
+
+    kept: np.ndarray
+    given: np.ndarray
+    fn: ca.Function | None
+
+    def bound(self, pvec: np.ndarray) -> tuple[list[ca.SX], ca.SX]:
+        """``([t, y, yp, rel], y[given])``: the definitions' graph with the parameter vector ``pvec`` put in, as a
+        file's reader puts it into the output function (:meth:`FilePart.bound`): constant parts folded — the run's
+        rows and its file are both evaluated on this graph, so that they agree to the last bit (folding lets CasADi
+        simplify, e.g. ``a + (x − a)`` to ``x``)."""
+        import casadi as ca
+
+        t, y, yp, p = self.fn.sx_in()
+        n_rel = p.numel() - len(pvec)
+        rel = ca.SX.sym("rel", max(n_rel, 1))
+        return [t, y, yp, rel], self.fn(t, y, yp, ca.vertcat(ca.DM(pvec), rel[:n_rel] if n_rel else ca.SX(0, 1)))
+
+
+def row_definitions(res: ca.Function, out: ca.Function, differential: np.ndarray) -> RowDefinitions:
+    """The algebraic unknowns of the residual ``res(t, y, yp, p)`` that one of its rows defines explicitly.
+
+    The same symbolic elimination as the DAE's (:func:`flexlib.compile.explicit.eliminate_explicit_algebraics`: a row
+    without derivatives, affine in the unknown with a nonzero constant coefficient, no operation that can fail, in
+    dependency order), here without its limit on the Jacobian's fill (the DAE keeps such unknowns for IDA's sparse
+    factorisation; a stored row needs none of them). States stay, and so does every unknown whose derivative the
+    output function ``out`` reads.
+    """
+    import casadi as ca
+
+    from flexlib.compile.explicit import eliminate_explicit_algebraics
+
+    args = res.sx_in()
+    t, y, yp, p = args
+    n = y.numel()
+    F = res(*args)
+    F = F[0] if isinstance(F, (list, tuple)) else F
+    oargs = out.sx_in()
+    protected = np.zeros(n, dtype=bool)
+    yp_read = np.asarray(ca.jacobian_sparsity(out(*oargs), oargs[2]).get_triplet()[1], dtype=np.int64)
+    protected[yp_read] = True
+    if n == 0 or F.numel() == 0:
+        return RowDefinitions(np.arange(n), np.zeros(0, dtype=np.int64), None)
+    _, given, values, _ = eliminate_explicit_algebraics([F[i] for i in range(F.numel())], y, yp,
+                                                        np.asarray(differential, dtype=bool), protected,
+                                                        max_net=np.iinfo(np.int64).max)
+    given = np.asarray(given, dtype=np.int64)  # in the order of `values`
+    if not given.size:
+        return RowDefinitions(np.arange(n), given, None)
+    return RowDefinitions(np.setdiff1d(np.arange(n), given), given,
+                          ca.Function("flexlib_row_definitions", [t, y, yp, p], [ca.densify(values)]))
+
+
 def signatures(source: np.ndarray, constant: np.ndarray, out: Any, y_columns: np.ndarray | None = None) -> list[tuple]:
     """Per output (:class:`OutputMap` ``source`` and ``constant``): ``("y", j)`` (the unknown ``y[j]``, or its stored
     column ``y_columns[j]``), ``("c", value)`` or ``("x", node)`` (its node in the graph ``out``, evaluated only if
     some output is derived: a callable giving it): outputs with the same signature are the same function of the
     row."""
     graph = out() if (source == DERIVED).any() else None
-    return [("y", int(src if y_columns is None else y_columns[src])) if src >= 0
+
+    def unknown(j: int) -> tuple:
+        if y_columns is None:
+            return ("y", j)
+        return ("y", int(y_columns[j])) if y_columns[j] >= 0 else ("g", j)  # ("g": given by its row, not stored)
+
+    return [unknown(int(src)) if src >= 0
             else ("c", float(constant[i])) if src == CONSTANT else ("x", graph[i].element_hash())
             for i, src in enumerate(source)]
 
@@ -141,6 +220,7 @@ class StoredPart:
     rel: np.ndarray
     pvec: np.ndarray
     omap: OutputMap | None = None  # of ``out``, if the caller has it
+    defs: RowDefinitions | None = None  # the unknowns the rows give (not stored), if any
 
     def output_map(self) -> OutputMap:
         """How each output of ``out`` is got from a row: :attr:`omap`, else classified now."""
@@ -162,6 +242,8 @@ class FilePart:
     pvec: np.ndarray
     where: str
     casadi_version: str
+    given: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))  # unknowns the rows give
+    _given: np.ndarray | None = None  # their values, once asked for
     _stored: np.ndarray | None = None  # every stored column of y, once more than a few were asked for
     _columns: dict[int, np.ndarray] = field(default_factory=dict)  # stored columns of y read one by one
     _yp_rel: tuple[np.ndarray, np.ndarray] | None = None
@@ -206,6 +288,46 @@ class FilePart:
         out = np.empty((len(self.rows), len(columns)))
         for k, c in enumerate(columns):
             out[:, k] = self._columns[int(c)]
+        return out
+
+    def definitions(self) -> RowDefinitions:
+        """The part's row definitions (:func:`row_definitions`) as stored."""
+        fn = None
+        if self.given.size:
+            fn = unpack_function(self.group["defs"][()], self.where, self.casadi_version)
+        return RowDefinitions(np.setdiff1d(np.arange(self.n), self.given), self.given, fn)
+
+    def unknowns(self, columns: np.ndarray) -> np.ndarray:
+        """Unknowns ``columns`` at the part's rows, ``(rows, len(columns))``: stored ones read (:meth:`stored_y`), the
+        ones the rows give evaluated by the stored definitions with the parameters put in as the run put them in
+        (:meth:`RowDefinitions.bound`), all of them at once and kept."""
+        columns = np.asarray(columns, dtype=np.int64)
+        mapped = self.y_columns[columns]
+        if (mapped >= 0).all():
+            return self.stored_y(mapped)
+        if self._given is None:
+            import casadi as ca
+
+            (t, y, _, rel), expr = self.definitions().bound(self.pvec)
+            deps = np.unique(np.asarray(ca.jacobian_sparsity(expr, y).get_triplet()[1], dtype=np.int64))
+            if not deps.size:
+                deps = np.zeros(1, dtype=np.int64)
+            yp_all = ca.SX.sym("yp", max(len(self.yp_used), 1))
+            fn = ca.Function("flexlib_read_given", [t, ca.vertcat(*[y[int(j)] for j in deps]), yp_all, rel],
+                             [ca.densify(expr)])
+            from flexlib.solve.rows import RowEvaluator
+
+            _, REL = self.yp_rel()
+            YPU = np.zeros((len(self.rows), max(len(self.yp_used), 1)))
+            self._given = RowEvaluator().evaluate_function(fn, self, ("given",), self.T, self.stored_y(
+                self.y_columns[deps]), YPU, REL)
+        out = np.empty((len(self.rows), len(columns)))
+        position = np.full(self.n, -1, dtype=np.int64)
+        position[self.given] = np.arange(len(self.given))
+        stored = mapped >= 0
+        if stored.any():
+            out[:, stored] = self.stored_y(mapped[stored])
+        out[:, ~stored] = self._given[:, position[columns[~stored]]]
         return out
 
     def yp_rel(self) -> tuple[np.ndarray, np.ndarray]:
@@ -261,13 +383,13 @@ class FileColumns:
             if const.size:
                 values[at(const)] = part.constant[wanted[src == CONSTANT]]
             if alias.size:
-                values[at(alias)] = part.stored_y(part.y_columns[src[src >= 0]])
+                values[at(alias)] = part.unknowns(src[src >= 0])
             outputs = tuple(int(c) for c in wanted[src == DERIVED])
             if outputs:
                 fn, deps = self._function(part, outputs)
                 YP, REL = part.yp_rel()
                 values[at(derived)] = self._rows.evaluate_function(fn, part, ("read", outputs), part.T,
-                                                                   part.stored_y(part.y_columns[deps]), YP, REL)
+                                                                   part.unknowns(deps), YP, REL)
         return values
 
     def _function(self, part: FilePart, outputs: tuple[int, ...]) -> tuple[Any, np.ndarray]:
@@ -306,8 +428,8 @@ class FileColumns:
             YP[:, part.yp_used] = YPU
             rel = REL[:, :part.group["rel"].shape[1]].copy()  # (without the padding of a run without relations)
             omap = OutputMap(part.source, part.constant, part.yp_used)
-            parts.append(StoredPart(part.function(), part.rows, part.T, part.stored_y(part.y_columns), YP, rel,
-                                    part.pvec, omap))
+            parts.append(StoredPart(part.function(), part.rows, part.T, part.unknowns(np.arange(part.n)), YP, rel,
+                                    part.pvec, omap, part.definitions() if part.given.size else None))
         return parts
 
     def nonfinite(self, names: list[str]) -> tuple[list[str], int | None]:

@@ -14,11 +14,18 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import ResultCheckWarning
 from flexlib.results.result import Result
-from flexlib.results.stored import OutputMap, StoredPart, output_graph, output_map, signatures
+from flexlib.results.stored import (
+    OutputMap,
+    RowDefinitions,
+    StoredPart,
+    output_graph,
+    output_map,
+    signatures,
+)
 from flexlib.solve.rows import RowEvaluator, segments, settle_derivative_level
 from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["RowColumns", "assemble_result"]
+__all__ = ["RowColumns", "assemble_result", "row_definitions_of"]
 
 
 class RowColumns:
@@ -72,9 +79,14 @@ class RowColumns:
         return self.rows.cached(model, ("out_map",), lambda: output_map(self._graph(model)))
 
     def stored_parts(self) -> list[StoredPart]:
-        """The rows as a result file stores them (:mod:`flexlib.results.stored`)."""
-        return [StoredPart(model.sx_function("out"), idx, T, Y, YP, rel, self.pvec, self._map(model))
-                for model, idx, T, Y, YP, rel in self.parts]
+        """The rows as a result file stores them (:mod:`flexlib.results.stored`), with the definitions of the
+        unknowns that rows give (not stored)."""
+        parts = []
+        for model, idx, T, Y, YP, rel in self.parts:
+            defs = row_definitions_of(self.rows, model)
+            parts.append(StoredPart(model.sx_function("out"), idx, T, Y, YP, rel, self.pvec, self._map(model),
+                                    defs if defs.fn is not None else None))
+        return parts
 
     def signatures(self) -> list[tuple]:
         """Per variable, a key that is the same for variables with the same values (aliases): what it is in the
@@ -101,15 +113,32 @@ class RowColumns:
         return ca.Function("flexlib_out_columns", args, [ca.densify(out[list(cols)])])
 
 
+def row_definitions_of(rows: RowEvaluator, model: CompiledModel, key: str | None = None) -> RowDefinitions:
+    """``model``'s unknowns given explicitly by rows (:func:`~flexlib.results.stored.row_definitions`), made once
+    (kept in the disk cache beside the build with cache key ``key``:
+    :func:`~flexlib.solve.definitions_cache.cached_row_definitions`)."""
+    from flexlib.solve.definitions_cache import cached_row_definitions
+
+    return rows.cached(model, ("row_definitions_of",), lambda: cached_row_definitions(key, model))
+
+
+def _bound_definitions(defs: RowDefinitions, pvec: np.ndarray) -> ca.Function:
+    """``(t, y, yp, rel) -> y[given]`` on the graph a result file's reader evaluates (:meth:`RowDefinitions.bound`)."""
+    args, values = defs.bound(np.asarray(pvec, dtype=float))
+    return ca.Function("flexlib_row_definitions_bound", args, [values])
+
+
 def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: RowEvaluator, t_init: float,
-                    rtol: float, atol: float, build_info: dict[str, Any]) -> Result:
+                    rtol: float, atol: float, build_info: dict[str, Any], key: str | None = None) -> Result:
     """The :class:`Result` of a run: its rows, the derivative-level unknowns of the rows checked and settled
-    (:func:`~flexlib.solve.rows.settle_derivative_level`), every variable readable by name (aliases and outputs
-    rebuilt by the ``out`` function of the model of each row's segment when they are read: :class:`RowColumns`),
-    the statistics, events and metadata.
+    (:func:`~flexlib.solve.rows.settle_derivative_level`), the unknowns that rows give explicitly set by those rows
+    (:func:`row_definitions_of`: a result file derives them by the same), every variable readable by name (aliases
+    and outputs rebuilt by the ``out`` function of the model of each row's segment when they are read:
+    :class:`RowColumns`), the statistics, events and metadata.
 
     ``m`` is the run's compiled model (its variables name the columns), ``pvec`` the parameter vector, ``t_init``
-    the initialisation's wall time [s], ``build_info`` the build's timings.
+    the initialisation's wall time [s], ``build_info`` the build's timings, ``key`` the build's cache key (None: not
+    cached).
     """
     names = [v.name for v in m.variables]
     source = None
@@ -123,6 +152,14 @@ def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: 
                 repaired += n_fixed
             except Exception as exc:  # never lose a run's rows to the check: keep them as recorded
                 settle_error = f"{type(exc).__name__}: {exc}"
+            defs = row_definitions_of(rows, model, key if model is m else None)
+            if defs.fn is not None:  # the explicitly given unknowns by their rows (what a file derives them by)
+                Y = np.array(Y, dtype=float)
+                key = ("row_definitions", np.asarray(pvec, dtype=float).tobytes())
+                rows.keep_latest(model, key)
+                fn = rows.cached(model, key, lambda defs=defs: _bound_definitions(defs, pvec))
+                REL = P[:, len(pvec):] if P.shape[1] > len(pvec) else np.zeros((len(Ts), 1))
+                Y[:, defs.given] = rows.evaluate_function(fn, model, key, Ts, Y, YP, REL)
             parts.append((model, idx, Ts, Y, YP, np.array(P[:, len(pvec):])))
         source = RowColumns(rows, parts, np.array(pvec, dtype=float), len(T), len(names))
     else:

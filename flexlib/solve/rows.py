@@ -47,6 +47,12 @@ class RowEvaluator:
             entry = self._cache[(id(model), *key)] = (model, make())
         return entry[1]
 
+    def keep_latest(self, model: CompiledModel, key: tuple) -> None:
+        """Forget what is kept for ``model`` under keys that start like ``key[0]`` but differ in ``key[1]`` (buffers
+        of a function made for other parameter values: a study's runs would otherwise pile them up)."""
+        for k in [k for k in self._cache if k[0] == id(model) and len(k) > 2 and k[1] == key[0] and k[2] != key[1]]:
+            del self._cache[k]
+
     def evaluate(self, model: CompiledModel, name: str, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
                  P: np.ndarray) -> np.ndarray:
         """Function ``name`` of ``model`` at rows ``T`` (m,), ``Y``, ``YP`` (m × n), ``P`` (m × n_p): (m × n_out)."""
