@@ -92,8 +92,8 @@ class PolycrankParameters:
         ``E / (2 (1 + nu))``); its density follows from ``m_shield5`` and ``I_shield5``.
     h_spider, b_spider, E_spider, rho_spider : float
         The shield's spider (six spokes from ``A1`` to the outer pins, seed 002's spider webs): section height
-        in the plane [m] and width [m], Young's modulus [Pa] and density [kg/m3] — stiff (a pin's spoke about
-        200 times stiffer than a pull rod's axial stiffness) and light (17 g in all): it carries the pin loads to
+        in the plane [m] and width [m], Young's modulus [Pa] and density [kg/m3] — stiff (a spoke 700 times
+        stiffer at its pin than a pull rod along its axis) and light (17 g in all): it carries the pin loads to
         the bearing as a thick flange, whose compliance it does not model.
     shield_elements, shield_cb_modes, shield_modes : int
         The shell's beam elements, the fixed-interface modes of its Craig–Bampton reduction, and the in-plane

@@ -14,7 +14,9 @@ coefficients (:func:`no_friction`), the preload is set by the rods' mount offset
 Run ``python -m flexlib.models.robots.polycrank_study [--out DIR] [--t-end T]``: a table of the figures and the PNGs
 ``energy.png`` (energy above the start), ``reactions.png`` (force in the grip disc's bearing, the cap–disc joint
 of the seed's Fig. 13, in shield 5's bearing, and the friction torque in shield 4's), ``stress.png`` (largest von
-Mises stress over the pull rods) and ``shield.png`` (shield 4's angle, speed and acceleration).
+Mises stress over the pull rods) and ``shield.png`` (shield 4's angle, speed and acceleration). With ``--shield``
+it prints only the lowest locked frequencies in the three poses with rigid and flexible shield 5
+(:func:`shield_frequencies`).
 """
 
 from __future__ import annotations
