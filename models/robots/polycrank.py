@@ -429,20 +429,21 @@ class PolycrankFragment(fl.Model):
         self.shield4 = Body(m=par.m_shield4, r_CM=[par.L4 / 2, 0, 0], I=np.eye(3) * par.I_shield4)
         self.to_A1 = FixedTranslation(r=[par.L4, 0.0, 0.0])
         self.j5 = Revolute(n=z, guess={"phi": th_o - th4}, **bearing)
+        if self.flexible_shield:  # frames at A1, A2 and the six pins (polycrank_shield.SHIELD_FRAMES)
+            self.shield5 = FlexibleBody(shield_modal_data(par), modes=par.shield_modes, plane="xy")
+        else:
+            self.shield5 = Body(m=par.m_shield5, r_CM=[par.L5 / 2, 0, 0], I=np.eye(3) * par.I_shield5)
+            self.to_A2 = FixedTranslation(r=[par.L5, 0.0, 0.0])
         self.load = Body(m=par.m_load, r_CM=[0.0, 0.0, 0.0], I=np.eye(3) * 1e-6)
         self.connect(self.world.frame_b, self.j4.frame_a)
         self.connect(self.j4.frame_b, self.shield4.frame_a)
         self.connect(self.j4.frame_b, self.to_A1.frame_a)
         self.connect(self.to_A1.frame_b, self.j5.frame_a)
-        if self.flexible_shield:  # frames at A1, A2 and the six pins (polycrank_shield.SHIELD_FRAMES)
-            self.shield5 = FlexibleBody(shield_modal_data(par), modes=par.shield_modes, plane="xy")
-            self.connect(self.j5.frame_b, self.shield5.frame_a)
+        self.connect(self.j5.frame_b, self.shield5.frame_a)
+        if self.flexible_shield:
             self._A2 = self.shield5.frame_b
             self._pins5 = [self.shield5.frame_at(node) for node in self.shield5.frame_nodes[2:]]
         else:
-            self.shield5 = Body(m=par.m_shield5, r_CM=[par.L5 / 2, 0, 0], I=np.eye(3) * par.I_shield5)
-            self.to_A2 = FixedTranslation(r=[par.L5, 0.0, 0.0])
-            self.connect(self.j5.frame_b, self.shield5.frame_a)
             self.connect(self.j5.frame_b, self.to_A2.frame_a)
             self._A2, self._pins5 = self.to_A2.frame_b, None
         self.connect(self._A2, self.load.frame_a)
