@@ -14,6 +14,7 @@ from typing import Any
 #: Module (in this package) of each public name.
 _MODULES: dict[str, tuple[str, ...]] = {
     "arguments": ("COMPONENTS",),
+    "assembly": ("join_models",),
     "beam": ("beam_mesh", "beam_stress_modes", "element_matrices", "section_force_modes"),
     "drawing": ("animate", "plot_frame"),
     "fe_model": ("BeamElements", "FEModel", "MassPoints"),

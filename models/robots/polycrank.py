@@ -39,6 +39,7 @@ from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 from flexlib.fe import beam_mesh, circle, energies, modal_data_from_fe, nodal_stress, von_mises
 
+from .polycrank_shield import shield_modal_data
 from .statics import energy_gradient
 
 __all__ = ["CHANNELS", "PolycrankFragment", "PolycrankParameters", "drive_torques", "mechanical_energy",
@@ -81,6 +82,22 @@ class PolycrankParameters:
         rod carries the whole link mass ``m_link`` (heads included).
     rod_elements, rod_modes : int
         Beam elements and fixed-interface modes per pull rod (Craig–Bampton, both pins interface).
+    h_shield, b_shield, t_shield : float
+        Flexible shield 5 (:mod:`.polycrank_shield`): the shell's box section, outer height in the plane of motion
+        [m] (it encloses the inner channels' discs and links, pin circles up to 45 mm), outer width along the joint
+        axes [m] and wall [m]: a CFRP box 130 × 80 × 5 mm.
+    E_shield, nu_shield : float
+        The shell's Young's modulus [Pa] (a quasi-isotropic carbon/epoxy laminate, about 50 GPa: Daniel & Ishai,
+        *Engineering Mechanics of Composite Materials*, 2nd ed., 2006) and Poisson's ratio [1] (shear modulus
+        ``E / (2 (1 + nu))``); its density follows from ``m_shield5`` and ``I_shield5``.
+    h_spider, b_spider, E_spider, rho_spider : float
+        The shield's spider (six spokes from ``A1`` to the outer pins, seed 002's spider webs): section height
+        in the plane [m] and width [m], Young's modulus [Pa] and density [kg/m3] — stiff (a spoke 700 times
+        stiffer at its pin than a pull rod along its axis) and light (17 g in all): it carries the pin loads to
+        the bearing as a thick flange, whose compliance it does not model.
+    shield_elements, shield_cb_modes, shield_modes : int
+        The shell's beam elements, the fixed-interface modes of its Craig–Bampton reduction, and the in-plane
+        modes the flexible shield keeps (``FlexibleBody(modes=shield_modes, plane="xy")``).
     mu, r_bearing, tau_c0 : float
         Friction of the nine bearings (``friction=True``): coefficient [1] on the radial load at the bearing radius
         [m] (cross-roller bearing, journal model) and the load-independent seal torque [N.m].
@@ -114,6 +131,18 @@ class PolycrankParameters:
     E_rod: float = 2.1e11
     rod_elements: int = 6
     rod_modes: int = 2
+    h_shield: float = 0.13
+    b_shield: float = 0.08
+    t_shield: float = 0.005
+    E_shield: float = 5.0e10
+    nu_shield: float = 0.3
+    h_spider: float = 0.04
+    b_spider: float = 0.012
+    E_spider: float = 2.1e13
+    rho_spider: float = 100.0
+    shield_elements: int = 8
+    shield_cb_modes: int = 4
+    shield_modes: int = 4
 
     @property
     def total_mass(self) -> float:
@@ -209,14 +238,14 @@ def rod_stress(model: PolycrankFragment, result: fl.Result) -> dict[str, np.ndar
         raise fl.ParameterError("rod_stress: the model has rigid links (flexible=False)")
     out = {}
     for node in model.walk():
-        if isinstance(node, FlexibleBody):
+        if isinstance(node, FlexibleBody) and node is not model.shield5:
             sigma = nodal_stress(node.modal_data, result[f"{node.path}.q"])
             out[node.path] = von_mises(sigma).max(axis=1)
     return out
 
 
 def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray:
-    """Kinetic plus gravitational energy of every body, plus the strain energy of the flexible pull rods
+    """Kinetic plus gravitational energy of every body, plus the strain energy of the flexible pull rods and shield
     (:func:`~flexlib.fe.energies`), minus the work potential of the constant drive
     torques (``−Σ τ_drive φ``, with ``drive="trim"`` ``−Σ b φ`` of the trims) [J], over a result: constant
     without friction, damping, interval torques and driven motion."""
@@ -233,10 +262,11 @@ def mechanical_energy(model: PolycrankFragment, result: fl.Result) -> np.ndarray
             v_cm = result[f"{node.path}.v_0"] + np.einsum("nji,nj->ni", T, np.cross(w, r_cm))
             x_cm = result[f"{node.path}.r_0"] + np.einsum("nji,j->ni", T, r_cm)
             E += 0.5 * m * np.sum(v_cm**2, axis=1) + 0.5 * np.einsum("ni,ij,nj->n", w, inertia, w) + m * g * x_cm[:, 1]
-        elif isinstance(node, FlexibleBody):  # frame_a at the rod's reference node: its T is the body's
+        elif isinstance(node, FlexibleBody):  # the reference frame's orientation: frame_a's less its elastic turn
             p = node.path
-            E += energies(node.modal_data, result[f"{p}.q"], result[f"{p}.qd"], result[f"{p}.r_0"],
-                          result[f"{p}.v_0"], result[f"{p}.w"], result[f"{p}.frame_a.T"].reshape(n, 3, 3, order="F"),
+            _, q, r_0, T = node.motion(result)
+            qd = result[f"{p}.qd"] if node.n_modes else np.zeros((n, 0))
+            E += energies(node.modal_data, q, qd, r_0, result[f"{p}.v_0"], result[f"{p}.w"], T,
                           g=(0.0, -g, 0.0))["total"]
         elif isinstance(node, Revolute):
             E -= float(node.parameter_value("tau_drive")) * result[f"{node.path}.phi"]
@@ -260,7 +290,8 @@ def _check_drive(drive: str, motion: tuple | None, torques: tuple | None) -> Non
 
 
 class PolycrankFragment(fl.Model):
-    """The POLYCRANK power-transmission fragment (module docstring), rigid or with flexible pull rods.
+    """The POLYCRANK power-transmission fragment (module docstring), rigid or with flexible pull rods and a flexible
+    shield 5.
 
     A parallelogram link passes a change point (its pins on the line of the disc axes) every 30° of relative
     rotation of its discs; there the loop rows kept for a rigid link lose rank and a run released with speeds can
@@ -304,6 +335,14 @@ class PolycrankFragment(fl.Model):
         ``d_rod`` steel rod, both pins interface, geometric stiffening of its axial force: without it a tensioned
         rod of the linear floating-frame model shortens its chord by bending instead of stretching and finds a
         spurious bent equilibrium). Static start: ``drive="trim"`` or ``"held"`` and ``run(steady_state=True)``.
+    flexible_shield : bool
+        Shield 5 a Craig–Bampton :class:`~flexlib.components.mechanics.flexible.FlexibleBody`
+        (:func:`~.polycrank_shield.shield_modal_data`, seed 002's flexible shield of body 5): a beam frame of the
+        CFRP shell from ``A1`` to ``A2`` and a stiff spider to the outer channel's six pins, with the rigid
+        shield's mass, centre of mass and inertia; reference frame pinned at ``A1`` (on the free bearing ``j5``);
+        the ``shield_modes`` lowest in-plane modes. Its frames: ``frame_a`` at ``A1`` (on ``j5``), ``frame_b`` at
+        ``A2`` (the load and the grip discs' bearings), ``frame_c`` … ``frame_h`` at the outer channel's pins (the
+        links' far pin joints). With rigid or flexible pull rods.
     preload : float
         Tension of every pull rod when mounted [N] (``flexible=True``): each rod hangs on its far pin through a
         mount offset ``−T L / (E A)`` along it (a run-time parameter: :func:`preload_params`).
@@ -314,7 +353,7 @@ class PolycrankFragment(fl.Model):
     def __init__(self, *, angles: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0), hold: bool = True,
                  speeds: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0), friction: bool = False,
                  drive: str = "torque", motion: tuple | None = None, torques: tuple | None = None,
-                 flexible: bool = False,
+                 flexible: bool = False, flexible_shield: bool = False,
                  preload: float = 0.0, params: PolycrankParameters | None = None) -> None:
         super().__init__()
         par = params or PolycrankParameters()
@@ -324,6 +363,7 @@ class PolycrankFragment(fl.Model):
         if not (preload >= 0 and math.isfinite(preload)):
             raise fl.ParameterError(f"PolycrankFragment: preload must be a finite tension >= 0 N, got {preload!r}")
         self.par, self.friction, self.flexible, self.preload = par, bool(friction), bool(flexible), float(preload)
+        self.flexible_shield = bool(flexible_shield)
         w4, w_o, w_c3, w_c4 = (float(w) for w in speeds)
         th4, th_o, th_c3, th_c4 = (float(a) for a in angles)
         hand = drive_torques(par, (th4, th_o, th_c3, th_c4))
@@ -382,21 +422,31 @@ class PolycrankFragment(fl.Model):
         return joint
 
     def _arm(self, th4: float, th_o: float, bearing: dict) -> None:
-        """Shield 4 on the base joint ``j4``, shield 5 on ``j5`` at its end and the load at shield 5's end."""
+        """Shield 4 on the base joint ``j4``, shield 5 on ``j5`` at its end and the load at shield 5's end; sets
+        ``_A2`` (the frame at ``A2`` that the grip discs' bearings and the load hang on) and ``_pins5`` (shield 5's
+        pin frames of the outer channel: ``None`` for the rigid shield, whose pins are offsets from ``j5``)."""
         par, z = self.par, [0.0, 0.0, 1.0]
         self.shield4 = Body(m=par.m_shield4, r_CM=[par.L4 / 2, 0, 0], I=np.eye(3) * par.I_shield4)
         self.to_A1 = FixedTranslation(r=[par.L4, 0.0, 0.0])
         self.j5 = Revolute(n=z, guess={"phi": th_o - th4}, **bearing)
-        self.shield5 = Body(m=par.m_shield5, r_CM=[par.L5 / 2, 0, 0], I=np.eye(3) * par.I_shield5)
-        self.to_A2 = FixedTranslation(r=[par.L5, 0.0, 0.0])
+        if self.flexible_shield:  # frames at A1, A2 and the six pins (polycrank_shield.SHIELD_FRAMES)
+            self.shield5 = FlexibleBody(shield_modal_data(par), modes=par.shield_modes, plane="xy")
+        else:
+            self.shield5 = Body(m=par.m_shield5, r_CM=[par.L5 / 2, 0, 0], I=np.eye(3) * par.I_shield5)
+            self.to_A2 = FixedTranslation(r=[par.L5, 0.0, 0.0])
         self.load = Body(m=par.m_load, r_CM=[0.0, 0.0, 0.0], I=np.eye(3) * 1e-6)
         self.connect(self.world.frame_b, self.j4.frame_a)
         self.connect(self.j4.frame_b, self.shield4.frame_a)
         self.connect(self.j4.frame_b, self.to_A1.frame_a)
         self.connect(self.to_A1.frame_b, self.j5.frame_a)
         self.connect(self.j5.frame_b, self.shield5.frame_a)
-        self.connect(self.j5.frame_b, self.to_A2.frame_a)
-        self.connect(self.to_A2.frame_b, self.load.frame_a)
+        if self.flexible_shield:
+            self._A2 = self.shield5.frame_b
+            self._pins5 = [self.shield5.frame_at(node) for node in self.shield5.frame_nodes[2:]]
+        else:
+            self.connect(self.j5.frame_b, self.to_A2.frame_a)
+            self._A2, self._pins5 = self.to_A2.frame_b, None
+        self.connect(self._A2, self.load.frame_a)
 
     def _disc_stack(self, ch: str, d0: Revolute, disc: dict, th: float, th4: float, th_o: float,
                     bearing: dict) -> None:
@@ -408,7 +458,8 @@ class PolycrankFragment(fl.Model):
         self.connect(self.world.frame_b, d0.frame_a)
         self.connect(d0.frame_b, getattr(self, f"disc0{ch}").frame_a)
         if ch == "o":
-            self._parallelogram(f"{ch}4", d0.frame_b, self.j5.frame_b, par.radius(ch), par.L4, th, th4)
+            self._parallelogram(f"{ch}4", d0.frame_b, self.j5.frame_b, par.radius(ch), par.L4, th, th4,
+                                pins_b=self._pins5)
             return
         d1 = Revolute(n=z, guess={"phi": th - th4}, **bearing)
         setattr(self, f"d1{ch}", d1)
@@ -419,20 +470,21 @@ class PolycrankFragment(fl.Model):
         d2 = Revolute(n=z, guess={"phi": th - th_o}, **bearing)
         setattr(self, f"d2{ch}", d2)
         setattr(self, f"disc2{ch}", Body(**disc))
-        self.connect(self.to_A2.frame_b, d2.frame_a)
+        self.connect(self._A2, d2.frame_a)
         self.connect(d2.frame_b, getattr(self, f"disc2{ch}").frame_a)
         self._parallelogram(f"{ch}5", d1.frame_b, d2.frame_b, par.radius(ch), par.L5, th, th_o)
 
     def _parallelogram(self, name: str, disc_a, disc_b, rho: float, length: float, th_disc: float,
-                       th_body: float) -> None:
-        """Six links from the pin circle of ``disc_a`` to that of ``disc_b``: pin revolute, link (massive rod of
-        ``length`` along its x axis), pin revolute; every link parallel to the body carrying the discs."""
+                       th_body: float, pins_b: list | None = None) -> None:
+        """Six links from the pin circle of ``disc_a`` to that of ``disc_b`` (or to the frames ``pins_b``: the
+        flexible shield's pin nodes): pin revolute, link (massive rod of ``length`` along its x axis), pin revolute;
+        every link parallel to the body carrying the discs."""
         par = self.par
         for k in range(par.n_links):
             pa = FixedTranslation(r=_pin(rho, k, par.n_links))
             ja = Revolute(n=[0.0, 0.0, 1.0], guess={"phi": th_body - th_disc})
             jb = Revolute(n=[0.0, 0.0, 1.0], guess={"phi": th_disc - th_body})
-            pb = FixedTranslation(r=_pin(rho, k, par.n_links))
+            pb = None if pins_b else FixedTranslation(r=_pin(rho, k, par.n_links))
             if self.flexible:  # the pull rod; its mount offset along the rod shortens it by the preload stretch
                 rod = FlexibleBody(rod_modal_data(par, length), geometric_stiffening=True)
                 mount = FixedTranslation(r=[-mount_stretch(par, length, self.preload), 0.0, 0.0])
@@ -444,7 +496,8 @@ class PolycrankFragment(fl.Model):
                             * length**2 / 12 + np.eye(3) * 1e-7)
                 parts = (("pa", pa), ("ja", ja), ("rod", rod), ("mass", mass), ("jb", jb), ("pb", pb))
             for part, comp in parts:
-                setattr(self, f"{name}_{part}{k + 1}", comp)
+                if comp is not None:
+                    setattr(self, f"{name}_{part}{k + 1}", comp)
             if not self.flexible:
                 self.connect(ja.frame_b, mass.frame_a)
             self.connect(disc_a, pa.frame_a)
@@ -455,5 +508,8 @@ class PolycrankFragment(fl.Model):
                 self.connect(mount.frame_b, jb.frame_a)
             else:
                 self.connect(rod.frame_b, jb.frame_a)
-            self.connect(disc_b, pb.frame_a)
-            self.connect(pb.frame_b, jb.frame_b)
+            if pins_b:
+                self.connect(pins_b[k], jb.frame_b)
+            else:
+                self.connect(disc_b, pb.frame_a)
+                self.connect(pb.frame_b, jb.frame_b)

@@ -14,7 +14,9 @@ coefficients (:func:`no_friction`), the preload is set by the rods' mount offset
 Run ``python -m flexlib.models.robots.polycrank_study [--out DIR] [--t-end T]``: a table of the figures and the PNGs
 ``energy.png`` (energy above the start), ``reactions.png`` (force in the grip disc's bearing, the cap–disc joint
 of the seed's Fig. 13, in shield 5's bearing, and the friction torque in shield 4's), ``stress.png`` (largest von
-Mises stress over the pull rods) and ``shield.png`` (shield 4's angle, speed and acceleration).
+Mises stress over the pull rods) and ``shield.png`` (shield 4's angle, speed and acceleration). With ``--shield``
+it prints only the lowest locked frequencies in the three poses with rigid and flexible shield 5
+(:func:`shield_frequencies`).
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from .polycrank import PolycrankFragment, PolycrankParameters, mechanical_energy
 __all__ = [
     "BEARINGS",
     "LOCKED",
+    "LOCKED_POSES",
     "PRELOAD",
     "PULSE",
     "SWING_POSE",
@@ -41,6 +44,7 @@ __all__ = [
     "plot_study",
     "pulse_model",
     "run_variants",
+    "shield_frequencies",
     "summary",
 ]
 
@@ -57,6 +61,8 @@ PRELOAD = 500.0
 BEARINGS = ("j4", "j5", "d0o", "d0c3", "d0c4", "d1c3", "d1c4", "d2c3", "d2c4")
 #: Joints locked for the modal analysis (ADAMS: "all rigid degrees of freedom blocked").
 LOCKED = ["j4", "d0o", "d0c3", "d0c4"]
+#: Poses of the locked modal analysis [rad]: the hanging pose, then every angle 45° and 90° further.
+LOCKED_POSES = [tuple(a + math.radians(turn) for a in SWING_POSE) for turn in (0, 45, 90)]
 
 
 def no_friction() -> dict[str, float]:
@@ -65,13 +71,15 @@ def no_friction() -> dict[str, float]:
 
 
 def pulse_model(flexible: bool, params: PolycrankParameters | None = None,
-                angles: tuple[float, float, float, float] = SWING_POSE, pulse: float = PULSE) -> PolycrankFragment:
+                angles: tuple[float, float, float, float] = SWING_POSE, pulse: float = PULSE,
+                flexible_shield: bool = False) -> PolycrankFragment:
     """The fragment with bearing friction, trimmed drives and the torque pulse ``pulse`` [N.m] on shield 4
-    (flexible: rods built with ``PRELOAD``, so that the preload is a run-time parameter)."""
+    (flexible: rods built with ``PRELOAD``, so that the preload is a run-time parameter; ``flexible_shield``: shield
+    5 flexible)."""
     t0, t1 = PULSE_START, PULSE_START + PULSE_WIDTH
     torques = (((0.0, t0, t1), (0.0, float(pulse), 0.0)), ((0.0,), (0.0,)), ((0.0,), (0.0,)), ((0.0,), (0.0,)))
     return PolycrankFragment(angles=angles, drive="trim", torques=torques, friction=True, flexible=flexible,
-                             preload=PRELOAD if flexible else 0.0, params=params)
+                             flexible_shield=flexible_shield, preload=PRELOAD if flexible else 0.0, params=params)
 
 
 def run_variants(t_end: float = 1.0, params: PolycrankParameters | None = None,
@@ -113,17 +121,39 @@ def summary(runs: dict[str, tuple[PolycrankFragment, fl.Result]], at: float = 0.
 
 
 def locked_frequencies(poses: list[tuple[float, float, float, float]], preload: float = PRELOAD,
-                       n: int = 4, params: PolycrankParameters | None = None) -> np.ndarray:
-    """Lowest ``n`` vibration frequencies [Hz] of the flexible fragment with the drives locked, at rest in each
-    pose (one build: the poses are start values and guesses), without friction; (len(poses), n)."""
+                       n: int = 4, params: PolycrankParameters | None = None, flexible_shield: bool = False,
+                       flexible: bool = True, codegen: bool | None = None) -> np.ndarray:
+    """Lowest ``n`` vibration frequencies [Hz] of the fragment with the drives locked, at rest in each pose (one
+    build: the poses are start values and guesses), without friction; (len(poses), n). ``flexible``: flexible pull
+    rods (with rigid ones ``preload`` must be 0 and the fragment needs ``flexible_shield``: rigid, it has no
+    degree of freedom left); ``flexible_shield``: shield 5 flexible; ``codegen``: the build's C code
+    (:class:`~flexlib.Simulation`; default its own)."""
     out = []
     for pose in poses:
-        model = pulse_model(True, params, angles=pose)
-        modes = fl.modal_analysis(model, lock=LOCKED, steady_state=True,
-                                  params={**no_friction(), **preload_params(model, preload)})
+        model = pulse_model(flexible, params, angles=pose, flexible_shield=flexible_shield)
+        sim = fl.Simulation(model) if codegen is None else fl.Simulation(model, codegen=codegen)
+        p = {**no_friction(), **(preload_params(model, preload) if flexible else {})}
+        modes = fl.modal_analysis(sim, lock=LOCKED, steady_state=True, params=p)
         f = modes.frequencies[modes.oscillatory]
         out.append(np.sort(f)[:n])
     return np.array(out)
+
+
+def shield_frequencies(preloads: tuple[float, ...] = (0.0, PRELOAD), n: int = 3,
+                       params: PolycrankParameters | None = None,
+                       codegen: bool | None = None) -> dict[str, np.ndarray]:
+    """The lowest ``n`` locked frequencies [Hz] (:func:`locked_frequencies`) in the study's three poses
+    (:data:`LOCKED_POSES`), rigid against flexible shield 5: ``{"rigid shield, <T> N": …, "flexible shield, <T>
+    N": …}`` for each rod preload ``T`` [N] (flexible pull rods), and ``"rigid rods, flexible shield"`` (the
+    shield's own mode on rigid links); each (3, n)."""
+    out = {}
+    for pre in preloads:
+        for shield in (False, True):
+            name = f"{'flexible' if shield else 'rigid'} shield, {pre:.0f} N"
+            out[name] = locked_frequencies(LOCKED_POSES, pre, n, params, flexible_shield=shield, codegen=codegen)
+    out["rigid rods, flexible shield"] = locked_frequencies(LOCKED_POSES, 0.0, n, params, flexible_shield=True,
+                                                            flexible=False, codegen=codegen)
+    return out
 
 
 def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | Path) -> list[Path]:
@@ -192,7 +222,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="polycrank_study", help="folder for the PNGs")
     parser.add_argument("--t-end", type=float, default=1.0, help="simulated time [s]")
+    parser.add_argument("--shield", action="store_true",
+                        help="only the lowest locked frequencies with rigid and flexible shield 5 (no pulse runs)")
     args = parser.parse_args()
+    if args.shield:
+        print("lowest frequencies, drives locked, in the three poses (hanging, +45°, +90°) [Hz]:")
+        for name, f in shield_frequencies(codegen=False).items():
+            print(f"  {name:<28} " + "; ".join(", ".join(f"{x:.1f}" for x in row) for row in f))
+        return
     runs = run_variants(args.t_end)
     print(f"{'variant':<18} {'energy left at 0.3 s':>21} {'|F| d2c3 [N]':>13} {'|F| j5 [N]':>11} "
           f"{'von Mises [MPa]':>16} {'friction j4 [N.m]':>18}")
@@ -200,9 +237,8 @@ def main() -> None:
         vm = f"{row['von_mises'] / 1e6:16.1f}" if "von_mises" in row else f"{'–':>16}"
         print(f"{row['variant']:<18} {row['energy_left']:21.3f} {row['d2c3_force']:13.0f} {row['j5_force']:11.0f} {vm}"
               f" {row['friction_j4']:18.3f}")
-    poses = [tuple(a + math.radians(turn) for a in SWING_POSE) for turn in (0, 45, 90)]
     for pre in (0.0, PRELOAD):
-        f = locked_frequencies(poses, preload=pre)
+        f = locked_frequencies(LOCKED_POSES, preload=pre)
         print(f"lowest frequencies, drives locked, preload {pre:.0f} N [Hz]: "
               + "; ".join(", ".join(f"{x:.1f}" for x in row) for row in f))
     for p in plot_study(runs, args.out):

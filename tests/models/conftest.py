@@ -29,3 +29,24 @@ def _cached_run(scenario: str, flexible: bool) -> fl.Result:
 def pump_truck_run() -> Callable[..., fl.Result]:
     """``pump_truck_run(scenario, flexible=False)``: the registered scenario's result (cached for the session)."""
     return _pump_truck_run
+
+
+@pytest.fixture(scope="session")
+def polycrank_flexible() -> tuple:
+    """``(model, sim)``: the POLYCRANK study's flexible fragment (``pulse_model(True)``: 30 Craig–Bampton pull rods,
+    rigid shields, bearing friction built in, rods mounted for the study's preload) in the hanging pose, on CasADi's
+    virtual machine (the runs here are short, and gcc would take minutes and 3 GB beside the suite); built once per
+    session."""
+    from flexlib.models.robots.polycrank_study import pulse_model
+
+    model = pulse_model(True)
+    return model, fl.Simulation(model, codegen=False)
+
+
+@pytest.fixture(scope="session")
+def polycrank_flexible_shield() -> tuple:
+    """``(model, sim)``: as :func:`polycrank_flexible` with shield 5 flexible too (``flexible_shield=True``)."""
+    from flexlib.models.robots.polycrank_study import pulse_model
+
+    model = pulse_model(True, flexible_shield=True)
+    return model, fl.Simulation(model, codegen=False)

@@ -38,10 +38,9 @@ RAISED = (0.3, 0.3 + math.radians(20), 0.3 + math.radians(10), 0.3 + math.radian
 
 
 @pytest.fixture(scope="module")
-def built():
-    model = pulse_model(True)
-    # CasADi's virtual machine, not C: the runs here are short, and gcc would take minutes and 3 GB beside the suite
-    return model, fl.Simulation(model, codegen=False)
+def built(polycrank_flexible):
+    """The session's flexible fragment (``tests/models/conftest.py``; shared with the flexible-shield tests)."""
+    return polycrank_flexible
 
 
 def _static(model, sim, preload: float) -> fl.Result:
