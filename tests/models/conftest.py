@@ -41,12 +41,3 @@ def polycrank_flexible() -> tuple:
 
     model = pulse_model(True)
     return model, fl.Simulation(model, codegen=False)
-
-
-@pytest.fixture(scope="session")
-def polycrank_flexible_shield() -> tuple:
-    """``(model, sim)``: as :func:`polycrank_flexible` with shield 5 flexible too (``flexible_shield=True``)."""
-    from flexlib.models.robots.polycrank_study import pulse_model
-
-    model = pulse_model(True, flexible_shield=True)
-    return model, fl.Simulation(model, codegen=False)
