@@ -165,7 +165,8 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         old = equations[r]
         expr, what = _reaction(simple, old.meta)
         outputs[f"{CHECK_PREFIX}{old.owner + ': ' if old.owner else ''}{old.label} (dual to the {what})"] = old.expr
-        equations[r] = FlatEquation(expr, old.owner, f"indeterminate reaction: {what} = 0", "redundant reaction")
+        equations[r] = FlatEquation(expr, old.owner, f"indeterminate reaction: {what} = 0", "redundant reaction",
+                                    ("reaction", len(report)))  # its line in the report
         report.append(f"{old.owner or '(model)'}: dropped redundant constraint '{old.label}'; {what} is "
                       "statically indeterminate and set to 0")
     return dataclasses.replace(simple, equations=equations, outputs=outputs, redundant=report)
