@@ -144,12 +144,14 @@ class Result:
         if name in ("time", "t"):
             return self.t
         if name in self._index:
-            self._warn_indeterminate([name])
+            if name in self.indeterminate:
+                self._warn_indeterminate([name])
             return self._read([self._index[name]])[:, 0]
         # array variables: "frame.r" -> columns r[0], r[1], ... as (len(t), 3); "frame.T" -> T[i,j] as (len(t), 3, 3)
         cols = self._arrays.get(name)
         if cols:
-            self._warn_indeterminate([self.names[k] for k in cols])
+            if self.indeterminate:
+                self._warn_indeterminate([self.names[k] for k in cols])
             data = self._read(cols)
             if name not in self._matrices:
                 return data

@@ -16,7 +16,8 @@ least-squares solution of the linearised rows ``J δ = e_k`` (sparse augmented s
 that no self-stress reaches). A variable whose response, relative to its nominal value, exceeds
 :data:`TOLERANCE` of the largest response to that ``λ_k`` is indeterminate; the rows ``k`` behind it are kept
 for the messages. The configuration is the start moved onto the kept loop rows (Gauss–Newton, as the rank
-test): a parallelogram's extra links are redundant only on the constraint manifold.
+test): a parallelogram's extra links are redundant only on the constraint manifold
+(``docs/decisions/034-indeterminate-reactions-by-self-stress-response.md``).
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spl
 
-from flexlib.compile.passes.multibody.redundancy import SMALL_MOTION_NOMINAL, _onto_loops, lookup_sym
+from flexlib.compile.passes.multibody.redundancy import SMALL_MOTION_NOMINAL, lookup_sym, onto_loops
 from flexlib.compile.redundancy import CHECK_PREFIX
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.tearing import is_derivative
@@ -37,8 +38,8 @@ from flexlib.core.variables import lookup
 __all__ = ["TOLERANCE", "indeterminate_reactions"]
 
 #: A variable responds to a self-stress if its response (over its nominal value) exceeds this fraction of the
-#: largest response to the same zeroed reaction. Measured: responses of determinate variables stay below 1e-14
-#: of the largest (four-bar, POLYCRANK, pump truck), those of indeterminate ones above 1e-3.
+#: largest response to the same zeroed reaction (the separation measured:
+#: ``docs/decisions/034-indeterminate-reactions-by-self-stress-response.md``).
 TOLERANCE = 1e-8
 
 
@@ -118,7 +119,7 @@ def _closed_start(simple: SimpleSystem, P: ca.SX, pv: np.ndarray, Z: ca.SX) -> n
     lfun = ca.Function("L", [point], [L])
     gfun = ca.Function("G", [point], [ca.jacobian(L, q)])
     nom = np.array([simple.variables[k].nominal for k in cols], dtype=float)
-    closed = _onto_loops(lfun, gfun, np.concatenate([x[cols], pv]), nom * (nom >= SMALL_MOTION_NOMINAL))
+    closed = onto_loops(lfun, gfun, np.concatenate([x[cols], pv]), nom * (nom >= SMALL_MOTION_NOMINAL))
     if closed is not None:
         x[cols] = closed[:len(cols)]
     return x
