@@ -21,7 +21,7 @@ from typing import Any
 
 from flexlib.errors import IndeterminateReactionWarning
 
-__all__ = ["FOOTNOTE", "MARK", "decode", "encode", "from_rows", "label", "message", "warn_read"]
+__all__ = ["FOOTNOTE", "MARK", "decode", "encode", "from_rows", "message", "warn_read"]
 
 #: Appended to a variable's row in ``Result.summary`` and to its legend entry in ``Result.plot``.
 MARK = "(indeterminate)"
@@ -87,13 +87,3 @@ def warn_read(model: str, names: Iterable[str], mark: dict[str, tuple[str, ...]]
         frame, level = frame.f_back, level + 1
     warnings.warn(IndeterminateReactionWarning(message(model, new, mark)), stacklevel=level)
 
-
-def label(elements: list[str], mark: dict[str, tuple[str, ...]]) -> str:
-    """The mark of a plotted variable with element names ``elements``: ``" (indeterminate)"`` if every one is
-    marked, ``" (indeterminate: [2], [0])"`` naming the marked elements of an array if some are, else ``""``."""
-    marked = [n for n in elements if n in mark]
-    if not marked:
-        return ""
-    if len(marked) == len(elements):
-        return f" {MARK}"
-    return f" ({MARK[1:-1]}: {', '.join(n[n.index('['):] for n in marked)})"

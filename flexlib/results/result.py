@@ -312,9 +312,9 @@ class Result:
         return self[name] * factor, shown
 
     def plot(self, *names: str, ax: Any = None, title: str | None = None, si: bool = False) -> Any:
-        """Plot variables against time with matplotlib (display units unless ``si``); returns the Axes. A statically
-        indeterminate variable (:attr:`indeterminate`) has ``(indeterminate)`` in its legend entry (an array: the
-        marked elements).
+        """Plot variables against time with matplotlib (display units unless ``si``; an array variable: a line per
+        element); returns the Axes. A statically indeterminate variable (:attr:`indeterminate`) has
+        ``(indeterminate)`` in its legend entry.
 
         Raises
         ------
@@ -339,10 +339,16 @@ class Result:
         self._warn_indeterminate(self._element_names(names))  # one warning for the plot; the legend marks them
         for name in names:
             values, unit = (self[name], self.unit(name)) if si else self.display(name)
-            if values.ndim > 2:  # a matrix: its elements
+            if values.ndim == 1:
+                labels = [name]
+            elif values.ndim == 2:  # a vector: its elements
+                labels = self.elements(name)
+            else:  # a matrix: its elements, row by row
+                labels = [f"{name}[{i},{j}]" for i in range(values.shape[1]) for j in range(values.shape[2])]
                 values = values.reshape(len(values), int(np.prod(values.shape[1:])))
-            mark = _indeterminate.label(self._element_names((name,)), self.indeterminate)
-            ax.plot(self.t, values, label=f"{name} [{unit}]{mark}")
+            for label, column in zip(labels, values.reshape(len(values), len(labels)).T, strict=True):
+                mark = f" {_indeterminate.MARK}" if label in self.indeterminate else ""
+                ax.plot(self.t, column, label=f"{label} [{unit}]{mark}")
             units.append(unit)
         ax.set_xlabel("time [s]")
         if len(set(units)) == 1:  # one unit: the axis says it (a legend relabelled by the caller keeps it)

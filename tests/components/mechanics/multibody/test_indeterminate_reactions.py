@@ -131,6 +131,13 @@ def test_rigid_four_bar_marks_its_out_of_plane_reactions_and_reading_one_warns()
     marked = [line.split()[0] for line in lines if line.endswith("(indeterminate)")]
     assert marked == ["ground4.frame_b.t[0]", "ground4.frame_b.t[1]"]
     assert lines[-1].startswith("(indeterminate): statically indeterminate")
+    import matplotlib.pyplot as plt
+
+    ax = res.plot("rev1.frame_a.f", "rev1.tau", "ground4.frame_b.t[1]")  # each already warned about: no warning
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+        "rev1.frame_a.f[0] [N]", "rev1.frame_a.f[1] [N]", "rev1.frame_a.f[2] [N] (indeterminate)", "rev1.tau [N.m]",
+        "ground4.frame_b.t[1] [N.m] (indeterminate)"]
+    plt.close(ax.figure)
 
 
 def test_the_mark_is_what_another_cut_or_a_bushing_changes():
@@ -167,7 +174,7 @@ def test_the_mark_is_what_another_cut_or_a_bushing_changes():
 
 def test_cached_build_and_result_file_keep_the_mark(tmp_path):
     """A build loaded from the cache carries the same mark as the fresh one; a result saved and loaded keeps it
-    (and a file without it reads as none)."""
+    (and a file without it reads as none); ``flexlib show --signals`` marks it in its table instead of warning."""
     fresh = fl.build(LockedFourBar(), use_cache=False)
     fl.build(LockedFourBar())
     cached = fl.build(LockedFourBar())
@@ -180,6 +187,14 @@ def test_cached_build_and_result_file_keep_the_mark(tmp_path):
     assert loaded.indeterminate == res.indeterminate
     with pytest.warns(fl.IndeterminateReactionWarning, match=r"rev1\.frame_a\.t\[0\]"):
         loaded["rev1.frame_a.t[0]"]
+    from click.testing import CliRunner
+
+    from flexlib.cli import cli
+
+    shown = CliRunner().invoke(cli, ["show", str(path), "--signals", "rev1.frame_a.f"], env={"COLUMNS": "200"},
+                               catch_exceptions=False)
+    assert shown.exit_code == 0
+    assert "rev1.frame_a.f[2] (indeterminate)" in shown.output and "rev1.frame_a.f[0] (" not in shown.output
     import h5py
 
     older = tmp_path / "older.h5"
