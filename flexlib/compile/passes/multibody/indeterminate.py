@@ -32,8 +32,6 @@ import scipy.sparse.linalg as spl
 from flexlib.compile.passes.multibody.redundancy import SMALL_MOTION_NOMINAL, lookup_sym, onto_loops
 from flexlib.compile.redundancy import CHECK_PREFIX
 from flexlib.compile.simplify import SimpleSystem
-from flexlib.compile.tearing import is_derivative
-from flexlib.core.variables import lookup
 
 __all__ = ["TOLERANCE", "indeterminate_reactions"]
 
@@ -62,8 +60,7 @@ def indeterminate_reactions(simple: SimpleSystem, params: dict[int, float]) -> S
     if not reactions:
         return simple
     R = ca.vertcat(*[e.expr for e in eqs])
-    ders = [s for s in ca.symvar(R) if is_derivative(s)]
-    held = {h for s in ders for h in (lookup(s).base.sym.element_hash(), lookup(s).root.sym.element_hash())}
+    D, held = _derivatives(simple, R)
     free = [v for v in simple.variables if v.sym.element_hash() not in held]
     psyms = [(lookup_sym(h), x) for h, x in params.items()]
     psyms = [(p, x) for p, x in psyms if p is not None]
@@ -71,7 +68,6 @@ def indeterminate_reactions(simple: SimpleSystem, params: dict[int, float]) -> S
     pv = np.array([x for _, x in psyms], dtype=float)
     rel = [rel.info.sym for rel, _ in simple.relations]  # relations at their false side, as in the rank test
     X = ca.vertcat(*[v.sym for v in simple.variables])
-    D = ca.vertcat(*ders) if ders else ca.SX(0, 1)
     Z = ca.vertcat(*rel) if rel else ca.SX(0, 1)
     A = ca.vertcat(*[v.sym for v in free])
     x = _closed_start(simple, P, pv, Z)
@@ -93,6 +89,23 @@ def indeterminate_reactions(simple: SimpleSystem, params: dict[int, float]) -> S
     hit = response > TOLERANCE * np.where(largest > 0, largest, np.inf)
     found = {names[i]: [int(k) for k in np.flatnonzero(hit[i])] for i in np.flatnonzero(hit.any(axis=1))}
     return dataclasses.replace(simple, indeterminate=found)
+
+
+def _derivatives(simple: SimpleSystem, R: ca.SX) -> tuple[ca.SX, set[int]]:
+    """The derivative symbols the rows ``R`` may contain (every order of every remaining unknown that has one) and
+    the unknowns whose derivatives they do contain (the states, by symbol hash): ``which_depends`` on the
+    candidates, a small fraction of the time ``symvar`` takes on a machine's rows."""
+    chains: list[tuple[int, ca.SX]] = []
+    for v in simple.variables:
+        info = v.info._der
+        while info is not None:
+            chains.append((v.sym.element_hash(), info.sym))
+            info = info._der
+    if not chains:
+        return ca.SX(0, 1), set()
+    D = ca.vertcat(*[d for _, d in chains])
+    appear = ca.which_depends(R, D, 1, False)
+    return D, {h for (h, _), a in zip(chains, appear, strict=True) if a}
 
 
 def _evaluate(expr: ca.SX, syms: list[ca.SX], values: list[np.ndarray]) -> sp.csr_matrix:
