@@ -21,6 +21,7 @@ import math
 import os
 import re
 import tempfile
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -32,7 +33,7 @@ from rich.text import Text
 
 from flexlib.cli_results import compare_cmd, show_cmd
 from flexlib.cli_support import fmt, friendly, new_console, once_option, one_line, say
-from flexlib.errors import FlexlibError, RegistryError, ResultKeyError, SolverError
+from flexlib.errors import FlexlibError, IndeterminateReactionWarning, RegistryError, ResultKeyError, SolverError
 from flexlib.results.compare import compare_results
 from flexlib.solve.solvers import SOLVERS
 
@@ -414,15 +415,20 @@ def _print_summary(done: Any, out: str | None) -> None:
     res.prefetch(*signals)  # one pass over the rows for all of them
     for name in signals:
         try:
-            values, unit = res.display(name)
+            with warnings.catch_warnings():  # statically indeterminate signals are marked in the table instead
+                warnings.simplefilter("ignore", IndeterminateReactionWarning)
+                values, unit = res.display(name)
         except ResultKeyError as err:
             missing.append(one_line(err))
             continue
         elems = res.elements(name)  # an array: a row per element (a matrix's in column order, as its names)
-        columns = [values] if values.ndim == 1 else [res.display(elem)[0] for elem in elems]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", IndeterminateReactionWarning)
+            columns = [values] if values.ndim == 1 else [res.display(elem)[0] for elem in elems]
         for col, elem in zip(columns, elems, strict=True):
             k = int(np.argmax(np.abs(col)))
             component, _, leaf = elem.rpartition(".")
+            leaf += " (indeterminate)" if elem in res.indeterminate else ""
             short = [f"{x:.4g}" for x in (col.min(), col.max(), res.t[k])]  # 80 columns
             groups.setdefault(component, []).append((leaf, unit, *short))
     # grouped by component (its name once, then its variables), no column rules, four significant digits: the

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -14,7 +15,7 @@ import numpy as np
 from rich.table import Table
 
 from flexlib.cli_support import fmt, friendly, new_console, once_option, one_line, say
-from flexlib.errors import ResultKeyError
+from flexlib.errors import IndeterminateReactionWarning, ResultKeyError
 from flexlib.results.compare import compare
 
 __all__ = ["compare_cmd", "show_cmd"]
@@ -256,7 +257,8 @@ def show_cmd(file: str, patterns: tuple[str, ...]) -> None:
 
 
 def _signal_table(res: Any, names: list[str]) -> Table:
-    """Unit, min, max and final value of ``names`` (SI; NaN and inf ignored in min and max, counted)."""
+    """Unit, min, max and final value of ``names`` (SI; NaN and inf ignored in min and max, counted); a statically
+    indeterminate variable (``res.indeterminate``) is marked ``(indeterminate)`` instead of warned about."""
     table = Table(title=f"{len(names)} variable{'' if len(names) == 1 else 's'} (SI units)")
     for col, justify in (("variable", "left"), ("unit", "left"), ("min", "right"), ("max", "right"),
                          ("final", "right"), ("NaN/inf", "right"), ("description", "left")):
@@ -264,11 +266,14 @@ def _signal_table(res: Any, names: list[str]) -> Table:
     index = {n: k for k, n in enumerate(res.names)}
     for name in names:
         k = index[name]
-        x = res[name]
+        with warnings.catch_warnings():  # statically indeterminate: marked in the table instead
+            warnings.simplefilter("ignore", IndeterminateReactionWarning)
+            x = res[name]
         finite = x[np.isfinite(x)]
         lo, hi = (fmt(finite.min()), fmt(finite.max())) if finite.size else ("-", "-")
         final = fmt(x[-1]) if len(x) else "-"
-        table.add_row(name, res.units[k], lo, hi, final, str(len(x) - finite.size), res.docs[k])
+        shown = f"{name} (indeterminate)" if name in res.indeterminate else name
+        table.add_row(shown, res.units[k], lo, hi, final, str(len(x) - finite.size), res.docs[k])
     return table
 
 

@@ -14,6 +14,7 @@ __all__ = [
     "ConnectError",
     "EmptyResultError",
     "FlexlibError",
+    "IndeterminateReactionWarning",
     "InitializationError",
     "LinearizationError",
     "ModalDataWarning",
@@ -178,3 +179,9 @@ class ModalValidityWarning(UserWarning):
 class ModelWarning(UserWarning):
     """A model that runs but is probably not what was meant: a component connected to nothing that has no effect
     on the rest of the model (Modelica tools' check of unconnected components); the message names it."""
+
+
+class IndeterminateReactionWarning(UserWarning):
+    """A read of a force or torque that the rigid model does not determine: the mechanism is over-constrained, the
+    build dropped redundant loop rows, and the value depends on which ones (``result.indeterminate``); the message
+    names the variables, the dropped rows and the compliant alternatives (a ``Bushing``, a flexible body)."""

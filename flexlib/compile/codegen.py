@@ -129,6 +129,9 @@ class CompiledModel:
     derivative_level: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     #: parameter conditions the build relied on (``constants.eliminate_constants``), checked at every run
     assumed: dict[str, str] = field(default_factory=dict)
+    #: variables the redundant loop rows leave statically indeterminate, each with the indices in
+    #: ``report.redundant`` of the rows that do (``passes.multibody.indeterminate``)
+    indeterminate: dict[str, list[int]] = field(default_factory=dict)
     #: called with the model when a library compiled in the background has been adopted (the cache updates
     #: its entry); set by the pipeline, never stored
     on_library: Any = field(default=None, repr=False, compare=False)
@@ -369,6 +372,8 @@ _FIELD_CHECKS: dict[str, Any] = {
     "col_names": str_list,
     "check_labels": str_list,
     "assumed": lambda v, w: {expect(k, str, w): expect(s, str, w) for k, s in expect(v, dict, w).items()},
+    "indeterminate": lambda v, w: {expect(k, str, w): [expect(i, int, w) for i in expect(rows, list, w)]
+                                   for k, rows in expect(v, dict, w).items()},
     "levels": levels,
     "start_guesses": lambda v, w: {expect(k, str, w): float(expect(x, (int, float), w))
                                    for k, x in expect(v, dict, w).items()},
@@ -424,6 +429,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
     var_by_name = {v.name: v for v in flat.variables}
     variables = [VariableInfo(name, v.unit, v.doc, v.kind.value, v.owner)
                  for name in out_names for v in (var_by_name[name],)]
+    named = set(out_names)
     model = CompiledModel(
         name=flat.name, n=y.numel(), y_names=dae.names, y_owners=dae.owners, differential=dae.differential,
         nominal=dae.nominal, start_sources=_start_sources(simple, dae),
@@ -438,6 +444,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
                 for lev in dae.levels],
         cond_depends=_depends_on_y(dae.conditions, y, yp),
         assumed=dict(simple.assumed),
+        indeterminate={k: v for k, v in simple.indeterminate.items() if k in named},
     )
     model._structure = dae.structure
     model._sx = dict(fns)

@@ -55,6 +55,9 @@ class IndexReport:
         Derivatives made algebraic (their variables are not states).
     redundant : list of str
         Redundant loop-closure constraints that were dropped, with the reaction set to zero.
+    indeterminate : int
+        Number of variables those rows leave statically indeterminate (results list them:
+        ``Result.indeterminate``).
     explicit : list of str
         Algebraic unknowns eliminated after index reduction because one row gives them explicitly
         (:mod:`flexlib.compile.explicit`); results report them through their expressions.
@@ -69,6 +72,7 @@ class IndexReport:
     tree_frames: str = ""
     """Frame kinematics of the kinematic tree torn or kept as unknowns, and why
     (``compile/passes/multibody/tearing.py``)."""
+    indeterminate: int = 0
 
     def __str__(self) -> str:
         lines = [f"DAE index {self.index}; {len(self.states)} states"]
@@ -81,6 +85,9 @@ class IndexReport:
         if self.redundant:
             lines.append("Redundant constraints removed:")
             lines += [f"  {text}" for text in self.redundant]
+            if self.indeterminate:
+                lines.append(f"  they leave {self.indeterminate} variables statically indeterminate (marked in "
+                             "results: result.indeterminate; a Bushing or a flexible link determines them)")
         if self.explicit:
             lines.append(f"Explicit algebraics eliminated ({len(self.explicit)}): " + ", ".join(self.explicit))
         if self.tree_frames:
@@ -563,4 +570,4 @@ def _report(simple: SimpleSystem, rows: list[Row], cols: list[Col], dummies: set
     states = [col_name(c, variables) for k, c in enumerate(cols) if is_state[k]]
     dummy_names = [col_name(cols[k], variables) for k in sorted(dummies)]
     return IndexReport(index, differentiated, states, dummy_names, list(simple.redundant),
-                       tree_frames=simple.tree_frames)
+                       tree_frames=simple.tree_frames, indeterminate=len(simple.indeterminate))

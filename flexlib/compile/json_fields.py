@@ -59,6 +59,7 @@ def index_report(v: Any, what: str) -> IndexReport:
                           for o, e, k in expect(rep.differentiated, list, what)]
     for name in ("states", "dummy_derivatives", "redundant", "explicit"):
         setattr(rep, name, str_list(getattr(rep, name), what))
+    expect(rep.indeterminate, int, what)
     return rep
 
 

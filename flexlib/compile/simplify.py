@@ -67,6 +67,9 @@ class SimpleSystem:
     """Derivative rules of remaining unknowns (by symbol hash), written in the remaining unknowns."""
     redundant: list[str] = dataclasses.field(default_factory=list)
     """Redundant loop-closure constraints that were dropped (filled by ``redundancy.remove_redundant``)."""
+    indeterminate: dict[str, list[int]] = dataclasses.field(default_factory=dict)
+    """Variables (by name) that the dropped rows leave statically indeterminate, each with the indices in
+    ``redundant`` of the rows that do (filled by ``passes.multibody.indeterminate``)."""
     assumed: dict[str, str] = dataclasses.field(default_factory=dict)
     """Conditions on parameters (name → ``"= 0"``, ``"> 0"``, ``"< 0"``) that the elimination of constants
     relies on (``constants.py``); a run violating one is refused."""

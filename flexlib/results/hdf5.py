@@ -27,6 +27,7 @@ import h5py
 import numpy as np
 
 from flexlib.errors import ResultFileError, ResultKeyError, ResultSaveWarning, RunArgumentError, SimulationInterrupted
+from flexlib.results import indeterminate as mark
 from flexlib.results.result import Result
 from flexlib.results.stored import FileColumns, FilePart, StoredPart, pack_function, unique_columns
 
@@ -254,6 +255,7 @@ def _write(result: Result, tmp: str, outputs: str | Sequence[str] | None) -> Non
         f.attrs["status"] = result.status
         f.attrs["message"] = result.message
         f.attrs["index_report"] = result.index_report
+        f.attrs["indeterminate"] = mark.encode(result.indeterminate)
         for key, val in result.metadata.items():
             f.attrs[f"meta_{key}"] = str(val)
         ds = f.create_dataset("time", data=np.asarray(result.t, dtype=float).reshape(-1))
@@ -529,7 +531,7 @@ def _read(f: h5py.File, path: Path) -> Result:
         parameters={n: (float(v), u) for n, v, u in zip(pnames, pvalues, punits, strict=True)},
         stats=stats, status=status, message=str(f.attrs["message"]),
         events=list(zip(ev_t.tolist(), ev_text, strict=True)), index_report=str(f.attrs["index_report"]),
-        metadata=meta, source=source,
+        metadata=meta, source=source, indeterminate=mark.decode(f.attrs.get("indeterminate"), bad),
     )
 
 

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import EmptyResultError, ResultKeyError, RunArgumentError
+from flexlib.results import indeterminate as _indeterminate
 
 __all__ = ["DISPLAY_UNITS", "Result", "event_rows"]
 
@@ -58,6 +59,11 @@ class Result:
     source : object, optional
         Where the values come from when ``values`` is None: ``source.columns(cols)`` (some variables, by column)
         and ``source.all()`` (every one), each ``(len(t), ·)`` (:class:`flexlib.solve.assemble.RowColumns`).
+    indeterminate : dict of str to tuple of str
+        The variables (element names, ``"j5.frame_a.f[0]"``) that the over-constrained rigid model does not
+        determine, each with the redundant loop rows the build dropped that leave it free (``docs/engine.md``,
+        "Statically indeterminate reactions"). Reading one by name warns once
+        (:class:`~flexlib.errors.IndeterminateReactionWarning`); :meth:`summary` and :meth:`plot` mark them.
     """
 
     model: str
@@ -75,6 +81,7 @@ class Result:
     index_report: str = ""
     metadata: dict[str, str] = field(default_factory=dict)
     source: Any = field(default=None, repr=False, compare=False)
+    indeterminate: dict[str, tuple[str, ...]] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
         if self._values is None and self.source is None:
@@ -82,6 +89,7 @@ class Result:
         if self._values is not None:  # values given (dataclasses.replace(result, values=...)): they define the result
             self.source = None
         self._columns: dict[int, np.ndarray] = {}  # variables read one by one from the source
+        self._warned: set[str] = set()  # indeterminate variables whose read has warned
         self._index = {n: k for k, n in enumerate(self.names)}
         self._arrays: dict[str, list[int]] = {}  # "frame.r" -> columns of r[0], r[1], ... (in column order)
         for k, n in enumerate(self.names):
@@ -136,10 +144,14 @@ class Result:
         if name in ("time", "t"):
             return self.t
         if name in self._index:
+            if name in self.indeterminate:
+                self._warn_indeterminate([name])
             return self._read([self._index[name]])[:, 0]
         # array variables: "frame.r" -> columns r[0], r[1], ... as (len(t), 3); "frame.T" -> T[i,j] as (len(t), 3, 3)
         cols = self._arrays.get(name)
         if cols:
+            if self.indeterminate:
+                self._warn_indeterminate([self.names[k] for k in cols])
             data = self._read(cols)
             if name not in self._matrices:
                 return data
@@ -148,6 +160,16 @@ class Result:
             out[:, rows, columns] = data
             return out
         raise self._unknown(name)
+
+    def _warn_indeterminate(self, names: list[str]) -> None:
+        """Warn once per variable that ``names`` (element names) read are indeterminate (:attr:`indeterminate`)."""
+        if self.indeterminate:
+            _indeterminate.warn_read(self.model, names, self.indeterminate, self._warned)
+
+    def _element_names(self, names: tuple[str, ...]) -> list[str]:
+        """The element names of ``names`` (scalars as they are, arrays by element; unknown names skipped)."""
+        return [n for name in names for n in ([name] if name in self._index else
+                                                [self.names[k] for k in self._arrays.get(name, [])])]
 
     def prefetch(self, *names: str) -> None:
         """Evaluate the variables ``names`` (names or array names; unknown ones are skipped) together, in one pass
@@ -290,7 +312,9 @@ class Result:
         return self[name] * factor, shown
 
     def plot(self, *names: str, ax: Any = None, title: str | None = None, si: bool = False) -> Any:
-        """Plot variables against time with matplotlib (display units unless ``si``); returns the Axes.
+        """Plot variables against time with matplotlib (display units unless ``si``; an array variable: a line per
+        element); returns the Axes. A statically indeterminate variable (:attr:`indeterminate`) has
+        ``(indeterminate)`` in its legend entry.
 
         Raises
         ------
@@ -312,11 +336,19 @@ class Result:
         if ax is None:
             _, ax = plt.subplots(figsize=(8, 4.5))
         units = []
+        self._warn_indeterminate(self._element_names(names))  # one warning for the plot; the legend marks them
         for name in names:
             values, unit = (self[name], self.unit(name)) if si else self.display(name)
-            if values.ndim > 2:  # a matrix: its elements
+            if values.ndim == 1:
+                labels = [name]
+            elif values.ndim == 2:  # a vector: its elements
+                labels = self.elements(name)
+            else:  # a matrix: its elements, row by row
+                labels = [f"{name}[{i},{j}]" for i in range(values.shape[1]) for j in range(values.shape[2])]
                 values = values.reshape(len(values), int(np.prod(values.shape[1:])))
-            ax.plot(self.t, values, label=f"{name} [{unit}]")
+            for label, column in zip(labels, values.reshape(len(values), len(labels)).T, strict=True):
+                mark = f" {_indeterminate.MARK}" if label in self.indeterminate else ""
+                ax.plot(self.t, column, label=f"{label} [{unit}]{mark}")
             units.append(unit)
         ax.set_xlabel("time [s]")
         if len(set(units)) == 1:  # one unit: the axis says it (a legend relabelled by the caller keeps it)
@@ -331,7 +363,8 @@ class Result:
         """The variables ``names`` (default: every one) as a pandas DataFrame (pandas is optional: ``pip install
         pandas``): one column per variable (an array variable: one per element), indexed by time [s] (an event's
         left and right rows share its time); SI values, or with ``display=True`` in display units (bar, L/min,
-        rpm). ``frame.attrs["units"]`` maps each column to its unit.
+        rpm). ``frame.attrs["units"]`` maps each column to its unit, ``frame.attrs["indeterminate"]`` lists the
+        statically indeterminate columns (:attr:`indeterminate`; reading them warns once).
 
         Raises
         ------
@@ -354,27 +387,37 @@ class Result:
             else:
                 raise self._unknown(name)
         data, units = {}, {}
+        self._warn_indeterminate(columns)  # one warning for the frame
         for name in columns:
             values, unit = self.display(name) if display else (self[name], self.unit(name))
             data[name], units[name] = np.asarray(values, dtype=float), unit
         frame = pd.DataFrame(data, index=pd.Index(np.asarray(self.t, dtype=float), name="time [s]"))
         frame.attrs["units"] = units
+        frame.attrs["indeterminate"] = [n for n in columns if n in self.indeterminate]
         return frame
 
     def summary(self, *names: str) -> str:
         """Table of final, minimum and maximum values in display units (flows in L/min, pressures in bar).
 
         A result without rows (a run that failed at its start) gives the table with ``-`` and a line saying
-        why; a result that did not succeed says so in its last line."""
+        why; a result that did not succeed says so in its last line. A statically indeterminate variable
+        (:attr:`indeterminate`) has ``(indeterminate)`` at the end of its row and a footnote says what it means."""
         self._check_names("summary", names)
         rows = [f"{'variable':<36} {'unit':>7} {'final':>12} {'min':>12} {'max':>12}"]
+        self._warn_indeterminate(self._element_names(names))  # one warning for the table; its rows mark them
+
+        def mark(n: str) -> str:
+            return f"  {_indeterminate.MARK}" if n in self.indeterminate else ""
+
         for name in names:
             values, unit = self.display(name)
             if values.ndim > 1:  # array variable: one row per element
                 elems = [n for n in self.names if n.startswith(name + "[")]
-                rows += [self._summary_row(n, *self.display(n)) for n in elems]
+                rows += [self._summary_row(n, *self.display(n)) + mark(n) for n in elems]
             else:
-                rows.append(self._summary_row(name, values, unit))
+                rows.append(self._summary_row(name, values, unit) + mark(name))
+        if any(mark(n) for n in self._element_names(names)):
+            rows.append(_indeterminate.FOOTNOTE)
         if not self.success:
             message = " ".join(self.message.split())
             rows.append(f"({self.status}: {message})" if message else f"({self.status})")

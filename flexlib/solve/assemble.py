@@ -13,6 +13,7 @@ import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import ResultCheckWarning
+from flexlib.results.indeterminate import from_rows
 from flexlib.results.result import Result
 from flexlib.results.stored import (
     OutputMap,
@@ -188,4 +189,5 @@ def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: 
         parameters={n: (float(v), u) for n, v, u in zip(m.param_names, pvec, m.param_units, strict=True)},
         stats=stats, status=traj.status, message=traj.message, events=list(traj.events),
         index_report=str(m.report), metadata=meta, source=source,
+        indeterminate=from_rows(m.indeterminate, m.report.redundant),
     )

@@ -31,6 +31,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import asdict
 from pathlib import Path
@@ -38,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from flexlib.errors import IndeterminateReactionWarning
 from flexlib.fe import FEModel, ModalData, beam_mesh, box, modal_data_from_fe
 from flexlib.fe.geometric import inertial_load_amplitudes
 
@@ -236,17 +238,23 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
 
     frames = [(f"section{j}.tip", (L, 0.0))] + [(f"section{j}.pin_{pin}", points[name])
                                                 for pin, name in PIN_POINTS.items() if name in points]
+
+    def cut(name: str) -> np.ndarray:
+        # the rigid boom's linkages are over-constrained out of their plane: the out-of-plane components are
+        # statically indeterminate, zero in the run (the dropped rows'), and taken as zero here
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", IndeterminateReactionWarning)
+            return np.asarray(result[name], dtype=float).reshape(nt, 3)
+
     for path, (px, py) in frames:
         if f"{path}.frame_b.f[0]" not in result.names:
             continue
-        F = np.asarray(result[f"{path}.frame_b.f"], dtype=float).reshape(nt, 3)
-        M = np.asarray(result[f"{path}.frame_b.t"], dtype=float).reshape(nt, 3)
+        F, M = cut(f"{path}.frame_b.f"), cut(f"{path}.frame_b.t")
         node = station_node(x, data.node_ids, px, L)
         offset = np.array([px, py, 0.0]) - data.coordinates[data.node_index(node)]
         add(node, F, M + np.cross(offset, F))
     root = station_node(x, data.node_ids, 0.0, L)
-    add(root, -np.asarray(result[f"joint{j}.frame_b.f"], dtype=float).reshape(nt, 3),
-        -np.asarray(result[f"joint{j}.frame_b.t"], dtype=float).reshape(nt, 3))
+    add(root, -cut(f"joint{j}.frame_b.f"), -cut(f"joint{j}.frame_b.t"))
     zero = np.zeros(nt)
     return np.column_stack([np.broadcast_to(values.get(c, zero), (nt,)) for c in data.load_cases])
 

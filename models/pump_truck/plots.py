@@ -116,13 +116,15 @@ def _pressures(result: Any, t: np.ndarray, directory: Path) -> Path:
 
 
 def _hinge_forces(result: Any, t: np.ndarray, directory: Path) -> Path:
-    """``hinge_forces.png``: each joint's force, magnitude and components in the joint frame."""
+    """``hinge_forces.png``: each joint's force in the boom's plane, magnitude and components in the joint frame
+    (the out-of-plane component is statically indeterminate in the rigid boom: its linkages are over-constrained out
+    of their plane)."""
     import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(2, 1, figsize=(10, 7), sharex=True)
     for k, n in enumerate(_joints(result)):
         colour = f"C{k}"  # one colour per joint in both panels
-        f = np.asarray(result[f"joint{n}.frame_b.f"], dtype=float).reshape(len(t), 3)
+        f = np.column_stack([result[f"joint{n}.frame_b.f[{i}]"] for i in (0, 1)])
         ax.plot(t, np.linalg.norm(f, axis=1) / 1e3, color=colour, label=f"joint {n}")
         ax2.plot(t, f[:, 0] / 1e3, color=colour, label=f"joint {n} x")
         ax2.plot(t, f[:, 1] / 1e3, "--", color=colour, label=f"joint {n} y")

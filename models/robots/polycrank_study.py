@@ -17,12 +17,17 @@ of the seed's Fig. 13, in shield 5's bearing, and the friction torque in shield 
 Mises stress over the pull rods) and ``shield.png`` (shield 4's angle, speed and acceleration). With ``--shield``
 it prints only the lowest locked frequencies in the three poses with rigid and flexible shield 5
 (:func:`shield_frequencies`).
+
+The rigid fragment's bearing forces are statically indeterminate (``Result.indeterminate``: the over-constrained
+parallelograms share the load with the bearings as the dropped loop rows let them); the table marks them with
+``*`` and the figure's panel titles name the variants whose force is indeterminate; their reads here do not warn.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +44,7 @@ __all__ = [
     "PRELOAD",
     "PULSE",
     "SWING_POSE",
+    "bearing_force",
     "locked_frequencies",
     "no_friction",
     "plot_study",
@@ -63,6 +69,16 @@ BEARINGS = ("j4", "j5", "d0o", "d0c3", "d0c4", "d1c3", "d1c4", "d2c3", "d2c4")
 LOCKED = ["j4", "d0o", "d0c3", "d0c4"]
 #: Poses of the locked modal analysis [rad]: the hanging pose, then every angle 45° and 90° further.
 LOCKED_POSES = [tuple(a + math.radians(turn) for a in SWING_POSE) for turn in (0, 45, 90)]
+
+
+def bearing_force(res: fl.Result, joint: str) -> tuple[np.ndarray, bool]:
+    """Magnitude of the force across bearing ``joint`` over a result [N] and whether it is statically indeterminate
+    (some component in ``res.indeterminate``: the value is one admissible load split of the rigid fragment)."""
+    name = f"{joint}.frame_a.f"
+    marked = any(e in res.indeterminate for e in res.elements(name))
+    with warnings.catch_warnings():  # marked by the caller instead
+        warnings.simplefilter("ignore", fl.IndeterminateReactionWarning)
+        return np.linalg.norm(res[name], axis=1), marked
 
 
 def no_friction() -> dict[str, float]:
@@ -101,7 +117,8 @@ def run_variants(t_end: float = 1.0, params: PolycrankParameters | None = None,
 def summary(runs: dict[str, tuple[PolycrankFragment, fl.Result]], at: float = 0.3) -> list[dict[str, Any]]:
     """Per variant: the pulse's energy left at ``at`` [s] (fraction of the frictionless rigid run's), the largest
     force in the grip disc's bearing ``d2c3`` and in shield 5's ``j5`` [N], the largest rod von Mises stress [Pa]
-    (flexible), the trims (holding torques) [N.m] and the largest friction torque in shield 4's bearing [N.m]."""
+    (flexible), the trims (holding torques) [N.m], the largest friction torque in shield 4's bearing [N.m] and
+    ``indeterminate``, the bearings whose force the model leaves statically indeterminate (:func:`bearing_force`)."""
     rows = []
     ref = None
     for name, (model, res) in runs.items():
@@ -110,10 +127,12 @@ def summary(runs: dict[str, tuple[PolycrankFragment, fl.Result]], at: float = 0.
         gained = float(E[k] - E[0])
         if ref is None:
             ref = gained
-        row = {"variant": name, "energy_left": gained / ref, "d2c3_force": float(np.linalg.norm(
-            res["d2c3.frame_a.f"], axis=1).max()), "j5_force": float(np.linalg.norm(res["j5.frame_a.f"], axis=1).max()),
-            "trims": [float(res[f"trim_{j}.b"][0]) for j in ("j4", "d0o", "d0c3", "d0c4")],
-            "friction_j4": float(np.abs(res["j4.tau_f"]).max()) if "j4.tau_f" in res else 0.0}
+        forces = {joint: bearing_force(res, joint) for joint in ("d2c3", "j5")}
+        row = {"variant": name, "energy_left": gained / ref, "d2c3_force": float(forces["d2c3"][0].max()),
+               "j5_force": float(forces["j5"][0].max()),
+               "indeterminate": [joint for joint, (_, marked) in forces.items() if marked],
+               "trims": [float(res[f"trim_{j}.b"][0]) for j in ("j4", "d0o", "d0c3", "d0c4")],
+               "friction_j4": float(np.abs(res["j4.tau_f"]).max()) if "j4.tau_f" in res else 0.0}
         if model.flexible:
             row["von_mises"] = float(max(s.max() for s in rod_stress(model, res).values()))
         rows.append(row)
@@ -191,13 +210,19 @@ def plot_study(runs: dict[str, tuple[PolycrankFragment, fl.Result]], out: str | 
     ax.set(xlabel="t [s]", ylabel="E − E(0) [mJ]", title="Torque pulse, then free swing")
     save(fig, "energy.png", ax)
     fig, axes = plt.subplots(3, 1, figsize=(7, 8), sharex=True)
+    marked: dict[str, list[str]] = {"d2c3": [], "j5": []}  # variants whose bearing force is indeterminate
     for name, (_model, res) in runs.items():
         for ax, joint in zip(axes[:2], ("d2c3", "j5"), strict=True):
-            ax.plot(res.t, np.linalg.norm(res[f"{joint}.frame_a.f"], axis=1), label=name, **style(name))
+            force, indeterminate = bearing_force(res, joint)
+            ax.plot(res.t, force, label=name, **style(name))
+            if indeterminate:
+                marked[joint].append(name)
         if "j4.tau_f" in res:
             axes[2].plot(res.t, res["j4.tau_f"], label=name, **style(name))
-    axes[0].set(ylabel="|F| d2c3 [N]", yscale="log", title="grip disc bearing d2c3")
-    axes[1].set(ylabel="|F| j5 [N]", yscale="log", title="shield 5 bearing j5")
+    for ax, joint, title in zip(axes[:2], ("d2c3", "j5"), ("grip disc bearing d2c3", "shield 5 bearing j5"),
+                                strict=True):
+        note = f"\n{', '.join(marked[joint])}: statically indeterminate (one admissible split)" if marked[joint] else ""
+        ax.set(ylabel=f"|F| {joint} [N]", yscale="log", title=title + note)
     axes[2].set(xlabel="t [s]", ylabel="τ_f [N.m]", title="friction torque in shield 4's bearing j4")
     fig.tight_layout()
     save(fig, "reactions.png", axes[0])
@@ -233,10 +258,14 @@ def main() -> None:
     runs = run_variants(args.t_end)
     print(f"{'variant':<18} {'energy left at 0.3 s':>21} {'|F| d2c3 [N]':>13} {'|F| j5 [N]':>11} "
           f"{'von Mises [MPa]':>16} {'friction j4 [N.m]':>18}")
-    for row in summary(runs):
+    rows = summary(runs)
+    for row in rows:
         vm = f"{row['von_mises'] / 1e6:16.1f}" if "von_mises" in row else f"{'–':>16}"
-        print(f"{row['variant']:<18} {row['energy_left']:21.3f} {row['d2c3_force']:13.0f} {row['j5_force']:11.0f} {vm}"
-              f" {row['friction_j4']:18.3f}")
+        d2c3, j5 = (f"{row[f'{j}_force']:.0f}" + ("*" if j in row["indeterminate"] else "") for j in ("d2c3", "j5"))
+        print(f"{row['variant']:<18} {row['energy_left']:21.3f} {d2c3:>13} {j5:>11} {vm} {row['friction_j4']:18.3f}")
+    if any(row["indeterminate"] for row in rows):
+        print("* statically indeterminate: one admissible load split of the over-constrained rigid fragment "
+              "(Result.indeterminate); the flexible pull rods determine it")
     for pre in (0.0, PRELOAD):
         f = locked_frequencies(LOCKED_POSES, preload=pre)
         print(f"lowest frequencies, drives locked, preload {pre:.0f} N [Hz]: "

@@ -9,7 +9,14 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.errors import EmptyResultError, ModalDataWarning, ModalFileError, ModelError, RunArgumentError
+from flexlib.errors import (
+    EmptyResultError,
+    IndeterminateReactionWarning,
+    ModalDataWarning,
+    ModalFileError,
+    ModelError,
+    RunArgumentError,
+)
 from flexlib.fe.arguments import COMPONENTS
 
 from ..multibody.world import World
@@ -67,8 +74,10 @@ def frame_load_amplitudes(body: Any, result: Any, T: np.ndarray) -> dict[str, np
         Tf = np.asarray(result[f"{body.path}.{frame}.T"], dtype=float).reshape(nt, 3, 3, order="F")
         to_body = np.einsum("kij,klj->kil", T, Tf)  # T_body T_frame^T = T_rel^T
         for kind, offset in (("f", 0), ("t", 3)):
-            load = np.einsum("kij,kj->ki", to_body, np.asarray(result[f"{body.path}.{frame}.{kind}"],
-                                                                  dtype=float).reshape(nt, 3))
+            with warnings.catch_warnings():  # a rigid rest of a loop may leave components indeterminate (zero):
+                warnings.simplefilter("ignore", IndeterminateReactionWarning)  # the body takes them as the run has
+                cut = result[f"{body.path}.{frame}.{kind}"]
+            load = np.einsum("kij,kj->ki", to_body, np.asarray(cut, dtype=float).reshape(nt, 3))
             for i in range(3):
                 values[f"F{node}_{COMPONENTS[offset + i]}"] = load[:, i]
     carried = {int(k) for k in d.interface_nodes}  # the reduction made load cases for all their free DOFs

@@ -5,6 +5,7 @@ orientation record ``T``, ``w`` and an origin ``r_0``).
 - :mod:`.tree` — the spanning tree of the orientation graph (Modelica's ``Connections.branch/root/rooted``),
   the rows equating the records along it and the loop-closure rows where it is broken;
 - :mod:`.redundancy` — redundant loop-closure rows found by rank and replaced by zero indeterminate reactions;
+- :mod:`.indeterminate` — the variables (cut forces and torques) those dropped rows leave statically indeterminate;
 - :mod:`.tearing` — the explicit frame kinematics substituted along the tree, or kept as unknowns in deep
   open chains;
 - :mod:`.zero_geometry` — the frame components' parameters that make a mechanism planar where they are zero.
@@ -15,6 +16,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from flexlib.compile.passes.base import Pass
+from flexlib.compile.passes.multibody.indeterminate import indeterminate_reactions
 from flexlib.compile.passes.multibody.kinematics import (
     acceleration_marks,
     declare_frame_kinematics,
@@ -86,8 +88,9 @@ class MultibodyPass(Pass):
 
     def after_simplify(self, simple: SimpleSystem, params: dict[int, float]) -> SimpleSystem:
         """Redundant loop rows removed (:mod:`.redundancy`), then the frame kinematics torn or kept
-        (:mod:`.tearing`)."""
-        return tear_or_keep_frames(remove_redundant(simple, params), params, self.options.tree_frames)
+        (:mod:`.tearing`) and the reactions the dropped rows leave indeterminate found (:mod:`.indeterminate`)."""
+        simple = tear_or_keep_frames(remove_redundant(simple, params), params, self.options.tree_frames)
+        return indeterminate_reactions(simple, params)
 
     def geometric_parameters(self, simple: SimpleSystem) -> set[int]:
         return frame_parameters(simple)

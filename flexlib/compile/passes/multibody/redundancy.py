@@ -39,7 +39,7 @@ from flexlib.core.component import Connector
 from flexlib.core.variables import Kind
 from flexlib.errors import ConnectError
 
-__all__ = ["SMALL_MOTION_NOMINAL", "frame_variables", "lookup_sym", "remove_redundant"]
+__all__ = ["SMALL_MOTION_NOMINAL", "frame_variables", "lookup_sym", "onto_loops", "remove_redundant"]
 
 _AXES = "xyz"
 
@@ -165,7 +165,8 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
         old = equations[r]
         expr, what = _reaction(simple, old.meta)
         outputs[f"{CHECK_PREFIX}{old.owner + ': ' if old.owner else ''}{old.label} (dual to the {what})"] = old.expr
-        equations[r] = FlatEquation(expr, old.owner, f"indeterminate reaction: {what} = 0", "redundant reaction")
+        equations[r] = FlatEquation(expr, old.owner, f"indeterminate reaction: {what} = 0", "redundant reaction",
+                                    ("reaction", len(report)))  # its line in the report
         report.append(f"{old.owner or '(model)'}: dropped redundant constraint '{old.label}'; {what} is "
                       "statically indeterminate and set to 0")
     return dataclasses.replace(simple, equations=equations, outputs=outputs, redundant=report)
@@ -234,7 +235,7 @@ def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, fl
         pert = point_vals.copy()
         pert[:len(qv)] += 0.05 * rng.standard_normal(len(qv)) * (nom + np.abs(pert[:len(qv)])) * moves
         off.append(np.asarray(gfun(pert)) * nom)
-        projected = _onto_loops(lfun, gfun, pert, nom * moves)
+        projected = onto_loops(lfun, gfun, pert, nom * moves)
         if projected is not None:
             on.append(np.asarray(gfun(projected)) * nom)
     if len(on) == 1:  # no perturbed point closes the loops (they cannot close near the start): the raw ranks
@@ -250,10 +251,11 @@ def _pivots(G: np.ndarray) -> tuple[int, np.ndarray]:
     return int(np.sum(diag > 1e-9 * scale)), piv
 
 
-def _onto_loops(lfun: ca.Function, gfun: ca.Function, point: np.ndarray, scale: np.ndarray,
+def onto_loops(lfun: ca.Function, gfun: ca.Function, point: np.ndarray, scale: np.ndarray,
                 iterations: int = 30) -> np.ndarray | None:
-    """The perturbed point moved back onto the loop constraints (Gauss–Newton, minimum-norm steps in the scaled
-    large-motion coordinates; the others held), or None if it does not converge.
+    """``point`` (the loop rows' coordinates, then the parameters) moved onto the loop constraints (Gauss–Newton,
+    minimum-norm steps in the coordinates ``scale`` > 0 scaled by it; the others held), or None if it does not
+    converge; ``lfun`` and ``gfun`` give the rows and their Jacobian in the coordinates at a point.
 
     The rank must be the generic rank *on the constraint manifold*: off it, rows that are dependent only because
     of the geometry the loops enforce (the extra links of a parallelogram, parallel to the line of its disc axes)

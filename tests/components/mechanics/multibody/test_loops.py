@@ -5,6 +5,7 @@ flexlib.models.reference.closed_form. Link lengths a (crank), b (coupler), c (ro
 """
 
 import numpy as np
+import pytest
 
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
@@ -75,7 +76,6 @@ def test_loop_closed_in_its_mirrored_branch_is_refused():
     then lost half its kinetic energy in 0.5 s without any damping): the run is refused, naming the loop closure,
     instead of returning that motion. The same model from the guess near the assembly runs and keeps its kinetic
     energy to 1e-6."""
-    import pytest
 
     from flexlib.errors import InitializationError
 
@@ -104,7 +104,8 @@ def test_loop_closed_in_its_mirrored_branch_is_refused():
 def test_static_reactions_beam_pin_link():
     """A statically determinate structure in the plane (0 DOF, 3 redundant out-of-plane loop rows): the
     in-plane hinge forces equal statics (pin: R_x = 0, R_y = m g/2; link tension m g/2) to 1e-8 relative;
-    the dropped out-of-plane directions carry zero reaction and are reported."""
+    the dropped out-of-plane directions carry zero reaction, are reported, and leave the out-of-plane force
+    indeterminate (its read warns)."""
     m, L, g = 3.0, 2.0, 9.81
     sim = fl.Simulation(BeamOnPinWithLink(m, L), use_cache=False)
     assert sim.states == []
@@ -112,8 +113,12 @@ def test_static_reactions_beam_pin_link():
     res = sim.run(1.0, dt_out=0.5, rtol=1e-10, atol=1e-12)
     Rx, Ry, T = ref.beam_pin_link_reactions(m, L, g)
     # force of the mechanism on the ground frames (resolved in world: both frames have T = I)
-    np.testing.assert_allclose(res["world.frame_b.f"][-1], [-Rx, -Ry, 0.0], rtol=0, atol=1e-8 * m * g)
-    np.testing.assert_allclose(res["top.frame_b.f"][-1], [0.0, -T, 0.0], rtol=0, atol=1e-8 * m * g)
+    for frame, in_plane in (("world", [-Rx, -Ry]), ("top", [0.0, -T])):
+        f = np.array([res[f"{frame}.frame_b.f[{i}]"][-1] for i in (0, 1)])
+        np.testing.assert_allclose(f, in_plane, rtol=0, atol=1e-8 * m * g)
+        assert f"{frame}.frame_b.f[2]" in res.indeterminate
+        with pytest.warns(fl.IndeterminateReactionWarning, match=rf"{frame}\.frame_b\.f\[2\] is statically"):
+            np.testing.assert_allclose(res[f"{frame}.frame_b.f[2]"][-1], 0.0, atol=1e-8 * m * g)
     np.testing.assert_allclose(res["pin.phi"], 0.0, atol=1e-12)
 
 
