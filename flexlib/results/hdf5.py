@@ -29,7 +29,7 @@ import numpy as np
 from flexlib.errors import ResultFileError, ResultKeyError, ResultSaveWarning, RunArgumentError, SimulationInterrupted
 from flexlib.results import indeterminate as mark
 from flexlib.results.result import Result
-from flexlib.results.stored import FileColumns, FilePart, StoredPart, pack_function, unique_columns
+from flexlib.results.stored import StoredPart, file_columns, pack_function, unique_columns
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "keep_result", "load_result", "not_a_result", "remove_orphans", "save_result"]
 
@@ -503,7 +503,7 @@ def _read(f: h5py.File, path: Path) -> Result:
             raise bad(f"/variables/values has shape {values.shape}, expected {(len(t), len(names))} "
                       "(time points × variable names)")
     else:
-        source = _file_columns(f, path, len(t), names, bad)
+        source = file_columns(f, path, len(t), names, bad)
         if source is None:
             values = np.asarray(g["values"][()], dtype=float)
     try:
@@ -548,60 +548,3 @@ def _status_and_stats(f: h5py.File, bad: Any) -> tuple[str, dict[str, Any]]:
         raise bad(f"the attribute 'solver_stats' must be a JSON object (statistics by name), got "
                   f"{type(stats).__name__} {stats!r:.60}")
     return status, stats
-
-
-def _file_columns(f: h5py.File, path: Path, n_rows: int, names: list[str], bad: Any) -> FileColumns | None:
-    """The source of a format-2 file's variables (checked), or None when it stores every variable."""
-    stored = np.asarray(f["variables/stored"][()])
-    shape = f["variables/values"].shape
-    if stored.ndim != 1 or (stored.size and stored.dtype.kind not in "iu"):
-        raise bad(f"/variables/stored must be a list of column indices, got {stored.dtype} {stored.shape}")
-    if stored.size and (stored.min() < 0 or stored.max() >= len(names) or np.any(np.diff(stored) <= 0)):
-        raise bad(f"/variables/stored must hold increasing column indices 0 … {len(names) - 1}")
-    if shape != (n_rows, len(stored)):
-        raise bad(f"/variables/values has shape {shape}, expected {(n_rows, len(stored))} (time points × stored "
-                  "variables)")
-    if len(stored) == len(names):
-        return None
-    rows = f.get("rows")
-    if rows is None or not isinstance(rows, h5py.Group) or not len(rows):
-        raise bad(f"incomplete flexlib result: it stores {len(stored)} of {len(names)} variables and no /rows to "
-                  "derive the others from")
-    casadi_version = str(f.attrs.get("meta_casadi", ""))
-    parts, covered, times = [], np.zeros(n_rows, dtype=int), np.asarray(f["time"][()], dtype=float)
-    for key in sorted(rows, key=lambda k: int(k) if k.isdigit() else -1):
-        g = rows[key]
-        need = ("rows", "y", "y_columns", "yp", "yp_used", "rel", "p", "source", "constant", "out")
-        missing = [f"/rows/{key}/{n}" for n in need if n not in g or not isinstance(g[n], h5py.Dataset)]
-        if missing:
-            raise bad(f"incomplete flexlib result, missing {', '.join(missing)}")
-        idx = np.asarray(g["rows"][()], dtype=np.int64)
-        if idx.ndim != 1 or (idx.size and (idx.min() < 0 or idx.max() >= n_rows or np.any(np.diff(idx) <= 0))):
-            raise bad(f"/rows/{key}/rows must hold increasing row indices 0 … {n_rows - 1}")
-        covered[idx] += 1
-        source, constant = np.asarray(g["source"][()], dtype=np.int64), np.asarray(g["constant"][()], dtype=float)
-        y_columns, yp_used = np.asarray(g["y_columns"][()], dtype=np.int64), np.asarray(g["yp_used"][()], np.int64)
-        n = len(y_columns)
-        if len(source) != len(names) or len(constant) != len(names):
-            raise bad(f"/rows/{key}/source and constant must have one entry per variable ({len(names)})")
-        if source.size and (source.min() < -2 or source.max() >= n):
-            raise bad(f"/rows/{key}/source must hold unknown indices 0 … {n - 1}, -1 (derived) or -2 (constant)")
-        given = np.asarray(g["given"][()], dtype=np.int64) if "given" in g else np.zeros(0, dtype=np.int64)
-        if given.ndim != 1 or (given.size and (given.min() < 0 or given.max() >= n or "defs" not in g)):
-            raise bad(f"/rows/{key}/given must list unknowns 0 … {n - 1}, with /rows/{key}/defs")
-        unstored = np.flatnonzero(y_columns < 0)
-        if g["y"].shape[0] != len(idx) or (n and (y_columns.min() < -1 or y_columns.max() >= g["y"].shape[1])) or \
-                not np.array_equal(unstored, np.sort(given)):
-            raise bad(f"/rows/{key}/y has shape {g['y'].shape}, inconsistent with its {len(idx)} rows and "
-                      f"/rows/{key}/y_columns (-1 exactly for the unknowns in /rows/{key}/given)")
-        if g["yp"].shape != (len(idx), len(yp_used)) or (yp_used.size and (yp_used.min() < 0 or yp_used.max() >= n)):
-            raise bad(f"/rows/{key}/yp has shape {g['yp'].shape}, expected {(len(idx), len(yp_used))}")
-        if g["rel"].shape[0] != len(idx):
-            raise bad(f"/rows/{key}/rel has {g['rel'].shape[0]} rows, expected {len(idx)}")
-        parts.append(FilePart(g, idx, np.ascontiguousarray(times[idx]), n, source, constant,
-                               y_columns, yp_used, np.asarray(g["p"][()], dtype=float),
-                               f"cannot read the result file {path}", casadi_version, given))
-    if np.any(covered != 1):
-        k = int(np.argmax(covered != 1))
-        raise bad(f"/rows holds row {k} {covered[k]} times; each time point is in exactly one part")
-    return FileColumns(f, str(path), n_rows, len(names), stored, parts)
