@@ -55,6 +55,7 @@ _LAZY = {
     "max_": "flexlib.core.functions",
     "min_": "flexlib.core.functions",
     "no_event": "flexlib.core.functions",
+    "segment_row": "flexlib.core.tables",
     "sign": "flexlib.core.functions",
     "Flow": "flexlib.core.variables",
     "Input": "flexlib.core.variables",
@@ -134,6 +135,7 @@ __all__ = [
     "modal_analysis",
     "modal_sweep",
     "no_event",
+    "segment_row",
     "sign",
     "time",
 ]

@@ -1,5 +1,5 @@
 """Unknowns that residual rows give explicitly: set by their rows in a run's recorded rows, not stored in a result file,
-derived when read (issue 29: the rigid expand-fold's file 58 → 35 MB; ``flexlib.results.stored.row_definitions``)."""
+derived when read (issue 29: the rigid expand-fold's file 58 → 35 MB; ``flexlib.compile.explicit.row_definitions``)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import flexlib as fl
-from flexlib.errors import CacheWarning
 from flexlib.models.planar_mechanisms import FourBarLinkage
 from flexlib.solve.assemble import row_definitions_of
 
@@ -25,7 +24,7 @@ def test_a_file_leaves_out_the_unknowns_rows_give_and_reads_them_back(fourbar, t
     given (11), the file stores the other 14 (distinct columns) and the definitions; every variable reads back equal
     to the run in memory (1e-12 relative), and a loaded result saves again the same way."""
     sim, res = fourbar
-    defs = row_definitions_of(sim._rows, sim.compiled)
+    defs = row_definitions_of(sim.compiled)
     assert defs.given.size >= 5 and not np.asarray(sim.compiled.differential, dtype=bool)[defs.given].any()
     res.save(tmp_path / "r.h5")
     with h5py.File(tmp_path / "r.h5") as f:
@@ -58,9 +57,9 @@ def test_given_unknowns_change_the_rows_within_the_solver_tolerance(fourbar, mon
     from flexlib.results.stored import RowDefinitions
 
     sim, res = fourbar
-    defs = row_definitions_of(sim._rows, sim.compiled)
+    defs = row_definitions_of(sim.compiled)
     F_after, Y_after = _residuals(sim, res)
-    monkeypatch.setattr(assemble, "row_definitions_of", lambda rows, model, key=None: RowDefinitions(
+    monkeypatch.setattr(assemble, "row_definitions_of", lambda model: RowDefinitions(
         np.arange(model.n), np.zeros(0, dtype=np.int64), None))
     plain = fl.Simulation(FourBarLinkage(), use_cache=False)
     F_before, Y_before = _residuals(plain, plain.run(1.0, dt_out=0.01))
@@ -72,25 +71,45 @@ def test_given_unknowns_change_the_rows_within_the_solver_tolerance(fourbar, mon
     assert np.count_nonzero(F_after < F_before) >= defs.given.size // 2  # (the defining rows: to round-off)
 
 
-def test_the_definitions_are_kept_with_the_build(tmp_path, monkeypatch):
-    """Found once per build and kept in the cache beside its entry: a later process reads them back; a damaged file
-    is named in a CacheWarning, removed and made again, and the run's file is still right."""
-    import flexlib.solve.definitions_cache as dc
+def test_the_definitions_are_part_of_the_build(tmp_path, monkeypatch):
+    """Found when the model is compiled and kept with the build: a cached build carries the same given unknowns and
+    definitions, without finding them again, and its run's file reads back the same."""
+    import flexlib.compile.codegen as codegen
 
     monkeypatch.setenv("FLEXLIB_CACHE_DIR", str(tmp_path / "cache"))
-    fl.Simulation(FourBarLinkage()).run(0.2, dt_out=0.05)
-    kept = list((tmp_path / "cache").glob("*-rows.npz"))
-    assert len(kept) == 1
+    first = fl.Simulation(FourBarLinkage())
+    res = first.run(0.2, dt_out=0.05)
     calls = []
-    monkeypatch.setattr(dc, "row_definitions", lambda *a: calls.append(a) or pytest.fail("made again"))
-    res = fl.Simulation(FourBarLinkage()).run(0.2, dt_out=0.05)  # read back, not made
-    assert not calls
-    monkeypatch.undo()
-    monkeypatch.setenv("FLEXLIB_CACHE_DIR", str(tmp_path / "cache"))
-    kept[0].write_bytes(b"not an npz archive")
-    with pytest.warns(CacheWarning, match="row definitions"):
-        again = fl.Simulation(FourBarLinkage()).run(0.2, dt_out=0.05)
+    monkeypatch.setattr(codegen, "row_definitions", lambda *a: calls.append(a) or pytest.fail("found again"))
+    cached = fl.Simulation(FourBarLinkage())
+    again = cached.run(0.2, dt_out=0.05)
+    assert not calls and cached.build_info.get("cached")
+    np.testing.assert_array_equal(cached.compiled.given, first.compiled.given)
+    assert cached.compiled.given.size >= 5
     np.testing.assert_allclose(again.values, res.values, rtol=1e-12, atol=0.0)
     again.save(tmp_path / "again.h5")
     back = fl.load_result(tmp_path / "again.h5")
     np.testing.assert_allclose(back.values, again.values, rtol=1e-12, atol=1e-300)
+
+
+class _Spring(fl.Model):
+    """``m x'' = −k x`` with the spring force an output (derived when read: ``f = k·x``)."""
+
+    k = fl.Parameter(4.0, unit="N/m")
+    m = fl.Parameter(1.0, unit="kg")
+    x = fl.Variable(start=1.0, fixed=True, unit="m")
+    v = fl.Variable(start=0.0, fixed=True, unit="m/s")
+    f = fl.Output(unit="N")
+
+    def equations(self) -> list:
+        return [fl.eq(fl.der(self.x), self.v), fl.eq(self.m * fl.der(self.v), -self.f), fl.eq(self.f, self.k * self.x)]
+
+
+def test_results_of_one_simulation_with_other_parameters_read_their_own_values():
+    """Variables derived when read use the parameters of their own run (folded into the reading function), also when
+    read alternately after a later run of the same simulation with other values: ``f = k·x`` to 1e-14."""
+    sim = fl.Simulation(_Spring(), use_cache=False)
+    a = sim.run(1.0, dt_out=0.1)
+    b = sim.run(1.0, dt_out=0.1, params={"k": 9.0})
+    for res, k in ((b, 9.0), (a, 4.0), (b, 9.0), (a, 4.0)):
+        np.testing.assert_allclose(res["f"], k * res["x"], rtol=1e-14, atol=1e-14)

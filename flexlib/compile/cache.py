@@ -43,7 +43,7 @@ __all__ = ["CacheEntryError", "cache_dir", "load", "load_arrays", "store",
            "usable_cache_dir"]
 
 #: version of the on-disk format (part of every entry's metadata)
-FORMAT = 2  # 2: IndexReport.explicit (explicit algebraics eliminated, compile/explicit.py)
+FORMAT = 3  # 2: IndexReport.explicit (explicit algebraics eliminated, compile/explicit.py); 3: row definitions
 _WARNED: set[tuple[str, str]] = set()
 
 

@@ -31,6 +31,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from flexlib.compile.explicit import row_definitions
 from flexlib.compile.flatten import FlatSystem
 from flexlib.compile.gcc import generate_c
 from flexlib.compile.index_reduction import DAE, IndexReport
@@ -39,12 +40,13 @@ from flexlib.compile.json_fields import expect, index_report, levels, name_numbe
 from flexlib.compile.redundancy import CHECK_PREFIX
 from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import derivative_level, row_jacobian
+from flexlib.core.tables import bind_tables
 from flexlib.core.variables import time
 from flexlib.errors import CacheWarning, FlexlibError
 
 __all__ = ["CompiledModel", "VariableInfo", "compile_dae", "iteration_matrix"]
 
-FUNCTIONS = ("res", "jac", "out", "ind", "cond", "tev", "cols", "jlev", "chk")
+FUNCTIONS = ("res", "jac", "out", "ind", "cond", "tev", "cols", "jlev", "chk", "defs")
 
 #: Number of times :func:`compile_dae` ran in this process (tests assert that runs reuse builds).
 COMPILE_COUNT = [0]
@@ -132,6 +134,9 @@ class CompiledModel:
     #: variables the redundant loop rows leave statically indeterminate, each with the indices in
     #: ``report.redundant`` of the rows that do (``passes.multibody.indeterminate``)
     indeterminate: dict[str, list[int]] = field(default_factory=dict)
+    #: the algebraic unknowns a row of the residual gives explicitly (``explicit.row_definitions``), in the order of
+    #: the outputs of ``defs``: a result file derives them instead of storing them (``results.stored``)
+    given: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     #: called with the model when a library compiled in the background has been adopted (the cache updates
     #: its entry); set by the pipeline, never stored
     on_library: Any = field(default=None, repr=False, compare=False)
@@ -278,6 +283,7 @@ class CompiledModel:
             "cols": (tyyp, [(len(self.col_names), 1)]),
             "jlev": (tyyp, [(n_lev, 1)]),
             "chk": (tyyp, [(len(self.check_labels), 1)]),
+            "defs": (tyyp, [(len(self.given), 1)]),
         }[name]
 
     def check_function(self, name: str, f: ca.Function) -> None:
@@ -355,7 +361,7 @@ class CompiledModel:
 
 _TRANSIENT = {"_structure", "_functions", "_sx", "library_pending", "on_library"}
 _ARRAYS = {"differential": "b", "nominal": "f", "param_defaults": "f", "jac_colind": "i", "jac_row": "i",
-           "cond_depends": "b", "derivative_level": "b"}
+           "cond_depends": "b", "derivative_level": "b", "given": "i"}
 _FIELD_CHECKS: dict[str, Any] = {
     "name": lambda v, w: expect(v, str, w),
     "n": lambda v, w: expect(v, int, w),
@@ -423,7 +429,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
                 build_dir: str | os.PathLike | None = None) -> CompiledModel:
     """Build the CasADi functions of a DAE (and C code if ``codegen``; ``"auto"``: see the limits above)."""
     COMPILE_COUNT[0] += 1
-    fns, F, J, out_names, check_names, relations = _functions(flat, dae)
+    fns, F, J, out_names, check_names, relations, given = _functions(flat, dae)
     y, yp = dae.y, dae.yp
     colind, row = J.sparsity().get_ccs()
     var_by_name = {v.name: v for v in flat.variables}
@@ -445,6 +451,7 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
         cond_depends=_depends_on_y(dae.conditions, y, yp),
         assumed=dict(simple.assumed),
         indeterminate={k: v for k, v in simple.indeterminate.items() if k in named},
+        given=given,
     )
     model._structure = dae.structure
     model._sx = dict(fns)
@@ -455,49 +462,62 @@ def compile_dae(flat: FlatSystem, simple: SimpleSystem, dae: DAE, *, codegen: bo
 
 
 def _functions(flat: FlatSystem, dae: DAE) -> tuple[dict[str, ca.Function], ca.SX, ca.SX, list[str], list[str],
-                                                    list[RelationInfo]]:
-    """The SX functions of :data:`FUNCTIONS` for a DAE, with the residual ``F``, the iteration matrix ``J``, the
-    names of the outputs and of the loop-closure checks, and the relations' descriptions."""
+                                                    list[RelationInfo], np.ndarray]:
+    """The SX functions of :data:`FUNCTIONS` for a DAE, with the residual ``F`` and the iteration matrix ``J`` (for
+    their structure: with the tables' symbols), the names of the outputs and of the loop-closure checks, the
+    relations' descriptions and the unknowns the rows give explicitly (``defs``).
+
+    Every derivative (``J``, the row definitions, the time-event slopes) is taken while the tables of time
+    (:func:`flexlib.segment_row`) are still symbols, constant to the differentiation; the functions then get their
+    lookups (:func:`~flexlib.core.tables.bind_tables`)."""
     t, y, yp = time, dae.y, dae.yp
     pars = ca.vertcat(*[q.sym for q in flat.parameters]) if flat.parameters else ca.SX(0, 1)
     rels = ca.vertcat(*[rel.info.sym for rel, _ in dae.relations]) if dae.relations else ca.SX(0, 1)
     p = ca.vertcat(pars, rels)
+    U = ca.vertcat(*[s for tbl in flat.tables for s in tbl.symbols]) if flat.tables else ca.SX(0, 1)
     cj = ca.SX.sym("cj")
     # common subexpressions merged (casadi.cse: same operations, same values, each computed once): component
     # equations repeat rotations and kinematics, and substituted definitions (compile/explicit.py) recur in rows
     F = ca.cse(dae.residual)
-    J = iteration_matrix(F, t, y, yp, p, cj)
+    J = iteration_matrix(F, t, y, yp, ca.vertcat(p, U), cj)
     out_names = [k for k in dae.outputs if not k.startswith(CHECK_PREFIX)]
     check_names = [k for k in dae.outputs if k.startswith(CHECK_PREFIX)]
     outs = ca.vertcat(*[dae.outputs[k] for k in out_names])
     checks = ca.vertcat(*[dae.outputs[k] for k in check_names]) if check_names else ca.SX(0, 1)
     inds = ca.vertcat(*[e for _, e in dae.relations]) if dae.relations else ca.SX(0, 1)
     conds = ca.vertcat(*[c.expr for c in dae.conditions]) if dae.conditions else ca.SX(0, 1)
-    fns = {
-        "res": ca.Function("flexlib_res", [t, y, yp, p], [F], ["t", "y", "yp", "p"], ["res"]),
-        "jac": ca.Function("flexlib_jac", [t, y, yp, p, cj], [J], ["t", "y", "yp", "p", "cj"], ["jac"]),
-        "out": ca.Function("flexlib_out", [t, y, yp, p], [outs]),
-        "ind": ca.Function("flexlib_ind", [t, y, yp, p], [inds]),
-        "cond": ca.Function("flexlib_cond", [t, y, yp, p], [conds]),
-        "chk": ca.Function("flexlib_chk", [t, y, yp, p], [checks]),
-    }
+    given, defs = row_definitions(F, outs, y, yp, dae.differential)
     relations: list[RelationInfo] = []
     tev_rows = []
     for rel, ind in dae.relations:
-        timed = not ca.depends_on(ind, ca.vertcat(y, yp)) and ca.depends_on(ind, t) and bool(ca.is_linear(ind, t))
+        timed = (not ca.depends_on(ind, ca.vertcat(y, yp, U)) and ca.depends_on(ind, t)
+                 and bool(ca.is_linear(ind, t)))
         relations.append(RelationInfo(rel.text, rel.strict, timed, rel.owner, rel.assertion))
         slope = ca.jacobian(ind, t) if timed else ca.SX(0.0)
         offset = ca.substitute(ind, t, ca.SX(0.0)) if timed else ca.SX(0.0)
         tev_rows.append(ca.horzcat(slope, offset))
     tev = ca.vertcat(*tev_rows) if tev_rows else ca.SX(0, 2)
-    fns["tev"] = ca.Function("flexlib_tev", [p], [tev])
-    fns["cols"] = ca.Function("flexlib_cols", [t, y, yp, p], [dae.col_values])
     jl = [ca.vec(j) for j in dae.level_jacobians]
-    fns["jlev"] = ca.Function("flexlib_jlev", [t, y, yp, p], [ca.vertcat(*jl) if jl else ca.SX(0, 1)])
+    jlev = ca.vertcat(*jl) if jl else ca.SX(0, 1)
+    Fb, Jb, outs, checks, inds, conds, cols, jlev, defs = bind_tables(
+        [F, J, outs, checks, inds, conds, dae.col_values, jlev, defs], flat.tables)
+    tyyp, names = [t, y, yp, p], ["t", "y", "yp", "p"]
+    fns = {
+        "res": ca.Function("flexlib_res", tyyp, [Fb], names, ["res"]),
+        "jac": ca.Function("flexlib_jac", [*tyyp, cj], [Jb], [*names, "cj"], ["jac"]),
+        "out": ca.Function("flexlib_out", tyyp, [outs]),
+        "ind": ca.Function("flexlib_ind", tyyp, [inds]),
+        "cond": ca.Function("flexlib_cond", tyyp, [conds]),
+        "chk": ca.Function("flexlib_chk", tyyp, [checks]),
+        "tev": ca.Function("flexlib_tev", [p], [tev]),
+        "cols": ca.Function("flexlib_cols", tyyp, [cols]),
+        "jlev": ca.Function("flexlib_jlev", tyyp, [jlev]),
+        "defs": ca.Function("flexlib_defs", tyyp, [defs]),
+    }
     for f in fns.values():
         if f.has_free():
             raise FlexlibError(f"internal error: function {f.name()} has free symbols {f.get_free()}")
-    return fns, F, J, out_names, check_names, relations
+    return fns, F, J, out_names, check_names, relations, given
 
 
 def _attach_c(model: CompiledModel, fns: dict[str, ca.Function], codegen: bool | str,

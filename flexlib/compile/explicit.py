@@ -324,3 +324,33 @@ def eliminate_explicit_algebraics(rows: list[ca.SX], y: ca.SX, yp: ca.SX, differ
     kept = [k for k in range(n_rows) if k not in pivot_rows]
     new_rows = ca.substitute([ca.vertcat(ca.SX(0, 1), *[rows[k] for k in kept])], [vs], [values])[0]
     return kept, elim, values, new_rows
+
+
+def row_definitions(F: ca.SX, outputs: ca.SX, y: ca.SX, yp: ca.SX, differential: np.ndarray
+                    ) -> tuple[np.ndarray, ca.SX]:
+    """The algebraic unknowns that one row of the final residual ``F`` defines explicitly, and their definitions.
+
+    What a result file derives instead of storing (:mod:`flexlib.results.stored`): the same elimination as the
+    DAE's (:func:`eliminate_explicit_algebraics`: a row without derivatives, affine in the unknown with a nonzero
+    constant coefficient, no operation that can fail, in dependency order), here without its limit on the
+    Jacobian's fill (the DAE keeps such unknowns for IDA's sparse factorisation; a stored row needs none of them).
+    States stay, and so does every unknown whose derivative ``outputs`` read.
+
+    Returns
+    -------
+    given : ndarray of int
+        The defined unknowns, in the order of ``values``.
+    values : casadi.SX
+        Their definitions in the other unknowns (a dense column; ``(0, 1)`` if none).
+    """
+    n = y.numel()
+    protected = np.zeros(n, dtype=bool)
+    protected[np.asarray(ca.jacobian_sparsity(outputs, yp).get_triplet()[1], dtype=np.int64)] = True
+    if n == 0 or F.numel() == 0:
+        return np.zeros(0, dtype=np.int64), ca.SX(0, 1)
+    _, given, values, _ = eliminate_explicit_algebraics([F[i] for i in range(F.numel())], y, yp,
+                                                        np.asarray(differential, dtype=bool), protected,
+                                                        max_net=np.iinfo(np.int64).max)
+    if not given:
+        return np.zeros(0, dtype=np.int64), ca.SX(0, 1)
+    return np.asarray(given, dtype=np.int64), ca.densify(values)

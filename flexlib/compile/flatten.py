@@ -29,6 +29,7 @@ from flexlib.compile.flat_checks import (
 from flexlib.compile.scaling import apply_marks, instance_nominals
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
+from flexlib.core.tables import CURRENT_TABLES, SegmentTable
 from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, lookup, render, render_many
 from flexlib.errors import FlexlibError, ModelError
 
@@ -116,6 +117,8 @@ class FlatSystem:
     """Initial equations (hold at the start time only; they count as initial conditions)."""
     passes: list[Any] = field(default_factory=list)
     """The domain passes that apply to the model (:mod:`flexlib.compile.passes`); stage 2 runs them on."""
+    tables: list[SegmentTable] = field(default_factory=list)
+    """Tables looked up by time (:func:`flexlib.segment_row`): their symbols become lookups at compile."""
 
     def variable(self, sym: ca.SX) -> FlatVariable | None:
         """The flat variable of a scalar symbol, if any."""
@@ -182,21 +185,28 @@ def _declarations(nodes: list[Node]) -> tuple[list[FlatVariable], list[FlatParam
     return variables, parameters, by_hash
 
 
-def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Relation], list[FlatEquation]]:
-    """The scalar equations, event relations and initial equations of the components."""
+def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Relation], list[FlatEquation],
+                                                      list[SegmentTable]]:
+    """The scalar equations, event relations, initial equations and time tables of the components."""
     equations: list[FlatEquation] = []
     relations: list[Relation] = []
     initial: list[FlatEquation] = []
+    tables: list[SegmentTable] = []
     for node in nodes:
         if not isinstance(node, Component):
             continue
         path = node.path
         sink: list[Relation] = []
-        token = CURRENT_RELATIONS.set(sink)
+        own_tables: list[SegmentTable] = []
+        token, token_t = CURRENT_RELATIONS.set(sink), CURRENT_TABLES.set(own_tables)
         try:
             own = _call(node, "equations")
         finally:
             CURRENT_RELATIONS.reset(token)
+            CURRENT_TABLES.reset(token_t)
+        for tbl in own_tables:
+            tbl.owner = node.path or type(node).__name__
+        tables.extend(own_tables)
         for rel in sink:
             rel.owner = node.path or type(node).__name__
             rel.text = rel.describe()
@@ -212,7 +222,7 @@ def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Re
                 continue
             for k in range(res.numel()):
                 equations.append(FlatEquation(res[k], path, equ.label, "equation"))
-    return equations, relations, initial
+    return equations, relations, initial, tables
 
 
 def flatten(root: Component, check: bool = True, options: BuildOptions | None = None) -> FlatSystem:
@@ -249,7 +259,7 @@ def flatten(root: Component, check: bool = True, options: BuildOptions | None = 
             _call(node, "on_structure")
 
     variables, parameters, by_hash = _declarations(nodes)
-    equations, relations, initial = _component_equations(nodes)
+    equations, relations, initial, tables = _component_equations(nodes)
     check_finite(nodes, equations, initial)
     _connection_equations(nodes, equations, set().union(*(p.broken_connections() for p in passes)))
     for p in passes:
@@ -258,7 +268,8 @@ def flatten(root: Component, check: bool = True, options: BuildOptions | None = 
         apply_marks(variables, by_hash, *p.marks(nodes, equations))
     check_inputs(root, nodes)
     check_local_balance(nodes, equations)
-    flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash, initial, passes)
+    flat = FlatSystem(type(root).__name__, variables, parameters, equations, relations, by_hash, initial, passes,
+                      tables)
     check_symbols(flat)
     if check:
         check_balance(flat.name, flat.variables, flat.equations)

@@ -70,7 +70,7 @@ def der(expr: Any) -> ca.SX:
     e = as_sx(expr, "der()")
     if e.is_scalar() and e.is_symbolic():  # one scalar symbol (the usual case): its der symbol
         info = lookup(e)
-        if info is not None and info.kind not in ("time", "parameter", "relation"):
+        if info is not None and info.kind not in ("time", "parameter", "relation", "table"):
             return info.der_info.sym
     if e.is_valid_input():  # a (matrix of) plain symbols
         out = []
@@ -81,7 +81,7 @@ def der(expr: Any) -> ca.SX:
                 raise ModelError(f"der({s}): {s} is not a flexlib variable")
             if info.kind == "time":
                 out.append(ca.SX(1.0))
-            elif info.kind in ("parameter", "relation"):
+            elif info.kind in ("parameter", "relation", "table"):
                 out.append(ca.SX(0.0))
             else:
                 out.append(info.der_info.sym)
@@ -95,7 +95,7 @@ def der(expr: Any) -> ca.SX:
         info = lookup(s)
         if info is None:
             raise ModelError(f"der(): symbol {s} in {e} is not a flexlib variable")
-        if info.kind in ("parameter", "relation"):
+        if info.kind in ("parameter", "relation", "table"):
             continue
         v.append(s)
         d.append(ca.SX(1.0) if info.kind == "time" else info.der_info.sym)

@@ -86,8 +86,9 @@ class SymInfo:
     sym : casadi.SX
         The scalar symbol.
     kind : str
-        ``"variable"`` (any declared variable), ``"parameter"``, ``"der"``, ``"time"`` or
-        ``"relation"`` (a discrete relation created by :func:`flexlib.if_else`).
+        ``"variable"`` (any declared variable), ``"parameter"``, ``"der"``, ``"time"``,
+        ``"relation"`` (a discrete relation created by :func:`flexlib.if_else`) or ``"table"`` (an entry of a
+        table's row, :func:`flexlib.segment_row`).
     node : Node or None
         Owning component (None for time and for derivative/relation symbols).
     name : str

@@ -247,12 +247,20 @@ def _superpose(func: str, data: Any, q: Any, nodes: Sequence[int] | np.ndarray |
     modes = _stress_modes(data, func) if kind == "stress" else getattr(data, f"{kind}_modes")
     q2, single = _modal_coordinates(data, q, func)
     idx = _node_indices(data, nodes, func)
-    out = np.einsum("tm,mnk->tnk", q2, modes[:, idx, :])
+    out = _combine(q2, modes[:, idx, :])
     if loads is not None:
         R, amp = _residual(func, data, kind, loads, q2.shape[0], single)
-        out = out + np.einsum("tc,cnk->tnk", amp, R[:, idx, :])
+        out = out + _combine(amp, R[:, idx, :])
     _overflow(func, out)
     return out[0] if single else out
+
+
+def _combine(a: np.ndarray, fields: np.ndarray) -> np.ndarray:
+    """``sum_m a[t, m] fields[m, n, k]``: one matrix product (BLAS; ``einsum`` loops in C without it)."""
+    m, n, k = fields.shape
+    with np.errstate(over="ignore", invalid="ignore"):  # a result beyond the float range is refused by _overflow
+        out = np.asarray(a, dtype=float) @ np.ascontiguousarray(fields, dtype=float).reshape(m, n * k)
+    return out.reshape(-1, n, k)
 
 
 def _overflow(func: str, out: np.ndarray) -> None:

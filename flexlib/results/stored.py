@@ -8,7 +8,8 @@ that ``out`` reads, the relation values (they are parameters of ``out``), and ``
 SX function (about 1 MB for the pump truck, 0.1 MB compressed) — plus the variables the user asks to store
 (``outputs=``). Of the unknowns only those that no row gives explicitly are stored: an algebraic unknown that a
 residual row without derivatives defines (``c·v + f(t, y, p) = 0``, ``c`` a nonzero constant: cut forces, frame
-velocities and accelerations of a tree; :func:`row_definitions`) is set by that definition in the run's recorded
+velocities and accelerations of a tree; :func:`flexlib.compile.explicit.row_definitions`, found when the model is
+compiled) is set by that definition in the run's recorded
 rows after they are settled (:func:`flexlib.solve.assemble.assemble_result`: a change of the order of IDA's Newton
 tolerance, its own row's residual then zero) and is derived when read by the definitions, stored as a function like
 ``out`` (479 of the rigid pump truck's 858 unknowns are stored). Reading a variable then costs: a stored column, a
@@ -36,7 +37,7 @@ if TYPE_CHECKING:
     import casadi as ca
 
 __all__ = ["CONSTANT", "DERIVED", "FileColumns", "FilePart", "OutputMap", "RowDefinitions", "StoredPart",
-           "file_columns", "output_graph", "output_map", "pack_function", "row_definitions", "signatures",
+           "file_columns", "output_graph", "output_map", "pack_function", "signatures",
            "unique_columns", "unpack_function"]
 
 #: ``OutputMap.source`` codes: a variable is an unknown's column (``>= 0``), derived from the rows, or a constant.
@@ -120,40 +121,6 @@ class RowDefinitions:
         n_rel = p.numel() - len(pvec)
         rel = ca.SX.sym("rel", max(n_rel, 1))
         return [t, y, yp, rel], self.fn(t, y, yp, ca.vertcat(ca.DM(pvec), rel[:n_rel] if n_rel else ca.SX(0, 1)))
-
-
-def row_definitions(res: ca.Function, out: ca.Function, differential: np.ndarray) -> RowDefinitions:
-    """The algebraic unknowns of the residual ``res(t, y, yp, p)`` that one of its rows defines explicitly.
-
-    The same symbolic elimination as the DAE's (:func:`flexlib.compile.explicit.eliminate_explicit_algebraics`: a row
-    without derivatives, affine in the unknown with a nonzero constant coefficient, no operation that can fail, in
-    dependency order), here without its limit on the Jacobian's fill (the DAE keeps such unknowns for IDA's sparse
-    factorisation; a stored row needs none of them). States stay, and so does every unknown whose derivative the
-    output function ``out`` reads.
-    """
-    import casadi as ca
-
-    from flexlib.compile.explicit import eliminate_explicit_algebraics
-
-    args = res.sx_in()
-    t, y, yp, p = args
-    n = y.numel()
-    F = res(*args)
-    F = F[0] if isinstance(F, (list, tuple)) else F
-    oargs = out.sx_in()
-    protected = np.zeros(n, dtype=bool)
-    yp_read = np.asarray(ca.jacobian_sparsity(out(*oargs), oargs[2]).get_triplet()[1], dtype=np.int64)
-    protected[yp_read] = True
-    if n == 0 or F.numel() == 0:
-        return RowDefinitions(np.arange(n), np.zeros(0, dtype=np.int64), None)
-    _, given, values, _ = eliminate_explicit_algebraics([F[i] for i in range(F.numel())], y, yp,
-                                                        np.asarray(differential, dtype=bool), protected,
-                                                        max_net=np.iinfo(np.int64).max)
-    given = np.asarray(given, dtype=np.int64)  # in the order of `values`
-    if not given.size:
-        return RowDefinitions(np.arange(n), given, None)
-    return RowDefinitions(np.setdiff1d(np.arange(n), given), given,
-                          ca.Function("flexlib_row_definitions", [t, y, yp, p], [ca.densify(values)]))
 
 
 def signatures(source: np.ndarray, constant: np.ndarray, out: Any, y_columns: np.ndarray | None = None) -> list[tuple]:
@@ -291,7 +258,7 @@ class FilePart:
         return out
 
     def definitions(self) -> RowDefinitions:
-        """The part's row definitions (:func:`row_definitions`) as stored."""
+        """The part's row definitions (:class:`RowDefinitions`) as stored."""
         fn = None
         if self.given.size:
             fn = unpack_function(self.group["defs"][()], self.where, self.casadi_version)

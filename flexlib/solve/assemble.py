@@ -84,7 +84,7 @@ class RowColumns:
         unknowns that rows give (not stored)."""
         parts = []
         for model, idx, T, Y, YP, rel in self.parts:
-            defs = row_definitions_of(self.rows, model)
+            defs = row_definitions_of(model)
             parts.append(StoredPart(model.sx_function("out"), idx, T, Y, YP, rel, self.pvec, self._map(model),
                                     defs if defs.fn is not None else None))
         return parts
@@ -100,27 +100,45 @@ class RowColumns:
 
     def columns(self, cols: list[int]) -> np.ndarray:
         """The variables ``cols`` (indices into the result's names) at every row: ``(n_rows, len(cols))``."""
-        key = ("out_columns", tuple(int(c) for c in cols))
+        # the run's parameters are folded into the function: they are part of the key (a later run of the same
+        # simulation with other parameters makes its own, and the earlier ones are dropped)
+        key = ("out_columns", self.pvec.tobytes(), tuple(int(c) for c in cols))
         values = np.empty((self.n_rows, len(cols)))
         for model, idx, T, Y, YP, rel in self.parts:
-            fn = self.rows.cached(model, key, lambda model=model: self._out_columns(model, key[1]))
-            values[idx] = self.rows.evaluate_function(fn, model, key, T, Y, YP, self._P(rel))
+            self.rows.keep_latest(model, key[:2])
+            fn = self.rows.cached(model, key, lambda model=model: self._out_columns(model, key[2]))
+            REL = rel if rel.shape[1] else np.zeros((len(T), 1))
+            values[idx] = self.rows.evaluate_function(fn, model, key, T, Y, YP, REL)
         return values
 
+    def _bound(self, model: CompiledModel) -> tuple[list[ca.SX], ca.SX]:
+        """``([t, y, yp, rel], out)``: ``model``'s ``out`` with the run's parameters put in (constant parts folded, as
+        a result file's reader has it: :meth:`~flexlib.results.stored.FilePart.bound`), made once per model."""
+        key = ("out_bound", self.pvec.tobytes())
+        self.rows.keep_latest(model, key)
+
+        def make() -> tuple[list[ca.SX], ca.SX]:
+            (t, y, yp, p), _ = self._graph(model)
+            n_rel = p.numel() - len(self.pvec)
+            rel = ca.SX.sym("rel", max(n_rel, 1))
+            return [t, y, yp, rel], model.sx_function("out")(t, y, yp, ca.vertcat(
+                ca.DM(self.pvec), rel[:n_rel] if n_rel else ca.SX(0, 1)))
+
+        return self.rows.cached(model, key, make)
+
     def _out_columns(self, model: CompiledModel, cols: tuple[int, ...]) -> ca.Function:
-        """``(t, y, yp, p) ->`` the entries ``cols`` of ``out``, dense: only the part of ``out``'s graph they
-        need."""
-        args, out = self._graph(model)
+        """``(t, y, yp, rel) ->`` the entries ``cols`` of ``out``, dense: only the part of ``out``'s graph they
+        need, the run's parameters folded in (:meth:`_bound`)."""
+        args, out = self._bound(model)
         return ca.Function("flexlib_out_columns", args, [ca.densify(out[list(cols)])])
 
 
-def row_definitions_of(rows: RowEvaluator, model: CompiledModel, key: str | None = None) -> RowDefinitions:
-    """``model``'s unknowns given explicitly by rows (:func:`~flexlib.results.stored.row_definitions`), made once
-    (kept in the disk cache beside the build with cache key ``key``:
-    :func:`~flexlib.solve.definitions_cache.cached_row_definitions`)."""
-    from flexlib.solve.definitions_cache import cached_row_definitions
-
-    return rows.cached(model, ("row_definitions_of",), lambda: cached_row_definitions(key, model))
+def row_definitions_of(model: CompiledModel) -> RowDefinitions:
+    """``model``'s unknowns given explicitly by rows and their definitions (found when it was compiled:
+    :func:`~flexlib.compile.explicit.row_definitions`)."""
+    given = np.asarray(model.given, dtype=np.int64)
+    return RowDefinitions(np.setdiff1d(np.arange(model.n), given), given,
+                          model.sx_function("defs") if given.size else None)
 
 
 def _bound_definitions(defs: RowDefinitions, pvec: np.ndarray) -> ca.Function:
@@ -130,7 +148,7 @@ def _bound_definitions(defs: RowDefinitions, pvec: np.ndarray) -> ca.Function:
 
 
 def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: RowEvaluator, t_init: float,
-                    rtol: float, atol: float, build_info: dict[str, Any], key: str | None = None) -> Result:
+                    rtol: float, atol: float, build_info: dict[str, Any]) -> Result:
     """The :class:`Result` of a run: its rows, the derivative-level unknowns of the rows checked and settled
     (:func:`~flexlib.solve.rows.settle_derivative_level`), the unknowns that rows give explicitly set by those rows
     (:func:`row_definitions_of`: a result file derives them by the same), every variable readable by name (aliases
@@ -138,8 +156,7 @@ def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: 
     :class:`RowColumns`), the statistics, events and metadata.
 
     ``m`` is the run's compiled model (its variables name the columns), ``pvec`` the parameter vector, ``t_init``
-    the initialisation's wall time [s], ``build_info`` the build's timings, ``key`` the build's cache key (None: not
-    cached).
+    the initialisation's wall time [s] and ``build_info`` the build's timings.
     """
     names = [v.name for v in m.variables]
     source = None
@@ -148,14 +165,15 @@ def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: 
         values = None
         repaired, settle_error, parts = 0, "", []
         for model, idx, Ts, Y, YP, P in segments(traj, m, pvec):
+            recorded, Y = Y, np.array(Y, dtype=float, copy=True)  # this result's own rows: settled and set in place
             try:
                 Y, YP, n_fixed = settle_derivative_level(rows, model, Ts, Y, YP, P)
                 repaired += n_fixed
             except Exception as exc:  # never lose a run's rows to the check: keep them as recorded
                 settle_error = f"{type(exc).__name__}: {exc}"
-            defs = row_definitions_of(rows, model, key if model is m else None)
+                Y = np.array(recorded, dtype=float, copy=True)
+            defs = row_definitions_of(model)
             if defs.fn is not None:  # the explicitly given unknowns by their rows (what a file derives them by)
-                Y = np.array(Y, dtype=float)
                 key = ("row_definitions", np.asarray(pvec, dtype=float).tobytes())
                 rows.keep_latest(model, key)
                 fn = rows.cached(model, key, lambda defs=defs: _bound_definitions(defs, pvec))

@@ -111,8 +111,12 @@ def segments(traj: Any, default: CompiledModel,
         rows = np.flatnonzero(seg == k)
         model = traj.models[k] if traj.models else default
         whole = len(rows) == len(T)  # one model for the whole run: every row, in order
-        Y = np.vstack(traj.y if whole else [traj.y[i] for i in rows], dtype=float).reshape(len(rows), model.n)
-        YP = np.vstack(traj.yp if whole else [traj.yp[i] for i in rows], dtype=float).reshape(len(rows), model.n)
+        if whole and hasattr(traj, "stacked"):
+            Y, YP = traj.stacked()  # kept: stacked once for every reader of the run's rows
+        else:
+            Y = np.vstack([traj.y[i] for i in rows], dtype=float)
+            YP = np.vstack([traj.yp[i] for i in rows], dtype=float)
+        Y, YP = Y.reshape(len(rows), model.n), YP.reshape(len(rows), model.n)
         P = np.empty((len(rows), len(pvec) + rel.shape[1]))
         P[:, :len(pvec)] = pvec
         P[:, len(pvec):] = rel[rows]
@@ -136,10 +140,12 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
     kept and everything else is solved again from ``F(t, y, y') = 0`` — the states' derivatives and all algebraic
     unknowns (Newton on the index-1 system, at most four iterations), as a consistent initialisation would.
 
+    ``Y`` is repaired in place (the caller owns it); ``YP`` is copied if a row is repaired.
+
     Returns
     -------
     Y, YP : ndarray (m, n)
-        The rows, repaired where needed (copies if any row changed).
+        The rows, repaired where needed.
     repaired : int
         Number of rows solved again.
     """
@@ -164,7 +170,8 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
     bad = np.flatnonzero((np.abs(F) > allowed).any(axis=1))
     if bad.size == 0:
         return Y, YP, 0
-    Y, YP = settle_rows(rows, model, T, Y, YP, P, bad)
+    YP = np.array(YP, dtype=float, copy=True)
+    settle_rows(rows, model, T, Y, YP, P, bad)
     return Y, YP, int(bad.size)
 
 
@@ -181,13 +188,12 @@ def _settle_jacobian(model: CompiledModel) -> ca.Function:
 
 
 def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
-                P: np.ndarray, bad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Copies of ``Y, YP`` with the rows ``bad`` solved again from ``F = 0``, states held (at most four Newton
+                P: np.ndarray, bad: np.ndarray) -> None:
+    """``Y, YP`` with the rows ``bad`` solved again in place from ``F = 0``, states held (at most four Newton
     iterations on the unknowns: ``y'`` of the states, ``y`` of the algebraic unknowns; the matrix has the
     Jacobian's pattern, a state's column from ``∂F/∂y'``, an algebraic unknown's from ``∂F/∂y``). A large model's
     rows keep their first matrix's sparse LU for the later iterations (chord steps: the rows are consistent but for
     their derivative-level unknowns, in which the residual is nearly linear)."""
-    Y, YP = np.array(Y, dtype=float, copy=True), np.array(YP, dtype=float, copy=True)
     colind = np.asarray(model.jac_colind)
     col_of = np.repeat(np.arange(model.n), np.diff(colind))
     state_nz = np.asarray(model.differential, dtype=bool)[col_of]
@@ -214,7 +220,6 @@ def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.n
         size = np.maximum(np.abs(YP[np.ix_(rows_ok, diff)]).max(axis=1, initial=0.0),
                           np.abs(Y[np.ix_(rows_ok, ~diff)]).max(axis=1, initial=0.0))
         todo = rows_ok[np.abs(steps).max(axis=1, initial=0.0) > 1e-12 * (size + 1e-300)]
-    return Y, YP
 
 
 def _chord_steps(factors: dict[int, Any], todo: np.ndarray, r_all: np.ndarray) -> np.ndarray:

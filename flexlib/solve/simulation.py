@@ -488,5 +488,4 @@ class Simulation:
 
     def _result(self, traj: Trajectory, pvec: np.ndarray, t_init: float, rtol: float, atol: float) -> Result:
         """The run's :class:`Result` (:func:`flexlib.solve.assemble.assemble_result`)."""
-        return assemble_result(traj, self.compiled, pvec, self._rows, t_init, rtol, atol, self.build_info,
-                               self.build.key)
+        return assemble_result(traj, self.compiled, pvec, self._rows, t_init, rtol, atol, self.build_info)

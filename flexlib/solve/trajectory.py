@@ -32,6 +32,15 @@ class Trajectory:
     message: str = ""
     models: list[CompiledModel] = field(default_factory=list)
     seg: list[int] = field(default_factory=list)
+    _stacked: Any = field(default=None, repr=False, compare=False)
+
+    def stacked(self) -> tuple[np.ndarray, np.ndarray]:
+        """Every row's ``y`` and ``y'`` as row-major ``(rows, n)`` arrays (one model throughout), stacked once and
+        kept until rows are added (the run's checks and its result read them; callers do not write to them)."""
+        n = len(self.t)
+        if self._stacked is None or self._stacked[0] != n:
+            self._stacked = (n, np.vstack(self.y[:n], dtype=float), np.vstack(self.yp[:n], dtype=float))
+        return self._stacked[1], self._stacked[2]
 
     def add(self, t: float, y: np.ndarray, yp: np.ndarray, rel: np.ndarray) -> None:
         """Append one output row (copies); rows belong to the last model in ``models``."""

@@ -10,11 +10,11 @@ the acceleration, and the rate of change of the flow, is continuous too.
 
 Representation: knots ``(t_k, y_k, dy_k)`` at the phase boundaries and the cubic Hermite polynomial through each
 pair of knots, which reproduces a phase of constant acceleration (quadratic) or constant jerk (cubic) exactly. The
-part selects the segment that holds the time (its start ``t_k`` and four coefficients: one comparison and five
-selections per knot, no time events: the profile's value and speed are continuous at every knot, so the integrator
-may step across one) and evaluates the cubic for ``y`` and its exact derivative for ``dy``, so ``dy`` is the
-derivative of ``y`` to rounding everywhere, not a second interpolation. (A ``TimeTable`` per output would evaluate
-every segment's polynomial at every residual call, and stop the integrator at every knot.)
+part selects the segment that holds the time (its start ``t_k`` and four coefficients, by a binary search over
+the knots, :func:`flexlib.segment_row`; no time events: the profile's value and speed are continuous at every knot,
+so the integrator may step across one) and evaluates the cubic for ``y`` and its exact derivative for ``dy``, so
+``dy`` is the derivative of ``y`` to rounding everywhere, not a second interpolation. (A ``TimeTable`` per output
+would evaluate every segment's polynomial at every residual call, and stop the integrator at every knot.)
 
 A joint profile becomes a cylinder-length profile through the kinematics ``L(q)`` (:func:`joint_to_length`): the
 joint profile sampled densely, ``L(q(t))`` and ``dL/dt = dL/dq·dq/dt`` at each sample as the new knots; the speed
@@ -354,16 +354,13 @@ class SmoothReference(fl.Model):
 
     def _segment(self, time: Any) -> tuple[Any, list[Any]]:
         """``(s, [c0, c1, c2, c3])`` of the segment holding ``time``, ``s = time − t_k`` (relative to the first knot;
-        the held ends: ``c = (y_end − y_start, 0, 0, 0)``): one comparison and five selections per knot."""
+        the held ends: ``c = (y_end − y_start, 0, 0, 0)``): a binary search over the knots
+        (:func:`flexlib.segment_row`), whose cost does not grow with the number of knots."""
         t, y, dy = self.profile  # relative to y_start
         c = hermite_coefficients(t, y, dy) if t.size > 1 else np.zeros((0, 4))
         # segments: the held start, the cubics, the held end; each (t_k, c0, c1, c2, c3)
         rows = [(t[0], y[0], 0.0, 0.0, 0.0), *((t[k], *c[k]) for k in range(len(c))), (t[-1], y[-1], 0.0, 0.0, 0.0)]
-        bounds = [t[0], *t[1:], np.inf]  # segment i holds the times before bounds[i]
-        seg: list[Any] = [float(v) for v in rows[-1]]
-        for i in range(len(rows) - 2, -1, -1):
-            below = time < float(bounds[i])
-            seg = [fl.no_event(below, float(v), s) for v, s in zip(rows[i], seg, strict=True)]
+        seg = fl.segment_row(time, t, rows)  # segment i holds the times before t[i]
         return time - seg[0], seg[1:]
 
     def equations(self) -> list:

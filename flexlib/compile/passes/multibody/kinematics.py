@@ -159,7 +159,7 @@ def _rate(expr: ca.SX, rates: dict[int, ca.SX]) -> ca.SX:
     syms, dots = [], []
     for s in ca.symvar(expr):
         info = lookup(s)
-        if info is None or info.kind in ("parameter", "relation"):
+        if info is None or info.kind in ("parameter", "relation", "table"):
             continue
         syms.append(s)
         dots.append(rates.get(s.element_hash(), der(s)))
