@@ -73,14 +73,17 @@ def test_a_model_with_a_table_runs_exactly_and_without_events():
 
 
 def test_table_symbols_are_constant_to_derivatives():
-    """``der`` of an expression of table symbols is 0 (piecewise constant) and the compiled Jacobian has no entries
-    from them: the row of ``y`` is ``1`` in ``y`` only, as for a plain function of time."""
+    """``der`` of an expression of table symbols is 0 (piecewise constant); a column with one value in every segment
+    is that constant (no lookup)."""
     tables: list = []
     token = CURRENT_TABLES.set(tables)
     try:
         a, b = fl.segment_row(fl.time, [1.0, 2.0], [[1.0, 2.0], [3.0, 4.0], [5.0, 6.0]])
         assert float(ca.evalf(der(a * b + a))) == 0.0
         assert ca.is_equal(ca.simplify(der(fl.time * a)), a)
+        same, varying = fl.segment_row(fl.time, [1.0, 2.0], [[4.0, 1.0], [4.0, 2.0], [4.0, 3.0]])
+        assert same.is_constant() and float(same) == 4.0 and varying.is_symbolic()  # one value: no lookup
+        assert len(tables) == 2 and len(tables[-1].symbols) == 1
     finally:
         CURRENT_TABLES.reset(token)
 

@@ -115,7 +115,7 @@ def segment_row(x: Any, breaks: Any, rows: Any) -> list[ca.SX]:
     Returns
     -------
     list of casadi.SX
-        The ``m`` entries of the selected row.
+        The ``m`` entries of the selected row (a constant for a column with the same value in every row).
     """
     x = as_sx(x, "segment_row(): x")
     b = np.asarray(breaks, dtype=float).ravel()
@@ -133,13 +133,20 @@ def segment_row(x: Any, breaks: Any, rows: Any) -> list[ca.SX]:
     sink = CURRENT_TABLES.get()
     if sink is None:
         raise ModelError("segment_row() may only be used inside equations()")
-    tbl = SegmentTable(x, b, table)
-    for i in range(table.shape[1]):
+    # a column with one value in every segment is that constant (no lookup: the stages see a constant, as with a
+    # chain of selections of equal values, e.g. a reference without moves)
+    varying = [i for i in range(table.shape[1]) if np.any(table[:, i] != table[0, i])]
+    out: list[ca.SX] = [ca.SX(float(table[0, i])) for i in range(table.shape[1])]
+    if not varying:
+        return out
+    tbl = SegmentTable(x, b, table[:, varying])
+    for i in varying:
         sym = ca.SX.sym(f"table{len(sink)}[{i}]")
         tbl.infos.append(SymInfo(sym, "table", name=f"segment_row(...)[{i}]", extra={"column": i}))
         tbl.symbols.append(sym)
+        out[i] = sym
     sink.append(tbl)
-    return list(tbl.symbols)
+    return out
 
 
 def bind_tables(exprs: list[ca.SX], tables: list[SegmentTable]) -> list[ca.SX]:
