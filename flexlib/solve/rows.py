@@ -111,15 +111,16 @@ def segments(traj: Any, default: CompiledModel,
         rows = np.flatnonzero(seg == k)
         model = traj.models[k] if traj.models else default
         whole = len(rows) == len(T)  # one model for the whole run: every row, in order
-        if whole and hasattr(traj, "stacked"):
-            Y, YP = traj.stacked()  # kept: stacked once for every reader of the run's rows
+        if whole and hasattr(traj, "stacked"):  # kept: stacked once for every reader of the run's rows
+            Y, YP = traj.stacked()
+            P = traj.stacked_parameters(pvec)
         else:
             Y = np.vstack([traj.y[i] for i in rows], dtype=float)
             YP = np.vstack([traj.yp[i] for i in rows], dtype=float)
+            P = np.empty((len(rows), len(pvec) + rel.shape[1]))
+            P[:, :len(pvec)] = pvec
+            P[:, len(pvec):] = rel[rows]
         Y, YP = Y.reshape(len(rows), model.n), YP.reshape(len(rows), model.n)
-        P = np.empty((len(rows), len(pvec) + rel.shape[1]))
-        P[:, :len(pvec)] = pvec
-        P[:, len(pvec):] = rel[rows]
         yield model, rows, T[rows], Y, YP, P
 
 

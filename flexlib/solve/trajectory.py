@@ -39,8 +39,24 @@ class Trajectory:
         kept until rows are added (the run's checks and its result read them; callers do not write to them)."""
         n = len(self.t)
         if self._stacked is None or self._stacked[0] != n:
-            self._stacked = (n, np.vstack(self.y[:n], dtype=float), np.vstack(self.yp[:n], dtype=float))
+            self._stacked = (n, np.vstack(self.y[:n], dtype=float), np.vstack(self.yp[:n], dtype=float), {})
         return self._stacked[1], self._stacked[2]
+
+    def stacked_parameters(self, pvec: np.ndarray) -> np.ndarray:
+        """Per row the parameter vector ``pvec`` followed by the row's relation values, ``(rows, n_p + n_rel)``, made
+        once per ``pvec`` and kept with :meth:`stacked` (callers do not write to it)."""
+        self.stacked()
+        kept = self._stacked[3]
+        key = np.asarray(pvec, dtype=float).tobytes()
+        if key not in kept:
+            n = len(self.t)
+            rel = np.array(self.rel[:n], dtype=float).reshape(n, -1)
+            P = np.empty((n, len(pvec) + rel.shape[1]))
+            P[:, :len(pvec)] = pvec
+            P[:, len(pvec):] = rel
+            kept.clear()
+            kept[key] = P
+        return kept[key]
 
     def add(self, t: float, y: np.ndarray, yp: np.ndarray, rel: np.ndarray) -> None:
         """Append one output row (copies); rows belong to the last model in ``models``."""

@@ -21,9 +21,13 @@ rigid bodies) and ch. 7 (virtual work). ISO 3320:2013 (cylinder bores and rod di
 
 from __future__ import annotations
 
+import hashlib
+import json
 import math
-from dataclasses import replace
+import os
+from dataclasses import asdict, replace
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 
@@ -215,7 +219,36 @@ def design_sizing(record: PumpTruckParameters) -> tuple[dict, ...]:
 
 @lru_cache(maxsize=16)
 def _design_sizing(design: PumpTruckParameters) -> tuple[dict, ...]:
-    return tuple(sizing(design))
+    return tuple(_stored_sizing(design))
+
+
+def _stored_sizing(design: PumpTruckParameters) -> list[dict]:
+    """:func:`sizing` of ``design``, kept on disk (``$FLEXLIB_CACHE_DIR/pump_truck/sizing-*.json``, written atomically)
+    under a key of the record and of the sources it is computed from (this package and ``flexlib/fe``): every process
+    that builds the machine would otherwise repeat the sweep (0.5 s). A file that cannot be read is made again; the
+    values read back are the computed ones to the last bit (JSON keeps a float's shortest exact representation)."""
+    from flexlib.compile.cache import cache_dir
+    from flexlib.fe import beam
+
+    h = hashlib.sha256(json.dumps(asdict(design), sort_keys=True, default=str).encode())
+    for root in (Path(__file__).resolve().parent, Path(beam.__file__).resolve().parent):
+        for path in sorted(root.glob("*.py")):
+            h.update(path.name.encode())
+            h.update(path.read_bytes())
+    path = Path(os.environ.get("FLEXLIB_CACHE_DIR") or cache_dir()) / "pump_truck" / f"sizing-{h.hexdigest()[:24]}.json"
+    try:
+        return json.loads(path.read_text())["rows"]
+    except (OSError, ValueError, KeyError, TypeError):
+        pass  # absent or damaged: size again and replace it
+    rows = [{k: v.item() if isinstance(v, np.generic) else v for k, v in row.items()} for row in sizing(design)]
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.part")
+        tmp.write_text(json.dumps({"rows": rows}))
+        os.replace(tmp, path)
+    except OSError:  # a read-only cache: the sizing is still right, only not kept
+        pass
+    return rows
 
 
 @lru_cache(maxsize=64)

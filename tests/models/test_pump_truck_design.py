@@ -172,3 +172,25 @@ def test_cylinder_masses_in_the_load():
     dV = (point_masses(REC, q + e)[2][own, 1] - point_masses(REC, q - e)[2][own, 1]) / (2 * h) @ m[own]
     assert with_c[0] - bare[0] == pytest.approx(REC.g * (float(m[rigid] @ x[rigid, 0]) + dV), rel=1e-6)
     assert with_c[0] / bare[0] > 1.1  # issue 28: the rods alone add ~15 % at hinge 1
+
+
+def test_the_design_sizing_is_kept_and_read_back_exactly(tmp_path, monkeypatch):
+    """The sizing is kept on disk per record and code: read back equal to ``sizing()`` value for value; a damaged
+    file is sized again and replaced; another record has its own file."""
+    from flexlib.models.pump_truck import statics
+    from flexlib.models.pump_truck.parameters import PumpTruckParameters
+
+    monkeypatch.setenv("FLEXLIB_CACHE_DIR", str(tmp_path))
+    design = statics.worst_case(PumpTruckParameters())
+    fresh = statics.sizing(design)
+    first = statics._stored_sizing(design)
+    (kept,) = (tmp_path / "pump_truck").glob("sizing-*.json")
+    again = statics._stored_sizing(design)
+    kept.write_text("{not json")
+    healed = statics._stored_sizing(design)
+    for rows in (first, again, healed):
+        assert [sorted(r) for r in rows] == [sorted(r) for r in fresh]
+        assert all(float(r[k]) == float(f[k]) for r, f in zip(rows, fresh, strict=True) for k in f
+                   if not isinstance(f[k], bool | str))
+    statics._stored_sizing(replace(design, g=9.80))
+    assert len(list((tmp_path / "pump_truck").glob("sizing-*.json"))) == 2
