@@ -165,13 +165,12 @@ def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: 
         values = None
         repaired, settle_error, parts = 0, "", []
         for model, idx, Ts, Y, YP, P in segments(traj, m, pvec):
-            recorded, Y = Y, np.array(Y, dtype=float, copy=True)  # this result's own rows: settled and set in place
+            # the run's rows become this result's: settled and set in place (a failed repair leaves them as recorded)
             try:
                 Y, YP, n_fixed = settle_derivative_level(rows, model, Ts, Y, YP, P)
                 repaired += n_fixed
             except Exception as exc:  # never lose a run's rows to the check: keep them as recorded
                 settle_error = f"{type(exc).__name__}: {exc}"
-                Y = np.array(recorded, dtype=float, copy=True)
             defs = row_definitions_of(model)
             if defs.fn is not None:  # the explicitly given unknowns by their rows (what a file derives them by)
                 key = ("row_definitions", np.asarray(pvec, dtype=float).tobytes())

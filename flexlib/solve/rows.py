@@ -141,7 +141,7 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
     kept and everything else is solved again from ``F(t, y, y') = 0`` — the states' derivatives and all algebraic
     unknowns (Newton on the index-1 system, at most four iterations), as a consistent initialisation would.
 
-    ``Y`` is repaired in place (the caller owns it); ``YP`` is copied if a row is repaired.
+    ``Y`` and ``YP`` are repaired in place (the caller owns them; a failure of the repair leaves them as they were).
 
     Returns
     -------
@@ -171,8 +171,12 @@ def settle_derivative_level(rows: RowEvaluator, model: CompiledModel, T: np.ndar
     bad = np.flatnonzero((np.abs(F) > allowed).any(axis=1))
     if bad.size == 0:
         return Y, YP, 0
-    YP = np.array(YP, dtype=float, copy=True)
-    settle_rows(rows, model, T, Y, YP, P, bad)
+    recorded = (Y[bad], YP[bad])  # copies (fancy indexing)
+    try:
+        settle_rows(rows, model, T, Y, YP, P, bad)
+    except BaseException:
+        Y[bad], YP[bad] = recorded
+        raise
     return Y, YP, int(bad.size)
 
 

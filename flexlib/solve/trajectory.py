@@ -36,7 +36,8 @@ class Trajectory:
 
     def stacked(self) -> tuple[np.ndarray, np.ndarray]:
         """Every row's ``y`` and ``y'`` as row-major ``(rows, n)`` arrays (one model throughout), stacked once and
-        kept until rows are added (the run's checks and its result read them; callers do not write to them)."""
+        kept until rows are added: they become the result's rows (:func:`~flexlib.solve.assemble.assemble_result`
+        settles them in place), which the run's later checks read."""
         n = len(self.t)
         if self._stacked is None or self._stacked[0] != n:
             self._stacked = (n, np.vstack(self.y[:n], dtype=float), np.vstack(self.yp[:n], dtype=float), {})
