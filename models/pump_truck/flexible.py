@@ -308,10 +308,8 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     cache : bool
         Read and write the selection under ``$FLEXLIB_CACHE_DIR/pump_truck`` (keyed by everything it depends on).
     model : callable, optional
-        The rigid machine: ``model(record, pose=..., slewing=False)`` a model whose section ``j`` is ``section{j}``
-        on ``joint{j}`` (default :class:`~models.pump_truck.held.HeldBoom`: the mechanics of
-        :class:`~models.pump_truck.model.PumpTruck` held by its cylinders locked at their lengths, the same loads at
-        rest in under half the build time).
+        The rigid machine ``model(record, pose=..., slewing=False)``, section ``j`` as ``section{j}`` on ``joint{j}``
+        (default :class:`~models.pump_truck.held.HeldBoom`: PumpTruck's mechanics, cylinders locked).
 
     Returns
     -------
