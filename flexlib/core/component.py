@@ -290,6 +290,8 @@ class Node(InstanceValues, metaclass=_NodeMeta):
         (:data:`PASS_DECLARATIONS`: a frame's ``v`` given a start value before the model is flattened)."""
         decl = self._decls.get(name)
         if decl is None and isinstance(name, str):
+            if not PASS_DECLARATIONS:  # the passes register their hooks when imported: not only once a build ran
+                import flexlib.compile.passes  # noqa: F401
             for hook in PASS_DECLARATIONS:
                 found = hook(self, name)
                 if found is not None:
