@@ -204,8 +204,6 @@ def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Re
         finally:
             CURRENT_RELATIONS.reset(token)
             CURRENT_TABLES.reset(token_t)
-        for tbl in own_tables:
-            tbl.owner = node.path or type(node).__name__
         tables.extend(own_tables)
         for rel in sink:
             rel.owner = node.path or type(node).__name__

@@ -55,8 +55,6 @@ class SegmentTable:
         The ``m`` symbols standing for the selected row in the equations.
     infos : list of SymInfo
         Their registry entries (kept alive with the table: the registry holds them weakly).
-    owner : str
-        The component whose equations made the table (set by the flattener).
     """
 
     x: ca.SX
@@ -64,33 +62,28 @@ class SegmentTable:
     rows: np.ndarray
     symbols: list[ca.SX] = field(default_factory=list)
     infos: list[SymInfo] = field(default_factory=list, repr=False)
-    owner: str = ""
-    _bound: list[ca.SX] | None = field(default=None, repr=False)
 
     def lookup(self) -> list[ca.SX]:
         """The selected row as expressions of time: three interpolant calls (a binary search for the index, the
         segment's bounds to correct it within a rounding of a break, the row)."""
-        if self._bound is None:
-            b, table = self.breaks, self.rows
-            if b.size < 2:  # one break (or none): one selection
-                self._bound = [ca.if_else(self.x < float(b[0]), float(lo), float(hi)) if b.size else ca.SX(float(lo))
-                               for lo, hi in zip(table[0], table[-1], strict=True)]
-            else:
-                n, grid = b.size, np.arange(b.size + 1, dtype=float).tolist()
-                index = ca.interpolant("flexlib_segment_index", "linear", [b.tolist()],
-                                       np.arange(n, dtype=float).tolist(), {"lookup_mode": ["binary"]})
-                k = ca.fmin(ca.fmax(ca.floor(index(self.x)) + 1.0, 0.0), float(n))
-                # the interpolated index may be one off within a rounding of a break: the segment's own bounds
-                # (exact values of a table) correct it, so the selection is that of the comparisons `x < breaks[i]`
-                lower = np.concatenate([[-np.finfo(float).max], b])
-                upper = np.concatenate([b, [np.finfo(float).max]])
-                bounds = ca.interpolant("flexlib_segment_bounds", "linear", [grid],
-                                        np.column_stack([lower, upper]).ravel().tolist(), {"lookup_mode": ["exact"]})(k)
-                k = k - ca.if_else(self.x < bounds[0], 1.0, 0.0) + ca.if_else(self.x >= bounds[1], 1.0, 0.0)
-                row = ca.interpolant("flexlib_segment_rows", "linear", [grid], table.ravel().tolist(),
-                                     {"lookup_mode": ["exact"]})(k)
-                self._bound = [row[i] for i in range(table.shape[1])]
-        return self._bound
+        b, table = self.breaks, self.rows
+        if b.size == 1:  # one break: one selection (a varying column has at least two rows)
+            return [ca.if_else(self.x < float(b[0]), float(lo), float(hi)) for lo, hi in zip(table[0], table[-1],
+                                                                                               strict=True)]
+        n, grid = b.size, np.arange(b.size + 1, dtype=float).tolist()
+        index = ca.interpolant("flexlib_segment_index", "linear", [b.tolist()], np.arange(n, dtype=float).tolist(),
+                               {"lookup_mode": ["binary"]})
+        k = ca.fmin(ca.fmax(ca.floor(index(self.x)) + 1.0, 0.0), float(n))
+        # the interpolated index may be one off within a rounding of a break: the segment's own bounds (exact values
+        # of a table) correct it, so the selection is that of the comparisons `x < breaks[i]`
+        lower = np.concatenate([[-np.finfo(float).max], b])
+        upper = np.concatenate([b, [np.finfo(float).max]])
+        bounds = ca.interpolant("flexlib_segment_bounds", "linear", [grid],
+                                np.column_stack([lower, upper]).ravel().tolist(), {"lookup_mode": ["exact"]})(k)
+        k = k - ca.if_else(self.x < bounds[0], 1.0, 0.0) + ca.if_else(self.x >= bounds[1], 1.0, 0.0)
+        row = ca.interpolant("flexlib_segment_rows", "linear", [grid], table.ravel().tolist(),
+                             {"lookup_mode": ["exact"]})(k)
+        return [row[i] for i in range(table.shape[1])]
 
 
 def segment_row(x: Any, breaks: Any, rows: Any) -> list[ca.SX]:
@@ -142,7 +135,7 @@ def segment_row(x: Any, breaks: Any, rows: Any) -> list[ca.SX]:
     tbl = SegmentTable(x, b, table[:, varying])
     for i in varying:
         sym = ca.SX.sym(f"table{len(sink)}[{i}]")
-        tbl.infos.append(SymInfo(sym, "table", name=f"segment_row(...)[{i}]", extra={"column": i}))
+        tbl.infos.append(SymInfo(sym, "table", name=f"segment_row(...)[{i}]"))
         tbl.symbols.append(sym)
         out[i] = sym
     sink.append(tbl)
@@ -150,8 +143,8 @@ def segment_row(x: Any, breaks: Any, rows: Any) -> list[ca.SX]:
 
 
 def bind_tables(exprs: list[ca.SX], tables: list[SegmentTable]) -> list[ca.SX]:
-    """``exprs`` with the symbols of ``tables`` replaced by their lookups (:meth:`SegmentTable.lookup`), in one
-    substitution (the lookups shared). Take every derivative before (module docstring)."""
+    """``exprs`` with the symbols of ``tables`` replaced by their lookups (:meth:`SegmentTable.lookup`, made once
+    here), in one substitution (the lookups shared). Take every derivative before (module docstring)."""
     syms = [s for tbl in tables for s in tbl.symbols]
     if not syms:
         return list(exprs)

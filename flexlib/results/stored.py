@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     import casadi as ca
 
 __all__ = ["CONSTANT", "DERIVED", "FileColumns", "FilePart", "OutputMap", "RowDefinitions", "StoredPart",
-           "file_columns", "output_graph", "output_map", "pack_function", "signatures",
+           "file_columns", "fold_parameters", "output_graph", "output_map", "pack_function", "signatures",
            "unique_columns", "unpack_function"]
 
 #: ``OutputMap.source`` codes: a variable is an unknown's column (``>= 0``), derived from the rows, or a constant.
@@ -115,12 +115,20 @@ class RowDefinitions:
         file's reader puts it into the output function (:meth:`FilePart.bound`): constant parts folded — the run's
         rows and its file are both evaluated on this graph, so that they agree to the last bit (folding lets CasADi
         simplify, e.g. ``a + (x − a)`` to ``x``)."""
-        import casadi as ca
+        t, y, yp, _ = self.fn.sx_in()
+        rel, values = fold_parameters(self.fn, pvec, t, y, yp)
+        return [t, y, yp, rel], values
 
-        t, y, yp, p = self.fn.sx_in()
-        n_rel = p.numel() - len(pvec)
-        rel = ca.SX.sym("rel", max(n_rel, 1))
-        return [t, y, yp, rel], self.fn(t, y, yp, ca.vertcat(ca.DM(pvec), rel[:n_rel] if n_rel else ca.SX(0, 1)))
+
+def fold_parameters(fn: ca.Function, pvec: np.ndarray, t: ca.SX, y: ca.SX, yp: ca.SX) -> tuple[ca.SX, ca.SX]:
+    """``(rel, fn(t, y, yp, [pvec; rel]))``: a model function ``fn(t, y, yp, p)`` on the symbols ``t, y, yp`` with the
+    parameter vector ``pvec`` put in (its constant parts folded) and the relation values ``rel`` left symbolic (one
+    unused entry if the model has none). A run's rows and its file's reader are evaluated on such graphs."""
+    import casadi as ca
+
+    n_rel = fn.size1_in(3) - len(pvec)
+    rel = ca.SX.sym("rel", max(n_rel, 1))
+    return rel, fn(t, y, yp, ca.vertcat(ca.DM(pvec), rel[:n_rel] if n_rel else ca.SX(0, 1)))
 
 
 def signatures(source: np.ndarray, constant: np.ndarray, out: Any, y_columns: np.ndarray | None = None) -> list[tuple]:
@@ -229,15 +237,13 @@ class FilePart:
         if self._bound is None:
             import casadi as ca
 
-            fn = self.function()
             t, y = ca.SX.sym("t"), ca.SX.sym("y", self.n)
-            n_rel = fn.size1_in(3) - len(self.pvec)  # inputs of at least one entry (an unused one if none)
-            ypu, rel = ca.SX.sym("yp", max(len(self.yp_used), 1)), ca.SX.sym("rel", max(n_rel, 1))
+            ypu = ca.SX.sym("yp", max(len(self.yp_used), 1))  # inputs of at least one entry (an unused one if none)
             yp = ca.SX.zeros(self.n)
             for k, j in enumerate(self.yp_used):
                 yp[int(j)] = ypu[k]
-            self._bound = ([t, y, ypu, rel], fn(t, y, yp, ca.vertcat(ca.DM(self.pvec),
-                                                                          rel[:n_rel] if n_rel else ca.SX(0, 1))))
+            rel, out = fold_parameters(self.function(), self.pvec, t, y, yp)
+            self._bound = ([t, y, ypu, rel], out)
         return self._bound
 
     def stored_y(self, columns: np.ndarray) -> np.ndarray:

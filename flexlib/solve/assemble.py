@@ -19,6 +19,7 @@ from flexlib.results.stored import (
     OutputMap,
     RowDefinitions,
     StoredPart,
+    fold_parameters,
     output_graph,
     output_map,
     signatures,
@@ -118,11 +119,9 @@ class RowColumns:
         self.rows.keep_latest(model, key)
 
         def make() -> tuple[list[ca.SX], ca.SX]:
-            (t, y, yp, p), _ = self._graph(model)
-            n_rel = p.numel() - len(self.pvec)
-            rel = ca.SX.sym("rel", max(n_rel, 1))
-            return [t, y, yp, rel], model.sx_function("out")(t, y, yp, ca.vertcat(
-                ca.DM(self.pvec), rel[:n_rel] if n_rel else ca.SX(0, 1)))
+            (t, y, yp, _), _ = self._graph(model)
+            rel, out = fold_parameters(model.sx_function("out"), self.pvec, t, y, yp)
+            return [t, y, yp, rel], out
 
         return self.rows.cached(model, key, make)
 

@@ -111,7 +111,7 @@ def segments(traj: Any, default: CompiledModel,
         rows = np.flatnonzero(seg == k)
         model = traj.models[k] if traj.models else default
         whole = len(rows) == len(T)  # one model for the whole run: every row, in order
-        if whole and hasattr(traj, "stacked"):  # kept: stacked once for every reader of the run's rows
+        if whole:  # kept: stacked once for every reader of the run's rows
             Y, YP = traj.stacked()
             P = traj.stacked_parameters(pvec)
         else:
