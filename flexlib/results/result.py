@@ -177,7 +177,7 @@ class Result:
         cols = [k for name in names if isinstance(name, str)
                 for k in ([self._index[name]] if name in self._index else self._arrays.get(name, []))]
         if cols and self._values is None:
-            self._read(cols)
+            self._evaluate(cols)
 
     def _read(self, cols: list[int], keep: bool = True) -> np.ndarray:
         """Columns ``cols`` of :attr:`values` (``(len(t), len(cols))``), from the source alone if the values are not
@@ -189,11 +189,15 @@ class Result:
             known = [c for c in cols if c in self._columns]
             if not known:
                 return self.source.columns(list(cols))
+        self._evaluate(cols)
+        return np.column_stack([self._columns[c] for c in cols]) if cols else np.zeros((len(self.t), 0))
+
+    def _evaluate(self, cols: list[int]) -> None:
+        """Evaluate the columns ``cols`` not evaluated yet from the source, in one pass, and keep them."""
         todo = [c for c in dict.fromkeys(cols) if c not in self._columns]
         if todo:
             for c, col in zip(todo, self.source.columns(todo).T, strict=True):
                 self._columns[c] = col
-        return np.column_stack([self._columns[c] for c in cols]) if cols else np.zeros((len(self.t), 0))
 
     def _require_rows(self, what: str) -> None:
         if not len(self.t):

@@ -214,6 +214,6 @@ def prefetch_body(body: Any, result: Any) -> None:
     for node in body.root.walk():
         if type(node) is type(body) and node.path:
             p = f"{node.path}."
-            names += [f"{p}q", f"{p}a_0", f"{p}w", f"{p}z", f"{p}frame_a.T"]
-            names += [f"{p}{f}.{x}" for f in frame_names(len(node.frame_nodes)) for x in ("f", "t")]
+            names += [f"{p}q", f"{p}r_0", f"{p}a_0", f"{p}w", f"{p}z"]
+            names += [f"{p}{f}.{x}" for f in frame_names(len(node.frame_nodes)) for x in ("T", "f", "t")]
     prefetch(*names)
