@@ -230,7 +230,7 @@ def joint_to_length(knots: Knots, L: Callable[[float], float], tol: float = 1e-6
         Joint profile (e.g. from :func:`motion_profile`).
     L : callable
         Pin-to-pin length [m] of the joint's cylinder at the joint angle ``q`` [rad] (e.g.
-        ``lambda q: record.drive(k).state(q).length``).
+        ``record.drive(k).length``).
     tol : float
         Largest position error at the midpoints [m] (and speed error [m/s]); default 1 µm.
     dq : float

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["LinkageState", "direct_state", "fourbar_state", "rot", "transmission_deg"]
+__all__ = ["LinkageState", "direct_state", "fourbar_length", "fourbar_state", "rot", "transmission_deg"]
 
 
 def rot(q: float) -> np.ndarray:
@@ -87,6 +87,28 @@ def direct_state(q: float, H: np.ndarray, c: np.ndarray) -> LinkageState:
                         {"cylinder-arm": transmission_deg(d, C)}, _perp(C))
 
 
+def _fourbar_points(q: float, P: np.ndarray, c: np.ndarray, r: float, s: float, sigma: int
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """The bracket ``C`` and the lever tip ``T`` of the four-bar at ``q`` (circle intersection on branch ``sigma``)."""
+    C = rot(q) @ np.asarray(c, float)
+    d = C - P
+    dist = float(np.linalg.norm(d))
+    x = (r**2 - s**2 + dist**2) / (2.0 * dist)
+    h2 = r**2 - x**2
+    if not (abs(r - s) < dist < r + s) or h2 <= 0.0:
+        raise ValueError(f"four-bar cannot close at q = {np.degrees(q):.2f} deg: |C - P| = {dist:.4f} m, "
+                         f"lever r = {r:.4f} m, link s = {s:.4f} m")
+    ex = d / dist
+    return C, P + x * ex + sigma * np.sqrt(h2) * _perp(ex)
+
+
+def fourbar_length(q: float, P: np.ndarray, H: np.ndarray, c: np.ndarray, r: float, s: float, sigma: int) -> float:
+    """The cylinder's pin-to-pin length [m] alone at ``q`` [rad] (as :func:`fourbar_state`'s, to the last bit)."""
+    P = np.asarray(P, float)
+    _, T = _fourbar_points(q, P, c, r, s, sigma)
+    return float(np.linalg.norm(T - np.asarray(H, float)))
+
+
 def fourbar_state(q: float, P: np.ndarray, H: np.ndarray, c: np.ndarray, r: float, s: float,
                   sigma: int) -> LinkageState:
     """Lever-and-link drive at joint angle ``q`` [rad] (see the module docstring).
@@ -97,16 +119,7 @@ def fourbar_state(q: float, P: np.ndarray, H: np.ndarray, c: np.ndarray, r: floa
         If the loop cannot close at ``q`` (``|C − P|`` outside ``[|r − s|, r + s]``).
     """
     P, H = np.asarray(P, float), np.asarray(H, float)
-    C = rot(q) @ np.asarray(c, float)
-    d = C - P
-    dist = float(np.linalg.norm(d))
-    x = (r**2 - s**2 + dist**2) / (2.0 * dist)
-    h2 = r**2 - x**2
-    if not (abs(r - s) < dist < r + s) or h2 <= 0.0:
-        raise ValueError(f"four-bar cannot close at q = {np.degrees(q):.2f} deg: |C - P| = {dist:.4f} m, "
-                         f"lever r = {r:.4f} m, link s = {s:.4f} m")
-    ex = d / dist
-    T = P + x * ex + sigma * np.sqrt(h2) * _perp(ex)
+    C, T = _fourbar_points(q, P, c, r, s, sigma)
     a, b = T - P, T - C
     # (T − P)·Ṫ = 0 ; (T − C)·Ṫ = (T − C)·Ċ with Ċ = ẑ × C
     Tdot = np.linalg.solve(np.array([a, b]), np.array([0.0, b @ _perp(C)]))

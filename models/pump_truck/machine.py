@@ -168,7 +168,7 @@ def joint_loop(record: PumpTruckParameters, n: int, cylinder: Mapping[str, Any],
     A_p = math.pi / 4 * cylinder["bore"] ** 2
     A_r = A_p - math.pi / 4 * cylinder["rod"] ** 2
     loop = JointController(A_p=A_p, Q_nom=cylinder["Q_nom"], L_start=drive.state(q).length, omega_c=OMEGA_C)
-    knots = joint_to_length(motion_profile(q, moves), lambda x: drive.state(x).length, tol=LENGTH_TOL)
+    knots = joint_to_length(motion_profile(q, moves), drive.length, tol=LENGTH_TOL)
     return loop, SmoothReference(*knots, ff_gain=(A_p / cylinder["Q_nom"], A_r / cylinder["Q_nom"]), ff_lead=FF_LEAD)
 
 

@@ -41,7 +41,7 @@ import numpy as np
 
 from flexlib.errors import ParameterError
 
-from .kinematics import direct_state, fourbar_state
+from .kinematics import direct_state, fourbar_length, fourbar_state
 
 __all__ = ["CYLINDER_BORES", "CYLINDER_RODS", "N_SECTIONS", "DirectDrive", "EndHose", "FourBar", "Pipe",
            "PumpTruckParameters", "SectionSpec", "Steel", "Turret", "box_wall_thickness"]
@@ -235,6 +235,10 @@ class DirectDrive:
         """Drive state at ``q`` [rad] (:func:`models.pump_truck.kinematics.direct_state`)."""
         return direct_state(q, np.array(self.H), np.array(self.c))
 
+    def length(self, q: float) -> float:
+        """The cylinder's pin-to-pin length [m] at ``q`` [rad] (``state(q).length``)."""
+        return self.state(q).length
+
 
 #: Lever-and-link base design at joint 2's size (folds upwards, positive q, −2…178 deg), from a differential-evolution
 #: search (issue 28) for the smallest bore that holds 700 kN.m ∝ cos q over the range at 280 bar (rod 0.7 bore), with
@@ -282,6 +286,10 @@ class FourBar:
     def state(self, q: float):
         """Drive state at ``q`` [rad] (:func:`models.pump_truck.kinematics.fourbar_state`)."""
         return fourbar_state(q, np.array(self.P), np.array(self.H), np.array(self.c), self.r, self.s, self.sigma)
+
+    def length(self, q: float) -> float:
+        """The cylinder's pin-to-pin length [m] at ``q`` [rad] (``state(q).length``, without the rest of the state)."""
+        return fourbar_length(q, np.array(self.P), np.array(self.H), np.array(self.c), self.r, self.s, self.sigma)
 
 
 _SECTIONS = (SectionSpec(9.0, 2200.0, 0.45, 0.70), SectionSpec(7.7, 1500.0, 0.40, 0.60),
