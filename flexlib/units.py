@@ -25,3 +25,5 @@ rpm = 2.0 * math.pi / 60.0
 """1 rev/min in rad/s."""
 kN = 1e3
 """1 kN in N."""
+g_n = 9.80665
+"""Standard gravity [m/s²] (3rd CGPM, 1901; MSL ``Modelica.Constants.g_n``): the default of ``World.g``."""

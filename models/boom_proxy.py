@@ -267,7 +267,7 @@ class BoomProxy(fl.Model):
         st = statics(self.linkages)
         self.holding = st
 
-        self.world = World()
+        self.world = World(g=G)
         self.base = Fixed(r=[*BASE_PIN, 0.0])
         tank_ports, supply_ports = self._power_unit()
         self.bores: list[float] = []

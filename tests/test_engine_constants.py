@@ -19,6 +19,7 @@ import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, Fixed, FixedTranslation, Revolute, World
 from flexlib.models.reference import closed_form as ref
 from flexlib.models.reference.four_bar import A, B, C, D, FourBar, link_body
+from flexlib.units import g_n
 
 
 @pytest.fixture(autouse=True)
@@ -272,7 +273,7 @@ def test_parameter_expression_follows_run_params():
     parameter expression ``lock.phi0 − housing.phi0``, its rate and acceleration are 0 — all three leave the DAE
     and are reported exactly; ``run(params={"lock.phi0": 0.9})`` moves the arm, and the holding torque on the lock
     follows statics, |τ| = m g L cos φ0 (1e-9 relative)."""
-    m, L, g = 2.0, 0.8, 9.81
+    m, L, g = 2.0, 0.8, g_n  # the World's default gravity
     sim = fl.Simulation(HeldArm(0.5, m, L), use_cache=False, assume_zero_geometry=False)
     assert sim.compiled.assumed == {}
     assert not {"hinge.phi", "hinge.w", "hinge.a"} & set(sim.compiled.y_names)

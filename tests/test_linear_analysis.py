@@ -25,6 +25,7 @@ from flexlib.components.mechanics.flexible import FlexibleBody
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute, World
 from flexlib.components.mechanics.translational import Damper, Fixed, Force, Mass, Spring
 from flexlib.fe import beam_mesh, modal_data_from_fe, rectangle
+from flexlib.units import g_n
 
 M1, M2, K1, K2, D12 = 2.0, 0.5, 3.0e4, 1.2e4, 15.0
 
@@ -108,7 +109,7 @@ def test_pendulum_at_the_bottom():
     modes = fl.modal_analysis(sim)
     osc = modes.oscillatory
     assert osc.sum() == 1
-    np.testing.assert_allclose(modes.frequencies[osc], np.sqrt(m * 9.81 * L / (Izz + m * L**2)) / (2 * np.pi),
+    np.testing.assert_allclose(modes.frequencies[osc], np.sqrt(m * g_n * L / (Izz + m * L**2)) / (2 * np.pi),
                                rtol=1e-10)
     assert abs(modes.damping[osc][0]) < 1e-10
     locked = fl.modal_analysis(sim, lock=["rev"])
@@ -195,7 +196,7 @@ def test_linearization_along_a_result_and_sweeps():
     the point (θ from the bottom), to 1e-9; a sweep over result times gives f = ω0 √cos θ / 2π; a pose sweep of
     the closed cylinder over its piston position follows the oil-spring formula."""
     m, L, Izz = 3.0, 0.8, 0.05
-    w0 = np.sqrt(m * 9.81 * L / (Izz + m * L**2))
+    w0 = np.sqrt(m * g_n * L / (Izz + m * L**2))
     model = BobPendulum(m, L, Izz)
     model.rev.set_start("phi", -np.pi / 2 + 1.0)
     sim = fl.Simulation(model)

@@ -19,8 +19,9 @@ from flexlib.compile.passes.multibody import tearing
 from flexlib.components.mechanics.multibody import Body, Bushing, SpringDamperLine, World
 from flexlib.models.n_link_pendulum import NLinkPendulum
 from flexlib.models.planar_mechanisms import FourBarLinkage
+from flexlib.units import g_n
 
-G = 9.81
+G = g_n  # standard gravity: the World's default, as MSL's
 
 
 def _sim(model: fl.Model, mode: str, monkeypatch: pytest.MonkeyPatch) -> fl.Simulation:
@@ -211,4 +212,4 @@ def test_a_joint_written_without_the_frame_rates_gets_them_from_the_pass():
 
     res = fl.Simulation(Model(), use_cache=False).run(0.1, dt_out=0.05)
     assert np.abs(res["body.frame_a.r_0[1]"]).max() < 1e-9
-    np.testing.assert_allclose(res["weld.frame_a.f[1]"], 9.81, rtol=1e-9)
+    np.testing.assert_allclose(res["weld.frame_a.f[1]"], g_n, rtol=1e-9)

@@ -23,7 +23,7 @@ class Sine(PartialSignalSource):
     Modelica Standard Library 4.0, ``Modelica.Blocks.Sources.Sine``.
     """
 
-    amplitude = Parameter(unit="1", doc="Amplitude of the sine wave")
+    amplitude = Parameter(1.0, unit="1", doc="Amplitude of the sine wave (default 1, as MSL's)")
     f = Parameter(unit="Hz", doc="Frequency of the sine wave")
     phase = Parameter(0.0, unit="rad", doc="Phase of the sine wave")
 

@@ -47,6 +47,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import ModalFileError, RunArgumentError
+from flexlib.units import g_n
 
 from .modal_data import ModalData
 
@@ -522,7 +523,7 @@ def field_values(s: dict[str, Any], field: str, func: str) -> np.ndarray:
 
 
 def energies(data: ModalData, q: Any, qd: Any, r_0: Any, v_0: Any, w: Any, T: Any,
-             g: Sequence[float] = (0.0, -9.81, 0.0)) -> dict[str, np.ndarray]:
+             g: Sequence[float] = (0.0, -g_n, 0.0)) -> dict[str, np.ndarray]:
     """Kinetic, strain and gravitational potential energy of a flexible body over a run [J].
 
     With the body-axes velocity ``v = T v_0`` of the reference origin, its angular velocity ``w`` (body axes) and
@@ -551,7 +552,7 @@ def energies(data: ModalData, q: Any, qd: Any, r_0: Any, v_0: Any, w: Any, T: An
         Orientation of the reference frame, world to body (for a body whose ``frame_a`` sits at the reference
         node, ``<body>.frame_a.T``).
     g : sequence of 3 float
-        Gravity [m/s2], world axes.
+        Gravity [m/s2], world axes (default: the World's, standard gravity along −y).
 
     Returns
     -------

@@ -119,7 +119,7 @@ class Boom32(machine.HeldStart, fl.Model):
         self._F_hold = cylinder_forces(record, self._q0[1:])[0]  # values, not structure
         self.cylinders: list[dict[str, Any]] = []
 
-        self.world = World()
+        self.world = World(g=record.g)  # the record's gravity (its statics and sizing use it)
         self.power = PowerUnit(p_relief=record.p_system)
         if self.slewing:
             self.turret, self.slew_drive, self.slew_loop, self.slew_ref = machine.slewing_turret(

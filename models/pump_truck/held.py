@@ -68,7 +68,7 @@ class HeldBoom(fl.Model):
         if slewing:
             raise fl.errors.ParameterError("HeldBoom: the held boom has no slewing turret (slewing=False)")
         q0 = check_pose(pose, record, "HeldBoom")
-        self.world = World()
+        self.world = World(g=record.g)
         self.turret_top, self.housing1 = fixed_turret(record)
         self.connect(self.world.frame_b, self.turret_top.frame_a)
         self.connect(self.turret_top.frame_b, self.housing1.frame_a)

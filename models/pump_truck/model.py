@@ -176,7 +176,7 @@ class PumpTruck(HeldStart, fl.Model):
         self._F_hold = cylinder_forces(record, self._q0[1:])[0]
         self.cylinders: list[dict[str, Any]] = []
 
-        self.world = World()
+        self.world = World(g=record.g)  # the record's gravity (its statics and sizing use it)
         self.power = PowerUnit(p_relief=record.p_system)
         parent, housing1 = self._turret(moves.get(0, []), commands_by_joint.pop(0, None))
         prev = None

@@ -29,6 +29,7 @@ from flexlib.models.reference.mass_spring_damper import DampedOscillator, MassSp
 from flexlib.models.reference.rigid_pendulum import G, RigidPendulum
 from flexlib.models.reference.signal_chain import LimitedSine
 from flexlib.models.reference.slider_crank import SliderCrank
+from flexlib.units import g_n
 
 __all__ = ["CASES", "ReferenceCase"]
 
@@ -148,7 +149,7 @@ def _n_link(model: NLinkPendulum, res: fl.Result) -> dict[str, float]:
     energy = 0.0
     for k in range(1, model.n + 1):
         v, w, r = res[f"body{k}.v_0"], res[f"body{k}.w_a"], res[f"body{k}.r_0"]
-        energy = energy + 0.5 * m * np.sum(v**2, axis=-1) + 0.5 * I_zz * w[:, 2] ** 2 + m * 9.81 * r[:, 1]
+        energy = energy + 0.5 * m * np.sum(v**2, axis=-1) + 0.5 * I_zz * w[:, 2] ** 2 + m * g_n * r[:, 1]
     return {"energy drift [J]": _drift(energy)}
 
 

@@ -42,7 +42,7 @@ class RigidPendulum(fl.Model):
 
     def __init__(self, L: float = 0.5, m: float = 1.0, inertia: np.ndarray | None = None, phi0: float = 0.3) -> None:
         super().__init__()
-        self.world = World()
+        self.world = World(g=G)
         self.rev = Revolute(init={"phi": phi0, "w": 0.0})
         self.rod = FixedTranslation(r=[L, 0, 0])
         self.body = Body(m=m) if inertia is None else Body(m=m, I=np.asarray(inertia, dtype=float))

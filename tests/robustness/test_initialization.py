@@ -16,6 +16,7 @@ import flexlib as fl
 from flexlib import Parameter, Variable, der, eq, if_else
 from flexlib.models.reference.hydraulic_boom import A_P, A_R, BORE, ROD, CylinderBoom
 from flexlib.models.reference.orifice import SquareRootOrifice
+from flexlib.units import g_n
 
 
 class Lag(fl.Model):
@@ -212,7 +213,7 @@ def test_steady_state_holds_the_boom():
     e = (mid - base) / np.linalg.norm(mid - base)
     F = res["cyl.cylinder.F"][0]
     lever = mid[0] * e[1] - mid[1] * e[0]
-    np.testing.assert_allclose(F * lever, 200.0 * 9.81 * math.cos(phi) * 1.0, rtol=1e-6)
+    np.testing.assert_allclose(F * lever, 200.0 * g_n * math.cos(phi) * 1.0, rtol=1e-6)
     p_A, p_B = res["cyl.cylinder.p_A"][0], res["cyl.cylinder.p_B"][0]
     F_hyd = p_A * A_P - p_B * A_R - 1.01325e5 * (A_P - A_R)
     np.testing.assert_allclose(F_hyd, F, rtol=1e-6)  # no friction at rest: the pressures carry the load

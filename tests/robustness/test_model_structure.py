@@ -22,6 +22,7 @@ from flexlib.components.mechanics import translational as tr
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Prismatic, Revolute, World
 from flexlib.models.reference import closed_form as ref
 from flexlib.models.reference.four_bar import A, B, C, D, FourBar
+from flexlib.units import g_n
 
 
 class Leaf(fl.Component):
@@ -360,7 +361,7 @@ def test_relative_position_sensor_on_prismatic_reads_free_fall():
     """Free fall along the joint: s = g t²/2 (1e-8 m) and the sensor reads s to 1e-10 m."""
     res = fl.Simulation(SensedSlide(), use_cache=False).run(1.0, dt_out=0.1, rtol=1e-10, atol=1e-12,
                                                             progress=False)
-    np.testing.assert_allclose(res["slide.s"], 0.5 * 9.81 * res.t**2, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(res["slide.s"], 0.5 * g_n * res.t**2, rtol=0, atol=1e-8)
     np.testing.assert_allclose(res["sensor.s_rel"], res["slide.s"], rtol=0, atol=1e-10)
 
 

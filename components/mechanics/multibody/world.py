@@ -9,6 +9,7 @@ import numpy as np
 
 from flexlib import Component, Parameter, eq
 from flexlib.errors import ModelError, ParameterError
+from flexlib.units import g_n
 
 from .interfaces import Frame
 
@@ -17,6 +18,9 @@ __all__ = ["World", "gravity_of"]
 
 class World(Component):
     """Inertial frame at the origin and uniform gravity ``g_0 = g·n`` [m/s²] in world coordinates.
+
+    As MSL's ``World``: ``g`` defaults to standard gravity (:data:`flexlib.units.g_n`, 9.80665 m/s²) and ``n`` to
+    ``−y``; a model that wants another value says so (``World(g=9.81)``).
 
     ``frame_b`` is the world frame (a definite orientation root), at rest, its origin's acceleration less gravity
     ``a = −g_0`` (gravity enters the recursive kinematics there, :class:`~.interfaces.Frame`). Bodies find the
@@ -32,7 +36,8 @@ class World(Component):
     Modelica Standard Library 4.0, ``Modelica.Mechanics.MultiBody.World``.
     """
 
-    g = Parameter(9.81, unit="m/s2", min=0.0, doc="Gravity acceleration magnitude")
+    g = Parameter(g_n, unit="m/s2", min=0.0,
+                  doc="Gravity acceleration magnitude (default standard gravity 9.80665, MSL's ``Constants.g_n``)")
     n = Parameter([0.0, -1.0, 0.0], unit="1", shape=3, doc="Direction of gravity resolved in world (normalised)")
     frame_b = Frame(doc="World frame")
     #: Not geometry: the planar-model analysis (``flexlib/compile/constants.py``) never assumes the gravity

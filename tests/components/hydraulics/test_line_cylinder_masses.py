@@ -18,8 +18,9 @@ from scipy.special import ellipk
 import flexlib as fl
 from flexlib.components.hydraulics import LineCylinder, Tank
 from flexlib.components.mechanics.multibody import CutForce, Fixed, FixedTranslation, Prismatic, Revolute, World
+from flexlib.units import g_n
 
-G = 9.81
+G = g_n  # standard gravity: the World's default, as MSL's
 CYL = {"d_bore": 0.08, "d_rod": 0.045, "stroke": 1.0, "m": 0.0, "V_dead_A": 1e-4, "V_dead_B": 1e-4}
 M_H, L_H, M_R, L_R = 60.0, 0.4, 35.0, 0.7  # housing and rod masses [kg] and their distances from the pins [m]
 

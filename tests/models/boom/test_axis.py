@@ -24,8 +24,9 @@ from flexlib.components.hydraulics import HLP46, PressureSource, Tank
 from flexlib.components.mechanics.multibody import Body, Prismatic, World
 from flexlib.models.boom import HydraulicAxis
 from flexlib.models.boom.axis import CBV_A_LEAK, SHOCK_LEAK
+from flexlib.units import g_n
 
-G = 9.81
+G = g_n  # standard gravity: the World's default, as MSL's
 P_T = HLP46.p_ref
 P_SYS = 35e6
 BORE, ROD, STROKE = 0.1, 0.063, 1.0

@@ -28,8 +28,9 @@ from flexlib.errors import ParameterError
 from flexlib.fe import beam_mesh, box, modal_data_from_fe, planar_modes
 from flexlib.models.boom import BoomSection
 from flexlib.models.reference.signal_chain import VectorConstant
+from flexlib.units import g_n
 
-G = 9.81
+G = g_n  # standard gravity: the World's default, as MSL's
 L = 10.0
 M, R_CM, I_CM = 2000.0, (4.0, 0.2), np.diag([50.0, 1.7e4, 1.7e4])
 PINS = {"C": (1.0, -0.5), "P_next": (L + 0.3, 0.35)}

@@ -24,8 +24,9 @@ from flexlib.components.mechanics.multibody import (
 from flexlib.models.reference import closed_form as ref
 from flexlib.models.reference.four_bar import A, B, C, D
 from flexlib.models.reference.signal_chain import VectorConstant
+from flexlib.units import g_n
 
-G = 9.81
+G = g_n  # standard gravity: the World's default, as MSL's
 
 
 class Hanging(fl.Model):
