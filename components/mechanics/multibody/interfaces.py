@@ -247,13 +247,15 @@ def check_axis(component: Any, values: dict[str, Any], name: str, what: str = "j
         raise ParameterError(f"{component.where}: {what} {name} = {n.tolist()} has zero length")
 
 
-def support_grounded(support: Connector, sensors: tuple[type, ...]) -> bool:
-    """True if a joint's drive ``support`` flange is grounded inside the joint (MSL's joints: "the support
-    is assumed to be fixed in the world frame"; a 1D component's ``useSupport = false``).
+def support_grounded(support: Connector, prescribing: tuple[type, ...]) -> bool:
+    """True if a joint's drive ``support`` flange is grounded inside the joint, as in MSL's joints (their support is
+    connected to an internal ``Fixed``: "the support flange is fixed to ground"): a spring, damper, torque or force
+    source, gear or sensor between ``support`` and ``axis`` then acts between the housing and the axis, the
+    reaction going into ``frame_a`` with the rest of the joint's load.
 
-    That is the case unless the support is connected to a component other than a pure measuring sensor
-    (``sensors``: the 1D sensors that exert no force and fix no position): a housing, a ``Fixed`` or a
-    torque source then determine the support themselves, as before. So a relative angle sensor between
-    ``support`` and ``axis`` reads the joint angle.
+    Not grounded when the support's connection set holds the ``flange`` of a component that prescribes its position
+    itself (``prescribing``: a ``Fixed``, a position or speed source): that component then determines the support,
+    and the joint applies its reaction to it (``Fixed`` on the support, written in models before MSL's semantics).
     """
-    return all(isinstance(c._parent, sensors) for c in support.connection_set())
+    return not any(isinstance(c._parent, prescribing) and c is getattr(c._parent, "flange", None)
+                   for c in support.connection_set())

@@ -7,7 +7,10 @@ from typing import Any
 import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
-from flexlib.components.mechanics.translational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
+from flexlib.components.mechanics.translational.fixed import Fixed
+from flexlib.components.mechanics.translational.interfaces import Flange
+from flexlib.components.mechanics.translational.position import Position
+from flexlib.components.mechanics.translational.speed import Speed
 
 from .frames import resolve1
 from .interfaces import PartialAxisJoint, add_axis_flange, support_grounded
@@ -31,9 +34,10 @@ class Prismatic(PartialAxisJoint):
     ----------
     frame_a, frame_b : Frame
     axis, support : translational Flange (if ``use_axis_flange``)
-        Drive flange (position ``s``, force ``f``) and its housing. A support connected to nothing or only to
-        sensors is grounded inside the joint (``support.s = 0``, MSL), so a ``RelativePositionSensor`` between
-        ``support`` and ``axis`` reads ``s``; a support connected to a ``Fixed`` or a source takes ``-f``.
+        Drive flange (position ``s``, force ``f``) and its housing. As in MSL the support is grounded inside the
+        joint (``support.s = 0``), so a spring, damper or force source between ``support`` and ``axis`` acts
+        between housing and axis and a ``RelativePositionSensor`` there reads ``s``; only a support connected to
+        the flange of a ``Fixed``, ``Position`` or ``Speed`` is placed by that component and takes ``-f``.
 
     References
     ----------
@@ -63,7 +67,7 @@ class Prismatic(PartialAxisJoint):
         eqs += [eq(b.T, a.T), eq(b.w, a.w)] if self.rooted(a) else [eq(a.T, b.T), eq(a.w, b.w)]
         if self.use_axis_flange:
             eqs += [eq(self.axis.s - self.support.s, self.s), eq(self.axis.f + self.f_drive, self.f)]
-            if support_grounded(self.support, (PartialAbsoluteSensor, PartialRelativeSensor)):
+            if support_grounded(self.support, (Fixed, Position, Speed)):
                 eqs.append(eq(self.support.s, 0.0, label="support grounded in the world (MSL)"))
             else:
                 eqs.append(eq(self.support.f, -self.f))

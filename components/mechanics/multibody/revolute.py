@@ -7,7 +7,10 @@ from typing import Any
 import casadi as ca
 
 from flexlib import Parameter, Variable, der, eq
-from flexlib.components.mechanics.rotational.interfaces import Flange, PartialAbsoluteSensor, PartialRelativeSensor
+from flexlib.components.mechanics.rotational.fixed import Fixed
+from flexlib.components.mechanics.rotational.interfaces import Flange
+from flexlib.components.mechanics.rotational.position import Position
+from flexlib.components.mechanics.rotational.speed import Speed
 from flexlib.core.options import flag
 
 from .frames import absolute_rotation, planar_rotation, resolve1
@@ -39,10 +42,11 @@ class Revolute(PartialAxisJoint):
     ----------
     frame_a, frame_b : Frame
     axis, support : rotational Flange (if ``use_axis_flange``)
-        Drive flange (angle ``phi``, torque ``tau``) and its housing. A support connected to nothing or only
-        to sensors is grounded inside the joint (``support.phi = 0``, MSL: "fixed in the world frame"), so a
-        ``RelativeAngleSensor`` between ``support`` and ``axis`` reads ``phi``; a support connected to a
-        ``Fixed``, a housing or a source takes the reaction ``-(tau + tau_f)``.
+        Drive flange (angle ``phi``, torque ``tau``) and its housing. As in MSL the support is grounded inside
+        the joint (``support.phi = 0``: "the support flange is fixed to ground"), so a spring, damper or torque
+        source between ``support`` and ``axis`` acts between housing and axis (its reaction goes into
+        ``frame_a``) and a ``RelativeAngleSensor`` there reads ``phi``; only a support connected to the flange
+        of a ``Fixed``, ``Position`` or ``Speed`` is placed by that component and takes ``-(tau + tau_f)``.
 
     References
     ----------
@@ -93,7 +97,7 @@ class Revolute(PartialAxisJoint):
         if self.use_axis_flange:
             eqs += [eq(self.axis.phi - self.support.phi, self.phi),
                     eq(self.axis.tau + self.tau_drive, self.tau + self.tau_f)]
-            if support_grounded(self.support, (PartialAbsoluteSensor, PartialRelativeSensor)):
+            if support_grounded(self.support, (Fixed, Position, Speed)):
                 eqs.append(eq(self.support.phi, 0.0, label="support grounded in the world (MSL)"))
             else:
                 eqs.append(eq(self.support.tau, -(self.tau + self.tau_f)))

@@ -467,7 +467,7 @@ class SlopeCylinder3D(fl.Model):
 
         super().__init__()
         axis = [math.cos(THETA), math.sin(THETA), 0.0]
-        self.world, self.tank, self.source = World(), Tank(), FlowSource(use_input=True)
+        self.world, self.tank, self.source = World(g=G), Tank(), FlowSource(use_input=True)
         self.flow = Ramp(height=q, duration=0.2)
         self.connect(self.flow.y, self.source.q_in)
         self.slide = Prismatic(n=axis, init={"s": L_CLOSED + 0.1, "v": 0.0})
