@@ -2,9 +2,8 @@
 
 Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``; math ``Gain``, ``Add``,
 ``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``, ``Tare``; the
-start-found offset ``Trim``; continuous ``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs are named
-``y``, inputs ``u`` / ``u1``, ``u2``,
-``u3`` (``u_s``, ``u_m`` on the PID).
+start-found offset ``Trim``; continuous ``Integrator``, ``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs
+are named ``y``, inputs ``u`` / ``u1``, ``u2``, ``u3`` (``u_s``, ``u_m`` on the PID).
 """
 
 from .add import Add
@@ -13,6 +12,7 @@ from .dead_zone import DeadZone
 from .feedback import Feedback
 from .first_order import FirstOrder
 from .gain import Gain
+from .integrator import Integrator
 from .lim_pid import LimPID
 from .limiter import Limiter
 from .product import Product
@@ -34,6 +34,7 @@ __all__ = [
     "Feedback",
     "FirstOrder",
     "Gain",
+    "Integrator",
     "LimPID",
     "Limiter",
     "Product",

@@ -6,6 +6,7 @@ component); components, sources and sensors with MSL names and equations.
 
 from .acc_sensor import AccSensor
 from .angle_sensor import AngleSensor
+from .constant_torque import ConstantTorque
 from .damper import Damper
 from .fixed import Fixed
 from .ideal_gear import IdealGear
@@ -24,6 +25,7 @@ from .torque_sensor import TorqueSensor
 __all__ = [
     "AccSensor",
     "AngleSensor",
+    "ConstantTorque",
     "Damper",
     "Fixed",
     "Flange",

@@ -5,6 +5,7 @@ component); components, sources and sensors with MSL names and equations.
 """
 
 from .acc_sensor import AccSensor
+from .constant_force import ConstantForce
 from .damper import Damper
 from .fixed import Fixed
 from .force import Force
@@ -22,6 +23,7 @@ from .spring_damper import SpringDamper
 
 __all__ = [
     "AccSensor",
+    "ConstantForce",
     "Damper",
     "Fixed",
     "Flange",

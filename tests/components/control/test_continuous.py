@@ -127,3 +127,26 @@ def test_bad_transfer_functions_are_rejected():
         TransferFunction(b=[1.0], a=[1.0, 2.0, 1.0], x_start=[0.0])
     with pytest.raises(fl.ModelError, match=r"init_type='zero'"):
         TransferFunction(b=[1.0], a=[1.0, 1.0], init_type="zero")
+
+
+def test_integrator_of_a_sine():
+    """``der(y) = k u`` of ``u = A sin(2π f t)`` from ``y_start``: ``y = y_start + k A (1 − cos 2π f t)/(2π f)``.
+    Reference: analytic; 1e-7 of the swing."""
+    from flexlib.components.control import Integrator, Sine
+
+    k, A, f, y0 = 1.5, 0.8, 2.0, -0.3
+    res = run(Driven(Sine(amplitude=A, f=f), Integrator(k=k, y_start=y0)), 1.0)
+    w = 2 * np.pi * f
+    np.testing.assert_allclose(res["block.y"], y0 + k * A * (1.0 - np.cos(w * res.t)) / w, rtol=0,
+                               atol=1e-7 * 2 * k * A / w)
+
+
+def test_integrator_initialisation_options():
+    """``no_init`` takes its start from ``init={"y": ...}``; ``steady_state`` with a nonzero input has no
+    equilibrium (an error naming ``block.y``). Reference: the definitions; 1e-10."""
+    from flexlib.components.control import Integrator
+
+    res = run(Driven(Constant(k=2.0), Integrator(k=0.5, init_type="no_init", init={"y": 1.0})), 0.5)
+    np.testing.assert_allclose(res["block.y"], 1.0 + res.t, rtol=0, atol=1e-10)
+    with pytest.raises(fl.InitializationError, match=r"block\.y"):
+        run(Driven(Constant(k=2.0), Integrator(init_type="steady_state")), 0.5)

@@ -317,3 +317,33 @@ def test_missing_spring_constant_names_instance():
 
     with pytest.raises(fl.ModelError, match=r"spring\.c"):
         fl.Simulation(Unset(), use_cache=False)
+
+
+def test_constant_torque_accelerates_an_inertia_and_loads_its_support():
+    """``ConstantTorque`` on an inertia J from rest: ``w = τ t / J``, ``φ = τ t²/(2 J)`` (analytic, 1e-9); with
+    ``use_support`` on a ``Fixed`` the housing takes the same reaction as under a ``Torque`` source fed by a
+    ``Constant`` of the same value (1e-12)."""
+    from flexlib.components.mechanics.rotational import ConstantTorque
+
+    tau, J = -2.5, 0.5
+
+    class Driven(fl.Model):
+        def __init__(self, constant: bool) -> None:
+            super().__init__()
+            if constant:
+                self.source = ConstantTorque(tau_constant=tau, use_support=True)
+            else:
+                self.source, self.value = Torque(use_support=True), Constant(k=tau)
+                self.connect(self.value.y, self.source.tau)
+            self.housing = Fixed()
+            self.inertia = Inertia(J=J, init={"phi": 0.0, "w": 0.0})
+            self.connect(self.source.flange, self.inertia.flange_a)
+            self.connect(self.source.support, self.housing.flange)
+
+    _, res = simulate(Driven(True), 1.0)
+    _, ref = simulate(Driven(False), 1.0)
+    np.testing.assert_allclose(res["inertia.w"], tau * res.t / J, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(res["inertia.phi"], tau * res.t**2 / (2 * J), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(res["source.tau"], tau, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res["housing.flange.tau"], ref["housing.flange.tau"], rtol=0, atol=1e-12)
+    assert abs(res["housing.flange.tau"][0]) == pytest.approx(abs(tau), rel=1e-12)

@@ -61,8 +61,8 @@ def test_spring_between_support_and_axis_holds_the_pendulum_at_the_static_angle(
     """A torsion spring c between support and axis: at rest ``c·φ = −m g L cos φ`` (hand statics, the root by
     Brent's method), 1e-9 relative."""
     c = 40.0
-    res = fl.Simulation(Pendulum(rotational.Spring(c=c), free=True)).run(0.1, dt_out=0.05, steady_state=True, rtol=1e-10,
-                                                                atol=1e-12, progress=False)
+    sim = fl.Simulation(Pendulum(rotational.Spring(c=c), free=True))
+    res = sim.run(0.1, dt_out=0.05, steady_state=True, rtol=1e-10, atol=1e-12, progress=False)
     phi = brentq(lambda p: c * p + M * g_n * L * math.cos(p), -math.pi / 2, 0.0, xtol=1e-15)
     assert res["hinge.phi"][0] == pytest.approx(phi, rel=1e-9)
     assert res["hinge.w"][-1] == pytest.approx(0.0, abs=1e-9)
