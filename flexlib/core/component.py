@@ -24,6 +24,7 @@ from flexlib.core.variables import (
     Declaration,
     Kind,
     Parameter,
+    StateSelect,
     SymInfo,
     lookup,
 )
@@ -125,9 +126,13 @@ class Node(InstanceValues, metaclass=_NodeMeta):
         for what, given in (("init", init), ("guess", guess)):
             for name, value in (given or {}).items():
                 self._start_target(name, what).set_start(name.rpartition(".")[2], value, fixed=what == "init")
+        own = getattr(type(self), "state_select_variables", ())
         if state_select is not None and not isinstance(state_select, Mapping):
-            raise ModelError(f"{type(self).__name__}: state_select must be a dict {{variable: 'always' | "
-                             f"'prefer' | 'default' | 'avoid' | 'never'}}, got {state_select!r}")
+            if not own or not isinstance(state_select, str | StateSelect):
+                one = (f" or one value for {', '.join(own)} (MSL's stateSelect)" if own else "")
+                raise ModelError(f"{type(self).__name__}: state_select must be a dict {{variable: 'always' | "
+                                 f"'prefer' | 'default' | 'avoid' | 'never'}}{one}, got {state_select!r}")
+            state_select = dict.fromkeys(own, state_select)  # MSL's single modifier of a joint's coordinates
         for name, value in (state_select or {}).items():
             self._start_target(name, "state_select").set_state_select(name.rpartition(".")[2], value)
 
@@ -393,7 +398,9 @@ class Component(Node):
     state_select : dict, optional
         ``{variable: "never" | "avoid" | "default" | "prefer" | "always"}`` (or :class:`~flexlib.StateSelect`
         members): this instance's preference for choosing the variable as a state, overriding the declaration
-        (Modelica's ``stateSelect`` modifier, e.g. ``Revolute(state_select={"phi": "always", "w": "always"})``).
+        (Modelica's ``stateSelect`` modifier, e.g. ``Revolute(state_select={"phi": "always", "w": "always"})``);
+        a component with :attr:`state_select_variables` also takes one value for all of them, as MSL's joints
+        (``Revolute(state_select="always")``).
     doc : str, optional
         Description of this instance.
     **params
@@ -409,6 +416,9 @@ class Component(Node):
     """
 
     experiment: ClassVar[Any] = None
+    #: The variables a single ``state_select`` value applies to, as MSL's ``stateSelect`` parameter of a joint does
+    #: (``Revolute(state_select="always")``: ``phi`` and ``w``); empty: only the dict form.
+    state_select_variables: ClassVar[tuple[str, ...]] = ()
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         """Append the *Parameters*, *Connectors* and *Variables* tables built from the class's declarations to its

@@ -37,6 +37,9 @@ class Cylindrical(Component):
     Modelica Standard Library 4.0, ``MultiBody.Joints.Cylindrical``.
     """
 
+    #: ``state_select="always"`` (one value, MSL's ``stateSelect``) applies to these
+    state_select_variables = ("s", "v", "phi", "w")
+
     frame_a = Frame(doc="First frame")
     frame_b = Frame(doc="Second frame")
     s = Variable(unit="m", state_select="prefer", doc="Relative distance along n")

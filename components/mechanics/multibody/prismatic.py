@@ -44,6 +44,9 @@ class Prismatic(PartialAxisJoint):
     Modelica Standard Library 4.0, ``MultiBody.Joints.Prismatic``.
     """
 
+    #: ``state_select="always"`` (one value, MSL's ``stateSelect``) applies to these
+    state_select_variables = ("s", "v")
+
     n = Parameter([1.0, 0.0, 0.0], unit="1", shape=3,
                   doc="Direction of translation resolved in frame_a; normalised, must not be zero")
     f_drive = Parameter(0.0, unit="N",

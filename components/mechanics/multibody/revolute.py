@@ -53,6 +53,9 @@ class Revolute(PartialAxisJoint):
     Modelica Standard Library 4.0, ``MultiBody.Joints.Revolute``.
     """
 
+    #: ``state_select="always"`` (one value, MSL's ``stateSelect``) applies to these
+    state_select_variables = ("phi", "w")
+
     n = Parameter([0.0, 0.0, 1.0], unit="1", shape=3,
                   doc="Axis of rotation resolved in frame_a (= frame_b); normalised, must not be zero")
     mu = Parameter(0.0, unit="1", min=0.0,

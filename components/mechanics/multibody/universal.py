@@ -41,6 +41,9 @@ class Universal(Component):
     Modelica Standard Library 4.0, ``MultiBody.Joints.Universal``.
     """
 
+    #: ``state_select="always"`` (one value, MSL's ``stateSelect``) applies to these
+    state_select_variables = ("phi_a", "phi_b", "w_a", "w_b")
+
     frame_a = Frame(doc="First frame (fixed to the first revolute's housing)")
     frame_b = Frame(doc="Second frame")
     phi_a = Variable(unit="rad", state_select="prefer", doc="Relative rotation angle about n_a")

@@ -90,3 +90,21 @@ def test_spring_between_prismatic_support_and_axis_gives_the_static_sag():
     res = fl.Simulation(Slider(c)).run(0.1, dt_out=0.05, steady_state=True, rtol=1e-10, atol=1e-12, progress=False)
     assert res["slide.s"][0] == pytest.approx(-M * g_n / c, rel=1e-9)
     assert np.all(res["slide.support.s"] == 0.0)
+
+
+def test_a_single_state_select_applies_to_the_joint_coordinates_as_msl():
+    """MSL's joints take one ``stateSelect`` for their coordinates and speeds: ``Revolute(state_select="always")``
+    sets ``phi`` and ``w``; the dict form still sets one variable; a component without joint coordinates refuses
+    a single value, naming the dict form; a bad value names the choices."""
+    j = Revolute(n=[0, 0, 1], state_select="always")
+    assert j.state_select_of("phi") is fl.StateSelect.always and j.state_select_of("w") is fl.StateSelect.always
+    p = Prismatic(n=[1, 0, 0], state_select=fl.StateSelect.avoid)
+    assert p.state_select_of("s") is fl.StateSelect.avoid and p.state_select_of("v") is fl.StateSelect.avoid
+    j = Revolute(n=[0, 0, 1], state_select={"phi": "never"})
+    assert j.state_select_of("phi") is fl.StateSelect.never and j.state_select_of("w") is fl.StateSelect.prefer
+    with pytest.raises(fl.ModelError, match=r"Body: state_select must be a dict"):
+        Body(m=1.0, state_select="always")
+    with pytest.raises(fl.ModelError, match=r"Revolute: state_select must be a dict .* or one value for phi, w"):
+        Revolute(n=[0, 0, 1], state_select=3)
+    with pytest.raises(fl.ModelError, match=r"'sometimes' is not one of"):
+        Revolute(n=[0, 0, 1], state_select="sometimes")
