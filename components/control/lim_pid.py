@@ -16,6 +16,14 @@ from .limiter import limit
 
 __all__ = ["LimPID"]
 
+
+def _is_number(value: Any) -> bool:
+    """A real number or an array of them (a bad ``y_max`` is left to the parameter check, which names it)."""
+    try:
+        return bool(np.all(np.isfinite(np.asarray(value, dtype=float)))) and not isinstance(value, bool | str)
+    except (TypeError, ValueError):
+        return False
+
 CONTROLLER_TYPES = ("P", "PI", "PD", "PID")
 SMALL = 1e-60  # Modelica.Constants.small
 EPS = float(np.finfo(float).eps)
@@ -82,8 +90,7 @@ class LimPID(PartialSVcontrol):
     Ti = Parameter(0.5, unit="s", gt=0.0, doc="Time constant of the integrator")
     Td = Parameter(0.1, unit="s", min=0.0, doc="Time constant of the derivative block")
     y_max = Parameter(unit="1", doc="Upper limit of the output")
-    y_min = Parameter(unit="1",
-                      doc="Lower limit of the output, <= ``y_max`` (MSL's default ``-y_max`` is not copied)")
+    y_min = Parameter(unit="1", doc="Lower limit of the output, <= ``y_max`` (default ``-y_max``, as MSL's)")
     wp = Parameter(1.0, unit="1", min=0.0, doc="Set-point weight of the proportional part")
     wd = Parameter(0.0, unit="1", min=0.0, doc="Set-point weight of the derivative part")
     Ni = Parameter(0.9, unit="1", min=100 * EPS, doc="``Ni * Ti`` is the time constant of the anti-windup compensation")
@@ -107,6 +114,10 @@ class LimPID(PartialSVcontrol):
         if init_type == "initial_output" and "I" not in controller_type:
             raise ModelError(f"LimPID: init_type='initial_output' needs an integrator (PI or PID), "
                              f"not controller_type={controller_type!r}")
+        # MSL's yMin = -yMax: not given, y_min follows y_max (checked for run-time values, see check)
+        self._y_min_follows = "y_min" not in kw and "y_max" in kw
+        if self._y_min_follows:
+            kw["y_min"] = -np.asarray(kw["y_max"], dtype=float) if _is_number(kw["y_max"]) else kw["y_max"]
         super().__init__(**kw)
         # controller_type decides the integrator and derivative states (with_I, with_D): fixed once built
         self.controller_type = check_choice(self, "controller_type", controller_type, CONTROLLER_TYPES,
@@ -125,6 +136,10 @@ class LimPID(PartialSVcontrol):
         hi, lo, y0 = scalar(values, "y_max"), scalar(values, "y_min"), scalar(values, "y_start")
         if hi is None or lo is None:
             return
+        if getattr(self, "_y_min_follows", False) and lo != -hi:
+            raise ParameterError(f"{self.where}: y_min was not given, so it is -y_max (MSL's default), but y_max = "
+                                 f"{hi:g} and y_min = {lo:g}: change both together (y_min = {-hi:g}), or build the "
+                                 "block with y_min to set it apart")
         if hi < lo:
             raise ParameterError(f"{self.where}: limits must be consistent (y_max >= y_min), but y_max = {hi:g} "
                                  f"< y_min = {lo:g}")

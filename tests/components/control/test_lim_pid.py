@@ -264,3 +264,20 @@ def test_limits_overridden_at_run_time_are_checked():
     sim = fl.Simulation(SpeedLoop(controller_type="PI", k=8.0, Ti=0.3, y_max=100.0, y_min=-100.0), use_cache=False)
     with pytest.raises(fl.ParameterError, match=r"^pid: limits must be consistent .*y_max = -200 < y_min = -100"):
         sim.run(0.1, params={"pid.y_max": -200.0}, progress=False)
+
+
+def test_y_min_defaults_to_minus_y_max_as_msl():
+    """MSL's ``yMin = -yMax``: without ``y_min`` the block saturates at ``-y_max`` (a negative error drives it to
+    the lower limit, 1e-12); a run-time ``y_max`` alone would leave the built ``y_min`` behind and is refused naming
+    both; both together run; an explicit ``y_min`` is kept."""
+    model = OpenLoop(0.0, 2.0, controller_type="P", k=1.0, y_max=0.5)
+    assert model.pid.parameter_value("y_min") == -0.5
+    sim = fl.Simulation(model, use_cache=False)
+    res = sim.run(0.1, dt_out=0.05, **TOL)
+    np.testing.assert_allclose(res["pid.y"], -0.5, rtol=0, atol=1e-12)
+    with pytest.raises(fl.ParameterError, match=r"pid: y_min was not given, so it is -y_max .* y_max = 0\.8 and "
+                                                r"y_min = -0\.5"):
+        sim.run(0.1, params={"pid.y_max": 0.8})
+    res = sim.run(0.1, dt_out=0.05, params={"pid.y_max": 0.8, "pid.y_min": -0.8}, **TOL)
+    np.testing.assert_allclose(res["pid.y"], -0.8, rtol=0, atol=1e-12)
+    assert LimPID(controller_type="P", y_max=0.5, y_min=-0.1).parameter_value("y_min") == -0.1
