@@ -8,6 +8,7 @@ from .acc_sensor import AccSensor
 from .angle_sensor import AngleSensor
 from .constant_torque import ConstantTorque
 from .damper import Damper
+from .elasto_backlash import ElastoBacklash
 from .fixed import Fixed
 from .ideal_gear import IdealGear
 from .inertia import Inertia
@@ -27,6 +28,7 @@ __all__ = [
     "AngleSensor",
     "ConstantTorque",
     "Damper",
+    "ElastoBacklash",
     "Fixed",
     "Flange",
     "IdealGear",
