@@ -7,6 +7,7 @@ component); components, sources and sensors with MSL names and equations.
 from .acc_sensor import AccSensor
 from .constant_force import ConstantForce
 from .damper import Damper
+from .elasto_gap import ElastoGap
 from .fixed import Fixed
 from .force import Force
 from .force_sensor import ForceSensor
@@ -16,6 +17,7 @@ from .position import Position
 from .position_sensor import PositionSensor
 from .relative_position_sensor import RelativePositionSensor
 from .relative_speed_sensor import RelativeSpeedSensor
+from .rod import Rod
 from .speed import Speed
 from .speed_sensor import SpeedSensor
 from .spring import Spring
@@ -25,6 +27,7 @@ __all__ = [
     "AccSensor",
     "ConstantForce",
     "Damper",
+    "ElastoGap",
     "Fixed",
     "Flange",
     "Force",
@@ -34,6 +37,7 @@ __all__ = [
     "PositionSensor",
     "RelativePositionSensor",
     "RelativeSpeedSensor",
+    "Rod",
     "Speed",
     "SpeedSensor",
     "Spring",
