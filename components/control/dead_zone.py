@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from flexlib import Parameter, ParameterError, eq, if_else
 
-from .interfaces import PartialSISO, scalar
+from .interfaces import PartialSISO, check_mirrored_limit, mirror_lower_limit, scalar
 
 __all__ = ["DeadZone"]
 
@@ -25,10 +27,15 @@ class DeadZone(PartialSISO):
     """
 
     u_max = Parameter(unit="1", doc="Upper limit of the dead zone")
-    u_min = Parameter(unit="1",
-                      doc="Lower limit of the dead zone, <= ``u_max`` (MSL's default ``-u_max`` is not copied)")
+    u_min = Parameter(unit="1", doc="Lower limit of the dead zone, <= ``u_max`` (default ``-u_max``, as MSL's)")
+
+    def __init__(self, **kw: Any) -> None:
+        self._u_min_follows = mirror_lower_limit(kw, "u_max", "u_min")  # MSL's uMin = -uMax
+        super().__init__(**kw)
 
     def check(self, values: dict) -> None:
+        if getattr(self, "_u_min_follows", False):
+            check_mirrored_limit(self, values, "u_max", "u_min")
         hi, lo = scalar(values, "u_max"), scalar(values, "u_min")
         if hi is not None and lo is not None and hi < lo:
             raise ParameterError(f"{self.where}: limits must be consistent, but u_max = {hi:g} < u_min = {lo:g}")

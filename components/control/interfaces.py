@@ -13,9 +13,11 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from flexlib import Component, Input, Output, Parameter
 from flexlib.core.options import remember_option
-from flexlib.errors import ModelError
+from flexlib.errors import ModelError, ParameterError
 
 __all__ = [
     "INIT_TYPES",
@@ -25,6 +27,8 @@ __all__ = [
     "PartialSVcontrol",
     "PartialSignalSource",
     "check_choice",
+    "check_mirrored_limit",
+    "mirror_lower_limit",
     "scalar",
 ]
 
@@ -84,3 +88,33 @@ class PartialSignalSource(PartialSO):
 
     offset = Parameter(0.0, unit="1", doc="Offset of the output signal")
     start_time = Parameter(0.0, unit="s", doc="Output = offset for time < start_time")
+
+
+def mirror_lower_limit(kw: dict[str, Any], upper: str, lower: str) -> bool:
+    """MSL's ``lower = -upper`` default (``yMin = -yMax``, ``uMin = -uMax``): when the constructor's keywords ``kw``
+    give ``upper`` but not ``lower``, set ``lower`` to ``-upper`` in ``kw`` and return True (the block then checks
+    with :func:`check_mirrored_limit` that later values keep it so). A value that is not a real number is left to the
+    parameter check, which names it."""
+    if lower in kw or upper not in kw:
+        return False
+    value = kw[upper]
+    if isinstance(value, bool | str):
+        return False
+    try:
+        number = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    if not np.all(np.isfinite(number)):
+        return False
+    kw[lower] = -number
+    return True
+
+
+def check_mirrored_limit(block: Any, values: dict, upper: str, lower: str) -> None:
+    """A block whose ``lower`` follows ``-upper`` (:func:`mirror_lower_limit`) refuses values that part them (a
+    run-time ``upper`` alone would leave the built ``lower`` behind), naming both and how to change them."""
+    hi, lo = scalar(values, upper), scalar(values, lower)
+    if hi is not None and lo is not None and lo != -hi:
+        raise ParameterError(f"{block.where}: {lower} was not given, so it is -{upper} (MSL's default), but {upper} = "
+                             f"{hi:g} and {lower} = {lo:g}: change both together ({lower} = {-hi:g}), or build the "
+                             f"block with {lower} to set it apart")

@@ -11,18 +11,11 @@ from flexlib import Input, Parameter, Variable, der, eq, no_event
 from flexlib.core.options import flag
 from flexlib.errors import ModelError, ParameterError
 
-from .interfaces import INIT_TYPES, PartialSVcontrol, check_choice, scalar
+from .interfaces import INIT_TYPES, PartialSVcontrol, check_choice, check_mirrored_limit, mirror_lower_limit, scalar
 from .limiter import limit
 
 __all__ = ["LimPID"]
 
-
-def _is_number(value: Any) -> bool:
-    """A real number or an array of them (a bad ``y_max`` is left to the parameter check, which names it)."""
-    try:
-        return bool(np.all(np.isfinite(np.asarray(value, dtype=float)))) and not isinstance(value, bool | str)
-    except (TypeError, ValueError):
-        return False
 
 CONTROLLER_TYPES = ("P", "PI", "PD", "PID")
 SMALL = 1e-60  # Modelica.Constants.small
@@ -115,9 +108,7 @@ class LimPID(PartialSVcontrol):
             raise ModelError(f"LimPID: init_type='initial_output' needs an integrator (PI or PID), "
                              f"not controller_type={controller_type!r}")
         # MSL's yMin = -yMax: not given, y_min follows y_max (checked for run-time values, see check)
-        self._y_min_follows = "y_min" not in kw and "y_max" in kw
-        if self._y_min_follows:
-            kw["y_min"] = -np.asarray(kw["y_max"], dtype=float) if _is_number(kw["y_max"]) else kw["y_max"]
+        self._y_min_follows = mirror_lower_limit(kw, "y_max", "y_min")
         super().__init__(**kw)
         # controller_type decides the integrator and derivative states (with_I, with_D): fixed once built
         self.controller_type = check_choice(self, "controller_type", controller_type, CONTROLLER_TYPES,
@@ -136,10 +127,8 @@ class LimPID(PartialSVcontrol):
         hi, lo, y0 = scalar(values, "y_max"), scalar(values, "y_min"), scalar(values, "y_start")
         if hi is None or lo is None:
             return
-        if getattr(self, "_y_min_follows", False) and lo != -hi:
-            raise ParameterError(f"{self.where}: y_min was not given, so it is -y_max (MSL's default), but y_max = "
-                                 f"{hi:g} and y_min = {lo:g}: change both together (y_min = {-hi:g}), or build the "
-                                 "block with y_min to set it apart")
+        if getattr(self, "_y_min_follows", False):
+            check_mirrored_limit(self, values, "y_max", "y_min")
         if hi < lo:
             raise ParameterError(f"{self.where}: limits must be consistent (y_max >= y_min), but y_max = {hi:g} "
                                  f"< y_min = {lo:g}")

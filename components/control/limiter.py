@@ -7,7 +7,7 @@ from typing import Any
 from flexlib import Parameter, ParameterError, eq, if_else, no_event
 from flexlib.core.options import flag
 
-from .interfaces import PartialSISO, scalar
+from .interfaces import PartialSISO, check_mirrored_limit, mirror_lower_limit, scalar
 
 __all__ = ["Limiter", "limit"]
 
@@ -50,14 +50,16 @@ class Limiter(PartialSISO):
     """
 
     u_max = Parameter(unit="1", doc="Upper limit of the input signal")
-    u_min = Parameter(unit="1",
-                      doc="Lower limit of the input signal, <= ``u_max`` (MSL's default ``-u_max`` is not copied)")
+    u_min = Parameter(unit="1", doc="Lower limit of the input signal, <= ``u_max`` (default ``-u_max``, as MSL's)")
 
     def __init__(self, strict: bool = False, **kw: Any) -> None:
+        self._u_min_follows = mirror_lower_limit(kw, "u_max", "u_min")  # MSL's uMin = -uMax
         super().__init__(**kw)
         self.strict = flag(self, "strict", strict)
 
     def check(self, values: dict) -> None:
+        if getattr(self, "_u_min_follows", False):
+            check_mirrored_limit(self, values, "u_max", "u_min")
         hi, lo = scalar(values, "u_max"), scalar(values, "u_min")
         if hi is not None and lo is not None and hi < lo:
             raise ParameterError(f"{self.where}: limits must be consistent (u_max >= u_min), but u_max = {hi:g} "

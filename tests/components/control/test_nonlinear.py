@@ -181,3 +181,27 @@ def test_inconsistent_limits_are_rejected():
         Limiter(u_max=-1.0, u_min=1.0)
     with pytest.raises(fl.ParameterError, match=r"u_max = 0 < u_min = 0\.5"):
         DeadZone(u_max=0.0, u_min=0.5)
+
+
+def test_lower_limits_default_to_minus_the_upper_as_msl():
+    """MSL's ``uMin = -uMax``: a ``Limiter`` and a ``DeadZone`` built with ``u_max`` alone act symmetrically (a sine
+    of amplitude 2 limited to ±0.8, a dead zone of ±0.5: closed forms, 1e-9); a run-time ``u_max`` alone is refused
+    naming both limits, both together run."""
+
+    class Blocks(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.sine = Sine(amplitude=2.0, f=1.0)
+            self.limiter, self.dead_zone = Limiter(u_max=0.8), DeadZone(u_max=0.5)
+            self.connect(self.sine.y, self.limiter.u, self.dead_zone.u)
+
+    sim = fl.Simulation(Blocks(), use_cache=False)
+    res = sim.run(1.0, dt_out=0.01, **TOL)
+    u = 2.0 * np.sin(2 * np.pi * res.t)
+    np.testing.assert_allclose(res["limiter.y"], np.clip(u, -0.8, 0.8), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(res["dead_zone.y"], u - np.clip(u, -0.5, 0.5), rtol=0, atol=1e-9)
+    with pytest.raises(fl.ParameterError, match=r"limiter: u_min was not given, so it is -u_max .* u_max = 1 and "
+                                                r"u_min = -0\.8"):
+        sim.run(1.0, params={"limiter.u_max": 1.0})
+    res = sim.run(1.0, dt_out=0.01, params={"dead_zone.u_max": 1.0, "dead_zone.u_min": -1.0}, **TOL)
+    np.testing.assert_allclose(res["dead_zone.y"], u - np.clip(u, -1.0, 1.0), rtol=0, atol=1e-9)
