@@ -1,7 +1,7 @@
 """Signal blocks and controllers after ``Modelica.Blocks``: sources, math, nonlinear blocks, linear systems, LimPID.
 
-Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``; math ``Gain``, ``Add``,
-``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``, ``Tare``; the
+Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``, ``KinematicPTP``; math ``Gain``,
+``Add``, ``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``, ``Tare``; the
 start-found offset ``Trim``; continuous ``Integrator``, ``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs
 are named ``y``, inputs ``u`` / ``u1``, ``u2``, ``u3`` (``u_s``, ``u_m`` on the PID).
 """
@@ -13,6 +13,7 @@ from .feedback import Feedback
 from .first_order import FirstOrder
 from .gain import Gain
 from .integrator import Integrator
+from .kinematic_ptp import KinematicPTP
 from .lim_pid import LimPID
 from .limiter import Limiter
 from .product import Product
@@ -35,6 +36,7 @@ __all__ = [
     "FirstOrder",
     "Gain",
     "Integrator",
+    "KinematicPTP",
     "LimPID",
     "Limiter",
     "Product",

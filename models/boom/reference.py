@@ -25,7 +25,7 @@ References
 L. Biagiotti, C. Melchiorri, *Trajectory Planning for Automatic Machines and Robots*, Springer 2008, §3.2
 (trapezoidal velocity profile), §3.4 (double-S, jerk-limited profile) and §4.4 (cubic Hermite interpolation with
 assigned velocities). Modelica Standard Library 4.0, ``Blocks.Sources.CombiTimeTable`` and
-``Mechanics.Rotational.Sources.KinematicPTP``.
+``Blocks.Sources.KinematicPTP``.
 """
 
 from __future__ import annotations

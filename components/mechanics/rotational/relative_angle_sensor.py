@@ -14,7 +14,7 @@ class RelativeAngleSensor(PartialRelativeSensor):
 
     References
     ----------
-    Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.RelativeAngleSensor``.
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Sensors.RelAngleSensor``.
     """
 
     phi_rel = Output(unit="rad", doc="Relative angle flange_b.phi - flange_a.phi")

@@ -15,7 +15,7 @@ class RelativePositionSensor(PartialRelativeSensor):
     References
     ----------
     Modelica Standard Library 4.0,
-    ``Modelica.Mechanics.Translational.Sensors.RelativePositionSensor``.
+    ``Modelica.Mechanics.Translational.Sensors.RelPositionSensor``.
     """
 
     s_rel = Output(unit="m", doc="Relative position flange_b.s - flange_a.s")

@@ -117,3 +117,40 @@ def test_negative_ramp_duration_is_rejected():
     sim = fl.Simulation(Sources(), use_cache=False)
     with pytest.raises(fl.ParameterError, match=r"ramp\.duration"):
         sim.run(1.0, params={"ramp.duration": -0.4})
+
+
+class TwiceIntegrated(fl.Model):
+    """A ``KinematicPTP`` integrated twice: speed ``qd`` and position ``q``."""
+
+    def __init__(self, **ptp: float) -> None:
+        super().__init__()
+        from flexlib.components.control import Integrator, KinematicPTP
+
+        self.ptp, self.qd, self.q = KinematicPTP(**ptp), Integrator(), Integrator()
+        self.connect(self.ptp.y, self.qd.u)
+        self.connect(self.qd.y, self.q.u)
+
+
+@pytest.mark.parametrize(("delta_q", "qd_max", "t_e"), [(1.0, 1.0, 2.0), (-1.0, 0.5, 2.5)],
+                         ids=["triangle", "trapezoid with cruise"])
+def test_kinematic_ptp_moves_the_distance_as_fast_as_the_limits_allow(delta_q, qd_max, t_e):
+    """Position and speed of the fastest move (qdd_max = 1, from t0 = 0.5 s): closed forms of the triangular
+    (1 m at 1 m/s: T_e = 2 s) and trapezoidal (−1 m at 0.5 m/s: T_e = 2.5 s) profiles, 1e-9; the switching instants
+    are time events, so the run steps on them."""
+    t0, a = 0.5, 1.0
+    res = fl.Simulation(TwiceIntegrated(delta_q=delta_q, qd_max=qd_max, qdd_max=a, start_time=t0),
+                        use_cache=False).run(4.0, dt_out=0.01, rtol=1e-10, atol=1e-12)
+    s = np.sign(delta_q)
+    v_peak = min(qd_max, np.sqrt(a * abs(delta_q)))
+    t_a = v_peak / a
+    tau = np.clip(res.t - t0, 0.0, t_e)
+    speed = np.minimum.reduce([a * tau, np.full_like(tau, v_peak), a * (t_e - tau)])
+    # position: the integral of the speed profile
+    up = np.minimum(tau, t_a)
+    cruise = np.clip(tau - t_a, 0.0, t_e - 2 * t_a)
+    down = np.clip(tau - (t_e - t_a), 0.0, t_a)
+    position = 0.5 * a * up**2 + v_peak * cruise + v_peak * down - 0.5 * a * down**2
+    np.testing.assert_allclose(res["qd.y"], s * speed, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(res["q.y"], s * position, rtol=0, atol=1e-9)
+    assert res["q.y"][-1] == pytest.approx(delta_q, abs=1e-9)
+    assert any(abs(t - (t0 + t_e)) < 1e-12 for t, _ in res.events)
