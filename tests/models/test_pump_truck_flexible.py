@@ -87,7 +87,7 @@ def _clamped_section(modes):
     class ClampedSection(fl.Model):
         def __init__(self):
             super().__init__()
-            self.world = World()
+            self.world = World(g=RECORD.g)  # the record's gravity, as the FE reference
             self.section1 = BoomSection(RECORD.sections[0].length, pins={"housing": attachment_points(RECORD, 1)[
                 "housing"]}, modal_data=data, modes=modes)
             self.connect(self.world.frame_b, self.section1.frame_root)
