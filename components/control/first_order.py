@@ -6,7 +6,7 @@ from typing import Any
 
 from flexlib import Parameter, ParameterError, der, eq
 
-from .interfaces import INIT_TYPES, PartialSISO, check_choice, scalar
+from .interfaces import INIT_TYPES, PartialSISO, check_choice, output_state_start, scalar
 
 __all__ = ["FirstOrder"]
 
@@ -50,11 +50,7 @@ class FirstOrder(PartialSISO):
             raise ParameterError(f"{self.param_label('T')} = 0: time constant T must be != 0")
 
     def initial_equations(self) -> list:
-        if self.init_type == "steady_state":
-            return [eq(der(self.y), 0.0, label="steady state")]
-        if self.init_type in ("initial_state", "initial_output"):
-            return [eq(self.y, self.y_start, label="y = y_start")]
-        return []
+        return output_state_start(self)
 
     def equations(self) -> list:
         return [eq(der(self.y), (self.k * self.u - self.y) / self.T)]

@@ -6,7 +6,7 @@ from typing import Any
 
 from flexlib import Parameter, der, eq
 
-from .interfaces import INIT_TYPES, PartialSISO, check_choice
+from .interfaces import INIT_TYPES, PartialSISO, check_choice, output_state_start
 
 __all__ = ["Integrator"]
 
@@ -40,11 +40,7 @@ class Integrator(PartialSISO):
         self.init_type = check_choice(self, "init_type", init_type, INIT_TYPES)
 
     def initial_equations(self) -> list:
-        if self.init_type == "steady_state":
-            return [eq(der(self.y), 0.0, label="steady state")]
-        if self.init_type in ("initial_state", "initial_output"):
-            return [eq(self.y, self.y_start, label="y = y_start")]
-        return []
+        return output_state_start(self)
 
     def equations(self) -> list:
         return [eq(der(self.y), self.k * self.u)]

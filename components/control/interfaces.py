@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from flexlib import Component, Input, Output, Parameter
+from flexlib import Component, Input, Output, Parameter, der, eq
 from flexlib.core.options import remember_option
 from flexlib.errors import ModelError, ParameterError
 
@@ -29,6 +29,7 @@ __all__ = [
     "check_choice",
     "check_mirrored_limit",
     "mirror_lower_limit",
+    "output_state_start",
     "scalar",
 ]
 
@@ -118,3 +119,14 @@ def check_mirrored_limit(block: Any, values: dict, upper: str, lower: str) -> No
         raise ParameterError(f"{block.where}: {lower} was not given, so it is -{upper} (MSL's default), but {upper} = "
                              f"{hi:g} and {lower} = {lo:g}: change both together ({lower} = {-hi:g}), or build the "
                              f"block with {lower} to set it apart")
+
+
+def output_state_start(block: Any) -> list:
+    """The initial equations of a block whose output ``y`` is its state (``FirstOrder``, ``Integrator``), by its
+    ``init_type``: ``y = y_start`` (``"initial_state"``, ``"initial_output"``), ``der(y) = 0`` (``"steady_state"``),
+    none (``"no_init"``)."""
+    if block.init_type == "steady_state":
+        return [eq(der(block.y), 0.0, label="steady state")]
+    if block.init_type in ("initial_state", "initial_output"):
+        return [eq(block.y, block.y_start, label="y = y_start")]
+    return []
