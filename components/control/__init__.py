@@ -1,9 +1,10 @@
 """Signal blocks and controllers after ``Modelica.Blocks``: sources, math, nonlinear blocks, linear systems, LimPID.
 
 Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``, ``KinematicPTP``; math ``Gain``,
-``Add``, ``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Switch``, ``Tare``; the
-start-found offset ``Trim``; continuous ``Integrator``, ``FirstOrder``, ``TransferFunction``, ``LimPID``. Outputs
-are named ``y``, inputs ``u`` / ``u1``, ``u2``, ``u3`` (``u_s``, ``u_m`` on the PID).
+``Add``, ``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Hysteresis``,
+``Switch``, ``Tare``; the start-found offset ``Trim``; continuous ``Integrator``, ``FirstOrder``,
+``TransferFunction``, ``LimPID``. Outputs are named ``y``, inputs ``u`` / ``u1``, ``u2``, ``u3`` (``u_s``, ``u_m`` on
+the PID).
 """
 
 from .add import Add
@@ -12,6 +13,7 @@ from .dead_zone import DeadZone
 from .feedback import Feedback
 from .first_order import FirstOrder
 from .gain import Gain
+from .hysteresis import Hysteresis
 from .integrator import Integrator
 from .kinematic_ptp import KinematicPTP
 from .lim_pid import LimPID
@@ -35,6 +37,7 @@ __all__ = [
     "Feedback",
     "FirstOrder",
     "Gain",
+    "Hysteresis",
     "Integrator",
     "KinematicPTP",
     "LimPID",

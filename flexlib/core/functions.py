@@ -25,7 +25,7 @@ from flexlib.core.equations import as_sx
 from flexlib.core.variables import SymInfo
 from flexlib.errors import ModelError
 
-__all__ = ["abs_", "assert_", "if_else", "max_", "min_", "no_event", "sign"]
+__all__ = ["abs_", "assert_", "if_else", "latch", "max_", "min_", "no_event", "sign"]
 
 #: Relations created while a component's equations() runs are recorded here by the flattener.
 CURRENT_RELATIONS: ContextVar[list | None] = ContextVar("flexlib_relations", default=None)
@@ -151,6 +151,52 @@ def assert_(cond: Any, message: str) -> None:
     sink = CURRENT_RELATIONS.get()
     assert sink is not None  # _discretize raised otherwise
     sink[-1].assertion = message
+
+
+def _margin(cond: Any, where: str) -> tuple[ca.SX, bool]:
+    """``rhs − lhs`` and the strictness of one relation ``lhs < rhs`` / ``lhs <= rhs`` (``>``, ``>=`` turned round)."""
+    c = as_sx(cond, where)
+    if not c.is_scalar() or c.is_constant() or c.op() not in (ca.OP_LT, ca.OP_LE):
+        raise ModelError(f"{where} must be one relation (<, <=, >, >=), got {c}")
+    return c.dep(1) - c.dep(0), c.op() == ca.OP_LT
+
+
+def latch(set_when: Any, hold_while: Any) -> ca.SX:
+    """A discrete value with memory (Modelica's ``pre()``): 1 from the event where ``set_when`` becomes true, for as
+    long as ``hold_while`` holds; 0 from the event where ``hold_while`` fails, until ``set_when`` holds again.
+
+    Modelica writes it ``y = not pre(y) and set_when or pre(y) and hold_while``: which condition is watched depends on
+    the value before the event. Here the value is one relation whose indicator is ``set_when``'s while it is 0 and
+    ``hold_while``'s while it is 1 (a discrete selection by the value itself, constant between events): a crossing of
+    the watched indicator switches it, and the event iteration re-evaluates it with the new value, as it does every
+    relation. It starts at 0 (Modelica's ``pre(y) = false`` at the start): it is 1 at the start where ``set_when``
+    holds there.
+
+    Parameters
+    ----------
+    set_when : casadi.SX
+        One relation (``u > u_high``) that switches the value to 1 when it becomes true.
+    hold_while : casadi.SX
+        One relation (``u > u_low``) that keeps the value 1 while it holds. Both are taken as their indicators'
+        sign: at exactly zero a strict relation counts as false (``set_when``'s strictness is used for both).
+
+    Returns
+    -------
+    casadi.SX
+        The value, 1.0 or 0.0, frozen between events.
+    """
+    set_margin, strict = _margin(set_when, "latch(): set_when")
+    hold_margin, _ = _margin(hold_while, "latch(): hold_while")
+    text = f"latch(set {set_when}, hold {hold_while})"
+    sym = ca.SX.sym(f"rel({text[:40]})")
+    info = SymInfo(sym, "relation", name=text)
+    rel = Relation(info, ca.if_else(sym, hold_margin, set_margin), strict, text)
+    info.extra["relation"] = rel
+    sink = CURRENT_RELATIONS.get()
+    if sink is None:
+        raise ModelError("latch() may only be used inside equations()")
+    sink.append(rel)
+    return sym
 
 
 def no_event(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
