@@ -272,9 +272,14 @@ def test_state_select_on_a_parameter_is_refused():
         Revolute(state_select={"mu": "always"})
 
 
-def test_state_select_must_be_a_dict():
-    with pytest.raises(fl.ModelError, match=r"Revolute: state_select must be a dict"):
-        Revolute(state_select="always")
+def test_state_select_must_be_a_dict_or_a_joints_single_value():
+    """A dict per variable everywhere; one value only where MSL's joints take one (their coordinates); anything
+    else is refused, naming the component and the forms it takes."""
+    with pytest.raises(fl.ModelError, match=r"Body: state_select must be a dict \{variable: .*\}, got 'always'"):
+        Body(m=1.0, state_select="always")
+    with pytest.raises(fl.ModelError, match=r"Revolute: state_select must be a dict .* or one value for phi, w"):
+        Revolute(state_select=["always"])
+    assert Revolute(state_select="always").state_select_of("w") is fl.StateSelect.always
 
 
 def test_state_select_per_instance_changes_states_and_agrees():
