@@ -70,17 +70,23 @@ class Relation:
         return z > 0.0 if self.strict else z >= 0.0
 
 
-def _relation(lhs: ca.SX, rhs: ca.SX, strict: bool) -> ca.SX:
-    text = f"{lhs} {'<' if strict else '<='} {rhs}"
-    sym = ca.SX.sym(f"rel({text[:40]})")
+def _register(text: str, indicator: Any, strict: bool, where: str, sym: ca.SX | None = None,
+              lhs: ca.SX | None = None, rhs: ca.SX | None = None) -> ca.SX:
+    """A relation's discrete symbol (``sym`` if given: an indicator may depend on it), recorded for the flattener."""
+    sym = ca.SX.sym(f"rel({text[:40]})") if sym is None else sym
     info = SymInfo(sym, "relation", name=text)
-    rel = Relation(info, rhs - lhs, strict, text, lhs, rhs)
+    rel = Relation(info, indicator(sym) if callable(indicator) else indicator, strict, text, lhs, rhs)
     info.extra["relation"] = rel
     sink = CURRENT_RELATIONS.get()
     if sink is None:
-        raise ModelError("if_else() with an event-generating condition may only be used inside equations()")
+        raise ModelError(f"{where} may only be used inside equations()")
     sink.append(rel)
     return sym
+
+
+def _relation(lhs: ca.SX, rhs: ca.SX, strict: bool) -> ca.SX:
+    text = f"{lhs} {'<' if strict else '<='} {rhs}"
+    return _register(text, rhs - lhs, strict, "if_else() with an event-generating condition", lhs=lhs, rhs=rhs)
 
 
 def _discretize(cond: ca.SX) -> ca.SX:
@@ -187,16 +193,8 @@ def latch(set_when: Any, hold_while: Any) -> ca.SX:
     """
     set_margin, strict = _margin(set_when, "latch(): set_when")
     hold_margin, _ = _margin(hold_while, "latch(): hold_while")
-    text = f"latch(set {set_when}, hold {hold_while})"
-    sym = ca.SX.sym(f"rel({text[:40]})")
-    info = SymInfo(sym, "relation", name=text)
-    rel = Relation(info, ca.if_else(sym, hold_margin, set_margin), strict, text)
-    info.extra["relation"] = rel
-    sink = CURRENT_RELATIONS.get()
-    if sink is None:
-        raise ModelError("latch() may only be used inside equations()")
-    sink.append(rel)
-    return sym
+    return _register(f"latch(set {set_when}, hold {hold_while})",
+                     lambda own: ca.if_else(own, hold_margin, set_margin), strict, "latch()")
 
 
 def no_event(cond: Any, if_true: Any, if_false: Any) -> ca.SX:
