@@ -79,3 +79,31 @@ def test_oscillator_matches_the_msl_reference():
     res = fl.Simulation(Oscillator()).run(1.0, dt_out=0.0005, rtol=1e-6, progress=False)
     worst = worst_deviation(res, ref)
     assert max(worst.values()) < 1e-3, worst
+
+
+class DamperExample(fl.Model):
+    """``Modelica.Mechanics.Translational.Examples.Damper``: three 1 kg masses thrown at 10 m/s against a damper
+    (25 N s/m), the damper beside a spring (1 N/m), and a spring-damper with both."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        for k in (1, 2, 3):
+            setattr(self, f"mass{k}", Mass(m=1.0, L=1.0, init={"s": 3.0, "v": 10.0}))
+            setattr(self, f"fixed{k}", Fixed(s0=4.5))
+        self.damper1, self.damper2 = Damper(d=25.0), Damper(d=25.0)
+        self.spring2 = Spring(s_rel0=1.0, c=1.0)
+        self.springDamper3 = SpringDamper(s_rel0=1.0, d=25.0, c=1.0)
+        self.connect(self.mass1.flange_b, self.damper1.flange_a)
+        self.connect(self.damper1.flange_b, self.fixed1.flange)
+        self.connect(self.mass2.flange_b, self.damper2.flange_a, self.spring2.flange_a)
+        self.connect(self.damper2.flange_b, self.spring2.flange_b, self.fixed2.flange)
+        self.connect(self.mass3.flange_b, self.springDamper3.flange_a)
+        self.connect(self.springDamper3.flange_b, self.fixed3.flange)
+
+
+def test_damper_matches_the_msl_reference():
+    """Every comparison signal within 1e-3 of its range."""
+    ref = reference("translational_damper")
+    res = fl.Simulation(DamperExample()).run(1.0, dt_out=0.0005, rtol=1e-6, progress=False)
+    worst = worst_deviation(res, ref)
+    assert max(worst.values()) < 1e-3, worst
