@@ -43,11 +43,11 @@ class KinematicPTP(PartialSO):
         dist = ca.fabs(self.delta_q)
         sd_max, sdd_max = self.qd_max / dist, self.qdd_max / dist  # path speed and acceleration limits [1/s, 1/s2]
         t_a1, t_a2 = ca.sqrt(1.0 / sdd_max), sd_max / sdd_max
-        no_cruise = t_a2 >= t_a1  # parameters only: decided at the start
-        t_v = if_else(no_cruise, t_a1, 1.0 / sd_max)
-        t_e = if_else(no_cruise, t_a1 + t_a1, t_v + t_a2)
+        # no cruise (t_a2 >= t_a1): accelerate for t_a1, brake from t_v = t_a1; else accelerate for t_a2 and brake
+        # from t_v = 1/sd_max (> t_a1 exactly then): both are min and max, so no relation of parameters is needed
+        t_acc, t_v = ca.fmin(t_a1, t_a2), ca.fmax(t_a1, 1.0 / sd_max)
         t0 = self.start_time
         sdd = if_else(time < t0, 0.0,
-                      if_else(time < if_else(no_cruise, t_a1, t_a2) + t0, sdd_max,
-                              if_else(time < t_v + t0, 0.0, if_else(time < t_e + t0, -sdd_max, 0.0))))
+                      if_else(time < t_acc + t0, sdd_max,
+                              if_else(time < t_v + t0, 0.0, if_else(time < t_v + t_acc + t0, -sdd_max, 0.0))))
         return [eq(self.y, self.delta_q * sdd)]

@@ -81,6 +81,10 @@ class _NodeMeta(type):
 class Node(InstanceValues, metaclass=_NodeMeta):
     """Common base of components and connectors (named, hierarchical, with declarations)."""
 
+    #: The variables a single ``state_select`` value applies to, as MSL's ``stateSelect`` parameter of a joint does
+    #: (``Revolute(state_select="always")``: ``phi`` and ``w``); empty: only the dict form.
+    state_select_variables: ClassVar[tuple[str, ...]] = ()
+
     def __new__(cls, *args: Any, **kwargs: Any) -> Node:
         obj = super().__new__(cls)
         object.__setattr__(obj, "_ctor", (args, dict(kwargs)))
@@ -126,7 +130,7 @@ class Node(InstanceValues, metaclass=_NodeMeta):
         for what, given in (("init", init), ("guess", guess)):
             for name, value in (given or {}).items():
                 self._start_target(name, what).set_start(name.rpartition(".")[2], value, fixed=what == "init")
-        own = getattr(type(self), "state_select_variables", ())
+        own = type(self).state_select_variables
         if state_select is not None and not isinstance(state_select, Mapping):
             if not own or not isinstance(state_select, str | StateSelect):
                 one = (f" or one value for {', '.join(own)} (MSL's stateSelect)" if own else "")
@@ -416,9 +420,6 @@ class Component(Node):
     """
 
     experiment: ClassVar[Any] = None
-    #: The variables a single ``state_select`` value applies to, as MSL's ``stateSelect`` parameter of a joint does
-    #: (``Revolute(state_select="always")``: ``phi`` and ``w``); empty: only the dict form.
-    state_select_variables: ClassVar[tuple[str, ...]] = ()
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         """Append the *Parameters*, *Connectors* and *Variables* tables built from the class's declarations to its

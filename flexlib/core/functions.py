@@ -70,10 +70,11 @@ class Relation:
         return z > 0.0 if self.strict else z >= 0.0
 
 
-def _register(text: str, indicator: Any, strict: bool, where: str, sym: ca.SX | None = None,
-              lhs: ca.SX | None = None, rhs: ca.SX | None = None) -> ca.SX:
-    """A relation's discrete symbol (``sym`` if given: an indicator may depend on it), recorded for the flattener."""
-    sym = ca.SX.sym(f"rel({text[:40]})") if sym is None else sym
+def _register(text: str, indicator: Any, strict: bool, where: str, lhs: ca.SX | None = None,
+              rhs: ca.SX | None = None) -> ca.SX:
+    """A relation's discrete symbol, recorded for the flattener; ``indicator`` is an expression or a function of the
+    symbol (a latch's indicator depends on its own value)."""
+    sym = ca.SX.sym(f"rel({text[:40]})")
     info = SymInfo(sym, "relation", name=text)
     rel = Relation(info, indicator(sym) if callable(indicator) else indicator, strict, text, lhs, rhs)
     info.extra["relation"] = rel
