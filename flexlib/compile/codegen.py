@@ -72,6 +72,7 @@ class RelationInfo:
     time_event: bool  # affine in time, independent of y: hit exactly with tstop
     owner: str = ""
     assertion: str = ""  # from assert_(): must stay true (message shown when it becomes false)
+    initial: bool = False  # initial(): 1 while the start is found, 0 afterwards
 
     def value(self, z: float) -> bool:
         """Relation value for indicator value ``z`` (``rhs - lhs``) away from an event."""
@@ -492,7 +493,7 @@ def _functions(flat: FlatSystem, dae: DAE) -> tuple[dict[str, ca.Function], ca.S
     for rel, ind in dae.relations:
         timed = (not ca.depends_on(ind, ca.vertcat(y, yp, U)) and ca.depends_on(ind, t)
                  and bool(ca.is_linear(ind, t)))
-        relations.append(RelationInfo(rel.text, rel.strict, timed, rel.owner, rel.assertion))
+        relations.append(RelationInfo(rel.text, rel.strict, timed, rel.owner, rel.assertion, rel.initial))
         slope = ca.jacobian(ind, t) if timed else ca.SX(0.0)
         offset = ca.substitute(ind, t, ca.SX(0.0)) if timed else ca.SX(0.0)
         tev_rows.append(ca.horzcat(slope, offset))

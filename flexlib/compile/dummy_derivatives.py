@@ -99,12 +99,18 @@ def select_dummies(rows: list[Row], cols: list[Col], variables: list[FlatVariabl
         point_syms, point_vals = numeric_point(simple, cols, param_values)
         # relations: freeze at their start values
         rel_syms = [rel.info.sym for rel, _ in simple.relations]
-        if rel_syms:
-            ind = ca.Function("ind", [point_syms], [ca.vertcat(*[i for _, i in simple.relations])])
-            zval = np.asarray(ind(point_vals)).ravel()
-            point_syms = ca.vertcat(point_syms, *rel_syms)
-            point_vals = np.concatenate([point_vals, [float(rel.value(z))
-                                                      for (rel, _), z in zip(simple.relations, zval)]])
+        if rel_syms:  # (a latch's indicator reads discrete values: iterated from 0 as the start's iteration is)
+            rel_vec = ca.vertcat(*rel_syms)
+            ind = ca.Function("ind", [point_syms, rel_vec], [ca.vertcat(*[i for _, i in simple.relations])])
+            values = np.zeros(len(rel_syms))
+            for _ in range(len(rel_syms) + 1):
+                zval = np.asarray(ind(point_vals, values)).ravel()
+                new = np.array([float(rel.value(z)) for (rel, _), z in zip(simple.relations, zval, strict=True)])
+                if np.array_equal(new, values):
+                    break
+                values = new
+            point_syms = ca.vertcat(point_syms, rel_vec)
+            point_vals = np.concatenate([point_vals, values])
     else:
         point_syms, point_vals = point
     level = 1

@@ -206,6 +206,9 @@ def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Re
             CURRENT_TABLES.reset(token_t)
         tables.extend(own_tables)
         for rel in sink:
+            if rel.indicator is None:
+                raise ModelError(f"{node.path or type(node).__name__}: a latch declared by latch() has no conditions "
+                                 "(give them with define_latch() in the same equations())")
             rel.owner = node.path or type(node).__name__
             rel.text = rel.describe()
             rel.info.name = f"rel({rel.text})"

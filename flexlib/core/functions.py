@@ -25,7 +25,7 @@ from flexlib.core.equations import as_sx
 from flexlib.core.variables import SymInfo
 from flexlib.errors import ModelError
 
-__all__ = ["abs_", "assert_", "if_else", "latch", "max_", "min_", "no_event", "sign"]
+__all__ = ["abs_", "assert_", "define_latch", "if_else", "initial", "latch", "max_", "min_", "no_event", "sign"]
 
 #: Relations created while a component's equations() runs are recorded here by the flattener.
 CURRENT_RELATIONS: ContextVar[list | None] = ContextVar("flexlib_relations", default=None)
@@ -48,20 +48,21 @@ class Relation:
     """
 
     info: SymInfo
-    indicator: ca.SX
+    indicator: ca.SX | None  # None: a latch declared by latch() whose conditions define_latch() has still to give
     strict: bool
     text: str
     lhs: ca.SX | None = None
     rhs: ca.SX | None = None
     owner: str = ""
     assertion: str = ""  # set by assert_(): the relation must stay true; message if it becomes false
+    initial: bool = False  # initial(): 1 while the start is found, 0 afterwards (set by the start, never watched)
 
     def describe(self) -> str:
         """``owner: lhs < rhs`` with hierarchical names."""
         from flexlib.core.variables import render
 
         if self.lhs is None or self.rhs is None:
-            return self.text
+            return f"{self.owner}: {self.text}" if self.owner else self.text
         body = f"{render(self.lhs, 60)} {'<' if self.strict else '<='} {render(self.rhs, 60)}"
         return f"{self.owner}: {body}" if self.owner else body
 
@@ -161,14 +162,50 @@ def assert_(cond: Any, message: str) -> None:
 
 
 def _margin(cond: Any, where: str) -> tuple[ca.SX, bool]:
-    """``rhs − lhs`` and the strictness of one relation ``lhs < rhs`` / ``lhs <= rhs`` (``>``, ``>=`` turned round)."""
+    """A continuous margin whose sign is the value of ``cond`` (a relation, a discrete value, or a logical
+    combination of them), and the strictness of its first relation.
+
+    ``lhs < rhs`` gives ``rhs − lhs``; a discrete value ``d`` (a relation's, a latch's or :func:`initial`'s symbol,
+    frozen between events) gives ``±1``; ``and`` is the smaller margin, ``or`` the larger, ``not`` the negated one.
+    Only the sign matters: the margin crosses zero where the condition switches, and a discrete operand changes
+    only at events.
+    """
     c = as_sx(cond, where)
-    if not c.is_scalar() or c.is_constant() or c.op() not in (ca.OP_LT, ca.OP_LE):
-        raise ModelError(f"{where} must be one relation (<, <=, >, >=), got {c}")
-    return c.dep(1) - c.dep(0), c.op() == ca.OP_LT
+    if not c.is_scalar():
+        raise ModelError(f"{where} must be a scalar condition, got shape {c.shape}")
+    sink = CURRENT_RELATIONS.get()
+    discrete = {r.info.sym.element_hash() for r in sink} if sink else set()
+    strictness: list[bool] = []
+
+    def walk(e: ca.SX) -> ca.SX:
+        if e.is_symbolic() and e.element_hash() in discrete:
+            return ca.if_else(e, 1.0, -1.0)
+        if e.is_constant():  # a structural choice (an element that is never free)
+            return ca.SX(1.0 if float(e) else -1.0)
+        op = None if e.is_constant() or e.is_symbolic() else e.op()
+        if op in (ca.OP_LT, ca.OP_LE):
+            strictness.append(op == ca.OP_LT)
+            return e.dep(1) - e.dep(0)
+        if op == ca.OP_AND:
+            return ca.fmin(walk(e.dep(0)), walk(e.dep(1)))
+        if op == ca.OP_OR:
+            return ca.fmax(walk(e.dep(0)), walk(e.dep(1)))
+        if op == ca.OP_NOT:
+            return -walk(e.dep(0))
+        raise ModelError(f"{where} must be a relation (<, <=, >, >=), a discrete value (a relation's, latch()'s or "
+                         f"initial()'s) or a logical combination of them, got {e}")
+
+    margin = walk(c)
+    if not strictness:
+        raise ModelError(f"{where} must contain a relation of continuous values, got {c}")
+    return margin, strictness[0]
 
 
-def latch(set_when: Any, hold_while: Any) -> ca.SX:
+#: the text of a latch declared without a name, until define_latch() gives its conditions
+_DECLARED = "latch(declared)"
+
+
+def latch(set_when: Any = None, hold_while: Any = None, name: str = "") -> ca.SX:
     """A discrete value with memory (Modelica's ``pre()``): 1 from the event where ``set_when`` becomes true, for as
     long as ``hold_while`` holds; 0 from the event where ``hold_while`` fails, until ``set_when`` holds again.
 
@@ -179,23 +216,85 @@ def latch(set_when: Any, hold_while: Any) -> ca.SX:
     relation. It starts at 0 (Modelica's ``pre(y) = false`` at the start): it is 1 at the start where ``set_when``
     holds there.
 
+    The conditions may combine relations with other discrete values (relations, latches of the same component,
+    :func:`initial`) by ``ca.logic_and``/``logic_or``/``logic_not``: a state machine of several latches (MSL's friction
+    modes) reads the others' values as Modelica reads ``pre()`` in an event iteration — each pass of the iteration
+    evaluates every latch with the values of the pass before, until none changes. Latches whose conditions refer to
+    each other are declared first, ``latch()`` without conditions, and given their conditions by
+    :func:`define_latch`.
+
     Parameters
     ----------
     set_when : casadi.SX
-        One relation (``u > u_high``) that switches the value to 1 when it becomes true.
+        A relation (``u > u_high``), or a logical combination of relations and discrete values, that switches the
+        value to 1 when it becomes true.
     hold_while : casadi.SX
-        One relation (``u > u_low``) that keeps the value 1 while it holds. Both are taken as their indicators'
-        sign: at exactly zero a strict relation counts as false (``set_when``'s strictness is used for both).
+        Likewise, the condition that keeps the value 1 while it holds. Both are taken as their margins' sign: at
+        exactly zero a strict relation counts as false (the strictness of ``set_when``'s first relation is used for
+        both).
+    name : str
+        What the value means (``"forward sliding"``), for event logs and diagnostics; default the conditions.
 
     Returns
     -------
     casadi.SX
         The value, 1.0 or 0.0, frozen between events.
     """
+    if not isinstance(name, str):
+        raise ModelError(f"latch(): name must be a string, got {type(name).__name__}")
+    if set_when is None and hold_while is None:
+        return _register(name or _DECLARED, lambda own: None, True, "latch()")
+    if set_when is None or hold_while is None:
+        raise ModelError("latch(): give both set_when and hold_while, or neither (then define_latch() gives them)")
+    value = latch(name=name or _DECLARED)
+    define_latch(value, set_when, hold_while)
+    return value
+
+
+def define_latch(value: ca.SX, set_when: Any, hold_while: Any) -> None:
+    """Give a latch declared by :func:`latch` (without conditions) its conditions; see :func:`latch`.
+
+    Parameters
+    ----------
+    value : casadi.SX
+        The latch's value, as ``latch()`` returned it in the same ``equations()``.
+    set_when, hold_while : casadi.SX
+        The conditions, as for :func:`latch`.
+    """
+    sink = CURRENT_RELATIONS.get()
+    if sink is None:
+        raise ModelError("define_latch() may only be used inside equations()")
+    h = value.element_hash() if isinstance(value, ca.SX) and value.is_symbolic() else None
+    rel = next((r for r in sink if r.info.sym.element_hash() == h), None)
+    if rel is None or rel.indicator is not None:
+        raise ModelError(f"define_latch(): {value} is not a latch declared by latch() in this equations(), or it has "
+                         "its conditions already")
     set_margin, strict = _margin(set_when, "latch(): set_when")
     hold_margin, _ = _margin(hold_while, "latch(): hold_while")
-    return _register(f"latch(set {set_when}, hold {hold_while})",
-                     lambda own: ca.if_else(own, hold_margin, set_margin), strict, "latch()")
+    rel.indicator = ca.if_else(value, hold_margin, set_margin)
+    rel.strict = strict
+    if rel.text == _DECLARED:
+        rel.text = f"latch(set {set_when}, hold {hold_while})"
+
+
+def initial() -> ca.SX:
+    """Modelica's ``initial()``: a discrete value that is 1 while the start is found and 0 afterwards.
+
+    Use it in a :func:`latch`'s condition (MSL's friction starts sliding where the relative speed is not zero at the
+    start: ``initial() and w_rel > 0``). The run's start sets it to 1 for the whole iteration that makes the start
+    consistent, and to 0 before the integration begins; the latches keep the values they had at the start until
+    their next event, as Modelica's discrete variables do.
+
+    Returns
+    -------
+    casadi.SX
+        The discrete value (1.0 during the start, 0.0 afterwards).
+    """
+    sym = _register("initial()", ca.SX(-1.0), True, "initial()")
+    sink = CURRENT_RELATIONS.get()
+    assert sink is not None  # _register raised otherwise
+    sink[-1].initial = True
+    return sym
 
 
 def no_event(cond: Any, if_true: Any, if_false: Any) -> ca.SX:

@@ -31,3 +31,26 @@ def worst_deviation(res: fl.Result, ref: dict[str, np.ndarray]) -> dict[str, flo
         mine = res.value(name, t, side="right")
         out[name] = float(np.max(np.abs(mine - values)) / np.ptp(values))
     return out
+
+
+def switches(t: np.ndarray, x: np.ndarray) -> list[tuple[float, float]]:
+    """The instants where a discrete signal changes and its value from then on."""
+    k = np.nonzero(np.diff(x))[0] + 1
+    return [(float(t[i]), float(x[i])) for i in k]
+
+
+def reference_switches(name: str, signal: str) -> list[tuple[float, float]]:
+    """A discrete comparison signal's switches in the reference (every row kept: a pulse within one event instant,
+    MSL's ``startForward``, is in the rows an event writes)."""
+    with np.load(DATA / f"{name}.npz") as f:
+        return switches(f["time"], f[signal])
+
+
+def switch_mismatch(res: fl.Result, ref_name: str, signal: str, mine: str | None = None) -> float:
+    """The largest distance in time between a discrete signal's switches in ``res`` and in the reference [s]; infinite
+    if the sequences of values differ (a switch missing, added or to another value)."""
+    expected = reference_switches(ref_name, signal)
+    got = switches(res.t, np.asarray(res[mine or signal]))
+    if [v for _, v in got] != [v for _, v in expected]:
+        return float("inf")
+    return max((abs(a - b) for (a, _), (b, _) in zip(got, expected, strict=True)), default=0.0)

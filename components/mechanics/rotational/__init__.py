@@ -10,6 +10,7 @@ from .constant_torque import ConstantTorque
 from .damper import Damper
 from .elasto_backlash import ElastoBacklash
 from .fixed import Fixed
+from .friction import BearingFriction, Brake, Clutch
 from .ideal_gear import IdealGear
 from .inertia import Inertia
 from .interfaces import Flange
@@ -26,6 +27,9 @@ from .torque_sensor import TorqueSensor
 __all__ = [
     "AccSensor",
     "AngleSensor",
+    "BearingFriction",
+    "Brake",
+    "Clutch",
     "ConstantTorque",
     "Damper",
     "ElastoBacklash",

@@ -24,11 +24,31 @@ def consistent_start(init: Any, t0: float, p: np.ndarray, starts: dict[str, tupl
     m = init.model
     n_par = m.n_params
     y, yp = init.guess(starts), np.zeros(m.n)
+    first = [n_par + k for k, rel in enumerate(m.relations) if rel.initial]  # initial(): 1 during the start, then 0
+    if not first:
+        return _consistent(init, t0, p, starts, steady, y, yp)
+    p[first] = 1.0
+    try:
+        y, yp = _consistent(init, t0, p, starts, steady, y, yp)
+    finally:
+        p[first] = 0.0
+    # the event iteration that follows the start (initial() now false), with the states held, as Modelica's
+    from flexlib.solve.events import event_iteration
+
+    return event_iteration(m, init, p, t0, y, yp, [])
+
+
+def _consistent(init: Any, t0: float, p: np.ndarray, starts: dict[str, tuple[float, bool]], steady: bool,
+                y: np.ndarray, yp: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    m = init.model
+    n_par = m.n_params
     if m.n_relations:
         with np.errstate(all="ignore"):
             z = np.asarray(m.function("ind")(t0, y, yp, p)).ravel()
         ab = np.asarray(m.function("tev")(p)).reshape(-1, 2)
         for k, rel in enumerate(m.relations):
+            if rel.initial:
+                continue
             if rel.time_event and z[k] == 0.0:
                 p[n_par + k] = float(ab[k, 0] > 0)
             else:
@@ -50,7 +70,7 @@ def consistent_start(init: Any, t0: float, p: np.ndarray, starts: dict[str, tupl
             flipped = False
             for k, rel in enumerate(m.relations):
                 v = float(rel.value(z[k]))
-                if not rel.time_event and v != p[n_par + k]:
+                if not (rel.time_event or rel.initial) and v != p[n_par + k]:
                     p[n_par + k], flipped = v, True
             if not flipped:
                 return start_by_flipping(init, t0, p, starts, steady, err)
@@ -60,7 +80,7 @@ def consistent_start(init: Any, t0: float, p: np.ndarray, starts: dict[str, tupl
         z = np.asarray(m.function("ind")(t0, y, yp, p)).ravel()
         changed = False
         for k, rel in enumerate(m.relations):
-            if rel.time_event:
+            if rel.time_event or rel.initial:
                 continue
             v = float(rel.value(z[k]))
             if v != p[n_par + k]:
@@ -78,7 +98,7 @@ def start_by_flipping(init: Any, t0: float, p: np.ndarray, starts: dict[str, tup
     ``err`` (the failure of the unswitched problem, with its diagnosis)."""
     m = init.model
     n_par = m.n_params
-    state_rel = [k for k, rel in enumerate(m.relations) if not rel.time_event][:most]
+    state_rel = [k for k, rel in enumerate(m.relations) if not (rel.time_event or rel.initial)][:most]
     for k in state_rel:
         trial = p.copy()
         trial[n_par + k] = 1.0 - trial[n_par + k]
