@@ -1,5 +1,6 @@
 """Time and state events (Modelica event semantics), checked against closed-form solutions."""
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -129,3 +130,73 @@ def test_initialisation_switches_a_relation_when_its_branch_has_no_solution():
     relation and finds x = 2 (exact, 1e-12), instead of failing with the guess's branch."""
     res = fl.Simulation(Saturating(), use_cache=False).run(1.0, dt_out=0.5, steady_state=True, progress=False)
     np.testing.assert_allclose(res["x"], 2.0, atol=1e-12)
+
+
+class FallingLevel(fl.Model):
+    """``x = x0 − t`` [m]; ``on`` is set at the start where ``x > 0`` (``initial()``) and held while ``x > 0``;
+    ``seen`` (declared, then defined) is set when ``on`` is 1 and x falls below 0.5 m, and held while ``on`` is."""
+
+    x = Variable(unit="m")
+    on = Variable(unit="1")
+    seen = Variable(unit="1")
+
+    def __init__(self, x0: float) -> None:
+        super().__init__()
+        self.x0 = fl.Parameter(unit="m")
+        self.x0 = x0
+
+    def equations(self):
+        on = fl.latch(ca.logic_and(fl.initial(), self.x > 0), self.x > 0, name="on")
+        seen = fl.latch(name="seen")
+        fl.define_latch(seen, ca.logic_and(on, self.x < 0.5), on > 0.5)
+        return [eq(self.x, self.x0 - fl.time), eq(self.on, on), eq(self.seen, seen)]
+
+
+def test_latches_read_each_other_and_initial():
+    """``initial()`` is 1 only while the start is found: ``on`` starts at 1 for x0 = 1 m, drops where x reaches 0
+    (t = 1 s, within 1e-9 s) and is never set again; for x0 = −1 m it stays 0 although nothing else sets it. ``seen``
+    reads ``on``: set at t = 0.5 s, dropped with ``on`` at 1 s. The events are logged by the latches' names."""
+    res = fl.Simulation(FallingLevel(1.0)).run(2.0, dt_out=0.01, progress=False)
+    t_off = res.t[np.argmax(res["on"] < 0.5)]
+    assert res["on"][0] == 1.0 and abs(t_off - 1.0) < 1e-9 and np.all(res["on"][res.t > 1.0 + 1e-6] == 0.0)
+    t_seen = res.t[np.argmax(res["seen"] > 0.5)]
+    assert abs(t_seen - 0.5) < 1e-9 and np.all(res["seen"][res.t > 1.0 + 1e-6] == 0.0)
+    assert any("FallingLevel: seen" in text or ": seen" in text for _, text in res.events)
+    low = fl.Simulation(FallingLevel(-1.0)).run(1.0, dt_out=0.1, progress=False)
+    assert np.all(low["on"] == 0.0) and np.all(low["seen"] == 0.0)
+
+
+class _LatchMisuse(fl.Model):
+    x = Variable(unit="m")
+
+    def __init__(self, how: str) -> None:
+        super().__init__()
+        self.how = how
+
+    def equations(self):
+        if self.how == "undefined":
+            fl.latch()
+        elif self.how == "half":
+            fl.latch(self.x > 0)
+        elif self.how == "not a latch":
+            fl.define_latch(self.x, self.x > 0, self.x > 0)
+        elif self.how == "twice":
+            y = fl.latch(self.x > 0, self.x > 0)
+            fl.define_latch(y, self.x > 0, self.x > 0)
+        elif self.how == "no relation":
+            fl.latch(self.x + 1.0, self.x > 0)
+        return [eq(der(self.x), 1.0)]
+
+
+@pytest.mark.parametrize("how, message", [
+    ("undefined", "latch declared by latch\\(\\) has no conditions"),
+    ("half", "give both set_when and hold_while"),
+    ("not a latch", "is not a latch declared"),
+    ("twice", "has its conditions already"),
+    ("no relation", "must be a relation"),
+])
+def test_latch_misuse_is_a_model_error(how, message):
+    """A latch without conditions, with one condition, defined twice, a define_latch() of another symbol, or a
+    condition that is not a relation: a ModelError that says so (naming the component where the flattener sees it)."""
+    with pytest.raises(fl.ModelError, match=message):
+        fl.build(_LatchMisuse(how))

@@ -38,10 +38,11 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from flexlib import ParameterError, define_latch, if_else, initial, latch, no_event
+from flexlib import Parameter, ParameterError, define_latch, eq, if_else, initial, latch, no_event
 from flexlib.core.values import numeric_array
 
-__all__ = ["BACKWARD", "FORWARD", "FREE", "STUCK", "FrictionModes", "characteristic", "check_table", "friction_modes"]
+__all__ = ["BACKWARD", "FORWARD", "FREE", "STUCK", "FrictionModes", "TableFriction", "characteristic", "check_table",
+           "friction_modes", "mode_rows"]
 
 #: MSL's mode numbers (``PartialFriction.mode``)
 FREE, FORWARD, STUCK, BACKWARD = 2, 1, 0, -1
@@ -120,6 +121,36 @@ def friction_modes(v_rel: Any, sa: Any, f0: Any, f0_max: Any, free: Any, v_small
                           ca.logic_not(ca.logic_or(ca.logic_or(fw, sf), ca.logic_or(bw, sb))))
     sliding_fw = ca.logic_or(sf, ca.logic_and(ca.logic_not(sb), fw))
     return FrictionModes(fw, bw, sf, sb, free_d, locked, sliding_fw)
+
+
+def mode_rows(node: Any, v_rel: Any, a_rel: Any, f0: Any, f0_max: Any, free: Any, v_small: Any
+              ) -> tuple[FrictionModes, list]:
+    """The modes of a friction element ``node`` (with the variables ``sa``, ``mode``, ``start_forward``,
+    ``start_backward``, ``locked``) and its rows: ``a_rel`` of ``sa`` and the reported discrete values."""
+    m = friction_modes(v_rel, node.sa, f0, f0_max, free, v_small)
+    return m, [eq(a_rel, m.acceleration(node.sa, f0_max)), eq(node.mode, m.mode()),
+               eq(node.start_forward, ca.if_else(m.start_forward, 1.0, 0.0)),
+               eq(node.start_backward, ca.if_else(m.start_backward, 1.0, 0.0)),
+               eq(node.locked, ca.if_else(m.locked, 1.0, 0.0))]
+
+
+class TableFriction:
+    """A friction element whose sliding law is a table of the positive characteristic (a mixin of components that
+    set ``table_name`` and ``table_doc`` and have the variable ``sa``)."""
+
+    table_name = ""
+    table_doc = ""
+
+    def table(self, value: Any) -> None:
+        """Declare the table parameter ``table_name`` with ``value`` (checked: rows ``[v, value]``, ``v`` rising)."""
+        arr = check_table(self, self.table_name, value)
+        setattr(self, self.table_name, Parameter(unit="1", shape=arr.shape, doc=self.table_doc))
+        setattr(self, self.table_name, arr)
+
+    def sliding(self, m: FrictionModes, sa: Any, w: Any, scale: Any) -> ca.SX:
+        """The friction torque: ``sa`` stuck, else ``scale`` times the characteristic at ``±w`` (by the branch)."""
+        tab = getattr(self, self.table_name)
+        return m.force(sa, scale * characteristic(tab, w), -scale * characteristic(tab, -w))
 
 
 def check_table(owner: Any, name: str, table: Any) -> np.ndarray:

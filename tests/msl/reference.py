@@ -54,3 +54,27 @@ def switch_mismatch(res: fl.Result, ref_name: str, signal: str, mine: str | None
     if [v for _, v in got] != [v for _, v in expected]:
         return float("inf")
     return max((abs(a - b) for (a, _), (b, _) in zip(got, expected, strict=True)), default=0.0)
+
+
+#: Discrete comparison signals (a friction element's mode and its start flags) are compared by their switches: the
+#: same sequence of values, each switch within this time of the reference's [s]. (A sample taken at an event instant
+#: compares the sides of one event, 1e-10 s apart in the reference, and means nothing.)
+SWITCH_TIME = 1e-5
+
+
+def _discrete(signal: str) -> bool:
+    return signal.endswith((".mode", ".startForward", ".startBackward"))
+
+
+def _flexlib_name(signal: str) -> str:
+    return signal.replace(".startForward", ".start_forward").replace(".startBackward", ".start_backward")
+
+
+def check_friction_example(res: fl.Result, name: str) -> None:
+    """Continuous signals within 1e-3 of their range; the modes and start flags switch as the reference's do."""
+    ref = reference(name)
+    continuous = {k: v for k, v in ref.items() if not _discrete(k)}
+    worst = worst_deviation(res, continuous)
+    assert max(worst.values()) < 1e-3, worst
+    late = {k: switch_mismatch(res, name, k, _flexlib_name(k)) for k in ref if _discrete(k)}
+    assert max(late.values()) < SWITCH_TIME, late

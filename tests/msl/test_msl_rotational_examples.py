@@ -24,12 +24,7 @@ from flexlib.components.mechanics.rotational import (
     SpringDamper,
     Torque,
 )
-from tests.msl.reference import reference, switch_mismatch, worst_deviation
-
-#: Discrete comparison signals (a friction element's mode and its start flags) are compared by their switches: the
-#: same sequence of values, each switch within this time of the reference's [s]. (A sample taken at an event instant
-#: compares the sides of one event, 1e-10 s apart in the reference, and means nothing.)
-SWITCH_TIME = 1e-5
+from tests.msl.reference import check_friction_example, reference, worst_deviation
 
 
 class Backlash(fl.Model):
@@ -122,30 +117,12 @@ class CoupledClutches(fl.Model):
         self.connect(self.fixed.flange, self.torque.support)
 
 
-def _discrete(signal: str) -> bool:
-    return signal.endswith((".mode", ".startForward", ".startBackward"))
-
-
-def _flexlib_name(signal: str) -> str:
-    return signal.replace(".startForward", ".start_forward").replace(".startBackward", ".start_backward")
-
-
-def _check_friction_example(res: fl.Result, name: str) -> None:
-    """Continuous signals within 1e-3 of their range; the modes and start flags switch as the reference's do."""
-    ref = reference(name)
-    continuous = {k: v for k, v in ref.items() if not _discrete(k)}
-    worst = worst_deviation(res, continuous)
-    assert max(worst.values()) < 1e-3, worst
-    late = {k: switch_mismatch(res, name, k, _flexlib_name(k)) for k in ref if _discrete(k)}
-    assert max(late.values()) < SWITCH_TIME, late
-
-
 def test_coupled_clutches_match_the_msl_reference():
     """Clutch 1 slides backward, sticks at 0.7917 s, breaks away backward at 0.8311 s, sticks and breaks away again,
     and is freed at 1.25 s; clutches 2 and 3 engage at their steps and stick (five, two and two mode switches in the
     reference, each reproduced within 1e-5 s)."""
     res = fl.Simulation(CoupledClutches()).run(1.5, dt_out=0.0005, rtol=1e-6, progress=False)
-    _check_friction_example(res, "rotational_coupled_clutches")
+    check_friction_example(res, "rotational_coupled_clutches")
 
 
 class Friction(fl.Model):
@@ -186,4 +163,4 @@ def test_friction_matches_the_msl_reference():
     """The clutch slips, sticks and breaks away backward twice, the brake stops the train at 0.6406 s (mode
     switches and start pulses as in the reference, within 1e-5 s); continuous signals within 1e-3 of range."""
     res = fl.Simulation(Friction()).run(3.0, dt_out=0.0005, rtol=1e-6, progress=False)
-    _check_friction_example(res, "rotational_friction")
+    check_friction_example(res, "rotational_friction")

@@ -6,9 +6,20 @@ from __future__ import annotations
 import numpy as np
 
 import flexlib as fl
-from flexlib.components.control import Sine
-from flexlib.components.mechanics.translational import Damper, ElastoGap, Fixed, Force, Mass, Rod, Spring, SpringDamper
-from tests.msl.reference import reference, worst_deviation
+from flexlib.components.control import Sine, Step
+from flexlib.components.mechanics.translational import (
+    Brake,
+    Damper,
+    ElastoGap,
+    Fixed,
+    Force,
+    Mass,
+    Rod,
+    Spring,
+    SpringDamper,
+    SupportFriction,
+)
+from tests.msl.reference import check_friction_example, reference, worst_deviation
 
 
 class ElastoGapExample(fl.Model):
@@ -107,3 +118,59 @@ def test_damper_matches_the_msl_reference():
     res = fl.Simulation(DamperExample()).run(1.0, dt_out=0.0005, rtol=1e-6, progress=False)
     worst = worst_deviation(res, ref)
     assert max(worst.values()) < 1e-3, worst
+
+
+def stribeck_table(f_prop: float, f_coulomb: float, f_stribeck: float, fexp: float, v_max: float, n: int) -> np.ndarray:
+    """MSL's ``Translational.Examples.Utilities.GenerateStribeckFrictionTable``: ``n`` rows ``[v, f]`` with
+    ``f = F_Coulomb + F_prop v + F_Stribeck exp(−fexp v)`` for ``v`` from 0 to ``v_max``."""
+    v = v_max * np.arange(n) / (n - 1)
+    return np.column_stack([v, f_coulomb + f_prop * v + f_stribeck * np.exp(-fexp * v)])
+
+
+class SupportFrictionExample(fl.Model):
+    """Part 3 of ``Modelica.Mechanics.Translational.Examples.Friction``: a sine force (25 N, 0.25 Hz) on a 1 kg mass
+    on a support with Stribeck friction (a 50-row table; breakaway 15 N, Coulomb 5 N), started at rest. (Parts 1 and
+    2 are ``MassWithStopAndFriction``, not provided.)"""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.sineForce = Sine(amplitude=25.0, f=0.25)
+        self.force2 = Force()
+        self.mass = Mass(m=1.0, L=1.0, init={"s": 0.0, "v": 0.0})
+        self.supportFriction = SupportFriction(f_pos=stribeck_table(1.0, 5.0, 10.0, 2.0, 12.0, 50))
+        self.connect(self.sineForce.y, self.force2.f)
+        self.connect(self.force2.flange, self.mass.flange_a)
+        self.connect(self.mass.flange_b, self.supportFriction.flange_a)
+
+
+def test_support_friction_matches_the_msl_reference():
+    """The mass sticks until the force reaches 15 N, slides, sticks and slides back each half period: the modes and
+    start flags switch as in the reference (within 1e-5 s), position and speed within 1e-3 of their range."""
+    res = fl.Simulation(SupportFrictionExample()).run(5.0, dt_out=0.0005, rtol=1e-6, progress=False)
+    check_friction_example(res, "translational_friction")
+
+
+class BrakeExample(fl.Model):
+    """``Modelica.Mechanics.Translational.Examples.Brake``: two 1 kg masses at 1 m/s, each braked from 0.1 s by a
+    brake of 2 N normal force (one grounded implicitly, one by its support flange), until they stop and stay."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.step = Step(start_time=0.1, height=2.0)
+        self.mass1 = Mass(m=1.0, init={"s": 0.0, "v": 1.0})
+        self.mass2 = Mass(m=1.0, init={"s": 0.0, "v": 1.0})
+        self.brake = Brake(fn_max=1.0)
+        self.brake1 = Brake(fn_max=1.0, use_support=True)
+        self.fixed = Fixed()
+        self.connect(self.mass1.flange_b, self.brake.flange_a)
+        self.connect(self.step.y, self.brake.f_normalized, self.brake1.f_normalized)
+        self.connect(self.mass2.flange_b, self.brake1.flange_a)
+        self.connect(self.fixed.flange, self.brake1.support)
+
+
+def test_brake_matches_the_msl_reference():
+    """Both masses decelerate at 1 m/s² from 0.1 s and stop at 1.1 s, then stay (mode forward → stuck)."""
+    res = fl.Simulation(BrakeExample()).run(2.0, dt_out=0.0005, rtol=1e-6, progress=False)
+    check_friction_example(res, "translational_brake")
+    stopped = res.t > 1.1 + 1e-6
+    np.testing.assert_array_equal(res["mass1.v"][stopped], res["mass1.v"][stopped][0])

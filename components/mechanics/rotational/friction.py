@@ -8,13 +8,13 @@ import casadi as ca
 
 from flexlib import Input, Parameter, Variable, der, eq
 
-from ..friction import FrictionModes, characteristic, check_table, friction_modes
+from ..friction import FrictionModes, TableFriction, characteristic, mode_rows
 from .interfaces import PartialCompliantWithRelativeStates, PartialTwoFlangesAndSupport
 
 __all__ = ["BearingFriction", "Brake", "Clutch"]
 
 
-class _Friction:
+class _Friction(TableFriction):
     """The variables of the mode logic (``components.mechanics.friction``) every friction element reports."""
 
     peak = Parameter(1.0, unit="1", min=1.0, doc="Breakaway torque over the sliding torque at w = 0 (≥ 1)")
@@ -30,31 +30,13 @@ class _Friction:
     locked = Variable(unit="1", doc="1 while stuck (relative speed held at zero)")
 
     def mode_rows(self, w_rel: Any, a_rel: Any, free: Any) -> tuple[FrictionModes, list]:
-        """The modes of relative speed ``w_rel``, and the rows of ``a_rel`` and the reported discrete values."""
-        m = friction_modes(w_rel, self.sa, self.tau0, self.tau0_max, free, self.w_small)
-        return m, [eq(a_rel, m.acceleration(self.sa, self.tau0_max)), eq(self.tau0_max, self.peak * self.tau0),
-                   eq(self.mode, m.mode()), eq(self.start_forward, ca.if_else(m.start_forward, 1.0, 0.0)),
-                   eq(self.start_backward, ca.if_else(m.start_backward, 1.0, 0.0)),
-                   eq(self.locked, ca.if_else(m.locked, 1.0, 0.0))]
+        """The modes of relative speed ``w_rel``, and the rows of ``a_rel``, the breakaway torque and the reported
+        discrete values."""
+        m, rows = mode_rows(self, w_rel, a_rel, self.tau0, self.tau0_max, free, self.w_small)
+        return m, [*rows, eq(self.tau0_max, self.peak * self.tau0)]
 
 
-class _TableFriction(_Friction):
-    """A friction law from a table of the positive sliding characteristic."""
-
-    table_name = ""
-
-    def table(self, value: Any) -> None:
-        arr = check_table(self, self.table_name, value)
-        setattr(self, self.table_name, Parameter(unit="1", shape=arr.shape, doc=self.table_doc))
-        setattr(self, self.table_name, arr)
-
-    def sliding(self, m: FrictionModes, sa: Any, w: Any, scale: Any) -> ca.SX:
-        """The friction torque: ``sa`` stuck, else ``scale`` times the characteristic at ``±w`` (by the branch)."""
-        tab = getattr(self, self.table_name)
-        return m.force(sa, scale * characteristic(tab, w), -scale * characteristic(tab, -w))
-
-
-class BearingFriction(_TableFriction, PartialTwoFlangesAndSupport):
+class BearingFriction(_Friction, PartialTwoFlangesAndSupport):
     """Coulomb friction in a bearing, between the rigidly connected flanges and the housing, with a stuck phase.
 
     With ``phi = flange_a.phi − phi_support``, ``w = der(phi)``, ``a = der(w)``::
@@ -102,7 +84,7 @@ class BearingFriction(_TableFriction, PartialTwoFlangesAndSupport):
                 eq(self.tau, self.sliding(m, self.sa, self.w, 1.0))]
 
 
-class _NormalForce(_TableFriction):
+class _NormalForce(_Friction):
     """Clutch and brake: the friction coefficient table, the normal force from a normalised input."""
 
     table_name, table_doc = "mu_pos", "Positive sliding friction coefficient [1] against speed [rad/s], rows [w, mu]"

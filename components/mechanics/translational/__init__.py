@@ -11,6 +11,7 @@ from .elasto_gap import ElastoGap
 from .fixed import Fixed
 from .force import Force
 from .force_sensor import ForceSensor
+from .friction import Brake, SupportFriction
 from .interfaces import Flange
 from .mass import Mass
 from .position import Position
@@ -25,6 +26,7 @@ from .spring_damper import SpringDamper
 
 __all__ = [
     "AccSensor",
+    "Brake",
     "ConstantForce",
     "Damper",
     "ElastoGap",
@@ -42,4 +44,5 @@ __all__ = [
     "SpeedSensor",
     "Spring",
     "SpringDamper",
+    "SupportFriction",
 ]

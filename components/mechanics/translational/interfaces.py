@@ -24,6 +24,7 @@ __all__ = [
     "PartialRelativeSensor",
     "PartialRigid",
     "PartialTwoFlanges",
+    "PartialTwoFlangesAndSupport",
 ]
 
 
@@ -116,6 +117,30 @@ class PartialOneFlangeAndSupport(Component):
         if not self.use_support:
             return [eq(self.s_support, 0.0)]
         return [eq(self.s_support, self.support.s), eq(self.support.f, -self.flange.f)]
+
+
+class PartialTwoFlangesAndSupport(PartialTwoFlanges):
+    """Two flanges and an optional support flange (MSL PartialElementaryTwoFlangesAndSupport2).
+
+    Parameters
+    ----------
+    use_support : bool
+        True if the ``support`` flange is enabled, otherwise implicitly grounded.
+    """
+
+    s_support = Variable(unit="m", doc="Absolute position of the support (0 if not used)")
+
+    def __init__(self, use_support: bool = False, **kw: Any) -> None:
+        super().__init__(**kw)
+        self.use_support = flag(self, "use_support", use_support, structural=True)
+        if self.use_support:
+            self.support = Flange(doc="Support (housing) flange")
+
+    def support_equations(self) -> list:
+        """``s_support`` from the support (or 0) and the support reaction force."""
+        if not self.use_support:
+            return [eq(self.s_support, 0.0)]
+        return [eq(self.s_support, self.support.s), eq(self.support.f, -self.flange_a.f - self.flange_b.f)]
 
 
 class PartialAbsoluteSensor(Component):
