@@ -1,7 +1,7 @@
 """Signal blocks and controllers after ``Modelica.Blocks``: sources, math, nonlinear blocks, linear systems, LimPID.
 
-Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Sine``, ``TimeTable``, ``KinematicPTP``; math ``Gain``,
-``Add``, ``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Hysteresis``,
+Sources ``Constant``, ``Step``, ``Ramp``, ``Trapezoid``, ``Pulse``, ``Sine``, ``TimeTable``, ``KinematicPTP``;
+math ``Gain``, ``Add``, ``Feedback``, ``Product``; nonlinear ``Limiter``, ``RateLimiter``, ``DeadZone``, ``Hysteresis``,
 ``Switch``, ``Tare``; the start-found offset ``Trim``; continuous ``Integrator``, ``FirstOrder``,
 ``TransferFunction``, ``LimPID``. Outputs are named ``y``, inputs ``u`` / ``u1``, ``u2``, ``u3`` (``u_s``, ``u_m`` on
 the PID).
@@ -19,6 +19,7 @@ from .kinematic_ptp import KinematicPTP
 from .lim_pid import LimPID
 from .limiter import Limiter
 from .product import Product
+from .pulse import Pulse
 from .ramp import Ramp
 from .rate_limiter import RateLimiter
 from .sine import Sine
@@ -43,6 +44,7 @@ __all__ = [
     "LimPID",
     "Limiter",
     "Product",
+    "Pulse",
     "Ramp",
     "RateLimiter",
     "Sine",

@@ -13,10 +13,10 @@ from flexlib.errors import ModelError
 
 from .interfaces import PartialSignalSource
 
-__all__ = ["Trapezoid"]
+__all__ = ["Trapezoid", "period_count"]
 
 
-def _count(block: Any, nperiod: Any) -> int:
+def period_count(block: Any, nperiod: Any) -> int:
     """``nperiod`` as an int >= 0 (a whole float such as 2.0 is accepted); a string, a bool, NaN or a negative
     count is refused naming the block (not left to ``int()``, which fails on ``"1.0"`` and NaN and reads ``True``
     as 1)."""
@@ -25,7 +25,7 @@ def _count(block: Any, nperiod: Any) -> int:
     if not ok:
         raise ModelError(f"{type(block).__name__}: nperiod must be an integer >= 0, got {nperiod!r} (infinitely many "
                          "periods, MSL's nperiod < 0, cannot be time events; give the number of periods)")
-    remember_option(block, "nperiod", lambda v: _count(block, v))
+    remember_option(block, "nperiod", lambda v: period_count(block, v))
     return int(nperiod)
 
 
@@ -61,7 +61,7 @@ class Trapezoid(PartialSignalSource):
     period = Parameter(unit="s", gt=0.0, doc="Time for one period; a phase that does not fit is cut at the period end")
 
     def __init__(self, nperiod: int, **kw: Any) -> None:
-        count = _count(self, nperiod)
+        count = period_count(self, nperiod)
         super().__init__(**kw)
         self.nperiod = count
 

@@ -10,7 +10,7 @@ from .constant_torque import ConstantTorque
 from .damper import Damper
 from .elasto_backlash import ElastoBacklash
 from .fixed import Fixed
-from .friction import BearingFriction, Brake, Clutch
+from .friction import BearingFriction, Brake, Clutch, OneWayClutch
 from .ideal_gear import IdealGear
 from .inertia import Inertia
 from .interfaces import Flange
@@ -37,6 +37,7 @@ __all__ = [
     "Flange",
     "IdealGear",
     "Inertia",
+    "OneWayClutch",
     "Position",
     "RelativeAngleSensor",
     "RelativeSpeedSensor",

@@ -6,12 +6,15 @@ from typing import Any
 
 import casadi as ca
 
-from flexlib import Input, Parameter, Variable, der, eq
+from flexlib import Input, Parameter, Variable, define_latch, der, eq, if_else, initial, latch
 
 from ..friction import FrictionModes, TableFriction, characteristic, mode_rows
 from .interfaces import PartialCompliantWithRelativeStates, PartialTwoFlangesAndSupport
 
-__all__ = ["BearingFriction", "Brake", "Clutch"]
+__all__ = ["BearingFriction", "Brake", "Clutch", "OneWayClutch"]
+
+#: MSL's relative hysteresis of the one-way clutch's breakaway torque (``OneWayClutch.eps0``)
+ONE_WAY_EPS = 1e-4
 
 
 class _Friction(TableFriction):
@@ -178,3 +181,76 @@ class Brake(_NormalForce, PartialTwoFlangesAndSupport):
                 eq(fa.tau + fb.tau - self.tau, 0.0),
                 eq(self.tau, self.engaged_torque(m, self.w))]
 
+
+
+class OneWayClutch(TableFriction, PartialCompliantWithRelativeStates):
+    """A clutch in parallel with a freewheel: ``flange_b`` may overrun ``flange_a`` (``w_rel > 0``) against the
+    clutch's friction, never lag behind it (``w_rel ≥ 0``: stuck when it would).
+
+    With ``fn = fn_max * f_normalized`` (0 while ``f_normalized ≤ 0``: the clutch is open), ``tau0 = cgeo mu_pos(0) fn``
+    and the breakaway torque ``tau0_max = max(peak, 1 + 1e-4) tau0`` (open: ``1e-4 cgeo mu_pos(0) fn_max``, so
+    that the freewheel alone releases)::
+
+        stuck         = locked or w_rel ≤ 0
+        start_forward = pre(stuck) and (sa > tau0_max or pre(start_forward) and sa > tau0 or w_rel > w_small)
+                        or initial() and w_rel > 0
+        locked        = pre(stuck) and not start_forward
+        a_rel = 0 if locked, else sa − tau0;   tau = sa if locked, else cgeo fn mu_pos(w_rel)
+
+    ``stuck`` and ``start_forward`` are :func:`flexlib.latch` values (state events); stuck, the relative speed is
+    held exactly. Start with ``w_rel ≥ 0``.
+
+    Parameters
+    ----------
+    mu_pos : array_like
+        Positive sliding friction coefficient [1] against relative speed [rad/s], rows ``[w, mu]`` (MSL default
+        ``[[0, 0.5]]``).
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Components.OneWayClutch`` (without the heat
+    port); validated against the reference result of ``Rotational.Examples.OneWayClutch``.
+    """
+
+    table_name, table_doc = "mu_pos", "Positive sliding friction coefficient [1] against speed [rad/s], rows [w, mu]"
+    peak = Parameter(1.0, unit="1", min=1.0, doc="Breakaway torque over the sliding torque at w_rel = 0 (≥ 1)")
+    cgeo = Parameter(1.0, unit="m", min=0.0, doc="Geometry constant: friction torque = cgeo * mu * fn")
+    fn_max = Parameter(unit="N", min=0.0, doc="Maximum normal force")
+    w_small = Parameter(1e10, unit="rad/s", gt=0.0,
+                        doc="Relative speed above which a stuck clutch starts sliding forward (MSL w_small)")
+    f_normalized = Input(unit="1", doc="Normalised normal force 0..1 (normal force = fn_max * f_normalized)")
+    a_rel = Variable(unit="rad/s2", doc="Relative angular acceleration, der(w_rel)")
+    fn = Variable(unit="N", doc="Normal force")
+    mu0 = Variable(unit="1", doc="Friction coefficient at w_rel = 0")
+    tau0 = Variable(unit="N.m", doc="Sliding friction torque at w_rel = 0")
+    tau0_max = Variable(unit="N.m", doc="Breakaway friction torque")
+    sa = Variable(unit="1", doc="Path parameter of the friction characteristic (torque [N.m] stuck, else a_rel + tau0)")
+    start_forward = Variable(unit="1", doc="1 while starting to slide forward from stuck (MSL startForward)")
+    locked = Variable(unit="1", doc="1 while stuck and not starting (relative speed held at zero)")
+    stuck = Variable(unit="1", doc="1 while w_rel = 0 (locked or starting forward)")
+
+    def __init__(self, mu_pos: Any = ((0.0, 0.5),), **kw: Any) -> None:
+        super().__init__(**kw)
+        self.table(mu_pos)
+
+    def equations(self) -> list:
+        w = self.w_rel
+        is_free = if_else(self.f_normalized <= 0, 1.0, 0.0)
+        stuck, start = latch(name="stuck"), latch(name="start forward")
+        define_latch(stuck, w <= 0, ca.logic_or(ca.logic_not(start), w <= 0))
+        first = ca.logic_and(initial(), w > 0)
+        define_latch(start, ca.logic_or(ca.logic_and(stuck, ca.logic_or(self.sa > self.tau0_max, w > self.w_small)),
+                                        first),
+                     ca.logic_or(ca.logic_and(stuck, ca.logic_or(self.sa > self.tau0, w > self.w_small)), first))
+        locked = ca.logic_and(stuck, ca.logic_not(start))
+        peak2 = ca.fmax(self.peak, 1 + ONE_WAY_EPS)
+        return [*super().equations(), eq(self.a_rel, der(w)),
+                eq(self.mu0, characteristic(self.mu_pos, 0.0)),
+                eq(self.fn, (1 - is_free) * self.fn_max * self.f_normalized),
+                eq(self.tau0, self.mu0 * self.cgeo * self.fn),
+                eq(self.tau0_max, is_free * ONE_WAY_EPS * self.mu0 * self.cgeo * self.fn_max
+                   + (1 - is_free) * peak2 * self.tau0),
+                eq(self.a_rel, ca.if_else(locked, 0.0, self.sa - self.tau0)),
+                eq(self.tau, ca.if_else(locked, self.sa, self.cgeo * self.fn * characteristic(self.mu_pos, w))),
+                eq(self.stuck, ca.if_else(stuck, 1.0, 0.0)), eq(self.start_forward, ca.if_else(start, 1.0, 0.0)),
+                eq(self.locked, ca.if_else(locked, 1.0, 0.0))]
