@@ -147,18 +147,24 @@ class TableFriction:
         setattr(self, self.table_name, Parameter(unit="1", shape=arr.shape, doc=self.table_doc))
         setattr(self, self.table_name, arr)
 
+    def check(self, values: dict) -> None:
+        """A table given at run time (``params=``) is checked as one given to the constructor."""
+        super().check(values)  # type: ignore[misc]
+        if values.get(self.table_name) is not None:
+            check_table(self, self.table_name, values[self.table_name])
+
     def sliding(self, m: FrictionModes, sa: Any, w: Any, scale: Any) -> ca.SX:
         """The friction torque: ``sa`` stuck, else ``scale`` times the characteristic at ``±w`` (by the branch)."""
         tab = getattr(self, self.table_name)
         return m.force(sa, scale * characteristic(tab, w), -scale * characteristic(tab, -w))
 
 
-def check_table(owner: Any, name: str, table: Any) -> np.ndarray:
-    """A sliding characteristic ``[[v, f], ...]`` (rows of increasing ``v ≥ 0``) as an ``(n, 2)`` array."""
+def check_table(owner: Any, name: str, table: Any, columns: int = 2, row: str = "[v, value]") -> np.ndarray:
+    """A characteristic ``[[v, value, ...], ...]`` (rows of increasing ``v ≥ 0``) as an ``(n, columns)`` array."""
     where = f"{type(owner).__name__}: {name}"
-    arr = np.atleast_2d(numeric_array(table, where, "a table [[v, value], ...]", ParameterError))
-    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] == 0:
-        raise ParameterError(f"{where} must be a table of rows [v, value] (shape (n, 2)), got shape {arr.shape}")
+    arr = np.atleast_2d(numeric_array(table, where, f"a table of rows {row}", ParameterError))
+    if arr.ndim != 2 or arr.shape[1] != columns or arr.shape[0] == 0:
+        raise ParameterError(f"{where} must be a table of rows {row} (shape (n, {columns})), got shape {arr.shape}")
     if np.any(arr[:, 0] < 0) or np.any(np.diff(arr[:, 0]) <= 0):
         raise ParameterError(f"{where}: the speeds (first column) must be ≥ 0 and strictly increasing, got "
                              f"{arr[:, 0].tolist()}")

@@ -16,7 +16,7 @@ import casadi as ca
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.errors import SolverError
+from flexlib.errors import InitializationError, SolverError
 
 __all__ = ["check_assertions", "event_iteration", "next_time_event", "settled", "state_relations",
            "time_triggers", "watch", "watched_relations"]
@@ -124,6 +124,13 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
                     triggered: list[tuple[int, bool]], max_iter: int = 20) -> tuple[np.ndarray, np.ndarray]:
     """Switch the triggered relations, re-initialise (``init.reinit``), re-evaluate the others until consistent.
 
+    Each pass re-evaluates every relation at the point of the pass before and switches all that changed (Modelica's
+    event iteration, ``pre()`` the values of the pass before). Coupled switches can cycle there: two stuck friction
+    elements on one shaft (MSL's ``LossyGearDemo2``) each see the other hold the shaft and break away in turn, never
+    together. When a set of relation values comes round again, the iteration switches one relation at a time instead,
+    the first whose switch leads to a set not tried yet and whose re-initialisation has a solution, until the values
+    agree with the point (or every way out is tried).
+
     Parameters
     ----------
     model : CompiledModel
@@ -154,22 +161,49 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
     for k, v in triggered:
         p[n_par + k] = float(v)
     ind = model.function("ind")
-    for _ in range(max_iter):
+    free = [k for k, rel in enumerate(model.relations) if k not in fixed and not rel.time_event]
+    seen: set[bytes] = set()
+    one_at_a_time = False
+    for _ in range(max_iter + 2 * len(free)):
+        seen.add(p[n_par:].tobytes())
         y1, yp1 = init.reinit(t, y, yp, p)
         z = np.asarray(ind(t, y1, yp1, p)).ravel()
-        changed = False
-        for k, rel in enumerate(model.relations):
-            if k in fixed or rel.time_event:
-                continue
-            v = float(rel.value(z[k]))
-            if v != p[n_par + k]:
-                p[n_par + k] = v
-                changed = True
+        changed = [(k, float(model.relations[k].value(z[k]))) for k in free
+                   if float(model.relations[k].value(z[k])) != p[n_par + k]]
         if not changed:
             check_assertions(model, p, t)
             return y1, yp1
+        trial = p.copy()
+        for k, v in changed:
+            trial[n_par + k] = v
+        if not one_at_a_time and trial[n_par:].tobytes() not in seen:
+            p[:] = trial
+        else:
+            one_at_a_time = True
+            if not _switch_one(init, p, t, y1, yp1, changed, seen):
+                break
         y, yp = y1, yp1
     raise SolverError(f"event iteration did not converge at t = {t:.10g} s")
+
+
+def _switch_one(init: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
+                changed: list[tuple[int, float]], seen: set[bytes]) -> bool:
+    """Switch the first of ``changed`` that leads to relation values not in ``seen`` and whose re-initialisation has
+    a solution (``p`` updated in place); False if none does."""
+    n_par = init.model.n_params
+    for k, v in changed:
+        trial = p.copy()
+        trial[n_par + k] = v
+        if trial[n_par:].tobytes() in seen:
+            continue
+        try:
+            init.reinit(t, y, yp, trial)
+        except (InitializationError, SolverError):
+            seen.add(trial[n_par:].tobytes())  # no solution with these values: not a way out
+            continue
+        p[:] = trial
+        return True
+    return False
 
 
 def check_assertions(model: CompiledModel, p: np.ndarray, t: float) -> None:

@@ -39,18 +39,19 @@ def switches(t: np.ndarray, x: np.ndarray) -> list[tuple[float, float]]:
     return [(float(t[i]), float(x[i])) for i in k]
 
 
-def reference_switches(name: str, signal: str) -> list[tuple[float, float]]:
+def reference_switches(name: str, signal: str, until: float = np.inf) -> list[tuple[float, float]]:
     """A discrete comparison signal's switches in the reference (every row kept: a pulse within one event instant,
     MSL's ``startForward``, is in the rows an event writes)."""
     with np.load(DATA / f"{name}.npz") as f:
-        return switches(f["time"], f[signal])
+        return [(t, v) for t, v in switches(f["time"], f[signal]) if t < until]
 
 
-def switch_mismatch(res: fl.Result, ref_name: str, signal: str, mine: str | None = None) -> float:
+def switch_mismatch(res: fl.Result, ref_name: str, signal: str, mine: str | None = None,
+                    until: float = np.inf) -> float:
     """The largest distance in time between a discrete signal's switches in ``res`` and in the reference [s]; infinite
     if the sequences of values differ (a switch missing, added or to another value)."""
-    expected = reference_switches(ref_name, signal)
-    got = switches(res.t, np.asarray(res[mine or signal]))
+    expected = reference_switches(ref_name, signal, until)
+    got = [(t, v) for t, v in switches(res.t, np.asarray(res[mine or signal])) if t < until]
     if [v for _, v in got] != [v for _, v in expected]:
         return float("inf")
     return max((abs(a - b) for (a, _), (b, _) in zip(got, expected, strict=True)), default=0.0)
@@ -70,11 +71,13 @@ def _flexlib_name(signal: str) -> str:
     return signal.replace(".startForward", ".start_forward").replace(".startBackward", ".start_backward")
 
 
-def check_friction_example(res: fl.Result, name: str) -> None:
-    """Continuous signals within 1e-3 of their range; the modes and start flags switch as the reference's do."""
+def check_friction_example(res: fl.Result, name: str, until: float = np.inf) -> None:
+    """Continuous signals within 1e-3 of their range; the modes and start flags switch as the reference's do (both
+    before ``until`` [s] only, if given)."""
     ref = reference(name)
-    continuous = {k: v for k, v in ref.items() if not _discrete(k)}
+    keep = ref["time"] < until
+    continuous = {k: v[keep] for k, v in ref.items() if not _discrete(k)}
     worst = worst_deviation(res, continuous)
     assert max(worst.values()) < 1e-3, worst
-    late = {k: switch_mismatch(res, name, k, _flexlib_name(k)) for k in ref if _discrete(k)}
+    late = {k: switch_mismatch(res, name, k, _flexlib_name(k), until) for k in ref if _discrete(k)}
     assert max(late.values()) < SWITCH_TIME, late

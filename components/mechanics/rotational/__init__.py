@@ -14,6 +14,7 @@ from .friction import BearingFriction, Brake, Clutch, OneWayClutch
 from .ideal_gear import IdealGear
 from .inertia import Inertia
 from .interfaces import Flange
+from .lossy_gear import LossyGear
 from .position import Position
 from .relative_angle_sensor import RelativeAngleSensor
 from .relative_speed_sensor import RelativeSpeedSensor
@@ -37,6 +38,7 @@ __all__ = [
     "Flange",
     "IdealGear",
     "Inertia",
+    "LossyGear",
     "OneWayClutch",
     "Position",
     "RelativeAngleSensor",
