@@ -18,7 +18,7 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import InitializationError, SolverError
 
-__all__ = ["check_assertions", "event_iteration", "next_time_event", "settled", "state_relations",
+__all__ = ["check_assertions", "event_iteration", "next_time_event", "off_zero", "settled", "state_relations",
            "time_triggers", "watch", "watched_relations"]
 
 
@@ -213,3 +213,19 @@ def check_assertions(model: CompiledModel, p: np.ndarray, t: float) -> None:
     if failed:
         lines = "\n".join(f"  {r.text}: {r.assertion}" for r in failed)
         raise SolverError(f"assertion failed at t = {t:.10g} s:\n{lines}")
+
+
+def off_zero(z: ca.SX, strict: bool) -> ca.SX:
+    """The indicator ``z`` for IDA's root finding, with an exact zero replaced by ±1e-300: the side of the
+    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true).
+
+    IDA only needs a sign change where the relation's value changes. An exact zero gives it nothing more, but
+    one that stays zero over the first step (a body at rest on its contact, x = 0) makes SUNDIALS print "some
+    root functions identically 0" (IDARcheck1; ``IDASetNoInactiveRootWarn`` is not exposed by
+    scikit-sundae), and one that reaches exactly zero and stays there (a contact at rest on its boundary, its
+    positions moving below round-off: MSL's ``Translational.Examples.PreLoad``) is a root IDA reports and then
+    "found at and very near t" (IDA_ILL_INPUT). With the sign of the value at zero, an indicator reaching zero
+    from the other side is still a sign change (the relation switches there), one leaving zero to the same side is
+    none — exactly the relation's events. Part of the compiled event function: no cost per call in Python.
+    """
+    return ca.if_else(z == 0, -1e-300 if strict else 1e-300, z)

@@ -10,8 +10,9 @@ import numpy as np
 import scipy.sparse as sps
 
 from flexlib.compile.codegen import CompiledModel
+from flexlib.solve.events import off_zero
 
-__all__ = ["Callbacks", "off_zero"]
+__all__ = ["Callbacks"]
 
 
 class Callbacks:
@@ -87,17 +88,3 @@ class Callbacks:
 
     def eventsfn(self, t: float, y: np.ndarray, yp: np.ndarray, events: np.ndarray) -> None:
         self._into(self._fz, self._evz, self._tz, t, y, yp, events)
-
-
-def off_zero(z: ca.SX, strict: bool) -> ca.SX:
-    """The indicator ``z`` for IDA's root finding, with an exact zero replaced by ±1e-300: the side of the
-    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true).
-
-    IDA only needs a sign change where the relation's value changes. An exact zero gives it nothing more, but
-    one that stays zero over the first step (a body at rest on its contact, x = 0) makes SUNDIALS print "some
-    root functions identically 0" (IDARcheck1; ``IDASetNoInactiveRootWarn`` is not exposed by
-    scikit-sundae). With the sign of the value at zero, an indicator reaching zero from the other side is
-    still a sign change (the relation switches there), one leaving zero to the same side is none — exactly
-    the relation's events. Part of the compiled event function: no cost per call in Python.
-    """
-    return ca.if_else(z == 0, -1e-300 if strict else 1e-300, z)

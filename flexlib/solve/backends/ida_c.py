@@ -30,7 +30,7 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.environment import env_default
 from flexlib.errors import RunArgumentError
 from flexlib.solve.backends.base import DENSE_MAX, NEWTON_ITERS, Limits, Stop, absolute_tolerances
-from flexlib.solve.events import watched_relations
+from flexlib.solve.events import off_zero, watched_relations
 from flexlib.solve.native import (
     FD_FULL,
     FD_ROOT,
@@ -194,7 +194,9 @@ def zc_function(model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> c
     t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
     pp = ca.SX.sym("p", len(p))
     z = ind(t, y, yp, pp)
-    return ca.Function("flexlib_zc", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in state_rel])])
+    # an exact zero handed to IDA as ±1e-300 on the side of the relation's value there (events.off_zero)
+    return ca.Function("flexlib_zc", [t, y, yp, pp],
+                       [ca.vertcat(*[off_zero(z[int(k)], model.relations[int(k)].strict) for k in state_rel])])
 
 
 def linear_solver(model: CompiledModel, forced: str | None = None) -> str:
