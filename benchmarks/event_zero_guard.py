@@ -1,8 +1,8 @@
 """Cost of the exact-zero guard in the compiled state-event function against the plain indicators.
 
-The guard is CasADi's ``if_else`` of ``flexlib.solve.sundae_callbacks.off_zero``, timed on the boom of
-``tests/robustness/test_initialization.py`` (4 watched relations) against the same indicators unguarded, per call
-of the compiled function; interleaved, three rounds.
+The guard is CasADi's ``if_else`` of ``flexlib.solve.events.off_zero`` (every backend's root functions), timed on
+the boom of ``tests/robustness/test_initialization.py`` (4 watched relations) against the same indicators
+unguarded, per call of the compiled function; interleaved, three rounds.
 
 Run: ``python benchmarks/event_zero_guard.py``. No timing is asserted.
 """
@@ -21,8 +21,7 @@ import numpy as np
 
 import flexlib as fl
 from flexlib.models.reference.hydraulic_boom import CylinderBoom
-from flexlib.solve import sundae_callbacks
-from flexlib.solve.events import state_relations
+from flexlib.solve.events import off_zero, state_relations
 
 
 def main() -> None:
@@ -34,7 +33,7 @@ def main() -> None:
     z = m.sx_function("ind")(t, y, yp, pp)
     plain = ca.Function("a", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in rel])])
     guard = ca.Function("b", [t, y, yp, pp],
-                        [ca.vertcat(*[sundae_callbacks.off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
+                        [ca.vertcat(*[off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
     keep = []  # the buffers read these arrays: keep them alive
     calls = []
     for f in (plain, guard):
