@@ -34,7 +34,8 @@ GROUPS: list[tuple[str, list[str]]] = [
     ("Multibody and hydraulics", ["multibody", "headline", "boom_proxy", "hydraulic_servo", "hydraulic_chamber",
                                   "linear_analysis"]),
     ("Flexible bodies", ["modal_data", "flexible_beam", "pinned_free_beam", "flexible_body"]),
-    ("Machines", ["pump_truck", "pump_truck_flows", "pump_truck_reference", "robots", "result_files"]),
+    ("Machines", ["pump_truck", "pump_truck_flows", "pump_truck_reference", "pump_truck_friction", "robots",
+                  "result_files"]),
 ]
 
 HEADER = """\

@@ -13,6 +13,7 @@ import numpy as np
 import flexlib as fl
 from flexlib.components.mechanics.multibody import Body, FixedTranslation, Revolute
 from flexlib.components.mechanics.multibody.interfaces import Frame
+from flexlib.components.mechanics.rotational import BearingFriction
 from flexlib.components.mechanics.rotational.interfaces import Flange
 from flexlib.errors import ParameterError
 from flexlib.models.pump_truck.parameters import DirectDrive
@@ -31,6 +32,9 @@ PART = "Turret"
 SLEW_FRICTION = 0.005 / 2 * (4.4 * 1.5e6 + 150e3 * 1.5)
 #: Regularisation speed of the slewing-ring friction [rad/s] (smaller fails Newton in the truck; decision 024).
 SLEW_W_REG = 1e-2
+#: The slewing-ring friction laws: ``"regularised"`` (the revolute's ``tanh`` law) or ``"stick-slip"`` (MSL's
+#: ``BearingFriction`` on the slew axis: sticking exact, breakaway and stops as state events)
+SLEW_FRICTION_LAWS = ("regularised", "stick-slip")
 
 
 class Turret(fl.Model):
@@ -66,6 +70,10 @@ class Turret(fl.Model):
         42 m boom, as ``models.pump_truck.model``); 0: no friction.
     w_reg : float
         Regularisation speed of the friction [rad/s] (default :data:`SLEW_W_REG`, as ``models.pump_truck.model``).
+    friction : str
+        ``"regularised"`` (default: ``tau_c tanh(w / w_reg)`` in the revolute) or ``"stick-slip"``: a
+        :class:`~flexlib.components.mechanics.rotational.BearingFriction` of ``tau_c`` between the revolute's axis
+        and its support (sticking exact; ``w_reg`` unused). Measured on the slew scenario in ``docs/pump_truck.md``.
     phi_start : float
         Start slew angle [rad] (the joint starts there at rest).
 
@@ -88,12 +96,16 @@ class Turret(fl.Model):
 
     def __init__(self, mass: float = TurretRecord.mass, J_slew: float = TurretRecord.J_slew,
                  height: float = TurretRecord.height, H1: Sequence[float] = DirectDrive.H,
-                 tau_c: float = SLEW_FRICTION, w_reg: float = SLEW_W_REG, phi_start: float = 0.0) -> None:
+                 tau_c: float = SLEW_FRICTION, w_reg: float = SLEW_W_REG, phi_start: float = 0.0,
+                 friction: str = "regularised") -> None:
         super().__init__()
         mass, J_slew = positive(PART, "mass", mass, "kg"), positive(PART, "J_slew", J_slew, "kg.m2")
         self.height = positive(PART, "height", height, "m", allow_zero=True)
         tau_c, w_reg = positive(PART, "tau_c", tau_c, "N.m", allow_zero=True), positive(PART, "w_reg", w_reg, "rad/s")
         phi_start = finite(PART, "phi_start", phi_start, "rad")
+        if friction not in SLEW_FRICTION_LAWS:
+            raise ParameterError(f"Turret: friction must be one of {', '.join(SLEW_FRICTION_LAWS)}, got {friction!r}")
+        hybrid = friction == "stick-slip" and tau_c > 0
         h1 = np.asarray(H1, dtype=float) if not isinstance(H1, str) else np.array([])
         if h1.shape != (2,) or not np.all(np.isfinite(h1)):
             raise ParameterError(f"Turret: H1 must be 2 finite numbers (x, y) [m], got {H1!r}")
@@ -101,8 +113,12 @@ class Turret(fl.Model):
         self.frame_joint1 = Frame(doc="Joint-1 pin at the turret top")
         self.frame_housing1 = Frame(doc="Joint-1 cylinder housing pin")
         self.axis = Flange(doc="Slewing drive flange")
-        self.slew = Revolute(n=[0, 1, 0], use_axis_flange=True, use_friction=True, tau_c0=tau_c, w_reg=w_reg,
-                             init={"phi": phi_start, "w": 0.0})
+        self.slew = Revolute(n=[0, 1, 0], use_axis_flange=True, use_friction=not hybrid,
+                             **({} if hybrid else {"tau_c0": tau_c, "w_reg": w_reg}), init={"phi": phi_start, "w": 0.0})
+        if hybrid:
+            self.ring = BearingFriction(tau_pos=[[0.0, tau_c]], use_support=True)
+            self.connect(self.slew.axis, self.ring.flange_a)
+            self.connect(self.slew.support, self.ring.support)
         self.body = Body(m=mass, r_CM=[0.0, self.height / 2, 0.0], I=np.diag([J_slew / 2, J_slew, J_slew / 2]))
         self.top = FixedTranslation(r=[0.0, self.height, 0.0])
         self.housing = FixedTranslation(r=[float(h1[0]), float(h1[1]), 0.0])

@@ -177,7 +177,8 @@ def slewing_turret(record: PumpTruckParameters, q: float, moves: Sequence[tuple]
     """The turret on its slewing bearing (at rest at ``q`` [rad]), its drive, angle loop and smooth reference from
     the slew's ``moves``."""
     tr = record.turret
-    turret = Turret(mass=tr.mass, J_slew=tr.J_slew, height=tr.height, H1=record.joint1.H, phi_start=q)
+    turret = Turret(mass=tr.mass, J_slew=tr.J_slew, height=tr.height, H1=record.joint1.H, phi_start=q,
+                    friction=tr.friction)
     loop = AngleController(K_v=SLEW_Q / SLEW_D / SLEW_RATIO, use_feed_forward=False)
     return turret, SlewDrive(p_system=record.p_system), loop, SmoothReference(*motion_profile(q, moves))
 

@@ -205,11 +205,15 @@ class Turret:
     mass: float = 2500.0
     J_slew: float = 3500.0
     height: float = 1.2
+    friction: str = "regularised"
+    """The slewing ring's friction law: ``"regularised"`` or ``"stick-slip"`` (``models.boom.Turret``)."""
     source: str = ("order of magnitude for a 42 m pump turret (cast slewing housing ~2.5 t, radius of gyration "
                    "~1.2 m: J = 2500 * 1.18^2)")
 
     def __post_init__(self) -> None:
         _check("turret", mass=(self.mass, "kg"), J_slew=(self.J_slew, "kg.m2"), height=(self.height, "m"))
+        if self.friction not in ("regularised", "stick-slip"):
+            raise ParameterError(f"turret: friction must be 'regularised' or 'stick-slip', got {self.friction!r}")
 
 
 @dataclass(frozen=True)

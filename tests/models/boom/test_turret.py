@@ -36,10 +36,10 @@ J_TOTAL = J + M * R**2
 class Bench(fl.Model):
     """World, turret, point mass on an arm at the top, constant torque on the slewing axis."""
 
-    def __init__(self, tau: float, tau_c: float) -> None:
+    def __init__(self, tau: float, tau_c: float, friction: str = "regularised") -> None:
         super().__init__()
         self.world = World()
-        self.turret = Turret(mass=2500.0, J_slew=J, height=HEIGHT, H1=H1, tau_c=tau_c, w_reg=1e-2)
+        self.turret = Turret(mass=2500.0, J_slew=J, height=HEIGHT, H1=H1, tau_c=tau_c, w_reg=1e-2, friction=friction)
         self.arm = Body(m=M, r_CM=[R, 0.0, 0.0], I=np.zeros((3, 3)))
         self.drive = rotational.Torque()
         self.torque = Constant(k=tau)
@@ -71,6 +71,20 @@ def test_friction_breakaway(sim):
     np.testing.assert_allclose(slide["turret.top.frame_b.r_0"][-1], top, atol=1e-9)
     np.testing.assert_allclose(slide["turret.housing.frame_b.r_0"][-1],
                                top + np.array([c * H1[0], H1[1], -s * H1[0]]), atol=1e-9)
+
+
+def test_stick_slip_ring_holds_below_and_slides_above_the_friction_torque():
+    """``friction="stick-slip"`` (MSL BearingFriction on the slew axis): half the friction torque holds the turret
+    exactly (the angle does not move at all in 1 s, where the regularised ring creeps); twice the friction torque
+    slews it at once with ``(tau − tau_c) / J`` (1e-9 relative: no regularisation to outgrow)."""
+    held = fl.Simulation(Bench(0.5 * TAU_C, TAU_C, "stick-slip"), codegen=False).run(
+        1.0, dt_out=0.1, rtol=1e-8, atol=1e-10, progress=False)
+    assert np.max(np.abs(held["turret.slew.phi"])) == 0.0 and np.all(held["turret.ring.mode"] == 0)
+    slide = fl.Simulation(Bench(2 * TAU_C, TAU_C, "stick-slip"), codegen=False).run(
+        1.0, dt_out=0.1, rtol=1e-8, atol=1e-10, progress=False)
+    np.testing.assert_allclose(slide["turret.slew.a"][1:], TAU_C / J_TOTAL, rtol=1e-9)
+    with pytest.raises(ParameterError, match="friction must be one of regularised, stick-slip"):
+        Turret(friction="coulomb")
 
 
 def test_defaults_are_the_trucks():
