@@ -200,3 +200,71 @@ def test_latch_misuse_is_a_model_error(how, message):
     condition that is not a relation: a ModelError that says so (naming the component where the flattener sees it)."""
     with pytest.raises(fl.ModelError, match=message):
         fl.build(_LatchMisuse(how))
+
+
+class BouncingBall(fl.Model):
+    """A ball dropped from 1 m; where it reaches the floor its height is put to 0 and its speed to ``-e v`` (fl.reinit,
+    Modelica's ``when h < 0 then reinit(v, -e*pre(v))``)."""
+
+    h = Variable(unit="m", start=1.0, fixed=True, state_select="always")
+    v = Variable(unit="m/s", start=0.0, fixed=True, state_select="always")
+    v_rebound = Variable(unit="m/s")
+
+    def __init__(self, e: float = 0.8) -> None:
+        super().__init__()
+        self.e = fl.Parameter(unit="1")
+        self.e = e
+
+    def equations(self):
+        fl.reinit(self.h < 0, (self.v, self.v_rebound), (self.h, 0.0))
+        return [eq(der(self.h), self.v), eq(der(self.v), -9.81), eq(self.v_rebound, -self.e * self.v)]
+
+
+def test_reinit_bounces_a_ball_at_the_closed_form_instants():
+    """Impacts at ``t1 = sqrt(2 h0/g)`` and ``t1 + 2 e v1/g``, ``t1 + 2 e v1/g + 2 e² v1/g`` (1e-9 s), the
+    rebound speed ``e v1`` (1e-9 relative), one event per impact (the reinitialised state re-evaluates the
+    relation: no second event for the same impact)."""
+    res = fl.Simulation(BouncingBall()).run(2.0, dt_out=0.01, rtol=1e-10, atol=1e-12, progress=False)
+    g, e = 9.81, 0.8
+    t1 = np.sqrt(2.0 / g)
+    v1 = g * t1
+    expected = [t1, t1 + 2 * e * v1 / g, t1 + 2 * e * v1 / g + 2 * e**2 * v1 / g]
+    impacts = [t for t, text in res.events if "h < 0" in text]
+    np.testing.assert_allclose(impacts, expected, atol=1e-9)
+    np.testing.assert_allclose(res.value("v", [impacts[0]], side="right"), e * v1, rtol=1e-9)
+    np.testing.assert_allclose(res.value("v", [impacts[0]], side="left"), -v1, rtol=1e-9)
+    assert np.all(res["h"] >= -1e-9)
+
+
+class _ReinitMisuse(fl.Model):
+    x = Variable(unit="m", start=1.0, fixed=True)
+    v = Variable(unit="m/s", start=0.0, fixed=True)
+
+    def __init__(self, how: str) -> None:
+        super().__init__()
+        self.how = how
+
+    def equations(self):
+        if self.how == "expression":
+            fl.reinit(self.x < 0, (self.v, -0.5 * self.v))
+        elif self.how == "no pair":
+            fl.reinit(self.x < 0)
+        elif self.how == "not a relation":
+            fl.reinit(ca.logic_and(self.x < 0, self.v < 0), (self.v, 0.0))
+        elif self.how == "algebraic":
+            fl.reinit(self.x < 0, (self.v, 0.0))
+            return [eq(der(self.x), -1.0), eq(self.v, 2.0 * self.x)]
+        return [eq(der(self.x), self.v), eq(der(self.v), -1.0)]
+
+
+@pytest.mark.parametrize("how, message", [
+    ("expression", "must be a number or a scalar variable"),
+    ("no pair", "at least one pair"),
+    ("not a relation", "must be one relation"),
+    ("algebraic", "is not a state of the compiled model"),
+])
+def test_reinit_misuse_is_a_model_error(how, message):
+    """A value that is an expression, no pair, a condition that is not one relation, a reinitialised variable the
+    model does not keep as a state: a ModelError that says so."""
+    with pytest.raises(fl.ModelError, match=message):
+        fl.build(_ReinitMisuse(how))

@@ -77,7 +77,8 @@ class FrictionModes:
         return ca.if_else(self.free, FREE, sliding)
 
 
-def friction_modes(v_rel: Any, sa: Any, f0: Any, f0_max: Any, free: Any, v_small: Any) -> FrictionModes:
+def friction_modes(v_rel: Any, sa: Any, f0: Any, f0_max: Any, free: Any, v_small: Any,
+                   forward_allowed: Any = True, backward_allowed: Any = True) -> FrictionModes:
     """Declare the mode logic of one friction element (call inside ``equations()``).
 
     Parameters
@@ -95,6 +96,9 @@ def friction_modes(v_rel: Any, sa: Any, f0: Any, f0_max: Any, free: Any, v_small
     v_small : casadi.SX
         Relative speed below which a reversal from sliding passes through stuck [m/s or rad/s] (MSL ``v_small``,
         ``w_small``; large by default: a reversal always passes through stuck).
+    forward_allowed, backward_allowed : casadi.SX or bool
+        Relations that must hold to start or go on sliding forward / backward (a hard stop: ``s < s_max``; MSL's
+        ``MassWithStopAndFriction``); True: always.
     """
     if isinstance(free, (bool, np.bool_)):
         is_free = ca.SX(float(free))
@@ -105,17 +109,24 @@ def friction_modes(v_rel: Any, sa: Any, f0: Any, f0_max: Any, free: Any, v_small
     engaged = is_free < 0.5  # a discrete value: its margin changes only at events
     stuck = ca.logic_and(engaged, ca.logic_and(ca.logic_not(fw), ca.logic_not(bw)))
     start = initial()
+    def allowed(cond: ca.SX, gate: Any) -> ca.SX:
+        return cond if isinstance(gate, (bool, np.bool_)) and gate else ca.logic_and(cond, gate)
+
     moving_fw, moving_bw = v_rel > 0, v_rel < 0
     reverse_fw = ca.logic_and(bw, v_rel > v_small)
     reverse_bw = ca.logic_and(fw, v_rel < -v_small)
-    define_latch(sf, ca.logic_or(ca.logic_or(ca.logic_and(stuck, sa > f0_max), reverse_fw),
+    define_latch(sf, ca.logic_or(ca.logic_or(allowed(ca.logic_and(stuck, sa > f0_max), forward_allowed), reverse_fw),
                                  ca.logic_and(start, moving_fw)),
-                 ca.logic_or(ca.logic_or(ca.logic_and(stuck, sa > f0), reverse_fw), ca.logic_and(start, moving_fw)))
-    define_latch(sb, ca.logic_or(ca.logic_or(ca.logic_and(stuck, sa < -f0_max), reverse_bw),
-                                 ca.logic_and(start, moving_bw)),
-                 ca.logic_or(ca.logic_or(ca.logic_and(stuck, sa < -f0), reverse_bw), ca.logic_and(start, moving_bw)))
-    define_latch(fw, ca.logic_and(ca.logic_or(is_free > 0.5, sf), moving_fw), moving_fw)
-    define_latch(bw, ca.logic_and(ca.logic_or(is_free > 0.5, sb), moving_bw), moving_bw)
+                 ca.logic_or(ca.logic_or(allowed(ca.logic_and(stuck, sa > f0), forward_allowed), reverse_fw),
+                             ca.logic_and(start, moving_fw)))
+    define_latch(sb, ca.logic_or(ca.logic_or(allowed(ca.logic_and(stuck, sa < -f0_max), backward_allowed),
+                                             reverse_bw), ca.logic_and(start, moving_bw)),
+                 ca.logic_or(ca.logic_or(allowed(ca.logic_and(stuck, sa < -f0), backward_allowed), reverse_bw),
+                             ca.logic_and(start, moving_bw)))
+    define_latch(fw, allowed(ca.logic_and(ca.logic_or(is_free > 0.5, sf), moving_fw), forward_allowed),
+                 allowed(moving_fw, forward_allowed))
+    define_latch(bw, allowed(ca.logic_and(ca.logic_or(is_free > 0.5, sb), moving_bw), backward_allowed),
+                 allowed(moving_bw, backward_allowed))
     free_d = is_free > 0.5
     locked = ca.logic_and(ca.logic_not(free_d),
                           ca.logic_not(ca.logic_or(ca.logic_or(fw, sf), ca.logic_or(bw, sb))))
@@ -123,11 +134,11 @@ def friction_modes(v_rel: Any, sa: Any, f0: Any, f0_max: Any, free: Any, v_small
     return FrictionModes(fw, bw, sf, sb, free_d, locked, sliding_fw)
 
 
-def mode_rows(node: Any, v_rel: Any, a_rel: Any, f0: Any, f0_max: Any, free: Any, v_small: Any
-              ) -> tuple[FrictionModes, list]:
+def mode_rows(node: Any, v_rel: Any, a_rel: Any, f0: Any, f0_max: Any, free: Any, v_small: Any,
+              forward_allowed: Any = True, backward_allowed: Any = True) -> tuple[FrictionModes, list]:
     """The modes of a friction element ``node`` (with the variables ``sa``, ``mode``, ``start_forward``,
     ``start_backward``, ``locked``) and its rows: ``a_rel`` of ``sa`` and the reported discrete values."""
-    m = friction_modes(v_rel, node.sa, f0, f0_max, free, v_small)
+    m = friction_modes(v_rel, node.sa, f0, f0_max, free, v_small, forward_allowed, backward_allowed)
     return m, [eq(a_rel, m.acceleration(node.sa, f0_max)), eq(node.mode, m.mode()),
                eq(node.start_forward, ca.if_else(m.start_forward, 1.0, 0.0)),
                eq(node.start_backward, ca.if_else(m.start_backward, 1.0, 0.0)),

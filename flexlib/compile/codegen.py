@@ -42,7 +42,7 @@ from flexlib.compile.simplify import SimpleSystem
 from flexlib.compile.structure import derivative_level, row_jacobian
 from flexlib.core.tables import bind_tables
 from flexlib.core.variables import time
-from flexlib.errors import CacheWarning, FlexlibError
+from flexlib.errors import CacheWarning, FlexlibError, ModelError
 
 __all__ = ["CompiledModel", "VariableInfo", "compile_dae", "iteration_matrix"]
 
@@ -73,6 +73,8 @@ class RelationInfo:
     owner: str = ""
     assertion: str = ""  # from assert_(): must stay true (message shown when it becomes false)
     initial: bool = False  # initial(): 1 while the start is found, 0 afterwards
+    #: reinit(): ``[state name, value]`` pairs (value a number or a variable's name), applied where it becomes true
+    reinit: list = field(default_factory=list)
 
     def value(self, z: float) -> bool:
         """Relation value for indicator value ``z`` (``rhs - lhs``) away from an event."""
@@ -490,10 +492,18 @@ def _functions(flat: FlatSystem, dae: DAE) -> tuple[dict[str, ca.Function], ca.S
     given, defs = row_definitions(F, outs, y, yp, dae.differential)
     relations: list[RelationInfo] = []
     tev_rows = []
+    states = {name for name, d in zip(dae.names, dae.differential, strict=True) if d}
     for rel, ind in dae.relations:
         timed = (not ca.depends_on(ind, ca.vertcat(y, yp, U)) and ca.depends_on(ind, t)
                  and bool(ca.is_linear(ind, t)))
-        relations.append(RelationInfo(rel.text, rel.strict, timed, rel.owner, rel.assertion, rel.initial))
+        for target, value in rel.reinit:
+            if target not in states:
+                raise ModelError(f"{rel.owner}: reinit(): {target} is not a state of the compiled model (the index "
+                                 f"reduction chose other states): give it state_select='always'")
+            if isinstance(value, str) and value not in dae.outputs:
+                raise ModelError(f"{rel.owner}: reinit(): the value {value} is not a variable of the model")
+        relations.append(RelationInfo(rel.text, rel.strict, timed, rel.owner, rel.assertion, rel.initial,
+                                      [list(a) for a in rel.reinit]))
         slope = ca.jacobian(ind, t) if timed else ca.SX(0.0)
         offset = ca.substitute(ind, t, ca.SX(0.0)) if timed else ca.SX(0.0)
         tev_rows.append(ca.horzcat(slope, offset))

@@ -30,7 +30,7 @@ from flexlib.compile.scaling import apply_marks, instance_nominals
 from flexlib.core.component import Component, Connector, Node
 from flexlib.core.functions import CURRENT_RELATIONS, Relation
 from flexlib.core.tables import CURRENT_TABLES, SegmentTable
-from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, lookup, render, render_many
+from flexlib.core.variables import Kind, Parameter, StateSelect, SymInfo, full_name, lookup, render, render_many
 from flexlib.errors import FlexlibError, ModelError
 
 if TYPE_CHECKING:
@@ -209,6 +209,7 @@ def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Re
             if rel.indicator is None:
                 raise ModelError(f"{node.path or type(node).__name__}: a latch declared by latch() has no conditions "
                                  "(give them with define_latch() in the same equations())")
+            rel.reinit = [_reinit_names(node, x, v) for x, v in rel.reinit]
             rel.owner = node.path or type(node).__name__
             rel.text = rel.describe()
             rel.info.name = f"rel({rel.text})"
@@ -224,6 +225,20 @@ def _component_equations(nodes: list[Node]) -> tuple[list[FlatEquation], list[Re
             for k in range(res.numel()):
                 equations.append(FlatEquation(res[k], path, equ.label, "equation"))
     return equations, relations, initial, tables
+
+
+def _reinit_names(node: Component, x: ca.SX, value: Any) -> list:
+    """A reinit action ``[state name, value]`` (the value a number or a variable's name), from its symbols."""
+    names = []
+    for what, sym in (("reinitialised variable", x), ("value", value)):
+        if not isinstance(sym, ca.SX):
+            names.append(sym)
+            continue
+        info = lookup(sym)
+        if info is None or info.kind != "variable":
+            raise ModelError(f"{node.path or type(node).__name__}: reinit(): the {what} {sym} is not a variable")
+        names.append(full_name(info))
+    return names
 
 
 def flatten(root: Component, check: bool = True, options: BuildOptions | None = None) -> FlatSystem:

@@ -15,7 +15,7 @@ only for expressions that are continuous across the switch).
 from __future__ import annotations
 
 from contextvars import ContextVar
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import casadi as ca
@@ -25,7 +25,8 @@ from flexlib.core.equations import as_sx
 from flexlib.core.variables import SymInfo
 from flexlib.errors import ModelError
 
-__all__ = ["abs_", "assert_", "define_latch", "if_else", "initial", "latch", "max_", "min_", "no_event", "sign"]
+__all__ = ["abs_", "assert_", "define_latch", "if_else", "initial", "latch", "max_", "min_", "no_event", "reinit",
+           "sign"]
 
 #: Relations created while a component's equations() runs are recorded here by the flattener.
 CURRENT_RELATIONS: ContextVar[list | None] = ContextVar("flexlib_relations", default=None)
@@ -56,6 +57,8 @@ class Relation:
     owner: str = ""
     assertion: str = ""  # set by assert_(): the relation must stay true; message if it becomes false
     initial: bool = False  # initial(): 1 while the start is found, 0 afterwards (set by the start, never watched)
+    #: reinit(): (state symbol, value: a number or a variable's symbol) set at the event where the relation becomes true
+    reinit: list = field(default_factory=list)
 
     def describe(self) -> str:
         """``owner: lhs < rhs`` with hierarchical names."""
@@ -294,6 +297,58 @@ def initial() -> ca.SX:
     sink = CURRENT_RELATIONS.get()
     assert sink is not None  # _register raised otherwise
     sink[-1].initial = True
+    return sym
+
+
+def reinit(when: Any, *values: tuple[Any, Any]) -> ca.SX:
+    """Modelica's ``when when then reinit(x, value); ... end when``: at the event where the relation ``when`` becomes
+    true, each state ``x`` is set to its ``value``; the event iteration then goes on from the new state.
+
+    Call it inside :meth:`Component.equations` (it adds no equation). A hard stop is the typical use: when the
+    position reaches the stop, the position is put on it and the speed to zero (MSL's ``MassWithStopAndFriction``).
+
+    Parameters
+    ----------
+    when : casadi.SX
+        One relation (``<``, ``<=``, ``>``, ``>=``); its rising edge (false → true, at an event after the start)
+        fires the reinitialisation.
+    *values : (casadi.SX, float or casadi.SX)
+        Pairs ``(x, value)``: ``x`` a variable of the component that the compiled model keeps as a state (give it
+        ``state_select="always"``), ``value`` a number or a variable (declare a variable for an expression: its
+        value just before the reinitialisation is taken).
+
+    Returns
+    -------
+    casadi.SX
+        The relation's discrete value (1.0 while ``when`` holds).
+    """
+    margin, strict = _margin(when, "reinit(): when")
+    c = as_sx(when, "reinit(): when")
+    if c.op() not in (ca.OP_LT, ca.OP_LE):
+        raise ModelError(f"reinit(): when must be one relation (<, <=, >, >=), got {c}")
+    if not values:
+        raise ModelError("reinit(): give at least one pair (state, value)")
+    actions = []
+    for pair in values:
+        if not isinstance(pair, tuple) or len(pair) != 2:
+            raise ModelError(f"reinit(): each value is a pair (state, value), got {pair!r:.80}")
+        x, v = pair
+        if not (isinstance(x, ca.SX) and x.is_scalar() and x.is_symbolic()):
+            raise ModelError(f"reinit(): the reinitialised {x!r:.60} must be a scalar variable of the component")
+        if isinstance(v, ca.SX) and not v.is_constant():
+            if not (v.is_scalar() and v.is_symbolic()):
+                raise ModelError(f"reinit(): the value {v!r:.60} must be a number or a scalar variable (declare a "
+                                 "variable for an expression)")
+        else:
+            v = float(ca.evalf(v)) if isinstance(v, ca.SX) else float(v)
+            if not np.isfinite(v):
+                raise ModelError(f"reinit(): the value for {x} must be finite, got {v}")
+        actions.append((x, v))
+    sym = _register(f"{c.dep(0)} {'<' if strict else '<='} {c.dep(1)}", margin, strict, "reinit()",
+                    lhs=c.dep(0), rhs=c.dep(1))
+    sink = CURRENT_RELATIONS.get()
+    assert sink is not None  # _register raised otherwise
+    sink[-1].reinit = actions
     return sym
 
 

@@ -18,8 +18,8 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import InitializationError, SolverError
 
-__all__ = ["check_assertions", "event_iteration", "next_time_event", "off_zero", "settled", "state_relations",
-           "time_triggers", "watch", "watched_relations"]
+__all__ = ["apply_reinit", "check_assertions", "event_iteration", "next_time_event", "off_zero", "settled",
+           "state_relations", "time_triggers", "watch", "watched_relations"]
 
 
 def next_time_event(model: CompiledModel, p: np.ndarray, t: float, t_end: float) -> tuple[float, list[int]]:
@@ -157,6 +157,7 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
         The iteration does not converge, or an assertion (:func:`check_assertions`) fails.
     """
     n_par = model.n_params
+    before = p[n_par:].copy()
     fixed = {k for k, _ in triggered}
     for k, v in triggered:
         p[n_par + k] = float(v)
@@ -164,6 +165,7 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
     free = [k for k, rel in enumerate(model.relations) if k not in fixed and not rel.time_event]
     seen: set[bytes] = set()
     one_at_a_time = False
+    reinitialised: set[int] = set()
     for _ in range(max_iter + 2 * len(free)):
         seen.add(p[n_par:].tobytes())
         y1, yp1 = init.reinit(t, y, yp, p)
@@ -171,6 +173,15 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
         changed = [(k, float(model.relations[k].value(z[k]))) for k in free
                    if float(model.relations[k].value(z[k])) != p[n_par + k]]
         if not changed:
+            fired = [k for k, rel in enumerate(model.relations) if rel.reinit and k not in reinitialised
+                     and before[k] == 0.0 and p[n_par + k] == 1.0]
+            if fired:  # reinit(): the states set, then the iteration goes on from them (each edge once), every
+                # relation re-evaluated there (the triggered ones too: the state they crossed on has moved)
+                y = apply_reinit(model, p, t, y1, yp1, fired)
+                yp = yp1
+                reinitialised.update(fired)
+                free = [k for k, rel in enumerate(model.relations) if not rel.time_event]
+                continue
             check_assertions(model, p, t)
             return y1, yp1
         trial = p.copy()
@@ -184,6 +195,23 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
                 break
         y, yp = y1, yp1
     raise SolverError(f"event iteration did not converge at t = {t:.10g} s")
+
+
+def apply_reinit(model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
+                 fired: list[int]) -> np.ndarray:
+    """``y`` with the states of the relations ``fired`` set by their :func:`flexlib.reinit` actions (each value a
+    number or a variable's value at ``(t, y, yp)``)."""
+    y = y.copy()
+    values: dict[str, float] | None = None
+    for k in fired:
+        for target, value in model.relations[k].reinit:
+            if isinstance(value, str):
+                if values is None:
+                    out = np.asarray(model.function("out")(t, y, yp, p)).ravel()
+                    values = {v.name: float(x) for v, x in zip(model.variables, out, strict=True)}
+                value = values[value]
+            y[model.y_names.index(target)] = float(value)
+    return y
 
 
 def _switch_one(init: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,

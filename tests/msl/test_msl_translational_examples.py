@@ -14,6 +14,7 @@ from flexlib.components.mechanics.translational import (
     Fixed,
     Force,
     Mass,
+    MassWithStopAndFriction,
     Rod,
     Spring,
     SpringDamper,
@@ -127,26 +128,36 @@ def stribeck_table(f_prop: float, f_coulomb: float, f_stribeck: float, fexp: flo
     return np.column_stack([v, f_coulomb + f_prop * v + f_stribeck * np.exp(-fexp * v)])
 
 
-class SupportFrictionExample(fl.Model):
-    """Part 3 of ``Modelica.Mechanics.Translational.Examples.Friction``: a sine force (25 N, 0.25 Hz) on a 1 kg mass
-    on a support with Stribeck friction (a 50-row table; breakaway 15 N, Coulomb 5 N), started at rest. (Parts 1 and
-    2 are ``MassWithStopAndFriction``, not provided.)"""
+class FrictionExample(fl.Model):
+    """``Modelica.Mechanics.Translational.Examples.Friction``, its three parts: (1) a sine force (25 N, 0.25 Hz) on
+    a 1 kg mass with Stribeck friction between stops 50 m apart; (2) a 1 kg mass started at −5 m/s on a 500 N/m spring,
+    between stops ±0.9 m (it hits the left stop, sticks, is pulled off); (3) the sine force on a 1 kg mass on a support
+    with Stribeck friction from a 50-row table (breakaway 15 N, Coulomb 5 N)."""
 
     def __init__(self) -> None:
         super().__init__()
         self.sineForce = Sine(amplitude=25.0, f=0.25)
-        self.force2 = Force()
+        self.force, self.force2 = Force(), Force()
+        self.stop1 = MassWithStopAndFriction(L=1.0, smax=25.0, smin=-25.0, m=1.0, F_prop=1.0, F_Coulomb=5.0,
+                                             F_Stribeck=10.0, fexp=2.0, init={"s": 0.0, "v": 0.0})
+        self.stop2 = MassWithStopAndFriction(L=1.0, smax=0.9, smin=-0.9, F_Coulomb=3.0, F_Stribeck=5.0, m=1.0,
+                                             F_prop=1.0, fexp=2.0, init={"s": 0.0, "v": -5.0})
+        self.spring = Spring(s_rel0=1.0, c=500.0)
+        self.fixed2 = Fixed(s0=-1.75)
         self.mass = Mass(m=1.0, L=1.0, init={"s": 0.0, "v": 0.0})
         self.supportFriction = SupportFriction(f_pos=stribeck_table(1.0, 5.0, 10.0, 2.0, 12.0, 50))
-        self.connect(self.sineForce.y, self.force2.f)
+        self.connect(self.spring.flange_b, self.stop2.flange_a)
+        self.connect(self.sineForce.y, self.force.f, self.force2.f)
+        self.connect(self.spring.flange_a, self.fixed2.flange)
+        self.connect(self.force.flange, self.stop1.flange_a)
         self.connect(self.force2.flange, self.mass.flange_a)
         self.connect(self.mass.flange_b, self.supportFriction.flange_a)
 
 
-def test_support_friction_matches_the_msl_reference():
-    """The mass sticks until the force reaches 15 N, slides, sticks and slides back each half period: the modes and
-    start flags switch as in the reference (within 1e-5 s), position and speed within 1e-3 of their range."""
-    res = fl.Simulation(SupportFrictionExample()).run(5.0, dt_out=0.0005, rtol=1e-6, progress=False)
+def test_friction_matches_the_msl_reference():
+    """Sticking, breakaway, Stribeck sliding and the hard stops of all three parts: modes and start flags switch as
+    in the reference (within 1e-5 s), positions and speeds within 1e-3 of their range."""
+    res = fl.Simulation(FrictionExample()).run(5.0, dt_out=0.0005, rtol=1e-6, progress=False)
     check_friction_example(res, "translational_friction")
 
 

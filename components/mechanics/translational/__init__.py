@@ -14,6 +14,7 @@ from .force_sensor import ForceSensor
 from .friction import Brake, SupportFriction
 from .interfaces import Flange
 from .mass import Mass
+from .mass_with_stop_and_friction import MassWithStopAndFriction
 from .position import Position
 from .position_sensor import PositionSensor
 from .relative_position_sensor import RelativePositionSensor
@@ -35,6 +36,7 @@ __all__ = [
     "Force",
     "ForceSensor",
     "Mass",
+    "MassWithStopAndFriction",
     "Position",
     "PositionSensor",
     "RelativePositionSensor",
