@@ -1,4 +1,4 @@
-"""Cost of the exact-zero guard in the compiled state-event function against the plain indicators.
+"""Cost of the exact-zero and noise guard in the compiled state-event function against the plain indicators.
 
 The guard is CasADi's ``if_else`` of ``flexlib.solve.events.off_zero`` (every backend's root functions), timed on
 the boom of ``tests/robustness/test_initialization.py`` (4 watched relations) against the same indicators
@@ -33,7 +33,8 @@ def main() -> None:
     z = m.sx_function("ind")(t, y, yp, pp)
     plain = ca.Function("a", [t, y, yp, pp], [ca.vertcat(*[z[int(k)] for k in rel])])
     guard = ca.Function("b", [t, y, yp, pp],
-                        [ca.vertcat(*[off_zero(z[int(k)], m.relations[int(k)].strict) for k in rel])])
+                        [ca.vertcat(*[off_zero(z[int(k)], m.relations[int(k)].strict, pp[m.n_params + int(k)])
+                                      for k in rel])])
     keep = []  # the buffers read these arrays: keep them alive
     calls = []
     for f in (plain, guard):

@@ -18,8 +18,8 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import InitializationError, SolverError
 
-__all__ = ["apply_reinit", "check_assertions", "event_iteration", "next_time_event", "off_zero", "settled",
-           "state_relations", "time_triggers", "watch", "watched_relations"]
+__all__ = ["apply_reinit", "check_assertions", "event_iteration", "next_time_event", "off_zero", "relation_value",
+           "settled", "state_relations", "time_triggers", "watch", "watched_relations"]
 
 
 def next_time_event(model: CompiledModel, p: np.ndarray, t: float, t_end: float) -> tuple[float, list[int]]:
@@ -83,8 +83,8 @@ def watch(model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np.n
     """
     n_par = model.n_params
     z = np.asarray(model.function("ind")(t, y, yp, p)).ravel()
-    return [(int(k), model.relations[k].value(z[k])) for k in relations
-            if k not in skip and float(model.relations[k].value(z[k])) != p[n_par + k]]
+    values = [(int(k), relation_value(model.relations[k], z[k], p[n_par + k])) for k in relations if k not in skip]
+    return [(k, bool(v)) for k, v in values if v != p[n_par + k]]
 
 
 def settled(model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
@@ -118,6 +118,14 @@ def settled(model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np
         if np.isfinite(rate[k]) and rate[k] != 0.0 and float(rel.value(rate[k])) == p[n_par + k]:
             out.add(k)
     return out
+
+
+#: An indicator smaller than this in magnitude (not exactly zero) leaves its relation's value as it is
+#: (:func:`relation_value`, :func:`off_zero`): the sign noise a Newton update leaves on an unknown that is zero by
+#: construction (a brake's normal force 100·(1 − 1) came out ±1e-27 … 1e-50 N, each sign change an event that engaged
+#: the released brake with a 1e-48 N m breakaway torque and made the friction modes cycle). No SI quantity a model
+#: compares is meaningful below it.
+INDICATOR_NOISE = 1e-20
 
 
 def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
@@ -170,8 +178,8 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
         seen.add(p[n_par:].tobytes())
         y1, yp1 = init.reinit(t, y, yp, p)
         z = np.asarray(ind(t, y1, yp1, p)).ravel()
-        changed = [(k, float(model.relations[k].value(z[k]))) for k in free
-                   if float(model.relations[k].value(z[k])) != p[n_par + k]]
+        values = [(k, relation_value(model.relations[k], z[k], p[n_par + k])) for k in free]
+        changed = [(k, v) for k, v in values if v != p[n_par + k]]
         if not changed:
             fired = [k for k, rel in enumerate(model.relations) if rel.reinit and k not in reinitialised
                      and before[k] == 0.0 and p[n_par + k] == 1.0]
@@ -243,9 +251,10 @@ def check_assertions(model: CompiledModel, p: np.ndarray, t: float) -> None:
         raise SolverError(f"assertion failed at t = {t:.10g} s:\n{lines}")
 
 
-def off_zero(z: ca.SX, strict: bool) -> ca.SX:
+def off_zero(z: ca.SX, strict: bool, current: ca.SX | None = None) -> ca.SX:
     """The indicator ``z`` for IDA's root finding, with an exact zero replaced by ±1e-300: the side of the
-    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true).
+    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true); with the relation's ``current`` value (its
+    discrete symbol), an indicator within :data:`INDICATOR_NOISE` of zero is held on the side of that value.
 
     IDA only needs a sign change where the relation's value changes. An exact zero gives it nothing more, but
     one that stays zero over the first step (a body at rest on its contact, x = 0) makes SUNDIALS print "some
@@ -254,6 +263,20 @@ def off_zero(z: ca.SX, strict: bool) -> ca.SX:
     positions moving below round-off: MSL's ``Translational.Examples.PreLoad``) is a root IDA reports and then
     "found at and very near t" (IDA_ILL_INPUT). With the sign of the value at zero, an indicator reaching zero
     from the other side is still a sign change (the relation switches there), one leaving zero to the same side is
-    none — exactly the relation's events. Part of the compiled event function: no cost per call in Python.
+    none — exactly the relation's events. An indicator that is zero by construction but computed by IDA's Newton
+    iteration (a brake's normal force ``100·(1 − ramp)`` once the ramp has ended) carries sign noise of 1e-27 to
+    1e-50, each sign change a root: held on its side, only a real crossing, out of the noise, is one. Part of the
+    compiled event function: no cost per call in Python.
     """
-    return ca.if_else(z == 0, -1e-300 if strict else 1e-300, z)
+    out = ca.if_else(z == 0, -1e-300 if strict else 1e-300, z)
+    if current is None:
+        return out
+    return ca.if_else(ca.logic_and(ca.fabs(z) < INDICATOR_NOISE, z != 0), ca.if_else(current, 1e-300, -1e-300), out)
+
+
+def relation_value(rel: Any, z: float, current: float) -> float:
+    """The value of relation ``rel`` at indicator ``z``: as its strictness says at an exact zero, ``current`` (its
+    value so far) within :data:`INDICATOR_NOISE` of zero, the indicator's sign otherwise."""
+    if z != 0.0 and abs(z) < INDICATOR_NOISE:
+        return current
+    return float(rel.value(z))

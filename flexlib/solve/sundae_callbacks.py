@@ -37,8 +37,9 @@ class Callbacks:
             t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
             pp = ca.SX.sym("p", len(p))
             z = ind(t, y, yp, pp)
-            zc = ca.Function("zc", [t, y, yp, pp], [ca.vertcat(*[off_zero(z[int(k)], model.relations[int(k)].strict)
-                                                                 for k in state_rel])])
+            guarded = [off_zero(z[int(k)], model.relations[int(k)].strict, pp[model.n_params + int(k)])
+                       for k in state_rel]
+            zc = ca.Function("zc", [t, y, yp, pp], [ca.vertcat(*guarded)])
             self._zc = zc
             self._fz, self._evz = zc.buffer()
             self._tz = np.zeros(1)

@@ -12,10 +12,12 @@ from .elasto_backlash import ElastoBacklash
 from .fixed import Fixed
 from .friction import BearingFriction, Brake, Clutch, OneWayClutch
 from .ideal_gear import IdealGear
+from .ideal_planetary import IdealPlanetary
 from .inertia import Inertia
 from .interfaces import Flange
 from .lossy_gear import LossyGear
 from .position import Position
+from .quadratic_speed_dependent_torque import QuadraticSpeedDependentTorque
 from .relative_angle_sensor import RelativeAngleSensor
 from .relative_speed_sensor import RelativeSpeedSensor
 from .speed import Speed
@@ -24,6 +26,7 @@ from .spring import Spring
 from .spring_damper import SpringDamper
 from .torque import Torque
 from .torque_sensor import TorqueSensor
+from .torque_step import TorqueStep
 
 __all__ = [
     "AccSensor",
@@ -37,10 +40,12 @@ __all__ = [
     "Fixed",
     "Flange",
     "IdealGear",
+    "IdealPlanetary",
     "Inertia",
     "LossyGear",
     "OneWayClutch",
     "Position",
+    "QuadraticSpeedDependentTorque",
     "RelativeAngleSensor",
     "RelativeSpeedSensor",
     "Speed",
@@ -49,4 +54,5 @@ __all__ = [
     "SpringDamper",
     "Torque",
     "TorqueSensor",
+    "TorqueStep",
 ]

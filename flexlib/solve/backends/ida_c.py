@@ -196,7 +196,8 @@ def zc_function(model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> c
     z = ind(t, y, yp, pp)
     # an exact zero handed to IDA as ±1e-300 on the side of the relation's value there (events.off_zero)
     return ca.Function("flexlib_zc", [t, y, yp, pp],
-                       [ca.vertcat(*[off_zero(z[int(k)], model.relations[int(k)].strict) for k in state_rel])])
+                       [ca.vertcat(*[off_zero(z[int(k)], model.relations[int(k)].strict, pp[model.n_params + int(k)])
+                                     for k in state_rel])])
 
 
 def linear_solver(model: CompiledModel, forced: str | None = None) -> str:

@@ -16,8 +16,10 @@ from flexlib.components.mechanics.rotational import (
     Damper,
     Fixed,
     IdealGear,
+    IdealPlanetary,
     Inertia,
     Position,
+    QuadraticSpeedDependentTorque,
     RelativeAngleSensor,
     Speed,
     SpeedSensor,
@@ -25,6 +27,7 @@ from flexlib.components.mechanics.rotational import (
     SpringDamper,
     Torque,
     TorqueSensor,
+    TorqueStep,
 )
 
 TOL = {"rtol": 1e-8, "atol": 1e-10}
@@ -347,3 +350,73 @@ def test_constant_torque_accelerates_an_inertia_and_loads_its_support():
     np.testing.assert_allclose(res["source.tau"], tau, rtol=0, atol=1e-12)
     np.testing.assert_allclose(res["housing.flange.tau"], ref["housing.flange.tau"], rtol=0, atol=1e-12)
     assert abs(res["housing.flange.tau"][0]) == pytest.approx(abs(tau), rel=1e-12)
+
+
+def test_torque_step_accelerates_from_its_start_time():
+    """``TorqueStep``: 4 N m from 1 s (0.5 N m before) on 2 kg m²: ``w = 0.25 t`` until 1 s, then
+    ``0.25 + 2 (t − 1)`` (1e-9)."""
+
+    class Stepped(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.step = TorqueStep(step_torque=3.5, offset_torque=0.5, start_time=1.0)
+            self.disc = Inertia(J=2.0, init={"phi": 0.0, "w": 0.0})
+            self.connect(self.step.flange, self.disc.flange_a)
+
+    _, res = simulate(Stepped(), 2.0, 0.125)
+    t = res.t
+    np.testing.assert_allclose(res["disc.w"], np.where(t < 1.0, 0.25 * t, 0.25 + 2.0 * (t - 1.0)), atol=1e-9)
+
+
+@pytest.mark.parametrize("direction", [True, False])
+def test_quadratic_speed_dependent_torque_brakes_as_closed_form(direction):
+    """A load ``tau = −20 N m (w / 10 rad/s)²`` on 1 kg m² spinning at ±5 rad/s: ``w = w0 / (1 + c |w0| t)`` with
+    ``c = 0.2`` (rtol 1e-7). With ``torque_direction=True`` the torque keeps its sign: it speeds a backward spin
+    up, ``w = w0 / (1 − c w0 t)`` for ``w0 < 0`` until 0.5 s (checked to 0.5 s)."""
+
+    class Fan(fl.Model):
+        def __init__(self, w0: float) -> None:
+            super().__init__()
+            self.load = QuadraticSpeedDependentTorque(tau_nominal=-20.0, w_nominal=10.0, torque_direction=direction)
+            self.disc = Inertia(J=1.0, init={"phi": 0.0, "w": w0})
+            self.connect(self.load.flange, self.disc.flange_a)
+
+    for w0 in (5.0, -5.0):
+        _, res = simulate(Fan(w0), 0.5, 0.05)
+        t = res.t[res.t < 0.45]
+        if direction and w0 < 0:
+            expected = w0 / (1.0 + 0.2 * w0 * t)
+        else:
+            expected = w0 / (1.0 + 0.2 * abs(w0) * t)
+        np.testing.assert_allclose(res["disc.w"][res.t < 0.45], expected, rtol=1e-7)
+
+
+def test_ideal_planetary_kinematics_and_torques():
+    """``IdealPlanetary`` (ring/sun 2): carrier held, sun driven at 3 rad/s → ring at −1.5 rad/s (Willis:
+    ``(1 + r) w_c = w_s + r w_r``); a 1 N m load on the ring takes ``ring.tau = r sun.tau`` = −1 N m, so the sun's
+    flange torque is −0.5 N m and the carrier's ``−(1 + r) sun.tau`` = +1.5 N m (1e-9)."""
+
+    class Gearset(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.gear = IdealPlanetary(ratio=2.0)
+            self.drive = Speed(init={"phi": 0.0})
+            self.w = Constant(k=3.0)
+            self.hold = Fixed()
+            self.load = Torque()
+            self.tau = Constant(k=-1.0)
+            self.ring = Inertia(J=0.0)
+            self.sensor = TorqueSensor()
+            self.connect(self.w.y, self.drive.w_ref)
+            self.connect(self.drive.flange, self.sensor.flange_a)
+            self.connect(self.sensor.flange_b, self.gear.sun)
+            self.connect(self.gear.carrier, self.hold.flange)
+            self.connect(self.gear.ring, self.ring.flange_a)
+            self.connect(self.ring.flange_b, self.load.flange)
+            self.connect(self.tau.y, self.load.tau)
+
+    _, res = simulate(Gearset(), 1.0, 0.25)
+    np.testing.assert_allclose(res["ring.w"], -1.5, atol=1e-9)
+    np.testing.assert_allclose(res["sensor.tau"], -0.5, atol=1e-9)
+    np.testing.assert_allclose(res["gear.ring.tau"], -1.0, atol=1e-9)
+    np.testing.assert_allclose(res["gear.carrier.tau"], 1.5, atol=1e-9)
