@@ -8,7 +8,7 @@ from .acc_sensor import AccSensor
 from .angle_sensor import AngleSensor
 from .constant_torque import ConstantTorque
 from .damper import Damper
-from .elasto_backlash import ElastoBacklash
+from .elasto_backlash import ElastoBacklash, ElastoBacklash2
 from .fixed import Fixed
 from .friction import BearingFriction, Brake, Clutch, OneWayClutch
 from .ideal_gear import IdealGear
@@ -37,6 +37,7 @@ __all__ = [
     "ConstantTorque",
     "Damper",
     "ElastoBacklash",
+    "ElastoBacklash2",
     "Fixed",
     "Flange",
     "IdealGear",

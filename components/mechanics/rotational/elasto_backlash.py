@@ -1,4 +1,5 @@
-"""Backlash in series with a linear spring and damper, the contact modelled with elasticity."""
+"""Backlash in series with a linear spring and damper, the contact modelled with elasticity (continuous torque or,
+``ElastoBacklash2``, a torque that jumps at contact)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from flexlib import Parameter, Variable, eq, if_else, no_event
 
 from .interfaces import PartialCompliantWithRelativeStates
 
-__all__ = ["ElastoBacklash"]
+__all__ = ["ElastoBacklash", "ElastoBacklash2"]
 
 #: Backlash below which the element is a plain spring and damper (MSL's ``bEps``: no endless events for ``b = 0``)
 B_EPS = 1e-10
@@ -58,3 +59,42 @@ class ElastoBacklash(PartialCompliantWithRelativeStates):
                 eq(self.tau_d, self.d * self.w_rel),
                 eq(self.tau, if_else(plain, self.tau_c + self.tau_d,
                                      if_else(phi > b_max, pushing, if_else(phi < -b_max, pulling, 0.0))))]
+
+
+class ElastoBacklash2(PartialCompliantWithRelativeStates):
+    """Backlash ``b`` in series with a spring ``c`` and damper ``d``, the torque jumping at contact (MSL's
+    ``ElastoBacklash2``).
+
+    As :class:`ElastoBacklash` without limiting the damping by the spring: in contact (``φ > b/2``, mirrored below
+    ``−b/2``) ``tau = tau_c + tau_d`` with ``tau_d = d w_rel``, set to 0 where it would pull (``tau_c + tau_d ≤ 0``);
+    0 in the gap. At first contact the torque jumps from 0 to ``d w_rel``; entering and leaving contact and the
+    no-pulling switch are all state events. A backlash below ``1e-10`` rad makes it a spring and damper.
+
+    Notes
+    -----
+    As for :class:`ElastoBacklash`, MSL's monotone characteristic during initialisation is not used.
+
+    References
+    ----------
+    Modelica Standard Library 4.0, ``Modelica.Mechanics.Rotational.Components.ElastoBacklash2`` (without the heat
+    port).
+    """
+
+    c = Parameter(unit="N.m/rad", gt=0.0, doc="Spring constant (c > 0)")
+    d = Parameter(0.0, unit="N.m.s/rad", min=0.0, doc="Damping constant")
+    b = Parameter(0.0, unit="rad", min=0.0, doc="Total backlash")
+    phi_rel0 = Parameter(0.0, unit="rad", doc="Unstretched spring angle")
+    tau_c = Variable(unit="N.m", doc="Spring torque")
+    tau_d = Variable(unit="N.m", doc="Damping torque")
+
+    def equations(self) -> list:
+        phi, b_max, c = self.phi_rel - self.phi_rel0, self.b / 2, self.c
+        plain = self.b <= B_EPS  # parameters only: decided at the start, no event
+        total = self.tau_c + self.tau_d
+        return [*super().equations(),
+                eq(self.tau_c, if_else(plain, c * phi, if_else(phi > b_max, c * (phi - b_max),
+                                                               if_else(phi < -b_max, c * (phi + b_max), 0.0)))),
+                eq(self.tau_d, self.d * self.w_rel),
+                eq(self.tau, if_else(plain, total,
+                                     if_else(phi > b_max, if_else(total <= 0, 0.0, total),
+                                             if_else(phi < -b_max, if_else(total >= 0, 0.0, total), 0.0))))]

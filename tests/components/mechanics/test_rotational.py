@@ -14,6 +14,7 @@ from flexlib.components.control import Constant, Ramp, Sine
 from flexlib.components.mechanics.rotational import (
     AngleSensor,
     Damper,
+    ElastoBacklash2,
     Fixed,
     IdealGear,
     IdealPlanetary,
@@ -420,3 +421,37 @@ def test_ideal_planetary_kinematics_and_torques():
     np.testing.assert_allclose(res["sensor.tau"], -0.5, atol=1e-9)
     np.testing.assert_allclose(res["gear.ring.tau"], -1.0, atol=1e-9)
     np.testing.assert_allclose(res["gear.carrier.tau"], 1.5, atol=1e-9)
+
+
+def test_elasto_backlash2_jumps_at_contact_and_never_pulls():
+    """``ElastoBacklash2`` (MSL Backlash example's third part: 5 kg m² released at 90° on a 45° backlash, 20 kN m/rad,
+    50 N m s/rad): in the gap the torque is exactly 0 and the speed constant; entering contact the torque jumps from
+    0 to ``d·w_rel`` (the left and right values at the event, 1e-9 relative); in contact it never pulls
+    (``tau ≥ 0`` above the gap, ``≤ 0`` below, to the round-off of the no-pulling event's root, 1e-9 of ``c b``)."""
+
+    class Swing(fl.Model):
+        def __init__(self) -> None:
+            super().__init__()
+            self.fixed = Fixed()
+            self.backlash = ElastoBacklash2(c=20e3, d=50.0, b=np.pi / 4)
+            self.disc = Inertia(J=5.0, init={"phi": np.pi / 2, "w": 0.0})
+            self.connect(self.fixed.flange, self.backlash.flange_a)
+            self.connect(self.backlash.flange_b, self.disc.flange_a)
+
+    _, res = simulate(Swing(), 1.0, 0.0005)
+    phi, tau = res["backlash.phi_rel"], res["backlash.tau"]
+    gap = np.abs(phi) < np.pi / 8 - 1e-9
+    assert gap.sum() > 10 and np.all(tau[gap] == 0.0)
+    entries = [t for t, text in res.events if "backlash" in text][:4]
+    assert entries
+    jumps = 0
+    for t in entries:
+        before, after = (float(res.value("backlash.tau", [t], side=s)[0]) for s in ("left", "right"))
+        speed = float(res.value("backlash.w_rel", [t], side="right")[0])
+        if before == 0.0 and after != 0.0:  # entering contact
+            np.testing.assert_allclose(after, 50.0 * speed, rtol=1e-9)
+            jumps += 1
+    assert jumps >= 1
+    above, below = phi > np.pi / 8 + 1e-9, phi < -np.pi / 8 - 1e-9
+    scale = 1e-9 * 20e3 * np.pi / 4
+    assert np.all(tau[above] >= -scale) and np.all(tau[below] <= scale)
