@@ -25,6 +25,7 @@ from .revolute import Revolute
 from .spherical import Spherical
 from .spring_damper_line import SpringDamperLine
 from .universal import Universal
+from .universal_spherical import UniversalSpherical
 from .world import World
 from .world_force import WorldForce
 from .world_torque import WorldTorque
@@ -56,6 +57,7 @@ __all__ = [
     "Spherical",
     "SpringDamperLine",
     "Universal",
+    "UniversalSpherical",
     "World",
     "WorldForce",
     "WorldTorque",
