@@ -63,11 +63,11 @@ def switch_mismatch(res: fl.Result, ref_name: str, signal: str, mine: str | None
 SWITCH_TIME = 1e-5
 
 
-def _discrete(signal: str) -> bool:
+def is_discrete(signal: str) -> bool:
     return signal.endswith((".mode", ".startForward", ".startBackward"))
 
 
-def _flexlib_name(signal: str) -> str:
+def flexlib_name(signal: str) -> str:
     return signal.replace(".startForward", ".start_forward").replace(".startBackward", ".start_backward")
 
 
@@ -76,8 +76,8 @@ def check_friction_example(res: fl.Result, name: str, until: float = np.inf) -> 
     before ``until`` [s] only, if given)."""
     ref = reference(name)
     keep = ref["time"] < until
-    continuous = {k: v[keep] for k, v in ref.items() if not _discrete(k)}
+    continuous = {k: v[keep] for k, v in ref.items() if not is_discrete(k)}
     worst = worst_deviation(res, continuous)
     assert max(worst.values()) < 1e-3, worst
-    late = {k: switch_mismatch(res, name, k, _flexlib_name(k), until) for k in ref if _discrete(k)}
+    late = {k: switch_mismatch(res, name, k, flexlib_name(k), until) for k in ref if is_discrete(k)}
     assert max(late.values()) < SWITCH_TIME, late
