@@ -52,10 +52,13 @@ def row_scale(J: sps.spmatrix, nominal: np.ndarray) -> np.ndarray:
     is held to the same relative accuracy as one in metres (round-off of a 1e7 Pa equation is ~1e-9 Pa,
     far above an absolute 1e-10); the floor of 1 keeps small-valued equations at the absolute tolerance.
     """
-    A = sps.csr_matrix(J) @ sps.diags(np.asarray(nominal, dtype=float))
-    A = abs(A)
-    with np.errstate(invalid="ignore"):
-        mx = np.asarray(A.max(axis=1).todense()).ravel() if A.shape[1] else np.zeros(A.shape[0])
+    A = sps.csr_matrix(J)  # row-wise maxima straight from the CSR arrays (scipy's max(axis=1) costs ~1 ms a call)
+    mx = np.zeros(A.shape[0])
+    filled = np.diff(A.indptr) > 0
+    if A.nnz:
+        with np.errstate(invalid="ignore"):
+            vals = np.abs(A.data * np.asarray(nominal, dtype=float)[A.indices])
+            mx[filled] = np.maximum.reduceat(vals, A.indptr[:-1][filled])
     mx = np.where(np.isfinite(mx), mx, 1.0)
     return np.maximum(mx, 1.0)
 
