@@ -15,7 +15,28 @@ __all__ = ["ElastoBacklash", "ElastoBacklash2"]
 B_EPS = 1e-10
 
 
-class ElastoBacklash(PartialCompliantWithRelativeStates):
+class _Backlash(PartialCompliantWithRelativeStates):
+    """The parameters and the spring law shared by the two backlash elements."""
+
+    c = Parameter(unit="N.m/rad", gt=0.0, doc="Spring constant (c > 0)")
+    d = Parameter(0.0, unit="N.m.s/rad", min=0.0, doc="Damping constant")
+    b = Parameter(0.0, unit="rad", min=0.0, doc="Total backlash")
+    phi_rel0 = Parameter(0.0, unit="rad", doc="Unstretched spring angle")
+    tau_c = Variable(unit="N.m", doc="Spring torque")
+    tau_d = Variable(unit="N.m", doc="Damping torque")
+
+    def law(self) -> tuple[ca.SX, ca.SX, ca.SX, list]:
+        """``φ`` (from the unstretched angle), the half backlash, whether it is a plain spring (``b`` below
+        :data:`B_EPS`: parameters only, decided at the start), and the rows of ``tau_c`` and ``tau_d``."""
+        phi, b_max, c = self.phi_rel - self.phi_rel0, self.b / 2, self.c
+        plain = self.b <= B_EPS
+        return phi, b_max, plain, [
+            eq(self.tau_c, if_else(plain, c * phi, if_else(phi > b_max, c * (phi - b_max),
+                                                           if_else(phi < -b_max, c * (phi + b_max), 0.0)))),
+            eq(self.tau_d, self.d * self.w_rel)]
+
+
+class ElastoBacklash(_Backlash):
     """Backlash ``b`` in series with a spring ``c`` and damper ``d`` in parallel; contact by elasticity.
 
     With ``φ = phi_rel − phi_rel0`` and the gap ``|φ| ≤ b/2``, no torque acts in the gap; in contact
@@ -41,27 +62,16 @@ class ElastoBacklash(PartialCompliantWithRelativeStates):
     port); validated against the Modelica Association's reference result of ``Rotational.Examples.Backlash``.
     """
 
-    c = Parameter(unit="N.m/rad", gt=0.0, doc="Spring constant (c > 0)")
-    d = Parameter(0.0, unit="N.m.s/rad", min=0.0, doc="Damping constant")
-    b = Parameter(0.0, unit="rad", min=0.0, doc="Total backlash")
-    phi_rel0 = Parameter(0.0, unit="rad", doc="Unstretched spring angle")
-    tau_c = Variable(unit="N.m", doc="Spring torque")
-    tau_d = Variable(unit="N.m", doc="Damping torque")
-
     def equations(self) -> list:
-        phi, b_max, c = self.phi_rel - self.phi_rel0, self.b / 2, self.c
-        plain = self.b <= B_EPS  # parameters only: decided at the start, no event
+        phi, b_max, plain, rows = self.law()
         pushing = no_event(self.tau_c + self.tau_d <= 0, 0.0, self.tau_c + ca.fmin(self.tau_c, self.tau_d))
         pulling = no_event(self.tau_c + self.tau_d >= 0, 0.0, self.tau_c + ca.fmax(self.tau_c, self.tau_d))
-        return [*super().equations(),
-                eq(self.tau_c, if_else(plain, c * phi, if_else(phi > b_max, c * (phi - b_max),
-                                                               if_else(phi < -b_max, c * (phi + b_max), 0.0)))),
-                eq(self.tau_d, self.d * self.w_rel),
+        return [*super().equations(), *rows,
                 eq(self.tau, if_else(plain, self.tau_c + self.tau_d,
                                      if_else(phi > b_max, pushing, if_else(phi < -b_max, pulling, 0.0))))]
 
 
-class ElastoBacklash2(PartialCompliantWithRelativeStates):
+class ElastoBacklash2(_Backlash):
     """Backlash ``b`` in series with a spring ``c`` and damper ``d``, the torque jumping at contact (MSL's
     ``ElastoBacklash2``).
 
@@ -80,21 +90,10 @@ class ElastoBacklash2(PartialCompliantWithRelativeStates):
     port).
     """
 
-    c = Parameter(unit="N.m/rad", gt=0.0, doc="Spring constant (c > 0)")
-    d = Parameter(0.0, unit="N.m.s/rad", min=0.0, doc="Damping constant")
-    b = Parameter(0.0, unit="rad", min=0.0, doc="Total backlash")
-    phi_rel0 = Parameter(0.0, unit="rad", doc="Unstretched spring angle")
-    tau_c = Variable(unit="N.m", doc="Spring torque")
-    tau_d = Variable(unit="N.m", doc="Damping torque")
-
     def equations(self) -> list:
-        phi, b_max, c = self.phi_rel - self.phi_rel0, self.b / 2, self.c
-        plain = self.b <= B_EPS  # parameters only: decided at the start, no event
+        phi, b_max, plain, rows = self.law()
         total = self.tau_c + self.tau_d
-        return [*super().equations(),
-                eq(self.tau_c, if_else(plain, c * phi, if_else(phi > b_max, c * (phi - b_max),
-                                                               if_else(phi < -b_max, c * (phi + b_max), 0.0)))),
-                eq(self.tau_d, self.d * self.w_rel),
+        return [*super().equations(), *rows,
                 eq(self.tau, if_else(plain, total,
                                      if_else(phi > b_max, if_else(total <= 0, 0.0, total),
                                              if_else(phi < -b_max, if_else(total >= 0, 0.0, total), 0.0))))]

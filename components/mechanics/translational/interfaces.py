@@ -35,6 +35,20 @@ class Flange(Connector):
     f = Flow(unit="N", doc="Cut force in the flange, positive into the component")
 
 
+def add_support(node: Component, use_support: bool) -> None:
+    """The structural option ``use_support`` of ``node``; when on, its ``support`` flange (the housing)."""
+    node.use_support = flag(node, "use_support", use_support, structural=True)
+    if node.use_support:
+        node.support = Flange(doc="Support (housing) flange")
+
+
+def support_rows(node: Component, reaction: Any) -> list:
+    """``s_support`` of ``node`` from its support flange (0 without one), and the support's force ``reaction``."""
+    if not node.use_support:
+        return [eq(node.s_support, 0.0)]
+    return [eq(node.s_support, node.support.s), eq(node.support.f, reaction)]
+
+
 class PartialTwoFlanges(Component):
     """Component with two translational flanges, ``flange_a`` and ``flange_b``."""
 
@@ -108,15 +122,11 @@ class PartialOneFlangeAndSupport(Component):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support, structural=True)
-        if self.use_support:
-            self.support = Flange(doc="Support (housing) flange")
+        add_support(self, use_support)
 
     def support_equations(self) -> list:
         """``s_support`` from the support (or 0) and the support reaction force."""
-        if not self.use_support:
-            return [eq(self.s_support, 0.0)]
-        return [eq(self.s_support, self.support.s), eq(self.support.f, -self.flange.f)]
+        return support_rows(self, -self.flange.f)
 
 
 class PartialTwoFlangesAndSupport(PartialTwoFlanges):
@@ -132,15 +142,11 @@ class PartialTwoFlangesAndSupport(PartialTwoFlanges):
 
     def __init__(self, use_support: bool = False, **kw: Any) -> None:
         super().__init__(**kw)
-        self.use_support = flag(self, "use_support", use_support, structural=True)
-        if self.use_support:
-            self.support = Flange(doc="Support (housing) flange")
+        add_support(self, use_support)
 
     def support_equations(self) -> list:
         """``s_support`` from the support (or 0) and the support reaction force."""
-        if not self.use_support:
-            return [eq(self.s_support, 0.0)]
-        return [eq(self.s_support, self.support.s), eq(self.support.f, -self.flange_a.f - self.flange_b.f)]
+        return support_rows(self, -self.flange_a.f - self.flange_b.f)
 
 
 class PartialAbsoluteSensor(Component):
