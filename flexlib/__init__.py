@@ -76,6 +76,7 @@ _LAZY = {
     "Simulation": "flexlib.solve.simulation",
     "IDA": "flexlib.solve.solvers",
     "CasadiIDAS": "flexlib.solve.solvers",
+    "FixedStep": "flexlib.solve.solvers",
 }
 
 __version__ = "0.1.0"
@@ -92,6 +93,7 @@ __all__ = [
     "Connector",
     "EmptyResultError",
     "Experiment",
+    "FixedStep",
     "FlexlibError",
     "Flow",
     "IndeterminateReactionWarning",

@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # the solver records and their names stay light (flexlib's co
     from flexlib.solve.backends.base import Integrator
     from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["ALIASES", "IDA", "SOLVERS", "CasadiIDAS", "Solver", "as_solver", "integrate"]
+__all__ = ["ALIASES", "IDA", "SOLVERS", "CasadiIDAS", "FixedStep", "Solver", "as_solver", "integrate"]
 
 #: Linear solvers of the C driver (``IDA(linear_solver=...)``)
 LINEAR_SOLVERS = ("dense", "klu", "superlumt")
@@ -138,6 +138,49 @@ class CasadiIDAS(Solver):
         from flexlib.solve.backends.casadi import CasadiIdas
 
         return CasadiIdas(rtol, atol, max_step, max_order, max_steps)
+
+
+@dataclass(frozen=True)
+class FixedStep(Solver):
+    """A fixed-step implicit integrator for real-time use: every step ``h``, a bounded cost per step, events at step
+    boundaries (:mod:`flexlib.solve.backends.fixed_step`).
+
+    Parameters
+    ----------
+    h : float
+        Step size [s], > 0.
+    method : {"bdf2", "euler"}
+        BDF2 (second order, default) or implicit Euler (first order).
+    newton_iters : int
+        Most Newton corrections per step, 1 … 20 (default 4): the bound of a step's cost; a step that has not
+        converged by then fails the run, naming the time and the step.
+    error_test_all : bool, optional
+        Weigh every unknown in the Newton test, also the derivative-level ones (as for :class:`IDA`).
+    """
+
+    h: float = 1e-3
+    method: str = "bdf2"
+    newton_iters: int = 4
+    error_test_all: bool | None = None
+    label = "fixed-step"
+
+    def __post_init__(self) -> None:
+        from flexlib.solve.backends.fixed_step import METHODS
+
+        if (isinstance(self.h, (bool, np.bool_)) or not isinstance(self.h, numbers.Real) or not np.isfinite(self.h)
+                or not self.h > 0):
+            raise RunArgumentError(f"FixedStep(h={self.h!r}): the step must be a positive number of seconds")
+        if self.method not in METHODS:
+            raise RunArgumentError(f"FixedStep(method={self.method!r}): must be one of {', '.join(METHODS)}")
+        if (isinstance(self.newton_iters, (bool, np.bool_)) or not isinstance(self.newton_iters, numbers.Integral)
+                or not 1 <= self.newton_iters <= 20):
+            raise RunArgumentError(f"FixedStep(newton_iters={self.newton_iters!r}): must be an integer 1 … 20")
+        _check_switch("FixedStep", "error_test_all", self.error_test_all)
+
+    def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
+        from flexlib.solve.backends.fixed_step import FixedStepIntegrator
+
+        return FixedStepIntegrator(float(self.h), self.method, int(self.newton_iters), rtol, atol)
 
 
 #: The solver strings of ``run(solver=...)`` and the objects they stand for

@@ -1,0 +1,199 @@
+"""A fixed-step implicit integrator for the index-reduced DAE (``solver=fl.FixedStep(h=1e-3)``): real-time use.
+
+Every step has the same size ``h`` (a step that would pass a time event or the end is shortened to land on it) and a
+bounded cost: the iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` is evaluated and factorised once per step at the
+predictor, and at most ``newton_iters`` Newton corrections follow (stopping early when the weighted correction is
+below 1, the measure IDA's Newton iteration uses). The formulas are BDF2 with constant steps,
+``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or implicit Euler,
+``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an event
+and a shortened step are implicit Euler. There is no error control: accuracy is the step's (the benchmarks report
+it against IDA).
+
+Events are handled at step boundaries, with the run loop's event logic: after each step every state relation is
+evaluated there, and a relation whose value has changed is reported as a root at the step's end (it is not located
+inside the step: its instant is late by less than ``h``). Time events are hit exactly (the step is shortened).
+Outputs on a requested grid are interpolated linearly between the steps around each grid time.
+
+References
+----------
+E. Hairer, G. Wanner, *Solving Ordinary Differential Equations II*, 2nd ed., Springer 1996, §V.1 (BDF) and §VI.1
+(index-1 DAEs); K. E. Brenan, S. L. Campbell, L. R. Petzold, *Numerical Solution of Initial-Value Problems in
+Differential-Algebraic Equations*, SIAM 1996, §3.1.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sps
+import scipy.sparse.linalg as spla
+
+from flexlib.compile.codegen import CompiledModel
+from flexlib.solve.backends.base import Limits, Stop, absolute_tolerances
+from flexlib.solve.events import relation_value, watched_relations
+
+__all__ = ["METHODS", "FixedStepIntegrator"]
+
+#: The formulas: name → order
+METHODS = {"euler": 1, "bdf2": 2}
+
+Rows = tuple[list[float], list[np.ndarray], list[np.ndarray]]
+
+
+class FixedStepIntegrator:
+    """The fixed-step adapter behind :class:`~flexlib.solve.backends.base.Integrator` (see the module docstring).
+
+    Parameters
+    ----------
+    h : float
+        Step size [s].
+    method : {"bdf2", "euler"}
+        The formula.
+    newton_iters : int
+        Most Newton corrections per step (its cost bound).
+    rtol, atol : float
+        Weights of the Newton convergence test (``rtol·|y| + atol·nominal``) [1], [SI units of each unknown].
+    """
+
+    name = "fixed-step"
+    watch_steps = 0
+    settles_roots = False
+    monitors = False
+    progress_every = 50
+    error_test_all: bool | None = None
+
+    def __init__(self, h: float, method: str = "bdf2", newton_iters: int = 4, rtol: float = 1e-6,
+                 atol: float = 1e-8) -> None:
+        self.h, self.method, self.newton_iters = float(h), method, int(newton_iters)
+        self.rtol, self.atol = rtol, atol
+        self.counts: dict[str, Any] = {"steps": 0, "nfev": 0, "njev": 0, "newton_iters": 0, "unconverged_steps": 0,
+                                       "worst_step_wall": 0.0, "step_wall": 0.0}
+
+    def start(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
+              grid: np.ndarray | None, t_end: float) -> None:
+        self.model, self.p = model, p
+        self.state_rel = watched_relations(model)
+        self.res, self.jac, self.ind = model.function("res"), model.function("jac"), model.function("ind")
+        self.shape = (model.n, model.n)
+        self.cols = np.repeat(np.arange(model.n), np.diff(model.jac_colind))
+        self.atol_vec = absolute_tolerances(model, self.atol, self.error_test_all)
+        self.grid = None if grid is None else np.asarray(grid, dtype=float)
+        self.ig = 0
+        self.reinit(t, y, yp)
+
+    def reinit(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
+        self.t, self.y, self.yp = float(t), np.array(y, dtype=float), np.array(yp, dtype=float)
+        self.y_prev: np.ndarray | None = None  # one step of history (BDF2), none after a restart
+
+    def advance(self, t_stop: float, limits: Limits) -> Stop:
+        rows: Rows = ([], [], [])
+        steps = 0
+        while steps < max(1, limits.steps):
+            if self.t >= t_stop:
+                return Stop("tstop", self.t, steps, rows)
+            h = self.h
+            landing = self.t + h >= t_stop - 1e-9 * h
+            if landing:
+                h = t_stop - self.t
+            bdf2 = self.method == "bdf2" and self.y_prev is not None and not landing
+            t_old, y_old, yp_old = self.t, self.y, self.yp
+            ok = self.step(h, bdf2)
+            steps += 1
+            self.y_prev = None if landing else y_old
+            self.output(rows, t_old, y_old, yp_old)
+            if not ok:
+                return Stop("failed", self.t, steps, rows,
+                            message=f"fixed-step Newton iteration did not converge at t = {self.t:.10g} s in "
+                                    f"{self.newton_iters} iterations (h = {self.h:g} s: try a smaller step)")
+            roots = self.switched()
+            if roots:
+                return Stop("root", self.t, steps, rows, roots=roots)
+            if landing:
+                return Stop("tstop", self.t, steps, rows)
+        return Stop("step", self.t, steps, rows)
+
+    def step(self, h: float, bdf2: bool) -> bool:
+        """One step of size ``h`` [s] from ``(t, y)``; False if Newton did not converge (the point is kept)."""
+        w0 = _time.perf_counter()
+        t1 = self.t + h
+        if bdf2:
+            assert self.y_prev is not None
+            c, base = 1.5 / h, (-2.0 * self.y + 0.5 * self.y_prev) / h
+            y = 2.0 * self.y - self.y_prev  # linear extrapolation of the last two points
+        else:
+            c, base = 1.0 / h, -self.y / h
+            y = self.y + h * self.yp
+        J = self.jac(t1, y, c * y + base, self.p, c)
+        self.counts["njev"] += 1
+        lu = spla.splu(sps.csc_matrix((np.asarray(J.nonzeros(), dtype=float), self.model.jac_row,
+                                       self.model.jac_colind), shape=self.shape))
+        converged = False
+        for _ in range(self.newton_iters):
+            r = np.asarray(self.res(t1, y, c * y + base, self.p), dtype=float).ravel()
+            self.counts["nfev"] += 1
+            self.counts["newton_iters"] += 1
+            dy = lu.solve(-r)
+            y = y + dy
+            weights = self.rtol * np.abs(y) + self.atol_vec
+            if np.sqrt(np.mean((dy / weights) ** 2)) < 1.0:
+                converged = True
+                break
+        if not converged:
+            self.counts["unconverged_steps"] += 1
+        ok = converged and bool(np.all(np.isfinite(y)))
+        if ok:
+            self.t, self.y, self.yp = t1, y, c * y + base
+        self.counts["steps"] += 1
+        wall = _time.perf_counter() - w0
+        self.counts["step_wall"] += wall
+        self.counts["worst_step_wall"] = max(self.counts["worst_step_wall"], wall)
+        return ok
+
+    def switched(self) -> list[tuple[int, bool]]:
+        """The state relations whose value at the step's end differs from their frozen value."""
+        if not len(self.state_rel):
+            return []
+        z = np.asarray(self.ind(self.t, self.y, self.yp, self.p), dtype=float).ravel()
+        n_par = self.model.n_params
+        out = []
+        for k in self.state_rel:
+            v = relation_value(self.model.relations[k], z[k], self.p[n_par + k])
+            if v != self.p[n_par + k]:
+                out.append((int(k), bool(v)))
+        return out
+
+    def output(self, rows: Rows, t0: float, y0: np.ndarray, yp0: np.ndarray) -> None:
+        """Rows for the step just taken from ``(t0, y0, yp0)``: every step without a grid, else the grid times it
+        passes (linear interpolation)."""
+        if self.grid is None:
+            rows[0].append(self.t)
+            rows[1].append(self.y.copy())
+            rows[2].append(self.yp.copy())
+            return
+        while self.ig < len(self.grid) and self.grid[self.ig] <= self.t:
+            tg = float(self.grid[self.ig])
+            if tg > t0:
+                s = (tg - t0) / (self.t - t0)
+                rows[0].append(tg)
+                rows[1].append((1 - s) * y0 + s * self.y)
+                rows[2].append((1 - s) * yp0 + s * self.yp)
+            self.ig += 1
+
+    def state(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.y, self.yp
+
+    def accepted(self) -> tuple[float, Any, Any] | None:
+        return self.t, self.y, self.yp
+
+    def unsaved_rows(self) -> Rows:
+        return [], [], []
+
+    def last_step(self) -> float | None:
+        return self.h
+
+    def stats(self, wall: float) -> dict[str, Any]:
+        n = max(1, self.counts["steps"])
+        return {"solver": self.name, "method": self.method, "h": self.h, "max_order": METHODS[self.method],
+                **self.counts, "mean_step_wall": self.counts["step_wall"] / n}
