@@ -70,6 +70,11 @@ class Callbacks:
     def resfn(self, t: float, y: np.ndarray, yp: np.ndarray, r: np.ndarray) -> None:
         self._into(self._fr, self._evr, self._tr, t, y, yp, r)
 
+    def jacobian_into(self, t: float, y: np.ndarray, yp: np.ndarray, cj: float, out: np.ndarray) -> None:
+        """The iteration matrix's CSC nonzeros (the model's ``jac`` pattern, ``pattern``) at ``(t, y, yp)`` with
+        ``cj`` into ``out``."""
+        self._jac_into(t, y, yp, cj, out)
+
     def _jac_into(self, t: float, y: np.ndarray, yp: np.ndarray, cj: float, out: np.ndarray) -> None:
         self._tj[0] = t
         self._cj[0] = cj

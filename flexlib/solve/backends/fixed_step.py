@@ -1,10 +1,13 @@
 """A fixed-step implicit integrator for the index-reduced DAE (``solver=fl.FixedStep(h=1e-3)``): real-time use.
 
 Every step has the same size ``h`` (a step that would pass a time event or the end is shortened to land on it) and a
-bounded cost: the iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` is evaluated and factorised once per step at the
-predictor, and at most ``newton_iters`` Newton corrections follow (stopping early when the weighted correction is
-below 1, the measure IDA's Newton iteration uses). The formulas are BDF2 with constant steps,
-``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or implicit Euler,
+bounded cost: at most ``newton_iters`` Newton corrections (stopping early when the weighted correction is below 1, the
+measure IDA's Newton iteration uses) with the iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step, evaluated
+and factorised again at the predictor when ``c`` changed (a restart, a shortened step), when the last step needed
+more than two corrections, or — once per step — when the corrections do not converge with the old matrix. The
+choice depends on the numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with
+constant steps, ``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or
+implicit Euler,
 ``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an event
 and a shortened step are implicit Euler. There is no error control: accuracy is the step's (the benchmarks report
 it against IDA).
@@ -27,12 +30,13 @@ import time as _time
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sps
+import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.solve.backends.base import Limits, Stop, absolute_tolerances
+from flexlib.solve.backends.base import DENSE_MAX, Limits, Stop, absolute_tolerances
 from flexlib.solve.events import relation_value, watched_relations
+from flexlib.solve.sundae_callbacks import Callbacks
 
 __all__ = ["METHODS", "FixedStepIntegrator"]
 
@@ -75,9 +79,13 @@ class FixedStepIntegrator:
               grid: np.ndarray | None, t_end: float) -> None:
         self.model, self.p = model, p
         self.state_rel = watched_relations(model)
-        self.res, self.jac, self.ind = model.function("res"), model.function("jac"), model.function("ind")
-        self.shape = (model.n, model.n)
+        self.ind = model.function("ind")
+        self.cb = Callbacks(model, p, np.zeros(0, dtype=int), dense=False)
+        self.nz, self.r = np.zeros(len(model.jac_row)), np.zeros(model.n)
+        self.pattern = self.cb.pattern.copy()
+        self.rows = np.asarray(model.jac_row, dtype=np.intp)
         self.cols = np.repeat(np.arange(model.n), np.diff(model.jac_colind))
+        self.dense = np.zeros((model.n, model.n)) if model.n <= DENSE_MAX else None
         self.atol_vec = absolute_tolerances(model, self.atol, self.error_test_all)
         self.grid = None if grid is None else np.asarray(grid, dtype=float)
         self.ig = 0
@@ -86,6 +94,8 @@ class FixedStepIntegrator:
     def reinit(self, t: float, y: np.ndarray, yp: np.ndarray) -> None:
         self.t, self.y, self.yp = float(t), np.array(y, dtype=float), np.array(yp, dtype=float)
         self.y_prev: np.ndarray | None = None  # one step of history (BDF2), none after a restart
+        self.lu: Any = None  # a restart (an event changed the equations) evaluates the matrix again
+        self.c_lu, self.slow = 0.0, False
 
     def advance(self, t_stop: float, limits: Limits) -> Stop:
         rows: Rows = ([], [], [])
@@ -121,25 +131,16 @@ class FixedStepIntegrator:
         if bdf2:
             assert self.y_prev is not None
             c, base = 1.5 / h, (-2.0 * self.y + 0.5 * self.y_prev) / h
-            y = 2.0 * self.y - self.y_prev  # linear extrapolation of the last two points
+            y0 = 2.0 * self.y - self.y_prev  # linear extrapolation of the last two points
         else:
             c, base = 1.0 / h, -self.y / h
-            y = self.y + h * self.yp
-        J = self.jac(t1, y, c * y + base, self.p, c)
-        self.counts["njev"] += 1
-        lu = spla.splu(sps.csc_matrix((np.asarray(J.nonzeros(), dtype=float), self.model.jac_row,
-                                       self.model.jac_colind), shape=self.shape))
-        converged = False
-        for _ in range(self.newton_iters):
-            r = np.asarray(self.res(t1, y, c * y + base, self.p), dtype=float).ravel()
-            self.counts["nfev"] += 1
-            self.counts["newton_iters"] += 1
-            dy = lu.solve(-r)
-            y = y + dy
-            weights = self.rtol * np.abs(y) + self.atol_vec
-            if np.sqrt(np.mean((dy / weights) ** 2)) < 1.0:
-                converged = True
-                break
+            y0 = self.y + h * self.yp
+        fresh = self.lu is None or c != self.c_lu or self.slow
+        y, converged, iters = self.corrections(t1, y0, c, base, fresh)
+        if not converged and not fresh:  # the old matrix does not do: once more with a fresh one
+            y, converged, more = self.corrections(t1, y0, c, base, True)
+            iters += more
+        self.slow = iters > 2
         if not converged:
             self.counts["unconverged_steps"] += 1
         ok = converged and bool(np.all(np.isfinite(y)))
@@ -150,6 +151,39 @@ class FixedStepIntegrator:
         self.counts["step_wall"] += wall
         self.counts["worst_step_wall"] = max(self.counts["worst_step_wall"], wall)
         return ok
+
+    def corrections(self, t1: float, y: np.ndarray, c: float, base: np.ndarray, fresh: bool
+                    ) -> tuple[np.ndarray, bool, int]:
+        """At most ``newton_iters`` Newton corrections of ``F(t1, y, c·y + base) = 0`` from ``y`` (the matrix evaluated
+        there first if ``fresh``): the point, whether the last correction met the test, the corrections taken."""
+        if fresh:
+            self.cb.jacobian_into(t1, y, c * y + base, c, self.nz)
+            self.counts["njev"] += 1
+            self.factorise()
+            self.c_lu = c
+        for k in range(1, self.newton_iters + 1):
+            self.cb.resfn(t1, y, c * y + base, self.r)
+            self.counts["nfev"] += 1
+            self.counts["newton_iters"] += 1
+            dy = self.solve(-self.r)
+            y = y + dy
+            if np.sqrt(np.mean((dy / (self.rtol * np.abs(y) + self.atol_vec)) ** 2)) < 1.0:
+                return y, True, k
+        return y, False, self.newton_iters
+
+    def factorise(self) -> None:
+        """LU of the iteration matrix held in ``nz``: dense up to :data:`DENSE_MAX` unknowns, sparse above."""
+        if self.dense is not None:
+            self.dense[self.rows, self.cols] = self.nz
+            self.lu = sla.lu_factor(self.dense, check_finite=False)
+        else:
+            self.pattern.data = self.nz.copy()
+            self.lu = spla.splu(self.pattern.tocsc())
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        if self.dense is not None:
+            return sla.lu_solve(self.lu, b, check_finite=False)
+        return self.lu.solve(b)
 
     def switched(self) -> list[tuple[int, bool]]:
         """The state relations whose value at the step's end differs from their frozen value."""
