@@ -1,15 +1,16 @@
 """A fixed-step implicit integrator for the index-reduced DAE (``solver=fl.FixedStep(h=1e-3)``): real-time use.
 
 Every step has the same size ``h`` (a step that would pass a time event or the end is shortened to land on it) and a
-bounded cost: at most ``newton_iters`` Newton corrections (stopping early when the weighted correction is below 1, the
-measure IDA's Newton iteration uses) with the iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step, evaluated
-and factorised again at the predictor when ``c`` changed (a restart, a shortened step), when the last step needed
-more than two corrections, or — once per step — when the corrections do not converge with the old matrix. The
-choice depends on the numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with
-constant steps, ``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or
-implicit Euler,
-``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an event
-and a shortened step are implicit Euler. There is no error control: accuracy is the step's (the benchmarks report
+bounded cost: at most ``newton_iters`` Newton corrections, stopping early when the weighted correction is below 1 (the
+measure IDA's Newton iteration uses). A step whose corrections still contract after ``newton_iters`` is taken and
+counted in ``unconverged_steps`` (a real-time step ends when its budget does); one whose corrections grow or turn
+non-finite fails the run. The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated
+and factorised again at the predictor when ``c`` changed (a restart, a shortened step), when the last step needed more
+than two corrections, or — once per step — when the corrections do not converge with the old matrix. The choice
+depends on the numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with constant
+steps, ``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or implicit
+Euler, ``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an
+event and a shortened step are implicit Euler. There is no error control: accuracy is the step's (the benchmarks report
 it against IDA).
 
 Events are handled at step boundaries, with the run loop's event logic: after each step every state relation is
@@ -95,6 +96,7 @@ class FixedStepIntegrator:
         self.t, self.y, self.yp = float(t), np.array(y, dtype=float), np.array(yp, dtype=float)
         self.y_prev: np.ndarray | None = None  # one step of history (BDF2), none after a restart
         self.lu: Any = None  # a restart (an event changed the equations) evaluates the matrix again
+        self.contracting = False
         self.c_lu, self.slow = 0.0, False
 
     def advance(self, t_stop: float, limits: Limits) -> Stop:
@@ -115,7 +117,7 @@ class FixedStepIntegrator:
             self.output(rows, t_old, y_old, yp_old)
             if not ok:
                 return Stop("failed", self.t, steps, rows,
-                            message=f"fixed-step Newton iteration did not converge at t = {self.t:.10g} s in "
+                            message=f"fixed-step Newton iteration diverged at t = {self.t:.10g} s in "
                                     f"{self.newton_iters} iterations (h = {self.h:g} s: try a smaller step)")
             roots = self.switched()
             if roots:
@@ -143,7 +145,8 @@ class FixedStepIntegrator:
         self.slow = iters > 2
         if not converged:
             self.counts["unconverged_steps"] += 1
-        ok = converged and bool(np.all(np.isfinite(y)))
+        # a real-time step ends after its corrections: taken while they contract, the run fails where they do not
+        ok = (converged or self.contracting) and bool(np.all(np.isfinite(y)))
         if ok:
             self.t, self.y, self.yp = t1, y, c * y + base
         self.counts["steps"] += 1
@@ -161,14 +164,19 @@ class FixedStepIntegrator:
             self.counts["njev"] += 1
             self.factorise()
             self.c_lu = c
+        first = np.inf
         for k in range(1, self.newton_iters + 1):
             self.cb.resfn(t1, y, c * y + base, self.r)
             self.counts["nfev"] += 1
             self.counts["newton_iters"] += 1
             dy = self.solve(-self.r)
             y = y + dy
-            if np.sqrt(np.mean((dy / (self.rtol * np.abs(y) + self.atol_vec)) ** 2)) < 1.0:
+            norm = float(np.sqrt(np.mean((dy / (self.rtol * np.abs(y) + self.atol_vec)) ** 2)))
+            if norm < 1.0:
                 return y, True, k
+            if k == 1:
+                first = norm
+        self.contracting = self.newton_iters == 1 or norm < first
         return y, False, self.newton_iters
 
     def factorise(self) -> None:
