@@ -152,8 +152,9 @@ class FixedStep(Solver):
     method : {"bdf2", "euler"}
         BDF2 (second order, default) or implicit Euler (first order).
     newton_iters : int
-        Most Newton corrections per step, 1 … 20 (default 4): the bound of a step's cost; a step that has not
-        converged by then fails the run, naming the time and the step.
+        Most Newton corrections per step, 1 … 20 (default 4): the bound of a step's cost; a step whose corrections
+        still contract then is taken (``stats["unconverged_steps"]``), one whose corrections grow fails the run,
+        naming the time and the step.
     error_test_all : bool, optional
         Weigh every unknown in the Newton test, also the derivative-level ones (as for :class:`IDA`).
     """
