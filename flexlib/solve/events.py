@@ -251,10 +251,10 @@ def check_assertions(model: CompiledModel, p: np.ndarray, t: float) -> None:
         raise SolverError(f"assertion failed at t = {t:.10g} s:\n{lines}")
 
 
-def off_zero(z: ca.SX, strict: bool, current: ca.SX | None = None) -> ca.SX:
+def off_zero(z: ca.SX, strict: bool, current: ca.SX) -> ca.SX:
     """The indicator ``z`` for IDA's root finding, with an exact zero replaced by ±1e-300: the side of the
-    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true); with the relation's ``current`` value (its
-    discrete symbol), an indicator within :data:`INDICATOR_NOISE` of zero is held on the side of that value.
+    relation's value at zero (``z > 0`` is false there, ``z >= 0`` true); an indicator within
+    :data:`INDICATOR_NOISE` of zero is held on the side of the relation's ``current`` value (its discrete symbol).
 
     IDA only needs a sign change where the relation's value changes. An exact zero gives it nothing more, but
     one that stays zero over the first step (a body at rest on its contact, x = 0) makes SUNDIALS print "some
@@ -269,8 +269,6 @@ def off_zero(z: ca.SX, strict: bool, current: ca.SX | None = None) -> ca.SX:
     compiled event function: no cost per call in Python.
     """
     out = ca.if_else(z == 0, -1e-300 if strict else 1e-300, z)
-    if current is None:
-        return out
     return ca.if_else(ca.logic_and(ca.fabs(z) < INDICATOR_NOISE, z != 0), ca.if_else(current, 1e-300, -1e-300), out)
 
 

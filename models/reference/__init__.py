@@ -15,6 +15,7 @@ module                        systems
 :mod:`.hydraulic_servo`       position servo: pump, relief valve, 4/3 valve, cylinder, PID
 :mod:`.orifice`               turbulent orifice at zero pressure difference (singular start)
 :mod:`.events`                time and state events: bang-bang torque, step force, thermostat, bouncing ball
+:mod:`.drive_trains`          MSL's CoupledClutches: three stick/slip clutches in series (reference in tests/msl)
 :mod:`.blow_up`               x' = x² (finite-time blow-up) and x' = −x
 :mod:`.signal_chain`          sine through limiter, rate limiter and lag
 :mod:`.planar_minimal`        hand-written minimal DAE / ODE of the planar mechanisms (references)

@@ -10,12 +10,13 @@ import flexlib as fl
 import tests.msl.test_msl_multibody_examples as mb
 import tests.msl.test_msl_rotational_examples as rot
 import tests.msl.test_msl_translational_examples as trans
+from flexlib.models.reference.drive_trains import CoupledClutches
 from tests.msl.reference import flexlib_name, is_discrete, reference, switch_mismatch, worst_deviation
 
 
 def main() -> None:
     cases = [
-        (rot.CoupledClutches(), "rotational_coupled_clutches", 1.5, 0.0005, None),
+        (CoupledClutches(), "rotational_coupled_clutches", 1.5, 0.0005, None),
         (rot.Friction(), "rotational_friction", 3.0, 0.0005, None),
         (rot.OneWayClutchExample(), "rotational_one_way_clutch", 2.0, 0.0005, None),
         (rot.OneWayClutchDisengaged(), "rotational_one_way_clutch_disengaged", 2.0, 0.0005, None),

@@ -14,8 +14,8 @@ import pytest
 
 import flexlib as fl
 from flexlib import Variable, der, eq
+from flexlib.models.reference.drive_trains import CoupledClutches
 from tests.msl.test_msl_multibody_examples import Fourbar1
-from tests.msl.test_msl_rotational_examples import CoupledClutches
 from tests.test_engine_events import BouncingBall
 
 

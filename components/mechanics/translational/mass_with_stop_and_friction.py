@@ -74,10 +74,8 @@ class MassWithStopAndFriction(PartialRigid):
         super().check(values)
         lo, hi, L = values.get("smin"), values.get("smax"), values.get("L")
         if lo is not None and hi is not None and L is not None and float(hi) - float(lo) < float(L):
-            raise self.param_error("smax - smin must be at least L (the mass fits between its stops)")
-
-    def param_error(self, what: str) -> Exception:
-        return ParameterError(f"{type(self).__name__}: {what}")
+            raise ParameterError(f"{type(self).__name__}: smax - smin must be at least L (the mass fits between its "
+                                 "stops)")
 
     def equations(self) -> list:
         s, v = self.s, self.v

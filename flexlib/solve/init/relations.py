@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import InitializationError
+from flexlib.solve.events import event_iteration
 
 __all__ = ["consistent_start", "start_by_flipping"]
 
@@ -33,8 +34,6 @@ def consistent_start(init: Any, t0: float, p: np.ndarray, starts: dict[str, tupl
     finally:
         p[first] = 0.0
     # the event iteration that follows the start (initial() now false), with the states held, as Modelica's
-    from flexlib.solve.events import event_iteration
-
     return event_iteration(m, init, p, t0, y, yp, [])
 
 
