@@ -7,6 +7,7 @@ from typing import Any as _Any
 _os.environ.setdefault("OMP_NUM_THREADS", "1")  # before sksundae is imported (see docs/engine.md)
 
 from flexlib.errors import (
+    AccuracyWarning,
     BalanceError,
     CacheWarning,
     ConnectError,
@@ -83,6 +84,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "IDA",
+    "AccuracyWarning",
     "BalanceError",
     "Build",
     "BuildOptions",

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 __all__ = [
+    "AccuracyWarning",
     "BalanceError",
     "CacheWarning",
     "ConnectError",
@@ -179,6 +180,12 @@ class ModalValidityWarning(UserWarning):
 class ModelWarning(UserWarning):
     """A model that runs but is probably not what was meant: a component connected to nothing that has no effect
     on the rest of the model (Modelica tools' check of unconnected components); the message names it."""
+
+
+class AccuracyWarning(UserWarning):
+    """A run whose result may be inaccurate without the integrator having failed: fixed steps
+    (``solver=fl.FixedStep(...)``) whose Newton corrections had not converged when the step was taken; the message
+    says how many, the first time and what to change."""
 
 
 class IndeterminateReactionWarning(UserWarning):

@@ -12,12 +12,13 @@ last accepted point) and the statistics common to every backend.
 from __future__ import annotations
 
 import time as _time
+import warnings
 from typing import Any
 
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
-from flexlib.errors import SimulationInterrupted, SolverError
+from flexlib.errors import AccuracyWarning, SimulationInterrupted, SolverError
 from flexlib.solve.backends.base import Integrator, Limits, Stop
 from flexlib.solve.diagnose import failure_message
 from flexlib.solve.events import event_iteration, next_time_event, settled, time_triggers, watch
@@ -131,6 +132,13 @@ class _Loop:
             stats.update(integ.stats(clock() - wall0))
             stats["wall_integrate"] = clock() - wall0
             self.bar.close(self.t)
+        if stats.get("unconverged_steps"):
+            warnings.warn(AccuracyWarning(
+                f"{stats['solver']}: {stats['unconverged_steps']} step solutions (in {stats['steps']} steps, "
+                f"{stats.get('halved_steps', 0)} of them halved) were taken with Newton corrections that had not "
+                f"converged, the first ending at t = {stats['first_unconverged_t']:.10g} s: the result may be "
+                "inaccurate there; a smaller step h, or more newton_iters or max_halvings, converge"),
+                stacklevel=4)
         return traj
 
     def round(self) -> None:

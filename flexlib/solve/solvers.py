@@ -155,6 +155,18 @@ class FixedStep(Solver):
         Most Newton corrections per step, 1 … 20 (default 4): the bound of a step's cost; a step whose corrections
         still contract then is taken (``stats["unconverged_steps"]``), one whose corrections grow fails the run,
         naming the time and the step.
+    max_halvings : int
+        Times a step whose corrections do not converge may be halved, 0 … 8 (default 2): the step is then taken as two
+        implicit-Euler halves (each halved again if needed), so a step costs at most ``2**(max_halvings + 1) − 1``
+        step solutions (``stats["halved_steps"]``); a step that still does not converge at the smallest size is
+        taken if its corrections contract, else the run fails.
+    realtime : bool
+        Keep the run in step with the wall clock: each step waits until the wall time since the first step reaches
+        its simulated time; a step that ends later is an overrun (``stats["overruns"]``, ``stats["worst_late"]`` [s]).
+    native : bool, optional
+        True: stepped in C (the ``ida-native`` driver; :class:`~flexlib.errors.NativeSolverError` where it cannot be
+        built); False: stepped from Python; None (default): C where the driver is available, as for :class:`IDA`.
+        Both take the same steps.
     error_test_all : bool, optional
         Weigh every unknown in the Newton test, also the derivative-level ones (as for :class:`IDA`).
     """
@@ -162,6 +174,9 @@ class FixedStep(Solver):
     h: float = 1e-3
     method: str = "bdf2"
     newton_iters: int = 4
+    max_halvings: int = 2
+    realtime: bool = False
+    native: bool | None = None
     error_test_all: bool | None = None
     label = "fixed-step"
 
@@ -177,11 +192,25 @@ class FixedStep(Solver):
                 or not 1 <= self.newton_iters <= 20):
             raise RunArgumentError(f"FixedStep(newton_iters={self.newton_iters!r}): must be an integer 1 … 20")
         _check_switch("FixedStep", "error_test_all", self.error_test_all)
+        if (isinstance(self.max_halvings, (bool, np.bool_)) or not isinstance(self.max_halvings, numbers.Integral)
+                or not 0 <= self.max_halvings <= 8):
+            raise RunArgumentError(f"FixedStep(max_halvings={self.max_halvings!r}): must be an integer 0 … 8")
+        _check_switch("FixedStep", "native", self.native)
+        if self.realtime not in (True, False):
+            raise RunArgumentError(f"FixedStep(realtime={self.realtime!r}): must be True or False")
+
+    @property
+    def fallback(self) -> Solver | None:  # type: ignore[override]
+        return dataclasses.replace(self, native=False) if self.native is None else None
 
     def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
-        from flexlib.solve.backends.fixed_step import FixedStepIntegrator
+        from flexlib.solve.backends import fixed_step
+        from flexlib.solve.native import native_available
 
-        return FixedStepIntegrator(float(self.h), self.method, int(self.newton_iters), rtol, atol)
+        native = self.native or (self.native is None and native_available())
+        cls = fixed_step.FixedStepNative if native else fixed_step.FixedStepIntegrator
+        return cls(float(self.h), self.method, int(self.newton_iters), rtol, atol, bool(self.realtime),
+                   int(self.max_halvings))
 
 
 #: The solver strings of ``run(solver=...)`` and the objects they stand for

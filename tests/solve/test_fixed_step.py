@@ -79,12 +79,34 @@ def test_state_events_at_step_boundaries_and_time_events_exact():
     np.testing.assert_array_equal(a["J1.w"], b["J1.w"])
 
 
-def test_newton_divergence_names_the_time_and_keeps_the_result():
-    """Steps of 0.3 s on the four-bar (a crank turn is 1.2 s): the corrections grow, and the run fails at its first
-    step, saying so and suggesting a smaller step, with the result up to there."""
-    with pytest.raises(fl.SolverError, match=r"diverged at t = .* in 4 iterations") as failure:
-        fl.Simulation(Fourbar1()).run(1.0, dt_out=0.01, progress=False, solver=fl.FixedStep(h=0.3))
-    assert failure.value.result is not None
+@pytest.mark.parametrize("native", [True, False])
+def test_newton_divergence_names_the_time_and_keeps_the_result(native):
+    """Steps of 0.3 s on the four-bar (a crank turn is 1.2 s) that may not be halved: the corrections grow, and the
+    run fails, saying so and suggesting a smaller step, with the result up to there (C and Python alike)."""
+    with pytest.raises(fl.SolverError, match=r"diverged at t = 0.6 s in 4 iterations") as failure:
+        fl.Simulation(Fourbar1()).run(1.0, dt_out=0.01, progress=False,
+                                      solver=fl.FixedStep(h=0.3, max_halvings=0, native=native))
+    assert failure.value.result is not None and failure.value.result.t[-1] == pytest.approx(0.6)
+
+
+def test_steps_that_do_not_converge_are_halved_and_unconverged_ones_are_reported():
+    """The same steps with halving: the run goes through on halves; steps still unconverged at the smallest size
+    are taken and reported as an AccuracyWarning naming the first."""
+    with pytest.warns(fl.AccuracyWarning, match=r"had not converged, the first ending at t = 0.1125 s"):
+        res = fl.Simulation(Fourbar1()).run(1.2, dt_out=0.3, progress=False,
+                                            solver=fl.FixedStep(h=0.3, max_halvings=3))
+    assert res.stats["halved_steps"] == 28 and res.stats["unconverged_steps"] == 12
+
+
+def test_c_and_python_take_the_same_steps():
+    """The C stepper and the Python one: the same steps, events and values (to round-off of their LU solvers)."""
+    sim = fl.Simulation(CoupledClutches())
+    a, b = (sim.run(1.5, dt_out=0.01, progress=False, solver=fl.FixedStep(h=1e-3, native=native))
+            for native in (True, False))
+    assert a.stats["solver"] == b.stats["solver"] == "fixed-step"
+    assert [t for t, _ in a.events] == [t for t, _ in b.events] and len(a.events) == 13
+    for name in ("J1.w", "J2.w", "J3.w", "J4.w"):
+        np.testing.assert_allclose(a[name], b[name], rtol=0, atol=1e-12)
 
 
 @pytest.mark.parametrize("kwargs, message", [
@@ -93,7 +115,27 @@ def test_newton_divergence_names_the_time_and_keeps_the_result():
     ({"h": "1e-3"}, "positive number of seconds"),
     ({"h": 1e-3, "method": "rk4"}, "must be one of euler, bdf2"),
     ({"h": 1e-3, "newton_iters": 0}, "integer 1"),
+    ({"h": 1e-3, "max_halvings": 9}, "integer 0"),
+    ({"h": 1e-3, "max_halvings": 1.5}, "integer 0"),
+    ({"h": 1e-3, "realtime": "yes"}, "True or False"),
+    ({"h": 1e-3, "native": "c"}, "True, False or None"),
 ])
 def test_bad_arguments_are_refused(kwargs, message):
     with pytest.raises(fl.RunArgumentError, match=message):
         fl.FixedStep(**kwargs)
+
+
+@pytest.mark.parametrize("native", [True, False])
+def test_realtime_pacing_keeps_the_run_behind_the_wall_clock(oscillator, native):
+    """``realtime=True``: a step never ends before its simulated time on the wall clock (sleeping cannot end early,
+    so this holds on a loaded machine too); the values are those of the unpaced run; overruns are counted."""
+    import time
+
+    plain = oscillator.run(0.3, dt_out=0.05, progress=False, solver=fl.FixedStep(h=0.01, native=native))
+    w0 = time.monotonic()
+    paced = oscillator.run(0.3, dt_out=0.05, progress=False,
+                           solver=fl.FixedStep(h=0.01, realtime=True, native=native))
+    assert time.monotonic() - w0 >= 0.3 - 0.01  # the clock starts after the first step
+    np.testing.assert_array_equal(paced["x"], plain["x"])
+    assert paced.stats["overruns"] >= 0 and paced.stats["worst_late"] >= 0.0
+    assert paced.stats["worst_step_wall"] >= paced.stats["mean_step_wall"] > 0.0

@@ -2,9 +2,14 @@
 
 Every step has the same size ``h`` (a step that would pass a time event or the end is shortened to land on it) and a
 bounded cost: at most ``newton_iters`` Newton corrections, stopping early when the weighted correction is below 1 (the
-measure IDA's Newton iteration uses). A step whose corrections still contract after ``newton_iters`` is taken and
-counted in ``unconverged_steps`` (a real-time step ends when its budget does); one whose corrections grow or turn
-non-finite fails the run. The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated
+measure IDA's Newton iteration uses). A step whose corrections do not converge is taken as two implicit-Euler halves
+instead, each halved again where needed, up to ``max_halvings`` times (default 2: a step costs at most seven step
+solutions; counted in ``halved_steps``): a valve opening across its corner within one step (a counterbalance check
+valve cracking, the pump truck at 1.281 s of expand-fold with h = 1 ms) is what defeats Newton's method with the step's
+full size and passes with a smaller one, as IDA cuts its step there. BDF2 goes on from the step's two ends after halves
+(their spacing is ``h``). At the smallest size, a step whose corrections still contract is taken and counted in
+``unconverged_steps`` (a real-time step ends when its budget does); one whose corrections grow or turn non-finite fails
+the run. The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated
 and factorised again at the predictor when ``c`` changed (a restart, a shortened step), when the last step needed more
 than two corrections, or — once per step — when the corrections do not converge with the old matrix. The choice
 depends on the numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with constant
@@ -12,6 +17,15 @@ steps, ``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, 
 Euler, ``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an
 event and a shortened step are implicit Euler. There is no error control: accuracy is the step's (the benchmarks report
 it against IDA).
+
+Two implementations take the same steps: :class:`FixedStepNative` steps in C (the ``ida-native`` driver's fixed-step
+mode, ``ida_driver.c``: the model's compiled residual and matrix, dense LU or KLU, no Python per step; the default
+where the driver builds) and :class:`FixedStepIntegrator` in Python (scipy's LU; ``FixedStep(native=False)``).
+
+Real-time pacing (``realtime=True``): after each step the run waits until the wall clock, counted from the run's first
+step, reaches the step's simulated time; a step that ends later than that is an overrun (``stats["overruns"]``, the
+worst lateness ``stats["worst_late"]`` [s]). ``stats`` also give the mean and worst cost of a step
+(``mean_step_wall``, ``worst_step_wall`` [s]).
 
 Events are handled at step boundaries, with the run loop's event logic: after each step every state relation is
 evaluated there, and a relation whose value has changed is reported as a root at the step's end (it is not located
@@ -36,10 +50,12 @@ import scipy.sparse.linalg as spla
 
 from flexlib.compile.codegen import CompiledModel
 from flexlib.solve.backends.base import DENSE_MAX, Limits, Stop, absolute_tolerances
+from flexlib.solve.backends.ida_c import IdaC
 from flexlib.solve.events import relation_value, watched_relations
+from flexlib.solve.native import FD_DIVERGED
 from flexlib.solve.sundae_callbacks import Callbacks
 
-__all__ = ["METHODS", "FixedStepIntegrator"]
+__all__ = ["METHODS", "FixedStepIntegrator", "FixedStepNative"]
 
 #: The formulas: name → order
 METHODS = {"euler": 1, "bdf2": 2}
@@ -60,6 +76,10 @@ class FixedStepIntegrator:
         Most Newton corrections per step (its cost bound).
     rtol, atol : float
         Weights of the Newton convergence test (``rtol·|y| + atol·nominal``) [1], [SI units of each unknown].
+    realtime : bool
+        Pace the steps to the wall clock (module docstring).
+    max_halvings : int
+        Times a step that does not converge may be halved.
     """
 
     name = "fixed-step"
@@ -70,11 +90,13 @@ class FixedStepIntegrator:
     error_test_all: bool | None = None
 
     def __init__(self, h: float, method: str = "bdf2", newton_iters: int = 4, rtol: float = 1e-6,
-                 atol: float = 1e-8) -> None:
+                 atol: float = 1e-8, realtime: bool = False, max_halvings: int = 2) -> None:
         self.h, self.method, self.newton_iters = float(h), method, int(newton_iters)
-        self.rtol, self.atol = rtol, atol
+        self.rtol, self.atol, self.realtime, self.max_halvings = rtol, atol, bool(realtime), int(max_halvings)
         self.counts: dict[str, Any] = {"steps": 0, "nfev": 0, "njev": 0, "newton_iters": 0, "unconverged_steps": 0,
-                                       "worst_step_wall": 0.0, "step_wall": 0.0}
+                                       "halved_steps": 0, "first_unconverged_t": float("nan"),
+                                       "worst_step_wall": 0.0, "step_wall": 0.0, "overruns": 0, "worst_late": 0.0}
+        self.wall0: tuple[float, float] | None = None  # (wall clock, simulated time) of the first step (pacing)
 
     def start(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
               grid: np.ndarray | None, t_end: float) -> None:
@@ -116,9 +138,8 @@ class FixedStepIntegrator:
             self.y_prev = None if landing else y_old
             self.output(rows, t_old, y_old, yp_old)
             if not ok:
-                return Stop("failed", self.t, steps, rows,
-                            message=f"fixed-step Newton iteration diverged at t = {self.t:.10g} s in "
-                                    f"{self.newton_iters} iterations (h = {self.h:g} s: try a smaller step)")
+                return Stop("failed", self.t, steps, rows, message=diverged(self.t, self.newton_iters, self.h))
+            self.pace()
             roots = self.switched()
             if roots:
                 return Stop("root", self.t, steps, rows, roots=roots)
@@ -127,8 +148,21 @@ class FixedStepIntegrator:
         return Stop("step", self.t, steps, rows)
 
     def step(self, h: float, bdf2: bool) -> bool:
-        """One step of size ``h`` [s] from ``(t, y)``; False if Newton did not converge (the point is kept)."""
+        """One step of size ``h`` [s] from ``(t, y)``; False if it cannot be taken (the point is kept)."""
         w0 = _time.perf_counter()
+        t_end = self.t + h
+        ok = self.attempt(h, bdf2, 0)
+        if ok:
+            self.t = t_end  # exactly, also after halves
+        self.counts["steps"] += 1
+        wall = _time.perf_counter() - w0
+        self.counts["step_wall"] += wall
+        self.counts["worst_step_wall"] = max(self.counts["worst_step_wall"], wall)
+        return ok
+
+    def attempt(self, h: float, bdf2: bool, depth: int) -> bool:
+        """Solve the step of size ``h`` from ``(t, y)``; where its corrections do not converge and ``depth`` is below
+        ``max_halvings``, take it as two implicit-Euler halves instead. True if taken (the point moved)."""
         t1 = self.t + h
         if bdf2:
             assert self.y_prev is not None
@@ -143,17 +177,36 @@ class FixedStepIntegrator:
             y, converged, more = self.corrections(t1, y0, c, base, True)
             iters += more
         self.slow = iters > 2
+        if not converged and depth < self.max_halvings:
+            self.counts["halved_steps"] += 1
+            start = (self.t, self.y, self.yp)
+            if self.attempt(0.5 * h, False, depth + 1) and self.attempt(0.5 * h, False, depth + 1):
+                return True
+            self.t, self.y, self.yp = start
+            return False
         if not converged:
             self.counts["unconverged_steps"] += 1
+            if np.isnan(self.counts["first_unconverged_t"]):
+                self.counts["first_unconverged_t"] = t1
         # a real-time step ends after its corrections: taken while they contract, the run fails where they do not
         ok = (converged or self.contracting) and bool(np.all(np.isfinite(y)))
         if ok:
             self.t, self.y, self.yp = t1, y, c * y + base
-        self.counts["steps"] += 1
-        wall = _time.perf_counter() - w0
-        self.counts["step_wall"] += wall
-        self.counts["worst_step_wall"] = max(self.counts["worst_step_wall"], wall)
         return ok
+
+    def pace(self) -> None:
+        """Wait until the wall clock reaches the simulated time (``realtime``); count a step that ends after it."""
+        if not self.realtime:
+            return
+        now = _time.monotonic()
+        if self.wall0 is None:
+            self.wall0 = (now, self.t - self.h)
+        due = self.wall0[0] + (self.t - self.wall0[1])
+        if now > due:
+            self.counts["overruns"] += 1
+            self.counts["worst_late"] = max(self.counts["worst_late"], now - due)
+        else:
+            _time.sleep(due - now)
 
     def corrections(self, t1: float, y: np.ndarray, c: float, base: np.ndarray, fresh: bool
                     ) -> tuple[np.ndarray, bool, int]:
@@ -239,3 +292,48 @@ class FixedStepIntegrator:
         n = max(1, self.counts["steps"])
         return {"solver": self.name, "method": self.method, "h": self.h, "max_order": METHODS[self.method],
                 **self.counts, "mean_step_wall": self.counts["step_wall"] / n}
+
+
+class FixedStepNative(IdaC):
+    """The same fixed-step method stepped in C (the ``ida-native`` driver's fixed-step mode; arguments as
+    :class:`FixedStepIntegrator`'s). The driver's IDA is set up but never stepped."""
+
+    name = "fixed-step"
+    watch_steps = 0
+    settles_roots = False
+    monitors = False
+
+    def __init__(self, h: float, method: str = "bdf2", newton_iters: int = 4, rtol: float = 1e-6,
+                 atol: float = 1e-8, realtime: bool = False, max_halvings: int = 2) -> None:
+        super().__init__(rtol, atol, 0.0, METHODS[method])
+        self.h, self.method, self.newton_iters, self.realtime = float(h), method, int(newton_iters), bool(realtime)
+        self.max_halvings = int(max_halvings)
+
+    def start(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
+              grid: np.ndarray | None, t_end: float) -> None:
+        super().start(model, t, y, yp, p, grid, t_end)
+        self.drv.set_fixed_step(self.h, self.method == "bdf2", self.newton_iters, self.max_halvings, self.rtol,
+                                model.n_params + np.asarray(self.state_rel, dtype=int), self.realtime)
+
+    def stop(self, code: int, t: float, nsteps: int, rows: Any) -> Stop:
+        if code == FD_DIVERGED:
+            return Stop("failed", t, nsteps, rows, message=diverged(t, self.newton_iters, self.h))
+        return super().stop(code, t, nsteps, rows)
+
+    def last_step(self) -> float:
+        return self.h
+
+    def stats(self, wall: float) -> dict[str, Any]:
+        out = super().stats(wall)
+        for key in ("n_newton", "n_newton_fail", "n_err_fail"):  # IDA's, never stepped
+            out.pop(key, None)
+        fixed = self.drv.fixed_stats()
+        fixed.pop("steps")
+        return {**out, "method": self.method, "h": self.h, **fixed,
+                "mean_step_wall": fixed["step_wall"] / max(1, self.drv.stats()["steps"])}
+
+
+def diverged(t: float, newton_iters: int, h: float) -> str:
+    """The message of a step whose Newton corrections grew."""
+    return (f"fixed-step Newton iteration diverged at t = {t:.10g} s in {newton_iters} iterations (h = {h:g} s: "
+            "try a smaller step)")

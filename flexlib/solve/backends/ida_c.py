@@ -116,6 +116,10 @@ class IdaC:
             self.pending_c = False
             drv.rebind(evaluators(self.model, zc_function(self.model, self.p, self.state_rel)))
             self.extra["compiled_at"] = t
+        return self.stop(code, t, nsteps, rows)
+
+    def stop(self, code: int, t: float, nsteps: int, rows: Any) -> Stop:
+        """The :class:`Stop` of the driver's return ``code`` at ``t`` after ``nsteps`` steps with ``rows``."""
         if code < 0:
             kind = "recover" if code in RECOVERABLE else "failed"
             return Stop(kind, t, nsteps, rows, message=self.failure_head(code, t), flag=RECOVERABLE.get(code, ""))
@@ -123,7 +127,7 @@ class IdaC:
             return Stop("failed", t, nsteps, rows, message=f"IDA step size underflow at t = {t:.10g} s (the model "
                         "may be stiff beyond repair, or discontinuous without an event)" + self.dominant())
         if code == FD_ROOT:
-            info = drv.roots()
+            info = self.drv.roots()
             roots = [(int(self.state_rel[j]), bool(info[j] > 0)) for j in np.flatnonzero(info)]
             return Stop("root", t, nsteps, rows, roots=roots)
         kind = "full" if code == FD_FULL else "tstop" if code == FD_TSTOP else "step"

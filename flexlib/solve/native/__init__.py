@@ -37,10 +37,10 @@ import numpy as np
 from flexlib.compile.environment import env_default
 from flexlib.errors import FlexlibError, NativeSolverError
 
-__all__ = ["FD_CHUNK", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "LINEAR_SOLVERS", "Driver", "NativeUnavailable",
-           "cpu_clock", "driver_library", "klu_available", "native_available", "use_cpu_clock"]
+__all__ = ["FD_CHUNK", "FD_DIVERGED", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "LINEAR_SOLVERS", "Driver",
+           "NativeUnavailable", "cpu_clock", "driver_library", "klu_available", "native_available", "use_cpu_clock"]
 
-FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY = 0, 1, 2, 3, 4
+FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY, FD_DIVERGED = 0, 1, 2, 3, 4, 5
 #: Linear solvers of the driver and their codes in ``ida_driver.c`` (``LS_DENSE``, ``LS_SUPERLUMT``, ``LS_KLU``)
 LINEAR_SOLVERS = {"dense": 0, "superlumt": 1, "klu": 2}
 _KLU_FUNCTIONS = ("defaults", "analyze", "factor", "solve", "free_symbolic", "free_numeric", "refactor", "rcond")
@@ -180,6 +180,10 @@ def _lib() -> ctypes.CDLL:
         lib.fd_set_newton.restype = i
         lib.fd_set_max_order.argtypes = [vp, i]
         lib.fd_set_max_order.restype = i
+        lib.fd_set_fixed_step.argtypes = [vp, d, i, i, i, d, _ip, i, d]
+        lib.fd_set_fixed_step.restype = i
+        lib.fd_fixed_stats.argtypes = [vp, _lp, _dp]
+        lib.fd_fixed_stats.restype = None
         _LIB.append(lib)
         return lib
 
@@ -442,6 +446,31 @@ class Driver:
         """Highest BDF order IDA may use (``IDASetMaxOrd``, 1–5; default 5)."""
         if not 1 <= int(order) <= 5 or self._lib.fd_set_max_order(self._ptr, int(order)) != 0:
             raise FlexlibError(f"invalid IDA maximum order {order!r} (1 ... 5)")
+
+    def set_fixed_step(self, h: float, bdf2: bool, newton_iters: int, max_halvings: int, rtol: float,
+                       relation_index: np.ndarray, realtime: bool = False, speed: float = 1.0) -> None:
+        """Step with fixed steps of ``h`` [s] from now on instead of IDA (``ida_driver.c``, "fixed-step mode"): BDF2
+        or implicit Euler, at most ``newton_iters`` Newton corrections, a step that does not converge halved up to
+        ``max_halvings`` times, the Newton test weighted with ``rtol`` and
+        the driver's absolute tolerances; ``relation_index``: the index into ``p`` of each root function's relation
+        value; ``realtime``: each step waits for the wall clock (``speed`` times real time)."""
+        rel = np.ascontiguousarray(relation_index, dtype=np.int32)
+        if len(rel) != self.n_roots:
+            raise ValueError(f"set_fixed_step: {len(rel)} relation indices for {self.n_roots} root functions")
+        self._rel = rel
+        if self._lib.fd_set_fixed_step(self._ptr, h, int(bdf2), int(newton_iters), int(max_halvings), rtol,
+                                       rel if len(rel) else np.zeros(1, dtype=np.int32), int(realtime), speed):
+            raise NativeUnavailable("the ida-native driver could not switch to fixed steps (no memory)")
+
+    def fixed_stats(self) -> dict[str, float]:
+        """Fixed-step counters (:meth:`set_fixed_step`): steps, Newton corrections, unconverged steps, matrix
+        evaluations, real-time overruns, halved steps; summed and worst step cost, worst lateness behind the wall
+        clock and the end of the first step taken unconverged (NaN: none) [s]."""
+        c, s = np.zeros(6, dtype=np.int64), np.zeros(4)
+        self._lib.fd_fixed_stats(self._ptr, c, s)
+        return {"steps": int(c[0]), "newton_iters": int(c[1]), "unconverged_steps": int(c[2]), "njev": int(c[3]),
+                "overruns": int(c[4]), "halved_steps": int(c[5]), "step_wall": float(s[0]),
+                "worst_step_wall": float(s[1]), "worst_late": float(s[2]), "first_unconverged_t": float(s[3])}
 
     def stats(self) -> dict[str, float]:
         """Evaluation counts, linear-solver counts and seconds spent in C."""

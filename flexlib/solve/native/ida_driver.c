@@ -89,6 +89,7 @@ void IDAFree(void **mem);
 #define FD_ROOT 2    /* a root of an event indicator */
 #define FD_CHUNK 3   /* max_chunk steps done (Python polls Ctrl-C, progress, step limits) */
 #define FD_TINY 4    /* more than 200 consecutive steps shorter than 1e-14 * max(1, |t|) */
+#define FD_DIVERGED 5 /* fixed-step mode: the Newton corrections of a step grew or turned non-finite */
 
 /* The generic SUNLinearSolver of SUNDIALS 7.9 (sundials_linearsolver.h; the bundled build has one more pointer
  * between content and ops, checked in ls_create), so that the driver can wrap the bundled solvers (timing) and
@@ -195,6 +196,7 @@ typedef struct {
     int ls_flag;
     long nni_before, ncf_before, netf_before; /* IDA's Newton iterations, convergence and error test failures before
                                                   the last IDAReInit (which resets IDA's counters) */
+    struct fixed_s *fx;    /* fixed-step mode (fd_set_fixed_step), or NULL: IDA steps */
 } drv_t;
 
 #define LS_DENSE 0
@@ -437,6 +439,8 @@ static SUNLinearSolver ls_create(drv_t *d) {
 }
 
 void fd_free(drv_t *d);
+static void fx_free(struct fixed_s *x);
+static void fx_restart(struct fixed_s *x);
 
 /* Create a driver (linsol: LS_DENSE, LS_SUPERLUMT or LS_KLU, the last after fd_set_klu). fun pointers/ids/work sizes: index 0 res, 1 jac, 2 zc (zc unused when nroot == 0).
  * Returns NULL on failure (err gets a short reason). */
@@ -515,6 +519,7 @@ void fd_free(drv_t *d) {
     N_Vector vs[5] = {d->y, d->yp, d->idv, d->atol, d->tmp};
     for (int i = 0; i < 5; i++)
         if (vs[i]) N_VDestroy(vs[i]);
+    fx_free(d->fx);
     if (d->ctx) SUNContext_Free(&d->ctx);
     fun_free(&d->res);
     fun_free(&d->jac);
@@ -567,6 +572,10 @@ int fd_reinit(drv_t *d, double t0, const double *y0, const double *yp0) {
     d->tlast_row = t0;
     d->tiny = 0;
     d->pending_step = 0;
+    if (d->fx) { /* an event changed the equations: no history, a fresh iteration matrix */
+        fx_restart(d->fx);
+        return 0;
+    }
     return IDAReInit(d->mem, t0, d->y, d->yp);
 }
 
@@ -638,6 +647,347 @@ static int write_rows(drv_t *d, double *T, double *Y, double *YP, int cap, int *
     return 0;
 }
 
+
+/* ---- fixed-step mode: FixedStep(h) stepped in C ----
+ * The algorithm of flexlib/solve/backends/fixed_step.py (its docstring is the reference), step for step: BDF2 with
+ * constant steps (implicit Euler after a start, an event or a shortened step), at most `iters` Newton corrections per
+ * step with an iteration matrix kept from an earlier step until c changes or a step needed more than two corrections
+ * (once per step a fresh one when the old one does not converge), a step still contracting after its corrections
+ * taken and counted, one whose corrections grow reported (FD_DIVERGED). The matrix and its LU are the driver's
+ * (jacfn, ls_setup: dense LU or KLU), the residual resfn, the event indicators rootfn. State events at step ends:
+ * a root function whose sign disagrees with its relation's value (p[rel[j]]) is a root. Real-time pacing (optional):
+ * after each step the loop sleeps until the wall clock reaches the step's simulated time (over `speed`); a step that
+ * ends after it is an overrun. */
+typedef struct fixed_s {
+    double h, rtol;
+    int bdf2, iters;
+    int have_prev, lu_ok, slow, contracting;
+    double c_lu;
+    double told;
+    double *yprev, *yold, *ypold, *base, *pred, *g;
+    double *save; /* the start point (y, yp) of each halving level */
+    int max_halvings;
+    N_Vector vy, vyp, vr, vdy;
+    int *rel;
+    long steps, newton, unconverged, njev, overruns, halved;
+    double wall_sum, wall_worst, late_worst;
+    double first_unconverged; /* end time of the first step taken unconverged (NAN: none) */
+    int realtime, rt_started;
+    double speed, rt_wall0, rt_t0;
+} fixed_t;
+
+static double mono(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static void fx_restart(fixed_t *x) {
+    x->have_prev = x->lu_ok = x->slow = x->contracting = 0;
+}
+
+static void fx_free(fixed_t *x) {
+    if (!x) return;
+    double *bufs[7] = {x->yprev, x->yold, x->ypold, x->base, x->pred, x->g, x->save};
+    for (int i = 0; i < 7; i++) free(bufs[i]);
+    N_Vector vs[4] = {x->vy, x->vyp, x->vr, x->vdy};
+    for (int i = 0; i < 4; i++)
+        if (vs[i]) N_VDestroy(vs[i]);
+    free(x->rel);
+    free(x);
+}
+
+/* Switch the driver to fixed steps of h [s] (bdf2: 1 BDF2, 0 implicit Euler; iters: most Newton corrections; rtol:
+ * max_halvings: times a step that does not converge may be halved; rtol:
+ * the Newton test's relative weight, the absolute ones IDA's; rel: p index of each root function's relation value;
+ * realtime: pace the steps to the wall clock at `speed` times real time). Returns 0, or -1 (no memory). */
+int fd_set_fixed_step(drv_t *d, double h, int bdf2, int iters, int max_halvings, double rtol, const int *rel,
+                      int realtime, double speed) {
+    fixed_t *x = calloc(1, sizeof(fixed_t));
+    if (!x) return -1;
+    int n = d->n;
+    x->h = h;
+    x->bdf2 = bdf2;
+    x->iters = iters;
+    x->max_halvings = max_halvings;
+    x->first_unconverged = NAN;
+    x->rtol = rtol;
+    x->realtime = realtime;
+    x->speed = speed > 0 ? speed : 1.0;
+    x->yprev = malloc(sizeof(double) * n);
+    x->yold = malloc(sizeof(double) * n);
+    x->ypold = malloc(sizeof(double) * n);
+    x->base = malloc(sizeof(double) * n);
+    x->pred = malloc(sizeof(double) * n);
+    x->g = malloc(sizeof(double) * (d->nroot ? d->nroot : 1));
+    x->rel = malloc(sizeof(int) * (d->nroot ? d->nroot : 1));
+    x->save = malloc(sizeof(double) * 2 * n * (max_halvings > 0 ? max_halvings : 1));
+    x->vy = N_VNew_Serial(n, d->ctx);
+    x->vyp = N_VNew_Serial(n, d->ctx);
+    x->vr = N_VNew_Serial(n, d->ctx);
+    x->vdy = N_VNew_Serial(n, d->ctx);
+    if (!x->yprev || !x->yold || !x->ypold || !x->base || !x->pred || !x->g || !x->rel || !x->save || !x->vy || !x->vyp
+        || !x->vr || !x->vdy) {
+        fx_free(x);
+        return -1;
+    }
+    if (d->nroot) memcpy(x->rel, rel, sizeof(int) * d->nroot);
+    fx_free(d->fx);
+    d->fx = x;
+    d->hlast = h;
+    return 0;
+}
+
+/* At most x->iters Newton corrections of F(t1, y, c y + base) = 0 from the iterate in x->vy (the matrix evaluated and
+ * factorised there first if fresh). Returns 1 converged, 0 not (x->contracting says whether the corrections shrank),
+ * -1 the matrix could not be evaluated or factorised; *k the corrections taken. */
+static int fx_corrections(drv_t *d, fixed_t *x, double t1, double c, int fresh, int *k) {
+    int n = d->n;
+    double *y = N_VGetArrayPointer(x->vy), *yp = N_VGetArrayPointer(x->vyp);
+    double *r = N_VGetArrayPointer(x->vr), *dy = N_VGetArrayPointer(x->vdy), *atol = N_VGetArrayPointer(d->atol);
+    *k = 0;
+    x->contracting = 0;
+    if (fresh) {
+        for (int i = 0; i < n; i++) yp[i] = c * y[i] + x->base[i];
+        x->njev++;
+        if (jacfn(t1, c, x->vy, x->vyp, x->vr, d->A, d, NULL, NULL, NULL) || ls_setup(d->LS, d->A)) {
+            x->lu_ok = 0;
+            return -1;
+        }
+        x->lu_ok = 1;
+        x->c_lu = c;
+    }
+    double first = INFINITY, norm = INFINITY;
+    for (int it = 1; it <= x->iters; it++) {
+        *k = it;
+        for (int i = 0; i < n; i++) yp[i] = c * y[i] + x->base[i];
+        x->newton++;
+        if (resfn(t1, x->vy, x->vyp, x->vr, d)) return 0; /* not finite: neither converged nor contracting */
+        for (int i = 0; i < n; i++) r[i] = -r[i];
+        if (ls_solve(d->LS, d->A, x->vdy, x->vr, 0.0)) return 0;
+        double s = 0.0;
+        for (int i = 0; i < n; i++) {
+            y[i] += dy[i];
+            double w = dy[i] / (x->rtol * fabs(y[i]) + atol[i]);
+            s += w * w;
+        }
+        norm = sqrt(s / n);
+        if (!isfinite(norm)) return 0;
+        if (norm < 1.0) return 1;
+        if (it == 1) first = norm;
+    }
+    x->contracting = x->iters == 1 || norm < first;
+    return 0;
+}
+
+/* Solve the step of size h from (d->tcur, d->y, d->yp); where its corrections do not converge and depth is below
+ * x->max_halvings, take it as two implicit-Euler halves instead. 1 taken (the driver's point moved), 0 not. */
+static int fx_attempt(drv_t *d, fixed_t *x, double h, int bdf2, int depth) {
+    int n = d->n;
+    double *y = N_VGetArrayPointer(d->y), *yp = N_VGetArrayPointer(d->yp), *yi = N_VGetArrayPointer(x->vy);
+    double t1 = d->tcur + h, c;
+    if (bdf2) {
+        c = 1.5 / h;
+        for (int i = 0; i < n; i++) {
+            x->base[i] = (-2.0 * y[i] + 0.5 * x->yprev[i]) / h;
+            x->pred[i] = 2.0 * y[i] - x->yprev[i]; /* linear extrapolation of the last two points */
+        }
+    } else {
+        c = 1.0 / h;
+        for (int i = 0; i < n; i++) {
+            x->base[i] = -y[i] / h;
+            x->pred[i] = y[i] + h * yp[i];
+        }
+    }
+    int fresh = !x->lu_ok || c != x->c_lu || x->slow;
+    int k = 0, more = 0;
+    memcpy(yi, x->pred, sizeof(double) * n);
+    int conv = fx_corrections(d, x, t1, c, fresh, &k);
+    if (conv == 0 && !fresh) { /* the old matrix does not do: once more with a fresh one */
+        memcpy(yi, x->pred, sizeof(double) * n);
+        conv = fx_corrections(d, x, t1, c, 1, &more);
+        k += more;
+    }
+    x->slow = k > 2;
+    if (conv != 1 && depth < x->max_halvings) {
+        x->halved++;
+        double t_save = d->tcur, *sy = x->save + (size_t)(2 * depth) * n, *syp = sy + n;
+        memcpy(sy, y, sizeof(double) * n);
+        memcpy(syp, yp, sizeof(double) * n);
+        if (fx_attempt(d, x, 0.5 * h, 0, depth + 1) && fx_attempt(d, x, 0.5 * h, 0, depth + 1)) return 1;
+        memcpy(y, sy, sizeof(double) * n);
+        memcpy(yp, syp, sizeof(double) * n);
+        d->tcur = t_save;
+        return 0;
+    }
+    if (conv != 1) {
+        x->unconverged++;
+        if (isnan(x->first_unconverged)) x->first_unconverged = t1;
+    }
+    /* a real-time step ends after its corrections: taken while they contract, the run fails where they do not */
+    int ok = conv == 1 || (conv == 0 && x->contracting);
+    for (int i = 0; ok && i < n; i++)
+        if (!isfinite(yi[i])) ok = 0;
+    if (ok) {
+        for (int i = 0; i < n; i++) {
+            y[i] = yi[i];
+            yp[i] = c * yi[i] + x->base[i];
+        }
+        d->tcur = t1;
+    }
+    return ok;
+}
+
+/* One step of size h from (d->tcur, d->y, d->yp) (fx_attempt, ending exactly at t + h); 1 taken, 0 not. */
+static int fx_step(drv_t *d, fixed_t *x, double h, int bdf2) {
+    double w0 = now(), t_end = d->tcur + h;
+    int ok = fx_attempt(d, x, h, bdf2, 0);
+    if (ok) d->tcur = t_end;
+    x->steps++;
+    double w = now() - w0;
+    x->wall_sum += w;
+    if (w > x->wall_worst) x->wall_worst = w;
+    return ok;
+}
+
+/* The rows due after the step from (x->told, yold, ypold) to (d->tcur, y, yp): every step, or the grid times it
+ * passes (linear interpolation). 0 all written, 1 the buffer filled (called again with the next buffer). */
+static int fx_write_rows(drv_t *d, fixed_t *x, double *T, double *Y, double *YP, int cap, int *nrows) {
+    int n = d->n;
+    double *y = N_VGetArrayPointer(d->y), *yp = N_VGetArrayPointer(d->yp);
+    if (!d->grid) {
+        if (d->tcur > d->tlast_row) {
+            if (*nrows >= cap) return 1;
+            T[*nrows] = d->tcur;
+            memcpy(Y + (size_t)(*nrows) * n, y, sizeof(double) * n);
+            memcpy(YP + (size_t)(*nrows) * n, yp, sizeof(double) * n);
+            (*nrows)++;
+            d->tlast_row = d->tcur;
+        }
+        return 0;
+    }
+    while (d->kgrid < d->ngrid && d->grid[d->kgrid] <= d->tcur) {
+        double tg = d->grid[d->kgrid];
+        if (tg > x->told) {
+            if (*nrows >= cap) return 1;
+            double s = (tg - x->told) / (d->tcur - x->told);
+            double *yr = Y + (size_t)(*nrows) * n, *ypr = YP + (size_t)(*nrows) * n;
+            for (int i = 0; i < n; i++) {
+                yr[i] = (1.0 - s) * x->yold[i] + s * y[i];
+                ypr[i] = (1.0 - s) * x->ypold[i] + s * yp[i];
+            }
+            T[*nrows] = tg;
+            (*nrows)++;
+        }
+        d->kgrid++;
+    }
+    return 0;
+}
+
+/* The state relations whose value differs at the step's end from the one the step was taken with (rootsfound: +1
+ * now true, -1 now false, 0 unchanged); 1 if any. */
+static int fx_roots(drv_t *d, fixed_t *x) {
+    if (!d->nroot) return 0;
+    rootfn(d->tcur, d->y, d->yp, x->g, d);
+    int any = 0;
+    for (int j = 0; j < d->nroot; j++) {
+        int now_true = x->g[j] > 0.0, was_true = d->p[x->rel[j]] != 0.0;
+        d->rootsfound[j] = now_true == was_true ? 0 : now_true ? 1 : -1;
+        any |= d->rootsfound[j] != 0;
+    }
+    return any;
+}
+
+/* Sleep until the wall clock reaches the simulated time d->tcur (real-time pacing); a step that ends after it is an
+ * overrun (counted, the worst lateness kept). */
+static void fx_pace(drv_t *d, fixed_t *x) {
+    if (!x->realtime) return;
+    double t = mono();
+    if (!x->rt_started) {
+        x->rt_started = 1;
+        x->rt_wall0 = t;
+        x->rt_t0 = d->tcur;
+        return;
+    }
+    double due = x->rt_wall0 + (d->tcur - x->rt_t0) / x->speed;
+    if (t > due) {
+        x->overruns++;
+        if (t - due > x->late_worst) x->late_worst = t - due;
+        return;
+    }
+    struct timespec ts;
+    ts.tv_sec = (time_t)due;
+    ts.tv_nsec = (long)((due - (double)ts.tv_sec) * 1e9);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) != 0) {
+    }
+}
+
+static int fx_advance(drv_t *d, double t_stop, long max_chunk, double *T, double *Y, double *YP, int cap,
+                      int *nrows, long *steps_out) {
+    fixed_t *x = d->fx;
+    double w0 = now();
+    long steps = 0;
+    *nrows = 0;
+    if (d->pending_step) { /* the previous call filled the buffer within one step */
+        if (fx_write_rows(d, x, T, Y, YP, cap, nrows)) { *steps_out = 0; return FD_FULL; }
+        d->pending_step = 0;
+        if (d->pending_flag != -1000) { *steps_out = 0; return d->pending_flag; }
+    }
+    if (x->realtime && !x->rt_started) fx_pace(d, x);
+    for (;;) {
+        if (d->tcur >= t_stop) { *steps_out = steps; return FD_TSTOP; }
+        double h = x->h;
+        int landing = d->tcur + h >= t_stop - 1e-9 * h;
+        if (landing) h = t_stop - d->tcur;
+        int bdf2 = x->bdf2 && x->have_prev && !landing;
+        x->told = d->tcur;
+        memcpy(x->yold, N_VGetArrayPointer(d->y), sizeof(double) * d->n);
+        memcpy(x->ypold, N_VGetArrayPointer(d->yp), sizeof(double) * d->n);
+        int ok = fx_step(d, x, h, bdf2);
+        steps++;
+        d->steps++;
+        if (ok) {
+            double *tmp = x->yprev; /* the point before the step is BDF2's history */
+            x->yprev = x->yold;
+            x->yold = tmp;
+            memcpy(x->yold, x->yprev, sizeof(double) * d->n);
+            x->have_prev = !landing;
+            d->hlast = h;
+        }
+        int next = !ok ? FD_DIVERGED : fx_roots(d, x) ? FD_ROOT : landing ? FD_TSTOP : -1000;
+        if (ok) fx_pace(d, x);
+        if (next == -1000 && (steps >= max_chunk || d->tcur >= d->t_limit
+                              || (d->wall_chunk > 0.0 && now() - w0 > d->wall_chunk)))
+            next = FD_CHUNK;
+        if (fx_write_rows(d, x, T, Y, YP, cap, nrows)) {
+            d->pending_step = 1;
+            d->pending_flag = next;
+            *steps_out = steps;
+            return FD_FULL;
+        }
+        if (next != -1000) { *steps_out = steps; return next; }
+        if (*nrows >= cap) { *steps_out = steps; return FD_FULL; }
+    }
+}
+
+/* Fixed-step counters: [steps, Newton corrections, unconverged steps, matrix evaluations, overruns, halved steps];
+ * seconds: [sum of step costs, worst step cost, worst lateness behind the wall clock, end of the first unconverged
+ * step (NAN: none)]. */
+void fd_fixed_stats(drv_t *d, long *counts, double *seconds) {
+    fixed_t *x = d->fx;
+    if (!x) return;
+    counts[0] = x->steps;
+    counts[1] = x->newton;
+    counts[2] = x->unconverged;
+    counts[3] = x->njev;
+    counts[4] = x->overruns;
+    counts[5] = x->halved;
+    seconds[0] = x->wall_sum;
+    seconds[1] = x->wall_worst;
+    seconds[2] = x->late_worst;
+    seconds[3] = x->first_unconverged;
+}
+
 /* Integrate towards t_stop one internal step at a time, writing output rows into T (cap), Y, YP
  * (cap x n, row-major).  Returns FD_* (>= 0) or the IDA error flag (< 0); *nrows rows written,
  * *t_now the solver time, y_now/yp_now (n each) its solution there.  The last step's solution
@@ -648,6 +998,10 @@ int fd_advance(drv_t *d, double t_stop, long max_chunk, double *T, double *Y, do
     int code;
     *nrows = 0;
     long steps = 0;
+    if (d->fx) {
+        code = fx_advance(d, t_stop, max_chunk, T, Y, YP, cap, nrows, &steps);
+        goto done;
+    }
     if (d->pending_step) { /* the previous call filled the buffer within one step */
         int w = write_rows(d, T, Y, YP, cap, nrows);
         if (w == 1) { code = FD_FULL; goto done; }
