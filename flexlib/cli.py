@@ -173,6 +173,10 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
 @once_option("--atol", type=click.FloatRange(min=0.0, min_open=True), help="Absolute tolerance.")
 @once_option("--dt-out", type=click.FloatRange(min=0.0, min_open=True), help="Output interval [s].")
 @once_option("--solver", type=click.Choice(SOLVERS), help="Solver backend.")
+@once_option("--step", type=click.FloatRange(min=0.0, min_open=True),
+             help="Step of --solver fixed-step [s] (default 0.001).")
+@click.option("--realtime", is_flag=True, help="With --solver fixed-step: keep in step with the wall clock, report "
+                                               "overruns.")
 @once_option("--from", "from_file", type=click.Path(dir_okay=False),
               help="Repeat the run recorded in this result file (other options apply on top).")
 @click.option("-O", "--option", "model_options", multiple=True, metavar="NAME=VALUE",
@@ -190,9 +194,9 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
                    "when read.")
 @friendly
 def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tuple[str, ...], t_end: float | None,
-            rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, from_file: str | None,
-            model_options: tuple[str, ...], flexible: bool | None, no_progress: bool,
-            plots_dir: str | None, force: bool, outputs: tuple[str, ...]) -> None:
+            rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, step: float | None,
+            realtime: bool, from_file: str | None, model_options: tuple[str, ...], flexible: bool | None,
+            no_progress: bool, plots_dir: str | None, force: bool, outputs: tuple[str, ...]) -> None:
     """Run MODEL in a scenario, then print a summary (times, steps, peaks of the model's signals)."""
     from flexlib import registry
     from flexlib.scenario import Scenario
@@ -200,6 +204,12 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
     overrides = _parse_params(params)
     given: dict[str, Any] = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("dt_out", dt_out),
                                                ("solver", solver)) if v is not None}
+    if step is not None or realtime:
+        if solver != "fixed-step":
+            raise click.ClickException(f"{'--step' if step is not None else '--realtime'} is an option of "
+                                       "--solver fixed-step; give that too")
+        given["solver"] = {"kind": "fixed-step", **({"h": step} if step is not None else {}),
+                           **({"realtime": True} if realtime else {})}
     stored = [p.strip() for opt in outputs for p in opt.split(",") if p.strip()]
     if outputs and not stored:
         raise click.ClickException(f"--outputs {outputs[0]!r}: no variable name or pattern given")
@@ -398,6 +408,15 @@ def _print_summary(done: Any, out: str | None) -> None:
             ("residual evaluations", str(res.stats.get("nfev", "-"))),
             ("events", str(len(res.events))),
             ("unknowns / states", f"{res.stats.get('n_unknowns', '-')} / {res.stats.get('n_states', '-')}")]
+    if res.stats.get("solver") == "fixed-step":
+        rows += [("step h [s]", fmt(res.stats.get("h", float("nan")))),
+                 ("step cost, mean / worst [ms]", f"{1e3 * res.stats.get('mean_step_wall', float('nan')):.3f} / "
+                                                  f"{1e3 * res.stats.get('worst_step_wall', float('nan')):.3f}"),
+                 ("halved / unconverged steps", f"{res.stats.get('halved_steps', 0)} / "
+                                                f"{res.stats.get('unconverged_steps', 0)}")]
+        if res.stats.get("realtime"):
+            rows.append(("real-time overruns (worst late [ms])",
+                         f"{res.stats['overruns']} ({1e3 * res.stats.get('worst_late', 0.0):.3f})"))
     if out:
         rows.append(("result file", str(out)))
     for row in rows:

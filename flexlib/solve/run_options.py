@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from flexlib.errors import RunArgumentError
-from flexlib.solve.solvers import SOLVERS, Solver
+from flexlib.solve.solvers import SOLVERS, Solver, as_solver
 
 __all__ = ["MAX_OUTPUT_POINTS", "MIN_ATOL", "MIN_RTOL", "RunOptions", "check_params", "check_result_path",
            "check_result_target", "check_run_arguments"]
@@ -383,6 +383,8 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
                    f"reaching t_end = {t1:g} s from t_start = {t0:g} s needs at least {(t1 - t0) / h:.3g} steps, "
                    f"more than max_steps = {n_steps}", "raise max_step or max_steps")
     params = check_params(params)
+    if isinstance(solver, Mapping):
+        solver = as_solver(solver)  # a record: checked as the object it stands for
     if not isinstance(solver, Solver) and (not isinstance(solver, str) or solver not in SOLVERS):
         close = ""
         if isinstance(solver, str):
@@ -390,8 +392,9 @@ def _check(*, t_start: Any, t_end: Any, dt_out: Any, output_times: Any, rtol: An
 
             match = difflib.get_close_matches(solver.lower(), SOLVERS, n=1)
             close = f"did you mean {match[0]!r}?" if match else ""
-        raise _bad("solver", solver, f"must be one of {', '.join(repr(s) for s in SOLVERS)} or a solver object "
-                   "(flexlib.IDA(...), flexlib.CasadiIDAS(...))", close)
+        raise _bad("solver", solver, f"must be one of {', '.join(repr(s) for s in SOLVERS)}, a solver object "
+                   "(flexlib.IDA(...), flexlib.CasadiIDAS(...), flexlib.FixedStep(...)) or its record "
+                   "({'kind': 'fixed-step', 'h': 0.001})", close)
     if max_order is not None and (isinstance(max_order, (bool, np.bool_)) or not isinstance(max_order, numbers.Real)
                                   or not float(max_order).is_integer() or not 1 <= max_order <= 5):
         raise _bad("max_order", max_order, "must be an integer 1 ... 5 (the highest BDF order) or None")

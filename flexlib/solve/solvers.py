@@ -3,13 +3,16 @@
 Each solver object is a frozen record that makes the :class:`~flexlib.solve.backends.base.Integrator` adapter of a
 run (:meth:`Solver.integrator`). The strings accepted by ``run(solver=...)`` are aliases (:data:`ALIASES`):
 ``"ida"`` is ``IDA()``, ``"ida-native"`` ``IDA(native=True)``, ``"ida-sksundae"`` ``IDA(native=False)``,
-``"casadi-idas"`` ``CasadiIDAS()``.
+``"casadi-idas"`` ``CasadiIDAS()``, ``"fixed-step"`` ``FixedStep()``. A solver is also given as a record, a mapping
+with its kind and options (:data:`KINDS`), ``{"kind": "fixed-step", "h": 0.002}``: the form a scenario file, a result's
+run record and ``flexlib run --solver fixed-step --step 0.002`` use (:meth:`Solver.record`, :func:`as_solver`).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import numbers
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -22,7 +25,7 @@ if TYPE_CHECKING:  # the solver records and their names stay light (flexlib's co
     from flexlib.solve.backends.base import Integrator
     from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["ALIASES", "IDA", "SOLVERS", "CasadiIDAS", "FixedStep", "Solver", "as_solver", "integrate"]
+__all__ = ["ALIASES", "IDA", "KINDS", "SOLVERS", "CasadiIDAS", "FixedStep", "Solver", "as_solver", "integrate"]
 
 #: Linear solvers of the C driver (``IDA(linear_solver=...)``)
 LINEAR_SOLVERS = ("dense", "klu", "superlumt")
@@ -63,6 +66,13 @@ class Solver:
     def adapter(self, rtol: float, atol: float, max_step: float, max_order: int, max_steps: int) -> Integrator:
         """The :class:`~flexlib.solve.backends.base.Integrator` with these options (a subclass's own)."""
         raise NotImplementedError
+
+    def record(self) -> dict[str, Any]:
+        """The solver as a JSON-ready mapping: its kind (:data:`KINDS`) and the options that differ from their
+        defaults; :func:`as_solver` turns it back into an equal object."""
+        kind = next(k for k, cls in KINDS.items() if type(self) is cls)
+        return {"kind": kind, **{f.name: getattr(self, f.name) for f in dataclasses.fields(self)  # type: ignore[arg-type]
+                                 if getattr(self, f.name) != f.default}}
 
 
 @dataclass(frozen=True)
@@ -215,14 +225,37 @@ class FixedStep(Solver):
 
 #: The solver strings of ``run(solver=...)`` and the objects they stand for
 ALIASES: dict[str, Solver] = {"ida": IDA(), "casadi-idas": CasadiIDAS(), "ida-native": IDA(native=True),
-                              "ida-sksundae": IDA(native=False)}
+                              "ida-sksundae": IDA(native=False), "fixed-step": FixedStep()}
 #: The solver names accepted by ``run(solver=...)``, scenarios and ``flexlib run --solver``
 SOLVERS = tuple(ALIASES)
+#: The kinds of solver records (``{"kind": ..., option: value, ...}``) and their classes
+KINDS: dict[str, type[Solver]] = {"ida": IDA, "casadi-idas": CasadiIDAS, "fixed-step": FixedStep}
 
 
-def as_solver(solver: str | Solver) -> Solver:
-    """The solver object of ``solver`` (an alias of :data:`ALIASES` or a solver object)."""
-    return ALIASES[solver] if isinstance(solver, str) else solver
+def as_solver(solver: str | Solver | Mapping[str, Any]) -> Solver:
+    """The solver object of ``solver``: an alias of :data:`ALIASES`, a solver object, or a record
+    (``{"kind": "fixed-step", "h": 0.002}``, :meth:`Solver.record`).
+
+    Raises
+    ------
+    RunArgumentError
+        A record without a known kind, with an option its solver does not have, or with a bad value (named).
+    """
+    if isinstance(solver, str):
+        return ALIASES[solver]
+    if not isinstance(solver, Mapping):
+        return solver
+    options = dict(solver)
+    kind = options.pop("kind", None)
+    if kind not in KINDS:
+        raise RunArgumentError(f"solver record {dict(solver)!r}: 'kind' must be one of {', '.join(map(repr, KINDS))}")
+    cls = KINDS[kind]
+    names = [f.name for f in dataclasses.fields(cls)]  # type: ignore[arg-type]
+    unknown = [k for k in options if k not in names]
+    if unknown:
+        raise RunArgumentError(f"solver record {dict(solver)!r}: {kind} has no option {unknown[0]!r} "
+                               f"(its options: {', '.join(names)})")
+    return cls(**options)
 
 
 def integrate(solver: str | Solver, model: Any, init: Any, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,

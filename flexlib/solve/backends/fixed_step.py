@@ -9,7 +9,9 @@ valve cracking, the pump truck at 1.281 s of expand-fold with h = 1 ms) is what 
 full size and passes with a smaller one, as IDA cuts its step there. BDF2 goes on from the step's two ends after halves
 (their spacing is ``h``). At the smallest size, a step whose corrections still contract is taken and counted in
 ``unconverged_steps`` (a real-time step ends when its budget does); one whose corrections grow or turn non-finite fails
-the run. The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated
+the run. A correction that turns back on the one before (their weighted scalar product below −½ of the product of
+their norms: Newton cycling round a corner of a piecewise law, a poppet reaching its full opening) is taken by half.
+The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated
 and factorised again at the predictor when ``c`` changed (a restart, a shortened step), when the last step needed more
 than two corrections, or — once per step — when the corrections do not converge with the old matrix. The choice
 depends on the numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with constant
@@ -217,18 +219,23 @@ class FixedStepIntegrator:
             self.counts["njev"] += 1
             self.factorise()
             self.c_lu = c
-        first = np.inf
+        first, w_last, norm_last = np.inf, None, 0.0
         for k in range(1, self.newton_iters + 1):
             self.cb.resfn(t1, y, c * y + base, self.r)
             self.counts["nfev"] += 1
             self.counts["newton_iters"] += 1
             dy = self.solve(-self.r)
             y = y + dy
-            norm = float(np.sqrt(np.mean((dy / (self.rtol * np.abs(y) + self.atol_vec)) ** 2)))
+            w = dy / (self.rtol * np.abs(y) + self.atol_vec)
+            norm = float(np.sqrt(np.mean(w**2)))
             if norm < 1.0:
                 return y, True, k
+            if w_last is not None and float(np.dot(w, w_last)) < -0.5 * norm * norm_last * len(w):
+                y = y - 0.5 * dy  # the correction turns back on the last one (Newton cycling round a corner of a
+                #                   valve law): half of it
             if k == 1:
                 first = norm
+            w_last, norm_last = w, norm
         self.contracting = self.newton_iters == 1 or norm < first
         return y, False, self.newton_iters
 
@@ -291,7 +298,7 @@ class FixedStepIntegrator:
     def stats(self, wall: float) -> dict[str, Any]:
         n = max(1, self.counts["steps"])
         return {"solver": self.name, "method": self.method, "h": self.h, "max_order": METHODS[self.method],
-                **self.counts, "mean_step_wall": self.counts["step_wall"] / n}
+                "realtime": self.realtime, **self.counts, "mean_step_wall": self.counts["step_wall"] / n}
 
 
 class FixedStepNative(IdaC):
@@ -329,7 +336,7 @@ class FixedStepNative(IdaC):
             out.pop(key, None)
         fixed = self.drv.fixed_stats()
         fixed.pop("steps")
-        return {**out, "method": self.method, "h": self.h, **fixed,
+        return {**out, "method": self.method, "h": self.h, "realtime": self.realtime, **fixed,
                 "mean_step_wall": fixed["step_wall"] / max(1, self.drv.stats()["steps"])}
 
 

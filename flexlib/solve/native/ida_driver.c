@@ -666,6 +666,7 @@ typedef struct fixed_s {
     double told;
     double *yprev, *yold, *ypold, *base, *pred, *g;
     double *save; /* the start point (y, yp) of each halving level */
+    double *wlast; /* the last weighted correction (damping of a correction that turns back) */
     int max_halvings;
     N_Vector vy, vyp, vr, vdy;
     int *rel;
@@ -688,8 +689,8 @@ static void fx_restart(fixed_t *x) {
 
 static void fx_free(fixed_t *x) {
     if (!x) return;
-    double *bufs[7] = {x->yprev, x->yold, x->ypold, x->base, x->pred, x->g, x->save};
-    for (int i = 0; i < 7; i++) free(bufs[i]);
+    double *bufs[8] = {x->yprev, x->yold, x->ypold, x->base, x->pred, x->g, x->save, x->wlast};
+    for (int i = 0; i < 8; i++) free(bufs[i]);
     N_Vector vs[4] = {x->vy, x->vyp, x->vr, x->vdy};
     for (int i = 0; i < 4; i++)
         if (vs[i]) N_VDestroy(vs[i]);
@@ -722,11 +723,12 @@ int fd_set_fixed_step(drv_t *d, double h, int bdf2, int iters, int max_halvings,
     x->g = malloc(sizeof(double) * (d->nroot ? d->nroot : 1));
     x->rel = malloc(sizeof(int) * (d->nroot ? d->nroot : 1));
     x->save = malloc(sizeof(double) * 2 * n * (max_halvings > 0 ? max_halvings : 1));
+    x->wlast = malloc(sizeof(double) * n);
     x->vy = N_VNew_Serial(n, d->ctx);
     x->vyp = N_VNew_Serial(n, d->ctx);
     x->vr = N_VNew_Serial(n, d->ctx);
     x->vdy = N_VNew_Serial(n, d->ctx);
-    if (!x->yprev || !x->yold || !x->ypold || !x->base || !x->pred || !x->g || !x->rel || !x->save || !x->vy || !x->vyp
+    if (!x->yprev || !x->yold || !x->ypold || !x->base || !x->pred || !x->g || !x->rel || !x->save || !x->wlast || !x->vy || !x->vyp
         || !x->vr || !x->vdy) {
         fx_free(x);
         return -1;
@@ -757,7 +759,7 @@ static int fx_corrections(drv_t *d, fixed_t *x, double t1, double c, int fresh, 
         x->lu_ok = 1;
         x->c_lu = c;
     }
-    double first = INFINITY, norm = INFINITY;
+    double first = INFINITY, norm = INFINITY, norm_last = 0.0;
     for (int it = 1; it <= x->iters; it++) {
         *k = it;
         for (int i = 0; i < n; i++) yp[i] = c * y[i] + x->base[i];
@@ -765,16 +767,21 @@ static int fx_corrections(drv_t *d, fixed_t *x, double t1, double c, int fresh, 
         if (resfn(t1, x->vy, x->vyp, x->vr, d)) return 0; /* not finite: neither converged nor contracting */
         for (int i = 0; i < n; i++) r[i] = -r[i];
         if (ls_solve(d->LS, d->A, x->vdy, x->vr, 0.0)) return 0;
-        double s = 0.0;
+        double s = 0.0, dot = 0.0;
         for (int i = 0; i < n; i++) {
             y[i] += dy[i];
             double w = dy[i] / (x->rtol * fabs(y[i]) + atol[i]);
             s += w * w;
+            dot += w * x->wlast[i];
+            x->wlast[i] = w;
         }
         norm = sqrt(s / n);
         if (!isfinite(norm)) return 0;
         if (norm < 1.0) return 1;
+        if (it > 1 && dot < -0.5 * norm * norm_last * n) /* the correction turns back on the last one: half of it */
+            for (int i = 0; i < n; i++) y[i] -= 0.5 * dy[i];
         if (it == 1) first = norm;
+        norm_last = norm;
     }
     x->contracting = x->iters == 1 || norm < first;
     return 0;
