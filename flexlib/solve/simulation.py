@@ -46,7 +46,27 @@ from flexlib.solve.start_cache import load_start, store_start
 from flexlib.solve.static import integrate_static
 from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["Experiment", "Simulation"]
+__all__ = ["Experiment", "Simulation", "StartPoint"]
+
+
+@dataclasses.dataclass(frozen=True)
+class StartPoint:
+    """The consistent start as the integrator sees it (:meth:`Simulation.start_point`).
+
+    Attributes
+    ----------
+    t : float
+        Start time [s].
+    p : numpy.ndarray
+        The parameter vector (``compiled.param_names``, SI units) followed by the relation values (0/1) there.
+    y, yp : numpy.ndarray
+        The unknowns ``compiled.y_names`` and their time derivatives [SI units, per second].
+    """
+
+    t: float
+    p: np.ndarray
+    y: np.ndarray
+    yp: np.ndarray
 
 
 class Simulation:
@@ -396,6 +416,7 @@ class Simulation:
         starts, pvec, p, y0, yp0 = self._start_on_fitting_build(opts.t_start, starts, pvec, p, opts.params,
                                                                 opts.steady_state)
         t_init = _time.perf_counter() - wall
+        self._start = StartPoint(float(opts.t_start), p.copy(), y0.copy(), yp0.copy())
         m = self.compiled
         check_assertions(m, p, opts.t_start)
         traj = Trajectory(models=[m])
@@ -403,6 +424,14 @@ class Simulation:
                       "state_switches": 0}
         traj.add(opts.t_start, y0, yp0, p[m.n_params:])
         return self._result(traj, pvec, t_init, opts.rtol, opts.atol)
+
+    def start_point(self, *, t_start: float | None = None, params: dict[str, Any] | None = None,
+                    steady_state: bool = False) -> StartPoint:
+        """The consistent start of :meth:`initialize` (arguments and errors as there) in the integrator's terms: the
+        parameter and relation-value vector and the unknowns with their derivatives, for code that steps the compiled
+        model itself (an exported FMU, :func:`flexlib.fmi.export_fmu`)."""
+        self.initialize(t_start=t_start, params=params, steady_state=steady_state)
+        return self._start
 
     def _parameters(self, params: dict[str, Any] | None) -> tuple[dict, np.ndarray, np.ndarray]:
         """The instance's start values, its parameter vector with ``params`` applied, and that vector followed by

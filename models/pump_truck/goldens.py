@@ -66,8 +66,8 @@ from flexlib.errors import ResultFileError
 from flexlib.registry import get_model, run_scenario
 from flexlib.results.compare import tube
 
-__all__ = ["GOLDENS", "GOLDEN_DIR", "Mismatch", "compare", "golden_path", "golden_signals", "make_golden",
-           "report"]
+__all__ = ["GOLDENS", "GOLDEN_DIR", "Mismatch", "compare", "deviation_ratios", "golden_path", "golden_signals",
+           "make_golden", "report"]
 
 #: Where the golden files live (in the repository's tests).
 GOLDEN_DIR = Path(__file__).resolve().parents[2] / "tests" / "models" / "goldens"
@@ -272,6 +272,51 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
     from the result is a mismatch at t = golden start with a NaN value. With ``plot_dir``, an overlay of the failing
     signals is written to ``plot_dir/golden-<scenario>.png``.
     """
+    golden, grid, checks = _checks(result, golden, t_end)
+    new: dict[str, np.ndarray] = {}
+    out: list[Mismatch] = []
+    for c in checks:
+        if c.new is None:
+            out.append(Mismatch(c.name, float(grid[0]), float(c.golden[0]), float("nan"), c.tol, c.unit))
+            continue
+        new[c.name] = c.new
+        i = int(np.argmax(c.ratio))
+        if c.ratio[i] > 1 or not np.all(np.isfinite(c.new)):
+            out.append(Mismatch(c.name, float(grid[i]), float(c.golden[i]), float(c.new[i]),
+                                c.tol + float(c.spread[i]), c.unit, float(c.spread[i])))
+    if out and plot_dir is not None:
+        _plot(golden, grid, new, out, Path(plot_dir))
+    return out
+
+
+def deviation_ratios(result: fl.Result, golden: fl.Result | str | Path, t_end: float | None = None
+                     ) -> dict[str, float]:
+    """Per golden signal, the largest deviation of ``result`` from the golden in units of the signal's tolerance
+    (``≤ 1``: :func:`compare` passes it; ``inf`` for a signal the result lacks or that is not finite), measured as
+    :func:`compare` measures (the same sampling, time shift and round-off spread; arguments as there). For
+    accuracy reports: how far another solver (``benchmarks/fixed_step.py``) is from the golden IDA runs."""
+    _, _, checks = _checks(result, golden, t_end)
+    return {c.name: (float(np.max(c.ratio)) if c.new is not None and np.all(np.isfinite(c.new)) else float("inf"))
+            for c in checks}
+
+
+@dataclass(frozen=True)
+class _Check:
+    """One golden signal against a result: the golden samples, the result's, and the ratio of their deviation to the
+    tolerance (tolerance + spread) per sample."""
+
+    name: str
+    golden: np.ndarray
+    new: np.ndarray | None
+    ratio: np.ndarray
+    tol: float
+    spread: np.ndarray
+    unit: str
+
+
+def _checks(result: fl.Result, golden: fl.Result | str | Path, t_end: float | None
+            ) -> tuple[fl.Result, np.ndarray, list[_Check]]:
+    """The golden (loaded), its grid up to ``t_end`` and every signal's :class:`_Check` (see :func:`compare`)."""
     if not isinstance(golden, fl.Result):
         path = Path(golden)
         if not path.exists():
@@ -290,8 +335,7 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
     signals = [k for k, n in enumerate(golden.names) if not n.startswith("spread(")]
     names = [golden.names[k] for k in signals]
     values = golden.values[:, signals]
-    new: dict[str, np.ndarray] = {}
-    out: list[Mismatch] = []
+    checks = []
     for k, name in enumerate(names):
         atol, rtol = TOLERANCES[_kind(name)]
         tol = atol + rtol * float(np.ptp(values[:, k]))  # the signal's tolerance over the whole golden
@@ -301,17 +345,11 @@ def compare(result: fl.Result, golden: fl.Result | str | Path, plot_dir: Path | 
         unit = golden.units[golden.names.index(name)]
         sample = _sampler(result, name)
         if sample is None:
-            out.append(Mismatch(name, float(grid[0]), float(g[0]), float("nan"), tol, unit))
+            checks.append(_Check(name, g, None, np.full(len(g), np.inf), tol, spread, unit))
             continue
-        new[name] = sample(grid)
         _, ratio = tube(grid, g, sample, tol + spread, _shift(grid))  # the tube of flexlib compare
-        i = int(np.argmax(ratio))
-        if ratio[i] > 1 or not np.all(np.isfinite(new[name])):
-            out.append(Mismatch(name, float(grid[i]), float(g[i]), float(new[name][i]), tol + float(spread[i]), unit,
-                                float(spread[i])))
-    if out and plot_dir is not None:
-        _plot(golden, grid, new, out, Path(plot_dir))
-    return out
+        checks.append(_Check(name, g, sample(grid), ratio, tol, spread, unit))
+    return golden, grid, checks
 
 
 def _plot(golden: fl.Result, grid: np.ndarray, new: dict[str, np.ndarray], bad: list[Mismatch],

@@ -1,6 +1,7 @@
 """A fixed-step implicit integrator for the index-reduced DAE (``solver=fl.FixedStep(h=1e-3)``): real-time use.
 
-Every step has the same size ``h`` (a step that would pass a time event or the end is shortened to land on it) and a
+Every step has the same size ``h`` (a step that would pass a time event or the end is shortened to land on it; one that
+ends there up to round-off keeps its size and the formula's history) and a
 bounded cost: at most ``newton_iters`` Newton corrections, stopping early when the weighted correction is below 1 (the
 measure IDA's Newton iteration uses). A step whose corrections do not converge is taken as two implicit-Euler halves
 instead, each halved again where needed, up to ``max_halvings`` times (default 2: a step costs at most seven step
@@ -131,13 +132,16 @@ class FixedStepIntegrator:
                 return Stop("tstop", self.t, steps, rows)
             h = self.h
             landing = self.t + h >= t_stop - 1e-9 * h
-            if landing:
+            short = landing and t_stop - self.t < h * (1.0 - 1e-9)  # landing on a whole step keeps its size
+            if short:
                 h = t_stop - self.t
-            bdf2 = self.method == "bdf2" and self.y_prev is not None and not landing
+            bdf2 = self.method == "bdf2" and self.y_prev is not None and not short
             t_old, y_old, yp_old = self.t, self.y, self.yp
             ok = self.step(h, bdf2)
+            if ok and landing:
+                self.t = t_stop  # a whole step ends on t_stop up to round-off
             steps += 1
-            self.y_prev = None if landing else y_old
+            self.y_prev = None if short else y_old
             self.output(rows, t_old, y_old, yp_old)
             if not ok:
                 return Stop("failed", self.t, steps, rows, message=diverged(self.t, self.newton_iters, self.h))

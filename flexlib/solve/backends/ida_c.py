@@ -43,7 +43,8 @@ from flexlib.solve.native import (
     klu_available,
 )
 
-__all__ = ["CHUNK_STEPS", "CHUNK_WALL", "KLU_MIN", "RECOVERABLE", "IdaC", "linear_solver", "make_driver"]
+__all__ = ["CHUNK_STEPS", "CHUNK_WALL", "KLU_MIN", "RECOVERABLE", "IdaC", "indicator_function", "linear_solver",
+           "make_driver", "zc_function"]
 
 #: IDA failures after which the run restarts from the last accepted point (``IDA_ERR_FAIL``, ``IDA_CONV_FAIL``)
 RECOVERABLE = {-3: "IDA_ERR_FAIL", -4: "IDA_CONV_FAIL"}
@@ -194,14 +195,20 @@ def zc_function(model: CompiledModel, p: np.ndarray, state_rel: np.ndarray) -> c
     cached = model._functions.get("ida_native")
     if cached is not None and cached.get("zc_fn") is not None:
         return cached["zc_fn"]
+    return indicator_function(model, len(p), state_rel)
+
+
+def indicator_function(model: CompiledModel, n_p: int, relations: Any) -> ca.Function:
+    """``flexlib_zc(t, y, y', p)``: the indicators of ``relations`` (indices into ``model.relations``), an exact zero
+    handed over as ±1e-300 on the side of the relation's value there (:func:`~flexlib.solve.events.off_zero`), so that
+    an indicator's sign is its relation's value; ``n_p``: the length of ``p`` (parameters and relation values)."""
     ind = model.sx_function("ind")
     t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n)
-    pp = ca.SX.sym("p", len(p))
+    pp = ca.SX.sym("p", n_p)
     z = ind(t, y, yp, pp)
-    # an exact zero handed to IDA as ±1e-300 on the side of the relation's value there (events.off_zero)
     return ca.Function("flexlib_zc", [t, y, yp, pp],
                        [ca.vertcat(*[off_zero(z[int(k)], model.relations[int(k)].strict, pp[model.n_params + int(k)])
-                                     for k in state_rel])])
+                                     for k in relations])])
 
 
 def linear_solver(model: CompiledModel, forced: str | None = None) -> str:

@@ -38,7 +38,8 @@ from flexlib.compile.environment import env_default
 from flexlib.errors import FlexlibError, NativeSolverError
 
 __all__ = ["FD_CHUNK", "FD_DIVERGED", "FD_FULL", "FD_ROOT", "FD_TINY", "FD_TSTOP", "LINEAR_SOLVERS", "Driver",
-           "NativeUnavailable", "cpu_clock", "driver_library", "klu_available", "native_available", "use_cpu_clock"]
+           "NativeUnavailable", "cpu_clock", "driver_library", "klu_available", "klu_library", "native_available",
+           "use_cpu_clock"]
 
 FD_TSTOP, FD_FULL, FD_ROOT, FD_CHUNK, FD_TINY, FD_DIVERGED = 0, 1, 2, 3, 4, 5
 #: Linear solvers of the driver and their codes in ``ida_driver.c`` (``LS_DENSE``, ``LS_SUPERLUMT``, ``LS_KLU``)
@@ -188,7 +189,7 @@ def _lib() -> ctypes.CDLL:
         return lib
 
 
-def _klu_library() -> Path | None:
+def klu_library() -> Path | None:
     """KLU (SuiteSparse) as shipped in the kvxopt wheel (``kvxopt.libs/libklu-*.so*``), or None.
 
     The SUNDIALS that scikit-sundae bundles has no KLU; kvxopt's wheel carries SuiteSparse's shared libraries
@@ -216,7 +217,7 @@ def klu_available() -> bool:
     with _LOCK:
         if not _KLU:
             klu = None
-            path = _klu_library()
+            path = klu_library()
             if path is not None:
                 try:
                     cand = ctypes.CDLL(str(path))

@@ -71,6 +71,8 @@ int IDASetDeltaCjLSetup(void *mem, sunrealtype dcj);
 int IDASetMaxNonlinIters(void *mem, int maxcor);
 int IDASetNonlinConvCoef(void *mem, sunrealtype epcon);
 int IDASetMaxOrd(void *mem, int maxord);
+int IDACalcIC(void *mem, int icopt, sunrealtype tout1);
+int IDAGetConsistentIC(void *mem, N_Vector yy0, N_Vector yp0);
 int IDAGetNumLinSolvSetups(void *mem, long int *nlinsetups);
 int IDAGetNumNonlinSolvIters(void *mem, long int *nniters);
 int IDAGetNumNonlinSolvConvFails(void *mem, long int *nncfails);
@@ -415,7 +417,11 @@ static SUNLinearSolver ls_create(drv_t *d) {
     } else {
         d->A = SUNSparseMatrix(d->n, d->n, d->nnz ? d->nnz : 1, CSC_MAT, d->ctx);
         if (d->linsol == LS_SUPERLUMT) {
+#ifndef FD_NO_SUPERLUMT /* an exported FMU links neither SuperLU_MT nor the BLAS it needs */
             d->inner = d->A ? SUNLinSol_SuperLUMT(d->y, d->A, 1, d->ctx) : NULL;
+#else
+            d->inner = NULL;
+#endif
         } else {
             if (!KLU.defaults || KLU.defaults(&d->klu) != 1) return NULL;
         }
@@ -606,6 +612,15 @@ int fd_set_newton(drv_t *d, double dcj, int maxcor, double epcon) {
     if (maxcor > 0) f |= IDASetMaxNonlinIters(d->mem, maxcor);
     if (epcon > 0) f |= IDASetNonlinConvCoef(d->mem, epcon);
     return f;
+}
+
+/* Consistent algebraic unknowns and derivatives for the differential unknowns held (IDACalcIC, IDA_YA_YDP_INIT),
+ * from the current point; tout1: the first output time (sets CalcIC's trial step). 0, or IDA's flag. */
+int fd_calc_ic(drv_t *d, double tout1) {
+    int flag = IDAReInit(d->mem, d->tcur, d->y, d->yp);
+    if (!flag) flag = IDACalcIC(d->mem, 1, tout1);
+    if (!flag) flag = IDAGetConsistentIC(d->mem, d->y, d->yp);
+    return flag;
 }
 
 /* Highest BDF order IDA may use (1..5). */
@@ -945,8 +960,9 @@ static int fx_advance(drv_t *d, double t_stop, long max_chunk, double *T, double
         if (d->tcur >= t_stop) { *steps_out = steps; return FD_TSTOP; }
         double h = x->h;
         int landing = d->tcur + h >= t_stop - 1e-9 * h;
-        if (landing) h = t_stop - d->tcur;
-        int bdf2 = x->bdf2 && x->have_prev && !landing;
+        int shortened = landing && t_stop - d->tcur < h * (1.0 - 1e-9); /* a whole step keeps its size */
+        if (shortened) h = t_stop - d->tcur;
+        int bdf2 = x->bdf2 && x->have_prev && !shortened;
         x->told = d->tcur;
         memcpy(x->yold, N_VGetArrayPointer(d->y), sizeof(double) * d->n);
         memcpy(x->ypold, N_VGetArrayPointer(d->yp), sizeof(double) * d->n);
@@ -958,8 +974,9 @@ static int fx_advance(drv_t *d, double t_stop, long max_chunk, double *T, double
             x->yprev = x->yold;
             x->yold = tmp;
             memcpy(x->yold, x->yprev, sizeof(double) * d->n);
-            x->have_prev = !landing;
+            x->have_prev = !shortened;
             d->hlast = h;
+            if (landing) d->tcur = t_stop; /* a whole step ends on t_stop up to round-off */
         }
         int next = !ok ? FD_DIVERGED : fx_roots(d, x) ? FD_ROOT : landing ? FD_TSTOP : -1000;
         if (ok) fx_pace(d, x);
