@@ -70,12 +70,11 @@ def check_inputs(root: Component, nodes: list[Node]) -> None:
                     fed.add(id(item[1]))
     for node in nodes:
         for name, decl in node._decls.items():
-            if decl.kind is Kind.input and not isinstance(node, Connector):
+            if decl.kind is Kind.input and not isinstance(node, Connector) and node is not root:
                 info = lookup(node._symbol(name).nz[0])
                 if id(info) not in fed:
-                    where = "top-level inputs are not supported; " if node is root else ""
                     raise ModelError(f"input {node._label(name)} [{decl.unit}] is not connected "
-                                     f"({where}connect it to a signal source)")
+                                     "(connect it to a signal source)")
 
 
 def unconnected_components(root: Component, nodes: list[Node], rows: list[FlatEquation]) -> list[Component]:
@@ -189,8 +188,12 @@ def check_symbols(flat: FlatSystem) -> None:
                 return f"{e.owner or '(model)'}: {kind} '{render(e.expr, 110)} = 0'{label} uses"
         return "an equation uses"
 
+    inputs = {q.sym.element_hash() for q in flat.parameters if q.decl_name in q.node._decls
+               and q.node._decls[q.decl_name].kind is Kind.input}  # top-level inputs: parameters of the flat model
     for s in ca.symvar(exprs):
         info = lookup(s)
+        if info is not None and s.element_hash() in inputs:
+            continue
         if info is None:
             raise ModelError(f"{where(s)} symbol {s}, which is not a flexlib variable or parameter (a casadi "
                              "symbol made with ca.SX.sym? declare it with Variable() or Parameter())")

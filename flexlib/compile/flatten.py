@@ -151,6 +151,14 @@ def _declarations(nodes: list[Node]) -> tuple[list[FlatVariable], list[FlatParam
     for node in nodes:
         node.validate()  # cross-parameter rules, now with the instance path known
         for name, decl in node._decls.items():
+            if node._parent is None and decl.kind is Kind.input and not isinstance(node, Connector):
+                decl = decl.as_parameter()  # a top-level input: a run-time parameter (an FMU's input)
+                value = node.start_of(name)[0]
+                flat_vals = np.asarray(value, dtype=float).flatten(order="F")
+                for k, (label, sym) in enumerate(_scalars(node, name)):
+                    parameters.append(FlatParameter(label, sym, float(flat_vals[k]), decl.unit, decl.doc, node.path,
+                                                    decl, node, name, ()))
+                continue
             if isinstance(decl, Parameter):
                 value = node.parameter_value(name)
                 if value is None:

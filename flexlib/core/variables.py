@@ -475,9 +475,23 @@ class Flow(Variable):
 
 
 class Input(Variable):
-    """A causal signal input: its value comes from the output it is connected to."""
+    """A causal signal input: its value comes from the output it is connected to.
+
+    An input of the top-level model (Modelica's top-level ``input``) is connected to nothing inside the model: it is
+    a run-time parameter whose value is its start value (default 0) unless ``run(params={name: value})`` sets it, and
+    the input an FMI master sets between steps in an exported unit (:func:`flexlib.fmi.export_fmu`).
+    """
 
     kind = Kind.input
+
+    def as_parameter(self) -> Parameter:
+        """The parameter a top-level input is in the flat model (its start value as default, its unit and doc)."""
+        found = self.__dict__.get("_parameter")
+        if found is None:
+            start = 0.0 if self.start is None else self.start
+            found = Parameter(start, unit=self.unit, doc=self.doc, shape=self.shape)
+            self.__dict__["_parameter"] = found
+        return found
 
 
 class Output(Variable):

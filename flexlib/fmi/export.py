@@ -176,7 +176,8 @@ def _top_level_inputs(model: Any) -> list[str]:
     """Names of the model's top-level ``Input`` declarations (parameters of the run a master sets between steps)."""
     from flexlib.core.variables import Kind
 
-    return [name for name, decl in getattr(model, "_decls", {}).items() if getattr(decl, "kind", None) is Kind.input]
+    return [label for name, decl in getattr(model, "_decls", {}).items() if getattr(decl, "kind", None) is Kind.input
+            for label, _ in decl.element_names(name)]
 
 
 def _empty_zc(n: int, n_p: int) -> ca.Function:

@@ -81,6 +81,7 @@ typedef struct {
     double t;               /* the time reached */
     double t_start, t_stop;
     int initialised, changed, terminated;
+    int inputs_changed; /* an input set since the last step: an event (a restart) before the next one */
     double out[NOUT > 0 ? NOUT : 1];
     int out_valid;
     fun_t outf, tevf;
@@ -282,7 +283,10 @@ EXPORT fmi2Status fmi2SetReal(fmi2Component comp, const fmi2ValueReference vr[],
             say(c, fmi2Error, "logStatusError", "fmi2SetReal: %s = %g is not finite", VAR_NAME[vr[i]], value[i]);
             return fmi2Error;
         }
-        if (c->p[VAR_INDEX[vr[i]]] != value[i] && !c->initialised) c->changed = 1;
+        if (c->p[VAR_INDEX[vr[i]]] != value[i]) {
+            if (c->initialised) c->inputs_changed = 1;
+            else c->changed = 1;
+        }
         c->p[VAR_INDEX[vr[i]]] = value[i];
         c->out_valid = 0;
     }
@@ -385,6 +389,11 @@ EXPORT fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real t, fmi2Real H, fmi2Boo
     double T[1], Y[N > 0 ? N : 1], YP[N > 0 ? N : 1], t_now = t;
     int rows = 0, events = 0;
     long steps = 0;
+    if (c->inputs_changed) { /* a jump of an input is an event: consistent point, relations, restart */
+        c->inputs_changed = 0;
+        if (settle(c)) return fmi2Error;
+        fd_set_grid(c->drv, c->grid, 1);
+    }
     double t_event = next_time_event(c, t);
     for (;;) {
         int code = fd_advance(c->drv, fmin(t_event, t_end), 1L << 40, T, Y, YP, 1, &rows, &t_now, &steps);

@@ -18,7 +18,7 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.compile.constants import check_assumed
 from flexlib.core.component import Component
 from flexlib.core.values import numeric_array
-from flexlib.core.variables import Parameter
+from flexlib.core.variables import Input, Parameter
 from flexlib.errors import ParameterError
 
 __all__ = ["ParameterTable"]
@@ -125,6 +125,8 @@ class ParameterTable:
         if node is None:
             return None
         decl = node._decls.get(base)
+        if isinstance(decl, Input) and node is self.model:
+            decl = decl.as_parameter()  # a top-level input is a run-time parameter
         if not isinstance(decl, Parameter):
             return None
         elem = None if "[" not in leaf else leaf
