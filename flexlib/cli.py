@@ -271,6 +271,43 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
         raise click.ClickException(problem)
 
 
+@cli.command("export-fmu")
+@click.argument("model")
+@once_option("-s", "--scenario", help="Scenario whose model options, parameters and start time the unit takes "
+                                      "(default: the model's).")
+@once_option("-o", "--out", required=True, type=click.Path(dir_okay=False), help="The unit to write (.fmu).")
+@once_option("--step", type=click.FloatRange(min=0.0, min_open=True), help="The unit's fixed step [s] (default "
+                                                                          "0.001).")
+@click.option("-p", "--param", "params", multiple=True, metavar="NAME=VALUE",
+              help="Parameter value of the unit's start in SI units (repeatable).")
+@click.option("--output", "outputs", multiple=True, metavar="NAME",
+              help="A variable the unit outputs (repeatable; default: the model's summary signals, else its "
+                   "top-level outputs or states).")
+@once_option("--flexible/--rigid", help="Shorthand for the model option flexible=true / false.")
+@friendly
+def export_fmu_cmd(model: str, scenario: str | None, out: str, step: float | None, params: tuple[str, ...],
+                   outputs: tuple[str, ...], flexible: bool | None) -> None:
+    """Export MODEL (in a scenario) as an FMI 2.0 co-simulation unit for Linux x86-64 (docs/fmi.md)."""
+    step = 1e-3 if step is None else step
+    from flexlib import registry
+    from flexlib.fmi import export_fmu
+    from flexlib.solve.simulation import Simulation
+
+    overrides = _parse_params(params)
+    entry = registry.get_model(model)
+    scen = registry.get_scenario(model, scenario)
+    if flexible is not None:
+        entry.option("flexible", f"--{'flexible' if flexible else 'rigid'}: model {model!r}: ")
+        scen = dataclasses.replace(scen, options={**scen.options, "flexible": flexible})
+    instance, scen = registry.scenario_model(model, scen)
+    sim = Simulation(instance)
+    names = {v.name for v in sim.compiled.variables}
+    chosen = list(outputs) or [n for n in entry.signals(instance) if n in names] or None
+    path = export_fmu(sim, out, h=step, params={**dict(scen.params), **overrides}, outputs=chosen,
+                      t_start=scen.run.get("t_start"), name=model.replace("-", "_"))
+    say("Wrote", f"{path} ({path.stat().st_size / 1e6:.1f} MB): {len(chosen or [])} outputs, step {step:g} s")
+
+
 def _recorded_run(from_file: str) -> tuple[Any, Any]:
     """The run record of ``--from FILE`` and its scenario, checked: every problem of the record names the file."""
     from flexlib import registry

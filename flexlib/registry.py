@@ -60,7 +60,7 @@ from flexlib.scenario import RUN_OPTIONS, ModelOption, Scenario, check_params, f
 
 __all__ = ["RUN_OPTIONS", "ModelEntry", "ModelOption", "RunRecord", "Scenario", "ScenarioRun", "get_model",
            "get_scenario", "import_user_module", "models", "register_model", "register_scenario", "run_scenario",
-           "run_settings"]
+           "run_settings", "scenario_model"]
 
 
 
@@ -474,6 +474,15 @@ def run_scenario(model: str, scenario: str | Scenario | None = None, *, params: 
     result.metadata["run"] = recorded
     _save_kept(result, out, "the result", opts.get("outputs"))
     return ScenarioRun(result, instance, entry, scen, c1 - c0, c2 - c1)
+
+
+def scenario_model(model: str, scenario: str | Scenario | None = None) -> tuple[Any, Scenario]:
+    """The model instance a scenario of a registered model runs (``entry.factory``; its failures name the model and
+    the scenario) and the scenario, checked against the model: for code that uses the model otherwise than by
+    :func:`run_scenario` (``flexlib export-fmu``). The scenario's parameter overrides are ``scenario.params``."""
+    entry = get_model(model)
+    scen = entry.checked(scenario if isinstance(scenario, Scenario) else entry.scenario(scenario))
+    return _build_instance(entry, scen), scen
 
 
 def _checked_request(entry: ModelEntry, scenario: str | Scenario | None, params: Mapping[str, float] | None,

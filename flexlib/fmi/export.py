@@ -47,6 +47,7 @@ from xml.sax.saxutils import quoteattr
 import casadi as ca
 import numpy as np
 
+from flexlib.compile.gcc import gcc_level
 from flexlib.errors import FlexlibError, ModelError, RunArgumentError
 
 __all__ = ["export_fmu"]
@@ -315,11 +316,18 @@ def _build(path: Path, ident: str, functions: list[ca.Function], header: str, xm
         for src in ("model.c", "fmu_data.h", "ida_driver.c", "fmu_cs.c"):
             shutil.copy(work / src, sources / src)
         target = binaries / f"{ident}.so"
-        cmd = [cc, "-O2", "-shared", "-fPIC", "-fvisibility=hidden", str(work / "fmu_cs.c"), str(work / "model.c"),
-               "-I", str(work), "-o", str(target), *map(str, libs), "-Wl,-rpath,$ORIGIN", "-lm"]
-        proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
-        if proc.returncode != 0:
-            raise FlexlibError(f"export_fmu: gcc failed on the unit's code:\n{proc.stderr[-3000:]}")
+        with (work / "model.c").open() as fh:
+            lines = sum(1 for _ in fh)
+        steps = [[cc, gcc_level(lines, background=True), "-c", "-fPIC", "-fvisibility=hidden", str(work / "model.c"),
+                  "-o", str(work / "model.o")],
+                 [cc, "-O2", "-c", "-fPIC", "-fvisibility=hidden", "-I", str(work), str(work / "fmu_cs.c"), "-o",
+                  str(work / "fmu_cs.o")],
+                 [cc, "-shared", str(work / "fmu_cs.o"), str(work / "model.o"), "-o", str(target), *map(str, libs),
+                  "-Wl,-rpath,$ORIGIN", "-lm"]]
+        for cmd in steps:
+            proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
+            if proc.returncode != 0:
+                raise FlexlibError(f"export_fmu: gcc failed on the unit's code:\n{proc.stderr[-3000:]}")
         for lib in libs:
             shutil.copy(lib, binaries / lib.name)
         (unit / "modelDescription.xml").write_text(xml)
