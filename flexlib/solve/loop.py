@@ -22,6 +22,7 @@ from flexlib.errors import AccuracyWarning, SimulationInterrupted, SolverError
 from flexlib.solve.backends.base import Integrator, Limits, Stop
 from flexlib.solve.diagnose import failure_message
 from flexlib.solve.events import event_iteration, next_time_event, settled, time_triggers, watch
+from flexlib.solve.sampling import Samplers
 from flexlib.solve.signals import interrupted
 from flexlib.solve.trajectory import Progress, Trajectory
 
@@ -38,7 +39,7 @@ STATS_KEYS = ("steps", "nfev", "njev", "state_events", "time_events", "restarts"
 
 def run_loop(integ: Integrator, model: CompiledModel, init: Any, p: np.ndarray, y0: np.ndarray, yp0: np.ndarray,
              t0: float, t_end: float, t_out: np.ndarray | None, *, max_steps: int = 5_000_000,
-             progress: bool | None = None, monitor: Any = None) -> Trajectory:
+             progress: bool | None = None, monitor: Any = None, sampled: list[Any] | None = None) -> Trajectory:
     """Integrate from the consistent ``y0, yp0`` at ``t0`` to ``t_end`` [s] with ``integ``.
 
     Parameters
@@ -59,6 +60,8 @@ def run_loop(integ: Integrator, model: CompiledModel, init: Any, p: np.ndarray, 
         Show a progress bar; None shows one when the run takes longer than 2 s.
     monitor : StateSelectionMonitor, optional
         Dynamic state selection, checked on the monitor's schedule (backends with ``monitors``).
+    sampled : list, optional
+        Sampled blocks of the model (:mod:`flexlib.solve.sampling`): the run stops at their instants.
 
     Returns
     -------
@@ -72,7 +75,15 @@ def run_loop(integ: Integrator, model: CompiledModel, init: Any, p: np.ndarray, 
     SimulationInterrupted
         Ctrl-C or SIGTERM; ``err.result`` is the trajectory up to the interrupt.
     """
-    return _Loop(integ, model, init, p, t0, t_end, max_steps, progress, monitor).run(y0, yp0, t_out)
+    loop = _Loop(integ, model, init, p, t0, t_end, max_steps, progress, monitor)
+    if not sampled:
+        return loop.run(y0, yp0, t_out)
+    loop.samplers = Samplers(sampled, model, t0)
+    loop.samplers.start()
+    try:
+        return loop.run(y0, yp0, t_out)
+    finally:
+        loop.samplers.stop()
 
 
 class _Loop:
@@ -95,6 +106,7 @@ class _Loop:
         self.unseen = 0  # steps taken since the monitor last saw one
         self.now: tuple[np.ndarray, np.ndarray] | None = None  # (y, yp) at t, once fetched in this round
         self.rel = p[self.n_par:].copy()  # the relation values of the rows until the next event
+        self.samplers: Samplers | None = None
 
     def run(self, y0: np.ndarray, yp0: np.ndarray, t_out: np.ndarray | None) -> Trajectory:
         integ, traj, stats = self.integ, self.traj, self.stats
@@ -107,6 +119,9 @@ class _Loop:
         integ.start(self.model, self.t, y0, yp0, self.p, grid, self.t_end)
         traj.add(self.t, y0, yp0, self.rel)
         self.restarted()
+        if self.samplers is not None:
+            self.now = (y0, yp0)
+            self.sample()  # the blocks' outputs after their initialisation, their first step
         clock = getattr(integ, "clock", _time.perf_counter)
         wall0 = clock()
         self.t_event, self.which = next_time_event(self.model, self.p, self.t, self.t_end)
@@ -144,7 +159,8 @@ class _Loop:
     def round(self) -> None:
         """One call of the integrator and what follows from where it stopped."""
         integ, stats = self.integ, self.stats
-        stop = integ.advance(min(self.t_end, self.t_event), self.limits())
+        t_sample = self.samplers.next_time() if self.samplers is not None else np.inf
+        stop = integ.advance(min(self.t_end, self.t_event, t_sample), self.limits())
         stats["steps"] += stop.steps
         self.unseen += stop.steps
         self.t, self.now = stop.t, None
@@ -202,6 +218,25 @@ class _Loop:
             self.event(kind, triggered, stop.kind == "root")
         if time_hit:
             self.t_event, self.which = next_time_event(model, p, t, self.t_end)
+        if self.samplers is not None and stop.kind in ("tstop", "root"):
+            self.sample()
+
+    def sample(self) -> None:
+        """The sampled blocks due now: their states set, the point made consistent, the integrator restarted."""
+        y, yp = self.state()
+        found = self.samplers.due(self.t, y, yp, self.p)
+        if found is None:
+            return
+        y1, blocks = found
+        self.traj.events.append((self.t, f"sample: {', '.join(blocks)}"))
+        self.traj.add(self.t, y, yp, self.rel)
+        y2, yp2 = event_iteration(self.model, self.init, self.p, self.t, y1, yp, [])
+        self.stats["samples"] = self.samplers.samples
+        self.integ.reinit(self.t, y2, yp2)
+        self.now = (y2, yp2)
+        self.rel = self.p[self.n_par:].copy()
+        self.traj.add(self.t, y2, yp2, self.rel)
+        self.restarted()
 
     def event(self, kind: str, triggered: list[tuple[int, bool]], root: bool) -> None:
         """Switch the relations, iterate, restart the integrator; rows before and after at the event time."""

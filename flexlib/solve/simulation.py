@@ -40,6 +40,7 @@ from flexlib.solve.options import Experiment, RunOptions, experiment_of, span_en
 from flexlib.solve.parameters import ParameterTable
 from flexlib.solve.rows import RowEvaluator, segments
 from flexlib.solve.run_options import check_params, check_run_arguments
+from flexlib.solve.sampling import sampled_blocks
 from flexlib.solve.signals import sigterm_as_interrupt
 from flexlib.solve.solvers import as_solver
 from flexlib.solve.start_cache import load_start, store_start
@@ -361,7 +362,8 @@ class Simulation:
             monitor = self._monitor() if m.has_state_choice and opts.dynamic_states and integ.monitors else None
             try:
                 return run_loop(integ, m, self.initializer, p, y0, yp0, opts.t_start, opts.t_end, opts.grid,
-                                max_steps=opts.max_steps, progress=opts.progress, monitor=monitor)
+                                max_steps=opts.max_steps, progress=opts.progress, monitor=monitor,
+                                sampled=sampled_blocks(self.model))
             except NativeSolverError:
                 if solver.fallback is None:
                     raise

@@ -25,7 +25,11 @@ if TYPE_CHECKING:  # the solver records and their names stay light (flexlib's co
     from flexlib.solve.backends.base import Integrator
     from flexlib.solve.trajectory import Trajectory
 
-__all__ = ["ALIASES", "IDA", "KINDS", "SOLVERS", "CasadiIDAS", "FixedStep", "Solver", "as_solver", "integrate"]
+__all__ = ["ALIASES", "IDA", "KINDS", "METHODS", "SOLVERS", "CasadiIDAS", "FixedStep", "Solver", "as_solver",
+           "integrate"]
+
+#: The formulas of :class:`FixedStep`: name → order
+METHODS = {"euler": 1, "bdf2": 2}
 
 #: Linear solvers of the C driver (``IDA(linear_solver=...)``)
 LINEAR_SOLVERS = ("dense", "klu", "superlumt")
@@ -191,8 +195,6 @@ class FixedStep(Solver):
     label = "fixed-step"
 
     def __post_init__(self) -> None:
-        from flexlib.solve.backends.fixed_step import METHODS
-
         if (isinstance(self.h, (bool, np.bool_)) or not isinstance(self.h, numbers.Real) or not np.isfinite(self.h)
                 or not self.h > 0):
             raise RunArgumentError(f"FixedStep(h={self.h!r}): the step must be a positive number of seconds")

@@ -56,12 +56,11 @@ from flexlib.solve.backends.base import DENSE_MAX, Limits, Stop, absolute_tolera
 from flexlib.solve.backends.ida_c import IdaC
 from flexlib.solve.events import relation_value, watched_relations
 from flexlib.solve.native import FD_DIVERGED
+from flexlib.solve.solvers import METHODS
 from flexlib.solve.sundae_callbacks import Callbacks
 
 __all__ = ["METHODS", "FixedStepIntegrator", "FixedStepNative"]
 
-#: The formulas: name → order
-METHODS = {"euler": 1, "bdf2": 2}
 
 Rows = tuple[list[float], list[np.ndarray], list[np.ndarray]]
 
