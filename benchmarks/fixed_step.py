@@ -99,7 +99,9 @@ def main() -> None:
                 st = m["stats"]
                 print(f"{variant} / h = {1e3 * h:g} ms: {m['t']:g} s in {m['cpu']:.2f} s CPU (rtf {m['rtf']:.1f}, "
                       f"/ IDA {m['cpu'] / peer['cpu']:.2f}); step mean {1e3 * st.get('mean_step_wall', 0):.3f} ms, "
-                      f"worst {1e3 * st.get('worst_step_wall', 0):.3f} ms; halved {st.get('halved_steps')}, "
+                      f"worst {1e3 * st.get('worst_step_wall', 0):.3f} ms "
+                      f"(at t = {st.get('worst_step_t', float('nan')):.4g} s); "
+                      f"halved {st.get('halved_steps')}, "
                       f"unconverged {st.get('unconverged_steps')}; worst deviation {m['ratio']:.2f} tolerances "
                       f"({m['worst_signal']}){'; FAILED: ' + m['failed'] if m['failed'] else ''}")
                 label = f"{variant}, h = {1e3 * h:g} ms"

@@ -97,6 +97,7 @@ class FixedStepIntegrator:
         self.rtol, self.atol, self.realtime, self.max_halvings = rtol, atol, bool(realtime), int(max_halvings)
         self.counts: dict[str, Any] = {"steps": 0, "nfev": 0, "njev": 0, "newton_iters": 0, "unconverged_steps": 0,
                                        "halved_steps": 0, "first_unconverged_t": float("nan"),
+                                       "worst_step_t": float("nan"),
                                        "worst_step_wall": 0.0, "step_wall": 0.0, "overruns": 0, "worst_late": 0.0}
         self.wall0: tuple[float, float] | None = None  # (wall clock, simulated time) of the first step (pacing)
 
@@ -162,7 +163,8 @@ class FixedStepIntegrator:
         self.counts["steps"] += 1
         wall = _time.perf_counter() - w0
         self.counts["step_wall"] += wall
-        self.counts["worst_step_wall"] = max(self.counts["worst_step_wall"], wall)
+        if wall > self.counts["worst_step_wall"]:
+            self.counts["worst_step_wall"], self.counts["worst_step_t"] = wall, t_end - h
         return ok
 
     def attempt(self, h: float, bdf2: bool, depth: int) -> bool:

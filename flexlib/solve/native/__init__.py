@@ -466,12 +466,13 @@ class Driver:
     def fixed_stats(self) -> dict[str, float]:
         """Fixed-step counters (:meth:`set_fixed_step`): steps, Newton corrections, unconverged steps, matrix
         evaluations, real-time overruns, halved steps; summed and worst step cost, worst lateness behind the wall
-        clock and the end of the first step taken unconverged (NaN: none) [s]."""
-        c, s = np.zeros(6, dtype=np.int64), np.zeros(4)
+        clock, the end of the first step taken unconverged (NaN: none) and the start of the costliest step [s]."""
+        c, s = np.zeros(6, dtype=np.int64), np.zeros(5)
         self._lib.fd_fixed_stats(self._ptr, c, s)
         return {"steps": int(c[0]), "newton_iters": int(c[1]), "unconverged_steps": int(c[2]), "njev": int(c[3]),
                 "overruns": int(c[4]), "halved_steps": int(c[5]), "step_wall": float(s[0]),
-                "worst_step_wall": float(s[1]), "worst_late": float(s[2]), "first_unconverged_t": float(s[3])}
+                "worst_step_wall": float(s[1]), "worst_late": float(s[2]), "first_unconverged_t": float(s[3]),
+                "worst_step_t": float(s[4])}
 
     def stats(self) -> dict[str, float]:
         """Evaluation counts, linear-solver counts and seconds spent in C."""

@@ -327,6 +327,14 @@ static int klu_full(drv_t *d, int *Ap, int *Ai, double *Ax) {
     return 0;
 }
 
+/* KLU's symbolic analysis of the iteration matrix's pattern (constant: the model's), once per driver. 0 or -1. */
+static int klu_analyze_pattern(drv_t *d) {
+    d->klu_reuse = klu_reuse_min_n > 0 && d->n >= klu_reuse_min_n;
+    d->klu.ordering = d->klu_reuse ? 1 : 0; /* COLAMD on the large models, AMD (KLU's default) below */
+    d->klu_sym = KLU.analyze(d->n, d->colind, d->row, &d->klu);
+    return d->klu_sym ? 0 : -1;
+}
+
 static int ls_setup(SUNLinearSolver S, SUNMatrix A) {
     drv_t *d = (drv_t *)S->content;
     double t0 = now();
@@ -336,12 +344,7 @@ static int ls_setup(SUNLinearSolver S, SUNMatrix A) {
     } else {
         int *Ap = SUNSparseMatrix_IndexPointers(A), *Ai = SUNSparseMatrix_IndexValues(A);
         double *Ax = SUNSparseMatrix_Data(A);
-        if (!d->klu_sym) {
-            d->klu_reuse = klu_reuse_min_n > 0 && d->n >= klu_reuse_min_n;
-            d->klu.ordering = d->klu_reuse ? 1 : 0; /* COLAMD on the large models, AMD (KLU's default) below */
-            d->klu_sym = KLU.analyze(d->n, Ap, Ai, &d->klu);
-            if (!d->klu_sym) { flag = -1; goto done; }
-        }
+        if (!d->klu_sym && klu_analyze_pattern(d)) { flag = -1; goto done; }
         if (d->klu_reuse && d->klu_num && KLU.refactor(Ap, Ai, Ax, d->klu_sym, d->klu_num, &d->klu)
             && KLU.rcond(d->klu_sym, d->klu_num, &d->klu) && d->klu.rcond >= klu_rcond_min * d->klu_rcond_full)
             flag = 0;
@@ -688,6 +691,7 @@ typedef struct fixed_s {
     long steps, newton, unconverged, njev, overruns, halved;
     double wall_sum, wall_worst, late_worst;
     double first_unconverged; /* end time of the first step taken unconverged (NAN: none) */
+    double worst_t;           /* start time of the costliest step */
     int realtime, rt_started;
     double speed, rt_wall0, rt_t0;
 } fixed_t;
@@ -752,6 +756,8 @@ int fd_set_fixed_step(drv_t *d, double h, int bdf2, int iters, int max_halvings,
     fx_free(d->fx);
     d->fx = x;
     d->hlast = h;
+    /* the pattern's symbolic analysis now, not in the first step: a step costs what any step with a fresh matrix does */
+    if (d->linsol == LS_KLU && !d->klu_sym && klu_analyze_pattern(d)) return -1;
     return 0;
 }
 
@@ -868,7 +874,10 @@ static int fx_step(drv_t *d, fixed_t *x, double h, int bdf2) {
     x->steps++;
     double w = now() - w0;
     x->wall_sum += w;
-    if (w > x->wall_worst) x->wall_worst = w;
+    if (w > x->wall_worst) {
+        x->wall_worst = w;
+        x->worst_t = t_end - h;
+    }
     return ok;
 }
 
@@ -996,7 +1005,7 @@ static int fx_advance(drv_t *d, double t_stop, long max_chunk, double *T, double
 
 /* Fixed-step counters: [steps, Newton corrections, unconverged steps, matrix evaluations, overruns, halved steps];
  * seconds: [sum of step costs, worst step cost, worst lateness behind the wall clock, end of the first unconverged
- * step (NAN: none)]. */
+ * step (NAN: none), start of the costliest step]. */
 void fd_fixed_stats(drv_t *d, long *counts, double *seconds) {
     fixed_t *x = d->fx;
     if (!x) return;
@@ -1010,6 +1019,7 @@ void fd_fixed_stats(drv_t *d, long *counts, double *seconds) {
     seconds[1] = x->wall_worst;
     seconds[2] = x->late_worst;
     seconds[3] = x->first_unconverged;
+    seconds[4] = x->worst_t;
 }
 
 /* Integrate towards t_stop one internal step at a time, writing output rows into T (cap), Y, YP
