@@ -73,13 +73,16 @@ _FLEXLIB_DATA: dict[str, Any] = {}
 
 
 def run_flexlib(n_modes: int, *, attachment: str = "pinned", geometric_stiffening: bool = True,
-                rtol: float = 1e-5, dt_out: float = 1e-3, recovered: bool = False) -> dict[str, Any]:
+                rtol: float = 1e-5, dt_out: float = 1e-3, recovered: bool = False, step: float | None = None
+                ) -> dict[str, Any]:
     """flexlib's FlexibleBody (``models/pinned_free_beam.py``) with the ``n_modes`` lowest in-plane bending modes of
     the same 32-element mesh: ``attachment="pinned"`` the hinged beam's modes, ``"clamped"`` the pin-clamped
     modes Exudyn gets. Timed with the compiled (C) model, as after a first run; IDA at ``rtol``, atol 1e-2·rtol,
     output every ``dt_out`` (the ±5 ms moment average is taken over these samples, as Exudyn's sensors every
     step). The errors are the same at rtol 1e-4…1e-7: the modes, not the integrator, limit the accuracy.
-    ``recovered``: the deflection and moment by mode-acceleration recovery (same run)."""
+    ``recovered``: the deflection and moment by mode-acceleration recovery (same run). ``step``: fixed steps of
+    that size instead of IDA (``fl.FixedStep``, BDF2 in C: the real-time integrator, issue 32)."""
+    import flexlib as fl
     from flexlib.models.pinned_free_beam import beam_modal_data, simulate
 
     c0 = time.process_time()
@@ -87,18 +90,21 @@ def run_flexlib(n_modes: int, *, attachment: str = "pinned", geometric_stiffenin
     if data is None:
         data = _FLEXLIB_DATA[attachment] = beam_modal_data(attachment=attachment)
     prep = time.process_time() - c0
+    solver = "ida" if step is None else fl.FixedStep(h=step)
     run = simulate(n_modes, data=data, geometric_stiffening=geometric_stiffening, rtol=rtol, atol=1e-2 * rtol,
-                   dt_fine=dt_out, compiled=True)
+                   dt_fine=dt_out, compiled=True, solver=solver)
     if recovered:  # mode-acceleration recovery of deflection and moment from the same run
         return {"t": run.t, "tip_y": run.tip_y, "tip_deflection": run.tip_deflection_ma,
                 "moment_mid_avg": run.moment_mid_avg_ma, "wall_time": run.run_wall, "cpu_time": run.run_time,
                 "setup_time": prep + run.build_time, "info": {"solver": f"IDA rtol {rtol:g}, mode acceleration"}}
     return {"t": run.t, "tip_y": run.tip_y, "tip_deflection": run.tip_deflection,
             "moment_mid_avg": run.moment_mid_avg, "wall_time": run.run_wall, "cpu_time": run.run_time,
-            "setup_time": prep + run.build_time, "info": {"solver": f"IDA rtol {rtol:g}"}}
+            "setup_time": prep + run.build_time,
+            "info": {"solver": f"IDA rtol {rtol:g}" if step is None else f"fixed step {step:g} s (BDF2)"}}
 
 
 FLEXLIB_RUNNER["flexlib"] = run_flexlib
+FLEXLIB_RUNNER["flexlib fixed 1 ms"] = lambda n: run_flexlib(n, step=1e-3)
 FLEXLIB_RUNNER["flexlib MA"] = lambda n: run_flexlib(n, recovered=True)
 FLEXLIB_RUNNER["flexlib clamped"] = lambda n: run_flexlib(n, attachment="clamped", geometric_stiffening=False)
 #: Step sizes [s] of Exudyn's convergence study, largest first (each divides the 10 ms sampling and the 1 s switch).

@@ -181,7 +181,8 @@ def _window_average(t: np.ndarray, x: np.ndarray, at: np.ndarray, half: float) -
 
 
 def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffening: bool = True,
-             rtol: float = 1e-7, atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False) -> BeamRun:
+             rtol: float = 1e-7, atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False,
+             solver: Any = "ida") -> BeamRun:
     """Run the beam with the ``n_modes`` lowest in-plane bending modes (0: rigid).
 
     Parameters
@@ -198,6 +199,8 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
         Output step [s] of the fine series the ±5 ms moment average is taken over.
     compiled : bool
         Wait for the generated C code before the run (timings of the compiled model, as after a first run).
+    solver : str or Solver
+        The run's solver (``fl.FixedStep(h=...)`` for the real-time comparison of ``benchmarks/flexible_beam.py``).
 
     Raises
     ------
@@ -209,11 +212,12 @@ def simulate(n_modes: int, *, data: ModalData | None = None, geometric_stiffenin
     data = beam_modal_data() if data is None else _modal_data("simulate", data)
     modes = _bending_subset("simulate: n_modes", n_modes, data, RunArgumentError)
     return simulate_modes(modes, data=data, geometric_stiffening=geometric_stiffening, rtol=rtol, atol=atol,
-                          dt_fine=dt_fine, compiled=compiled)
+                          dt_fine=dt_fine, compiled=compiled, solver=solver)
 
 
 def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: bool = True, rtol: float = 1e-7,
-                   atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False) -> BeamRun:
+                   atol: float = 1e-9, dt_fine: float = 2.5e-4, compiled: bool = False,
+                   solver: Any = "ida") -> BeamRun:
     """Run the beam with the given modes (indices into ``data``); arguments as :func:`simulate`."""
     data = _modal_data("simulate_modes", data)
     if not isinstance(compiled, bool | np.bool_):
@@ -228,7 +232,7 @@ def simulate_modes(modes: list[int], *, data: ModalData, geometric_stiffening: b
         sim.compiled.wait_for_library(120.0)
         c1 = time.process_time()
     w1 = time.perf_counter()
-    res = sim.run(T_END, dt_out=dt_fine, rtol=rtol, atol=atol, progress=False)
+    res = sim.run(T_END, dt_out=dt_fine, rtol=rtol, atol=atol, progress=False, solver=solver)
     c2, w2 = time.process_time(), time.perf_counter()
     t = res.t
     sel = model.beam.modal_data
