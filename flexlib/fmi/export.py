@@ -101,7 +101,7 @@ def export_fmu(model: Any, path: str | os.PathLike, *, h: float = 1e-3, method: 
         gcc is missing or fails, or a library to bundle is not installed.
     """
     from flexlib.solve.backends.base import absolute_tolerances
-    from flexlib.solve.backends.ida_c import KLU_MIN, indicator_function
+    from flexlib.solve.backends.ida_c import KLU_MIN
     from flexlib.solve.native import KLU_REUSE_MIN_UNKNOWNS, KLU_REUSE_RCOND, klu_available
     from flexlib.solve.simulation import Simulation
     from flexlib.solve.solvers import FixedStep
@@ -110,19 +110,10 @@ def export_fmu(model: Any, path: str | os.PathLike, *, h: float = 1e-3, method: 
     sim = model if isinstance(model, Simulation) else Simulation(model)
     m = sim.compiled
     ident = _identifier(name or type(sim.model).__name__)
-    reinit = [r.owner or r.text for r in m.relations if r.reinit]
-    if reinit:
-        raise ModelError(f"export_fmu: {ident}: reinit() ({', '.join(reinit[:3])}) is not supported in an FMU; "
-                         "export a model without it")
+    chosen = _checked(m, ident, outputs)
     start = sim.start_point(t_start=t_start, params=params)
-    names = [v.name for v in m.variables]
     units = {v.name: v.unit for v in m.variables}
     docs = {v.name: v.doc for v in m.variables}
-    chosen = list(outputs) if outputs is not None else _default_outputs(m)
-    missing = [o for o in chosen if o not in names]
-    if missing:
-        raise RunArgumentError(f"export_fmu: output {missing[0]!r} is not a variable of {ident} "
-                               f"({len(names)} variables, e.g. {', '.join(names[:5])})")
     inputs = set(_top_level_inputs(sim.model))
     rel = [k for k, r in enumerate(m.relations) if not r.initial and not r.time_event]
     timed = [k for k, r in enumerate(m.relations) if r.time_event]
@@ -130,17 +121,7 @@ def export_fmu(model: Any, path: str | os.PathLike, *, h: float = 1e-3, method: 
     if klu and not klu_available():
         raise FlexlibError(f"export_fmu: {ident} has {m.n} unknowns and needs KLU, which is not installed "
                            "(pip install kvxopt)")
-    out_sx = m.sx_function("out")
-    t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", m.n), ca.SX.sym("yp", m.n)
-    pp = ca.SX.sym("p", len(start.p))
-    every = out_sx(t, y, yp, pp)
-    out_fn = ca.Function("flexlib_out", [t, y, yp, pp], [ca.vertcat(*[every[names.index(o)] for o in chosen])])
-    zc = indicator_function(m, len(start.p), rel) if rel else _empty_zc(m.n, len(start.p))
-    ab = m.sx_function("tev")(pp)  # a·t + b of every relation (rows), for the time events
-    tev = ca.Function("flexlib_tev", [pp], [ca.vertcat(*[ab[k, 0] for k in timed], 0),
-                                            ca.vertcat(*[ab[k, 1] for k in timed], 0)])
-    functions = [m.sx_function("res"), m.sx_function("jac"), zc, out_fn, tev]
-
+    functions = _unit_functions(m, len(start.p), chosen, rel, timed)
     data = {
         "N": m.n, "NNZ": len(m.jac_row), "NP_ALL": len(start.p), "NROOT": len(rel), "NOUT": len(chosen),
         "NTIME": len(timed),
@@ -157,6 +138,38 @@ def export_fmu(model: Any, path: str | os.PathLike, *, h: float = 1e-3, method: 
     header = f'#define FMU_GUID "{{{guid}}}"\n' + header
     xml = _model_description(ident, guid, m, table, docs, chosen, start.t, h)
     return _build(Path(path), ident, functions, header, xml, klu)
+
+
+def _checked(m: Any, ident: str, outputs: Sequence[str] | None) -> list[str]:
+    """The outputs of the unit (checked names), after checking that the model can be exported."""
+    reinit = [r.owner or r.text for r in m.relations if r.reinit]
+    if reinit:
+        raise ModelError(f"export_fmu: {ident}: reinit() ({', '.join(reinit[:3])}) is not supported in an FMU; "
+                         "export a model without it")
+    names = [v.name for v in m.variables]
+    chosen = list(outputs) if outputs is not None else _default_outputs(m)
+    missing = [o for o in chosen if o not in names]
+    if missing:
+        raise RunArgumentError(f"export_fmu: output {missing[0]!r} is not a variable of {ident} "
+                               f"({len(names)} variables, e.g. {', '.join(names[:5])})")
+    return chosen
+
+
+def _unit_functions(m: Any, n_p: int, chosen: list[str], rel: list[int], timed: list[int]) -> list[ca.Function]:
+    """The unit's model functions (CasADi, generated as C): the residual and iteration matrix, the indicators of the
+    state relations ``rel``, the ``chosen`` outputs, and ``a·t + b`` of the time relations ``timed``."""
+    from flexlib.solve.backends.ida_c import indicator_function
+
+    names = [v.name for v in m.variables]
+    t, y, yp = ca.SX.sym("t"), ca.SX.sym("y", m.n), ca.SX.sym("yp", m.n)
+    pp = ca.SX.sym("p", n_p)
+    every = m.sx_function("out")(t, y, yp, pp)
+    out_fn = ca.Function("flexlib_out", [t, y, yp, pp], [ca.vertcat(*[every[names.index(o)] for o in chosen])])
+    zc = indicator_function(m, n_p, rel) if rel else _empty_zc(m.n, n_p)
+    ab = m.sx_function("tev")(pp)  # a·t + b of every relation (rows), for the time events
+    tev = ca.Function("flexlib_tev", [pp], [ca.vertcat(*[ab[k, 0] for k in timed], 0),
+                                            ca.vertcat(*[ab[k, 1] for k in timed], 0)])
+    return [m.sx_function("res"), m.sx_function("jac"), zc, out_fn, tev]
 
 
 def _identifier(text: str) -> str:

@@ -104,6 +104,10 @@ def test_bad_requests_are_refused_by_name(tmp_path):
         export_fmu(sim, tmp_path / "a.fmu", outputs=["y"])
     with pytest.raises(fl.RunArgumentError, match="positive number of seconds"):
         export_fmu(sim, tmp_path / "b.fmu", h=0.0)
+    from tests.test_engine_events import BouncingBall
+
+    with pytest.raises(fl.ModelError, match=r"BouncingBall: reinit\(\) .* is not supported in an FMU"):
+        export_fmu(fl.Simulation(BouncingBall()), tmp_path / "c.fmu")
     assert not any(tmp_path.iterdir())  # nothing half-written
 
 
