@@ -28,7 +28,7 @@ NOT_BENCHMARKS = {"report.py", "render.py"}
 GROUPS: list[tuple[str, list[str]]] = [
     ("Integrators and the run loop", ["chain", "pendulum", "ida_overhead", "native_default", "native_ida",
                                       "casadi_idas", "linear_solvers", "engine_speed", "event_zero_guard", "friction",
-                                      "evaluator_timing", "work_precision"]),
+                                      "fixed_step", "evaluator_timing", "work_precision"]),
     ("Building a model", ["cached_build", "cold_chain", "build_scale", "flatten_checks", "zero_geometry",
                           "explicit_elimination", "minimal_dae"]),
     ("Multibody and hydraulics", ["multibody", "headline", "boom_proxy", "hydraulic_servo", "hydraulic_chamber",
