@@ -1,0 +1,221 @@
+"""Running a study on Dask (``dask.distributed``): the variants as tasks, the reductions back, the table in Parquet.
+
+Each task runs one variant in a worker process. A worker keeps the simulation of each (model, scenario) it has built
+(:data:`_SIMULATIONS`), so it builds once — from the disk cache when an earlier process built the same model, which
+the cache's atomic writes make safe with concurrent workers — and then only runs (``run(params=...)``, no recompile).
+A run that fails is a row with ``status = "failed"`` and its error; the study goes on. The table is written to
+``out`` (Parquet, through a temporary file renamed over it) as rows arrive; started again with the same ``out``, a
+study runs only the variants that have no row there yet.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from flexlib.errors import RunArgumentError
+
+__all__ = ["StudyResult", "run_study"]
+
+#: Per worker process: the simulation and scenario of each (model, scenario) it ran, built once.
+_SIMULATIONS: dict[tuple[str, str | None, str], tuple[Any, Any]] = {}
+#: Rows written to ``out`` at least this often [s] while a study runs.
+SAVE_EVERY = 5.0
+
+
+@dataclass
+class StudyResult:
+    """The table of a study: one row per variant (``rows``: dicts), in the variants' order."""
+
+    rows: list[dict[str, Any]]
+    path: Path | None
+
+    def column(self, name: str) -> list[Any]:
+        """The column ``name`` (a parameter, a reduction, ``status``, ``error``, ``run_time``)."""
+        if self.rows and name not in self.rows[0]:
+            raise KeyError(f"study table has no column {name!r} (columns: {', '.join(self.rows[0])})")
+        return [r[name] for r in self.rows]
+
+    @property
+    def failed(self) -> list[dict[str, Any]]:
+        """The rows of the runs that failed."""
+        return [r for r in self.rows if r["status"] != "success"]
+
+    def to_pandas(self) -> Any:
+        """The table as a pandas DataFrame (pandas needed)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.rows)
+
+
+def variant_key(params: Mapping[str, float]) -> str:
+    """The identity of a variant in the table (its parameter values as sorted JSON): what a restarted study skips."""
+    return json.dumps({k: float(params[k]) for k in sorted(params)}, sort_keys=True)
+
+
+def _simulation(model: str, scenario: str | None, options: str) -> tuple[Any, Any]:
+    key = (model, scenario, options)
+    found = _SIMULATIONS.get(key)
+    if found is None:
+        from dataclasses import replace
+
+        from flexlib import registry
+        from flexlib.solve.simulation import Simulation
+
+        scen = registry.get_scenario(model, scenario)
+        extra = json.loads(options)
+        if extra:
+            scen = replace(scen, options={**scen.options, **extra})
+        instance, scen = registry.scenario_model(model, scen)
+        found = _SIMULATIONS[key] = (Simulation(instance), scen)
+    return found
+
+
+def run_variant(model: str, scenario: str | None, options: str, t_end: float | None, params: dict[str, float],
+                reductions: Mapping[str, Callable[[Any], float]]) -> dict[str, Any]:
+    """One variant in a worker: its row (parameters, reductions, status, error, the run's CPU time and the build's in
+    this worker (0 once built) [s], the worker's pid)."""
+    row: dict[str, Any] = {"variant": variant_key(params), **params}
+    c0 = time.process_time()
+    build = 0.0
+    try:
+        built = (model, scenario, options) not in _SIMULATIONS
+        sim, scen = _simulation(model, scenario, options)
+        build = time.process_time() - c0 if built else 0.0
+        run = dict(scen.run)
+        res = sim.run(scen.t_end if t_end is None else t_end, params={**dict(scen.params), **params}, progress=False,
+                      **run)
+        for name, reduce in reductions.items():
+            row[name] = float(reduce(res))
+        row["status"], row["error"] = "success", ""
+    except Exception as err:  # a failed run is a row, whatever failed: the study goes on
+        for name in reductions:
+            row.setdefault(name, math.nan)
+        row["status"], row["error"] = "failed", f"{type(err).__name__}: {str(err).splitlines()[0] if str(err) else ''}"
+    row["run_time"] = time.process_time() - c0 - build
+    row["build_time"] = build
+    row["worker"] = os.getpid()
+    return row
+
+
+def _read(path: Path) -> list[dict[str, Any]]:
+    import pyarrow.parquet as pq
+
+    return pq.read_table(path).to_pylist()
+
+
+def _write(path: Path, rows: list[dict[str, Any]]) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
+    os.close(fd)
+    try:
+        pq.write_table(pa.Table.from_pylist(rows), tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def _client(workers: int, scheduler: str | None) -> tuple[Any, Any]:
+    from distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        return Client(scheduler), None
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    return Client(cluster), cluster
+
+
+def run_study(model: str, variants: Sequence[Mapping[str, float]], reductions: Mapping[str, Callable[[Any], float]],
+              *, scenario: str | None = None, options: Mapping[str, Any] | None = None, t_end: float | None = None,
+              workers: int = 2, scheduler: str | None = None, out: str | os.PathLike | None = None,
+              progress: bool | None = None) -> StudyResult:
+    """Run ``variants`` of a registered model's scenario on Dask and keep ``reductions`` of each run.
+
+    Parameters
+    ----------
+    model : str
+        A registered model (``flexlib list``); workers import it by name.
+    variants : sequence of dict
+        Parameter values of each run [SI units] (:func:`~flexlib.study.grid`, :func:`~flexlib.study.latin_hypercube`,
+        :func:`~flexlib.study.monte_carlo`, or your own list).
+    reductions : dict
+        ``{column name: reduction}``: what each run is judged by (:class:`~flexlib.study.Peak`, ... or a function
+        of a Result importable by the workers).
+    scenario : str, optional
+        The scenario (default: the model's).
+    options : dict, optional
+        Model options on top of the scenario's (``{"flexible": True}``).
+    t_end : float, optional
+        End time of every run [s] (default: the scenario's).
+    workers : int
+        Worker processes of the local cluster (default 2: one per core of this machine).
+    scheduler : str, optional
+        Address of a running Dask scheduler (``"tcp://host:8786"``): the study runs there instead.
+    out : str or path-like, optional
+        The table's Parquet file, written as rows arrive; a study started again with it runs only the missing rows.
+    progress : bool, optional
+        A progress bar (default: on a terminal).
+
+    Returns
+    -------
+    StudyResult
+        One row per variant, in their order.
+    """
+    from flexlib import registry
+
+    registry.get_scenario(model, scenario)  # the names checked here, before any worker starts
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise RunArgumentError(f"run_study: workers = {workers!r} must be a positive integer")
+    if not reductions:
+        raise RunArgumentError("run_study: give at least one reduction (a column of the table)")
+    todo_params = [dict(v) for v in variants]
+    keys = [variant_key(v) for v in todo_params]
+    path = Path(out) if out is not None else None
+    done: dict[str, dict[str, Any]] = {}
+    if path is not None and path.exists():
+        done = {r["variant"]: r for r in _read(path)}
+    todo = [(k, v) for k, v in zip(keys, todo_params, strict=True) if k not in done]
+    if todo:
+        _run(model, scenario, json.dumps(dict(options or {}), sort_keys=True), t_end, todo, reductions, workers,
+             scheduler, path, done, progress)
+    rows = [done[k] for k in keys]
+    return StudyResult(rows, path)
+
+
+def _run(model: str, scenario: str | None, options: str, t_end: float | None, todo: list, reductions: Mapping,
+         workers: int, scheduler: str | None, path: Path | None, done: dict, progress: bool | None) -> None:
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    client, cluster = _client(workers, scheduler)
+    saved = time.monotonic()
+    try:
+        futures = [client.submit(run_variant, model, scenario, options, t_end, params, dict(reductions), pure=False)
+                   for _, params in todo]
+        bar = tqdm(total=len(futures), desc=f"study {model}", leave=False,
+                   disable=progress is False or (progress is None and not sys.stderr.isatty()))
+        for fut in as_completed(futures):
+            row = fut.result()
+            done[row["variant"]] = row
+            bar.update(1)
+            if path is not None and time.monotonic() - saved > SAVE_EVERY:
+                _write(path, list(done.values()))
+                saved = time.monotonic()
+        bar.close()
+    finally:
+        if path is not None:
+            _write(path, list(done.values()))
+        client.close()
+        if cluster is not None:
+            cluster.close()
