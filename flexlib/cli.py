@@ -32,6 +32,7 @@ from rich.table import Table
 from rich.text import Text
 
 from flexlib.cli_results import compare_cmd, show_cmd
+from flexlib.cli_study import study_group, sweep_cmd
 from flexlib.cli_support import fmt, friendly, new_console, once_option, one_line, say
 from flexlib.errors import FlexlibError, IndeterminateReactionWarning, RegistryError, ResultKeyError, SolverError
 from flexlib.results.compare import compare_results
@@ -506,6 +507,8 @@ def _print_summary(done: Any, out: str | None) -> None:
 
 cli.add_command(compare_cmd)
 cli.add_command(show_cmd)
+cli.add_command(sweep_cmd)
+cli.add_command(study_group)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -23,12 +23,14 @@ from typing import Any
 
 from flexlib.errors import RunArgumentError
 
-__all__ = ["StudyResult", "run_study"]
+__all__ = ["META_KEY", "StudyResult", "read_table", "run_study"]
 
 #: Per worker process: the simulation and scenario of each (model, scenario) it ran, built once.
 _SIMULATIONS: dict[tuple[str, str | None, str], tuple[Any, Any]] = {}
 #: Rows written to ``out`` at least this often [s] while a study runs.
 SAVE_EVERY = 5.0
+#: Key of the table's schema metadata: the study's model, scenario, options, parameter and reduction columns (JSON)
+META_KEY = "flexlib.study"
 
 
 @dataclass
@@ -106,21 +108,30 @@ def run_variant(model: str, scenario: str | None, options: str, t_end: float | N
     return row
 
 
-def _read(path: Path) -> list[dict[str, Any]]:
+def read_table(path: str | os.PathLike) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """A study table written by :func:`run_study`: its rows and its description (model, scenario, options, the
+    parameter and reduction columns)."""
     import pyarrow.parquet as pq
 
-    return pq.read_table(path).to_pylist()
+    table = pq.read_table(path)
+    raw = (table.schema.metadata or {}).get(META_KEY.encode())
+    return table.to_pylist(), json.loads(raw) if raw else {}
 
 
-def _write(path: Path, rows: list[dict[str, Any]]) -> None:
+def _write(path: Path, done: dict[str, dict[str, Any]], meta: dict[str, Any]) -> None:
+    """The rows so far to ``path``, in the variants' order (rows of an earlier study on the same file after them)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
+    order = {k: n for n, k in enumerate(meta["order"])}
+    rows = sorted(done.values(), key=lambda r: order.get(r["variant"], len(order)))
+    meta = {k: v for k, v in meta.items() if k != "order"}
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".part", dir=path.parent)
     os.close(fd)
     try:
-        pq.write_table(pa.Table.from_pylist(rows), tmp)
+        table = pa.Table.from_pylist(rows)
+        pq.write_table(table.replace_schema_metadata({META_KEY: json.dumps(meta)}), tmp)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
@@ -184,17 +195,20 @@ def run_study(model: str, variants: Sequence[Mapping[str, float]], reductions: M
     path = Path(out) if out is not None else None
     done: dict[str, dict[str, Any]] = {}
     if path is not None and path.exists():
-        done = {r["variant"]: r for r in _read(path)}
+        done = {r["variant"]: r for r in read_table(path)[0]}
     todo = [(k, v) for k, v in zip(keys, todo_params, strict=True) if k not in done]
+    meta = {"model": model, "scenario": scenario, "options": dict(options or {}), "t_end": t_end,
+            "params": sorted({k for v in todo_params for k in v}), "reductions": list(reductions), "order": keys}
     if todo:
         _run(model, scenario, json.dumps(dict(options or {}), sort_keys=True), t_end, todo, reductions, workers,
-             scheduler, path, done, progress)
+             scheduler, path, done, progress, meta)
     rows = [done[k] for k in keys]
     return StudyResult(rows, path)
 
 
 def _run(model: str, scenario: str | None, options: str, t_end: float | None, todo: list, reductions: Mapping,
-         workers: int, scheduler: str | None, path: Path | None, done: dict, progress: bool | None) -> None:
+         workers: int, scheduler: str | None, path: Path | None, done: dict, progress: bool | None,
+         meta: dict[str, Any]) -> None:
     from distributed import as_completed
     from tqdm import tqdm
 
@@ -210,12 +224,12 @@ def _run(model: str, scenario: str | None, options: str, t_end: float | None, to
             done[row["variant"]] = row
             bar.update(1)
             if path is not None and time.monotonic() - saved > SAVE_EVERY:
-                _write(path, list(done.values()))
+                _write(path, done, meta)
                 saved = time.monotonic()
         bar.close()
     finally:
         if path is not None:
-            _write(path, list(done.values()))
+            _write(path, done, meta)
         client.close()
         if cluster is not None:
             cluster.close()

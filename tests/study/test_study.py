@@ -83,3 +83,35 @@ def test_bad_requests_are_refused_before_any_worker_starts():
         run_study("n-mass-chain", [{"mass0.m": 1.0}], {}, scenario="short")
     with pytest.raises(fl.RunArgumentError, match="workers = 0"):
         run_study("n-mass-chain", [{"mass0.m": 1.0}], REDUCTIONS, scenario="short", workers=0)
+
+
+def test_the_sweep_command_writes_the_table_and_study_show_reads_it(scheduler, tmp_path):
+    """``flexlib sweep`` over a 3 × 2 grid (the rows in the grid's order, the same numbers as run_study), then
+    ``flexlib study show`` with its heat map; bad axes and reductions refused by name."""
+    from click.testing import CliRunner
+
+    from flexlib.cli import cli
+    from flexlib.study.run import read_table
+
+    out = tmp_path / "sweep.parquet"
+    res = CliRunner().invoke(cli, ["sweep", "n-mass-chain", "-s", "short", "-p", "mass0.m=1:2:3", "-p",
+                                   "spring0.c=100,200", "-r", "peak:mass2.s", "--scheduler", scheduler, "-o",
+                                   str(out), "--no-progress"], catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    assert "6 runs, 0 failed" in res.output
+    rows, meta = read_table(out)
+    assert [(r["mass0.m"], r["spring0.c"]) for r in rows] == [(m, c) for m in (1.0, 1.5, 2.0) for c in (100.0, 200.0)]
+    assert meta["params"] == ["mass0.m", "spring0.c"] and meta["reductions"] == ["peak(mass2.s)"]
+    ref = registry.run_scenario("n-mass-chain", "short", params={"mass0.m": 1.5, "spring0.c": 200.0},
+                                progress=False).result
+    assert rows[3]["peak(mass2.s)"] == np.max(np.abs(ref["mass2.s"]))
+    shown = CliRunner().invoke(cli, ["study", "show", str(out), "--plot", str(tmp_path / "map.png")],
+                               env={"COLUMNS": "200"}, catch_exceptions=False)
+    assert shown.exit_code == 0 and "n-mass-chain, 6 runs, 0 failed" in shown.output
+    assert (tmp_path / "map.png").stat().st_size > 1000
+    for args, message in ((["-p", "mass0.m=1:2"], "give NAME=LOW:HIGH:N"), (["-r", "mean:mass2.s"], "KIND:SIGNAL")):
+        base = {"-p": ["-p", "mass0.m=1:2:2"], "-r": ["-r", "peak:mass2.s"]}
+        base[args[0]] = args
+        bad = CliRunner().invoke(cli, ["sweep", "n-mass-chain", *base["-p"], *base["-r"], "-o",
+                                       str(tmp_path / "x.parquet")], catch_exceptions=False)
+        assert bad.exit_code != 0 and message in bad.output
