@@ -89,7 +89,7 @@ def test_no_usable_klu_library_falls_back_to_superlumt(library, monkeypatch, tmp
     reported unavailable (no error) and a model above ``KLU_MIN`` unknowns runs on SuperLU_MT."""
     path = None if library == "missing" else native.driver_library()  # a shared library without klu_* symbols
     monkeypatch.setattr(native, "_KLU", [])
-    monkeypatch.setattr(native, "_klu_library", lambda: path)
+    monkeypatch.setattr(native, "klu_library", lambda: path)
     assert not native.klu_available()
 
     class Big:
