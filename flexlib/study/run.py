@@ -84,17 +84,21 @@ def _simulation(model: str, scenario: str | None, options: str) -> tuple[Any, An
 def run_variant(model: str, scenario: str | None, options: str, t_end: float | None, params: dict[str, float],
                 reductions: Mapping[str, Callable[[Any], float]]) -> dict[str, Any]:
     """One variant in a worker: its row (parameters, reductions, status, error, the run's CPU time and the build's in
-    this worker (0 once built) [s], the worker's pid)."""
+    this worker (0 once built) [s], the run's wall time [s], the worker's pid, the task's start and end [s since the
+    epoch: the benchmark's overhead per run])."""
     row: dict[str, Any] = {"variant": variant_key(params), **params}
+    t_start = time.time()
     c0 = time.process_time()
-    build = 0.0
+    build, run_wall = 0.0, math.nan
     try:
         built = (model, scenario, options) not in _SIMULATIONS
         sim, scen = _simulation(model, scenario, options)
         build = time.process_time() - c0 if built else 0.0
         run = dict(scen.run)
+        w0 = time.perf_counter()
         res = sim.run(scen.t_end if t_end is None else t_end, params={**dict(scen.params), **params}, progress=False,
                       **run)
+        run_wall = time.perf_counter() - w0
         for name, reduce in reductions.items():
             row[name] = float(reduce(res))
         row["status"], row["error"] = "success", ""
@@ -104,7 +108,9 @@ def run_variant(model: str, scenario: str | None, options: str, t_end: float | N
         row["status"], row["error"] = "failed", f"{type(err).__name__}: {str(err).splitlines()[0] if str(err) else ''}"
     row["run_time"] = time.process_time() - c0 - build
     row["build_time"] = build
+    row["run_wall"] = run_wall
     row["worker"] = os.getpid()
+    row["t_start"], row["t_end"] = t_start, time.time()
     return row
 
 
