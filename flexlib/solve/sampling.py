@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import casadi as ca
 import numpy as np
 
 from flexlib.compile.codegen import CompiledModel
@@ -24,6 +25,16 @@ __all__ = ["Samplers", "sampled_blocks"]
 def sampled_blocks(model: Any) -> list[Any]:
     """The sampled blocks of a model instance (components with ``sample_start``), in tree order."""
     return [n for n in model.walk() if callable(getattr(n, "sample_start", None))]
+
+
+def _selection(model: CompiledModel, rows: np.ndarray) -> ca.Function:
+    """``(t, y, y', p) -> the variables rows`` of the model's output function, built once per run (a sample then
+    evaluates the blocks' inputs only, not every variable)."""
+    out = model.sx_function("out")
+    args = [ca.SX.sym(out.name_in(k), out.sparsity_in(k)) for k in range(out.n_in())]
+    every = out(*args)
+    return ca.Function("sampled_inputs", args, [ca.vertcat(*[every[int(r)] for r in rows]) if len(rows) else
+                                                ca.SX(0, 1)])
 
 
 class Samplers:
@@ -42,6 +53,8 @@ class Samplers:
                                  f"{'a variable' if missing else 'a state'} of the compiled model")
             self.inputs.append(np.array([names.index(n) for n in b.sampled_inputs()], dtype=int))
             self.states.append(np.array([model.y_names.index(n) for n in b.sampled_states()], dtype=int))
+        self.read = _selection(model, np.concatenate([np.zeros(0, dtype=int), *self.inputs]))
+        self.at = np.cumsum([0, *(len(i) for i in self.inputs)])  # block k's inputs: read()[at[k]:at[k + 1]]
         self.count = [0] * len(blocks)
         self.samples = 0
 
@@ -67,10 +80,10 @@ class Samplers:
         due = [k for k in range(len(self.blocks)) if self._time(k) <= t + tol]
         if not due:
             return None
-        every = np.asarray(self.model.function("out")(t, y, yp, p), dtype=float).ravel()
+        inputs = np.asarray(self.read(t, y, yp, p), dtype=float).ravel()
         y1 = np.array(y, dtype=float)
         for k in due:
-            y1[self.states[k]] = self.blocks[k].sample(t, every[self.inputs[k]])
+            y1[self.states[k]] = self.blocks[k].sample(t, inputs[self.at[k]:self.at[k + 1]])
             self.count[k] += 1
         self.samples += 1
         return y1, [self.blocks[k].path or type(self.blocks[k]).__name__ for k in due]

@@ -206,24 +206,25 @@ def run_study(model: str, variants: Sequence[Mapping[str, float]], reductions: M
     meta = {"model": model, "scenario": scenario, "options": dict(options or {}), "t_end": t_end,
             "params": sorted({k for v in todo_params for k in v}), "reductions": list(reductions), "order": keys}
     if todo:
-        _run(model, scenario, json.dumps(dict(options or {}), sort_keys=True), t_end, todo, reductions, workers,
-             scheduler, path, done, progress, meta)
+        _run(meta, todo, reductions, workers, scheduler, path, done, progress)
     rows = [done[k] for k in keys]
     return StudyResult(rows, path)
 
 
-def _run(model: str, scenario: str | None, options: str, t_end: float | None, todo: list, reductions: Mapping,
-         workers: int, scheduler: str | None, path: Path | None, done: dict, progress: bool | None,
-         meta: dict[str, Any]) -> None:
+def _run(meta: dict[str, Any], todo: list, reductions: Mapping, workers: int, scheduler: str | None,
+         path: Path | None, done: dict, progress: bool | None) -> None:
+    """The variants ``todo`` as Dask tasks of the study ``meta`` (model, scenario, options, t_end); rows into ``done``
+    and, as they arrive, into ``path``."""
     from distributed import as_completed
     from tqdm import tqdm
 
     client, cluster = _client(workers, scheduler)
     saved = time.monotonic()
     try:
-        futures = [client.submit(run_variant, model, scenario, options, t_end, params, dict(reductions), pure=False)
-                   for _, params in todo]
-        bar = tqdm(total=len(futures), desc=f"study {model}", leave=False,
+        options = json.dumps(meta["options"], sort_keys=True)
+        futures = [client.submit(run_variant, meta["model"], meta["scenario"], options, meta["t_end"], params,
+                                 dict(reductions), pure=False) for _, params in todo]
+        bar = tqdm(total=len(futures), desc=f"study {meta['model']}", leave=False,
                    disable=progress is False or (progress is None and not sys.stderr.isatty()))
         for fut in as_completed(futures):
             row = fut.result()

@@ -979,10 +979,7 @@ static int fx_advance(drv_t *d, double t_stop, long max_chunk, double *T, double
         steps++;
         d->steps++;
         if (ok) {
-            double *tmp = x->yprev; /* the point before the step is BDF2's history */
-            x->yprev = x->yold;
-            x->yold = tmp;
-            memcpy(x->yold, x->yprev, sizeof(double) * d->n);
+            memcpy(x->yprev, x->yold, sizeof(double) * d->n); /* the point before the step is BDF2's history */
             x->have_prev = !shortened;
             d->hlast = h;
             if (landing) d->tcur = t_stop; /* a whole step ends on t_stop up to round-off */
