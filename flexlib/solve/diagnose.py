@@ -113,10 +113,9 @@ def nonfinite_lines(r: np.ndarray, J: sps.spmatrix | None, rows: Sequence[tuple[
     return lines
 
 
-def singular_lines(J: sps.spmatrix, rows: Sequence[tuple[str, str]], cols: Sequence[tuple[str, str]],
-                   nominal: np.ndarray, rtol: float = 1e-10) -> list[str]:
-    """If the scaled Jacobian is numerically singular, lines naming the dependent equations and the
-    variables of its null space, grouped by component; empty if it is regular (or above 3000 unknowns).
+def rank_deficiency(J: sps.spmatrix, nominal: np.ndarray, rtol: float = 1e-10) -> tuple[set[int], set[int]]:
+    """The dependent equations (rows) and the undetermined variables (columns) of a numerically singular Jacobian;
+    two empty sets if it is regular (or above 3000 unknowns).
 
     The columns are scaled by the nominal values and the rows by their largest entry, then the rank is
     found by SVD (dense, up to 1500 unknowns) or pivoted QR. Equations with a weight above 1e-3 in a left
@@ -124,10 +123,10 @@ def singular_lines(J: sps.spmatrix, rows: Sequence[tuple[str, str]], cols: Seque
     ones the equations fail to determine.
     """
     if J.shape[0] == 0 or J.shape[1] == 0 or max(J.shape) > _DENSE_QR_MAX:
-        return []
+        return set(), set()
     A = sps.csr_matrix(J).toarray().astype(float)
     if not np.all(np.isfinite(A)):
-        return []
+        return set(), set()
     A = A * np.asarray(nominal, dtype=float)[None, :]
     rs = np.abs(A).max(axis=1)
     A = A / np.where(rs > 0, rs, 1.0)[:, None]
@@ -151,6 +150,15 @@ def singular_lines(J: sps.spmatrix, rows: Sequence[tuple[str, str]], cols: Seque
         d = np.abs(np.diag(R))
         rank_c = int(np.sum(d > rtol * max(d[0], 1e-300))) if len(d) else 0
         free_cols.update(int(j) for j in piv[rank_c:])
+    return dep_rows, free_cols
+
+
+def singular_lines(J: sps.spmatrix, rows: Sequence[tuple[str, str]], cols: Sequence[tuple[str, str]],
+                   nominal: np.ndarray, rtol: float = 1e-10) -> list[str]:
+    """If the scaled Jacobian is numerically singular, lines naming the dependent equations and the
+    variables of its null space, grouped by component; empty if it is regular (or above 3000 unknowns)
+    (:func:`rank_deficiency`)."""
+    dep_rows, free_cols = rank_deficiency(J, nominal, rtol)
     if not dep_rows and not free_cols:
         return []
     out = ["the Jacobian is numerically singular there (rank-revealing decomposition of the scaled iteration matrix)"]

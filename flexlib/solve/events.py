@@ -18,8 +18,8 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import InitializationError, SolverError
 
-__all__ = ["apply_reinit", "check_assertions", "event_iteration", "next_time_event", "off_zero", "relation_value",
-           "settled", "state_relations", "time_triggers", "watch", "watched_relations"]
+__all__ = ["apply_reinit", "check_assertions", "event_iteration", "indeterminate_split", "next_time_event", "off_zero",
+           "relation_value", "settled", "state_relations", "time_triggers", "watch", "watched_relations"]
 
 
 def next_time_event(model: CompiledModel, p: np.ndarray, t: float, t_end: float) -> tuple[float, list[int]]:
@@ -129,7 +129,8 @@ INDICATOR_NOISE = 1e-20
 
 
 def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
-                    triggered: list[tuple[int, bool]], max_iter: int = 20) -> tuple[np.ndarray, np.ndarray]:
+                    triggered: list[tuple[int, bool]], max_iter: int = 20,
+                    ties: set[int] | frozenset[int] = frozenset()) -> tuple[np.ndarray, np.ndarray]:
     """Switch the triggered relations, re-initialise (``init.reinit``), re-evaluate the others until consistent.
 
     Each pass re-evaluates every relation at the point of the pass before and switches all that changed (Modelica's
@@ -153,6 +154,11 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
         The point before the event.
     triggered : list of (int, bool)
         Relations and their new values.
+    max_iter : int
+        Passes before the iteration switches one relation at a time.
+    ties : set of int
+        Relations that keep their value while their indicator is exactly zero (put on their limit by
+        :func:`indeterminate_split`).
 
     Returns
     -------
@@ -174,11 +180,14 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
     seen: set[bytes] = set()
     one_at_a_time = False
     reinitialised: set[int] = set()
+    at_trigger = p.copy()  # the discrete values the triggered relations were switched with
     for _ in range(max_iter + 2 * len(free)):
         seen.add(p[n_par:].tobytes())
         y1, yp1 = init.reinit(t, y, yp, p)
         z = np.asarray(ind(t, y1, yp1, p)).ravel()
-        values = [(k, relation_value(model.relations[k], z[k], p[n_par + k])) for k in free]
+        if fixed and not np.array_equal(p, at_trigger):
+            free += _reading_switched(ind, t, y1, yp1, z, at_trigger, fixed)
+        values = [(k, relation_value(model.relations[k], z[k], p[n_par + k], k in ties)) for k in free]
         changed = [(k, v) for k, v in values if v != p[n_par + k]]
         if not changed:
             fired = [k for k, rel in enumerate(model.relations) if rel.reinit and k not in reinitialised
@@ -203,6 +212,58 @@ def event_iteration(model: CompiledModel, init: Any, p: np.ndarray, t: float, y:
                 break
         y, yp = y1, yp1
     raise SolverError(f"event iteration did not converge at t = {t:.10g} s")
+
+
+def _reading_switched(ind: Any, t: float, y: np.ndarray, yp: np.ndarray, z: np.ndarray, at_trigger: np.ndarray,
+                      fixed: set[int]) -> list[int]:
+    """The triggered relations (``fixed``, removed from it) whose indicator ``z`` at ``(t, y, yp)`` differs from the
+    one with the discrete values they were switched with (``at_trigger``): they read discrete values that have
+    switched since (a friction element's start flag, released once it slides) and are evaluated again."""
+    z0 = np.asarray(ind(t, y, yp, at_trigger)).ravel()
+    reads = [k for k in sorted(fixed) if z[k] != z0[k]]
+    fixed.difference_update(reads)
+    return reads
+
+
+def indeterminate_split(model: CompiledModel, init: Any, p: np.ndarray, t: float, y: np.ndarray,
+                        yp: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """A consistent point at ``t`` [s] whose event problem is regular, reached by switching one relation, when the
+    point ``(y, yp)`` leaves some unknowns undetermined (``p`` updated in place); None if it is regular or no single
+    switch makes it so.
+
+    Two friction elements stuck on one shaft (MSL's ``LossyGearDemo2``: "if both friction models are stuck, there is
+    no unique solution") each hold it with a torque of its own whose split nothing in the model decides: the event
+    problem with the states held is singular and the integrator cannot take a step. Modelica leaves the choice to the
+    tool. Here one element takes the limit of its stuck phase (its relation to start sliding switched, the speed still
+    zero: its torque is then its breakaway torque) and the other holds the rest. Each relation is tried, held while
+    the event iteration settles the others; of those whose point is regular, the one that switches the fewest
+    relations is taken, the last declared of equals — on ``LossyGearDemo2`` the bearing friction's start forward, as
+    in Dymola's reference result.
+    """
+    from flexlib.solve.diagnose import rank_deficiency
+
+    J, nominal = init.held_jacobian(t, y, yp, p)
+    if not any(rank_deficiency(J, nominal)):
+        return None
+    n_par = model.n_params
+    best: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
+    for k in reversed(range(model.n_relations)):
+        rel = model.relations[k]
+        if rel.time_event or rel.initial or rel.assertion:
+            continue
+        trial = p.copy()
+        try:
+            y1, yp1 = event_iteration(model, init, trial, t, y, yp, [(k, trial[n_par + k] == 0.0)])
+        except (InitializationError, SolverError):
+            continue
+        J, _ = init.held_jacobian(t, y1, yp1, trial)
+        switched = int(np.count_nonzero(trial[n_par:] != p[n_par:]))
+        if (best is None or switched < best[0]) and not any(rank_deficiency(J, nominal)):
+            best = (switched, trial, y1, yp1)
+    if best is not None:
+        p[:] = best[1]
+        return best[2], best[3]
+    return None
 
 
 def apply_reinit(model: CompiledModel, p: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
@@ -272,9 +333,10 @@ def off_zero(z: ca.SX, strict: bool, current: ca.SX) -> ca.SX:
     return ca.if_else(ca.logic_and(ca.fabs(z) < INDICATOR_NOISE, z != 0), ca.if_else(current, 1e-300, -1e-300), out)
 
 
-def relation_value(rel: Any, z: float, current: float) -> float:
-    """The value of relation ``rel`` at indicator ``z``: as its strictness says at an exact zero, ``current`` (its
-    value so far) within :data:`INDICATOR_NOISE` of zero, the indicator's sign otherwise."""
-    if z != 0.0 and abs(z) < INDICATOR_NOISE:
+def relation_value(rel: Any, z: float, current: float, tie: bool = False) -> float:
+    """The value of relation ``rel`` at indicator ``z``: as its strictness says at an exact zero (``current`` for a
+    ``tie``), ``current`` (its value so far) within :data:`INDICATOR_NOISE` of zero, the indicator's sign
+    otherwise."""
+    if (z != 0.0 or tie) and abs(z) < INDICATOR_NOISE:
         return current
     return float(rel.value(z))

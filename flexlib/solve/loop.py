@@ -21,7 +21,7 @@ from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import AccuracyWarning, SimulationInterrupted, SolverError
 from flexlib.solve.backends.base import Integrator, Limits, Stop
 from flexlib.solve.diagnose import failure_message
-from flexlib.solve.events import event_iteration, next_time_event, settled, time_triggers, watch
+from flexlib.solve.events import event_iteration, indeterminate_split, next_time_event, settled, time_triggers, watch
 from flexlib.solve.sampling import Samplers
 from flexlib.solve.signals import interrupted
 from flexlib.solve.trajectory import Progress, Trajectory
@@ -102,7 +102,8 @@ class _Loop:
         self.monitor = monitor if integ.monitors else None
         self.use_monitor = self.monitor is not None and model.has_state_choice
         self.watch, self.rooted = 0, set()
-        self.last_event_t, self.burst, self.last_recovery_t = -np.inf, 0, -np.inf
+        self.last_event_t, self.burst, self.last_recovery_t, self.last_split_t = -np.inf, 0, -np.inf, -np.inf
+        self.ties: set[int] = set()  # relations a split put on their limit: held while their indicator is exactly 0
         self.unseen = 0  # steps taken since the monitor last saw one
         self.now: tuple[np.ndarray, np.ndarray] | None = None  # (y, yp) at t, once fetched in this round
         self.rel = p[self.n_par:].copy()  # the relation values of the rows until the next event
@@ -167,6 +168,8 @@ class _Loop:
         if stop.rows is not None:
             self.traj.extend(*stop.rows, self.rel)
         if stop.kind in ("recover", "failed"):
+            if self.t == self.last_event_t and self.t > self.last_split_t and self.split():
+                return
             if stop.kind == "recover" and self.t > self.last_recovery_t and stats["recoveries"] < MAX_RECOVERIES:
                 self.recover(stop)
                 return
@@ -212,7 +215,7 @@ class _Loop:
             # those the backend's root finding switched and that start on their new side (events.settled)
             self.watch -= 1
             y, yp = self.state()
-            triggered = watch(model, p, t, y, yp, self.integ.state_rel, self.rooted)
+            triggered = watch(model, p, t, y, yp, self.integ.state_rel, self.rooted | self.ties)
             kind = "state" if triggered else None
         if kind and any(p[self.n_par + k] != float(v) for k, v in triggered):
             self.event(kind, triggered, stop.kind == "root")
@@ -230,7 +233,7 @@ class _Loop:
         y1, blocks = found
         self.traj.events.append((self.t, f"sample: {', '.join(blocks)}"))
         self.traj.add(self.t, y, yp, self.rel)
-        y2, yp2 = event_iteration(self.model, self.init, self.p, self.t, y1, yp, [])
+        y2, yp2 = event_iteration(self.model, self.init, self.p, self.t, y1, yp, [], ties=self.ties)
         self.stats["samples"] = self.samplers.samples
         self.integ.reinit(self.t, y2, yp2)
         self.now = (y2, yp2)
@@ -243,7 +246,9 @@ class _Loop:
         model, p, t, traj = self.model, self.p, self.t, self.traj
         y, yp = self.state()
         traj.add(t, y, yp, self.rel)
-        y1, yp1 = event_iteration(model, self.init, p, t, y, yp, triggered)
+        before = p[self.n_par:].copy()
+        y1, yp1 = event_iteration(model, self.init, p, t, y, yp, triggered, ties=self.ties)
+        self.ties = {k for k in self.ties if p[self.n_par + k] == before[k]}  # a tie ends when its relation switches
         self.stats["state_events" if kind == "state" else "time_events"] += 1
         self.stats["restarts"] += 1
         texts = ", ".join(model.relations[k].text for k, _ in triggered)
@@ -260,6 +265,27 @@ class _Loop:
         if self.burst > CHATTER_EVENTS:
             raise SolverError(f"event chattering at t = {t:.10g} s: {texts} switches without time advancing")
 
+    def split(self) -> bool:
+        """After an event, the integrator cannot step from a point that leaves unknowns undetermined (stuck elements
+        sharing a holding force): one relation switched to make it regular (:func:`events.indeterminate_split`, once
+        per event time), the integrator restarted; False if it is not that."""
+        self.last_split_t = self.t
+        y, yp = self.state()
+        found = indeterminate_split(self.model, self.init, self.p, self.t, y, yp)
+        if found is None:
+            return False
+        y1, yp1 = found
+        changed = [int(k) for k in np.flatnonzero(self.p[self.n_par:] != self.rel)]
+        texts = ", ".join(self.model.relations[k].text for k in changed)
+        self.traj.events.append((self.t, f"indeterminate split of a holding force: {texts}"))
+        self.integ.reinit(self.t, y1, yp1)
+        self.now = (y1, yp1)
+        self.rel = self.p[self.n_par:].copy()
+        self.traj.add(self.t, y1, yp1, self.rel)
+        self.restarted()
+        self.ties.update(changed)
+        return True
+
     def restarted(self) -> None:
         """Watch the state relations' signs for the next steps (the backend's root finding is blind to a relation
         that is zero at the restart)."""
@@ -272,7 +298,7 @@ class _Loop:
         with the step shrinking (a valve snapping open at the limit of the iteration matrix's reuse)."""
         y, yp = self.state()
         try:
-            y, yp = event_iteration(self.model, self.init, self.p, self.t, y, yp, [])
+            y, yp = event_iteration(self.model, self.init, self.p, self.t, y, yp, [], ties=self.ties)
         except SolverError:
             raise SolverError(self.failure(stop)) from None
         self.last_recovery_t = self.t

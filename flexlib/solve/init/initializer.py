@@ -182,6 +182,19 @@ class Initializer:
             return yp
         return algebraic_rates(self.model, self._held_functions(), self.diff, t, y, yp, p, jac)
 
+    def held_jacobian(self, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray) -> tuple[sps.csc_matrix,
+                                                                                          np.ndarray]:
+        """The Jacobian of the event problem with the states held (unknowns: the algebraic variables, then the
+        states' derivatives) at ``(t, y, yp)``, and those unknowns' nominal values."""
+        from flexlib.solve.init.newton import csc
+
+        m = self.model
+        alg = np.flatnonzero(~m.differential)
+        w = np.concatenate([y[alg], yp[self.diff]])
+        par = np.concatenate([[t], p, y[self.diff]])
+        nom = np.asarray(m.nominal, dtype=float)
+        return csc(self._held_functions()[1](w, par)), np.concatenate([nom[alg], nom[self.diff]])
+
     def _held_functions(self) -> tuple[Any, Any]:
         """Residual and Jacobian of the event problem with the states held (built once)."""
         if self._reinit_fns is None:

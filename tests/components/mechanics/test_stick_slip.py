@@ -152,3 +152,46 @@ def test_constant_force_block_breaks_away_at_once():
 
     res = fl.Simulation(Pushed()).run(1.0, dt_out=0.1, progress=False, **TOL)
     np.testing.assert_allclose(res["block.v"][-1], 10.0, rtol=1e-8)
+
+
+class TwoSurfaces(fl.Model):
+    """A 1 kg block sliding at 0.1 m/s on two friction surfaces (10 N and 6 N Coulomb, no breakaway peak), pushed by
+    a force rising 8 N/s from 0: it stops, both surfaces stick at once, and which of them holds how much is not
+    determined by the model."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.source = Ramp(height=24.0, duration=3.0)
+        self.push = Force()
+        self.block = Mass(m=1.0, init={"s": 0.0, "v": 0.1})
+        self.surface1 = SupportFriction(f_pos=[[0.0, 10.0]])
+        self.surface2 = SupportFriction(f_pos=[[0.0, 6.0]])
+        self.connect(self.source.y, self.push.f)
+        self.connect(self.push.flange, self.block.flange_a)
+        self.connect(self.block.flange_b, self.surface1.flange_a)
+        self.connect(self.surface1.flange_b, self.surface2.flange_a)
+
+
+def test_two_surfaces_stuck_together_hold_until_the_push_exceeds_both():
+    """``a = F − 16 N`` while sliding: the block stops where ``0.1 + 4 t² − 16 t = 0`` (t₁ = 6.2647e-3 s), both
+    surfaces stick there and their split of the holding force is indeterminate (the integrator cannot step from the
+    event: one surface is put at its sliding force, the other holds the rest). Whatever the split, the block stays
+    exactly where it stopped until the push exceeds both surfaces together, ``F = 16 N`` at 2 s (within 1e-6 s), and
+    then slides with ``v = 4 (t − 2)²``; each surface's force stays within its limit while stuck."""
+    res = fl.Simulation(TwoSurfaces()).run(3.0, dt_out=0.01, progress=False, **TOL)
+    t1 = (16.0 - np.sqrt(16.0**2 - 4 * 4.0 * 0.1)) / 8.0
+    x1 = 0.1 * t1 + 4.0 / 3.0 * t1**3 - 8.0 * t1**2
+    assert [text for _, text in res.events if text.startswith("indeterminate split")], res.events
+    held = (res.t > t1 + 1e-6) & (res.t < 2.0 - 1e-6)
+    assert np.max(np.abs(res["block.s"][held] - x1)) < 1e-9
+    assert np.max(np.abs(res["block.v"][held])) < 1e-12
+    assert np.all(np.abs(res["surface1.f"][held]) <= 10.0 + 1e-9)
+    assert np.all(np.abs(res["surface2.f"][held]) <= 6.0 + 1e-9)
+    # together they hold the push (1e-6 N: within the 2e-8 s between an element's breakaway and the other taking over)
+    np.testing.assert_allclose(res["surface1.f"][held] + res["surface2.f"][held], 8.0 * res.t[held], rtol=0, atol=1e-6)
+    moving = res.t > 2.0 + 1e-6
+    starts = [t for t, text in res.events if t > 1.0]
+    assert starts and abs(starts[0] - 2.0) < 1e-6, res.events
+    t = res.t[moving]
+    np.testing.assert_allclose(res["block.v"][moving], 4.0 * (t - 2.0) ** 2, rtol=1e-6, atol=1e-9)
+    assert res.stats["state_events"] < 10, res.stats
