@@ -35,7 +35,7 @@ GROUPS: list[tuple[str, list[str]]] = [
                                   "linear_analysis"]),
     ("Flexible bodies", ["modal_data", "flexible_beam", "pinned_free_beam", "flexible_body"]),
     ("Machines", ["pump_truck", "pump_truck_flows", "pump_truck_reference", "pump_truck_friction", "robots",
-                  "result_files", "study"]),
+                  "result_files", "study", "sensitivities"]),
 ]
 
 HEADER = """\

@@ -369,6 +369,36 @@ class Simulation:
                     raise
                 solver = solver.fallback  # the C driver could not be set up for this model: IDA from Python
 
+    def sensitivities(self, t_end: float | None, params: list[str], outputs: list[str], *,
+                      values: dict[str, Any] | None = None, rtol: float = 1e-8, atol: float = 1e-10,
+                      **run: Any) -> Any:
+        """Forward sensitivities ``∂output/∂parameter`` over a run, through the DAE and its events
+        (:mod:`flexlib.solve.sensitivities`: CasADi's IDAS on the model's residual, the event times' derivatives).
+
+        Parameters
+        ----------
+        t_end : float or None
+            End time [s] (None: the model's experiment).
+        params : list of str
+            Run-time parameters (names of ``compiled.param_names``, SI units).
+        outputs : list of str
+            Variables of the result.
+        values : dict, optional
+            Parameter values of the run, as ``params=`` of :meth:`run`.
+        rtol, atol : float
+            Tolerances of the run and of the sensitivity integration.
+        **run
+            Further arguments of :meth:`run` (``dt_out``, ``output_times``, ``t_start``, ``steady_state``).
+
+        Returns
+        -------
+        Sensitivities
+            ``sens[output, parameter]`` over ``sens.t``; ``sens.result`` the nominal run.
+        """
+        from flexlib.solve.sensitivities import forward_sensitivities
+
+        return forward_sensitivities(self, t_end, params, outputs, values=values, rtol=rtol, atol=atol, **run)
+
     def initialize(self, *, t_start: float | None = None, params: dict[str, Any] | None = None,
                    steady_state: bool = False) -> Result:
         """The consistent start alone, as a one-row :class:`Result` at ``t_start`` (what a Modelica tool returns
