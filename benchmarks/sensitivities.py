@@ -3,11 +3,13 @@ and against central finite differences (issue 33).
 
 Five parameters (the bores of axes 1–4 and axis 3's counterbalance pilot ratio), the four cylinders' cap-side
 pressures as outputs, over the scenario's 30 s, tolerances of the runs (rtol 1e-6). CPU seconds of this process,
-fastest of ``--repeat`` (default 2) calls after a first call that builds the sensitivity integrator (its build
-reported on its own): one run; the sensitivities (nominal run, the start's differences, the sensitivity integration,
-the outputs); the 2·5 + 1 runs central differences need. Accuracy: the sensitivities of each cylinder's pressure by
-its own bore against central differences of runs at rtol 1e-10 (relative step 1e-4), largest deviation over the
-largest magnitude. Target (issue 33): sensitivities of 5 parameters ≤ 3× one run.
+fastest of ``--repeat`` (default 2) calls after a first call that builds the sensitivity integrator (reported on its
+own; gcc's compile of the sensitivity DAE, ~95 s once per model and number of parameters, is cached in
+``$FLEXLIB_CACHE_DIR/sensitivity`` and runs in a child process, outside these CPU figures): one run; the
+sensitivities (nominal run, the start's differences, the sensitivity integration, the outputs); the 2·5 + 1 runs
+central differences need. Accuracy: the sensitivities of each cylinder's pressure by its own bore against central
+differences of runs at rtol 1e-10 (relative step 1e-4), largest deviation over the largest magnitude. Target
+(issue 33): sensitivities of 5 parameters ≤ 3× one run.
 
 Run: ``python benchmarks/sensitivities.py [--repeat 2]`` (repository root).
 """

@@ -38,6 +38,8 @@ __all__ = ["Sensitivities", "forward_sensitivities"]
 
 #: scale of the unknowns kept out of IDA's tests, in nominal values
 OUT_OF_TEST = 1e10
+#: models up to this many unknowns integrate their sensitivities on CasADi's virtual machine (gcc would cost more)
+SMALL = 40
 #: relative step of the central differences of the consistent start (their error ~1e-12 of the start's scale)
 START_STEP = 1e-6
 
@@ -109,42 +111,102 @@ class _Dae:
     of output intervals (built once per model and options)."""
 
     def __init__(self, model: CompiledModel) -> None:
+        from flexlib.solve.casadi_dae import fill_reducing_order
+
         self.model = model
         n = model.n
-        diff = np.asarray(model.differential, dtype=bool)
-        self.d_idx, self.a_idx = np.flatnonzero(diff), np.flatnonzero(~diff)
-        nd, na = len(self.d_idx), len(self.a_idx)
+        # x, z and the rows in the COLAMD order that keeps csparse's LU factors sparse (as the casadi-idas backend)
+        x_idx, z_idx, z_w, rows = fill_reducing_order(model, model.sx_function("res"))
+        self.x_idx, self.z_idx, self.z_w = x_idx, z_idx, z_w
+        nd, nz = len(x_idx), len(z_idx)
         T, tau, u = ca.SX.sym("T"), ca.SX.sym("tau"), ca.SX.sym("u")
-        xd, w, ya = ca.SX.sym("xd", nd), ca.SX.sym("w", nd), ca.SX.sym("ya", na)
+        xd, z = ca.SX.sym("xd", nd), ca.SX.sym("z", nz)
         p = ca.SX.sym("p", model.n_params + model.n_relations)
         # the unknowns in units of their nominal values, so that IDA's scalar atol weighs each as the runs' atol·nominal
         # does; the states' derivatives and the derivative-level unknowns (forces, accelerations) in units 1e10 times
         # larger: out of the error and Newton tests, as in the runs (docs/engine.md, "Error-test policy")
         nom = np.asarray(model.nominal, dtype=float)
         level = np.asarray(model.derivative_level, dtype=bool) if len(model.derivative_level) else np.zeros(n, bool)
-        self.scale = np.where(level, OUT_OF_TEST * nom, nom)
-        self.w_scale = OUT_OF_TEST * nom[self.d_idx]
+        scale = np.where(level, OUT_OF_TEST * nom, nom)
+        self.x_scale = scale[x_idx]
+        self.z_scale = np.where(z_w, OUT_OF_TEST * nom[z_idx], scale[z_idx])
         y, yp = ca.SX.zeros(n), ca.SX.zeros(n)
-        for k, i in enumerate(self.d_idx):
-            y[int(i)], yp[int(i)] = self.scale[i] * xd[k], self.w_scale[k] * w[k]
-        for k, i in enumerate(self.a_idx):
-            y[int(i)] = self.scale[i] * ya[k]
-        F = model.sx_function("res")(T, y, yp, p)
-        rate = self.w_scale / self.scale[self.d_idx]  # dx/dτ = u·y'/scale
-        self.dae = {"t": tau, "x": ca.vertcat(T, xd), "z": ca.vertcat(w, ya), "p": p, "u": u,
-                    "ode": ca.vertcat(u, u * (w * ca.DM(rate))), "alg": F}
+        for k, i in enumerate(x_idx):
+            y[int(i)] = self.x_scale[k] * xd[k]
+        for k, i in enumerate(z_idx):
+            if z_w[k]:
+                yp[int(i)] = self.z_scale[k] * z[k]
+            else:
+                y[int(i)] = self.z_scale[k] * z[k]
+        F = model.sx_function("res")(T, y, yp, p)[[int(r) for r in rows]]
+        pos = {int(i): k for k, i in enumerate(z_idx) if z_w[k]}
+        w = ca.vertcat(*[z[pos[int(i)]] * float(self.z_scale[pos[int(i)]] / self.x_scale[k])
+                         for k, i in enumerate(x_idx)]) if nd else ca.SX(0, 1)  # dx/dτ = u·y'/scale
+        self.dae = ca.Function("flexlib_sens_dae", [tau, ca.vertcat(T, xd), z, p, u],
+                               [ca.vertcat(u, u * w), F, ca.SX(0, 1), ca.SX(0, 1)], ca.dyn_in(), ca.dyn_out())
+        self.compiled: dict[int, ca.Function | None] = {}
         self.integrators: dict[tuple, ca.Function] = {}
 
     def forward(self, K: int, n_dir: int, rtol: float, atol: float) -> ca.Function:
-        """The forward derivative (``n_dir`` directions) of the integrator over ``τ = 1..K``."""
+        """The forward derivative (``n_dir`` directions) of the integrator over ``τ = 1..K``: on the DAE compiled
+        as C with its Jacobian and forward derivative (:func:`_compiled_dae`) where gcc is there, else on CasADi's
+        virtual machine."""
         key = (K, n_dir, rtol, atol)
         if key not in self.integrators:
+            if n_dir not in self.compiled:
+                self.compiled[n_dir] = _compiled_dae(self.dae, n_dir) if self.model.n > SMALL else None
+            dae = self.compiled[n_dir] or self.dae
             opts = {"reltol": rtol, "abstol": atol, "calc_ic": True,
                     "max_num_steps": 1_000_000, "disable_internal_warnings": True, "show_eval_warnings": False,
-                    "linear_solver": "csparse"}
-            F = ca.integrator("flexlib_sens", "idas", self.dae, 0.0, [float(k) for k in range(1, K + 1)], opts)
+                    "linear_solver": "csparse", "second_order_correction": False}
+            F = ca.integrator("flexlib_sens", "idas", dae, 0.0, [float(k) for k in range(1, K + 1)], opts)
             self.integrators[key] = F.forward(n_dir)
         return self.integrators[key]
+
+
+def _compiled_dae(dae: ca.Function, n_dir: int) -> ca.Function | None:
+    """``dae`` as generated C with its Jacobian and its forward derivative in ``n_dir`` directions, compiled by gcc
+    (-O1) into ``$FLEXLIB_CACHE_DIR/sensitivity/`` once per DAE and number of directions (named by the digest of
+    both, checked against the SHA-256 recorded beside it before it is loaded); None without a C compiler.
+    CasADi's forward sensitivities of an integrator then need no second derivatives (``second_order_correction``
+    off: the Newton matrix of the augmented system is block diagonal with the DAE's own)."""
+    import hashlib
+    import os
+    import shutil
+    import subprocess
+    import tempfile
+    from pathlib import Path
+
+    from flexlib.compile.cache import cache_dir
+    from flexlib.compile.integrity import sha256_file
+
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if cc is None:
+        return None
+    digest = hashlib.sha256(f"{dae.serialize()}|{n_dir}|{ca.__version__}".encode()).hexdigest()[:32]
+    where = cache_dir() / "sensitivity"
+    lib, manifest = where / f"sens_{digest}.so", where / f"sens_{digest}.sha256"
+    if lib.exists() and manifest.exists() and manifest.read_text().strip() == sha256_file(lib):
+        return ca.external("flexlib_sens_dae", str(lib))
+    where.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=where, prefix=".gcc-", suffix=".tmp") as tmp:
+        cg = ca.CodeGenerator("sens.c")
+        cg.add(dae)
+        cg.add(dae.jacobian())
+        cg.add(dae.forward(n_dir))
+        cg.generate(tmp + os.sep)
+        out = Path(tmp) / "sens.so"
+        proc = subprocess.run([cc, "-O1", "-shared", "-fPIC", str(Path(tmp) / "sens.c"), "-o", str(out), "-lm"],
+                              capture_output=True, text=True, check=False)
+        if proc.returncode != 0:
+            return None
+        os.chmod(out, 0o700)
+        sha = sha256_file(out)
+        part = Path(tmp) / "sha"
+        part.write_text(sha)
+        os.replace(out, lib)
+        os.replace(part, manifest)
+    return ca.external("flexlib_sens_dae", str(lib))
 
 
 def _dae(model: CompiledModel) -> _Dae:
@@ -291,8 +353,8 @@ def _integrate(m: CompiledModel, init: Any, T: np.ndarray, Y: np.ndarray, YP: np
                atol: float) -> tuple[np.ndarray, np.ndarray, int, int]:
     """``S = ∂y/∂p`` and ``S' = ∂y'/∂p`` at every row (``(rows, n, n_params)``), segment by segment."""
     dae = _dae(m)
-    d_idx, a_idx = dae.d_idx, dae.a_idx
-    nd, n_dir = len(d_idx), len(idx)
+    x_idx, z_idx, z_w = dae.x_idx, dae.z_idx, dae.z_w
+    nd, nz, n_dir = len(x_idx), len(z_idx), len(idx)
     n_p = m.n_params
     rows = len(T)
     S, SP = np.zeros((rows, m.n, n_dir)), np.zeros((rows, m.n, n_dir))
@@ -312,11 +374,11 @@ def _integrate(m: CompiledModel, init: Any, T: np.ndarray, Y: np.ndarray, YP: np
             continue
         K = b - a
         F = dae.forward(K, n_dir, rtol, atol)
-        nd_, nw_, na_ = dae.scale[d_idx], dae.w_scale, dae.scale[a_idx]
-        x0 = np.concatenate([[T[a]], Y[a, d_idx] / nd_])
-        z0 = np.concatenate([YP[a, d_idx] / nw_, Y[a, a_idx] / na_])
-        fx0 = np.vstack([np.zeros((1, n_dir)), S[a][d_idx] / nd_[:, None]])
-        fz0 = np.vstack([SP[a][d_idx] / nw_[:, None], S[a][a_idx] / na_[:, None]])
+        xs, zs = dae.x_scale[:, None], dae.z_scale[:, None]
+        x0 = np.concatenate([[T[a]], Y[a, x_idx] / dae.x_scale])
+        z0 = np.where(z_w, YP[a, z_idx], Y[a, z_idx]) / dae.z_scale
+        fx0 = np.vstack([np.zeros((1, n_dir)), S[a][x_idx] / xs])
+        fz0 = np.where(z_w[:, None], SP[a][z_idx], S[a][z_idx]) / zs
         try:
             out = F(x0=x0, z0=z0, p=P, u=np.diff(T[a:b + 1])[None, :], fwd_x0=fx0, fwd_z0=fz0,
                     fwd_p=seed_p, fwd_u=np.zeros((1, K * n_dir)))
@@ -324,10 +386,11 @@ def _integrate(m: CompiledModel, init: Any, T: np.ndarray, Y: np.ndarray, YP: np
             raise SolverError(f"{m.name}: the sensitivity integration failed between t = {T[a]:.10g} and "
                               f"{T[b]:.10g} s: {str(err).splitlines()[-1]}") from None
         fx = _dense(out["fwd_xf"]).reshape(nd + 1, n_dir, K)  # columns: direction-major, then output time
-        fz = _dense(out["fwd_zf"]).reshape(nd + len(a_idx), n_dir, K)
-        S[a + 1:b + 1, d_idx, :] = np.transpose(fx[1:] * nd_[:, None, None], (2, 0, 1))
-        S[a + 1:b + 1, a_idx, :] = np.transpose(fz[nd:] * na_[:, None, None], (2, 0, 1))
-        SP[a + 1:b + 1, d_idx, :] = np.transpose(fz[:nd] * nw_[:, None, None], (2, 0, 1))
+        fz = _dense(out["fwd_zf"]).reshape(nz, n_dir, K)
+        S[a + 1:b + 1, x_idx, :] = np.transpose(fx[1:] * xs[:, :, None], (2, 0, 1))
+        fz = np.transpose(fz * zs[:, :, None], (2, 0, 1))
+        S[a + 1:b + 1, z_idx[~z_w], :] = fz[:, ~z_w]
+        SP[a + 1:b + 1, z_idx[z_w], :] = fz[:, z_w]
     return S, SP, len(starts), n_ev
 
 
@@ -407,14 +470,18 @@ def _outputs(m: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray, REL
              idx: list[int], S: np.ndarray, SP: np.ndarray, out_idx: list[int]) -> tuple[np.ndarray, np.ndarray]:
     """The outputs and their derivatives ``∂o/∂y S + ∂o/∂y' S' + ∂o/∂p`` at every row."""
     ts, ys, yps, ps = _symbols(m)
-    key = "outputs_" + ",".join(map(str, out_idx))
-    expr = m.sx_function("out")(ts, ys, yps, ps)[out_idx]
-    fn = _partials(m, key, expr, ts, ys, yps, ps)
-    values = np.zeros((len(T), len(out_idx)))
-    d = np.zeros((len(T), len(out_idx), len(idx)))
-    for i in range(len(T)):
-        P = np.concatenate([pvec, REL[i]])
-        o, _, oy, oyp, op = (_dense(v) for v in fn(T[i], Y[i], YP[i], P))
-        values[i] = o.ravel()
-        d[i] = oy @ S[i] + oyp @ SP[i] + op[:, idx]
+    n_dir, n_out, rows = len(idx), len(out_idx), len(T)
+    key = f"sensitivity_outputs_{n_dir}_" + ",".join(map(str, out_idx))
+    if key not in m._functions:  # the outputs and their directional derivatives, one call over every row
+        o = m.sx_function("out")(ts, ys, yps, ps)[out_idx]
+        Sy, Syp, Sp = ca.SX.sym("Sy", m.n, n_dir), ca.SX.sym("Syp", m.n, n_dir), ca.SX.sym("Sp", ps.numel(), n_dir)
+        d = ca.mtimes(ca.jacobian(o, ca.vertcat(ys, yps, ps)), ca.vertcat(Sy, Syp, Sp))
+        m._functions[key] = ca.Function("flexlib_sens_out", [ts, ys, yps, ps, Sy, Syp, Sp], [o, d])
+    fn = m._functions[key].map(rows)
+    seed_p = np.zeros((m.n_params + m.n_relations, n_dir))
+    seed_p[idx, np.arange(n_dir)] = 1.0
+    P = np.vstack([np.repeat(pvec[:, None], rows, axis=1), REL.T])
+    o, dd = fn(T[None, :], Y.T, YP.T, P, np.hstack(list(S)), np.hstack(list(SP)), np.tile(seed_p, (1, rows)))
+    values = _dense(o).T.reshape(rows, n_out)
+    d = _dense(dd).reshape(n_out, rows, n_dir).transpose(1, 0, 2)
     return values, d

@@ -5,6 +5,8 @@ bad arguments."""
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -165,3 +167,31 @@ def test_the_studies_page_sensitivity_example_runs_as_written(tmp_path, monkeypa
     assert len(blocks) == 1
     monkeypatch.chdir(tmp_path)
     exec(compile(blocks[0], "docs/studies.md", "exec"), {})
+
+
+def test_the_compiled_sensitivity_dae_gives_the_same_sensitivities(monkeypatch, tmp_path):
+    """Above ``SMALL`` unknowns the DAE and its forward derivative are generated C (gcc, cached on disk with their
+    SHA-256): forced here for the event model, the sensitivities equal the virtual machine's to 1e-9 of range, and
+    a library whose bytes no longer match its recorded hash is compiled again, not loaded."""
+    import shutil
+
+    import flexlib.solve.sensitivities as sens_mod
+
+    if shutil.which("gcc") is None and shutil.which("cc") is None:
+        pytest.skip("no C compiler")
+    params = ["c", "x_on", "t_push"]
+    vm = fl.Simulation(Engaging()).sensitivities(3.0, params, ["x", "v"], dt_out=0.05, rtol=1e-10, atol=1e-12)
+    monkeypatch.setenv("FLEXLIB_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(sens_mod, "SMALL", 0)
+    c = fl.Simulation(Engaging()).sensitivities(3.0, params, ["x", "v"], dt_out=0.05, rtol=1e-10, atol=1e-12)
+    libs = list((tmp_path / "sensitivity").glob("sens_*.so"))
+    assert len(libs) == 1
+    np.testing.assert_allclose(c.d, vm.d, rtol=0, atol=1e-9 * np.ptp(vm.d))
+    tampered = tmp_path / "tampered.so"  # a new file put in its place (the loaded one stays mapped)
+    tampered.write_bytes(libs[0].read_bytes() + b"\0")
+    os.replace(tampered, libs[0])  # its hash no longer matches the recorded one
+    again = fl.Simulation(Engaging()).sensitivities(3.0, params, ["x", "v"], dt_out=0.05, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(again.d, vm.d, rtol=0, atol=1e-9 * np.ptp(vm.d))
+    from flexlib.compile.integrity import sha256_file
+
+    assert sha256_file(libs[0]) == libs[0].with_suffix(".sha256").read_text()  # compiled again

@@ -141,6 +141,11 @@ class Initializer:
         if bad:
             raise ParameterError("parameter values must be finite; not finite: " + ", ".join(bad[:12])
                                  + (f" … and {len(bad) - 12} more" if len(bad) > 12 else ""))
+        try:  # the usual case at once: scalar start values, all finite
+            if np.isfinite(np.fromiter((v for v, _ in starts.values()), dtype=float, count=len(starts))).all():
+                return
+        except (TypeError, ValueError):  # an array or a non-number among them: checked one by one below
+            pass
         bad = []
         for name, (val, fixed) in starts.items():
             try:
