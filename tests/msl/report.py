@@ -21,7 +21,7 @@ def main() -> None:
         (rot.OneWayClutchExample(), "rotational_one_way_clutch", 2.0, 0.0005, None),
         (rot.OneWayClutchDisengaged(), "rotational_one_way_clutch_disengaged", 2.0, 0.0005, None),
         (rot.LossyGearDemo(bearing=False), "rotational_lossy_gear_demo1", 0.5, 0.0005, None),
-        (rot.LossyGearDemo(bearing=True), "rotational_lossy_gear_demo2", 0.5, 0.0005, 0.308),
+        (rot.LossyGearDemo(bearing=True), "rotational_lossy_gear_demo2", 0.5, 0.0005, None),
         (rot.LossyGearDemo3(), "rotational_lossy_gear_demo3", 1.0, 0.0005, None),
         (rot.SimpleGearShift(), "rotational_simple_gear_shift", 5.0, 0.005, None),
         (trans.FrictionExample(), "translational_friction", 5.0, 0.0005, None),
