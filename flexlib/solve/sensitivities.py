@@ -259,10 +259,14 @@ def forward_sensitivities(sim: Any, t_end: float | None, params: list[str], outp
     """
     from flexlib.solve.options import experiment_of
     from flexlib.solve.run_options import check_run_arguments
+    from flexlib.solve.sampling import sampled_blocks
     from flexlib.solve.signals import sigterm_as_interrupt
 
     m0 = sim.compiled
     params, outputs = _checked_names(m0, params, outputs)
+    if sampled_blocks(sim.model):
+        raise RunArgumentError(f"sensitivities(): {m0.name} has sampled blocks (an FMU): their steps are not "
+                               "differentiated")
     cpu = _time.process_time()
     given = dict(t_start=None, dt_out=None, output_times=None, max_step=0.0, max_steps=5_000_000,
                  steady_state=False, solver="ida", max_order=None, outputs=None)
@@ -424,18 +428,18 @@ def _jump(m: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray, REL: n
     """The sensitivities just after the event between rows ``before`` and ``after``: the states' by the event
     time's derivative, the others as a guess for the consistent start of the next segment."""
     t = float(T[before])
+    d_idx = np.flatnonzero(np.asarray(m.differential, dtype=bool))
+    moved = d_idx[Y[after, d_idx] != Y[before, d_idx]]
+    if moved.size:  # a state set at the event: fl.reinit
+        rels = "; ".join(f"{r.owner}: {r.text}" for r in m.relations if r.reinit)
+        raise SolverError(f"{m.name}: sensitivities across a reinit() event are not computed (t = {t:.10g} s: "
+                          f"{', '.join(m.y_names[int(i)] for i in moved)} set by {rels})")
     switched = np.flatnonzero(REL[before] != REL[after])
-    for k in switched:
-        rel = m.relations[int(k)]
-        if rel.reinit and REL[after][k] == 1.0:
-            raise SolverError(f"{m.name}: sensitivities across a reinit() event are not computed "
-                              f"(t = {t:.10g} s: {rel.owner}: {rel.text})")
     if switched.size == 0:
         return Sb.copy(), SPb.copy()  # a restart without a switch (a sample, a recovery)
     P = np.concatenate([pvec, REL[before]])
     dtau = _event_time_derivative(m, t, Y, YP, T, P, before, switched, Sb, SPb, seed_p)
     Sa, SPa = Sb.copy(), SPb.copy()
-    d_idx = np.flatnonzero(np.asarray(m.differential, dtype=bool))
     if dtau is not None:
         Sa[d_idx] += np.outer(YP[before, d_idx] - YP[after, d_idx], dtau)
     return Sa, SPa

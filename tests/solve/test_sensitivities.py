@@ -195,3 +195,15 @@ def test_the_compiled_sensitivity_dae_gives_the_same_sensitivities(monkeypatch, 
     from flexlib.compile.integrity import sha256_file
 
     assert sha256_file(libs[0]) == libs[0].with_suffix(".sha256").read_text()  # compiled again
+
+
+def test_what_is_not_differentiated_is_refused_by_name():
+    """A ``fl.reinit`` event (a bouncing ball's impact sets its speed) is refused, naming the relation and its time;
+    before the first impact the sensitivities exist."""
+    from tests.test_engine_events import BouncingBall
+
+    sim = fl.Simulation(BouncingBall())
+    with pytest.raises(fl.SolverError, match=r"reinit\(\).*t = 0\.45"):
+        sim.sensitivities(1.0, ["e"], ["h"], dt_out=0.01)
+    sens = sim.sensitivities(0.4, ["e"], ["h"], dt_out=0.01)
+    assert np.all(sens["h", "e"] == 0.0)  # the restitution acts only at the impact
