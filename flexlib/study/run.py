@@ -63,8 +63,16 @@ def variant_key(params: Mapping[str, float]) -> str:
     return json.dumps({k: float(params[k]) for k in sorted(params)}, sort_keys=True)
 
 
-def _simulation(model: str, scenario: str | None, options: str) -> tuple[Any, Any]:
-    key = (model, scenario, options)
+def _scenario_key(scenario: Any) -> str | None:
+    """A scenario's identity in a worker's cache: its name, or a record's whole content (two records of one name
+    with other start poses are other machines' starts)."""
+    if scenario is None or isinstance(scenario, str):
+        return scenario
+    return json.dumps(scenario.to_dict(), sort_keys=True, default=str)
+
+
+def _simulation(model: str, scenario: Any, options: str) -> tuple[Any, Any]:
+    key = (model, _scenario_key(scenario), options)
     found = _SIMULATIONS.get(key)
     if found is None:
         from dataclasses import replace
@@ -72,7 +80,7 @@ def _simulation(model: str, scenario: str | None, options: str) -> tuple[Any, An
         from flexlib import registry
         from flexlib.solve.simulation import Simulation
 
-        scen = registry.get_scenario(model, scenario)
+        scen = scenario if isinstance(scenario, registry.Scenario) else registry.get_scenario(model, scenario)
         extra = json.loads(options)
         if extra:
             scen = replace(scen, options={**scen.options, **extra})
@@ -81,7 +89,7 @@ def _simulation(model: str, scenario: str | None, options: str) -> tuple[Any, An
     return found
 
 
-def run_variant(model: str, scenario: str | None, options: str, t_end: float | None, params: dict[str, float],
+def run_variant(model: str, scenario: Any, options: str, t_end: float | None, params: dict[str, float],
                 reductions: Mapping[str, Callable[[Any], float]]) -> dict[str, Any]:
     """One variant in a worker: its row (parameters, reductions, status, error, the run's CPU time and the build's in
     this worker (0 once built) [s], the run's wall time [s], the worker's pid, the task's start and end [s since the
@@ -91,7 +99,7 @@ def run_variant(model: str, scenario: str | None, options: str, t_end: float | N
     c0 = time.process_time()
     build, run_wall = 0.0, math.nan
     try:
-        built = (model, scenario, options) not in _SIMULATIONS
+        built = (model, _scenario_key(scenario), options) not in _SIMULATIONS
         sim, scen = _simulation(model, scenario, options)
         build = time.process_time() - c0 if built else 0.0
         run = dict(scen.run)
@@ -169,8 +177,9 @@ def run_study(model: str, variants: Sequence[Mapping[str, float]], reductions: M
     reductions : dict
         ``{column name: reduction}``: what each run is judged by (:class:`~flexlib.study.Peak`, ... or a function
         of a Result importable by the workers).
-    scenario : str, optional
-        The scenario (default: the model's).
+    scenario : str or Scenario, optional
+        The scenario (default: the model's), or a :class:`~flexlib.registry.Scenario` record of the model's (another
+        start pose, other commands: ``dataclasses.replace(registry.get_scenario(model, "hold"), data=...)``).
     options : dict, optional
         Model options on top of the scenario's (``{"flexible": True}``).
     t_end : float, optional
@@ -191,7 +200,10 @@ def run_study(model: str, variants: Sequence[Mapping[str, float]], reductions: M
     """
     from flexlib import registry
 
-    registry.get_scenario(model, scenario)  # the names checked here, before any worker starts
+    if isinstance(scenario, registry.Scenario):  # a record of the user's (another start pose): checked here
+        registry.get_model(model).checked(scenario)
+    else:
+        registry.get_scenario(model, scenario)  # the names checked here, before any worker starts
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise RunArgumentError(f"run_study: workers = {workers!r} must be a positive integer")
     if not reductions:
@@ -203,18 +215,19 @@ def run_study(model: str, variants: Sequence[Mapping[str, float]], reductions: M
     if path is not None and path.exists():
         done = {r["variant"]: r for r in read_table(path)[0]}
     todo = [(k, v) for k, v in zip(keys, todo_params, strict=True) if k not in done]
-    meta = {"model": model, "scenario": scenario, "options": dict(options or {}), "t_end": t_end,
+    name = scenario.name if isinstance(scenario, registry.Scenario) else scenario
+    meta = {"model": model, "scenario": name, "options": dict(options or {}), "t_end": t_end,
             "params": sorted({k for v in todo_params for k in v}), "reductions": list(reductions), "order": keys}
     if todo:
-        _run(meta, todo, reductions, workers, scheduler, path, done, progress)
+        _run(meta, scenario, todo, reductions, workers, scheduler, path, done, progress)
     rows = [done[k] for k in keys]
     return StudyResult(rows, path)
 
 
-def _run(meta: dict[str, Any], todo: list, reductions: Mapping, workers: int, scheduler: str | None,
+def _run(meta: dict[str, Any], scenario: Any, todo: list, reductions: Mapping, workers: int, scheduler: str | None,
          path: Path | None, done: dict, progress: bool | None) -> None:
-    """The variants ``todo`` as Dask tasks of the study ``meta`` (model, scenario, options, t_end); rows into ``done``
-    and, as they arrive, into ``path``."""
+    """The variants ``todo`` as Dask tasks of the study ``meta`` (model, options, t_end) on ``scenario`` (a name or a
+    record); rows into ``done`` and, as they arrive, into ``path``."""
     from distributed import as_completed
     from tqdm import tqdm
 
@@ -222,7 +235,7 @@ def _run(meta: dict[str, Any], todo: list, reductions: Mapping, workers: int, sc
     saved = time.monotonic()
     try:
         options = json.dumps(meta["options"], sort_keys=True)
-        futures = [client.submit(run_variant, meta["model"], meta["scenario"], options, meta["t_end"], params,
+        futures = [client.submit(run_variant, meta["model"], scenario, options, meta["t_end"], params,
                                  dict(reductions), pure=False) for _, params in todo]
         bar = tqdm(total=len(futures), desc=f"study {meta['model']}", leave=False,
                    disable=progress is False or (progress is None and not sys.stderr.isatty()))
