@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -61,6 +62,9 @@ def parse_reduction(text: str) -> tuple[str, Any]:
 @once_option("--seed", type=int, help="Seed of the samples (default 0).")
 @click.option("-r", "--reduce", "reduce_opts", multiple=True, metavar="KIND:SIGNAL", required=True,
               help="What each run is judged by: peak|max|min|final of a signal (repeatable).")
+@once_option("--pose", metavar="DEG,DEG,...",
+             help="Start the scenario from this pose instead of its own (its data's pose: the pump truck's slew and "
+                  "joint angles [deg]).")
 @once_option("--workers", type=click.IntRange(min=1), help="Worker processes of the local cluster (default 2).")
 @once_option("--scheduler", help="A running Dask scheduler (tcp://host:8786) instead of a local cluster.")
 @once_option("-o", "--out", required=True, type=click.Path(dir_okay=False),
@@ -68,9 +72,10 @@ def parse_reduction(text: str) -> tuple[str, Any]:
 @click.option("--no-progress", is_flag=True, help="No progress bar.")
 @friendly
 def sweep_cmd(model: str, scenario: str | None, params: tuple[str, ...], lhs: int | None, seed: int | None,
-              reduce_opts: tuple[str, ...], workers: int | None, scheduler: str | None, out: str,
+              reduce_opts: tuple[str, ...], pose: str | None, workers: int | None, scheduler: str | None, out: str,
               no_progress: bool) -> None:
     """Run MODEL's scenario over parameter values on Dask and write the table of reductions (docs/studies.md)."""
+    from flexlib import registry
     from flexlib.study import grid, latin_hypercube, run_study
 
     if not params:
@@ -84,7 +89,17 @@ def sweep_cmd(model: str, scenario: str | None, params: tuple[str, ...], lhs: in
     else:
         variants = grid(**{n: v for n, v, _ in axes})
     reductions = dict(parse_reduction(r) for r in reduce_opts)
-    table = run_study(model, variants, reductions, scenario=scenario, workers=workers or 2, scheduler=scheduler,
+    scen: str | registry.Scenario | None = scenario
+    if pose is not None:
+        try:
+            angles = [float(v) for v in pose.split(",")]
+        except ValueError:
+            raise click.ClickException(f"--pose {pose!r}: give the angles as DEG,DEG,... (numbers)") from None
+        base = registry.get_scenario(model, scenario)
+        if "pose" not in base.data:
+            raise click.ClickException(f"--pose: the scenario {base.name!r} of {model!r} has no start pose in its data")
+        scen = replace(base, name=f"{base.name}@pose", data={**dict(base.data), "pose": angles})
+    table = run_study(model, variants, reductions, scenario=scen, workers=workers or 2, scheduler=scheduler,
                       out=out, progress=not no_progress)
     failed = len(table.failed)
     say("Wrote", f"{out}: {len(table.rows)} runs, {failed} failed" + (f" (first: {table.failed[0]['error']})"

@@ -115,3 +115,27 @@ def test_the_sweep_command_writes_the_table_and_study_show_reads_it(scheduler, t
         bad = CliRunner().invoke(cli, ["sweep", "n-mass-chain", *base["-p"], *base["-r"], "-o",
                                        str(tmp_path / "x.parquet")], catch_exceptions=False)
         assert bad.exit_code != 0 and message in bad.output
+
+
+def test_the_sweep_command_starts_from_another_pose(scheduler, tmp_path):
+    """``flexlib sweep pump-truck -s hold --pose ...``: the runs start from the given pose (boom 5 held at −10°
+    instead of the scenario's 0°, drifting by less than 0.01 rad in the 30 s hold); a scenario without a start pose in
+    its data, or angles that are not numbers, are refused."""
+    from click.testing import CliRunner
+
+    from flexlib.cli import cli
+    from flexlib.study.run import read_table
+
+    out = tmp_path / "pose.parquet"
+    res = CliRunner().invoke(cli, ["sweep", "pump-truck", "-s", "hold", "--pose", "0,0,0,0,0,-10", "-p",
+                                   "axis3.cbv_hold.pilot_ratio=3,3.5", "-r", "final:joint5.phi", "--scheduler",
+                                   scheduler, "-o", str(out), "--no-progress"], catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    rows, meta = read_table(out)
+    assert meta["scenario"] == "hold@pose" and len(rows) == 2
+    assert all(abs(r["final(joint5.phi)"] - np.radians(-10.0)) < 0.01 for r in rows), rows
+    for args, message in ((["n-mass-chain", "-s", "short", "--pose", "1,2"], "has no start pose"),
+                          (["pump-truck", "-s", "hold", "--pose", "0,a"], "DEG,DEG")):
+        bad = CliRunner().invoke(cli, ["sweep", *args, "-p", "x=1,2", "-r", "peak:y", "-o",
+                                       str(tmp_path / "x.parquet")], catch_exceptions=False)
+        assert bad.exit_code != 0 and message in bad.output, bad.output
