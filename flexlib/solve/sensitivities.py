@@ -11,11 +11,13 @@ At an event the states are continuous, but the event time moves with the paramet
 relation's indicator ``g(t, y, y', p)`` crosses zero at ``τ``, ``dτ/dp = −(g_y S + g_y' S' + g_p) / ġ``
 (``ġ = g_t + g_y y' + g_y' y''`` along the trajectory just before it), and the states' sensitivities jump by
 ``S⁺ = S⁻ + (ẏ⁻ − ẏ⁺) dτ/dp`` (Galán, Feehery, Barton 1999, "Parametric sensitivity functions for hybrid
-discrete/continuous systems", Appl. Numer. Math. 31, eq. 19); for a time event ``a(p) t + b(p) = 0``,
-``τ = −b/a`` and its derivative. The algebraic sensitivities after it are made consistent by the next segment's
-start (``IDACalcIC`` on the augmented DAE). The start's sensitivities are those of the consistent start: central
-differences of the initialisation (the states' start values, the initial equations and a steady start all enter
-it; a start costs a fraction of a run).
+discrete/continuous systems", Appl. Numer. Math. 31, 1999); for a time event ``a(p) t + b(p) = 0``,
+``τ = −b/a`` and its derivative. The algebraic sensitivities after it are solved again from the held event problem's
+Jacobian (``F_w S_w = −(F_x S_x + F_p)``), and the next segment's start checks them (``IDACalcIC`` on the augmented
+DAE). Above :data:`SMALL` unknowns the DAE, its Jacobian and its forward derivative are generated C
+(:func:`_compiled_dae`), in the COLAMD order of the ``casadi-idas`` backend. The start's sensitivities are those of the
+consistent start: central differences of the initialisation (the states' start values, the initial equations and a
+steady start all enter it; a start costs a fraction of a run).
 
 Not differentiated (refused, naming the event): ``fl.reinit`` (a state set at an event), a change of state
 selection during the run (the run is made with ``dynamic_states=False``), a sampled block (FMU).
