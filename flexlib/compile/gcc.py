@@ -35,7 +35,8 @@ import casadi as ca
 from flexlib.compile.integrity import sha256_file
 from flexlib.errors import FlexlibError
 
-__all__ = ["GCC_O1_MAX_LINES", "GCC_O2_MAX_LINES", "JOIN_AGE", "earlier_compile", "gcc_level", "generate_c"]
+__all__ = ["GCC_O1_MAX_LINES", "GCC_O2_MAX_LINES", "JOIN_AGE", "compile_functions", "earlier_compile", "gcc_level",
+           "generate_c"]
 
 #: A background compile of the same source younger than this [s] that has not finished is joined, not repeated.
 JOIN_AGE = 900.0
@@ -140,18 +141,41 @@ def generate_c(res: ca.Function, jac: ca.Function, build_dir: str | os.PathLike 
                        stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                        start_new_session=True, check=False)
         return str(out)
+    return _compile_foreground(cc, cg, build, f"flexlib_{digest}", "flexlib")
+
+
+def compile_functions(functions: list[ca.Function], build_dir: str | os.PathLike, stem: str,
+                      background_level: bool = False) -> tuple[str, str, int]:
+    """CasADi functions as generated C in one shared library, compiled by gcc in the foreground at
+    :func:`gcc_level` (``background_level``: the level of a background compile, -O1 for large sources) and moved
+    into ``build_dir`` as ``<stem>_<sha256[:32]>.so``, named by its own bytes; ``(path, sha256, size)``. Raises
+    :class:`FlexlibError` without a C compiler or when gcc fails."""
+    cc = shutil.which("gcc") or shutil.which("cc")
+    if cc is None:
+        raise FlexlibError("generated C needs a C compiler (gcc) on PATH")
+    build = Path(build_dir)
+    build.mkdir(parents=True, exist_ok=True)
+    cg = ca.CodeGenerator(f"{stem}.c")
+    for fn in functions:
+        cg.add(fn)
+    return _compile_foreground(cc, cg, build, stem, stem, background_level)
+
+
+def _compile_foreground(cc: str, cg: ca.CodeGenerator, build: Path, source: str, stem: str,
+                        background_level: bool = False) -> tuple[str, str, int]:
+    """``cg`` (whose file is ``<source>.c``) compiled into ``build/<stem>_<sha256[:32]>.so``, atomically."""
     with tempfile.TemporaryDirectory(dir=build, prefix=".flexlib-gcc-", suffix=".tmp") as tmp:
         cg.generate(tmp + os.sep)
-        src = Path(tmp) / f"flexlib_{digest}.c"
+        src = Path(tmp) / f"{source}.c"
         with src.open() as fh:
             lines = sum(1 for _ in fh)
-        tmp_lib = Path(tmp) / f"flexlib_{digest}.so"
-        proc = subprocess.run([cc, gcc_level(lines), "-shared", "-fPIC", str(src), "-o", str(tmp_lib), "-lm"],
-                              capture_output=True, text=True, check=False)
+        tmp_lib = Path(tmp) / f"{source}.so"
+        proc = subprocess.run([cc, gcc_level(lines, background_level), "-shared", "-fPIC", str(src), "-o",
+                               str(tmp_lib), "-lm"], capture_output=True, text=True, check=False)
         if proc.returncode != 0:
             raise FlexlibError(f"gcc failed on the generated model code:\n{proc.stderr[-2000:]}")
         os.chmod(tmp_lib, 0o700)
         sha, size = sha256_file(tmp_lib), tmp_lib.stat().st_size
-        lib = build / f"flexlib_{sha[:32]}.so"
+        lib = build / f"{stem}_{sha[:32]}.so"
         os.replace(tmp_lib, lib)
     return str(lib), sha, size

@@ -15,6 +15,7 @@ import subprocess
 import tempfile
 import warnings
 from pathlib import Path
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -24,7 +25,27 @@ from scipy.sparse.linalg import splu
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import CacheWarning
 
-__all__ = ["compiled_residual", "fill_reducing_order"]
+__all__ = ["compiled_residual", "fill_reducing_order", "unknowns_from_xz"]
+
+
+def unknowns_from_xz(n: int, x_idx: np.ndarray, z_idx: np.ndarray, z_w: np.ndarray, xd: Any, z: Any,
+                     sym: Any = ca.SX) -> tuple[Any, Any, Any]:
+    """``y``, ``y'`` (zero in the algebraic entries) and ``y'`` of the differential entries in ``x`` order, from the
+    integrator's differential states ``xd`` (the ``y`` entries ``x_idx``) and algebraic ``z`` (the ``y`` entries
+    ``z_idx``: their derivative where ``z_w``, else themselves), by permutation (:func:`fill_reducing_order`'s
+    orders)."""
+    nd, nz = len(x_idx), len(z_idx)
+    pos_x, pos_zw, pos_za = np.full(n, -1), np.full(n, -1), np.full(n, -1)
+    pos_x[x_idx] = np.arange(nd)
+    pos_zw[z_idx[z_w]] = np.flatnonzero(z_w)
+    pos_za[z_idx[~z_w]] = np.flatnonzero(~z_w)
+    xz = ca.vertcat(xd, z)
+    y_sel = [int(k) for k in np.where(pos_x >= 0, pos_x, nd + pos_za)]
+    y = xz[y_sel] if n else sym(0, 1)
+    w = z[[int(k) for k in pos_zw[x_idx]]] if nd else sym(0, 1)  # dx_d/dt, in x order
+    zw = ca.vertcat(z, sym(1, 1))  # index nz: a structural zero for the algebraic entries' y'
+    yp = zw[[int(k) if k >= 0 else nz for k in pos_zw]] if n else sym(0, 1)
+    return y, yp, w
 
 
 def fill_reducing_order(model: CompiledModel, sx: ca.Function) -> tuple[np.ndarray, np.ndarray, np.ndarray,

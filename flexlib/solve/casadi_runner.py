@@ -115,7 +115,7 @@ import numpy as np
 from flexlib.compile.codegen import CompiledModel
 from flexlib.errors import SolverError
 from flexlib.solve.backends.base import absolute_tolerances
-from flexlib.solve.casadi_dae import compiled_residual, fill_reducing_order
+from flexlib.solve.casadi_dae import compiled_residual, fill_reducing_order, unknowns_from_xz
 from flexlib.solve.signals import interrupted
 
 __all__ = ["DENSE_POINTS", "DETECT_POINTS", "EVENT_TOL", "FIRST_CHUNK", "LINEAR_SOLVER", "MAX_GRID", "RETRY_STEPS",
@@ -229,17 +229,7 @@ def _build_backend(model: CompiledModel) -> _Backend:
     T, tau, u = sym.sym("T"), sym.sym("tau"), sym.sym("u")
     xd, z = sym.sym("x", nd), sym.sym("z", nz)
     p = sym.sym("p", model.n_params + model.n_relations)
-    # y and y' assembled from x and z (permutations; y' is zero in the algebraic entries)
-    pos_x, pos_zw, pos_za = np.full(model.n, -1), np.full(model.n, -1), np.full(model.n, -1)
-    pos_x[x_idx] = np.arange(nd)
-    pos_zw[z_idx[z_w]] = np.flatnonzero(z_w)
-    pos_za[z_idx[~z_w]] = np.flatnonzero(~z_w)
-    xz = ca.vertcat(xd, z)
-    y_sel = [int(k) for k in np.where(pos_x >= 0, pos_x, nd + pos_za)]
-    y = xz[y_sel] if model.n else sym(0, 1)
-    w = z[[int(k) for k in pos_zw[x_idx]]] if nd else sym(0, 1)  # dx_d/dt, in x order
-    zw = ca.vertcat(z, sym(1, 1))  # index nz: a structural zero for the algebraic entries' y'
-    yp = zw[[int(k) if k >= 0 else nz for k in pos_zw]] if model.n else sym(0, 1)
+    y, yp, w = unknowns_from_xz(model.n, x_idx, z_idx, z_w, xd, z, sym)
     F = res(T, y, yp, p)
     F = F[[int(r) for r in rows]] if model.n else F
     dae = {"t": tau, "x": ca.vertcat(T, xd), "z": z, "p": p, "u": u, "ode": ca.vertcat(u, u * w), "alg": F}

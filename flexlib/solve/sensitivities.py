@@ -113,7 +113,7 @@ class _Dae:
     of output intervals (built once per model and options)."""
 
     def __init__(self, model: CompiledModel) -> None:
-        from flexlib.solve.casadi_dae import fill_reducing_order
+        from flexlib.solve.casadi_dae import fill_reducing_order, unknowns_from_xz
 
         self.model = model
         n = model.n
@@ -132,18 +132,11 @@ class _Dae:
         scale = np.where(level, OUT_OF_TEST * nom, nom)
         self.x_scale = scale[x_idx]
         self.z_scale = np.where(z_w, OUT_OF_TEST * nom[z_idx], scale[z_idx])
-        y, yp = ca.SX.zeros(n), ca.SX.zeros(n)
-        for k, i in enumerate(x_idx):
-            y[int(i)] = self.x_scale[k] * xd[k]
-        for k, i in enumerate(z_idx):
-            if z_w[k]:
-                yp[int(i)] = self.z_scale[k] * z[k]
-            else:
-                y[int(i)] = self.z_scale[k] * z[k]
+        xs = xd * ca.DM(self.x_scale) if nd else xd
+        zs = z * ca.DM(self.z_scale) if nz else z
+        y, yp, w = unknowns_from_xz(n, x_idx, z_idx, z_w, xs, zs)
         F = model.sx_function("res")(T, y, yp, p)[[int(r) for r in rows]]
-        pos = {int(i): k for k, i in enumerate(z_idx) if z_w[k]}
-        w = ca.vertcat(*[z[pos[int(i)]] * float(self.z_scale[pos[int(i)]] / self.x_scale[k])
-                         for k, i in enumerate(x_idx)]) if nd else ca.SX(0, 1)  # dx/dτ = u·y'/scale
+        w = w / ca.DM(self.x_scale) if nd else w  # dx/dτ = u·y'/scale
         self.dae = ca.Function("flexlib_sens_dae", [tau, ca.vertcat(T, xd), z, p, u],
                                [ca.vertcat(u, u * w), F, ca.SX(0, 1), ca.SX(0, 1)], ca.dyn_in(), ca.dyn_out())
         self.compiled: dict[int, ca.Function | None] = {}
@@ -167,48 +160,42 @@ class _Dae:
 
 
 def _compiled_dae(dae: ca.Function, n_dir: int) -> ca.Function | None:
-    """``dae`` as generated C with its Jacobian and its forward derivative in ``n_dir`` directions, compiled by gcc
-    (-O1) into ``$FLEXLIB_CACHE_DIR/sensitivity/`` once per DAE and number of directions (named by the digest of
-    both, checked against the SHA-256 recorded beside it before it is loaded); None without a C compiler.
+    """``dae`` as generated C with its Jacobian and its forward derivative in ``n_dir`` directions
+    (:func:`flexlib.compile.gcc.compile_functions`, gcc at a background compile's level) in
+    ``$FLEXLIB_CACHE_DIR/sensitivity/``, once per DAE and number of directions: a manifest named by the digest of both
+    records the library and its SHA-256, checked before it is loaded; None without a C compiler or when gcc fails.
     CasADi's forward sensitivities of an integrator then need no second derivatives (``second_order_correction``
     off: the Newton matrix of the augmented system is block diagonal with the DAE's own)."""
     import hashlib
+    import json
     import os
-    import shutil
-    import subprocess
     import tempfile
     from pathlib import Path
 
     from flexlib.compile.cache import cache_dir
+    from flexlib.compile.gcc import compile_functions
     from flexlib.compile.integrity import sha256_file
+    from flexlib.errors import FlexlibError
 
-    cc = shutil.which("gcc") or shutil.which("cc")
-    if cc is None:
-        return None
     digest = hashlib.sha256(f"{dae.serialize()}|{n_dir}|{ca.__version__}".encode()).hexdigest()[:32]
     where = cache_dir() / "sensitivity"
-    lib, manifest = where / f"sens_{digest}.so", where / f"sens_{digest}.sha256"
-    if lib.exists() and manifest.exists() and manifest.read_text().strip() == sha256_file(lib):
-        return ca.external("flexlib_sens_dae", str(lib))
-    where.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=where, prefix=".gcc-", suffix=".tmp") as tmp:
-        cg = ca.CodeGenerator("sens.c")
-        cg.add(dae)
-        cg.add(dae.jacobian())
-        cg.add(dae.forward(n_dir))
-        cg.generate(tmp + os.sep)
-        out = Path(tmp) / "sens.so"
-        proc = subprocess.run([cc, "-O1", "-shared", "-fPIC", str(Path(tmp) / "sens.c"), "-o", str(out), "-lm"],
-                              capture_output=True, text=True, check=False)
-        if proc.returncode != 0:
-            return None
-        os.chmod(out, 0o700)
-        sha = sha256_file(out)
-        part = Path(tmp) / "sha"
-        part.write_text(sha)
-        os.replace(out, lib)
-        os.replace(part, manifest)
-    return ca.external("flexlib_sens_dae", str(lib))
+    manifest = where / f"sens_{digest}.json"
+    try:
+        known = json.loads(manifest.read_text())
+        if Path(known["library"]).is_file() and sha256_file(Path(known["library"])) == known["sha256"]:
+            return ca.external("flexlib_sens_dae", known["library"])
+    except (OSError, ValueError, KeyError, TypeError):
+        pass  # none yet, or unreadable: compiled (again)
+    try:
+        lib, sha, _ = compile_functions([dae, dae.jacobian(), dae.forward(n_dir)], where, "sens",
+                                        background_level=True)
+    except FlexlibError:
+        return None
+    fd, part = tempfile.mkstemp(dir=where, prefix=".manifest-", suffix=".tmp")
+    with os.fdopen(fd, "w") as fh:
+        json.dump({"library": lib, "sha256": sha}, fh)
+    os.replace(part, manifest)
+    return ca.external("flexlib_sens_dae", lib)
 
 
 def _dae(model: CompiledModel) -> _Dae:
