@@ -235,21 +235,29 @@ def indeterminate_split(model: CompiledModel, init: Any, p: np.ndarray, t: float
     no unique solution") each hold it with a torque of its own whose split nothing in the model decides: the event
     problem with the states held is singular and the integrator cannot take a step. Modelica leaves the choice to the
     tool. Here one element takes the limit of its stuck phase (its relation to start sliding switched, the speed still
-    zero: its torque is then its breakaway torque) and the other holds the rest. Each relation is tried, held while
-    the event iteration settles the others; of those whose point is regular, the one that switches the fewest
+    zero: its torque is then its breakaway torque) and the other holds the rest. Each relation of the components the
+    singularity names (their dependent equations, their undetermined unknowns) is tried, held while the event
+    iteration settles the others; of those whose point is regular, the one that switches the fewest
     relations is taken, the last declared of equals — on ``LossyGearDemo2`` the bearing friction's start forward, as
     in Dymola's reference result.
     """
     from flexlib.solve.diagnose import rank_deficiency
 
     J, nominal = init.held_jacobian(t, y, yp, p)
-    if not any(rank_deficiency(J, nominal)):
+    rows, cols = rank_deficiency(J, nominal)
+    if not rows and not cols:
         return None
+    # the candidates: relations of the components whose equations or unknowns the deficiency names
+    alg, diff = np.flatnonzero(~model.differential), np.flatnonzero(model.differential)
+    held = np.concatenate([alg, diff])
+    owners = {model.row_labels[i].split(":")[0] for i in rows} | {model.y_owners[int(held[j])] for j in cols}
     n_par = model.n_params
     best: tuple[int, np.ndarray, np.ndarray, np.ndarray] | None = None
     for k in reversed(range(model.n_relations)):
         rel = model.relations[k]
         if rel.time_event or rel.initial or rel.assertion:
+            continue
+        if not any(o == rel.owner or o.startswith(rel.owner + ".") for o in owners):
             continue
         trial = p.copy()
         try:

@@ -24,7 +24,7 @@ from flexlib.errors import InitializationError, ParameterError
 from flexlib.solve.init import relations
 from flexlib.solve.init.newton import solve
 from flexlib.solve.init.problem import InitProblem
-from flexlib.solve.init.reinit import algebraic_rates, held_functions, reinit_point
+from flexlib.solve.init.reinit import algebraic_rates, held_arguments, held_functions, reinit_point
 
 __all__ = ["Initializer"]
 
@@ -193,12 +193,8 @@ class Initializer:
         states' derivatives) at ``(t, y, yp)``, and those unknowns' nominal values."""
         from flexlib.solve.init.newton import csc
 
-        m = self.model
-        alg = np.flatnonzero(~m.differential)
-        w = np.concatenate([y[alg], yp[self.diff]])
-        par = np.concatenate([[t], p, y[self.diff]])
-        nom = np.asarray(m.nominal, dtype=float)
-        return csc(self._held_functions()[1](w, par)), np.concatenate([nom[alg], nom[self.diff]])
+        w, par, nominal = held_arguments(self.model, self.diff, t, y, yp, p)
+        return csc(self._held_functions()[1](w, par)), nominal
 
     def _held_functions(self) -> tuple[Any, Any]:
         """Residual and Jacobian of the event problem with the states held (built once)."""

@@ -14,7 +14,7 @@ import scipy.sparse.linalg  # noqa: F401  (sps.linalg)
 from flexlib.compile.codegen import AUTO_C_MIN_UNKNOWNS, CompiledModel
 from flexlib.solve.init.newton import csc, solve
 
-__all__ = ["StatesHeld", "algebraic_rates", "held_functions", "reinit_point"]
+__all__ = ["StatesHeld", "algebraic_rates", "held_arguments", "held_functions", "reinit_point"]
 
 
 def held_functions(m: CompiledModel, diff: np.ndarray) -> tuple[Any, Any]:
@@ -44,18 +44,26 @@ def held_functions(m: CompiledModel, diff: np.ndarray) -> tuple[Any, Any]:
     return ca.Function("g", [w, par], [F]), ca.Function("jg", [w, par], [ca.jacobian(F, w)])
 
 
+def held_arguments(m: CompiledModel, diff: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
+                   p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The event problem's unknowns ``w = (y_alg, y'_states)``, its parameters ``(t, p, y_states)`` and the nominal
+    values of ``w`` at the point ``(t, y, yp)``."""
+    alg = np.flatnonzero(~m.differential)
+    nom = np.asarray(m.nominal, dtype=float)
+    return (np.concatenate([y[alg], yp[diff]]), np.concatenate([[t], p, y[diff]]),
+            np.concatenate([nom[alg], nom[diff]]))
+
+
 def reinit_point(m: CompiledModel, fns: tuple[Any, Any], diff: np.ndarray, t: float, y: np.ndarray, yp: np.ndarray,
                  p: np.ndarray, tol: float, diagnose: bool = True) -> tuple[np.ndarray, np.ndarray, Any]:
     """The consistent point at ``t`` [s] with the states of ``y`` held: ``(y, yp, J)`` with ``J`` the held
     problem's Jacobian there (None where the solve did not evaluate it)."""
     g, jg = fns
     alg = np.flatnonzero(~m.differential)
-    w0 = np.concatenate([y[alg], yp[diff]])
-    par = np.concatenate([[t], p, y[diff]])
+    w0, par, nominal = held_arguments(m, diff, t, y, yp, p)
     labels = [(lab.split(":")[0], lab) for lab in m.row_labels]
-    nom = np.asarray(m.nominal, dtype=float)
     cols = ([(m.y_owners[i], m.y_names[i]) for i in alg] + [(m.y_owners[i], f"der({m.y_names[i]})") for i in diff])
-    w, J = solve(g, jg, w0, par, tol, labels, cols, np.concatenate([nom[alg], nom[diff]]),
+    w, J = solve(g, jg, w0, par, tol, labels, cols, nominal,
                  what=f"could not find consistent values at t = {t:.10g} s (states held)", diagnose=diagnose)
     y_new = y.copy()
     y_new[alg] = w[:len(alg)]
