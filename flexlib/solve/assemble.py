@@ -191,12 +191,14 @@ def assemble_result(traj: Trajectory, m: CompiledModel, pvec: np.ndarray, rows: 
                   "wall_init": t_init, "rtol": rtol, "atol": atol, "n_states": int(m.differential.sum()),
                   "n_unknowns": m.n, "build_cached": bool(build_info.get("cached")),
                   "wall_build": float(build_info.get("total", 0.0))})
+    import importlib.metadata
+
     import casadi
-    import sksundae
 
     from flexlib import __version__
 
-    meta = {"flexlib": __version__, "casadi": casadi.__version__, "scikit-sundae": sksundae.__version__,
+    meta = {"flexlib": __version__, "casadi": casadi.__version__,
+            "scikit-sundae": importlib.metadata.version("scikit-sundae"),
             "numpy": np.__version__, "python": platform.python_version(),
             "created": _time.strftime("%Y-%m-%dT%H:%M:%S")}
     return Result(

@@ -35,7 +35,6 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq
 
 import flexlib as fl
 from flexlib import Output
@@ -79,6 +78,32 @@ def _peak_speed(dist: float, v: float, a: float, j: float) -> tuple[float, float
         return math.sqrt(a * dist), 0.0
     vp = a / 2 * (-a / j + math.sqrt((a / j) ** 2 + 4 * dist / a))
     return (vp, 0.0) if vp >= a * a / j else ((dist * math.sqrt(j) / 2) ** (2 / 3), 0.0)
+
+
+def _cruise_speed(dist: float, T: float, a: float, j: float) -> float:
+    """Cruise speed ``v`` of the jerk-limited move over ``dist`` that takes ``T`` (the root of ``T(v) = T`` on the
+    branch with a cruise, ``v <= v_p`` of :func:`_peak_speed`), in closed form.
+
+    With the acceleration ``a`` reached (``v >= a²/j``) the move takes ``T = dist/v + v/a + a/j``: the smaller root
+    of ``v²/a − (T − a/j) v + dist = 0``. Without (``v < a²/j``, ramps of ``T_j = sqrt(v/j)``) it takes ``T =
+    dist/v + 2 sqrt(v/j)``: with ``s = sqrt(v)`` the smallest positive root of ``(2/sqrt(j)) s³ − T s² + dist = 0``
+    (the cubic's roots, polished by Newton steps on it)."""
+    b = T - a / j
+    disc = b * b - 4 * dist / a
+    if disc >= -1e-12 * b * b:  # (a move without cruise: 0 up to round-off)
+        disc = max(disc, 0.0)
+        v = 2 * dist / (b + math.sqrt(disc)) if b > 0 else 0.0  # = a (b − sqrt(disc))/2 without cancellation
+        if v >= a * a / j:
+            return v
+    c3 = 2 / math.sqrt(j)
+    roots = np.roots([c3, -T, 0.0, dist])
+    s = min(float(r.real) for r in roots if abs(r.imag) <= 1e-9 * abs(r) and r.real > 0)
+    for _ in range(3):
+        f, df = (c3 * s - T) * s * s + dist, (3 * c3 * s - 2 * T) * s
+        if df == 0.0:
+            break
+        s -= f / df
+    return s * s
 
 
 def _move_duration(dist: float, v: float, a: float, j: float) -> float:
@@ -165,7 +190,7 @@ def waypoint_moves(t: Sequence[float], q: Sequence[float], a_max: float,
 
     The cruise speed of a move covering ``d = |q_k+1 − q_k|`` in ``T = t_k+1 − t_k``: without a jerk limit the
     trapezoid's ``v = (a T − sqrt(a² T² − 4 a d))/2`` (it exists if ``a T² >= 4 d``); with ``j_max`` the root of
-    the S-curve's duration ``T(v) = T`` (Brent's method, to 1e-14 relative).
+    the S-curve's duration ``T(v) = T`` (:func:`_cruise_speed`, in closed form).
     """
     part = "SmoothReference"
     t_arr, q_arr = np.asarray(t, dtype=float), np.asarray(q, dtype=float)
@@ -194,7 +219,7 @@ def waypoint_moves(t: Sequence[float], q: Sequence[float], a_max: float,
             v = (a * T - math.sqrt(max(a * a * T * T - 4 * a * d, 0.0))) / 2
             moves.append((float(t_arr[k]), float(q_arr[k + 1]), v, a))
         else:
-            v = brentq(lambda w, d=d, T=T: _move_duration(d, w, a, j) - T, d / T, v_free, rtol=1e-14, xtol=1e-300)
+            v = min(_cruise_speed(d, T, a, j), v_free)  # (at T = T(v_free) the root is v_free up to round-off)
             moves.append((float(t_arr[k]), float(q_arr[k + 1]), v, a, j))
     return moves
 

@@ -25,6 +25,7 @@ References and tolerances:
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -215,11 +216,37 @@ def test_waypoints_hit():
     assert np.max(knot_jumps(ref)) < 1e-9
     with pytest.raises(ParameterError, match="SmoothReference: waypoint 1 cannot be reached"):
         waypoint_moves([0.0, 1.0], [0.0, 1.0], 1.0)
-    moves = waypoint_moves(t_w, q_w, a, j_max=0.2)  # jerk-limited: the cruise speed found by root finding
+    moves = waypoint_moves(t_w, q_w, a, j_max=0.2)  # jerk-limited: the cruise speed in closed form
     t, q, v = motion_profile(0.0, moves)
     for tk, qk in zip(t_w, q_w, strict=True):
         k = np.argmin(np.abs(t - tk))
         assert abs(t[k] - tk) < 1e-9 and abs(q[k] - qk) < 1e-12 and v[k] == 0.0
+
+
+def test_cruise_speed_closed_form_against_root_finding():
+    """The jerk-limited move's cruise speed in closed form (quadratic with the acceleration limit reached, cubic
+    without) equals Brent's root of the move's duration ``T(v) = T`` (scipy.optimize, an independent route) to
+    1e-9 relative, and the move it gives takes ``T`` to 1e-13, over distances, limits and durations spanning both
+    regimes, down to the move without cruise."""
+    from scipy.optimize import brentq
+
+    from flexlib.models.boom.reference import _cruise_speed, _move_duration, _peak_speed
+
+    rng = np.random.default_rng(7)
+    regimes = set()
+    for k in range(2000):
+        d, a, j = 10 ** rng.uniform(-4, 2), 10 ** rng.uniform(-3, 1), 10 ** rng.uniform(-3, 3)
+        v_free = _peak_speed(d, math.inf, a, j)[0]
+        T_min = _move_duration(d, v_free, a, j)
+        T = T_min * (1 + (10 ** rng.uniform(-12, 2) if k % 10 else 0.0))
+        v = _cruise_speed(d, T, a, j)
+        assert abs(_move_duration(d, min(v, v_free), a, j) - T) < 1e-13 * T
+        if k % 10:
+            ref = brentq(lambda w, d=d, a=a, j=j, T=T: _move_duration(d, w, a, j) - T, d / T, v_free, rtol=1e-14,
+                         xtol=1e-300)
+            assert abs(v - ref) < 1e-9 * ref, (d, a, j, T)
+        regimes.add(v >= a * a / j)
+    assert regimes == {True, False}
 
 
 def test_joint_to_length_through_kinematics():
