@@ -47,7 +47,7 @@ MAKEUP_CRACK = 0.2e5  # anti-cavitation make-up check valves: cracking pressure 
 MAKEUP_OPEN = 1e5  # ... pressure difference at full opening [Pa]
 MAKEUP_AREA = 2e-4  # ... full opening area [m2]
 VALVE_LEAK = 1e-10  # leakage area of each spool edge [m2]
-VALVE_LAP_OUT = 0.0  # overlap of the meter-out edges A->T, B->T [1 of the spool stroke]
+VALVE_LAP = 0.02  # overlap of the four spool edges [1 of the spool stroke]: a dead band around neutral
 
 
 class HydraulicAxis(fl.Model):
@@ -68,12 +68,14 @@ class HydraulicAxis(fl.Model):
     - ``valve``: closed-centre proportional :class:`~flexlib.components.hydraulics.DirectionalValve43`, ``Q_nom`` at
       ``dp_nom`` per edge, spool second order (``f_spool``, ζ = 0.7), pressure-compensated meter-in edges
       (``dp_comp = dp_nom``: the individual compensators of load-sensing valve blocks; the flow follows the spool,
-      not the load). Valve port A feeds the cap side: ``u > 0`` extends the cylinder. The meter-out edges (A→T,
-      B→T) open with the meter-in edges by default; ``lap_out > 0`` makes them lag (the meter-in hose is
-      pressurised, and the outlet line's counterbalance valve piloted, before the outlet opens to tank). Measured on
-      the 42 m expand-fold with ``lap_out = 0.02`` (``docs/pump_truck.md``, "Known limits"): smoother move starts
-      and half the integration steps, but each move's end pumps the inlet chamber through the lap zone (chamber
-      peaks up to 334 bar against 310 bar, joint 2's cap side 314 against 214 bar), so the default keeps zero lap.
+      not the load). Valve port A feeds the cap side: ``u > 0`` extends the cylinder. All four edges overlap by
+      ``lap`` (2 % of the spool stroke), the dead band around neutral that a closed-centre proportional spool keeps
+      after its electronics' dead-band compensation: the small corrections
+      of a joint loop holding its pose (a few 10⁻³ of the command) pass no oil. With zero lap each of them opened
+      an edge to a trickle, and the expand-fold took twice the integration steps (57 616 against 28 569), and
+      the move starts were rougher (``benchmarks/pump_truck_flows.py``: 10 against 16 of 20 smooth). Overlapping
+      the return edges alone (``lap_AT``, ``lap_BT`` of ``valve``) made the loops pump the inlet chambers while
+      holding (``docs/pump_truck.md``, "Known limits").
     - ``cbv_hold`` + ``hose_hold``: :class:`~flexlib.components.hydraulics.CounterbalanceValve` on the holding line
       ``hold`` (``"A"``: cap side holds, the cylinder pushes), pilot from the other line, pilot ratio 3:1, setting
       ``p_crack_<hold>`` (Sun: 1.3 × the worst holding pressure), poppet lag ``CBV_T`` (pilot damping orifice,
@@ -120,9 +122,8 @@ class HydraulicAxis(fl.Model):
         Viscous friction [N.s/m] and regularisation velocity of the seal friction [m/s].
     dp_nom, f_spool, pilot_ratio, V_hose : float
         Valve edge pressure drop [Pa], spool bandwidth [Hz], counterbalance pilot ratio [1], hose volume [m3].
-    lap_out : float
-        Overlap of the valve's meter-out edges A→T and B→T [1, fraction of the spool stroke], ``0 <= lap_out < 0.5``
-        (0: they open with the meter-in edges).
+    lap : float
+        Overlap of the valve's four edges [1, fraction of the spool stroke], ``0 <= lap < 0.5`` (0: zero lap).
     p_free_start, p_A_start, p_B_start : float
         Free chamber's start pressure [Pa]; start guesses of the chamber pressures [Pa].
     free_start : bool
@@ -141,7 +142,7 @@ class HydraulicAxis(fl.Model):
                  m_housing: float = 0.0, L_housing: float = 0.0, m_rod: float = 0.0, L_rod: float = 0.0,
                  p_system: float = 35e6, p_friction: float = CYL_FC * 35e6, d: float = D_CYL, v_reg: float = CYL_VREG,
                  dp_nom: float = VALVE_DP, f_spool: float = VALVE_HZ, pilot_ratio: float = PILOT_RATIO,
-                 V_hose: float = V_HOSE, lap_out: float = VALVE_LAP_OUT, p_free_start: float = P_TANK,
+                 V_hose: float = V_HOSE, lap: float = VALVE_LAP, p_free_start: float = P_TANK,
                  p_A_start: float = P_TANK, p_B_start: float = P_TANK, free_start: bool = True) -> None:
         super().__init__()
         bore, rod = positive(PART, "d_bore", d_bore, "m"), positive(PART, "d_rod", d_rod, "m")
@@ -177,12 +178,12 @@ class HydraulicAxis(fl.Model):
         self.cylinder.cylinder.set_start("p_A", positive(PART, "p_A_start", p_A_start, "Pa"), fixed=False)
         self.cylinder.cylinder.set_start("p_B", positive(PART, "p_B_start", p_B_start, "Pa"), fixed=False)
         dp_nom, omega = positive(PART, "dp_nom", dp_nom, "Pa"), 2 * math.pi * positive(PART, "f_spool", f_spool, "Hz")
-        lap_out = positive(PART, "lap_out", lap_out, "1", allow_zero=True)
-        if lap_out >= 0.5:
-            raise ParameterError(f"HydraulicAxis: lap_out = {lap_out!r} must be < 0.5 (a fraction of the spool stroke)")
+        lap = positive(PART, "lap", lap, "1", allow_zero=True)
+        if lap >= 0.5:
+            raise ParameterError(f"HydraulicAxis: lap = {lap!r} must be < 0.5 (a fraction of the spool stroke)")
         self.valve = DirectionalValve43(Q_nom=Q_nom, dp_nom=dp_nom, omega=omega, zeta=VALVE_ZETA,
-                                        A_leak=VALVE_LEAK, compensated=True, dp_comp=dp_nom, lap_AT=lap_out,
-                                        lap_BT=lap_out)
+                                        A_leak=VALVE_LEAK, compensated=True, dp_comp=dp_nom, lap_PA=lap, lap_PB=lap,
+                                        lap_AT=lap, lap_BT=lap)
         cbv = {"pilot_ratio": positive(PART, "pilot_ratio", pilot_ratio, "1"), "Q_nom": 2 * Q_nom, "dp_nom": dp_nom,
                "V_hose": positive(PART, "V_hose", V_hose, "m3")}
         self.cbv_hold, self.hose_hold = _counterbalance(crack[hold], **cbv)

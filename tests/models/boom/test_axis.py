@@ -134,9 +134,9 @@ def test_both_lines_hold_and_names():
     assert axis.cbv_hold.parameter_value("p_crack") == 1e7 and axis.cbv_over.parameter_value("p_crack") == 2e7
     assert not hasattr(HydraulicAxis(d_bore=BORE, d_rod=ROD, stroke=STROKE, L0=1.0, Q_nom=Q_NOM, p_crack_A=2e7),
                        "cbv_over")
-    assert [float(axis.valve.parameter_value(f"lap_{e}")) for e in ("PA", "PB", "AT", "BT")] == [0.0] * 4  # default
-    lagged = HydraulicAxis(d_bore=BORE, d_rod=ROD, stroke=STROKE, L0=1.0, Q_nom=Q_NOM, p_crack_A=2e7, lap_out=0.02)
-    assert [float(lagged.valve.parameter_value(f"lap_{e}")) for e in ("PA", "PB", "AT", "BT")] == [0.0, 0.0, 0.02, 0.02]
+    assert [float(axis.valve.parameter_value(f"lap_{e}")) for e in ("PA", "PB", "AT", "BT")] == [0.02] * 4  # default
+    zero = HydraulicAxis(d_bore=BORE, d_rod=ROD, stroke=STROKE, L0=1.0, Q_nom=Q_NOM, p_crack_A=2e7, lap=0.0)
+    assert [float(zero.valve.parameter_value(f"lap_{e}")) for e in ("PA", "PB", "AT", "BT")] == [0.0] * 4
 
 
 @pytest.mark.parametrize(
@@ -148,8 +148,8 @@ def test_both_lines_hold_and_names():
      ({"p_crack_A": None}, r"HydraulicAxis: p_crack_A is needed"),
      ({"over_centre": True}, r"HydraulicAxis: p_crack_B is needed"),
      ({"Q_nom": 0.0}, r"HydraulicAxis: Q_nom must be a finite number > 0"),
-     ({"lap_out": -0.01}, r"HydraulicAxis: lap_out must be a finite number >= 0"),
-     ({"lap_out": 0.5}, r"HydraulicAxis: lap_out = 0.5 must be < 0.5")],
+     ({"lap": -0.01}, r"HydraulicAxis: lap must be a finite number >= 0"),
+     ({"lap": 0.5}, r"HydraulicAxis: lap = 0.5 must be < 0.5")],
 )
 def test_bad_arguments(kw, match):
     args = {"d_bore": BORE, "d_rod": ROD, "stroke": STROKE, "L0": 1.0, "Q_nom": Q_NOM, "p_crack_A": 2e7, **kw}
