@@ -74,3 +74,50 @@ def test_a_failing_check_keeps_the_rows(monkeypatch):
     assert res.success and len(res.t) >= 5
     assert res.stats["settle_error"] == "RuntimeError: forced failure"
     assert np.all(np.isfinite(res["beam.q"]))
+
+
+def test_large_model_rows_share_factors_and_agree_with_own_newton(monkeypatch):
+    """A large model's rows to settle (above ``DENSE_SETTLE`` unknowns) take chord steps with the LU of the first
+    row of each run of consecutive rows (``SHARE_LU``): the same rows as Newton with each row's own matrix, to 1e-9
+    of each unknown's range, and the equations hold again (reference: the residual ``F = 0`` itself, and the run's
+    own settled rows within 1e-4 of range: the rows IDA left are consistent to its tolerance only). Rows perturbed:
+    the derivative-level unknowns of 60 consecutive rows (three shared factors) and of two isolated ones, by 5 %."""
+    import flexlib.solve.assemble as assemble
+    from flexlib.models.n_link_pendulum import NLinkPendulum
+    from flexlib.solve import rows as rows_mod
+
+    captured = {}
+    settle = assemble.settle_derivative_level
+
+    def capture(rows, model, T, Y, YP, P):
+        captured.update(rows=rows, model=model, T=T, Y=Y.copy(), YP=YP.copy(), P=P)
+        return settle(rows, model, T, Y, YP, P)
+
+    monkeypatch.setattr(assemble, "settle_derivative_level", capture)
+    fl.Simulation(NLinkPendulum(n=16)).run(1.0, dt_out=0.005, rtol=1e-8, atol=1e-10, progress=False)
+    model, T, P = captured["model"], captured["T"], captured["P"]
+    assert model.n > rows_mod.DENSE_SETTLE
+    D = np.flatnonzero(np.asarray(model.derivative_level, dtype=bool))
+    bad = np.r_[np.arange(20, 80), 120, 160]
+
+    def perturbed() -> tuple[np.ndarray, np.ndarray]:
+        Y, YP = captured["Y"].copy(), captured["YP"].copy()
+        Y[np.ix_(bad, D)] *= 1.05
+        return Y, YP
+
+    def settled(share: int) -> tuple[np.ndarray, np.ndarray]:
+        Y, YP = perturbed()
+        monkeypatch.setattr(rows_mod, "SHARE_LU", share)
+        rows_mod.settle_rows(captured["rows"], model, T, Y, YP, P, bad)
+        return Y, YP
+
+    (Y1, YP1), (Y2, YP2) = settled(20), settled(1)
+    span = np.maximum(np.ptp(captured["Y"], axis=0), 1e-300)
+    span_p = np.maximum(np.ptp(captured["YP"], axis=0), 1e-300)
+    assert np.max(np.abs(Y1 - Y2)[bad] / span) < 1e-9
+    assert np.max(np.abs(YP1 - YP2)[bad] / span_p) < 1e-9
+    assert np.max(np.abs(Y1 - captured["Y"])[bad] / span) < 1e-4
+    Y0, YP0 = perturbed()
+    F_before = np.abs(captured["rows"].evaluate(model, "res", T[bad], Y0[bad], YP0[bad], P[bad])).max()
+    F_after = np.abs(captured["rows"].evaluate(model, "res", T[bad], Y1[bad], YP1[bad], P[bad])).max()
+    assert F_after <= 1e-9 * F_before, (F_before, F_after)

@@ -28,6 +28,10 @@ CHUNK = 256
 SETTLE_TOL = 1e-3
 #: Unknowns up to which the rows to settle are solved densely, all at once.
 DENSE_SETTLE = 128
+#: A large model's consecutive rows to settle that share one matrix's LU (chord steps, :func:`settle_rows`).
+SHARE_LU = 20
+#: Chord steps with a shared matrix before a row takes its own.
+CHORD_ITERATIONS = 6
 
 
 class RowEvaluator:
@@ -194,37 +198,95 @@ def _settle_jacobian(model: CompiledModel) -> ca.Function:
 
 def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
                 P: np.ndarray, bad: np.ndarray) -> None:
-    """``Y, YP`` with the rows ``bad`` solved again in place from ``F = 0``, states held (at most four Newton
-    iterations on the unknowns: ``y'`` of the states, ``y`` of the algebraic unknowns; the matrix has the
-    Jacobian's pattern, a state's column from ``∂F/∂y'``, an algebraic unknown's from ``∂F/∂y``). A large model's
-    rows keep their first matrix's sparse LU for the later iterations (chord steps: the rows are consistent but for
-    their derivative-level unknowns, in which the residual is nearly linear)."""
-    colind = np.asarray(model.jac_colind)
-    col_of = np.repeat(np.arange(model.n), np.diff(colind))
+    """``Y, YP`` with the rows ``bad`` solved again in place from ``F = 0``, states held: Newton on the unknowns
+    ``y'`` of the states and ``y`` of the algebraic unknowns (the matrix has the Jacobian's pattern, a state's column
+    from ``∂F/∂y'``, an algebraic unknown's from ``∂F/∂y``), to steps below 1e-12 of the row's largest unknown.
+
+    A small model's rows: at most four Newton iterations, batched dense solves. A large model's rows take chord steps
+    (the rows are consistent but for their derivative-level unknowns, in which the residual is nearly linear): the
+    rows to settle come in runs of consecutive output times, and each run's rows share the sparse LU of the matrix of
+    its first row (refreshed every :data:`SHARE_LU` rows), at most :data:`CHORD_ITERATIONS` steps; a row that has not
+    converged then (or whose shared matrix was singular) is solved again with its own matrix's LU, at most four
+    steps. A row whose own matrix is singular is left as it was."""
+    if model.n <= DENSE_SETTLE:
+        todo = bad
+        for _ in range(4):
+            if todo.size == 0:
+                break
+            r_all = rows.evaluate(model, "res", T[todo], Y[todo], YP[todo], P[todo])
+            steps = _newton_steps(model, _settle_matrices(rows, model, T, Y, YP, P, todo), r_all)
+            todo, _ = _apply_steps(model, Y, YP, todo, steps)
+        return
+    left, failed = _chord_pass(rows, model, T, Y, YP, P, bad, SHARE_LU, CHORD_ITERATIONS)
+    again = np.union1d(left, failed)
+    if again.size:
+        kept = (Y[again], YP[again])  # copies (fancy indexing)
+        _, singular = _chord_pass(rows, model, T, Y, YP, P, again, 1, 4)
+        where = np.searchsorted(again, singular)
+        Y[singular], YP[singular] = kept[0][where], kept[1][where]
+
+
+def _settle_matrices(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
+                     P: np.ndarray, which: np.ndarray) -> np.ndarray:
+    """The nonzeros (in the Jacobian's pattern) of the rows' Newton matrices: ``∂F/∂y'`` in a state's column,
+    ``∂F/∂y`` in an algebraic unknown's."""
+    col_of = np.repeat(np.arange(model.n), np.diff(np.asarray(model.jac_colind)))
     state_nz = np.asarray(model.differential, dtype=bool)[col_of]
     n_nz = col_of.size
     full_key = ("settle", "jac_full")
     full = rows.cached(model, full_key, lambda: _settle_jacobian(model))
+    JV = rows.evaluate_function(full, model, full_key, T[which], Y[which], YP[which], P[which])
+    return np.where(state_nz, JV[:, n_nz:] - JV[:, :n_nz], JV[:, :n_nz])
+
+
+def _apply_steps(model: CompiledModel, Y: np.ndarray, YP: np.ndarray, todo: np.ndarray,
+                 steps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows ``todo`` moved by their Newton ``steps`` (rows with a non-finite step are not moved): the rows still
+    moving by more than 1e-12 of their largest unknown, and the rows not moved."""
     diff = np.asarray(model.differential, dtype=bool)
-    todo = bad
-    factors: dict[int, Any] = {}  # a large model's row: the LU of its first iteration's matrix, reused (chord steps)
-    for _ in range(4):
+    ok = np.isfinite(steps).all(axis=1)
+    rows_ok, steps = todo[ok], steps[ok]
+    YP[np.ix_(rows_ok, diff)] -= steps[:, diff]
+    Y[np.ix_(rows_ok, ~diff)] -= steps[:, ~diff]
+    size = np.maximum(np.abs(YP[np.ix_(rows_ok, diff)]).max(axis=1, initial=0.0),
+                      np.abs(Y[np.ix_(rows_ok, ~diff)]).max(axis=1, initial=0.0))
+    return rows_ok[np.abs(steps).max(axis=1, initial=0.0) > 1e-12 * (size + 1e-300)], todo[~ok]
+
+
+def _chord_pass(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
+                P: np.ndarray, todo: np.ndarray, share: int, iterations: int) -> tuple[np.ndarray, np.ndarray]:
+    """Chord steps on the rows ``todo`` (sorted), each run of consecutive rows sharing the LU of its first row's
+    matrix for ``share`` rows: the rows not converged after ``iterations`` steps, and the rows without a matrix
+    (singular)."""
+    k = np.arange(todo.size)
+    run_start = np.r_[True, np.diff(todo) != 1]
+    first = np.maximum.accumulate(np.where(run_start, k, 0))  # position of each row's run start
+    leader = run_start | ((k - first) % share == 0)
+    lead_of = np.maximum.accumulate(np.where(leader, k, 0))
+    leaders = todo[leader]
+    own = _factor_rows(model, _settle_matrices(rows, model, T, Y, YP, P, leaders), leaders)
+    factors = {int(row): own.get(int(todo[lead_of[i]])) for i, row in enumerate(todo)}
+    failed = np.empty(0, dtype=todo.dtype)
+    for _ in range(iterations):
         if todo.size == 0:
             break
         r_all = rows.evaluate(model, "res", T[todo], Y[todo], YP[todo], P[todo])
-        if model.n > DENSE_SETTLE and factors:
-            steps = _chord_steps(factors, todo, r_all)
-        else:
-            JV = rows.evaluate_function(full, model, full_key, T[todo], Y[todo], YP[todo], P[todo])
-            data = np.where(state_nz, JV[:, n_nz:] - JV[:, :n_nz], JV[:, :n_nz])
-            steps = _newton_steps(model, data, r_all, factors, todo)
-        ok = np.isfinite(steps).all(axis=1)
-        rows_ok, steps = todo[ok], steps[ok]
-        YP[np.ix_(rows_ok, diff)] -= steps[:, diff]
-        Y[np.ix_(rows_ok, ~diff)] -= steps[:, ~diff]
-        size = np.maximum(np.abs(YP[np.ix_(rows_ok, diff)]).max(axis=1, initial=0.0),
-                          np.abs(Y[np.ix_(rows_ok, ~diff)]).max(axis=1, initial=0.0))
-        todo = rows_ok[np.abs(steps).max(axis=1, initial=0.0) > 1e-12 * (size + 1e-300)]
+        todo, not_moved = _apply_steps(model, Y, YP, todo, _chord_steps(factors, todo, r_all))
+        failed = np.r_[failed, not_moved]
+    return todo, np.sort(failed)
+
+
+def _factor_rows(model: CompiledModel, data: np.ndarray, which: np.ndarray) -> dict[int, Any]:
+    """Sparse LU of each row's matrix (nonzeros ``data`` in the Jacobian's pattern) by row number; a singular
+    matrix has none."""
+    colind, row_of = np.asarray(model.jac_colind), np.asarray(model.jac_row)
+    out: dict[int, Any] = {}
+    for k, row in enumerate(which):
+        try:
+            out[int(row)] = spla.splu(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)))
+        except RuntimeError:  # exactly singular
+            continue
+    return out
 
 
 def _chord_steps(factors: dict[int, Any], todo: np.ndarray, r_all: np.ndarray) -> np.ndarray:
@@ -237,28 +299,20 @@ def _chord_steps(factors: dict[int, Any], todo: np.ndarray, r_all: np.ndarray) -
     return steps
 
 
-def _newton_steps(model: CompiledModel, data: np.ndarray, r_all: np.ndarray,
-                  factors: dict[int, Any] | None = None, todo: np.ndarray | None = None) -> np.ndarray:
-    """Newton steps of the rows (matrices of the Jacobian's pattern with the nonzeros ``data``; NaN where singular);
-    a large model's sparse LU factors kept in ``factors`` under the row numbers ``todo``."""
+def _newton_steps(model: CompiledModel, data: np.ndarray, r_all: np.ndarray) -> np.ndarray:
+    """Newton steps of a small model's rows (matrices of the Jacobian's pattern with the nonzeros ``data``; NaN where
+    singular): one batched dense solve, rows that make it fail solved one by one (sparse LU)."""
     colind = np.asarray(model.jac_colind)
     row_of = np.asarray(model.jac_row)
     col_of = np.repeat(np.arange(model.n), np.diff(colind))
     steps = np.full((len(r_all), model.n), np.nan)
-    if model.n <= DENSE_SETTLE:  # small models: one batched dense solve
-        A = np.zeros((len(r_all), model.n, model.n))
-        A[:, row_of, col_of] = data
-        try:
-            steps = np.linalg.solve(A, r_all[:, :, None])[:, :, 0]
-        except np.linalg.LinAlgError:  # a singular row: solve them one by one below
-            steps[:] = np.nan
-    for k in np.flatnonzero(~np.isfinite(steps).all(axis=1)):
-        try:
-            lu = spla.splu(sp.csc_matrix((data[k], row_of, colind), shape=(model.n, model.n)))
-            steps[k] = lu.solve(r_all[k])
-        except RuntimeError:  # exactly singular
-            steps[k] = np.nan
-            continue
-        if factors is not None and todo is not None:
-            factors[int(todo[k])] = lu
+    A = np.zeros((len(r_all), model.n, model.n))
+    A[:, row_of, col_of] = data
+    try:
+        steps = np.linalg.solve(A, r_all[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:  # a singular row: solve them one by one below
+        steps[:] = np.nan
+    redo = np.flatnonzero(~np.isfinite(steps).all(axis=1))
+    for k, lu in _factor_rows(model, data[redo], redo).items():
+        steps[k] = lu.solve(r_all[k])
     return steps
