@@ -14,8 +14,6 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from flexlib.compile.codegen import CompiledModel
 
@@ -279,6 +277,9 @@ def _chord_pass(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.n
 def _factor_rows(model: CompiledModel, data: np.ndarray, which: np.ndarray) -> dict[int, Any]:
     """Sparse LU of each row's matrix (nonzeros ``data`` in the Jacobian's pattern) by row number; a singular
     matrix has none."""
+    import scipy.sparse as sp  # here: a result's reader imports this module and needs no sparse algebra (0.3 s)
+    import scipy.sparse.linalg as spla
+
     colind, row_of = np.asarray(model.jac_colind), np.asarray(model.jac_row)
     out: dict[int, Any] = {}
     for k, row in enumerate(which):
