@@ -81,7 +81,8 @@ def test_large_model_rows_share_factors_and_agree_with_own_newton(monkeypatch):
     row of each run of consecutive rows (``SHARE_LU``): the same rows as Newton with each row's own matrix, to 1e-9
     of each unknown's range, and the equations hold again (reference: the residual ``F = 0`` itself, and the run's
     own settled rows within 1e-4 of range: the rows IDA left are consistent to its tolerance only). Rows perturbed:
-    the derivative-level unknowns of 60 consecutive rows (three shared factors) and of two isolated ones, by 5 %."""
+    the derivative-level unknowns of 60 consecutive rows (three shared factors) and of two isolated ones, by 5 %. A
+    row whose matrix is singular is left as it was; the rows that would have shared its LU take their own."""
     import flexlib.solve.assemble as assemble
     from flexlib.models.n_link_pendulum import NLinkPendulum
     from flexlib.solve import rows as rows_mod
@@ -117,7 +118,15 @@ def test_large_model_rows_share_factors_and_agree_with_own_newton(monkeypatch):
     assert np.max(np.abs(Y1 - Y2)[bad] / span) < 1e-9
     assert np.max(np.abs(YP1 - YP2)[bad] / span_p) < 1e-9
     assert np.max(np.abs(Y1 - captured["Y"])[bad] / span) < 1e-4
+    # a row whose matrix is singular (here: declared so) is left as it was; the rows that shared it take their own
+    factor_rows = rows_mod._factor_rows
+    monkeypatch.setattr(rows_mod, "_factor_rows", lambda m, data, which: {
+        r: lu for r, lu in factor_rows(m, data, which).items() if r not in (40, 120)})
+    Y3, YP3 = settled(20)
     Y0, YP0 = perturbed()
+    assert np.array_equal(Y3[[40, 120]], Y0[[40, 120]]) and np.array_equal(YP3[[40, 120]], YP0[[40, 120]])
+    others = np.setdiff1d(bad, [40, 120])
+    assert np.max(np.abs(Y3 - Y2)[others] / span) < 1e-9
     F_before = np.abs(captured["rows"].evaluate(model, "res", T[bad], Y0[bad], YP0[bad], P[bad])).max()
     F_after = np.abs(captured["rows"].evaluate(model, "res", T[bad], Y1[bad], YP1[bad], P[bad])).max()
     assert F_after <= 1e-9 * F_before, (F_before, F_after)

@@ -215,13 +215,14 @@ def settle_rows(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.n
             steps = _newton_steps(model, _settle_matrices(rows, model, T, Y, YP, P, todo), r_all)
             todo, _ = _apply_steps(model, Y, YP, todo, steps)
         return
+    bad = np.sort(bad)
+    recorded = (Y[bad], YP[bad])  # copies (fancy indexing)
     left, failed = _chord_pass(rows, model, T, Y, YP, P, bad, SHARE_LU, CHORD_ITERATIONS)
     again = np.union1d(left, failed)
     if again.size:
-        kept = (Y[again], YP[again])  # copies (fancy indexing)
         _, singular = _chord_pass(rows, model, T, Y, YP, P, again, 1, 4)
-        where = np.searchsorted(again, singular)
-        Y[singular], YP[singular] = kept[0][where], kept[1][where]
+        where = np.searchsorted(bad, singular)
+        Y[singular], YP[singular] = recorded[0][where], recorded[1][where]
 
 
 def _settle_matrices(rows: RowEvaluator, model: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray,
