@@ -118,14 +118,16 @@ def test_large_model_rows_share_factors_and_agree_with_own_newton(monkeypatch):
     assert np.max(np.abs(Y1 - Y2)[bad] / span) < 1e-9
     assert np.max(np.abs(YP1 - YP2)[bad] / span_p) < 1e-9
     assert np.max(np.abs(Y1 - captured["Y"])[bad] / span) < 1e-4
-    # a row whose matrix is singular (here: declared so) is left as it was; the rows that shared it take their own
+    # a row whose own matrix is singular (here: declared so) is left as it was recorded — row 45 after a shared-factor
+    # step that did not converge (one chord step allowed), row 120 without any — and the others converge on their own
     factor_rows = rows_mod._factor_rows
+    monkeypatch.setattr(rows_mod, "CHORD_ITERATIONS", 1)
     monkeypatch.setattr(rows_mod, "_factor_rows", lambda m, data, which: {
-        r: lu for r, lu in factor_rows(m, data, which).items() if r not in (40, 120)})
+        r: lu for r, lu in factor_rows(m, data, which).items() if r not in (45, 120)})
     Y3, YP3 = settled(20)
     Y0, YP0 = perturbed()
-    assert np.array_equal(Y3[[40, 120]], Y0[[40, 120]]) and np.array_equal(YP3[[40, 120]], YP0[[40, 120]])
-    others = np.setdiff1d(bad, [40, 120])
+    assert np.array_equal(Y3[[45, 120]], Y0[[45, 120]]) and np.array_equal(YP3[[45, 120]], YP0[[45, 120]])
+    others = np.setdiff1d(bad, [45, 120])
     assert np.max(np.abs(Y3 - Y2)[others] / span) < 1e-9
     F_before = np.abs(captured["rows"].evaluate(model, "res", T[bad], Y0[bad], YP0[bad], P[bad])).max()
     F_after = np.abs(captured["rows"].evaluate(model, "res", T[bad], Y1[bad], YP1[bad], P[bad])).max()
