@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -76,7 +75,8 @@ def sweep_cmd(model: str, scenario: str | None, params: tuple[str, ...], lhs: in
               no_progress: bool) -> None:
     """Run MODEL's scenario over parameter values on Dask and write the table of reductions (docs/studies.md)."""
     from flexlib import registry
-    from flexlib.study import grid, latin_hypercube, run_study
+    from flexlib.errors import RunArgumentError
+    from flexlib.study import grid, latin_hypercube, run_study, start_pose
 
     if not params:
         raise click.ClickException("give at least one --param NAME=LOW:HIGH:N")
@@ -95,10 +95,10 @@ def sweep_cmd(model: str, scenario: str | None, params: tuple[str, ...], lhs: in
             angles = [float(v) for v in pose.split(",")]
         except ValueError:
             raise click.ClickException(f"--pose {pose!r}: give the angles as DEG,DEG,... (numbers)") from None
-        base = registry.get_scenario(model, scenario)
-        if "pose" not in base.data:
-            raise click.ClickException(f"--pose: the scenario {base.name!r} of {model!r} has no start pose in its data")
-        scen = replace(base, name=f"{base.name}@pose", data={**dict(base.data), "pose": angles})
+        try:
+            scen = start_pose(model, scenario, angles)
+        except RunArgumentError as err:
+            raise click.ClickException(f"--pose: {err}") from None
     table = run_study(model, variants, reductions, scenario=scen, workers=workers or 2, scheduler=scheduler,
                       out=out, progress=not no_progress)
     failed = len(table.failed)

@@ -215,6 +215,14 @@ def _partials(model: CompiledModel, name: str, expr: Any, t: ca.SX, y: ca.SX, yp
     return model._functions[key]
 
 
+def _seed(m: CompiledModel, idx: list[int]) -> np.ndarray:
+    """The directions: ``∂p/∂p_k`` of each parameter ``idx[k]`` in the residual's parameter vector (parameters, then
+    relation values)."""
+    seed = np.zeros((m.n_params + m.n_relations, len(idx)))
+    seed[idx, np.arange(len(idx))] = 1.0
+    return seed
+
+
 def _symbols(model: CompiledModel) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
     return (ca.SX.sym("t"), ca.SX.sym("y", model.n), ca.SX.sym("yp", model.n),
             ca.SX.sym("p", model.n_params + model.n_relations))
@@ -348,12 +356,10 @@ def _integrate(m: CompiledModel, init: Any, T: np.ndarray, Y: np.ndarray, YP: np
     dae = _dae(m)
     x_idx, z_idx, z_w = dae.x_idx, dae.z_idx, dae.z_w
     nd, nz, n_dir = len(x_idx), len(z_idx), len(idx)
-    n_p = m.n_params
     rows = len(T)
     S, SP = np.zeros((rows, m.n, n_dir)), np.zeros((rows, m.n, n_dir))
     S[0], SP[0] = S0, SP0
-    seed_p = np.zeros((n_p + m.n_relations, n_dir))
-    seed_p[idx, np.arange(n_dir)] = 1.0
+    seed_p = _seed(m, idx)
     starts = [0] + [i + 1 for i in range(rows - 1) if T[i + 1] <= T[i]]
     ends = [s - 1 for s in starts[1:]] + [rows - 1]
     n_ev = 0
@@ -398,12 +404,8 @@ def _consistent(m: CompiledModel, init: Any, t: float, y: np.ndarray, yp: np.nda
     d_idx, a_idx = np.flatnonzero(diff), np.flatnonzero(~diff)
     J, _ = init.held_jacobian(t, y, yp, P)
     ts, ys, yps, ps = _symbols(m)
-    key = "sensitivity_res_partials"
-    if key not in m._functions:
-        F = m.sx_function("res")(ts, ys, yps, ps)
-        m._functions[key] = ca.Function("flexlib_res_partials", [ts, ys, yps, ps],
-                                        [ca.jacobian(F, ys), ca.jacobian(F, ps)])
-    Fy, Fp = (v.sparse() if hasattr(v, "sparse") else v for v in m._functions[key](t, y, yp, P))
+    _, _, Fy, _, Fp = (v.sparse() for v in _partials(m, "res", m.sx_function("res")(ts, ys, yps, ps), ts, ys, yps,
+                                                     ps)(t, y, yp, P))
     rhs = -(Fy[:, d_idx] @ S[d_idx] + Fp @ seed_p)
     Sw = spla.splu(J.tocsc()).solve(np.asarray(rhs, dtype=float))
     S, SP = S.copy(), SP.copy()
@@ -471,8 +473,7 @@ def _outputs(m: CompiledModel, T: np.ndarray, Y: np.ndarray, YP: np.ndarray, REL
         d = ca.mtimes(ca.jacobian(o, ca.vertcat(ys, yps, ps)), ca.vertcat(Sy, Syp, Sp))
         m._functions[key] = ca.Function("flexlib_sens_out", [ts, ys, yps, ps, Sy, Syp, Sp], [o, d])
     fn = m._functions[key].map(rows)
-    seed_p = np.zeros((m.n_params + m.n_relations, n_dir))
-    seed_p[idx, np.arange(n_dir)] = 1.0
+    seed_p = _seed(m, idx)
     P = np.vstack([np.repeat(pvec[:, None], rows, axis=1), REL.T])
     o, dd = fn(T[None, :], Y.T, YP.T, P, np.hstack(list(S)), np.hstack(list(SP)), np.tile(seed_p, (1, rows)))
     values = _dense(o).T.reshape(rows, n_out)

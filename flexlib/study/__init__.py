@@ -11,7 +11,7 @@ a study started again skips the rows it has.
 
 from flexlib.study.reductions import Final, Maximum, Minimum, Peak, Reduction
 from flexlib.study.run import StudyResult, run_study
-from flexlib.study.variants import grid, latin_hypercube, monte_carlo
+from flexlib.study.variants import grid, latin_hypercube, monte_carlo, start_pose
 
 __all__ = ["Final", "Maximum", "Minimum", "Peak", "Reduction", "StudyResult", "grid", "latin_hypercube",
-           "monte_carlo", "run_study"]
+           "monte_carlo", "run_study", "start_pose"]

@@ -179,7 +179,7 @@ def run_study(model: str, variants: Sequence[Mapping[str, float]], reductions: M
         of a Result importable by the workers).
     scenario : str or Scenario, optional
         The scenario (default: the model's), or a :class:`~flexlib.registry.Scenario` record of the model's (another
-        start pose, other commands: ``dataclasses.replace(registry.get_scenario(model, "hold"), data=...)``).
+        start pose, :func:`~flexlib.study.start_pose`; other commands: ``dataclasses.replace(scenario, data=...)``).
     options : dict, optional
         Model options on top of the scenario's (``{"flexible": True}``).
     t_end : float, optional

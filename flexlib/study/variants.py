@@ -22,7 +22,7 @@ import numpy as np
 
 from flexlib.errors import RunArgumentError
 
-__all__ = ["grid", "latin_hypercube", "monte_carlo"]
+__all__ = ["grid", "latin_hypercube", "monte_carlo", "start_pose"]
 
 
 def _finite(name: str, value: Any, who: str) -> float:
@@ -106,3 +106,18 @@ def monte_carlo(nominal: Mapping[str, float], n: int, *, relative: Mapping[str, 
          else rng.standard_normal((n, len(names))))
     values = x0 * (1.0 + e * spread)
     return [dict(zip(names, map(float, row), strict=True)) for row in values]
+
+
+def start_pose(model: str, scenario: str | None, pose: Sequence[float], name: str | None = None) -> Any:
+    """The registered ``scenario`` of ``model`` started from ``pose`` instead of its own (its data's ``"pose"``, e.g.
+    the pump truck's slew and joint angles [deg]): a :class:`~flexlib.registry.Scenario` record named ``name``
+    (default ``"<scenario>@pose"``) for :func:`~flexlib.study.run_study` — a start pose is not a parameter.
+    :class:`RunArgumentError` if the scenario has no start pose in its data."""
+    from dataclasses import replace
+
+    from flexlib import registry
+
+    base = registry.get_scenario(model, scenario)
+    if "pose" not in base.data:
+        raise RunArgumentError(f"the scenario {base.name!r} of {model!r} has no start pose in its data")
+    return replace(base, name=name or f"{base.name}@pose", data={**dict(base.data), "pose": [float(a) for a in pose]})

@@ -16,13 +16,12 @@ Run: ``python -m flexlib.models.pump_truck.studies.envelope [--workers 2] [--out
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from flexlib.study import Maximum, run_study
+from flexlib.study import Maximum, run_study, start_pose
 
 from .tolerances import HingeForce
 
@@ -53,13 +52,10 @@ def run(workers: int = 2, out: Path | None = None, pose_list: list[tuple[float, 
     """Every pose × ratio on one local cluster: ``[(pose, StudyResult), ...]``."""
     from distributed import LocalCluster
 
-    from flexlib import registry
-
-    base = registry.get_scenario("pump-truck", SCENARIO)
     out_list = []
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         for i, pose in enumerate(pose_list or poses()):
-            scen = replace(base, name=f"{SCENARIO}@pose{i}", data={**dict(base.data), "pose": list(pose)})
+            scen = start_pose("pump-truck", SCENARIO, pose, name=f"{SCENARIO}@pose{i}")
             table = out / f"envelope_pose{i}.parquet" if out is not None else None
             out_list.append((pose, run_study("pump-truck", variants(ratios), REDUCTIONS, scenario=scen,
                                              scheduler=cluster.scheduler_address, out=table, progress=progress)))
