@@ -23,7 +23,7 @@ from typing import Any
 
 from flexlib.errors import RunArgumentError
 
-__all__ = ["META_KEY", "StudyResult", "read_table", "run_study"]
+__all__ = ["META_KEY", "WORKER_PRELOAD", "StudyResult", "local_cluster", "read_table", "run_study"]
 
 #: Per worker process: the simulation and scenario of each (model, scenario) it ran, built once.
 _SIMULATIONS: dict[tuple[str, str | None, str], tuple[Any, Any]] = {}
@@ -152,12 +152,26 @@ def _write(path: Path, done: dict[str, dict[str, Any]], meta: dict[str, Any]) ->
             os.unlink(tmp)
 
 
+#: The Dask preload module of a study's workers (:mod:`flexlib.study.worker`)
+WORKER_PRELOAD = "flexlib.study.worker"
+
+
+def local_cluster(workers: int = 2) -> Any:
+    """A Dask ``LocalCluster`` on this machine as a study uses it: ``workers`` processes of one thread each, every one
+    made ready for flexlib runs as it starts (:mod:`flexlib.study.worker`); no dashboard. Start one and pass its
+    ``scheduler_address`` to several studies to start the workers once."""
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                        preload=[WORKER_PRELOAD])
+
+
 def _client(workers: int, scheduler: str | None) -> tuple[Any, Any]:
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     if scheduler is not None:
         return Client(scheduler), None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    cluster = local_cluster(workers)
     return Client(cluster), cluster
 
 

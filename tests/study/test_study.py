@@ -24,11 +24,27 @@ REDUCTIONS = {"peak_s2": Peak("mass2.s"), "final_v2": Final("mass2.v")}
 
 @pytest.fixture(scope="module")
 def scheduler():
-    """One local cluster (2 worker processes) for the module's studies."""
-    from distributed import LocalCluster
+    """One local cluster (2 worker processes) for the module's studies, as a study starts its own: the workers preload
+    flexlib (:mod:`flexlib.study.worker`)."""
+    from flexlib.study import local_cluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with local_cluster(2) as cluster:
         yield cluster.scheduler_address
+
+
+def test_the_workers_start_ready_for_runs(scheduler):
+    """Each worker ran the preload as it started: the registered models are imported and the solver's C driver
+    question answered in the worker process before any task (:mod:`flexlib.study.worker`)."""
+    from distributed import Client
+
+    def state() -> tuple[bool, bool]:
+        from flexlib import registry
+        from flexlib.solve import native
+
+        return registry._loaded, bool(native._AVAILABLE)
+
+    with Client(scheduler) as client:
+        assert set(client.run(state).values()) == {(True, True)}
 
 
 def test_grid_and_samples():
