@@ -450,6 +450,8 @@ def _print_summary(done: Any, out: str | None) -> None:
         rows += [("step h [s]", fmt(res.stats.get("h", float("nan")))),
                  ("step cost, mean / worst [ms]", f"{1e3 * res.stats.get('mean_step_wall', float('nan')):.3f} / "
                                                   f"{1e3 * res.stats.get('worst_step_wall', float('nan')):.3f}"),
+                 ("worst step: corrections / matrices / full LU",
+                  " / ".join(map(str, res.stats.get("worst_step_work", ("-",) * 3)))),
                  ("halved / unconverged steps", f"{res.stats.get('halved_steps', 0)} / "
                                                 f"{res.stats.get('unconverged_steps', 0)}")]
         if res.stats.get("realtime"):

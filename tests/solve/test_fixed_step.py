@@ -109,6 +109,29 @@ def test_c_and_python_take_the_same_steps():
         np.testing.assert_allclose(a[name], b[name], rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("native", [True, False])
+def test_the_costliest_step_says_what_it_did(native):
+    """``stats["worst_step_work"]``: the Newton corrections, matrix evaluations and full LU factorisations of the step
+    that cost most (which step that is depends on the machine; what any step did is bounded by the totals and the
+    method: at least one correction, at most ``newton_iters`` per solution of a step, a full factorisation only
+    with a matrix evaluation)."""
+    sim = fl.Simulation(CoupledClutches())
+    res = sim.run(1.5, dt_out=0.01, progress=False, solver=fl.FixedStep(h=1e-3, native=native))
+    corrections, matrices, full = res.stats["worst_step_work"]
+    limit = 2 ** (fl.FixedStep().max_halvings + 1) - 1  # step solutions of a step halved to the end
+    assert 1 <= corrections <= 2 * limit * fl.FixedStep().newton_iters and corrections <= res.stats["newton_iters"]
+    assert 0 <= full <= matrices <= limit and matrices <= res.stats["njev"]
+    # every step counted once by its work; the totals are the run's
+    work = {(c, m, f): n for c, m, f, n in res.stats["step_work"]}
+    assert sum(work.values()) == res.stats["steps"]
+    assert sum(k[0] * n for k, n in work.items()) == res.stats["newton_iters"]
+    assert sum(k[1] * n for k, n in work.items()) == res.stats["njev"]
+    assert tuple(res.stats["worst_step_work"]) in work
+    if native:  # the costliest by work at the run's mean costs of a correction, a matrix and a full factorisation
+        assert tuple(res.stats["worst_work"]) in work and res.stats["worst_step_by_work"] > 0.0
+        assert max(c for c, _, _ in work) <= 2 * limit * fl.FixedStep().newton_iters
+
+
 @pytest.mark.parametrize("kwargs, message", [
     ({"h": 0.0}, "positive number of seconds"),
     ({"h": float("nan")}, "positive number of seconds"),
@@ -173,6 +196,7 @@ def test_cli_runs_a_registered_scenario_with_fixed_steps_and_records_them(tmp_pa
                              catch_exceptions=False)
     assert res.exit_code == 0, res.output
     assert "step cost, mean / worst [ms]" in res.output and "halved / unconverged steps" in res.output
+    assert "worst step: corrections / matrices / full LU" in res.output
     done = fl.load_result(out)
     assert done.stats["solver"] == "fixed-step" and done.stats["h"] == 0.002 and done.stats["steps"] == 100
     assert registry.run_settings(done).run["solver"] == {"kind": "fixed-step", "h": 0.002}

@@ -28,7 +28,11 @@ where the driver builds) and :class:`FixedStepIntegrator` in Python (scipy's LU;
 Real-time pacing (``realtime=True``): after each step the run waits until the wall clock, counted from the run's first
 step, reaches the step's simulated time; a step that ends later than that is an overrun (``stats["overruns"]``, the
 worst lateness ``stats["worst_late"]`` [s]). ``stats`` also give the mean and worst cost of a step
-(``mean_step_wall``, ``worst_step_wall`` [s]).
+(``mean_step_wall``, ``worst_step_wall`` [s]), when the costliest step started (``worst_step_t`` [s]) and what it did
+(``worst_step_work``: its Newton corrections, matrix evaluations and full LU factorisations): a costly step that did
+little work was the machine's (another process, an interrupt), not the method's. ``step_work`` counts the steps by
+their work; the C stepper also gives the costliest step by its work at the run's mean cost of each
+(``worst_step_by_work`` [s], ``worst_work``): the method's own worst step, what a real-time loop is sized for.
 
 Events are handled at step boundaries, with the run loop's event logic: after each step every state relation is
 evaluated there, and a relation whose value has changed is reported as a root at the step's end (it is not located
@@ -97,7 +101,8 @@ class FixedStepIntegrator:
         self.rtol, self.atol, self.realtime, self.max_halvings = rtol, atol, bool(realtime), int(max_halvings)
         self.counts: dict[str, Any] = {"steps": 0, "nfev": 0, "njev": 0, "newton_iters": 0, "unconverged_steps": 0,
                                        "halved_steps": 0, "first_unconverged_t": float("nan"),
-                                       "worst_step_t": float("nan"),
+                                       "worst_step_t": float("nan"), "worst_step_work": (0, 0, 0),
+                                       "step_work": {},
                                        "worst_step_wall": 0.0, "step_wall": 0.0, "overruns": 0, "worst_late": 0.0}
         self.wall0: tuple[float, float] | None = None  # (wall clock, simulated time) of the first step (pacing)
 
@@ -155,6 +160,7 @@ class FixedStepIntegrator:
 
     def step(self, h: float, bdf2: bool) -> bool:
         """One step of size ``h`` [s] from ``(t, y)``; False if it cannot be taken (the point is kept)."""
+        newton0, njev0 = self.counts["newton_iters"], self.counts["njev"]
         w0 = _time.perf_counter()
         t_end = self.t + h
         ok = self.attempt(h, bdf2, 0)
@@ -163,8 +169,13 @@ class FixedStepIntegrator:
         self.counts["steps"] += 1
         wall = _time.perf_counter() - w0
         self.counts["step_wall"] += wall
+        # scipy's LU factorises afresh at every matrix evaluation: as many full factorisations
+        njev = self.counts["njev"] - njev0
+        work = (self.counts["newton_iters"] - newton0, njev, njev)
         if wall > self.counts["worst_step_wall"]:
             self.counts["worst_step_wall"], self.counts["worst_step_t"] = wall, t_end - h
+            self.counts["worst_step_work"] = work
+        self.counts["step_work"][work] = self.counts["step_work"].get(work, 0) + 1
         return ok
 
     def attempt(self, h: float, bdf2: bool, depth: int) -> bool:
@@ -303,7 +314,9 @@ class FixedStepIntegrator:
     def stats(self, wall: float) -> dict[str, Any]:
         n = max(1, self.counts["steps"])
         return {"solver": self.name, "method": self.method, "h": self.h, "max_order": METHODS[self.method],
-                "realtime": self.realtime, **self.counts, "mean_step_wall": self.counts["step_wall"] / n}
+                "realtime": self.realtime, **self.counts, "mean_step_wall": self.counts["step_wall"] / n,
+                "worst_step_work": list(self.counts["worst_step_work"]),
+                "step_work": [[*k, v] for k, v in sorted(self.counts["step_work"].items())]}
 
 
 class FixedStepNative(IdaC):
@@ -341,8 +354,31 @@ class FixedStepNative(IdaC):
             out.pop(key, None)
         fixed = self.drv.fixed_stats()
         fixed.pop("steps")
+        t_full = fixed.pop("t_full")
         return {**out, "method": self.method, "h": self.h, "realtime": self.realtime, **fixed,
+                **worst_by_work(fixed["step_work"], out, t_full),
                 "mean_step_wall": fixed["step_wall"] / max(1, self.drv.stats()["steps"])}
+
+
+def worst_by_work(work: list[list[int]], out: dict[str, Any], t_full: float) -> dict[str, Any]:
+    """The costliest step by its work (``work``: rows ``[corrections, matrix evaluations, full factorisations,
+    steps]``) at the run's mean costs of a correction (a residual and a solve), a matrix (an evaluation and a
+    refactorisation) and a full factorisation (``t_full`` [s] of them all): ``worst_step_by_work`` [s] and its work
+    ``worst_work``. A step's measured cost also holds what the machine did meanwhile (another process, an interrupt);
+    this is the method's own, the bound a real-time loop is sized for."""
+    def mean(total: str, count: str) -> float:
+        return float(out.get(total, 0.0)) / out[count] if out.get(count) else 0.0
+
+    correction = mean("wall_res", "nfev") + mean("wall_lsolve", "n_lsolve")
+    n_full = int(out.get("n_factor_full", 0))
+    full = t_full / n_full if n_full else 0.0
+    refactor = (float(out.get("wall_lsetup", 0.0)) - t_full) / max(1, int(out.get("n_lsetup", 0)))
+    matrix = mean("wall_jac", "njev") + refactor
+    cost = {(c, m, f): c * correction + m * matrix + f * full for c, m, f, _ in work}
+    if not cost:
+        return {"worst_step_by_work": 0.0, "worst_work": [0, 0, 0]}
+    key = max(cost, key=cost.__getitem__)
+    return {"worst_step_by_work": cost[key], "worst_work": list(key)}
 
 
 def diverged(t: float, newton_iters: int, h: float) -> str:

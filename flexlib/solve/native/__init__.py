@@ -114,6 +114,10 @@ def driver_library() -> Path:
     return target
 
 
+#: Cells of the fixed-step driver's work histogram (``FX_WORK_C``, ``FX_WORK_M`` in ``ida_driver.c``): corrections, then
+#: matrix evaluations and full factorisations (a step beyond a bound counts in the last cell)
+WORK_CORRECTIONS, WORK_MATRICES = 64, 8
+
 _AVAILABLE: list[bool] = []
 
 
@@ -186,7 +190,7 @@ def _lib() -> ctypes.CDLL:
         lib.fd_set_max_order.restype = i
         lib.fd_set_fixed_step.argtypes = [vp, d, i, i, i, d, _ip, i, d]
         lib.fd_set_fixed_step.restype = i
-        lib.fd_fixed_stats.argtypes = [vp, _lp, _dp]
+        lib.fd_fixed_stats.argtypes = [vp, _lp, _dp, _lp]
         lib.fd_fixed_stats.restype = None
         _LIB.append(lib)
         return lib
@@ -466,13 +470,19 @@ class Driver:
                                        rel if len(rel) else np.zeros(1, dtype=np.int32), int(realtime), speed):
             raise NativeUnavailable("the ida-native driver could not switch to fixed steps (no memory)")
 
-    def fixed_stats(self) -> dict[str, float]:
+    def fixed_stats(self) -> dict[str, Any]:
         """Fixed-step counters (:meth:`set_fixed_step`): steps, Newton corrections, unconverged steps, matrix
         evaluations, real-time overruns, halved steps; summed and worst step cost, worst lateness behind the wall
-        clock, the end of the first step taken unconverged (NaN: none) and the start of the costliest step [s]."""
-        c, s = np.zeros(6, dtype=np.int64), np.zeros(5)
-        self._lib.fd_fixed_stats(self._ptr, c, s)
+        clock, the end of the first step taken unconverged (NaN: none) and the start of the costliest step [s]; the
+        costliest step's work and the steps by their work (rows ``[corrections, matrices, full factorisations,
+        steps]``); the time of the full KLU factorisations [s]."""
+        c, s = np.zeros(9, dtype=np.int64), np.zeros(6)
+        work = np.zeros((WORK_CORRECTIONS, WORK_MATRICES, WORK_MATRICES), dtype=np.int64)
+        self._lib.fd_fixed_stats(self._ptr, c, s, work)
         return {"steps": int(c[0]), "newton_iters": int(c[1]), "unconverged_steps": int(c[2]), "njev": int(c[3]),
+                "worst_step_work": [int(c[6]), int(c[7]), int(c[8])], "t_full": float(s[5]),
+                "step_work": [[int(c), int(m), int(f), int(work[c, m, f])] for c, m, f in zip(*np.nonzero(work),
+                                                                                            strict=True)],
                 "overruns": int(c[4]), "halved_steps": int(c[5]), "step_wall": float(s[0]),
                 "worst_step_wall": float(s[1]), "worst_late": float(s[2]), "first_unconverged_t": float(s[3]),
                 "worst_step_t": float(s[4])}

@@ -194,7 +194,7 @@ typedef struct {
     double klu_rcond_full;
     int klu_reuse;
     long ls_setups, ls_solves, ls_full; /* setups, solves, KLU numeric factorisations */
-    double sec_setup, sec_solve;
+    double sec_setup, sec_solve, sec_full; /* ... and of the full KLU factorisations among the setups */
     int ls_flag;
     long nni_before, ncf_before, netf_before; /* IDA's Newton iterations, convergence and error test failures before
                                                   the last IDAReInit (which resets IDA's counters) */
@@ -319,9 +319,11 @@ static int rootfn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *
  * stays above klu_rcond_min times the last full factorisation's: a setup whose refactor fails or degrades the
  * pivots factorises afresh. */
 static int klu_full(drv_t *d, int *Ap, int *Ai, double *Ax) {
+    double t0 = now();
     if (d->klu_num) KLU.free_numeric(&d->klu_num, &d->klu);
     d->klu_num = KLU.factor(Ap, Ai, Ax, d->klu_sym, &d->klu);
     d->ls_full++;
+    d->sec_full += now() - t0;
     if (!d->klu_num) return d->klu.status == 1 ? SUNLS_PACKAGE_FAIL_REC : -1; /* KLU_SINGULAR: recoverable */
     if (d->klu_reuse && KLU.rcond(d->klu_sym, d->klu_num, &d->klu)) d->klu_rcond_full = d->klu.rcond;
     return 0;
@@ -692,6 +694,8 @@ typedef struct fixed_s {
     double wall_sum, wall_worst, late_worst;
     double first_unconverged; /* end time of the first step taken unconverged (NAN: none) */
     double worst_t;           /* start time of the costliest step */
+    long worst_work[3];       /* the costliest step's Newton corrections, matrix evaluations, full factorisations */
+    long *work;               /* steps by their work: [corrections][matrices][full factorisations] (fx_work_index) */
     int realtime, rt_started;
     double speed, rt_wall0, rt_t0;
 } fixed_t;
@@ -702,6 +706,16 @@ static double mono(void) {
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+/* The work histogram's cells: corrections 0 … FX_WORK_C − 1, matrix evaluations and full factorisations 0 … FX_WORK_M − 1
+ * each (a step beyond a bound is counted in its last cell). */
+#define FX_WORK_C 64
+#define FX_WORK_M 8
+static int fx_work_index(long corrections, long matrices, long full) {
+    long c = corrections < FX_WORK_C ? corrections : FX_WORK_C - 1, m = matrices < FX_WORK_M ? matrices : FX_WORK_M - 1,
+         f = full < FX_WORK_M ? full : FX_WORK_M - 1;
+    return (int)((c * FX_WORK_M + m) * FX_WORK_M + f);
+}
+
 static void fx_restart(fixed_t *x) {
     x->have_prev = x->lu_ok = x->slow = x->contracting = 0;
 }
@@ -710,6 +724,7 @@ static void fx_free(fixed_t *x) {
     if (!x) return;
     double *bufs[8] = {x->yprev, x->yold, x->ypold, x->base, x->pred, x->g, x->save, x->wlast};
     for (int i = 0; i < 8; i++) free(bufs[i]);
+    free(x->work);
     N_Vector vs[4] = {x->vy, x->vyp, x->vr, x->vdy};
     for (int i = 0; i < 4; i++)
         if (vs[i]) N_VDestroy(vs[i]);
@@ -743,11 +758,13 @@ int fd_set_fixed_step(drv_t *d, double h, int bdf2, int iters, int max_halvings,
     x->rel = malloc(sizeof(int) * (d->nroot ? d->nroot : 1));
     x->save = malloc(sizeof(double) * 2 * n * (max_halvings > 0 ? max_halvings : 1));
     x->wlast = malloc(sizeof(double) * n);
+    x->work = calloc(FX_WORK_C * FX_WORK_M * FX_WORK_M, sizeof(long));
     x->vy = N_VNew_Serial(n, d->ctx);
     x->vyp = N_VNew_Serial(n, d->ctx);
     x->vr = N_VNew_Serial(n, d->ctx);
     x->vdy = N_VNew_Serial(n, d->ctx);
-    if (!x->yprev || !x->yold || !x->ypold || !x->base || !x->pred || !x->g || !x->rel || !x->save || !x->wlast || !x->vy || !x->vyp
+    if (!x->yprev || !x->yold || !x->ypold || !x->base || !x->pred || !x->g || !x->rel || !x->save || !x->wlast
+        || !x->work || !x->vy || !x->vyp
         || !x->vr || !x->vdy) {
         fx_free(x);
         return -1;
@@ -756,8 +773,13 @@ int fd_set_fixed_step(drv_t *d, double h, int bdf2, int iters, int max_halvings,
     fx_free(d->fx);
     d->fx = x;
     d->hlast = h;
-    /* the pattern's symbolic analysis now, not in the first step: a step costs what any step with a fresh matrix does */
+    /* the pattern's symbolic analysis and the first numeric factorisation (KLU's pivoting, a full factorisation) now,
+     * on the matrix at the start point, not in the first step: the first step refactorises its own matrix with these
+     * pivots, as any step with a fresh matrix does (its values are the same to round-off) */
     if (d->linsol == LS_KLU && !d->klu_sym && klu_analyze_pattern(d)) return -1;
+    if (d->linsol == LS_KLU && d->klu_reuse && !d->klu_num
+        && !jacfn(d->tcur, 1.0 / h, d->y, d->yp, x->vr, d->A, d, NULL, NULL, NULL))
+        klu_full(d, SUNSparseMatrix_IndexPointers(d->A), SUNSparseMatrix_IndexValues(d->A), SUNSparseMatrix_Data(d->A));
     return 0;
 }
 
@@ -868,15 +890,21 @@ static int fx_attempt(drv_t *d, fixed_t *x, double h, int bdf2, int depth) {
 
 /* One step of size h from (d->tcur, d->y, d->yp) (fx_attempt, ending exactly at t + h); 1 taken, 0 not. */
 static int fx_step(drv_t *d, fixed_t *x, double h, int bdf2) {
+    long newton0 = x->newton, njev0 = x->njev, full0 = d->ls_full;
     double w0 = now(), t_end = d->tcur + h;
     int ok = fx_attempt(d, x, h, bdf2, 0);
     if (ok) d->tcur = t_end;
     x->steps++;
     double w = now() - w0;
+    long dc = x->newton - newton0, dm = x->njev - njev0, df = d->ls_full - full0;
+    x->work[fx_work_index(dc, dm, df)]++;
     x->wall_sum += w;
     if (w > x->wall_worst) {
         x->wall_worst = w;
         x->worst_t = t_end - h;
+        x->worst_work[0] = dc;
+        x->worst_work[1] = dm;
+        x->worst_work[2] = df;
     }
     return ok;
 }
@@ -1000,10 +1028,12 @@ static int fx_advance(drv_t *d, double t_stop, long max_chunk, double *T, double
     }
 }
 
-/* Fixed-step counters: [steps, Newton corrections, unconverged steps, matrix evaluations, overruns, halved steps];
+/* Fixed-step counters: [steps, Newton corrections, unconverged steps, matrix evaluations, overruns, halved steps,
+ * the costliest step's Newton corrections, matrix evaluations and full factorisations];
  * seconds: [sum of step costs, worst step cost, worst lateness behind the wall clock, end of the first unconverged
- * step (NAN: none), start of the costliest step]. */
-void fd_fixed_stats(drv_t *d, long *counts, double *seconds) {
+ * step (NAN: none), start of the costliest step, full KLU factorisations]; work (may be NULL): the steps by their work,
+ * FX_WORK_C x FX_WORK_M x FX_WORK_M cells (fx_work_index). */
+void fd_fixed_stats(drv_t *d, long *counts, double *seconds, long *work) {
     fixed_t *x = d->fx;
     if (!x) return;
     counts[0] = x->steps;
@@ -1012,11 +1042,14 @@ void fd_fixed_stats(drv_t *d, long *counts, double *seconds) {
     counts[3] = x->njev;
     counts[4] = x->overruns;
     counts[5] = x->halved;
+    for (int i = 0; i < 3; i++) counts[6 + i] = x->worst_work[i];
     seconds[0] = x->wall_sum;
     seconds[1] = x->wall_worst;
     seconds[2] = x->late_worst;
     seconds[3] = x->first_unconverged;
     seconds[4] = x->worst_t;
+    seconds[5] = d->sec_full;
+    if (work) memcpy(work, x->work, sizeof(long) * FX_WORK_C * FX_WORK_M * FX_WORK_M);
 }
 
 /* Integrate towards t_stop one internal step at a time, writing output rows into T (cap), Y, YP
