@@ -481,7 +481,7 @@ class Driver:
         self._lib.fd_fixed_stats(self._ptr, c, s, work)
         return {"steps": int(c[0]), "newton_iters": int(c[1]), "unconverged_steps": int(c[2]), "njev": int(c[3]),
                 "worst_step_work": [int(c[6]), int(c[7]), int(c[8])], "t_full": float(s[5]),
-                "step_work": [[int(c), int(m), int(f), int(work[c, m, f])] for c, m, f in zip(*np.nonzero(work),
+                "step_work": [[int(i), int(j), int(k), int(work[i, j, k])] for i, j, k in zip(*np.nonzero(work),
                                                                                             strict=True)],
                 "overruns": int(c[4]), "halved_steps": int(c[5]), "step_wall": float(s[0]),
                 "worst_step_wall": float(s[1]), "worst_late": float(s[2]), "first_unconverged_t": float(s[3]),
