@@ -178,6 +178,9 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
              help="Step of --solver fixed-step [s] (default 0.001).")
 @click.option("--realtime", is_flag=True, help="With --solver fixed-step: keep in step with the wall clock, report "
                                                "overruns.")
+@once_option("--max-halvings", type=click.IntRange(0, 8),
+             help="With --solver fixed-step: times a step that does not converge may be halved (default 2; 0: the "
+                  "bounded cost a hard real-time loop needs).")
 @once_option("--from", "from_file", type=click.Path(dir_okay=False),
               help="Repeat the run recorded in this result file (other options apply on top).")
 @click.option("-O", "--option", "model_options", multiple=True, metavar="NAME=VALUE",
@@ -196,7 +199,8 @@ def _parse_options(items: tuple[str, ...]) -> dict[str, str]:
 @friendly
 def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tuple[str, ...], t_end: float | None,
             rtol: float | None, atol: float | None, dt_out: float | None, solver: str | None, step: float | None,
-            realtime: bool, from_file: str | None, model_options: tuple[str, ...], flexible: bool | None,
+            realtime: bool, max_halvings: int | None, from_file: str | None, model_options: tuple[str, ...],
+            flexible: bool | None,
             no_progress: bool, plots_dir: str | None, force: bool, outputs: tuple[str, ...]) -> None:
     """Run MODEL in a scenario, then print a summary (times, steps, peaks of the model's signals)."""
     from flexlib import registry
@@ -205,12 +209,13 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
     overrides = _parse_params(params)
     given: dict[str, Any] = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("dt_out", dt_out),
                                                ("solver", solver)) if v is not None}
-    if step is not None or realtime:
+    fixed = {k: v for k, v in (("h", step), ("realtime", realtime or None), ("max_halvings", max_halvings))
+             if v is not None}
+    if fixed:
         if solver != "fixed-step":
-            raise click.ClickException(f"{'--step' if step is not None else '--realtime'} is an option of "
-                                       "--solver fixed-step; give that too")
-        given["solver"] = {"kind": "fixed-step", **({"h": step} if step is not None else {}),
-                           **({"realtime": True} if realtime else {})}
+            flag = {"h": "--step", "realtime": "--realtime", "max_halvings": "--max-halvings"}[next(iter(fixed))]
+            raise click.ClickException(f"{flag} is an option of --solver fixed-step; give that too")
+        given["solver"] = {"kind": "fixed-step", **fixed}
     stored = [p.strip() for opt in outputs for p in opt.split(",") if p.strip()]
     if outputs and not stored:
         raise click.ClickException(f"--outputs {outputs[0]!r}: no variable name or pattern given")
@@ -279,6 +284,8 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
 @once_option("-o", "--out", required=True, type=click.Path(dir_okay=False), help="The unit to write (.fmu).")
 @once_option("--step", type=click.FloatRange(min=0.0, min_open=True), help="The unit's fixed step [s] (default "
                                                                           "0.001).")
+@once_option("--max-halvings", type=click.IntRange(0, 8),
+             help="Times the unit may halve a step that does not converge (default 2; 0: a bounded cost per step).")
 @click.option("-p", "--param", "params", multiple=True, metavar="NAME=VALUE",
               help="Parameter value of the unit's start in SI units (repeatable).")
 @click.option("--output", "outputs", multiple=True, metavar="NAME",
@@ -286,8 +293,8 @@ def run_cmd(model: str | None, scenario: str | None, out: str | None, params: tu
                    "top-level outputs or states).")
 @once_option("--flexible/--rigid", help="Shorthand for the model option flexible=true / false.")
 @friendly
-def export_fmu_cmd(model: str, scenario: str | None, out: str, step: float | None, params: tuple[str, ...],
-                   outputs: tuple[str, ...], flexible: bool | None) -> None:
+def export_fmu_cmd(model: str, scenario: str | None, out: str, step: float | None, max_halvings: int | None,
+                   params: tuple[str, ...], outputs: tuple[str, ...], flexible: bool | None) -> None:
     """Export MODEL (in a scenario) as an FMI 2.0 co-simulation unit for Linux x86-64 (docs/fmi.md)."""
     step = 1e-3 if step is None else step
     from flexlib import registry
@@ -305,7 +312,8 @@ def export_fmu_cmd(model: str, scenario: str | None, out: str, step: float | Non
     names = {v.name for v in sim.compiled.variables}
     chosen = list(outputs) or [n for n in entry.signals(instance) if n in names] or None
     path = export_fmu(sim, out, h=step, params={**dict(scen.params), **overrides}, outputs=chosen,
-                      t_start=scen.run.get("t_start"), name=model.replace("-", "_"))
+                      t_start=scen.run.get("t_start"), name=model.replace("-", "_"),
+                      **({"max_halvings": max_halvings} if max_halvings is not None else {}))
     say("Wrote", f"{path} ({path.stat().st_size / 1e6:.1f} MB): {len(chosen or [])} outputs, step {step:g} s")
 
 

@@ -140,3 +140,28 @@ def test_top_level_inputs_and_outputs_are_the_units_inputs_and_outputs(tmp_path)
     t = got["time"]
     exact = np.where(t <= 1.0, 0.5 * t**2 / 4, 0.5 / 4 + 0.5 / 2 * (t - 1) + 2.0 * (t - 1) ** 2 / 4)
     assert np.max(np.abs(got["y"] - exact)) < 1e-6
+
+
+def test_the_cli_passes_the_units_stepper_options(tmp_path, monkeypatch):
+    """``flexlib export-fmu MODEL --step H --max-halvings N``: the unit's fixed step and its halvings as given (the
+    export itself is tested above; here the command's options reach it)."""
+    from click.testing import CliRunner
+
+    import flexlib.fmi
+    from flexlib.cli import cli
+
+    seen = {}
+
+    def fake_export(sim, out, **kwargs):
+        seen.update(kwargs)
+        (tmp_path / "x.fmu").write_bytes(b"")
+        return tmp_path / "x.fmu"
+
+    monkeypatch.setattr(flexlib.fmi, "export_fmu", fake_export)
+    res = CliRunner().invoke(cli, ["export-fmu", "fourbar", "--out", str(tmp_path / "x.fmu"), "--step", "0.002",
+                                   "--max-halvings", "0"], catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    assert seen["h"] == 0.002 and seen["max_halvings"] == 0
+    seen.clear()
+    res = CliRunner().invoke(cli, ["export-fmu", "fourbar", "--out", str(tmp_path / "x.fmu")], catch_exceptions=False)
+    assert res.exit_code == 0 and seen["h"] == 1e-3 and "max_halvings" not in seen  # the export's default (2)

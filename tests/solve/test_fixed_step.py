@@ -207,3 +207,16 @@ def test_cli_runs_a_registered_scenario_with_fixed_steps_and_records_them(tmp_pa
     np.testing.assert_array_equal(fl.load_result(again).values, done.values)
     bad = CliRunner().invoke(cli, ["run", "fourbar", "--step", "0.002"], catch_exceptions=False)
     assert bad.exit_code != 0 and "--step is an option of --solver fixed-step" in bad.output
+    # the bounded configuration: no halvings, recorded with the solver
+    bounded = tmp_path / "bounded.h5"
+    res = CliRunner().invoke(cli, ["run", "fourbar", "--t-end", "0.2", "--solver", "fixed-step", "--max-halvings", "0",
+                                   "--out", str(bounded), "--no-progress"], catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    done = fl.load_result(bounded)
+    assert registry.run_settings(done).run["solver"] == {"kind": "fixed-step", "max_halvings": 0}
+    assert done.stats["halved_steps"] == 0 and done.stats["steps"] == 200
+    bad = CliRunner().invoke(cli, ["run", "fourbar", "--max-halvings", "0"], catch_exceptions=False)
+    assert bad.exit_code != 0 and "--max-halvings is an option of --solver fixed-step" in bad.output
+    bad = CliRunner().invoke(cli, ["run", "fourbar", "--solver", "fixed-step", "--max-halvings", "9"],
+                             catch_exceptions=False)
+    assert bad.exit_code != 0 and "--max-halvings" in bad.output
