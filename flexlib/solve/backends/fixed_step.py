@@ -31,8 +31,8 @@ worst lateness ``stats["worst_late"]`` [s]). ``stats`` also give the mean and wo
 (``mean_step_wall``, ``worst_step_wall`` [s]), when the costliest step started (``worst_step_t`` [s]) and what it did
 (``worst_step_work``: its Newton corrections, matrix evaluations and full LU factorisations): a costly step that did
 little work was the machine's (another process, an interrupt), not the method's. ``step_work`` counts the steps by
-their work; the C stepper also gives the costliest step by its work at the run's mean cost of each
-(``worst_step_by_work`` [s], ``worst_work``): the method's own worst step, what a real-time loop is sized for.
+their work, and the costliest step by its work at the run's mean cost of each (``worst_step_by_work`` [s],
+``worst_work``) is the method's own worst step, what a real-time loop is sized for.
 
 Events are handled at step boundaries, with the run loop's event logic: after each step every state relation is
 evaluated there, and a relation whose value has changed is reported as a root at the step's end (it is not located
@@ -105,6 +105,8 @@ class FixedStepIntegrator:
                                        "step_work": {},
                                        "worst_step_wall": 0.0, "step_wall": 0.0, "overruns": 0, "worst_late": 0.0}
         self.wall0: tuple[float, float] | None = None  # (wall clock, simulated time) of the first step (pacing)
+        # seconds in the residual, the matrix evaluations, the LU factorisations and the solves (worst_by_work)
+        self.seconds = {"wall_res": 0.0, "wall_jac": 0.0, "wall_lsetup": 0.0, "wall_lsolve": 0.0}
 
     def start(self, model: CompiledModel, t: float, y: np.ndarray, yp: np.ndarray, p: np.ndarray,
               grid: np.ndarray | None, t_end: float) -> None:
@@ -230,17 +232,26 @@ class FixedStepIntegrator:
                     ) -> tuple[np.ndarray, bool, int]:
         """At most ``newton_iters`` Newton corrections of ``F(t1, y, c·y + base) = 0`` from ``y`` (the matrix evaluated
         there first if ``fresh``): the point, whether the last correction met the test, the corrections taken."""
+        clock, seconds = _time.perf_counter, self.seconds
         if fresh:
+            w0 = clock()
             self.cb.jacobian_into(t1, y, c * y + base, c, self.nz)
+            w1 = clock()
             self.counts["njev"] += 1
             self.factorise()
+            seconds["wall_jac"] += w1 - w0
+            seconds["wall_lsetup"] += clock() - w1
             self.c_lu = c
         first, w_last, norm_last = np.inf, None, 0.0
         for k in range(1, self.newton_iters + 1):
+            w0 = clock()
             self.cb.resfn(t1, y, c * y + base, self.r)
+            w1 = clock()
             self.counts["nfev"] += 1
             self.counts["newton_iters"] += 1
             dy = self.solve(-self.r)
+            seconds["wall_res"] += w1 - w0
+            seconds["wall_lsolve"] += clock() - w1
             y = y + dy
             w = dy / (self.rtol * np.abs(y) + self.atol_vec)
             norm = float(np.sqrt(np.mean(w**2)))
@@ -313,10 +324,14 @@ class FixedStepIntegrator:
 
     def stats(self, wall: float) -> dict[str, Any]:
         n = max(1, self.counts["steps"])
+        work = [[*k, v] for k, v in sorted(self.counts["step_work"].items())]
+        # every matrix is factorised afresh (scipy's LU): each setup a full factorisation
+        costs = {**self.seconds, "nfev": self.counts["nfev"], "n_lsolve": self.counts["newton_iters"],
+                 "njev": self.counts["njev"], "n_lsetup": self.counts["njev"], "n_factor_full": self.counts["njev"]}
         return {"solver": self.name, "method": self.method, "h": self.h, "max_order": METHODS[self.method],
                 "realtime": self.realtime, **self.counts, "mean_step_wall": self.counts["step_wall"] / n,
-                "worst_step_work": list(self.counts["worst_step_work"]),
-                "step_work": [[*k, v] for k, v in sorted(self.counts["step_work"].items())]}
+                "worst_step_work": list(self.counts["worst_step_work"]), "step_work": work,
+                **worst_by_work(work, costs, self.seconds["wall_lsetup"])}
 
 
 class FixedStepNative(IdaC):
