@@ -206,10 +206,13 @@ def _dae(model: CompiledModel) -> _Dae:
     return found  # type: ignore[return-value]
 
 
-def _partials(model: CompiledModel, name: str, expr: Any, t: ca.SX, y: ca.SX, yp: ca.SX, p: ca.SX) -> ca.Function:
-    """``(t, y, yp, p) -> (expr, ∂expr/∂t, ∂expr/∂y, ∂expr/∂y', ∂expr/∂p)``, built once per model."""
+def _partials(model: CompiledModel, name: str) -> ca.Function:
+    """``(t, y, yp, p) -> (e, ∂e/∂t, ∂e/∂y, ∂e/∂y', ∂e/∂p)`` of the model's function ``name`` (``res``, ``ind``, or
+    ``tev`` of ``p`` alone), built once per model (its expression too)."""
     key = f"sensitivity_{name}"
     if key not in model._functions:
+        t, y, yp, p = _symbols(model)
+        expr = model.sx_function(name)(p) if name == "tev" else model.sx_function(name)(t, y, yp, p)
         parts = [expr, ca.jacobian(expr, t), ca.jacobian(expr, y), ca.jacobian(expr, yp), ca.jacobian(expr, p)]
         model._functions[key] = ca.Function("flexlib_partials", [t, y, yp, p], parts)
     return model._functions[key]
@@ -403,9 +406,7 @@ def _consistent(m: CompiledModel, init: Any, t: float, y: np.ndarray, yp: np.nda
     diff = np.asarray(m.differential, dtype=bool)
     d_idx, a_idx = np.flatnonzero(diff), np.flatnonzero(~diff)
     J, _ = init.held_jacobian(t, y, yp, P)
-    ts, ys, yps, ps = _symbols(m)
-    _, _, Fy, _, Fp = (v.sparse() for v in _partials(m, "res", m.sx_function("res")(ts, ys, yps, ps), ts, ys, yps,
-                                                     ps)(t, y, yp, P))
+    _, _, Fy, _, Fp = (v.sparse() for v in _partials(m, "res")(t, y, yp, P))
     rhs = -(Fy[:, d_idx] @ S[d_idx] + Fp @ seed_p)
     Sw = spla.splu(J.tocsc()).solve(np.asarray(rhs, dtype=float))
     S, SP = S.copy(), SP.copy()
@@ -441,16 +442,13 @@ def _event_time_derivative(m: CompiledModel, t: float, Y: np.ndarray, YP: np.nda
                            seed_p: np.ndarray) -> np.ndarray | None:
     """``dτ/dp`` of the event at row ``row``'s time (None if its time does not move with the parameters)."""
     timed = [int(k) for k in switched if m.relations[int(k)].time_event]
-    ts, ys, yps, ps = _symbols(m)
     if timed:  # a·t + b = 0 with a, b of the parameters: τ = −b/a
-        fn = _partials(m, "tev", m.sx_function("tev")(ps), ts, ys, yps, ps)
-        ab, _, _, _, dab = (_dense(v) for v in fn(t, Y[row], YP[row], P))
+        ab, _, _, _, dab = (_dense(v) for v in _partials(m, "tev")(t, Y[row], YP[row], P))
         k, n_rel = timed[0], m.n_relations
         a, b = ab.reshape(n_rel, 2)[k]
         da, db = dab[k] @ seed_p, dab[n_rel + k] @ seed_p  # ∂vec(tev)/∂p: the a column, then the b column
         return (b * da - a * db) / (a * a)
-    z_all, zt, zy, zyp, zp = (_dense(v) for v in _partials(
-        m, "ind", m.sx_function("ind")(ts, ys, yps, ps), ts, ys, yps, ps)(t, Y[row], YP[row], P))
+    z_all, zt, zy, zyp, zp = (_dense(v) for v in _partials(m, "ind")(t, Y[row], YP[row], P))
     z_all = z_all.ravel()
     k = int(switched[np.argmin(np.abs(z_all[switched]))])  # the relation that crossed: its indicator is at zero
     ypp = (YP[row] - YP[row - 1]) / (T[row] - T[row - 1]) if row > 0 and T[row] > T[row - 1] else np.zeros(m.n)

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from flexlib.study import Maximum, run_study, start_pose
+from flexlib.study import Maximum, local_cluster, run_study, start_pose
 
 from .tolerances import HingeForce
 
@@ -50,10 +50,8 @@ def variants(ratios: tuple[float, ...] = RATIOS) -> list[dict[str, float]]:
 def run(workers: int = 2, out: Path | None = None, pose_list: list[tuple[float, ...]] | None = None,
         ratios: tuple[float, ...] = RATIOS, progress: bool | None = None) -> list[tuple[tuple[float, ...], Any]]:
     """Every pose × ratio on one local cluster: ``[(pose, StudyResult), ...]``."""
-    from distributed import LocalCluster
-
     out_list = []
-    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with local_cluster(workers) as cluster:
         for i, pose in enumerate(pose_list or poses()):
             scen = start_pose("pump-truck", SCENARIO, pose, name=f"{SCENARIO}@pose{i}")
             table = out / f"envelope_pose{i}.parquet" if out is not None else None
