@@ -301,7 +301,12 @@ def eliminate_explicit_algebraics(rows: list[ca.SX], y: ca.SX, yp: ca.SX, differ
     cands = [i for i in sorted(present) if not differential[i] and not protected[i]]
     pivots = _pivots(rows, y, cands)
     if pivots:
-        safe = _safe_rows(rows, ca.vertcat(time, y, yp))
+        # only a row that holds a pivot's unknown can keep or forbid an elimination: the others count as safe
+        pivot_entries = {v for _, v in pivots}
+        relevant = [r for r, p in enumerate(pattern) if not pivot_entries.isdisjoint(p)]
+        safe = np.ones(n_rows, dtype=bool)
+        if relevant:
+            safe[relevant] = _safe_rows([rows[r] for r in relevant], ca.vertcat(time, y, yp))
         # the unknowns of a row that can fail stay, so its diagnosis names them (and the row is not rewritten)
         in_unsafe = set().union(*[pattern[r] for r in np.flatnonzero(~safe)])
         # definitions free of y': rows without derivatives stay without them (see the module docstring)

@@ -340,7 +340,9 @@ class FEModel:
         idx = self.node_index(node_ids)
         m, d, J = self._point_mass_arguments(func, idx, masses, offsets, inertias)
         k = idx.size
-        add = sp.lil_matrix((self.n_dofs, self.n_dofs))
+        rows: list[np.ndarray] = []
+        cols: list[np.ndarray] = []
+        vals: list[np.ndarray] = []
         loads = np.zeros((self.n_dofs, 3))
         base = 0 if self.mass_points is None else self.mass_points.masses.size
         selectors: dict[str, list] = {"rows_t": [], "cols_t": [], "vals_t": [], "rows_r": [], "cols_r": []}
@@ -354,10 +356,14 @@ class FEModel:
             block = m[j] * N.T @ N
             block[3:, 3:] += J[j]
             live = np.flatnonzero(dof >= 0)
-            add[np.ix_(dof[live], dof[live])] += block[np.ix_(live, live)]
+            rows.append(np.repeat(dof[live], live.size))
+            cols.append(np.tile(dof[live], live.size))
+            vals.append(block[np.ix_(live, live)].ravel())
             loads[dof[live]] += (m[j] * N.T)[live]
             _point_selector_entries(selectors, 3 * (base + j), N, dof, live)
-        M = (self.M + add.tocsr()).tocsr()
+        add = sp.coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                            shape=(self.n_dofs, self.n_dofs)) if k else sp.csr_matrix((self.n_dofs, self.n_dofs))
+        M = (self.M + add.tocsr()).tocsr()  # duplicates (several masses on a node) are summed
         points = self.mass_points
         if points is not None:
             points = _appended_mass_points(points, self.nodes[idx] + d, m, J, selectors, self.n_dofs)

@@ -45,8 +45,8 @@ from flexlib.fe.geometric import inertial_load_amplitudes
 
 from .parameters import PumpTruckParameters
 
-__all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "mpf_modes",
-           "rigid_section_loads", "section_fe", "section_modal_data", "unfolding_poses"]
+__all__ = ["MPF_POSES_DEG", "PIN_POINTS", "attachment_points", "mpf_modes", "rigid_section_loads", "section_fe",
+           "section_modal_data", "static_section_loads", "unfolding_poses"]
 
 #: Default number of beam elements per section.
 N_ELEMENTS = 48
@@ -227,15 +227,6 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
     z = np.asarray(result[f"section{j}.body.z_a"], dtype=float).reshape(nt, 3)
     values = inertial_load_amplitudes(np.einsum("kij,kj->ki", T, a_0 - g), z, w)
     points = attachment_points(record, j)
-
-    def add(node: int, F: np.ndarray, M: np.ndarray) -> None:
-        for i, comp in enumerate(("ux", "uy", "uz")):
-            key = f"F{node}_{comp}"
-            values[key] = values.get(key, 0.0) + F[:, i]
-        for i, comp in enumerate(("rx", "ry", "rz")):
-            key = f"F{node}_{comp}"
-            values[key] = values.get(key, 0.0) + M[:, i]
-
     frames = [(f"section{j}.tip", (L, 0.0))] + [(f"section{j}.pin_{pin}", points[name])
                                                 for pin, name in PIN_POINTS.items() if name in points]
 
@@ -249,14 +240,85 @@ def rigid_section_loads(result: Any, record: PumpTruckParameters, j: int,
     for path, (px, py) in frames:
         if f"{path}.frame_b.f[0]" not in result.names:
             continue
-        F, M = cut(f"{path}.frame_b.f"), cut(f"{path}.frame_b.t")
-        node = station_node(x, data.node_ids, px, L)
-        offset = np.array([px, py, 0.0]) - data.coordinates[data.node_index(node)]
-        add(node, F, M + np.cross(offset, F))
-    root = station_node(x, data.node_ids, 0.0, L)
-    add(root, -cut(f"joint{j}.frame_b.f"), -cut(f"joint{j}.frame_b.t"))
+        _pin_load(values, data, L, (px, py), cut(f"{path}.frame_b.f"), cut(f"{path}.frame_b.t"))
+    _add_node_load(values, station_node(x, data.node_ids, 0.0, L), -cut(f"joint{j}.frame_b.f"),
+                   -cut(f"joint{j}.frame_b.t"))
     zero = np.zeros(nt)
     return np.column_stack([np.broadcast_to(values.get(c, zero), (nt,)) for c in data.load_cases])
+
+
+def _add_node_load(values: dict, node: int, F: np.ndarray, M: np.ndarray) -> None:
+    """Add force ``F`` [N] and moment ``M`` [N.m] (``(nt, 3)``, section axes) to node ``node``'s load cases."""
+    for i, comp in enumerate(("ux", "uy", "uz")):
+        key = f"F{node}_{comp}"
+        values[key] = values.get(key, 0.0) + F[:, i]
+    for i, comp in enumerate(("rx", "ry", "rz")):
+        key = f"F{node}_{comp}"
+        values[key] = values.get(key, 0.0) + M[:, i]
+
+
+def _pin_load(values: dict, data: ModalData, L: float, point: tuple[float, float], F: np.ndarray,
+              M: np.ndarray) -> None:
+    """A load at ``point`` [m] (section frame) moved to its station's axis node (moment plus offset × force), as the
+    pin's rigid offset carries it."""
+    node = station_node(data.coordinates[:, 0], data.node_ids, point[0], L)
+    offset = np.array([point[0], point[1], 0.0]) - data.coordinates[data.node_index(node)]
+    _add_node_load(values, node, F, M + np.cross(offset, F))
+
+
+def static_section_loads(record: PumpTruckParameters, j: int, pose: Sequence[float],
+                         data: ModalData | None = None) -> np.ndarray:
+    """Amplitudes of section ``j``'s unit load cases with the boom held at rest in ``pose``, from the free-body
+    statics (:func:`~models.pump_truck.free_body.free_body_statics`), without building a model.
+
+    The same loads as :func:`rigid_section_loads` of the rigid boom at rest there (tested to 1e-12): ``acc_*`` the
+    section's weight (``T (0 − g)`` in its axes; no angular velocity or acceleration at rest), at each pin — the
+    root joint's hinge, the bracket of its own drive (the link's, or cylinder 1's rod), the next joint's hinge, lever
+    pivot and cylinder housing — the force the neighbouring body exerts there (a pin carries no moment in the boom's
+    plane), moved to the pin's axis node.
+
+    Parameters
+    ----------
+    record : PumpTruckParameters
+        The design record (its pipe state is the load).
+    j : int
+        Section number 1–N.
+    pose : sequence of N + 1 floats
+        Slew (ignored: it turns the boom's plane, not its loads) and joint angles q1 … qN [deg].
+    data : ModalData, optional
+        The section's modal data (default :func:`section_modal_data`).
+
+    Returns
+    -------
+    ndarray (1, C)
+        Amplitudes in the order of ``data.load_cases``.
+    """
+    from .free_body import free_body_statics
+
+    if data is None:
+        data, _ = section_modal_data(record, j)
+    N = record.n_sections
+    if not 1 <= j <= N or len(pose) != N + 1:
+        raise ValueError(f"static_section_loads: section 1..{N} and a pose of {N + 1} angles [deg] (slew, q1 … qN) "
+                         f"expected, got section {j!r} and {len(pose)} angles")
+    statics = free_body_statics(record, np.radians(np.asarray(pose, dtype=float)[1:]))
+    c, s = np.cos(statics["theta"][j - 1]), np.sin(statics["theta"][j - 1])
+
+    def section_axes(F_world: np.ndarray) -> np.ndarray:  # a world (turret-plane) force in section j's axes
+        return np.array([[c * F_world[0] + s * F_world[1], -s * F_world[0] + c * F_world[1], 0.0]])
+
+    values = inertial_load_amplitudes(section_axes(np.array([0.0, record.g])), np.zeros((1, 3)), np.zeros((1, 3)))
+    pins = statics["pins"]
+    on_section = [("root", statics["F_hinge"][j - 1]), ("bracket", -pins["R1"] if j == 1 else pins[f"C{j}"])]
+    if j < N:
+        on_section += [("tip", -statics["F_hinge"][j]), ("lever_pivot", -pins[f"P{j + 1}"]),
+                       ("housing", -pins[f"H{j + 1}"])]
+    points = attachment_points(record, j)
+    L = record.sections[j - 1].length
+    for name, F in on_section:
+        _pin_load(values, data, L, points[name], section_axes(F), np.zeros((1, 3)))
+    zero = np.zeros(1)
+    return np.column_stack([np.broadcast_to(values.get(k, zero), (1,)) for k in data.load_cases])
 
 
 def unfolding_poses(fold: Sequence[float], working: Sequence[float]) -> tuple[tuple[float, ...], ...]:
@@ -287,8 +349,10 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
               model: Callable[..., Any] | None = None) -> dict[int, list[int]]:
     """Each section's modes chosen by the modal participation factor method (seed 001).
 
-    The loads on each section in the rigid boom's static equilibrium at ``poses`` (:func:`rigid_section_loads` of
-    the rigid machine ``model`` at rest there, filled as the record says) give each mode's
+    The loads on each section in the rigid boom's static equilibrium at ``poses``, filled as the record says — from
+    the free-body statics of the record (:func:`static_section_loads`, no model built), or from static starts of a
+    rigid machine ``model`` (:func:`rigid_section_loads`; the same loads to 1e-12 for the record's own mechanics,
+    :class:`~models.pump_truck.held.HeldBoom`) — give each mode's
     static amplitude ``q_i = φ_iᵀ F / k_i``; a mode is kept if at some pose it reaches ``threshold`` of the largest
     (:func:`~flexlib.fe.participation_from_load_cases`) and moves the section in its
     plane (:func:`flexlib.fe.planar_modes`, ``"xy"``: the boom's loads and loops are planar); of those, the
@@ -308,8 +372,10 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     cache : bool
         Read and write the selection under ``$FLEXLIB_CACHE_DIR/pump_truck`` (keyed by everything it depends on).
     model : callable, optional
-        The rigid machine ``model(record, pose=..., slewing=False)``, section ``j`` as ``section{j}`` on ``joint{j}``
-        (default :class:`~models.pump_truck.held.HeldBoom`: PumpTruck's mechanics, cylinders locked).
+        A rigid machine ``model(record, pose=..., slewing=False)``, section ``j`` as ``section{j}`` on ``joint{j}``,
+        whose static starts give the loads (for example :class:`~models.pump_truck.held.HeldBoom`: PumpTruck's
+        mechanics, cylinders locked). Default: the free-body statics of the record (a linkage the record describes;
+        a machine of other mechanics gives its own model).
 
     Returns
     -------
@@ -319,10 +385,6 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     import flexlib as fl
     from flexlib.fe import participation_from_load_cases, planar_modes
 
-    if model is None:  # the boom's mechanics held by locked cylinders: the PumpTruck's loads at rest, built faster
-        from .held import HeldBoom
-
-        model = HeldBoom
     poses = MPF_POSES_DEG if poses is None else poses
     if not 0.0 < threshold <= 1.0 or int(max_modes) < 1:
         raise ValueError(f"mpf_modes: threshold must be in (0, 1] and max_modes >= 1, got {threshold!r}, "
@@ -331,10 +393,11 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     datas = {j: section_modal_data(record, j, cache=cache)[0] for j in sections}
     key = json.dumps({"record": asdict(record), "modal": {j: d.content_hash() for j, d in datas.items()},
                       "threshold": threshold, "max_modes": int(max_modes),
-                      "poses": [list(map(float, p)) for p in poses], "version": 2,
-                      "model": f"{model.__module__}.{model.__qualname__}",
-                      # the loads come from the rigid model: a change of its code or of the engine selects anew
-                      "code": _source_hash(model), "flexlib": fl.__version__}, sort_keys=True, default=str)
+                      "poses": [list(map(float, p)) for p in poses], "version": 3,
+                      "model": "free-body" if model is None else f"{model.__module__}.{model.__qualname__}",
+                      # the loads come from the statics' or the rigid model's code: a change of it selects anew
+                      "code": _source_hash(*(() if model is None else (model,))), "flexlib": fl.__version__},
+                     sort_keys=True, default=str)
     path = _cache_dir() / f"mpf-{hashlib.sha256(key.encode()).hexdigest()[:24]}.json"
     if cache and path.exists():
         try:
@@ -344,6 +407,10 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
     rows: dict[int, list[np.ndarray]] = {j: [] for j in sections}
     sim = None
     for pose in poses:
+        if model is None:
+            for j, data in datas.items():
+                rows[j].append(static_section_loads(record, j, pose, data))
+            continue
         # static starts (no integration) on one build (the pose is a start value) in CasADi's VM (no C library)
         machine = model(record, pose=pose, slewing=False)
         sim = fl.Simulation(machine, codegen=False) if sim is None else sim.with_model(machine)

@@ -1,4 +1,4 @@
-"""Independent hand statics (free-body equilibrium, :mod:`tests.models.hand_statics`) against the design statics
+"""Independent hand statics (free-body equilibrium, :mod:`models.pump_truck.free_body`) against the design statics
 (virtual work, :func:`models.pump_truck.statics.cylinder_forces`), both machines, five held poses each.
 
 References: two independent methods of the same rigid statics (Meriam & Kraige, *Engineering Mechanics: Statics*,
@@ -101,5 +101,5 @@ def test_sign_conventions_extended_horizontal_42m():
     assert np.all(np.sign(hs["F_cyl"]) == [1, 1, -1, 1, -1])
     assert hs["F_hinge"][0][1] < 0 < total_weight(REC42) < hs["pins"]["H1"][1]
     np.testing.assert_allclose(hs["F_hinge_section"], hs["F_hinge"], rtol=1e-12)  # all sections horizontal
-    with pytest.raises(ValueError, match=r"hand_statics: q needs 5 joint angles"):
+    with pytest.raises(ValueError, match=r"free_body_statics: q needs 5 joint angles"):
         hand_statics(REC42, np.zeros(4))

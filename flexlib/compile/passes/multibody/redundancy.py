@@ -146,10 +146,12 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
     if not loop:
         return simple
     simple = dataclasses.replace(simple, outputs={**simple.outputs, **_branch_checks(simple)})
-    (rank_off, _), (rank, piv) = _loop_rank(simple, loop, param_values)
+    # the frame variables' definitions come from the rows other than the loops', the same in both resolutions
+    definitions = explicit_definitions(simple, frame_variables(simple))[:2]
+    (rank_off, _), (rank, piv) = _loop_rank(simple, loop, param_values, definitions)
     framed = dataclasses.replace(simple, equations=_frame_resolved(simple))
     if any(e is not f for e, f in zip(simple.equations, framed.equations, strict=True)):
-        (rank_f_off, _), (rank_f, piv_f) = _loop_rank(framed, loop, param_values)
+        (rank_f_off, _), (rank_f, piv_f) = _loop_rank(framed, loop, param_values, definitions)
         # which resolution: decided off the constraint manifold, where a world row that only the start pose made
         # redundant (the loop plane turned by a slew) shows as independent
         if rank_f_off < rank_off:
@@ -172,13 +174,14 @@ def remove_redundant(simple: SimpleSystem, param_values: dict[int, float]) -> Si
     return dataclasses.replace(simple, equations=equations, outputs=outputs, redundant=report)
 
 
-def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, float]
-               ) -> tuple[tuple[int, np.ndarray], tuple[int, np.ndarray]]:
+def _loop_rank(simple: SimpleSystem, loop: list[int], param_values: dict[int, float],
+               definitions: tuple[ca.SX, ca.SX]) -> tuple[tuple[int, np.ndarray], tuple[int, np.ndarray]]:
     """Generic rank of the loop rows' Jacobian in joint coordinates and the QR pivots (independent rows first),
     ``(off, on)``: at perturbed points as perturbed (off the constraint manifold) and moved back onto the loop
     constraints (on it; the rows to drop). Without any perturbed point that closes the loops, both are the
-    former."""
-    vs, defs, _ = explicit_definitions(simple, frame_variables(simple))
+    former. ``definitions``: the frame variables and their explicit definitions (:func:`explicit_definitions`,
+    which leaves the loop rows out), substituted into the loop rows."""
+    vs, defs = definitions
     L = ca.vertcat(*[simple.equations[r].expr for r in loop])
     for _ in range(len(simple.variables) + 1):
         if vs.numel() == 0 or not ca.depends_on(L, vs):
