@@ -404,22 +404,10 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
             return {int(j): [int(k) for k in v] for j, v in json.loads(path.read_text())["modes"].items()}
         except (ValueError, KeyError, TypeError):
             pass  # a damaged file: select again and replace it
-    rows: dict[int, list[np.ndarray]] = {j: [] for j in sections}
-    sim = None
-    for pose in poses:
-        if model is None:
-            for j, data in datas.items():
-                rows[j].append(static_section_loads(record, j, pose, data))
-            continue
-        # static starts (no integration) on one build (the pose is a start value) in CasADi's VM (no C library)
-        machine = model(record, pose=pose, slewing=False)
-        sim = fl.Simulation(machine, codegen=False) if sim is None else sim.with_model(machine)
-        result = sim.initialize()
-        for j, data in datas.items():
-            rows[j].append(rigid_section_loads(result, record, j, data)[:1])
+    rows = _static_loads(record, datas, poses, model)
     chosen: dict[int, list[int]] = {}
     for j, data in datas.items():
-        table = participation_from_load_cases(data, np.vstack(rows[j]), threshold=threshold)
+        table = participation_from_load_cases(data, rows[j], threshold=threshold)
         candidates = [k for k in planar_modes(data, "xy") if k in set(table.kept)]
         best = sorted(candidates, key=lambda k: -table.shares[k])[: int(max_modes)]
         chosen[j] = sorted(best, key=lambda k: data.frequencies[k])
@@ -429,3 +417,24 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
         tmp.write_text(json.dumps({"modes": chosen, "threshold": threshold, "max_modes": int(max_modes)}))
         os.replace(tmp, path)
     return chosen
+
+
+def _static_loads(record: PumpTruckParameters, datas: dict[int, ModalData], poses: Sequence[Sequence[float]],
+                  model: Callable[..., Any] | None) -> dict[int, np.ndarray]:
+    """Each section's load-case amplitudes at rest in ``poses`` (one row per pose): from the free-body statics
+    (``model`` None) or from static starts of ``model`` (:func:`mpf_modes`)."""
+    import flexlib as fl
+
+    if model is None:
+        return {j: np.vstack([static_section_loads(record, j, pose, data) for pose in poses])
+                for j, data in datas.items()}
+    rows: dict[int, list[np.ndarray]] = {j: [] for j in datas}
+    sim = None
+    for pose in poses:
+        # static starts (no integration) on one build (the pose is a start value) in CasADi's VM (no C library)
+        machine = model(record, pose=pose, slewing=False)
+        sim = fl.Simulation(machine, codegen=False) if sim is None else sim.with_model(machine)
+        result = sim.initialize()
+        for j, data in datas.items():
+            rows[j].append(rigid_section_loads(result, record, j, data)[:1])
+    return {j: np.vstack(r) for j, r in rows.items()}

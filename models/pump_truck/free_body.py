@@ -116,54 +116,11 @@ class _System:
         return x, float(np.linalg.norm(A @ x - b) / max(np.linalg.norm(b), 1.0))
 
 
-def free_body_statics(record: PumpTruckParameters, q: Sequence[float] | np.ndarray,
-                      cylinders: Sequence[dict] | None = None) -> dict:
-    """Pin forces of the boom held at rest at joint angles ``q`` [rad] (``N`` values, relative, as the record's).
-
-    Parameters
-    ----------
-    record : PumpTruckParameters
-        The machine (any ``N`` = 4 … 6 sections). Its pipe state (filled or empty) is the load.
-    q : sequence of float
-        Joint angles ``q1 … qN`` [rad].
-    cylinders : sequence of dict, optional
-        The cylinders (:func:`~models.pump_truck.statics.cylinder_masses` dicts: ``m_housing``, ``L_housing``,
-        ``m_rod``, ``L_rod``); default the machine's own, :func:`~models.pump_truck.statics.design_cylinders`.
-
-    Returns
-    -------
-    dict
-        ``F_cyl`` (N,) [N]: hydraulic force of each cylinder along its axis, **push positive** (``+F e`` on the rod,
-        ``e`` from housing pin to rod pin); ``F_hinge`` (N, 2) [N]: the force **section n − 1 (the turret for n = 1)
-        exerts on section n** through the hinge pin of joint ``n``, world (turret-frame) ``x``/``y`` components
-        (``y`` up); ``F_hinge_abs`` (N,) its magnitude; ``F_hinge_section`` (N, 2) the same force resolved in
-        section ``n``'s frame (``x`` along section ``n``); ``pins``: every pin force by name, world, each the
-        force on the first-named body — ``H{n}`` on housing ``n`` from its carrier at ``H``, ``R{n}`` on rod ``n``
-        from the lever (``n ≥ 2``) or section 1 (``n = 1``) at ``T``, ``P{n}`` on lever ``n`` from section ``n − 1``,
-        ``L{n}`` on link ``n`` from lever ``n`` at ``T``, ``C{n}`` on section ``n`` from link ``n``; ``N``, ``M``
-        (N,) the cylinder guides' transverse force [N] (on the rod, along ``ẑ × e``, at ``T``) and moment [N.m];
-        ``turret_force`` (2,) [N] the force the turret exerts on the boom (``F_hinge[0] + pins['H1']``) and
-        ``turret_moment`` [N.m] its moment about joint 1; ``points`` the pins ``H{n}``, ``C{n}``, ``T{n}``,
-        ``P{n}`` (world) [m]; ``J`` ((N + 1), 2) the joint and tip positions [m],
-        ``theta`` (N,) the sections' absolute angles [rad], ``residual`` the relative residual of the solve.
-
-    Notes
-    -----
-    A simulation's hinge force compares as follows (flexlib/MSL cut forces act *on the component*, resolved in the
-    connector's frame): for a revolute ``joint{n}`` with ``frame_a`` on section ``n − 1`` and ``frame_b`` on section
-    ``n``, ``F_hinge[n−1] = R_a · joint{n}.frame_a.f = −R_b · joint{n}.frame_b.f`` (``R`` the frame's rotation
-    to the turret frame, ``R = Tᵀ`` in MSL's ``T``). With ``frame_b`` on section ``n``'s root frame (``x`` along the
-    section, ``y`` up when it is horizontal), simply ``F_hinge_section[n−1] = −joint{n}.frame_b.f[:2]`` (the slew
-    angle drops out; ``frame_b.f[2]`` is 0 in the boom's plane). A cylinder's ``F_cyl`` is its chamber force
-    ``p_A A_A − p_B A_B`` at rest (seal friction aside), not the force on its pins: its own weight puts a transverse
-    component on them.
-    """
-    q = np.asarray(q, dtype=float)
-    n_sec = len(record.sections)
-    if q.shape != (n_sec,):
-        raise ValueError(f"free_body_statics: q needs {n_sec} joint angles [rad], got shape {q.shape}")
-    cyls = design_cylinders(record) if cylinders is None else cylinders
-    g = record.g
+def _equilibrium(record: PumpTruckParameters, q: np.ndarray, cyls: Sequence[dict]
+                 ) -> tuple[_System, dict[str, int], list[dict], list[np.ndarray]]:
+    """The free-body equations of the boom at joint angles ``q`` [rad] (module docstring): the system, the column
+    of each unknown by name, each joint's pins (world) and the joint positions [m]."""
+    g, n_sec = record.g, len(record.sections)
     sysm = _System()
     J, theta = [np.zeros(2)], [0.0]
     cols: dict[str, int] = {}
@@ -226,6 +183,56 @@ def free_body_statics(record: PumpTruckParameters, q: Sequence[float] | np.ndarr
             cols[name] = c = sysm.unknown(name, 2)
             sysm.force(body, c, point)
             sysm.force(other, c, point, -1.0)
+    return sysm, cols, geo, J
+
+
+def free_body_statics(record: PumpTruckParameters, q: Sequence[float] | np.ndarray,
+                      cylinders: Sequence[dict] | None = None) -> dict:
+    """Pin forces of the boom held at rest at joint angles ``q`` [rad] (``N`` values, relative, as the record's).
+
+    Parameters
+    ----------
+    record : PumpTruckParameters
+        The machine (any ``N`` = 4 … 6 sections). Its pipe state (filled or empty) is the load.
+    q : sequence of float
+        Joint angles ``q1 … qN`` [rad].
+    cylinders : sequence of dict, optional
+        The cylinders (:func:`~models.pump_truck.statics.cylinder_masses` dicts: ``m_housing``, ``L_housing``,
+        ``m_rod``, ``L_rod``); default the machine's own, :func:`~models.pump_truck.statics.design_cylinders`.
+
+    Returns
+    -------
+    dict
+        ``F_cyl`` (N,) [N]: hydraulic force of each cylinder along its axis, **push positive** (``+F e`` on the rod,
+        ``e`` from housing pin to rod pin); ``F_hinge`` (N, 2) [N]: the force **section n − 1 (the turret for n = 1)
+        exerts on section n** through the hinge pin of joint ``n``, world (turret-frame) ``x``/``y`` components
+        (``y`` up); ``F_hinge_abs`` (N,) its magnitude; ``F_hinge_section`` (N, 2) the same force resolved in
+        section ``n``'s frame (``x`` along section ``n``); ``pins``: every pin force by name, world, each the
+        force on the first-named body — ``H{n}`` on housing ``n`` from its carrier at ``H``, ``R{n}`` on rod ``n``
+        from the lever (``n ≥ 2``) or section 1 (``n = 1``) at ``T``, ``P{n}`` on lever ``n`` from section ``n − 1``,
+        ``L{n}`` on link ``n`` from lever ``n`` at ``T``, ``C{n}`` on section ``n`` from link ``n``; ``N``, ``M``
+        (N,) the cylinder guides' transverse force [N] (on the rod, along ``ẑ × e``, at ``T``) and moment [N.m];
+        ``turret_force`` (2,) [N] the force the turret exerts on the boom (``F_hinge[0] + pins['H1']``) and
+        ``turret_moment`` [N.m] its moment about joint 1; ``points`` the pins ``H{n}``, ``C{n}``, ``T{n}``,
+        ``P{n}`` (world) [m]; ``J`` ((N + 1), 2) the joint and tip positions [m],
+        ``theta`` (N,) the sections' absolute angles [rad], ``residual`` the relative residual of the solve.
+
+    Notes
+    -----
+    A simulation's hinge force compares as follows (flexlib/MSL cut forces act *on the component*, resolved in the
+    connector's frame): for a revolute ``joint{n}`` with ``frame_a`` on section ``n − 1`` and ``frame_b`` on section
+    ``n``, ``F_hinge[n−1] = R_a · joint{n}.frame_a.f = −R_b · joint{n}.frame_b.f`` (``R`` the frame's rotation
+    to the turret frame, ``R = Tᵀ`` in MSL's ``T``). With ``frame_b`` on section ``n``'s root frame (``x`` along the
+    section, ``y`` up when it is horizontal), simply ``F_hinge_section[n−1] = −joint{n}.frame_b.f[:2]`` (the slew
+    angle drops out; ``frame_b.f[2]`` is 0 in the boom's plane). A cylinder's ``F_cyl`` is its chamber force
+    ``p_A A_A − p_B A_B`` at rest (seal friction aside), not the force on its pins: its own weight puts a transverse
+    component on them.
+    """
+    q = np.asarray(q, dtype=float)
+    n_sec = len(record.sections)
+    if q.shape != (n_sec,):
+        raise ValueError(f"free_body_statics: q needs {n_sec} joint angles [rad], got shape {q.shape}")
+    sysm, cols, geo, J = _equilibrium(record, q, design_cylinders(record) if cylinders is None else cylinders)
     x, residual = sysm.solve()
     pins = {name: x[c:c + 2].copy() for name, c in cols.items() if name[0] in "HRPLC" or name.startswith("hinge")}
     F_hinge = np.array([pins[f"hinge{n}"] for n in range(1, n_sec + 1)])
@@ -244,7 +251,7 @@ def free_body_statics(record: PumpTruckParameters, q: Sequence[float] | np.ndarr
         "points": {f"{name}{k + 1}": gk[name].copy() for k, gk in enumerate(geo) for name in "HCTP"
                    if gk[name] is not None},
         "J": np.array(J),
-        "theta": np.array(theta[1:]),
+        "theta": np.array([gk["theta"] for gk in geo]),
         "residual": residual,
     }
 
