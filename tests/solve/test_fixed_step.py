@@ -9,6 +9,7 @@ over); a time event hit exactly; identical runs bitwise equal.
 
 from __future__ import annotations
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -25,6 +26,18 @@ class Oscillator(fl.Model):
 
     def equations(self):
         return [eq(der(self.x), self.v), eq(der(self.v), -4.0 * self.x)]
+
+
+class SteepRate(fl.Model):
+    """``x' = −k(t) x`` with the rate ``k`` rising from 1 to 10⁴ 1/s over 1 ms at 0.5 s (no event): across it the
+    iteration matrix of an earlier step makes Newton's corrections grow tenfold each (a linear problem, so a fresh
+    matrix converges at its second correction)."""
+
+    x = Variable(unit="1", start=1.0, fixed=True)
+
+    def equations(self):
+        k = 1.0 + 0.5e4 * (1.0 + ca.tanh((fl.time - 0.5) / 2e-4))
+        return [eq(der(self.x), -k * self.x)]
 
 
 @pytest.fixture(scope="module")
@@ -130,6 +143,21 @@ def test_the_costliest_step_says_what_it_did(native):
     # the costliest by work at the run's mean costs of a correction, a matrix and a full factorisation
     assert tuple(res.stats["worst_work"]) in work and res.stats["worst_step_by_work"] > 0.0
     assert max(c for c, _, _ in work) <= 2 * limit * fl.FixedStep().newton_iters
+
+
+@pytest.mark.parametrize("native", [True, False])
+def test_an_old_matrix_that_cannot_converge_is_given_up_at_once(native):
+    """Where the rate jumps (SteepRate), the step's old matrix diverges: it is given up at its second correction (its
+    rate of contraction cannot meet the test within the corrections left), not after all ``newton_iters``; the fresh
+    one converges at its second, so no step takes more than four corrections and one matrix (ten without the rule at
+    ``newton_iters=8``); before the jump ``x = exp(−t)`` within 1e-3, after it the solution has decayed."""
+    sim = fl.Simulation(SteepRate())
+    res = sim.run(1.0, dt_out=0.1, progress=False,
+                  solver=fl.FixedStep(h=1e-2, newton_iters=8, max_halvings=0, native=native))
+    work = {(c, m, f): n for c, m, f, n in res.stats["step_work"]}
+    assert max(c for c, m, _ in work if m >= 1) <= 4 and any(c >= 3 and m == 1 for c, m, _ in work)
+    assert res.stats["unconverged_steps"] == 0
+    assert abs(res["x"][-1]) < 1e-6 and res["x"][4] == pytest.approx(np.exp(-0.4), rel=1e-3)  # t = 0.4 s: k = 1/s
 
 
 @pytest.mark.parametrize("kwargs, message", [

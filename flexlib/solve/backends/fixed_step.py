@@ -14,7 +14,10 @@ the run. A correction that turns back on the one before (their weighted scalar p
 their norms: Newton cycling round a corner of a piecewise law, a poppet reaching its full opening) is taken by half.
 The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated
 and factorised again at the predictor when ``c`` changed (a restart, a shortened step), when the last step needed more
-than two corrections, or — once per step — when the corrections do not converge with the old matrix. The choice
+than two corrections, or — once per step — when the corrections do not converge with the old matrix: as soon as its
+rate of contraction ``ρ`` (a correction's norm over the one before) cannot meet the test within the corrections left
+(``norm·ρ^left ≥ 1``), not after all of them, so that a step with a matrix evaluation spends few corrections on the
+old one. The choice
 depends on the numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with constant
 steps, ``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or implicit
 Euler, ``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an
@@ -231,7 +234,9 @@ class FixedStepIntegrator:
     def corrections(self, t1: float, y: np.ndarray, c: float, base: np.ndarray, fresh: bool
                     ) -> tuple[np.ndarray, bool, int]:
         """At most ``newton_iters`` Newton corrections of ``F(t1, y, c·y + base) = 0`` from ``y`` (the matrix evaluated
-        there first if ``fresh``): the point, whether the last correction met the test, the corrections taken."""
+        there first if ``fresh``; an old one given up as soon as its rate of contraction, the last correction's norm
+        over the one before, cannot bring the norm below 1 within the corrections left): the point, whether the last
+        correction met the test, the corrections taken."""
         clock, seconds = _time.perf_counter, self.seconds
         if fresh:
             w0 = clock()
@@ -257,6 +262,11 @@ class FixedStepIntegrator:
             norm = float(np.sqrt(np.mean(w**2)))
             if norm < 1.0:
                 return y, True, k
+            if not fresh and 1 < k < self.newton_iters and norm * (norm / norm_last) ** (self.newton_iters - k) >= 1:
+                # an old matrix whose rate of contraction cannot meet the test within the corrections left: given up
+                # at once for a fresh one (not after all of them)
+                self.contracting = norm < first
+                return y, False, k
             if w_last is not None and float(np.dot(w, w_last)) < -0.5 * norm * norm_last * len(w):
                 y = y - 0.5 * dy  # the correction turns back on the last one (Newton cycling round a corner of a
                 #                   valve law): half of it

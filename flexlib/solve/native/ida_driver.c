@@ -792,8 +792,10 @@ int fd_set_fixed_step(drv_t *d, double h, int bdf2, int iters, int max_halvings,
 }
 
 /* At most x->iters Newton corrections of F(t1, y, c y + base) = 0 from the iterate in x->vy (the matrix evaluated and
- * factorised there first if fresh). Returns 1 converged, 0 not (x->contracting says whether the corrections shrank),
- * -1 the matrix could not be evaluated or factorised; *k the corrections taken. */
+ * factorised there first if fresh; an old one given up as soon as its rate of contraction, the last correction's
+ * norm over the one before, cannot bring the norm below 1 within the corrections left). Returns 1 converged, 0 not
+ * (x->contracting says whether the corrections shrank), -1 the matrix could not be evaluated or factorised; *k the
+ * corrections taken. */
 static int fx_corrections(drv_t *d, fixed_t *x, double t1, double c, int fresh, int *k) {
     int n = d->n;
     double *y = N_VGetArrayPointer(x->vy), *yp = N_VGetArrayPointer(x->vyp);
@@ -829,6 +831,12 @@ static int fx_corrections(drv_t *d, fixed_t *x, double t1, double c, int fresh, 
         norm = sqrt(s / n);
         if (!isfinite(norm)) return 0;
         if (norm < 1.0) return 1;
+        if (!fresh && it > 1 && it < x->iters && norm * pow(norm / norm_last, x->iters - it) >= 1.0) {
+            /* an old matrix whose rate of contraction cannot meet the test within the corrections left: given up
+             * at once for a fresh one (not after all of them) */
+            x->contracting = norm < first;
+            return 0;
+        }
         if (it > 1 && dot < -0.5 * norm * norm_last * n) /* the correction turns back on the last one: half of it */
             for (int i = 0; i < n; i++) y[i] -= 0.5 * dy[i];
         if (it == 1) first = norm;
