@@ -170,5 +170,5 @@ MPF_POSES_DEG = unfolding_poses(TRANSPORT_POSE_DEG, WORKING_POSE_DEG)
 def mpf_selection(record: PumpTruckParameters) -> dict[int, list[int]]:
     """Each section's modes by the modal participation factor method (:func:`~models.pump_truck.flexible.mpf_modes`)
     on the rigid boom at rest in :data:`MPF_POSES_DEG` (its free-body statics,
-    :func:`~models.pump_truck.flexible.static_section_loads`: the same loads as Boom32's at rest, to 1e-13)."""
+    :func:`~models.pump_truck.flexible.static_section_loads`: the same loads as Boom32's at rest, to 2e-14)."""
     return mpf_modes(record, poses=MPF_POSES_DEG)

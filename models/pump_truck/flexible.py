@@ -271,11 +271,11 @@ def static_section_loads(record: PumpTruckParameters, j: int, pose: Sequence[flo
     """Amplitudes of section ``j``'s unit load cases with the boom held at rest in ``pose``, from the free-body
     statics (:func:`~models.pump_truck.free_body.free_body_statics`), without building a model.
 
-    The same loads as :func:`rigid_section_loads` of the rigid boom at rest there (tested to 1e-12): ``acc_*`` the
-    section's weight (``T (0 − g)`` in its axes; no angular velocity or acceleration at rest), at each pin — the
-    root joint's hinge, the bracket of its own drive (the link's, or cylinder 1's rod), the next joint's hinge, lever
-    pivot and cylinder housing — the force the neighbouring body exerts there (a pin carries no moment in the boom's
-    plane), moved to the pin's axis node.
+    The same loads as :func:`rigid_section_loads` of the rigid boom at rest there (within 4e-14 of the largest amplitude
+    at the MPF poses; tested to 1e-9): ``acc_*`` the section's weight (``T (0 − g)`` in its axes; no angular velocity or
+    acceleration at rest), at each pin — the root joint's hinge, the bracket of its own drive (the link's, or cylinder
+    1's rod), the next joint's hinge, lever pivot and cylinder housing — the force the neighbouring body exerts there (a
+    pin carries no moment in the boom's plane), moved to the pin's axis node.
 
     Parameters
     ----------
@@ -351,7 +351,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
 
     The loads on each section in the rigid boom's static equilibrium at ``poses``, filled as the record says — from
     the free-body statics of the record (:func:`static_section_loads`, no model built), or from static starts of a
-    rigid machine ``model`` (:func:`rigid_section_loads`; the same loads to 1e-12 for the record's own mechanics,
+    rigid machine ``model`` (:func:`rigid_section_loads`; the same loads to 4e-14 for the record's own mechanics,
     :class:`~models.pump_truck.held.HeldBoom`) — give each mode's
     static amplitude ``q_i = φ_iᵀ F / k_i``; a mode is kept if at some pose it reaches ``threshold`` of the largest
     (:func:`~flexlib.fe.participation_from_load_cases`) and moves the section in its

@@ -5,11 +5,11 @@ Written from scratch as **free-body equilibrium** (not virtual work as :mod:`mod
 nothing of the engine's multibody formulation): only mass data are read from the design statics (the section masses
 :func:`~models.pump_truck.statics.mass_properties`, the cylinders :func:`~models.pump_truck.statics.design_cylinders`
 / :func:`~models.pump_truck.statics.cylinder_masses` and :func:`~models.pump_truck.statics.linkage_masses`); the pin
-positions come from the record's drive kinematics, ``drive.state(q).C`` and ``.T``, nothing else of it. It has two
-uses: the static loads on each section that select the flexible sections' modes
-(:func:`~models.pump_truck.flexible.mpf_modes`; equal to the rigid boom's held at rest in flexlib to 1e-13, tested),
-and the tests' independent reference for the machines' cylinder and hinge forces (issue 28: "independent hand
-statics, including cylinder housing and rod masses: cylinder forces and hinge forces within 1 %").
+positions come from the record's drive kinematics, ``drive.state(q).C`` and ``.T``, nothing else of it. It has two uses:
+the static loads on each section that select the flexible sections' modes
+(:func:`~models.pump_truck.flexible.mpf_modes`; equal to the rigid boom's held at rest in flexlib within 4e-14 of the
+largest load, tested to 1e-9), and the tests' independent reference for the machines' cylinder and hinge forces (issue
+28: "independent hand statics, including cylinder housing and rod masses: cylinder forces and hinge forces within 1 %").
 
 Bodies (planar, the boom's vertical plane, turret frame: ``x`` along the horizontal boom, ``y`` up, joint 1 at the
 origin; the turret is the ground), for each joint ``n = 1 … N``:

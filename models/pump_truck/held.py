@@ -1,15 +1,15 @@
 """The rigid boom held in a pose by its cylinders locked at their lengths: the mechanics of
 :class:`~models.pump_truck.model.PumpTruck` without hydraulics and control, for static loads.
 
-The static loads on each section in flexlib's own multibody formulation, the cross-check of the free-body statics
-that the modal participation factor selection uses (:func:`~models.pump_truck.flexible.static_section_loads`; equal
-to 1e-13, tested) and the machine ``mpf_modes(record, model=HeldBoom)`` takes. Held at rest, a hydraulic
-cylinder is a line force that keeps its length: the same sections, joints, levers and links and the same cylinder
-housing and rod masses on their pins (:class:`~flexlib.components.hydraulics.LineTwoMasses`, MSL's
+The static loads on each section in flexlib's own multibody formulation, the cross-check of the free-body statics that
+the modal participation factor selection uses (:func:`~models.pump_truck.flexible.static_section_loads`; equal within
+4e-14 of the largest load, tested to 1e-9) and the machine ``mpf_modes(record, model=HeldBoom)`` takes. Held at rest, a
+hydraulic cylinder is a line force that keeps its length: the same sections, joints, levers and links and the same
+cylinder housing and rod masses on their pins (:class:`~flexlib.components.hydraulics.LineTwoMasses`, MSL's
 ``LineForceWithTwoMasses``), with each cylinder's line length fixed at its pose (``LineForce`` with ``flange_b`` fixed
-at the pin-to-pin length, the constraint force its holding force), give the same equilibrium — and a model of half
-the size without a valve, pump or controller. Names as in ``PumpTruck``:
-``joint{n}``, ``section{n}``, ``linkage{n}``; the cylinders are ``axis{n}`` (``axis{n}.line.f_a`` their tension).
+at the pin-to-pin length, the constraint force its holding force), give the same equilibrium — and a model of half the
+size without a valve, pump or controller. Names as in ``PumpTruck``: ``joint{n}``, ``section{n}``, ``linkage{n}``; the
+cylinders are ``axis{n}`` (``axis{n}.line.f_a`` their tension).
 """
 
 from __future__ import annotations
