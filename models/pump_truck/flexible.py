@@ -396,7 +396,7 @@ def mpf_modes(record: PumpTruckParameters, *, threshold: float = 0.01, max_modes
                       "poses": [list(map(float, p)) for p in poses], "version": 3,
                       "model": "free-body" if model is None else f"{model.__module__}.{model.__qualname__}",
                       # the loads come from the statics' or the rigid model's code: a change of it selects anew
-                      "code": _source_hash(*(() if model is None else (model,))), "flexlib": fl.__version__},
+                      "code": _source_hash(*[m for m in (model,) if m is not None]), "flexlib": fl.__version__},
                      sort_keys=True, default=str)
     path = _cache_dir() / f"mpf-{hashlib.sha256(key.encode()).hexdigest()[:24]}.json"
     if cache and path.exists():

@@ -12,17 +12,16 @@ full size and passes with a smaller one, as IDA cuts its step there. BDF2 goes o
 ``unconverged_steps`` (a real-time step ends when its budget does); one whose corrections grow or turn non-finite fails
 the run. A correction that turns back on the one before (their weighted scalar product below −½ of the product of
 their norms: Newton cycling round a corner of a piecewise law, a poppet reaching its full opening) is taken by half.
-The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated
-and factorised again at the predictor when ``c`` changed (a restart, a shortened step), when the last step needed more
-than two corrections, or — once per step — when the corrections do not converge with the old matrix: as soon as its
-rate of contraction ``ρ`` (a correction's norm over the one before) cannot meet the test within the corrections left
-(``norm·ρ^left ≥ 1``), not after all of them, so that a step with a matrix evaluation spends few corrections on the
-old one. The choice
-depends on the numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with constant
-steps, ``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or implicit
-Euler, ``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an
-event and a shortened step are implicit Euler. There is no error control: accuracy is the step's (the benchmarks report
-it against IDA).
+The iteration matrix ``J = ∂F/∂y + c ∂F/∂y'`` of an earlier step is reused; it is evaluated and factorised again at the
+predictor when ``c`` changed (a restart, a shortened step), when the last step needed more than two corrections, or —
+once per step — when the corrections do not converge with the old matrix: as soon as its rate of contraction ``ρ`` (a
+correction's norm over the one before) cannot meet the test within the corrections left (``norm·ρ^left ≥ 1``), not after
+all of them, so that a step with a matrix evaluation spends few corrections on the old one. The choice depends on the
+numbers only, never on timing: two runs take the same steps. The formulas are BDF2 with constant steps,
+``y' = (3/2 y_{n+1} − 2 y_n + 1/2 y_{n−1}) / h`` (``method="bdf2"``, second order, A-stable), or implicit Euler,
+``y' = (y_{n+1} − y_n) / h`` (``method="euler"``, first order, L-stable); the first step after a start or an event and a
+shortened step are implicit Euler. There is no error control: accuracy is the step's (the benchmarks report it against
+IDA).
 
 Two implementations take the same steps: :class:`FixedStepNative` steps in C (the ``ida-native`` driver's fixed-step
 mode, ``ida_driver.c``: the model's compiled residual and matrix, dense LU or KLU, no Python per step; the default
